@@ -1,0 +1,61 @@
+"""Wall clock to simulation steps: slowdown, pause, single step, measured rate.
+
+The slowdown factor is how many wall seconds one simulated second takes (the paper's
+"simulation rate"). It moves in log-spaced steps from 1x to 100x.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+SLOWDOWNS = tuple(round(10 ** (i / 6), 2) for i in range(13))  # 1, 1.47, 2.15 ... 100
+MAX_CATCH_UP = 0.1  # wall s of simulation one frame may owe; more is dropped (no spiral)
+
+
+def nearest_slowdown_index(value: float) -> int:
+    return min(range(len(SLOWDOWNS)), key=lambda i: abs(SLOWDOWNS[i] - value))
+
+
+class SimClock:
+    def __init__(self, dt: float, slowdown: float = 1.0):
+        self.dt = dt
+        self.index = nearest_slowdown_index(slowdown)
+        self.slowdown = float(slowdown)
+        self.paused = False
+        self._owed = 0.0  # simulated seconds owed to the wall clock
+        self._history: deque[tuple[float, float]] = deque()  # (wall, sim) samples
+
+    def slower(self) -> None:
+        self.index = min(self.index + 1, len(SLOWDOWNS) - 1)
+        self.slowdown = SLOWDOWNS[self.index]
+
+    def faster(self) -> None:
+        self.index = max(self.index - 1, 0)
+        self.slowdown = SLOWDOWNS[self.index]
+
+    def toggle_pause(self) -> None:
+        self.paused = not self.paused
+        self._owed = 0.0
+
+    def steps_for(self, wall_dt: float) -> int:
+        """Steps to run for ``wall_dt`` seconds of wall time."""
+        if self.paused:
+            return 0
+        self._owed += min(wall_dt, MAX_CATCH_UP) / self.slowdown
+        n = int(self._owed / self.dt)
+        self._owed -= n * self.dt
+        return n
+
+    def sample(self, wall_time: float, sim_time: float) -> None:
+        self._history.append((wall_time, sim_time))
+        while self._history and wall_time - self._history[0][0] > 1.0:
+            self._history.popleft()
+
+    def measured_slowdown(self) -> float | None:
+        """Wall seconds per simulated second over the last second, or None if unknown."""
+        if len(self._history) < 2:
+            return None
+        (w0, s0), (w1, s1) = self._history[0], self._history[-1]
+        if s1 <= s0 or w1 - w0 < 0.25:
+            return None
+        return (w1 - w0) / (s1 - s0)

@@ -1,0 +1,75 @@
+"""Run the app without a window: scripted input in, images of what the window shows out."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from puppet.data.catalog import Setup
+from puppet.interface.events import Event
+from puppet.session import Session
+from puppet.timeline.playback import play
+
+DEFAULT_SIZE = (1280, 720)
+
+
+def _pygame():
+    os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+
+    pygame.font.init()
+    return pygame
+
+
+class FrameRenderer:
+    """Draws what the window would show (world and HUD) into an off-screen surface."""
+
+    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0):
+        pygame = _pygame()
+        from puppet.app.camera import Camera
+        from puppet.app.hud import HudInfo
+
+        self.pygame = pygame
+        self.surface = pygame.Surface(size)
+        self.camera = Camera(session.setup.character.view_height)
+        self.camera.resize(*size)
+        self.font = pygame.font.Font(None, 24)
+        self.small = pygame.font.Font(None, 20)
+        self.info = HudInfo(slowdown=slowdown, measured=slowdown)
+
+    def render(self, session: Session, hud: bool = True):
+        from puppet.app.hud import draw_hud
+        from puppet.app.render import draw_world
+
+        self.camera.follow(session.character.com(), None)
+        draw_world(self.surface, session, self.camera, self.small)
+        if hud:
+            draw_hud(self.surface, session, self.info, self.font, self.small)
+        return self.surface
+
+    def save(self, session: Session, path: str | Path, hud: bool = True) -> None:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        self.pygame.image.save(self.render(session, hud), str(path))
+
+
+def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
+                 screenshot: str | None = None, frames_dir: str | None = None,
+                 fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None) -> Session:
+    session = Session(setup)
+    until = round(seconds / session.sim.dt)
+    renderer = None
+    if screenshot or frames_dir:
+        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown)
+    every, on_tick = 0, None
+    if frames_dir:
+        every = max(1, round(1.0 / (fps * session.sim.dt)))
+        counter = iter(range(10 ** 9))
+
+        def on_tick(s: Session) -> None:
+            renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png")
+
+    play(session, events, until, every, on_tick)
+    if screenshot:
+        renderer.save(session, screenshot)
+    return session

@@ -1,0 +1,125 @@
+"""Draw a session's world onto any pygame surface (a window or an off-screen image)."""
+
+from __future__ import annotations
+
+import math
+
+import pygame
+import pymunk
+
+from puppet.app.camera import Camera
+from puppet.session import Session
+
+LAYER_ORDER = {"far": 0, "mid": 1, "near": 2}
+
+
+def _shade(color, f: float):
+    return tuple(max(0, min(255, int(c * f))) for c in color)
+
+
+def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
+               font: pygame.font.Font | None = None) -> None:
+    scene = session.setup.scene
+    surface.fill(scene.sky)
+    _draw_grid(surface, camera, None)
+    _draw_ground(surface, session, camera)
+    _draw_grid(surface, camera, font, labels_only=True)
+    for marker in scene.markers:
+        _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
+    _draw_character(surface, session, camera)
+    _draw_drag(surface, session, camera)
+
+
+def _draw_grid(surface, camera: Camera, font, labels_only: bool = False) -> None:
+    """Faint vertical lines every 0.5 m, labelled every metre: shows distance travelled."""
+    x0, x1 = camera.visible_x()
+    step = 0.5 if camera.view_height <= 3 else 1.0
+    k = math.floor(x0 / step)
+    while k * step <= x1:
+        x = k * step
+        sx, _ = camera.to_screen((x, 0))
+        whole = abs(x - round(x)) < 1e-9
+        if not labels_only:
+            pygame.draw.line(surface, (205, 212, 222) if whole else (215, 221, 230),
+                             (sx, 0), (sx, surface.get_height()), 1)
+        if labels_only and whole and font is not None:
+            label = font.render(f"{x:.0f} m", True, (235, 230, 220))
+            surface.blit(label, (sx + 3, surface.get_height() - 22))
+        k += 1
+
+
+def _draw_ground(surface, session: Session, camera: Camera) -> None:
+    bottom = surface.get_height() + 10
+    for ground in session.setup.scene.ground:
+        pts = [camera.to_screen(p) for p in ground.points]
+        fill = pts + [(pts[-1][0], bottom), (pts[0][0], bottom)]
+        pygame.draw.polygon(surface, _shade(ground.color, 1.25), fill)
+        width = max(2, int(ground.thickness * camera.scale))
+        pygame.draw.lines(surface, ground.color, False, pts, width)
+        # Low friction ground (ice, snow) gets a light top line so it reads as slippery.
+        if ground.friction < 0.2:
+            pygame.draw.lines(surface, (235, 245, 255), False, pts, max(1, width // 2))
+
+
+def _draw_marker(surface, camera: Camera, marker, ground_y: float, font) -> None:
+    a = camera.to_screen((marker.x, ground_y))
+    b = camera.to_screen((marker.x, ground_y + 0.3 * camera.view_height))
+    pygame.draw.line(surface, (200, 60, 60), a, b, 2)
+    pygame.draw.polygon(surface, (220, 70, 70), [b, (b[0] + 18, b[1] + 7), (b[0], b[1] + 14)])
+    if font is not None:
+        surface.blit(font.render(marker.label, True, (160, 40, 40)), (b[0] + 4, b[1] - 20))
+
+
+def _draw_character(surface, session: Session, camera: Camera) -> None:
+    character = session.character
+    links = sorted(character.spec.links, key=lambda link: LAYER_ORDER[link.layer])
+    for link in links:
+        body = character.bodies[link.name]
+        base = _shade(link.color, 0.72) if link.layer == "far" else link.color
+        edge = _shade(base, 0.55)
+        for shape in character.shapes[link.name]:
+            _draw_shape(surface, camera, body, shape, base, edge)
+    for joint in character.spec.joints:
+        p = camera.to_screen(character.bodies[joint.parent].local_to_world(joint.anchor))
+        r = max(2, int(0.008 * camera.scale))
+        pygame.draw.circle(surface, (60, 64, 72), p, r)
+    cx, cy = camera.to_screen(character.com())
+    pygame.draw.line(surface, (230, 120, 30), (cx - 5, cy), (cx + 5, cy), 2)
+    pygame.draw.line(surface, (230, 120, 30), (cx, cy - 5), (cx, cy + 5), 2)
+
+
+def _draw_shape(surface, camera: Camera, body: pymunk.Body, shape, color, edge) -> None:
+    if isinstance(shape, pymunk.Circle):
+        c = camera.to_screen(body.local_to_world(shape.offset))
+        r = max(1, int(shape.radius * camera.scale))
+        pygame.draw.circle(surface, color, c, r)
+        pygame.draw.circle(surface, edge, c, r, 1)
+        return
+    if isinstance(shape, pymunk.Segment):
+        a = camera.to_screen(body.local_to_world(shape.a))
+        b = camera.to_screen(body.local_to_world(shape.b))
+        r = max(1.0, shape.radius * camera.scale)
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        n = math.hypot(dx, dy) or 1.0
+        ox, oy = -dy / n * r, dx / n * r
+        quad = [(a[0] + ox, a[1] + oy), (b[0] + ox, b[1] + oy),
+                (b[0] - ox, b[1] - oy), (a[0] - ox, a[1] - oy)]
+        pygame.draw.polygon(surface, color, quad)
+        for p in (a, b):
+            pygame.draw.circle(surface, color, p, r)
+        pygame.draw.line(surface, edge, quad[0], quad[1], 1)
+        pygame.draw.line(surface, edge, quad[2], quad[3], 1)
+        return
+    pts = [camera.to_screen(body.local_to_world(v)) for v in shape.get_vertices()]
+    pygame.draw.polygon(surface, color, pts)
+    pygame.draw.polygon(surface, edge, pts, 1)
+
+
+def _draw_drag(surface, session: Session, camera: Camera) -> None:
+    spring = session.sim.drag_spring
+    if spring is None:
+        return
+    a = camera.to_screen(session.sim.drag_body.position)
+    b = camera.to_screen(spring.b.local_to_world(spring.anchor_b))
+    pygame.draw.line(surface, (40, 120, 220), a, b, 2)
+    pygame.draw.circle(surface, (40, 120, 220), a, 5, 2)

@@ -1,0 +1,145 @@
+"""The real-time window: pygame events in, Session out, drawn every frame.
+
+This loop only translates devices into input events and wall time into a number of
+steps; everything that changes the simulation goes through ``Session.handle``.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+from puppet.data.catalog import Setup
+from puppet.interface import events as ev
+from puppet.interface.app_keys import key_chord
+from puppet.session import Session
+
+MIN_SIZE = (1024, 640)
+START_SIZE = (1280, 720)
+MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left alt",
+                 "right alt", "left meta", "right meta"}
+
+
+def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> int:
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+
+    from puppet.app.camera import Camera
+    from puppet.app.clock import SimClock
+    from puppet.app.hud import HudInfo, draw_hud
+    from puppet.app.render import draw_world
+
+    pygame.init()
+    screen = pygame.display.set_mode(size, pygame.RESIZABLE)
+    pygame.display.set_caption(f"puppet - {setup.interface.name}")
+    try:
+        pygame.Window.from_display_module().minimum_size = MIN_SIZE
+    except (AttributeError, pygame.error):
+        pass
+    font = pygame.font.Font(None, 24)
+    small = pygame.font.Font(None, 20)
+
+    session = Session(setup)
+    clock = SimClock(session.sim.dt, slowdown or setup.interface.slowdown)
+    camera = Camera(setup.character.view_height)
+    camera.resize(*screen.get_size())
+    camera.follow(session.character.com(), None)
+    info = HudInfo()
+    pressed: dict[str, str] = {}  # key name -> chord it was pressed as
+    dragging = False
+    last_mouse = None
+    frames = pygame.time.Clock()
+    start = time.perf_counter()
+
+    def mods() -> list[str]:
+        m = pygame.key.get_mods()
+        return [n for n, flag in (("ctrl", pygame.KMOD_CTRL), ("shift", pygame.KMOD_SHIFT),
+                                  ("alt", pygame.KMOD_ALT)) if m & flag]
+
+    def app_action(name: str | None) -> bool:
+        """Do a window-side app action; False means quit."""
+        if name == "quit":
+            return False
+        if name == "pause":
+            clock.toggle_pause()
+        elif name == "step":
+            if clock.paused:
+                session.advance(1)
+        elif name == "slower":
+            clock.slower()
+        elif name == "faster":
+            clock.faster()
+        elif name == "help":
+            info.show_help = not info.show_help
+        return True
+
+    running = True
+    while running:
+        wall_dt = frames.tick(60) / 1000.0
+        for event in pygame.event.get():
+            if event.type == pygame.QUIT:
+                running = False
+            elif event.type == pygame.WINDOWRESIZED or event.type == pygame.VIDEORESIZE:
+                camera.resize(*screen.get_size())
+            elif event.type == pygame.KEYDOWN:
+                name = pygame.key.name(event.key)
+                if name in MODIFIER_KEYS or not name:
+                    continue
+                chord = key_chord(name, mods())
+                pressed[name] = chord
+                running = app_action(session.handle(ev.key(chord, True))) and running
+            elif event.type == pygame.KEYUP:
+                name = pygame.key.name(event.key)
+                if name in pressed:
+                    session.handle(ev.key(pressed.pop(name), False))
+            elif event.type == pygame.MOUSEBUTTONDOWN and event.button == 1 \
+                    and pygame.key.get_mods() & pygame.KMOD_CTRL:
+                picked = _pick(session, camera, event.pos)
+                if picked is not None:
+                    link, local = picked
+                    session.handle(ev.drag_start(link, local, camera.to_world(event.pos)))
+                    dragging = True
+            elif event.type == pygame.MOUSEBUTTONUP and event.button == 1 and dragging:
+                session.handle(ev.drag_end())
+                dragging = False
+            elif event.type == pygame.MOUSEMOTION and dragging:
+                session.handle(ev.drag_move(camera.to_world(event.pos)))
+        if not dragging and pygame.mouse.get_focused():
+            w, h = screen.get_size()
+            mx, my = pygame.mouse.get_pos()
+            pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
+                   min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
+            if pos != last_mouse:
+                session.handle(ev.mouse(*pos))
+                last_mouse = pos
+
+        session.advance(clock.steps_for(wall_dt))
+        clock.sample(time.perf_counter() - start, session.time)
+        info.slowdown = clock.slowdown
+        info.measured = clock.measured_slowdown()
+        info.fps = frames.get_fps() or None
+        info.paused = clock.paused
+
+        camera.follow(session.character.com(), wall_dt)
+        draw_world(screen, session, camera, small)
+        draw_hud(screen, session, info, font, small)
+        pygame.display.flip()
+    pygame.quit()
+    return 0
+
+
+def _pick(session: Session, camera, screen_pos) -> tuple[str, tuple[float, float]] | None:
+    """The character link under the cursor and the grabbed point in its frame."""
+    import pymunk
+
+    world = camera.to_world(screen_pos)
+    tolerance = 12.0 / camera.scale
+    hit = session.sim.space.point_query_nearest(world, tolerance, pymunk.ShapeFilter())
+    if hit is None or hit.shape is None:
+        return None
+    for name, shapes in session.character.shapes.items():
+        if hit.shape in shapes:
+            local = session.character.bodies[name].world_to_local(hit.point)
+            return name, (local.x, local.y)
+    return None
+

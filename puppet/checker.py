@@ -1,0 +1,60 @@
+"""``puppet check``: validate any data file, telling its kind from its folder or keys."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from puppet.data import catalog
+from puppet.data.characters import parse_character
+from puppet.data.errors import DataError
+from puppet.data.interfaces import check_against_character, parse_interface
+from puppet.data.scenes import parse_scene
+from puppet.data.yamlfile import Located, load_file
+from puppet.timeline.script import parse_script
+
+KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
+                  "scripts": "script"}
+
+
+def guess_kind(path: Path, located: Located) -> str:
+    kind = KIND_BY_FOLDER.get(path.parent.name)
+    if kind:
+        return kind
+    data = located.data if isinstance(located.data, dict) else {}
+    if "links" in data:
+        return "character"
+    if "ground" in data:
+        return "scene"
+    if "events" in data:
+        return "script"
+    if "character" in data:
+        return "interface"
+    raise located.error((), "cannot tell what kind of file this is; expected a character "
+                            "(links:), scene (ground:), interface (character:) or script "
+                            "(events:)")
+
+
+def check_file(path: str | Path) -> str:
+    """Validate one file; return its kind. Raises DataError on the first problem."""
+    path = Path(path)
+    located = load_file(path)
+    kind = guess_kind(path, located)
+    if kind == "character":
+        parse_character(located)
+    elif kind == "scene":
+        parse_scene(located)
+    elif kind == "script":
+        parse_script(located)
+    else:
+        spec = parse_interface(located)
+        try:
+            character_path = catalog.find("character", spec.character)
+        except DataError as exc:
+            raise located.error(("character",), exc.message) from None
+        character = parse_character(load_file(character_path))
+        check_against_character(spec, character, located)
+        try:
+            catalog.find("scene", spec.scene)
+        except DataError as exc:
+            raise located.error(("scene",), exc.message) from None
+    return kind

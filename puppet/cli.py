@@ -1,0 +1,137 @@
+"""The ``puppet`` command: play, list, check.
+
+argparse (standard library) rather than a CLI framework: it gives sub-commands,
+--help and typed options with no extra dependency.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from puppet import __version__
+from puppet.data.errors import DataError
+
+EXIT_DATA_ERROR = 2
+
+
+def _play(args: argparse.Namespace) -> int:
+    from puppet.data.catalog import load_setup
+
+    setup = load_setup(args.interface, args.scene)
+    if not args.headless:
+        if args.input or args.screenshot or args.frames:
+            raise SystemExit("puppet play: --input, --screenshot and --frames need --headless")
+        from puppet.app.window import run_window
+
+        return run_window(setup, args.slowdown)
+    from puppet.app.headless import run_headless
+    from puppet.data.catalog import find
+    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.timeline.script import compile_script, load_script
+
+    events, seconds = [], args.seconds
+    if args.input:
+        script = load_script(find("script", args.input))
+        events = compile_script(script, DEFAULT_DT)
+        if seconds is None:
+            seconds = script.seconds
+    if seconds is None:
+        seconds = 5.0
+    session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
+                           slowdown=args.slowdown)
+    c = session.character
+    x, y = c.com()
+    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
+          f"state={session.sim.state_hash()}")
+    if args.screenshot:
+        print(f"wrote {args.screenshot}")
+    return 0
+
+
+def _list(args: argparse.Namespace) -> int:
+    from puppet.data.catalog import FOLDERS, list_kind
+
+    kinds = [args.kind] if args.kind else ["character", "interface", "scene", "script", "log"]
+    for kind in kinds:
+        items = list_kind(kind)
+        print(f"{kind}s ({FOLDERS[kind][0]}/):")
+        if not items:
+            print("  (none)")
+        width = max((len(n) for n, _ in items), default=0)
+        for name, text in items:
+            print(f"  {name:<{width}}  {text}")
+    return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from puppet.checker import check_file
+
+    failed = 0
+    for name in args.files:
+        try:
+            kind = check_file(name)
+            if not args.quiet:
+                print(f"{name}: ok ({kind})")
+        except DataError as exc:
+            print(exc, file=sys.stderr)
+            failed += 1
+    return EXIT_DATA_ERROR if failed else 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="puppet",
+        description="Drive physically simulated planar characters in real time.")
+    parser.add_argument("--version", action="version", version=f"puppet {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    play = sub.add_parser("play", help="play an interface in a window (or headless)",
+                          description="Open a window and drive the interface's character. "
+                                      "With --headless, run a scripted input and write "
+                                      "images of what the window shows.")
+    play.add_argument("interface", help="interface name (interfaces/NAME.yaml) or path")
+    play.add_argument("--scene", help="scene name (assets/scenes/NAME.yaml) or path; "
+                                      "default: the interface's")
+    play.add_argument("--slowdown", type=float, help="wall seconds per simulated second "
+                                                     "(1-100); default: the interface's")
+    play.add_argument("--headless", action="store_true", help="no window")
+    play.add_argument("--input", metavar="SCRIPT",
+                      help="scripted input (assets/scripts/NAME.yaml or path), headless")
+    play.add_argument("--seconds", type=float, help="simulated seconds to run headless "
+                                                    "(default: the script's, else 5)")
+    play.add_argument("--screenshot", metavar="PNG", help="write the final frame")
+    play.add_argument("--frames", metavar="DIR", help="write every frame as DIR/frame_N.png")
+    play.add_argument("--fps", type=float, default=30.0, help="frame rate for --frames")
+    play.set_defaults(func=_play)
+
+    lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs")
+    lst.add_argument("kind", nargs="?",
+                     choices=["character", "interface", "scene", "script", "log"])
+    lst.set_defaults(func=_list)
+
+    check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)")
+    check.add_argument("files", nargs="+", metavar="FILE")
+    check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    check.set_defaults(func=_check)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    try:
+        return args.func(args)
+    except DataError as exc:
+        print(f"puppet: {exc}", file=sys.stderr)
+        return EXIT_DATA_ERROR
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,118 @@
+"""Find data files by name: characters, interfaces, scenes, scripts and logs.
+
+Names resolve to ``<root>/<folder>/<name>.yaml``; a path to an existing file is
+taken as is. The root is the checkout (or ``$PUPPET_HOME``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from puppet.data.characters import CharacterSpec, parse_character
+from puppet.data.errors import DataError
+from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
+from puppet.data.scenes import SceneSpec, parse_scene
+from puppet.data.yamlfile import load_file
+
+ROOT = Path(os.environ.get("PUPPET_HOME") or Path(__file__).resolve().parents[2])
+
+FOLDERS = {
+    "character": ("characters", ".yaml"),
+    "interface": ("interfaces", ".yaml"),
+    "scene": ("assets/scenes", ".yaml"),
+    "script": ("assets/scripts", ".yaml"),
+    "log": ("assets/logs", ".jsonl"),
+}
+
+
+def folder(kind: str) -> Path:
+    return ROOT / FOLDERS[kind][0]
+
+
+def find(kind: str, name: str) -> Path:
+    """Path of the ``kind`` file called ``name`` (or ``name`` itself if it is a file)."""
+    as_path = Path(name)
+    if as_path.suffix and as_path.is_file():
+        return as_path
+    sub, ext = FOLDERS[kind]
+    candidate = ROOT / sub / (name if name.endswith(ext) else name + ext)
+    if candidate.is_file():
+        return candidate
+    known = ", ".join(n for n, _ in list_kind(kind)) or "none"
+    raise DataError(str(name), None, None, f"no {kind} named '{name}'; known: {known}")
+
+
+def list_kind(kind: str) -> list[tuple[str, str]]:
+    """(name, one-line description) of every file of a kind, sorted by name."""
+    sub, ext = FOLDERS[kind]
+    out = []
+    for path in sorted((ROOT / sub).glob("*" + ext)):
+        out.append((path.stem, describe(path)))
+    return out
+
+
+def describe(path: Path) -> str:
+    """A file's one-line description, without validating it."""
+    try:
+        if path.suffix == ".jsonl":
+            import json
+
+            with path.open(encoding="utf-8") as fh:
+                header = json.loads(fh.readline() or "{}")
+            text = header.get("description") or f"log of {header.get('interface', '?')}"
+        else:
+            data = load_file(path).data
+            text = data.get("description", "") if isinstance(data, dict) else ""
+    except (DataError, ValueError, OSError):
+        return "(unreadable)"
+    return " ".join(str(text).split())
+
+
+def file_hash(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
+
+
+@dataclass
+class Setup:
+    """Everything a session needs, validated together."""
+
+    interface: InterfaceSpec
+    character: CharacterSpec
+    scene: SceneSpec
+    interface_path: Path
+    character_path: Path
+    scene_path: Path
+
+
+def load_character_named(name: str) -> tuple[CharacterSpec, Path]:
+    path = find("character", name)
+    return parse_character(load_file(path)), path
+
+
+def load_scene_named(name: str) -> tuple[SceneSpec, Path]:
+    path = find("scene", name)
+    return parse_scene(load_file(path)), path
+
+
+def load_setup(interface: str, scene: str | None = None) -> Setup:
+    """Load an interface by name or path, its character and a scene (its default if None)."""
+    interface_path = find("interface", interface)
+    located = load_file(interface_path)
+    spec = parse_interface(located)
+    try:
+        character_path = find("character", spec.character)
+    except DataError as exc:
+        raise located.error(("character",), exc.message) from None
+    character = parse_character(load_file(character_path))
+    check_against_character(spec, character, located)
+    try:
+        scene_path = find("scene", scene or spec.scene)
+    except DataError as exc:
+        if scene is not None:
+            raise
+        raise located.error(("scene",), exc.message) from None
+    scene_spec = parse_scene(load_file(scene_path))
+    return Setup(spec, character, scene_spec, interface_path, character_path, scene_path)

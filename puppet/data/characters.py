@@ -1,0 +1,179 @@
+"""Character files (``characters/*.yaml``): links, joints, PD gains, start pose.
+
+Geometry is given in the character's *model frame*: metres, y up, the character
+facing +x, every joint at angle 0. Angles in files are degrees (designers think in
+degrees); everything inside puppet is radians.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+import pydantic
+from pydantic import Field, PositiveFloat, NonNegativeFloat
+
+from puppet.data.validate import Spec, validate
+from puppet.data.yamlfile import Located, load_file
+
+Vec2 = tuple[float, float]
+
+
+class BoxShape(Spec):
+    type: Literal["box"]
+    size: tuple[PositiveFloat, PositiveFloat] = Field(description="width, height in m")
+    center: Vec2 = (0.0, 0.0)
+    angle: float = Field(0.0, description="degrees")
+    radius: NonNegativeFloat = Field(0.0, description="rounded corners, m")
+
+
+class CircleShape(Spec):
+    type: Literal["circle"]
+    radius: PositiveFloat
+    center: Vec2 = (0.0, 0.0)
+
+
+class SegmentShape(Spec):
+    type: Literal["segment"]
+    a: Vec2
+    b: Vec2
+    radius: PositiveFloat = Field(description="half thickness, m")
+
+
+class PolygonShape(Spec):
+    type: Literal["polygon"]
+    points: list[Vec2] = Field(min_length=3)
+    radius: NonNegativeFloat = 0.0
+
+
+Shape = Annotated[Union[BoxShape, CircleShape, SegmentShape, PolygonShape],
+                  Field(discriminator="type")]
+
+
+class LinkSpec(Spec):
+    name: str
+    mass: PositiveFloat = Field(description="kg")
+    shapes: list[Shape] = Field(min_length=1)
+    friction: NonNegativeFloat = 0.8
+    elasticity: float = Field(0.0, ge=0.0, le=1.0)
+    color: tuple[int, int, int] = (200, 200, 210)
+    layer: Literal["far", "mid", "near"] = Field(
+        "mid", description="drawing order; far links are drawn darker, behind")
+    description: str = ""
+
+
+class PDSpec(Spec):
+    stiffness: NonNegativeFloat = Field(description="N*m/rad")
+    damping: NonNegativeFloat = Field(description="N*m*s/rad")
+    max_torque: PositiveFloat = Field(description="N*m")
+
+
+class JointSpec(Spec):
+    name: str
+    parent: str
+    child: str
+    anchor: Vec2 = Field(description="pivot, model frame, m")
+    limits: tuple[float, float] | None = Field(None, description="degrees, child rel. parent")
+    pd: PDSpec | None = Field(None, description="absent: a passive hinge")
+    description: str = ""
+
+
+class StartSpec(Spec):
+    angle: float = Field(0.0, description="root link angle, degrees")
+    joints: dict[str, float] = Field(default_factory=dict, description="degrees")
+    lift: float = Field(0.0, description="m above the scene's start point")
+
+
+class CharacterSpec(Spec):
+    name: str
+    description: str
+    notes: str = ""
+    view_height: PositiveFloat = Field(1.0, description="m of world shown in the window")
+    links: list[LinkSpec] = Field(min_length=1)
+    joints: list[JointSpec] = Field(default_factory=list)
+    start: StartSpec = Field(default_factory=StartSpec)
+
+    @property
+    def root(self) -> str:
+        return self.links[0].name
+
+    def link(self, name: str) -> LinkSpec:
+        return next(link for link in self.links if link.name == name)
+
+    def joint(self, name: str) -> JointSpec:
+        return next(joint for joint in self.joints if joint.name == name)
+
+    @property
+    def actuated(self) -> list[JointSpec]:
+        return [j for j in self.joints if j.pd is not None]
+
+
+def _check_structure(spec: CharacterSpec, located: Located) -> None:
+    """Cross-references pydantic cannot see: names, tree shape, limits, start pose."""
+    names: dict[str, int] = {}
+    for i, link in enumerate(spec.links):
+        if link.name in names:
+            raise located.error(("links", i, "name"), f"duplicate link name '{link.name}'")
+        names[link.name] = i
+    has_parent: set[str] = set()
+    joint_names: set[str] = set()
+    for i, joint in enumerate(spec.joints):
+        if joint.name in joint_names:
+            raise located.error(("joints", i, "name"), f"duplicate joint name '{joint.name}'")
+        joint_names.add(joint.name)
+        for end in ("parent", "child"):
+            link = getattr(joint, end)
+            if link not in names:
+                raise located.error(("joints", i, end),
+                                    f"unknown link '{link}'; expected one of: {', '.join(names)}")
+        if joint.parent == joint.child:
+            raise located.error(("joints", i, "child"), "a joint must join two different links")
+        if joint.child in has_parent:
+            raise located.error(("joints", i, "child"),
+                                f"link '{joint.child}' already has a parent joint "
+                                f"(links form a tree rooted at '{spec.root}')")
+        if joint.child == spec.root:
+            raise located.error(("joints", i, "child"),
+                                f"'{spec.root}' is the root link (the first one) and "
+                                "cannot be a joint's child")
+        has_parent.add(joint.child)
+        if joint.limits is not None and not joint.limits[0] < joint.limits[1]:
+            raise located.error(("joints", i, "limits"),
+                                f"limits must be [lower, upper] with lower < upper, "
+                                f"got {list(joint.limits)}")
+    for i, link in enumerate(spec.links[1:], start=1):
+        if link.name not in has_parent:
+            raise located.error(("links", i, "name"),
+                                f"link '{link.name}' is not attached: no joint has it as child")
+    # Tree: every link reaches the root by parents (no cycles).
+    parent_of = {j.child: j.parent for j in spec.joints}
+    for i, link in enumerate(spec.links):
+        seen, cur = set(), link.name
+        while cur in parent_of:
+            if cur in seen:
+                raise located.error(("links", i, "name"), f"joints form a loop at '{cur}'")
+            seen.add(cur)
+            cur = parent_of[cur]
+    for name, value in spec.start.joints.items():
+        if name not in joint_names:
+            raise located.error(("start", "joints", name),
+                                f"unknown joint '{name}'; expected one of: "
+                                f"{', '.join(sorted(joint_names))}", prefer_key=True)
+        joint = spec.joint(name)
+        if joint.limits and not joint.limits[0] <= value <= joint.limits[1]:
+            raise located.error(("start", "joints", name),
+                                f"start angle {value} deg is outside the joint's limits "
+                                f"{list(joint.limits)}")
+
+
+def parse_character(located: Located) -> CharacterSpec:
+    spec = validate(located, CharacterSpec)
+    _check_structure(spec, located)
+    return spec
+
+
+def load_character(path) -> CharacterSpec:
+    return parse_character(load_file(path))
+
+
+__all__ = ["CharacterSpec", "LinkSpec", "JointSpec", "PDSpec", "load_character",
+           "parse_character", "pydantic"]

@@ -1,0 +1,1 @@
+"""The interface runtime: turns input events into PD targets and gains."""

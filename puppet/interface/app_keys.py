@@ -1,0 +1,39 @@
+"""The app's own keys, listed once. An interface may rebind them (``app_keys:``).
+
+Keys are pygame key names (``pygame.key.name``), lower case, with optional
+``ctrl+``/``shift+``/``alt+`` prefixes. An interface that binds one of these keys
+for itself without rebinding the app's action is refused at load time.
+"""
+
+from __future__ import annotations
+
+# action -> (default key, what it does). Order is the order shown in the HUD.
+APP_KEYS: dict[str, tuple[str, str]] = {
+    "quit": ("escape", "quit"),
+    "reset": ("r", "reset to the start pose"),
+    "pause": ("p", "pause / resume"),
+    "step": (".", "single step while paused"),
+    "slower": ("-", "more slowdown"),
+    "faster": ("=", "less slowdown"),
+    "help": ("f1", "show / hide the key map"),
+}
+
+# Actions that change the simulation (and so are handled by the Session, replayed
+# from logs); the others only change how the window presents it.
+SIM_ACTIONS = frozenset({"reset"})
+
+MODIFIERS = ("ctrl", "shift", "alt")
+
+
+def normalize_key(text: str) -> str:
+    """Canonical form of a key chord: modifiers sorted, lower case ('Ctrl+A' -> 'ctrl+a')."""
+    parts = [p.strip().lower() for p in text.split("+")] if text != "+" else ["+"]
+    if text.endswith("++"):  # "ctrl++" means ctrl and the plus key
+        parts = [p.strip().lower() for p in text[:-2].split("+")] + ["+"]
+    mods = sorted(p for p in parts[:-1] if p in MODIFIERS)
+    return "+".join(mods + [parts[-1]])
+
+
+def key_chord(name: str, mods: tuple[str, ...] | list[str] = ()) -> str:
+    """Chord string for a key name and held modifiers."""
+    return "+".join(sorted(set(m for m in mods if m in MODIFIERS)) + [name.lower()])

@@ -1,0 +1,184 @@
+"""Build a character's pymunk bodies, shapes, hinges and PD servos from its spec.
+
+Every body's local frame is the character's model frame placed at the body's pose,
+so shapes and anchors are written once, in model coordinates, and forward kinematics
+is ``world = R(body.angle) * model + body.position``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pymunk
+
+from puppet.data.characters import CharacterSpec, LinkSpec
+from puppet.physics.servo import PDServo
+
+
+def _rot(p, angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return (c * p[0] - s * p[1], s * p[0] + c * p[1])
+
+
+def _make_shapes(body: pymunk.Body, link: LinkSpec) -> list[pymunk.Shape]:
+    shapes: list[pymunk.Shape] = []
+    for s in link.shapes:
+        if s.type == "box":
+            w, h = s.size
+            a = math.radians(s.angle)
+            corners = [_rot(p, a) for p in ((-w / 2, -h / 2), (w / 2, -h / 2),
+                                             (w / 2, h / 2), (-w / 2, h / 2))]
+            verts = [(x + s.center[0], y + s.center[1]) for x, y in corners]
+            shapes.append(pymunk.Poly(body, verts, radius=s.radius))
+        elif s.type == "circle":
+            shapes.append(pymunk.Circle(body, s.radius, s.center))
+        elif s.type == "segment":
+            shapes.append(pymunk.Segment(body, s.a, s.b, s.radius))
+        else:
+            shapes.append(pymunk.Poly(body, [tuple(p) for p in s.points], radius=s.radius))
+    areas = [max(_area(sh), 1e-9) for sh in shapes]
+    total = sum(areas)
+    for shape, area in zip(shapes, areas):
+        shape.mass = link.mass * area / total  # spread the link's mass by area
+        shape.friction = link.friction
+        shape.elasticity = link.elasticity
+    return shapes
+
+
+def _area(shape: pymunk.Shape) -> float:
+    if isinstance(shape, pymunk.Circle):
+        return math.pi * shape.radius ** 2
+    if isinstance(shape, pymunk.Segment):
+        r = shape.radius
+        return 2 * r * (shape.b - shape.a).length + math.pi * r * r
+    return shape.area
+
+
+class Character:
+    """A character in a space: bodies by link name, servos by joint name, and sensors."""
+
+    def __init__(self, spec: CharacterSpec, group: int = 1):
+        self.spec = spec
+        self.group = group
+        self.bodies: dict[str, pymunk.Body] = {}
+        self.shapes: dict[str, list[pymunk.Shape]] = {}
+        self.hinges: list[pymunk.Constraint] = []
+        self.servos: dict[str, PDServo] = {}
+        no_self_collision = pymunk.ShapeFilter(group=group)
+        for link in spec.links:
+            body = pymunk.Body()
+            shapes = _make_shapes(body, link)
+            for shape in shapes:
+                shape.filter = no_self_collision
+            self.bodies[link.name] = body
+            self.shapes[link.name] = shapes
+        start = {j.name: math.radians(v) for j, v in
+                 ((spec.joint(n), v) for n, v in spec.start.joints.items())}
+        for joint in spec.joints:
+            parent, child = self.bodies[joint.parent], self.bodies[joint.child]
+            self.hinges.append(pymunk.PivotJoint(parent, child, joint.anchor, joint.anchor))
+            if joint.limits is not None:
+                lo, hi = (math.radians(v) for v in joint.limits)
+                self.hinges.append(pymunk.RotaryLimitJoint(parent, child, lo, hi))
+            if joint.pd is not None:
+                pd = joint.pd
+                self.servos[joint.name] = PDServo(joint.name, parent, child,
+                                                  start.get(joint.name, 0.0),
+                                                  pd.stiffness, pd.damping, pd.max_torque)
+        self.link_order = [link.name for link in spec.links]
+        self.mass = sum(link.mass for link in spec.links)
+
+    def add_to(self, space: pymunk.Space) -> None:
+        for name in self.link_order:
+            space.add(self.bodies[name], *self.shapes[name])
+        space.add(*self.hinges, *(s.spring for s in self.servos.values()))
+
+    def place(self, x: float, y: float, angle: float, joint_angles: dict[str, float]) -> None:
+        """Put the model origin at (x, y), root at ``angle``; joints at angles (radians)."""
+        angles = {self.spec.root: angle}
+        root = self.bodies[self.spec.root]
+        root.position = (x, y)
+        root.angle = angle
+        done = {self.spec.root}
+        pending = list(self.spec.joints)
+        while pending:
+            for joint in list(pending):
+                if joint.parent not in done:
+                    continue
+                parent = self.bodies[joint.parent]
+                child = self.bodies[joint.child]
+                a = angles[joint.parent] + joint_angles.get(joint.name, 0.0)
+                angles[joint.child] = a
+                anchor_world = parent.local_to_world(joint.anchor)
+                off = _rot(joint.anchor, a)
+                child.angle = a
+                child.position = (anchor_world[0] - off[0], anchor_world[1] - off[1])
+                done.add(joint.child)
+                pending.remove(joint)
+        for body in self.bodies.values():
+            body.velocity = (0.0, 0.0)
+            body.angular_velocity = 0.0
+
+    def start_joint_angles(self) -> dict[str, float]:
+        return {n: math.radians(v) for n, v in self.spec.start.joints.items()}
+
+    def lowest_point(self) -> float:
+        """Lowest y of any shape (m), for placing the character on the ground."""
+        return min(shape.cache_bb().bottom for shapes in self.shapes.values() for shape in shapes)
+
+    # -- restoring from a snapshot ------------------------------------------------
+    def state_objects(self) -> tuple:
+        """Every pymunk object we hold a reference to, in a fixed order (for pickling)."""
+        return (tuple(self.bodies[n] for n in self.link_order),
+                tuple(tuple(self.shapes[n]) for n in self.link_order),
+                tuple(self.hinges),
+                tuple(s.spring for s in self.servos.values()))
+
+    def bind(self, objects: tuple) -> None:
+        bodies, shapes, hinges, springs = objects
+        self.bodies = dict(zip(self.link_order, bodies))
+        self.shapes = {n: list(s) for n, s in zip(self.link_order, shapes)}
+        self.hinges = list(hinges)
+        for servo, spring in zip(self.servos.values(), springs):
+            servo.bind(spring)
+
+    # -- sensors (named after what they measure; also used by conditions and checks)
+    def com(self) -> tuple[float, float]:
+        """Centre of mass, world m."""
+        mx = my = 0.0
+        for body in self.bodies.values():
+            p = body.local_to_world(body.center_of_gravity)
+            mx += body.mass * p[0]
+            my += body.mass * p[1]
+        return (mx / self.mass, my / self.mass)
+
+    def com_velocity(self) -> tuple[float, float]:
+        vx = vy = 0.0
+        for body in self.bodies.values():
+            v = body.velocity_at_local_point(body.center_of_gravity)
+            vx += body.mass * v[0]
+            vy += body.mass * v[1]
+        return (vx / self.mass, vy / self.mass)
+
+    def root_angle(self) -> float:
+        """Angle of the root link (radians, counter-clockwise, 0 = as in the model)."""
+        return self.bodies[self.spec.root].angle
+
+    def upright(self, tolerance_deg: float = 45.0) -> bool:
+        """Root link within ``tolerance_deg`` of its model orientation (mod full turns)."""
+        a = math.remainder(self.root_angle(), 2 * math.pi)
+        return abs(math.degrees(a)) <= tolerance_deg
+
+    def in_contact(self, name: str) -> bool:
+        """True if the link touches anything outside the character (the ground)."""
+        touching = []
+        self.bodies[name].each_arbiter(lambda arbiter: touching.append(1))
+        return bool(touching)
+
+    def joint_angle(self, name: str) -> float:
+        return self.servos[name].angle
+
+    def link_position(self, name: str) -> tuple[float, float]:
+        body = self.bodies[name]
+        p = body.local_to_world(body.center_of_gravity)
+        return (p[0], p[1])

@@ -1,0 +1,1 @@
+"""Time lines of input: scripted performances, recorded logs, checkpoints, replay."""

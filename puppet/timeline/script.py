@@ -1,0 +1,117 @@
+"""Scripted performances: timed key presses and mouse paths written as YAML.
+
+A script is how a performance is authored without hands: each entry acts at ``t``
+seconds of simulated time. It compiles to ``(step, event)`` pairs, the same form a
+recorded log replays from.
+
+    events:
+      - {t: 0.0, mouse: [0.5, 0.5]}              # jump the mouse there
+      - {t: 1.0, mouse: [0.9, 0.1], over: 0.2}   # glide there from where it was, in 0.2 s
+      - {t: 2.0, key: space}                     # press and release
+      - {t: 2.5, key: a, hold: 0.4}              # hold for 0.4 s
+      - {t: 3.0, action: reset}
+      - {t: 4.0, drag: {link: base, point: [0, 0], to: [1.0, 0.5], over: 0.5}}
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, NonNegativeFloat, model_validator
+
+from puppet.data.validate import Spec, validate
+from puppet.data.yamlfile import Located, load_file
+from puppet.interface import events as ev
+from puppet.interface.app_keys import normalize_key
+from puppet.interface.events import Event
+
+Vec2 = tuple[float, float]
+GLIDE_RATE = 240.0  # Hz: how often a gliding mouse reports, like a gaming mouse
+
+
+class DragSpec(Spec):
+    link: str
+    point: Vec2 = (0.0, 0.0)
+    to: Vec2 = Field(description="world target, m")
+    start: Vec2 | None = Field(None, description="world target at start; default: the point")
+    over: NonNegativeFloat = 0.0
+    hold: NonNegativeFloat = 0.0
+
+
+class ScriptEntry(Spec):
+    t: NonNegativeFloat = Field(description="s of simulated time")
+    mouse: Vec2 | None = None
+    over: NonNegativeFloat = 0.0
+    key: str | None = None
+    hold: NonNegativeFloat = 0.0
+    action: str | None = None
+    drag: DragSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_thing(self):
+        given = [n for n in ("mouse", "key", "action", "drag") if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("each entry needs exactly one of mouse, key, action, drag; "
+                             f"got {', '.join(given) or 'none'}")
+        if self.mouse is not None and not all(0.0 <= v <= 1.0 for v in self.mouse):
+            raise ValueError(f"mouse position must be within [0, 1] x [0, 1], got "
+                             f"{list(self.mouse)}")
+        return self
+
+
+class ScriptSpec(Spec):
+    description: str = ""
+    interface: str | None = None
+    scene: str | None = None
+    seconds: NonNegativeFloat | None = Field(None, description="default run length, s")
+    events: list[ScriptEntry]
+
+
+def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
+    """(step, event) pairs in the order they act."""
+    out: list[tuple[int, int, Event]] = []  # (step, entry order, event)
+    mouse = (0.5, 0.5)
+    order = 0
+
+    def add(t: float, event: Event) -> None:
+        nonlocal order
+        out.append((round(t / dt), order, event))
+        order += 1
+
+    for e in sorted(spec.events, key=lambda e: e.t):
+        if e.mouse is not None:
+            if e.over > 0:
+                n = max(1, round(e.over * GLIDE_RATE))
+                for i in range(1, n + 1):
+                    u = i / n
+                    add(e.t + u * e.over, ev.mouse(mouse[0] + u * (e.mouse[0] - mouse[0]),
+                                                   mouse[1] + u * (e.mouse[1] - mouse[1])))
+            else:
+                add(e.t, ev.mouse(*e.mouse))
+            mouse = e.mouse
+        elif e.key is not None:
+            chord = normalize_key(e.key)
+            add(e.t, ev.key(chord, True))
+            add(e.t + max(e.hold, dt), ev.key(chord, False))
+        elif e.action is not None:
+            add(e.t, ev.action(e.action))
+        else:
+            d = e.drag
+            start = d.start if d.start is not None else None
+            add(e.t, ev.drag_start(d.link, d.point, start if start is not None else d.to))
+            if d.over > 0:
+                s0 = start if start is not None else d.to
+                n = max(1, round(d.over * GLIDE_RATE))
+                for i in range(1, n + 1):
+                    u = i / n
+                    add(e.t + u * d.over, ev.drag_move((s0[0] + u * (d.to[0] - s0[0]),
+                                                        s0[1] + u * (d.to[1] - s0[1]))))
+            add(e.t + d.over + max(d.hold, dt), ev.drag_end())
+    out.sort(key=lambda item: (item[0], item[1]))
+    return [(step, event) for step, _, event in out]
+
+
+def parse_script(located: Located) -> ScriptSpec:
+    return validate(located, ScriptSpec)
+
+
+def load_script(path) -> ScriptSpec:
+    return parse_script(load_file(path))

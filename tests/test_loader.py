@@ -1,0 +1,73 @@
+"""Malformed data files are refused with one line naming file:line and what was wrong.
+
+Each file under tests/broken/ says on its first line what must be reported:
+``# expect: LINE: message fragment``.
+"""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from puppet.checker import check_file
+from puppet.data.errors import DataError
+
+BROKEN = sorted((Path(__file__).parent / "broken").glob("*.yaml"))
+
+
+def expectation(path: Path) -> tuple[int, str]:
+    first = path.read_text().splitlines()[0]
+    match = re.match(r"# expect: (\d+): (.*)", first)
+    assert match, f"{path} must start with '# expect: LINE: message'"
+    return int(match.group(1)), match.group(2)
+
+
+@pytest.mark.parametrize("path", BROKEN, ids=[p.stem for p in BROKEN])
+def test_broken_file_is_rejected_with_file_and_line(path):
+    line, fragment = expectation(path)
+    with pytest.raises(DataError) as info:
+        check_file(path)
+    err = info.value
+    assert err.path == str(path)
+    assert err.line == line, str(err)
+    assert fragment in err.message, str(err)
+    assert "\n" not in str(err)
+
+
+def test_every_kind_of_file_has_broken_examples():
+    kinds = {p.stem.split("-")[0] for p in BROKEN}
+    assert {"char", "scene", "iface", "script"} <= kinds
+
+
+def test_cli_reports_one_line_and_exit_code_2():
+    path = Path(__file__).parent / "broken" / "char-unknown-key.yaml"
+    proc = subprocess.run([sys.executable, "-m", "puppet", "check", str(path)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith(f"{path}:9:5: unknown key 'mas'")
+    assert "Traceback" not in proc.stderr
+
+
+def test_play_refuses_invalid_interface_without_traceback(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: bad\ndescription: x\ncharacter: luxo\nmaps:\n"
+                   "  - {input: mouse.x, joint: ankle, to: [0, 'far']}\n")
+    proc = subprocess.run([sys.executable, "-m", "puppet", "play", str(bad), "--headless",
+                           "--seconds", "0.1"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and f"{bad}:5:" in proc.stderr, proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_yaml_never_runs_code(tmp_path):
+    marker = tmp_path / "owned"
+    bad = tmp_path / "evil.yaml"
+    bad.write_text(f"name: x\ndescription: !!python/object/apply:os.system "
+                   f"['touch {marker}']\nlinks: []\n")
+    with pytest.raises(DataError):
+        check_file(bad)
+    assert not marker.exists()
