@@ -1,0 +1,533 @@
+"""``puppet bench``: how fast the simulation runs, headless, for every shipped character.
+
+For each character (``characters/*.yaml``) it takes the first interface (by file name)
+that drives it, builds a Session on the interface's scene and measures:
+
+* **control** - simulated seconds per wall second of a Session fed the way the window
+  feeds it: one frame = one mouse event (a scripted figure-of-eight gesture; a press or
+  release of one of the interface's keys every 0.5 s if it has keys) handed to
+  ``Session.handle``, then ``Session.advance`` of 1/60 s of steps. No rendering.
+* **bare, same motion** - the same Simulation stepped by ``space.step(dt)`` in a plain
+  loop, with the servo targets the control run produced written straight onto the pymunk
+  springs between frames (so it goes through the identical trajectory: the state hashes
+  are compared). ``control overhead = bare time / control time - 1`` on this pair, since
+  a different motion costs the physics a different amount.
+* **bare, at rest** - the same Simulation stepped with no targets at all (the character
+  stands still): shown for information, it is not the same physics work.
+* **checkpoint** - ``Simulation.snapshot`` / ``restore`` / ``checkpoint`` times and bytes.
+* **rewind** - a ring of checkpoints every 0.1 s over 60 s of controlled play (the control
+  speed with the ring running, and its memory under ``tracemalloc``); then restoring the
+  oldest one (60 s ago), putting the interface state back, and stepping one frame.
+* **logs** - replay speed of every ``assets/logs/*.jsonl`` through
+  ``puppet.testing.replay_log`` (when that module exists).
+
+Every time is a median over repeats of ``time.perf_counter`` measurements; the control
+and bare runs are interleaved so that a busy machine slows them alike. Targets are
+reported PASS/MISS; the exit code is 0 unless ``--strict``.
+"""
+
+from __future__ import annotations
+
+import gc
+import json
+import math
+import platform
+import statistics
+import sys
+import time
+import tracemalloc
+from collections import deque
+from pathlib import Path
+
+FRAME_HZ = 60.0  # the window's frame rate: one batch of input per frame
+RING_INTERVAL = 0.1  # s of simulated time between rewind checkpoints
+REWIND_SECONDS = 60.0
+
+# Targets (the report's PASS/MISS). Speeds are simulated seconds per wall second.
+SPEED_TARGET = {"luxo": 100.0}
+SPEED_TARGET_DEFAULT = 50.0
+OVERHEAD_TARGET_PCT = 25.0
+CHECKPOINT_TARGET_MS = 2.0
+REWIND_TARGET_MS = 100.0
+
+FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
+        "rewind_repeats": 21, "log_repeats": 3}
+QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds": 1.0,
+         "rewind_repeats": 2, "log_repeats": 1}
+
+
+# -- what to measure -----------------------------------------------------------------
+def characters_and_interfaces() -> list[tuple[str, str | None, str | None]]:
+    """(character name, first interface using it or None, problem or None)."""
+    from puppet.data.catalog import find, folder
+    from puppet.data.errors import DataError
+    from puppet.data.interfaces import parse_interface
+    from puppet.data.yamlfile import load_file
+
+    users: dict[Path, str] = {}
+    for path in sorted(folder("interface").glob("*.yaml")):
+        try:
+            spec = parse_interface(load_file(path))
+            char_path = find("character", spec.character).resolve()
+        except DataError:
+            continue  # an invalid interface is `puppet check`'s business, not ours
+        users.setdefault(char_path, path.stem)
+    out = []
+    for path in sorted(folder("character").glob("*.yaml")):
+        out.append((path.stem, users.get(path.resolve()), None))
+    return out
+
+
+def gesture(frames: int, interface_spec) -> list[list[dict]]:
+    """The input of each frame: a figure-of-eight mouse path, and key taps."""
+    from puppet.interface import events as ev
+    from puppet.interface.app_keys import normalize_key
+
+    keys = [normalize_key(k.key) for k in interface_spec.keys] if interface_spec else []
+    per_tap = max(1, round(0.5 * FRAME_HZ))
+    out = []
+    for f in range(frames):
+        t = f / FRAME_HZ
+        batch = [ev.mouse(0.5 + 0.35 * math.sin(2 * math.pi * 0.6 * t),
+                          0.5 + 0.35 * math.sin(2 * math.pi * 1.2 * t))]
+        if keys and f % per_tap == 0:
+            tap = f // per_tap
+            batch.append(ev.key(keys[(tap // 2) % len(keys)], tap % 2 == 0))
+        out.append(batch)
+    return out
+
+
+class Subject:
+    """One character with its interface (or a bare Simulation), ready to build runs."""
+
+    def __init__(self, character: str, interface: str | None):
+        from puppet.data.catalog import find, load_character_named, load_scene_named, \
+            load_setup
+        from puppet.physics.simulation import DEFAULT_DT
+
+        self.character = character
+        self.interface = interface
+        self.dt = DEFAULT_DT
+        self.steps_per_frame = max(1, round(1.0 / (FRAME_HZ * self.dt)))
+        if interface is not None:
+            self.setup = load_setup(interface)
+            self.character_spec, self.scene_spec = self.setup.character, self.setup.scene
+            self.scene = self.setup.scene_path.stem
+            self.interface_spec = self.setup.interface
+        else:
+            self.setup = None
+            self.character_spec, _ = load_character_named(character)
+            try:
+                find("scene", "flat")
+                self.scene = "flat"
+            except Exception:  # noqa: BLE001 - any shipped scene will do
+                from puppet.data.catalog import list_kind
+                self.scene = list_kind("scene")[0][0]
+            self.scene_spec, _ = load_scene_named(self.scene)
+            self.interface_spec = None
+
+    def frames(self, seconds: float) -> int:
+        return max(1, round(seconds * FRAME_HZ))
+
+    def session(self):
+        """A fresh Session (or, without an interface, a fresh Simulation)."""
+        if self.setup is not None:
+            from puppet.session import Session
+
+            return Session(self.setup, self.dt)
+        from puppet.physics.simulation import Simulation
+
+        return Simulation(self.character_spec, self.scene_spec, self.dt)
+
+    @staticmethod
+    def sim_of(obj):
+        return getattr(obj, "sim", obj)
+
+
+# -- runs ----------------------------------------------------------------------------
+def run_control(subject: Subject, inputs: list[list[dict]]) -> tuple[float, object]:
+    """Wall seconds of a controlled run (one input batch then one frame of steps)."""
+    obj = subject.session()
+    n = subject.steps_per_frame
+    gc.collect()
+    if subject.setup is None:  # no interface: nothing to control, just the Simulation
+        step = obj.step
+        t0 = time.perf_counter()
+        for _ in inputs:
+            step(n)
+        return time.perf_counter() - t0, obj
+    handle, advance = obj.handle, obj.advance
+    t0 = time.perf_counter()
+    for batch in inputs:
+        for event in batch:
+            handle(event)
+        advance(n)
+    return time.perf_counter() - t0, obj
+
+
+def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]]:
+    """Per frame, the (spring index, rest angle) changes the control layer made."""
+    if subject.setup is None:
+        return [[] for _ in inputs]
+    session = subject.session()
+    servos = list(session.character.servos.values())
+    last = [s.target for s in servos]
+    trace = []
+    for batch in inputs:
+        for event in batch:
+            session.handle(event)
+        now = [s.target for s in servos]
+        trace.append([(i, a) for i, (a, b) in enumerate(zip(now, last)) if a != b])
+        last = now
+        session.advance(subject.steps_per_frame)
+    return trace
+
+
+def run_bare(subject: Subject, trace: list[list[tuple]], with_targets: bool
+             ) -> tuple[float, object]:
+    """Wall seconds of ``space.step(dt)`` in a plain loop over the same frames."""
+    obj = subject.session()  # the same Simulation, interface gains applied
+    sim = subject.sim_of(obj)
+    springs = [s.spring for s in sim.character.servos.values()]
+    step, dt, n = sim.space.step, sim.dt, subject.steps_per_frame
+    frames = len(trace)
+    gc.collect()
+    if with_targets:
+        t0 = time.perf_counter()
+        for changes in trace:
+            for i, angle in changes:
+                springs[i].rest_angle = angle
+            for _ in range(n):
+                step(dt)
+        wall = time.perf_counter() - t0
+    else:
+        total = frames * n
+        t0 = time.perf_counter()
+        for _ in range(total):
+            step(dt)
+        wall = time.perf_counter() - t0
+    sim.steps += frames * n
+    return wall, sim
+
+
+def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
+    frames = subject.frames(seconds)
+    sim_seconds = frames * subject.steps_per_frame * subject.dt
+    inputs = gesture(frames, subject.interface_spec)
+    trace = target_trace(subject, inputs)
+    run_control(subject, inputs[: max(1, frames // 10)])  # warm up
+    control, same, rest = [], [], []
+    identical = True
+    for _ in range(repeats):  # interleaved, so a busy machine slows all three alike
+        wall, obj = run_control(subject, inputs)
+        control.append(wall)
+        wall, sim = run_bare(subject, trace, with_targets=True)
+        same.append(wall)
+        identical = identical and sim.state_hash() == subject.sim_of(obj).state_hash()
+        wall, _ = run_bare(subject, trace, with_targets=False)
+        rest.append(wall)
+    c, s, r = (statistics.median(x) for x in (control, same, rest))
+    return {
+        "sim_seconds": sim_seconds, "repeats": repeats, "frames": frames,
+        "steps_per_frame": subject.steps_per_frame,
+        "control_speed_x": sim_seconds / c,
+        "bare_same_motion_speed_x": sim_seconds / s,
+        "bare_at_rest_speed_x": sim_seconds / r,
+        "control_overhead_pct": (c / s - 1.0) * 100.0,
+        "overhead_vs_rest_pct": (c / r - 1.0) * 100.0,
+        "same_motion_state_identical": identical,
+        "control_us_per_frame": c / frames * 1e6,
+        "bare_us_per_frame": s / frames * 1e6,
+        "wall_samples_s": {"control": control, "bare_same_motion": same, "bare_at_rest": rest},
+    }
+
+
+def _median_ms(fn, repeats: int) -> float:
+    samples = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        samples.append(time.perf_counter() - t0)
+    return statistics.median(samples) * 1e3
+
+
+def _play_frames(subject: Subject, obj, inputs) -> None:
+    if subject.setup is None:
+        obj.step(subject.steps_per_frame * len(inputs))
+        return
+    for batch in inputs:
+        for event in batch:
+            obj.handle(event)
+        obj.advance(subject.steps_per_frame)
+
+
+def measure_checkpoint(subject: Subject, repeats: int) -> dict:
+    """Snapshot/restore/checkpoint of a state in mid-motion (1 s into the gesture)."""
+    obj = subject.session()
+    sim = subject.sim_of(obj)
+    _play_frames(subject, obj, gesture(subject.frames(1.0), subject.interface_spec))
+    data = sim.snapshot()
+    out = {
+        "bytes": len(data),
+        "snapshot_ms": _median_ms(sim.snapshot, repeats),
+        "restore_ms": _median_ms(lambda: sim.restore(data), repeats),
+        "checkpoint_ms": _median_ms(sim.checkpoint, repeats),
+        "repeats": repeats,
+    }
+    return out
+
+
+def _build_ring(subject: Subject, obj, inputs, every: int) -> deque:
+    sim = subject.sim_of(obj)
+    runtime = getattr(obj, "runtime", None)
+    ring: deque = deque(maxlen=len(inputs) // every + 1)
+    ring.append((sim.checkpoint(), runtime.get_state() if runtime else None, sim.steps))
+    n = subject.steps_per_frame
+    for f, batch in enumerate(inputs, 1):
+        if runtime is not None:
+            for event in batch:
+                obj.handle(event)
+            obj.advance(n)
+        else:
+            sim.step(n)
+        if f % every == 0:
+            ring.append((sim.checkpoint(), runtime.get_state() if runtime else None,
+                         sim.steps))
+    return ring
+
+
+def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
+    frames = subject.frames(seconds)
+    every = max(1, round(RING_INTERVAL * FRAME_HZ))
+    inputs = gesture(frames, subject.interface_spec)
+    sim_seconds = frames * subject.steps_per_frame * subject.dt
+
+    # 1. control speed with the ring running (a checkpoint every 0.1 s)
+    obj = subject.session()
+    gc.collect()
+    t0 = time.perf_counter()
+    ring = _build_ring(subject, obj, inputs, every)
+    ring_wall = time.perf_counter() - t0
+
+    # 2. memory of the ring: a second identical run under tracemalloc
+    del ring
+    obj2 = subject.session()
+    gc.collect()
+    tracemalloc.start()
+    try:
+        base, _ = tracemalloc.get_traced_memory()
+        tracemalloc.reset_peak()
+        ring = _build_ring(subject, obj2, inputs, every)
+        current, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    ring_bytes = sum(len(data) for data, _, _ in ring)
+
+    # 3. rewind: restore the oldest snapshot, put the interface state back, continue
+    sim = subject.sim_of(obj2)
+    runtime = getattr(obj2, "runtime", None)
+    oldest_data, oldest_state, oldest_steps = ring[0]
+    age = (sim.steps - oldest_steps) * sim.dt
+    n = subject.steps_per_frame
+
+    def restore() -> None:
+        sim.restore(oldest_data)
+        if runtime is not None:
+            runtime.set_state(oldest_state)
+
+    def resume() -> None:
+        restore()
+        sim.step(n)  # the first frame after the rewind: contacts are rebuilt here
+
+    restore_ms = _median_ms(restore, repeats)
+    resume_ms = _median_ms(resume, repeats)
+    return {
+        "seconds": sim_seconds, "interval_s": every / FRAME_HZ, "entries": len(ring),
+        "rewound_s": age, "ring_bytes": ring_bytes,
+        "ring_traced_current_bytes": current - base, "ring_traced_peak_bytes": peak - base,
+        "control_with_ring_speed_x": sim_seconds / ring_wall,
+        "restore_ms": restore_ms, "resume_ms": resume_ms, "repeats": repeats,
+    }
+
+
+# -- logs ----------------------------------------------------------------------------
+def replay_function():
+    """``puppet.testing.replay_log`` if it exists yet (another module provides it)."""
+    try:
+        from puppet.testing import replay_log
+    except ImportError:
+        return None
+    return replay_log
+
+
+def _replayed_seconds(result, path: Path) -> float | None:
+    for holder in (result, getattr(result, "session", None), getattr(result, "sim", None)):
+        t = getattr(holder, "time", None)
+        if isinstance(t, (int, float)):
+            return float(t)
+    if isinstance(result, dict):
+        for key in ("time", "seconds", "sim_seconds"):
+            if isinstance(result.get(key), (int, float)):
+                return float(result[key])
+    return None
+
+
+def measure_logs(repeats: int) -> dict:
+    from puppet.data.catalog import folder
+
+    logs = sorted(folder("log").glob("*.jsonl"))
+    if not logs:
+        return {"status": "no logs", "items": []}
+    replay_log = replay_function()
+    if replay_log is None:
+        return {"status": "no replayer (puppet.testing.replay_log missing)",
+                "items": [{"log": p.stem} for p in logs]}
+    items = []
+    for path in logs:
+        item: dict = {"log": path.stem}
+        try:
+            walls = []
+            result = None
+            for _ in range(repeats):
+                gc.collect()
+                t0 = time.perf_counter()
+                result = replay_log(path)
+                walls.append(time.perf_counter() - t0)
+            wall = statistics.median(walls)
+            seconds = _replayed_seconds(result, path)
+            item.update({"wall_s": wall, "sim_seconds": seconds,
+                         "speed_x": seconds / wall if seconds and wall > 0 else None})
+        except Exception as exc:  # noqa: BLE001 - a report, not a test
+            item["error"] = f"{type(exc).__name__}: {exc}"
+        items.append(item)
+    return {"status": "ok", "items": items}
+
+
+# -- the report ----------------------------------------------------------------------
+def _target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
+    ok = value >= limit if op == ">=" else value <= limit if op == "<=" else value < limit
+    return {"name": name, "value": value, "op": op, "limit": limit, "unit": unit,
+            "pass": bool(ok)}
+
+
+def bench_character(character: str, interface: str | None, cfg: dict) -> dict:
+    subject = Subject(character, interface)
+    sim = subject.sim_of(subject.session())
+    res: dict = {"character": character, "interface": interface, "scene": subject.scene,
+                 "bodies": len(sim.character.bodies),
+                 "constraints": len(sim.space.constraints)}
+    res["speed"] = measure_speed(subject, cfg["seconds"], cfg["repeats"])
+    res["checkpoint"] = measure_checkpoint(subject, cfg["checkpoint_repeats"])
+    res["rewind"] = measure_rewind(subject, cfg["rewind_seconds"], cfg["rewind_repeats"])
+    sp, cp, rw = res["speed"], res["checkpoint"], res["rewind"]
+    res["targets"] = [
+        _target("speed with control", sp["control_speed_x"], ">=",
+                SPEED_TARGET.get(character, SPEED_TARGET_DEFAULT), "x"),
+        _target("control overhead", sp["control_overhead_pct"], "<=", OVERHEAD_TARGET_PCT, "%"),
+        _target("checkpoint", cp["checkpoint_ms"], "<", CHECKPOINT_TARGET_MS, "ms"),
+        _target("rewind 60 s and resume", rw["resume_ms"], "<", REWIND_TARGET_MS, "ms"),
+    ]
+    return res
+
+
+def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
+    import pymunk
+
+    from puppet import __version__
+    from puppet.physics.simulation import DEFAULT_DT
+
+    cfg = QUICK if quick else FULL
+    report: dict = {
+        "puppet": __version__, "pymunk": pymunk.version, "python": platform.python_version(),
+        "machine": platform.machine(), "quick": quick, "dt": DEFAULT_DT,
+        "frame_hz": FRAME_HZ, "config": cfg, "characters": [],
+    }
+    for character, interface, _ in characters_and_interfaces():
+        if only and character not in only:
+            continue
+        report["characters"].append(bench_character(character, interface, cfg))
+    report["logs"] = measure_logs(cfg["log_repeats"])
+    report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"])
+    return report
+
+
+def _fmt_bytes(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB"):
+        if abs(n) < 1000 or unit == "GB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1000.0
+    return f"{n}"
+
+
+def format_report(report: dict) -> str:
+    cfg = report["config"]
+    lines = [f"puppet bench{' --quick' if report['quick'] else ''}: pymunk {report['pymunk']}, "
+             f"Python {report['python']}, dt = 1/{round(1 / report['dt'])} s, input every "
+             f"1/{report['frame_hz']:.0f} s, rendering off; medians of {cfg['repeats']} runs "
+             f"of {cfg['seconds']:g} simulated s"]
+
+    def row(label, value, target="", verdict=""):
+        lines.append(f"  {label:<44} {value:>12}  {target:<10} {verdict}")
+
+    for c in report["characters"]:
+        sp, cp, rw = c["speed"], c["checkpoint"], c["rewind"]
+        verdict = {t["name"]: ("PASS" if t["pass"] else "MISS") for t in c["targets"]}
+        limit = {t["name"]: f"{t['op']} {t['limit']:g}{' ' if t['unit'] == 'ms' else ''}"
+                             f"{t['unit']}" for t in c["targets"]}
+        lines.append("")
+        via = f"interface {c['interface']}" if c["interface"] else "no interface: Simulation"
+        lines.append(f"{c['character']} ({via}, scene {c['scene']}; {c['bodies']} bodies, "
+                     f"{c['constraints']} constraints)")
+        row("speed with control (Session, real time = 1x)", f"{sp['control_speed_x']:.0f}x",
+            limit["speed with control"], verdict["speed with control"])
+        row("bare space.step, same motion", f"{sp['bare_same_motion_speed_x']:.0f}x")
+        row("control overhead vs same motion", f"{sp['control_overhead_pct']:.1f}%",
+            limit["control overhead"], verdict["control overhead"])
+        row("  per frame: control / bare", f"{sp['control_us_per_frame']:.1f}/"
+            f"{sp['bare_us_per_frame']:.1f} us")
+        row("  same trajectory (state hash)", "identical" if sp["same_motion_state_identical"]
+            else "DIFFERENT")
+        row("bare space.step, at rest (info)", f"{sp['bare_at_rest_speed_x']:.0f}x")
+        row("overhead vs at rest (info)", f"{sp['overhead_vs_rest_pct']:.1f}%")
+        row("snapshot size", _fmt_bytes(cp["bytes"]))
+        row("snapshot", f"{cp['snapshot_ms']:.3f} ms")
+        row("restore", f"{cp['restore_ms']:.3f} ms")
+        row("checkpoint (snapshot + re-seat)", f"{cp['checkpoint_ms']:.3f} ms",
+            limit["checkpoint"], verdict["checkpoint"])
+        row(f"ring: {rw['entries']} checkpoints, every {rw['interval_s']:g} s",
+            _fmt_bytes(rw["ring_bytes"]))
+        row("ring memory, tracemalloc retained / peak",
+            f"{_fmt_bytes(rw['ring_traced_current_bytes'])} / "
+            f"{_fmt_bytes(rw['ring_traced_peak_bytes'])}")
+        row("speed with control + ring", f"{rw['control_with_ring_speed_x']:.0f}x")
+        row(f"rewind {rw['rewound_s']:.1f} s: restore oldest", f"{rw['restore_ms']:.3f} ms")
+        row(f"rewind {rw['rewound_s']:.1f} s: restore + first frame",
+            f"{rw['resume_ms']:.3f} ms", limit["rewind 60 s and resume"],
+            verdict["rewind 60 s and resume"])
+    logs = report["logs"]
+    lines.append("")
+    lines.append(f"log replay (assets/logs/*.jsonl): {logs['status']}")
+    for item in logs["items"]:
+        if "error" in item:
+            lines.append(f"  {item['log']:<44} error: {item['error']}")
+        elif item.get("speed_x"):
+            lines.append(f"  {item['log']:<44} {item['speed_x']:>11.0f}x  "
+                         f"({item['sim_seconds']:.1f} s in {item['wall_s'] * 1e3:.0f} ms)")
+        elif "wall_s" in item:
+            lines.append(f"  {item['log']:<44} {item['wall_s'] * 1e3:>9.0f} ms")
+    lines.append("")
+    misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
+              for t in c["targets"] if not t["pass"]]
+    lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
+    return "\n".join(lines)
+
+
+def main(quick: bool = False, as_json: bool = False, strict: bool = False,
+         only: list[str] | None = None) -> int:
+    report = run_bench(quick=quick, only=only)
+    if as_json:
+        json.dump(report, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(format_report(report))
+    return 1 if strict and not report["all_pass"] else 0

@@ -1,0 +1,76 @@
+"""The command line and the headless app, as a user runs them."""
+
+import subprocess
+import sys
+
+import pygame
+import pytest
+
+from puppet.checker import check_file
+from puppet.data import catalog
+
+
+def puppet(*args):
+    return subprocess.run([sys.executable, "-m", "puppet", *args], capture_output=True,
+                          text=True)
+
+
+def test_help_lists_every_command():
+    out = puppet("--help").stdout
+    for command in ("play", "list", "check"):
+        assert command in out
+
+
+def test_list_shows_each_kind_with_descriptions():
+    out = puppet("list").stdout
+    assert "luxo" in out and "luxo-mouse" in out and "ski-jump" in out
+    assert "desk lamp" in out
+
+
+SHIPPED = sorted(
+    list((catalog.ROOT / "characters").glob("*.yaml"))
+    + list((catalog.ROOT / "interfaces").glob("*.yaml"))
+    + list((catalog.ROOT / "assets" / "scenes").glob("*.yaml"))
+    + list((catalog.ROOT / "assets" / "scripts").glob("*.yaml")))
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_every_shipped_file_is_valid(path):
+    check_file(path)
+
+
+@pytest.mark.parametrize("scene", [n for n, _ in catalog.list_kind("scene")])
+def test_luxo_rests_on_every_scene(scene):
+    from puppet.session import Session
+
+    session = Session(catalog.load_setup("luxo-mouse", scene))
+    session.advance(2 * 480)
+    assert not session.sim.blown_up()
+    assert session.character.upright()
+
+
+def test_headless_screenshot_shows_the_lamp(tmp_path):
+    shot = tmp_path / "shot.png"
+    proc = puppet("play", "luxo-mouse", "--headless", "--seconds", "0.5", "--screenshot",
+                  str(shot))
+    assert proc.returncode == 0, proc.stderr
+    image = pygame.image.load(str(shot))
+    assert image.get_size() == (1280, 720)
+    # The lamp's base colour is drawn near the middle of the window, above the floor.
+    w, h = image.get_size()
+    colours = {tuple(image.get_at((x, y)))[:3] for x in range(w // 2 - 80, w // 2 + 80, 2)
+               for y in range(h // 2, h - 60, 2)}
+    assert (70, 80, 96) in colours
+
+
+def test_app_keys_clash_is_reported_and_rebinding_fixes_it(tmp_path):
+    from puppet.data.errors import DataError
+    from puppet.data.interfaces import parse_interface
+    from puppet.data.yamlfile import load_text
+
+    text = "name: x\ndescription: x\ncharacter: luxo\nkeys:\n  - {key: p, set: {knee: 10}}\n"
+    with pytest.raises(DataError) as info:
+        parse_interface(load_text(text, "x.yaml"))
+    assert info.value.line == 5 and "'pause'" in info.value.message
+    spec = parse_interface(load_text(text + "app_keys: {pause: f5}\n", "x.yaml"))
+    assert spec.app_key_table()["pause"] == "f5"

@@ -1,0 +1,36 @@
+"""Slowdown: log-spaced 1x..100x; wall time turns into the right number of steps."""
+
+import math
+
+from puppet.app.clock import SLOWDOWNS, SimClock
+
+
+def test_slowdowns_are_log_spaced_from_1_to_100():
+    assert SLOWDOWNS[0] == 1 and SLOWDOWNS[-1] == 100
+    ratios = [b / a for a, b in zip(SLOWDOWNS, SLOWDOWNS[1:])]
+    assert max(ratios) / min(ratios) < 1.02
+
+
+def test_slowdown_sets_simulated_time_per_wall_second():
+    for slowdown in (1.0, 10.0, 100.0):
+        clock = SimClock(1 / 480, slowdown)
+        steps = sum(clock.steps_for(1 / 60) for _ in range(600))  # 10 wall seconds
+        assert math.isclose(steps / 480, 10 / slowdown, rel_tol=0.01)
+
+
+def test_keys_move_the_slowdown_and_pause_stops_time():
+    clock = SimClock(1 / 480, 1.0)
+    clock.slower()
+    clock.slower()
+    assert clock.slowdown == SLOWDOWNS[2]
+    clock.faster()
+    assert clock.slowdown == SLOWDOWNS[1]
+    clock.toggle_pause()
+    assert clock.steps_for(1.0) == 0
+
+
+def test_measured_rate():
+    clock = SimClock(1 / 480, 10.0)
+    for i in range(61):
+        clock.sample(i / 60, i / 600)
+    assert math.isclose(clock.measured_slowdown(), 10.0, rel_tol=1e-6)
