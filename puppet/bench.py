@@ -57,8 +57,8 @@ QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds
 
 
 # -- what to measure -----------------------------------------------------------------
-def characters_and_interfaces() -> list[tuple[str, str | None, str | None]]:
-    """(character name, first interface using it or None, problem or None)."""
+def characters_and_interfaces() -> list[tuple[str, str | None]]:
+    """(character name, the first interface (by file name) using it, or None)."""
     from puppet.data.catalog import find, folder
     from puppet.data.errors import DataError
     from puppet.data.interfaces import parse_interface
@@ -74,7 +74,7 @@ def characters_and_interfaces() -> list[tuple[str, str | None, str | None]]:
         users.setdefault(char_path, path.stem)
     out = []
     for path in sorted(folder("character").glob("*.yaml")):
-        out.append((path.stem, users.get(path.resolve()), None))
+        out.append((path.stem, users.get(path.resolve())))
     return out
 
 
@@ -296,11 +296,64 @@ def _build_ring(subject: Subject, obj, inputs, every: int) -> deque:
     return ring
 
 
+def _has_history(obj) -> bool:
+    return hasattr(obj, "history") and hasattr(obj, "rewind_to")
+
+
+def measure_session_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
+    """The Session keeps its own rewind ring (``puppet.timeline.history``): play with
+    it, weigh it, and rewind through ``Session.rewind_to`` to the snapshot 60 s back."""
+    frames = subject.frames(seconds)
+    inputs = gesture(frames, subject.interface_spec)
+    sim_seconds = frames * subject.steps_per_frame * subject.dt
+    gc.collect()
+    tracemalloc.start()
+    try:
+        base, _ = tracemalloc.get_traced_memory()
+        tracemalloc.reset_peak()
+        session = subject.session()
+        _play_frames(subject, session, inputs)
+        current, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    history = session.history
+    ring = list(history.ring)
+    target = history.ring_before(session.steps - round(seconds / session.sim.dt))
+    age = (session.steps - target.step) * session.sim.dt
+    n = subject.steps_per_frame
+
+    def restore() -> None:
+        session.rewind_to(target.step)
+
+    def resume() -> None:
+        session.rewind_to(target.step)
+        session.advance(n)  # the first frame after the rewind
+
+    restore_ms = _median_ms(restore, repeats)
+    resume_ms = _median_ms(resume, repeats)
+    return {
+        "source": "Session.history", "seconds": sim_seconds,
+        "interval_s": history.ring_every * session.sim.dt, "entries": len(ring),
+        "rewound_s": age, "ring_bytes": sum(len(snap.sim) for snap in ring),
+        "ring_traced_current_bytes": current - base, "ring_traced_peak_bytes": peak - base,
+        "restore_ms": restore_ms, "resume_ms": resume_ms, "repeats": repeats,
+    }
+
+
 def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
     frames = subject.frames(seconds)
     every = max(1, round(RING_INTERVAL * FRAME_HZ))
     inputs = gesture(frames, subject.interface_spec)
     sim_seconds = frames * subject.steps_per_frame * subject.dt
+    if _has_history(subject.session()):
+        out = measure_session_rewind(subject, seconds, repeats)
+        # the control speed above already includes the Session's own ring
+        gc.collect()
+        obj = subject.session()
+        t0 = time.perf_counter()
+        _play_frames(subject, obj, inputs)
+        out["control_with_ring_speed_x"] = sim_seconds / (time.perf_counter() - t0)
+        return out
 
     # 1. control speed with the ring running (a checkpoint every 0.1 s)
     obj = subject.session()
@@ -342,7 +395,8 @@ def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
     restore_ms = _median_ms(restore, repeats)
     resume_ms = _median_ms(resume, repeats)
     return {
-        "seconds": sim_seconds, "interval_s": every / FRAME_HZ, "entries": len(ring),
+        "source": "bench ring of Simulation.checkpoint", "seconds": sim_seconds,
+        "interval_s": every / FRAME_HZ, "entries": len(ring),
         "rewound_s": age, "ring_bytes": ring_bytes,
         "ring_traced_current_bytes": current - base, "ring_traced_peak_bytes": peak - base,
         "control_with_ring_speed_x": sim_seconds / ring_wall,
@@ -360,7 +414,7 @@ def replay_function():
     return replay_log
 
 
-def _replayed_seconds(result, path: Path) -> float | None:
+def _replayed_seconds(result) -> float | None:
     for holder in (result, getattr(result, "session", None), getattr(result, "sim", None)):
         t = getattr(holder, "time", None)
         if isinstance(t, (int, float)):
@@ -394,7 +448,7 @@ def measure_logs(repeats: int) -> dict:
                 result = replay_log(path)
                 walls.append(time.perf_counter() - t0)
             wall = statistics.median(walls)
-            seconds = _replayed_seconds(result, path)
+            seconds = _replayed_seconds(result)
             item.update({"wall_s": wall, "sim_seconds": seconds,
                          "speed_x": seconds / wall if seconds and wall > 0 else None})
         except Exception as exc:  # noqa: BLE001 - a report, not a test
@@ -442,7 +496,12 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
         "machine": platform.machine(), "quick": quick, "dt": DEFAULT_DT,
         "frame_hz": FRAME_HZ, "config": cfg, "characters": [],
     }
-    for character, interface, _ in characters_and_interfaces():
+    subjects = characters_and_interfaces()
+    unknown = sorted(set(only or ()) - {c for c, _ in subjects})
+    if unknown:
+        raise SystemExit(f"puppet bench: no character named {', '.join(unknown)}; known: "
+                         f"{', '.join(c for c, _ in subjects)}")
+    for character, interface in subjects:
         if only and character not in only:
             continue
         report["characters"].append(bench_character(character, interface, cfg))
@@ -494,9 +553,9 @@ def format_report(report: dict) -> str:
         row("restore", f"{cp['restore_ms']:.3f} ms")
         row("checkpoint (snapshot + re-seat)", f"{cp['checkpoint_ms']:.3f} ms",
             limit["checkpoint"], verdict["checkpoint"])
-        row(f"ring: {rw['entries']} checkpoints, every {rw['interval_s']:g} s",
+        row(f"ring ({rw['source']}): {rw['entries']} x {rw['interval_s']:g} s",
             _fmt_bytes(rw["ring_bytes"]))
-        row("ring memory, tracemalloc retained / peak",
+        row("tracemalloc over the run: retained / peak",
             f"{_fmt_bytes(rw['ring_traced_current_bytes'])} / "
             f"{_fmt_bytes(rw['ring_traced_peak_bytes'])}")
         row("speed with control + ring", f"{rw['control_with_ring_speed_x']:.0f}x")

@@ -25,7 +25,7 @@ def _play(args: argparse.Namespace) -> int:
             raise SystemExit("puppet play: --input, --screenshot and --frames need --headless")
         from puppet.app.window import run_window
 
-        return run_window(setup, args.slowdown)
+        return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record)
     from puppet.app.headless import run_headless
     from puppet.data.catalog import find
     from puppet.physics.simulation import DEFAULT_DT
@@ -39,8 +39,20 @@ def _play(args: argparse.Namespace) -> int:
             seconds = script.seconds
     if seconds is None:
         seconds = 5.0
-    session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
-                           slowdown=args.slowdown)
+    if args.record:  # record the scripted run as a log (see ``puppet replay``)
+        if args.screenshot or args.frames:
+            raise SystemExit("puppet play: --record with --headless does not write images")
+        from puppet.session import Session
+        from puppet.timeline.log import record_events
+
+        session = Session(setup)
+        record_events(session, events, round(seconds / session.sim.dt), args.record,
+                      slowdown=args.slowdown,
+                      description=script.description if args.input else None)
+        print(f"recorded {args.record}")
+    else:
+        session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
+                               slowdown=args.slowdown)
     c = session.character
     x, y = c.com()
     print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
@@ -80,6 +92,19 @@ def _check(args: argparse.Namespace) -> int:
     return EXIT_DATA_ERROR if failed else 0
 
 
+def _bench(args: argparse.Namespace) -> int:
+    from puppet.bench import main as bench_main
+
+    return bench_main(quick=args.quick, as_json=args.json, strict=args.strict,
+                      only=args.character or None)
+
+
+def _replay(args: argparse.Namespace) -> int:
+    from puppet.timeline.replay import replay_command
+
+    return replay_command(args)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="puppet",
@@ -104,7 +129,29 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--screenshot", metavar="PNG", help="write the final frame")
     play.add_argument("--frames", metavar="DIR", help="write every frame as DIR/frame_N.png")
     play.add_argument("--fps", type=float, default=30.0, help="frame rate for --frames")
+    play.add_argument("--record", metavar="PATH",
+                      help="write the input log here (default in a window: "
+                           "recordings/INTERFACE-DATE-TIME.jsonl)")
+    play.add_argument("--no-record", action="store_true", help="do not record a log")
     play.set_defaults(func=_play)
+
+    replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
+                            description="Replay recorded input logs. Headless prints the "
+                                        "final state hash; --check evaluates the log's "
+                                        "expectations (exit 1 if one fails).")
+    replay.add_argument("logs", nargs="+", metavar="LOG", help="log file(s) (.jsonl)")
+    replay.add_argument("--headless", action="store_true", help="no window, as fast as it goes")
+    replay.add_argument("--check", action="store_true",
+                        help="evaluate the expectations (header 'expect' or LOG.expect.yaml)")
+    replay.add_argument("--until-step", type=int, metavar="N",
+                        help="stop at step N (the first time the replay is there "
+                             "with no more events for it)")
+    replay.add_argument("--allow-truncated", action="store_true",
+                        help="replay the valid lines before a corrupt or cut-off one")
+    replay.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
+                        help="replay several logs in N processes (headless)")
+    replay.add_argument("--slowdown", type=float, help="window: override the recorded slowdown")
+    replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs")
     lst.add_argument("kind", nargs="?",
@@ -115,6 +162,17 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("files", nargs="+", metavar="FILE")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     check.set_defaults(func=_check)
+
+    bench = sub.add_parser("bench", help="measure simulation speed, checkpoints and rewind",
+                           description="Headless benchmark of every shipped character: "
+                                       "speed with control vs bare pymunk, checkpoint and "
+                                       "rewind times, log replay speed; PASS/MISS per "
+                                       "target.")
+    bench.add_argument("character", nargs="*", help="only these characters (default: all)")
+    bench.add_argument("--json", action="store_true", help="machine-readable output")
+    bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
+    bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
+    bench.set_defaults(func=_bench)
     return parser
 
 

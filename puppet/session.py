@@ -7,21 +7,33 @@ act at the current step; nothing here reads a clock.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from puppet.data.catalog import Setup
 from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, Simulation
+from puppet.timeline.history import CHECKPOINT_INTERVAL, History, Snapshot
 
 
 class Session:
-    def __init__(self, setup: Setup, dt: float = DEFAULT_DT):
+    def __init__(self, setup: Setup, dt: float = DEFAULT_DT,
+                 checkpoint_interval: float = CHECKPOINT_INTERVAL):
         self.setup = setup
         self.sim = Simulation(setup.character, setup.scene, dt)
-        self.runtime = InterfaceRuntime(setup.interface, self.sim.character)
+        self.runtime = InterfaceRuntime(setup.interface, self.sim.character, self.sim)
         self.app_keys = setup.interface.app_key_table()
         self.key_to_app = {key: action for action, key in self.app_keys.items()}
+        self.checkpoint_interval = checkpoint_interval
+        # Called with (step, event) for every event handled, before it acts (recording).
+        self.listener: Callable[[int, Event], None] | None = None
+        self.message = ""  # the last thing the user should be told (e.g. a blow-up)
+        self.message_serial = 0  # bumped on every new message
+        self.blowups = 0
         self._start = self.sim.checkpoint()
+        self.history = History(dt, checkpoint_interval)
+        self.history.set_start(Snapshot(0, self._start, self.runtime.get_state()))
 
     @property
     def character(self):
@@ -38,6 +50,8 @@ class Session:
     def handle(self, event: Event) -> str | None:
         """Apply an input event at the current step. Returns the app action a key
         stands for when that action is the window's business (pause, quit...)."""
+        if self.listener is not None:
+            self.listener(self.sim.steps, event)
         kind = event["type"]
         if kind == "key" and event["down"]:
             app_action = self.key_to_app.get(event["key"])
@@ -47,8 +61,10 @@ class Session:
                     return None
                 return app_action
         if kind == "action":
-            self.perform(event["name"])
+            self.perform(event["name"], event.get("to_step"))
             return None
+        if kind != "key" or event["down"] or self.runtime.handles_key(event["key"]):
+            self.history.branch(self.sim.steps)  # new input: the future is rewritten
         if kind == "drag":
             phase = event["phase"]
             if phase == "start":
@@ -58,12 +74,24 @@ class Session:
             else:
                 self.sim.end_drag()
             return None
-        self.runtime.on_event(event)
-        return None
+        action = self.runtime.on_event(event)  # an interface key may ask for an app action
+        if action in SIM_ACTIONS:
+            self.perform(action)
+            return None
+        return action
 
-    def perform(self, name: str) -> None:
+    def perform(self, name: str, to_step: int | None = None) -> None:
         if name == "reset":
+            self.history.branch(self.sim.steps)
             self.reset()
+        elif name == "checkpoint":
+            self.checkpoint()
+        elif name == "restore":
+            self.restore_checkpoint()
+        elif name == "rewind":
+            if to_step is None:
+                raise ValueError("the rewind action needs 'to_step'")
+            self.rewind_to(int(to_step))
         else:
             raise ValueError(f"unknown simulation action '{name}'")
 
@@ -75,4 +103,85 @@ class Session:
         self.runtime.reset()
 
     def advance(self, steps: int = 1) -> None:
-        self.sim.step(steps)
+        """Step the physics, taking the history's snapshots at their step boundaries
+        (and recovering from a blow-up there), so the result does not depend on how
+        the steps are split between calls."""
+        remaining = steps
+        sim, history, runtime = self.sim, self.history, self.runtime
+        while remaining > 0:
+            # Time-driven interface work (sequences, reaches, timers...) runs at the
+            # steps the runtime asks for; when idle (next_wakeup None) the physics
+            # steps in one tight loop.
+            if runtime.next_wakeup is not None and runtime.next_wakeup <= sim.steps:
+                runtime.tick(sim.steps, sim.time)
+            boundary = history.next_boundary(sim.steps)
+            stop = boundary
+            if runtime.next_wakeup is not None and runtime.next_wakeup < boundary:
+                stop = runtime.next_wakeup
+            n = min(remaining, stop - sim.steps)
+            sim.step(n)
+            remaining -= n
+            if sim.steps == boundary:
+                self._at_boundary()
+
+    # -- history: checkpoints, rewind, blow-up recovery --------------------------------
+    def _snapshot(self, reseat: bool) -> Snapshot:
+        """The state now. ``reseat``: continue on a restored copy (``Simulation.checkpoint``)
+        so that restoring this snapshot and feeding the same inputs is bit-identical to
+        never restoring. Periodic snapshots do not re-seat: the live run (and every
+        reference to its bodies) is left alone, and stepping a session that is never
+        rewound gives exactly the bits of plain stepping. Either way a replay of a log
+        takes the same snapshots at the same steps, so rewinds replay exactly."""
+        data = self.sim.checkpoint() if reseat else self.sim.snapshot()
+        return Snapshot(self.sim.steps, data, self.runtime.get_state())
+
+    def _restore(self, snap: Snapshot) -> None:
+        self.sim.restore(snap.sim)
+        self.runtime.set_state(snap.runtime)
+
+    def _at_boundary(self) -> None:
+        if self.sim.blown_up():
+            self._recover()
+            return
+        ring, auto = self.history.due(self.sim.steps)
+        if ring or auto:
+            self.history.add(self._snapshot(reseat=False), ring, auto)
+
+    def _recover(self) -> None:
+        """Back to the last good checkpoint's state; the time line goes on (like reset)."""
+        steps = self.sim.steps
+        snap = self.history.last_checkpoint(steps)
+        self._restore(snap)
+        self.sim.steps = steps
+        self.blowups += 1
+        self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
+                 f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s")
+
+    def say(self, text: str) -> None:
+        self.message = text
+        self.message_serial += 1
+
+    def checkpoint(self) -> Snapshot:
+        """A manual checkpoint here (the "restore" action goes back to it)."""
+        snap = self._snapshot(reseat=True)
+        self.history.add_manual(snap)
+        return snap
+
+    def restore_checkpoint(self) -> None:
+        """Back to the last manual checkpoint (else the last automatic one)."""
+        steps = self.sim.steps
+        snap = self.history.last_manual(steps) or self.history.last_checkpoint(steps)
+        self._restore(snap)
+        self.history.branch(snap.step)
+
+    def rewind_to(self, step: int) -> None:
+        """Back (or forward, within a rewound history) to the snapshot at ``step``."""
+        snap = self.history.at(step)
+        if snap is None:
+            raise ValueError(f"cannot rewind to step {step}: no snapshot there")
+        self._restore(snap)
+
+    def preview(self, step: int) -> None:
+        """Show the snapshot at ``step`` while scrubbing (the window commits the
+        scrub with a logged "rewind" action when the key is released)."""
+        self.rewind_to(step)

@@ -33,6 +33,11 @@ class SimClock:
         self.index = max(self.index - 1, 0)
         self.slowdown = SLOWDOWNS[self.index]
 
+    def set_slowdown(self, value: float) -> None:
+        """Set the slowdown directly (an interface's ``slowdown:`` key), 1..100."""
+        self.slowdown = min(100.0, max(1.0, float(value)))
+        self.index = nearest_slowdown_index(self.slowdown)
+
     def toggle_pause(self) -> None:
         self.paused = not self.paused
         self._owed = 0.0

@@ -22,6 +22,7 @@ class HudInfo:
     paused: bool = False
     show_help: bool = False
     message: str = ""
+    scrubbing: bool = False  # the rewind key is held
 
 
 def _panel(surface, rect) -> None:
@@ -52,7 +53,7 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     for i, text in enumerate(lines):
         surface.blit(font.render(text, True, TEXT if i else (20, 60, 120)), (16, 12 + i * 22))
 
-    controls = interface_lines(setup.interface)
+    controls = interface_lines(setup.interface, session.runtime.state, session.runtime.mode)
     app = app_lines(setup.interface)
     rows = [("controls", "")] + controls
     if info.show_help:
@@ -70,8 +71,43 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
             continue
         surface.blit(small.render(k, True, TEXT), (x0 + 8, y))
         surface.blit(small.render(text, True, DIM), (x0 + 110, y))
+    draw_timeline(surface, session, info, small)
     if info.message:
         msg = font.render(info.message, True, (160, 30, 30))
-        rect = msg.get_rect(midbottom=(surface.get_width() / 2, surface.get_height() - 12))
+        rect = msg.get_rect(midbottom=(surface.get_width() / 2, surface.get_height() - 40))
         _panel(surface, rect.inflate(16, 8))
         surface.blit(msg, rect)
+
+
+def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
+                  small: pygame.font.Font) -> None:
+    """A bar along the bottom: the rewindable span (blue), checkpoints (orange ticks),
+    automatic checkpoints (grey ticks) and where the simulation is now (dark line)."""
+    history = getattr(session, "history", None)
+    if history is None:
+        return
+    dt = session.sim.dt
+    span = history.span()
+    marks = history.checkpoint_steps()
+    last = max([session.steps] + ([span[1]] if span else []) + marks)
+    end = max(last * dt, 1.0)
+    w, h = surface.get_size()
+    x0, x1, y = 90, w - 16, h - 18
+    _panel(surface, pygame.Rect(8, y - 12, w - 16, 24))
+    label = "REWIND" if info.scrubbing else f"{session.time:6.1f} s"
+    surface.blit(small.render(label, True, (20, 60, 120) if info.scrubbing else TEXT),
+                 (16, y - 7))
+
+    def px(step: int) -> int:
+        return round(x0 + (x1 - x0) * min(1.0, step * dt / end))
+
+    pygame.draw.rect(surface, (215, 218, 224), pygame.Rect(x0, y - 3, x1 - x0, 6))
+    if span is not None:
+        a, b = px(span[0]), px(span[1])
+        pygame.draw.rect(surface, (120, 160, 220), pygame.Rect(a, y - 3, max(2, b - a), 6))
+    for snap in history.auto:
+        pygame.draw.line(surface, (150, 150, 150), (px(snap.step), y + 3), (px(snap.step), y + 6))
+    for step in marks:
+        pygame.draw.line(surface, (230, 140, 30), (px(step), y - 8), (px(step), y + 8), 2)
+    cur = px(session.steps)
+    pygame.draw.line(surface, (20, 30, 50), (cur, y - 9), (cur, y + 9), 3)

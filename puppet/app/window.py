@@ -10,6 +10,7 @@ import os
 import time
 
 from puppet.data.catalog import Setup
+from puppet.app.devices import device_events
 from puppet.interface import events as ev
 from puppet.interface.app_keys import key_chord
 from puppet.session import Session
@@ -20,7 +21,12 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
                  "right alt", "left meta", "right meta"}
 
 
-def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> int:
+def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
+               record: str | None = None, no_record: bool = False, replay=None,
+               until_step: int | None = None) -> int:
+    """Play ``setup`` in a window, recording a log (to ``record``, or by default to
+    recordings/). With ``replay`` (a ``Log``), events come from the log instead of
+    the devices, at the recorded slowdown; the devices only drive the window."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -29,7 +35,10 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> 
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
 
-    pygame.init()
+    pygame.display.init()  # no pygame.init(): puppet makes no sound
+    pygame.font.init()
+    pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
+    joysticks: dict = {}
     screen = pygame.display.set_mode(size, pygame.RESIZABLE)
     pygame.display.set_caption(f"puppet - {setup.interface.name}")
     try:
@@ -40,6 +49,23 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> 
     small = pygame.font.Font(None, 20)
 
     session = Session(setup)
+    feeder = recorder = None
+    if replay is not None:  # events come from a log; the devices only drive the window
+        from puppet.timeline.replay import LogFeeder, new_session
+
+        session = new_session(replay, setup)
+        feeder = LogFeeder(session, replay, until_step)
+    elif not no_record:
+        from puppet.timeline.log import Recorder, default_path
+
+        path = record or default_path(setup.interface.name)
+        recorder = Recorder(session, path, slowdown=slowdown or setup.interface.slowdown,
+                            exclusive=record is None)
+        print(f"recording to {path}")
+    from puppet.timeline.history import Scrubber
+
+    scrub = Scrubber(session)
+    seen_message, message_until = session.message_serial, 0.0
     clock = SimClock(session.sim.dt, slowdown or setup.interface.slowdown)
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
@@ -56,10 +82,23 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> 
         return [n for n, flag in (("ctrl", pygame.KMOD_CTRL), ("shift", pygame.KMOD_SHIFT),
                                   ("alt", pygame.KMOD_ALT)) if m & flag]
 
+    def handle(event) -> str | None:
+        """Send an input event to the session (not while replaying or scrubbing)."""
+        if feeder is not None:  # replaying: only the window's own keys do anything
+            if event["type"] == "key" and event["down"]:
+                action = session.key_to_app.get(event["key"])
+                return action if action not in ("rewind", "forward") else None
+            return None
+        if scrub.active and event["type"] in ("mouse", "drag"):
+            return None
+        return session.handle(event)
+
     def app_action(name: str | None) -> bool:
         """Do a window-side app action; False means quit."""
         if name == "quit":
             return False
+        if name in ("rewind", "forward"):
+            scrub.start(forward=name == "forward")
         if name == "pause":
             clock.toggle_pause()
         elif name == "step":
@@ -71,12 +110,16 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> 
             clock.faster()
         elif name == "help":
             info.show_help = not info.show_help
+        elif name and name.startswith("slowdown:"):  # an interface key's slowdown
+            clock.set_slowdown(float(name.split(":", 1)[1]))
         return True
 
     running = True
     while running:
         wall_dt = frames.tick(60) / 1000.0
         for event in pygame.event.get():
+            for translated in device_events(pygame, event, joysticks):
+                running = app_action(handle(translated)) and running
             if event.type == pygame.QUIT:
                 running = False
             elif event.type == pygame.WINDOWRESIZED or event.type == pygame.VIDEORESIZE:
@@ -87,43 +130,72 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE) -> 
                     continue
                 chord = key_chord(name, mods())
                 pressed[name] = chord
-                running = app_action(session.handle(ev.key(chord, True))) and running
+                running = app_action(handle(ev.key(chord, True))) and running
             elif event.type == pygame.KEYUP:
                 name = pygame.key.name(event.key)
                 if name in pressed:
-                    session.handle(ev.key(pressed.pop(name), False))
+                    chord = pressed.pop(name)
+                    if session.key_to_app.get(chord) in ("rewind", "forward"):
+                        scrub.release()  # play on from the snapshot shown
+                    handle(ev.key(chord, False))
             elif event.type == pygame.MOUSEBUTTONDOWN and event.button == 1 \
                     and pygame.key.get_mods() & pygame.KMOD_CTRL:
                 picked = _pick(session, camera, event.pos)
                 if picked is not None:
                     link, local = picked
-                    session.handle(ev.drag_start(link, local, camera.to_world(event.pos)))
+                    handle(ev.drag_start(link, local, camera.to_world(event.pos)))
                     dragging = True
             elif event.type == pygame.MOUSEBUTTONUP and event.button == 1 and dragging:
-                session.handle(ev.drag_end())
+                handle(ev.drag_end())
                 dragging = False
             elif event.type == pygame.MOUSEMOTION and dragging:
-                session.handle(ev.drag_move(camera.to_world(event.pos)))
+                handle(ev.drag_move(camera.to_world(event.pos)))
         if not dragging and pygame.mouse.get_focused():
             w, h = screen.get_size()
             mx, my = pygame.mouse.get_pos()
             pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
                    min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
             if pos != last_mouse:
-                session.handle(ev.mouse(*pos))
+                handle(ev.mouse(*pos))
                 last_mouse = pos
 
-        session.advance(clock.steps_for(wall_dt))
+        steps = clock.steps_for(wall_dt)
+        if scrub.active:
+            scrub.update(wall_dt, forward=bool(pygame.key.get_mods() & pygame.KMOD_SHIFT))
+        elif feeder is not None:
+            feeder.advance(steps)
+            while feeder.speed_keys:  # the recorded slowdown changes
+                app_action(feeder.speed_keys.pop(0))
+            if feeder.finished and not clock.paused:
+                clock.toggle_pause()
+                session.say(f"replay finished at step {session.steps}: state "
+                            f"{session.sim.state_hash()} (recorded {replay.end_hash or '-'})")
+        else:
+            session.advance(steps)
+        now = time.perf_counter()
+        if session.message_serial != seen_message:  # e.g. a blow-up was recovered
+            seen_message, message_until = session.message_serial, now + 5.0
+            info.message = session.message
+        elif info.message and now > message_until:
+            info.message = ""
+        info.scrubbing = scrub.active
         clock.sample(time.perf_counter() - start, session.time)
         info.slowdown = clock.slowdown
         info.measured = clock.measured_slowdown()
         info.fps = frames.get_fps() or None
         info.paused = clock.paused
 
-        camera.follow(session.character.com(), wall_dt)
-        draw_world(screen, session, camera, small)
+        if session.sim.blown_up():  # between two checks: do not draw NaNs
+            screen.fill((235, 235, 235))
+        else:
+            camera.follow(session.character.com(), wall_dt)
+            draw_world(screen, session, camera, small)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
+    scrub.release()
+    if recorder is not None:
+        recorder.close()
+        print(f"recorded {recorder.path}")
     pygame.quit()
     return 0
 

@@ -1,21 +1,32 @@
 """Interface files (``interfaces/*.yaml``): how input drives a character.
 
 The vocabulary follows the paper's action semantics: continuous maps from devices
-to joint targets, key actions that set or adjust targets, and rebindable app keys.
+to joint targets (linear with a response curve, coupled joints, pose grids), named
+poses and pose sequences, key actions, control modes, a state machine whose states
+have their own keys and maps, IK reach and grasp, meta actions (slowdown, gravity,
+friction...) and rebindable app keys. The actions themselves are in
+``puppet.data.actions``; cross-references (joint, pose, state names) are checked in
+``puppet.data.interface_refs``.
 """
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal, Union
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
+from pydantic import (Discriminator, Field, PositiveFloat, NonNegativeFloat, Tag,
+                      field_validator, model_validator)
 
+from puppet.data.actions import (CONTINUOUS_INPUTS, ActionSpec, ChainSpec, ConditionSpec,
+                                 KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
+                                 check_input_name)
 from puppet.data.characters import CharacterSpec
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface.app_keys import APP_KEYS, normalize_key
 
-CONTINUOUS_INPUTS = ("mouse.x", "mouse.y")
+__all__ = ["CONTINUOUS_INPUTS", "InterfaceSpec", "LinearMapSpec", "GridMapSpec",
+           "KeyActionSpec", "StateSpec", "load_interface", "parse_interface",
+           "check_against_character"]
 
 
 class GainSpec(Spec):
@@ -24,31 +35,105 @@ class GainSpec(Spec):
     max_torque: PositiveFloat | None = None
 
 
-class LinearMapSpec(Spec):
-    """target = to[0] + (input - from[0]) / (from[1] - from[0]) * (to[1] - to[0])."""
+class PowerCurve(Spec):
+    power: PositiveFloat
 
-    input: str = Field(description="mouse.x (0 left .. 1 right) or mouse.y (0 bottom .. 1 top)")
-    joint: str
+
+Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
+
+
+class LinearMapSpec(Spec):
+    """u = (input - from[0]) / (from[1] - from[0]), clamped to 0..1 (clamp), shaped by
+    ``curve``; value = to[0] + u * (to[1] - to[0]) degrees; each joint's target is
+    gain * value (``joint`` is ``joints: {joint: 1}``)."""
+
+    input: str = Field(description="mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 "
+                                   "top), mouse.left, gamepad.axisN, channel.NAME ...")
+    joint: str | None = None
+    joints: dict[str, float] = Field(default_factory=dict,
+                                     description="coupling: joint -> gain (sign = mirror)")
     from_: tuple[float, float] = Field((0.0, 1.0), alias="from")
-    to: tuple[float, float] = Field(description="joint target, degrees, at from[0] and from[1]")
+    to: tuple[float, float] = Field(description="degrees at from[0] and from[1]")
     clamp: bool = True
+    curve: Curve = "linear"
+
+    _check_input = field_validator("input")(lambda cls, v: check_input_name(v))
 
     @model_validator(mode="after")
     def _check(self):
-        if self.input not in CONTINUOUS_INPUTS:
-            raise ValueError(f"unknown input '{self.input}'; expected one of: "
-                             f"{', '.join(CONTINUOUS_INPUTS)}")
         if self.from_[0] == self.from_[1]:
             raise ValueError("'from' must be two different input values")
+        if (self.joint is None) == (not self.joints):
+            raise ValueError("a map needs exactly one of 'joint' (one joint) or 'joints' "
+                             "(joint -> gain)")
+        return self
+
+    def gains(self) -> dict[str, float]:
+        return {self.joint: 1.0} if self.joint is not None else dict(self.joints)
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return (self.input,)
+
+
+class GridMapSpec(Spec):
+    """Bilinear interpolation over a grid of named poses (the paper's cat trot).
+
+    ``grid`` rows go top (y = 1) to bottom (y = 0), columns left (x = 0) to right
+    (x = 1); the pose targets of the four nearest poses are blended."""
+
+    grid: list[list[str]] = Field(min_length=1)
+    x: str = "mouse.x"
+    y: str = "mouse.y"
+
+    _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
+
+    @model_validator(mode="after")
+    def _check(self):
+        widths = {len(row) for row in self.grid}
+        if len(widths) != 1 or 0 in widths:
+            raise ValueError("grid rows must all have the same, non-zero number of poses")
+        if len(self.grid) < 2 and widths == {1}:
+            raise ValueError("a grid needs at least two poses")
+        return self
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return (self.x, self.y)
+
+
+def _map_kind(value) -> str:
+    if isinstance(value, dict):
+        return "<grid>" if "grid" in value else "<linear>"
+    return "<grid>" if isinstance(value, GridMapSpec) else "<linear>"
+
+
+MapSpec = Annotated[Union[Annotated[LinearMapSpec, Tag("<linear>")],
+                          Annotated[GridMapSpec, Tag("<grid>")]], Discriminator(_map_kind)]
+
+
+class TransitionSpec(Spec):
+    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
+
+    to: str
+    after: NonNegativeFloat | None = Field(None, description="s since entering the state")
+    when: ConditionSpec | None = None
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.after is None and self.when is None:
+            raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
+                             "key transitions are keys with 'goto'")
         return self
 
 
-class KeyActionSpec(Spec):
-    """What a key does: set targets absolutely and/or adjust them relatively (degrees)."""
+class StateSpec(Spec):
+    """A control state: its own keys (override the interface's) and maps (added)."""
 
-    key: str
-    set: dict[str, float] = Field(default_factory=dict)
-    adjust: dict[str, float] = Field(default_factory=dict)
+    enter: ActionSpec | None = None
+    keys: list[KeyActionSpec] = Field(default_factory=list)
+    maps: list[MapSpec] = Field(default_factory=list)
+    transitions: list[TransitionSpec] = Field(default_factory=list)
     description: str = ""
 
 
@@ -61,14 +146,41 @@ class InterfaceSpec(Spec):
     app_keys: dict[str, str] = Field(default_factory=dict,
                                      description="rebind the app's keys: action -> key")
     gains: dict[str, GainSpec] = Field(default_factory=dict)
-    maps: list[LinearMapSpec] = Field(default_factory=list)
+    poses: dict[str, PoseSpec] = Field(default_factory=dict)
+    sequences: dict[str, list[SequenceStepSpec]] = Field(default_factory=dict)
+    chains: dict[str, ChainSpec] = Field(default_factory=dict)
+    maps: list[MapSpec] = Field(default_factory=list, description="always active")
+    modes: dict[str, list[MapSpec]] = Field(default_factory=dict,
+                                            description="control modes: name -> maps")
+    mode: str | None = Field(None, description="starting mode; default the first")
     keys: list[KeyActionSpec] = Field(default_factory=list)
+    states: dict[str, StateSpec] = Field(default_factory=dict)
+    initial: str | None = Field(None, description="starting state; default the first")
+    perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
+    control_rate: float = Field(120.0, ge=1.0, le=10000.0,
+                                description="Hz at which sensor conditions are checked")
+
+    @field_validator("sequences")
+    @classmethod
+    def _non_empty(cls, value):
+        for name, steps in value.items():
+            if not steps:
+                raise ValueError(f"sequence '{name}' has no steps")
+        return value
 
     def app_key_table(self) -> dict[str, str]:
         """App action -> key, after this interface's rebinding."""
         table = {action: key for action, (key, _) in APP_KEYS.items()}
         table.update({a: normalize_key(k) for a, k in self.app_keys.items()})
         return table
+
+    @property
+    def start_mode(self) -> str | None:
+        return self.mode if self.mode is not None else next(iter(self.modes), None)
+
+    @property
+    def start_state(self) -> str | None:
+        return self.initial if self.initial is not None else next(iter(self.states), None)
 
 
 def _check_keys(spec: InterfaceSpec, located: Located) -> None:
@@ -84,44 +196,40 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
             raise located.error(("app_keys",), f"app actions '{by_key[key]}' and '{action}' "
                                                f"are both on key '{key}'")
         by_key[key] = f"app:{action}"
-    for i, binding in enumerate(spec.keys):
-        key = normalize_key(binding.key)
-        if key in by_key:
-            owner = by_key[key]
-            if owner.startswith("app:"):
+    lists = [(("keys",), spec.keys)] + [(("states", name, "keys"), state.keys)
+                                        for name, state in spec.states.items()]
+    for where, bindings in lists:
+        seen: dict[str, int] = {}
+        for i, binding in enumerate(bindings):
+            key = normalize_key(binding.key)
+            loc = where + (i, "key")
+            owner = by_key.get(key)
+            if owner is not None:
                 action = owner[4:]
-                raise located.error(("keys", i, "key"),
-                                    f"key '{key}' is the app's '{action}' key; bind another key "
-                                    f"or move the app's with app_keys: {{{action}: <key>}}")
-            raise located.error(("keys", i, "key"), f"key '{key}' is bound twice "
-                                                     f"(also keys[{owner}])")
-        by_key[key] = str(i)
+                raise located.error(loc, f"key '{key}' is the app's '{action}' key; bind "
+                                         f"another key or move the app's with app_keys: "
+                                         f"{{{action}: <key>}}")
+            if key in seen:
+                scope = "" if where == ("keys",) else f" in state '{where[1]}'"
+                raise located.error(loc, f"key '{key}' is bound twice{scope} (also "
+                                         f"{'.'.join(map(str, where))}[{seen[key]}])")
+            seen[key] = i
 
 
 def check_against_character(spec: InterfaceSpec, character: CharacterSpec,
                             located: Located) -> None:
-    """Joint names used by the interface must exist (and be actuated) in its character."""
-    actuated = [j.name for j in character.actuated]
+    """Joint, link and chain references must fit the interface's character."""
+    from puppet.data.interface_refs import check_character_refs
 
-    def need(loc: tuple, name: str, prefer_key: bool = False) -> None:
-        if name not in actuated:
-            raise located.error(loc, f"unknown joint '{name}' for character "
-                                     f"'{character.name}'; expected one of: "
-                                     f"{', '.join(actuated)}", prefer_key=prefer_key)
-
-    for name in spec.gains:
-        need(("gains", name), name, True)
-    for i, m in enumerate(spec.maps):
-        need(("maps", i, "joint"), m.joint)
-    for i, k in enumerate(spec.keys):
-        for field in ("set", "adjust"):
-            for name in getattr(k, field):
-                need(("keys", i, field, name), name, True)
+    check_character_refs(spec, character, located)
 
 
 def parse_interface(located: Located) -> InterfaceSpec:
+    from puppet.data.interface_refs import check_names
+
     spec = validate(located, InterfaceSpec)
     _check_keys(spec, located)
+    check_names(spec, located)
     return spec
 
 

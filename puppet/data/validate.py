@@ -80,6 +80,8 @@ def _data_loc(located: Located, loc: tuple) -> tuple:
     """Drop the parts of a pydantic loc (union branch tags) that are not data keys."""
     data, path = located.data, []
     for part in loc:
+        if isinstance(part, str) and part.startswith("<") and part != "<key>":
+            continue  # a tagged union's branch name, e.g. "<grid>"
         if isinstance(data, dict) and part in data:
             data = data[part]
             path.append(part)

@@ -16,11 +16,15 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "slower": ("-", "more slowdown"),
     "faster": ("=", "less slowdown"),
     "help": ("f1", "show / hide the key map"),
+    "checkpoint": ("c", "set a checkpoint"),
+    "restore": ("backspace", "back to the last checkpoint"),
+    "rewind": ("b", "hold to rewind (release to play on from there)"),
+    "forward": ("shift+b", "hold to scrub forward again after rewinding"),
 }
 
 # Actions that change the simulation (and so are handled by the Session, replayed
 # from logs); the others only change how the window presents it.
-SIM_ACTIONS = frozenset({"reset"})
+SIM_ACTIONS = frozenset({"reset", "checkpoint", "restore"})
 
 MODIFIERS = ("ctrl", "shift", "alt")
 

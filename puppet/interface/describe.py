@@ -10,15 +10,53 @@ def _fmt(v: float) -> str:
     return f"{v:+.0f}"
 
 
-def interface_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
-    """(input, what it does) for the interface's own controls."""
-    lines: list[tuple[str, str]] = []
-    for m in spec.maps:
-        lines.append((m.input, f"{m.joint} {_fmt(m.to[0])}..{_fmt(m.to[1])} deg"))
-    for k in spec.keys:
-        parts = [f"{j}={_fmt(v)}" for j, v in k.set.items()]
-        parts += [f"{j}{_fmt(v)}" for j, v in k.adjust.items()]
-        lines.append((k.key, k.description or " ".join(parts)))
+def map_line(m) -> tuple[str, str]:
+    if getattr(m, "grid", None) is not None:
+        rows, cols = len(m.grid), len(m.grid[0])
+        return f"{m.x}, {m.y}", f"pose grid {rows}x{cols}"
+    joints = ", ".join(m.gains()) if len(m.gains()) > 1 else next(iter(m.gains()))
+    return m.input, f"{joints} {_fmt(m.to[0])}..{_fmt(m.to[1])} deg"
+
+
+def action_text(k) -> str:
+    """A short summary of what an action does (its description if it has one)."""
+    if k.description:
+        return k.description
+    parts = []
+    if k.pose:
+        parts.append(f"pose {k.pose}")
+    if k.sequence:
+        parts.append(f"sequence {k.sequence}")
+    parts += [f"{j}={_fmt(v)}" for j, v in k.set.items()]
+    parts += [f"{j}{_fmt(v)}" for j, v in k.adjust.items()]
+    if k.stiffness or k.damping:
+        parts.append("gains" + (" while held" if k.while_held else ""))
+    for name in ("mode", "goto", "app", "slowdown", "gravity", "friction", "perturb",
+                 "release"):
+        value = getattr(k, name)
+        if value is not None:
+            parts.append(f"{name} {value}")
+    if k.reach is not None:
+        parts.append(f"reach {k.reach.chain}")
+    if k.grasp is not None:
+        parts.append(f"grasp {k.grasp.chain}")
+    return " ".join(parts)
+
+
+def interface_lines(spec: InterfaceSpec, state: str | None = None,
+                    mode: str | None = None) -> list[tuple[str, str]]:
+    """(input, what it does) for the interface's own controls (in a state and mode)."""
+    lines: list[tuple[str, str]] = [map_line(m) for m in spec.maps]
+    mode = mode if mode is not None else spec.start_mode
+    if mode is not None:
+        lines += [map_line(m) for m in spec.modes[mode]]
+    keys = list(spec.keys)
+    if spec.states:
+        state = state if state is not None else spec.start_state
+        lines += [map_line(m) for m in spec.states[state].maps]
+        keys = list(spec.states[state].keys) + keys
+    for k in keys:
+        lines.append((k.key, action_text(k)))
     return lines
 
 

@@ -7,6 +7,9 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "drag", "phase": "move", "target": [x, y]}
   {"type": "drag", "phase": "end"}
   {"type": "action", "name": "reset"}                 an app action that changes the sim
+  {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
+  {"type": "gamepad", "name": "axis0", "value": -0.3}        input gamepad.axis0
+  {"type": "channel", "name": "lean", "value": 0.2}          input channel.lean (plugins)
 """
 
 from __future__ import annotations
@@ -40,3 +43,18 @@ def drag_move(target) -> Event:
 
 def drag_end() -> Event:
     return {"type": "drag", "phase": "end"}
+
+
+def mouse_button(button: str, down: bool = True) -> Event:
+    """A mouse button ("left", "middle", "right"): input mouse.<button> = 1 or 0."""
+    return {"type": "mouse_button", "button": button, "down": bool(down)}
+
+
+def gamepad(name: str, value: float) -> Event:
+    """A gamepad axis ("axis0", -1..1) or button ("button1", 0/1): input gamepad.<name>."""
+    return {"type": "gamepad", "name": name, "value": float(value)}
+
+
+def channel(name: str, value: float) -> Event:
+    """A named plugin channel (e.g. a mocap feature): input channel.<name>."""
+    return {"type": "channel", "name": name, "value": float(value)}

@@ -1,16 +1,96 @@
-"""Continuous maps: pure functions from an input value to a joint target (radians)."""
+"""Continuous maps: pure functions from input values to joint targets (radians).
+
+Three kinds, all written as data: linear (range, clamp, response curve), coupled
+(one input drives several joints with signed gains, for symmetries like the
+gymnast's "bound" and "trot" patterns) and pose grids (bilinear over named poses,
+the paper's cat trot).
+"""
 
 from __future__ import annotations
 
 import math
 
-from puppet.data.interfaces import LinearMapSpec
+from puppet.data.interfaces import GridMapSpec, LinearMapSpec
+
+
+def shape(curve, u: float) -> float:
+    """Apply a response curve to a normalised input u (0..1 inside the range)."""
+    if curve == "linear":
+        return u
+    if curve == "smoothstep":
+        u = min(1.0, max(0.0, u))
+        return u * u * (3.0 - 2.0 * u)
+    p = curve.power  # sign-preserving power, so unclamped maps stay monotonic
+    return math.copysign(abs(u) ** p, u)
 
 
 def linear(spec: LinearMapSpec, value: float) -> float:
-    """Target (radians) for an input value: linear from ``from`` onto ``to``, clamped."""
+    """Mapped value (radians, before per-joint gains) for an input value."""
     (x0, x1), (y0, y1) = spec.from_, spec.to
     u = (value - x0) / (x1 - x0)
     if spec.clamp:
         u = min(1.0, max(0.0, u))
-    return math.radians(y0 + u * (y1 - y0))
+    return math.radians(y0 + shape(spec.curve, u) * (y1 - y0))
+
+
+def linear_targets(spec: LinearMapSpec, value: float) -> dict[str, float]:
+    """Joint -> target (radians): the mapped value times each joint's gain."""
+    v = linear(spec, value)
+    return {joint: gain * v for joint, gain in spec.gains().items()}
+
+
+def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float,
+                 y: float) -> dict[str, float]:
+    """Bilinear blend of the four grid poses around (x, y); poses hold radians.
+
+    Row 0 is the top (y = 1), column 0 the left (x = 0); inputs are clamped to 0..1.
+    """
+    rows, cols = len(spec.grid), len(spec.grid[0])
+    fx = min(1.0, max(0.0, x)) * (cols - 1)
+    fy = (1.0 - min(1.0, max(0.0, y))) * (rows - 1)
+    c0, r0 = min(int(fx), cols - 2) if cols > 1 else 0, min(int(fy), rows - 2) if rows > 1 else 0
+    tx, ty = fx - c0, fy - r0
+    c1, r1 = min(c0 + 1, cols - 1), min(r0 + 1, rows - 1)
+    corners = ((r0, c0, (1 - tx) * (1 - ty)), (r0, c1, tx * (1 - ty)),
+               (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
+    out: dict[str, float] = {}
+    for r, c, w in corners:
+        for joint, angle in poses[spec.grid[r][c]].items():
+            out[joint] = out.get(joint, 0.0) + w * angle
+    return out
+
+
+def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
+    """A fast ``apply(values) -> joints written`` for one map (the mouse hot path):
+    constants are worked out once and servos looked up once."""
+    if isinstance(spec, GridMapSpec):
+        x_name, y_name = spec.x, spec.y
+
+        def apply_grid(values):
+            x, y = values.get(x_name), values.get(y_name)
+            if x is None or y is None:
+                return ()
+            out = grid_targets(spec, pose_targets, x, y)
+            for joint, angle in out.items():
+                servos[joint].target = angle
+            return out
+        return apply_grid
+    (x0, x1), (y0, y1) = spec.from_, spec.to
+    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+    clamp, curve, name = spec.clamp, spec.curve, spec.input
+    outs = [(servos[j], g) for j, g in spec.gains().items()]
+    joints = tuple(spec.gains())
+    plain = curve == "linear"
+
+    def apply_linear(values):
+        value = values.get(name)
+        if value is None:
+            return ()
+        u = (value - x0) * inv
+        if clamp:
+            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+        v = lo + (u if plain else shape(curve, u)) * span
+        for servo, gain in outs:
+            servo.target = gain * v
+        return joints
+    return apply_linear

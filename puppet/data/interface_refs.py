@@ -1,0 +1,208 @@
+"""Cross-references in an interface file, checked at load time with file:line:col.
+
+pydantic checks each value on its own; this module checks that names point at
+things that exist (poses, sequences, modes, states, chains; joints and links of the
+character), that every state can be reached, and that values fit the character
+(pose angles within joint limits). A mistake is reported where it was written, with
+a did-you-mean when a known name is close.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterator
+
+from puppet.data.actions import ActionSpec
+from puppet.data.characters import CharacterSpec
+from puppet.data.yamlfile import Located
+
+FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy")
+JOINT_SENSORS = ("joint",)
+LINK_SENSORS = ("angle", "height", "contact")
+
+
+def unknown(kind: str, name: str, known, owner: str = "") -> str:
+    """Message for a name that is not one of ``known``, with a did-you-mean."""
+    known = list(known)
+    close = difflib.get_close_matches(str(name), known, n=1)
+    hint = f"; did you mean '{close[0]}'? " if close else "; "
+    listing = ", ".join(known) if known else "none defined"
+    return f"unknown {kind} '{name}'{owner}{hint}expected one of: {listing}"
+
+
+def actions(spec) -> Iterator[tuple[tuple, ActionSpec]]:
+    """Every action in the file with its location: keys, state entries, state keys."""
+    for i, k in enumerate(spec.keys):
+        yield ("keys", i), k
+    for name, state in spec.states.items():
+        if state.enter is not None:
+            yield ("states", name, "enter"), state.enter
+        for i, k in enumerate(state.keys):
+            yield ("states", name, "keys", i), k
+
+
+def all_maps(spec) -> Iterator[tuple[tuple, object]]:
+    for i, m in enumerate(spec.maps):
+        yield ("maps", i), m
+    for mode, maps in spec.modes.items():
+        for i, m in enumerate(maps):
+            yield ("modes", mode, i), m
+    for name, state in spec.states.items():
+        for i, m in enumerate(state.maps):
+            yield ("states", name, "maps", i), m
+
+
+def check_names(spec, located: Located) -> None:
+    """Names of poses, sequences, modes, states and chains used must be defined."""
+    def need(loc, kind, name, known, prefer_key=False):
+        if name not in known:
+            raise located.error(loc, unknown(kind, name, known), prefer_key=prefer_key)
+
+    for seq, steps in spec.sequences.items():
+        for i, step in enumerate(steps):
+            need(("sequences", seq, i, "pose"), "pose", step.pose, spec.poses)
+    if spec.mode is not None:
+        need(("mode",), "mode", spec.mode, spec.modes)
+    if spec.initial is not None:
+        need(("initial",), "state", spec.initial, spec.states)
+    for loc, m in all_maps(spec):
+        grid = getattr(m, "grid", None)
+        if grid is None:
+            continue
+        joints = None
+        for r, row in enumerate(grid):
+            for c, pose in enumerate(row):
+                need(loc + ("grid", r, c), "pose", pose, spec.poses)
+                these = set(spec.poses[pose].joints)
+                if joints is None:
+                    joints, first = these, pose
+                elif these != joints:
+                    raise located.error(loc + ("grid", r, c),
+                                        f"grid pose '{pose}' sets joints "
+                                        f"{sorted(these)} but '{first}' sets "
+                                        f"{sorted(joints)}; grid poses must set the same joints")
+    for loc, a in actions(spec):
+        if a.pose is not None:
+            need(loc + ("pose",), "pose", a.pose, spec.poses)
+        if a.sequence is not None:
+            need(loc + ("sequence",), "sequence", a.sequence, spec.sequences)
+        if a.mode is not None:
+            need(loc + ("mode",), "mode", a.mode, spec.modes)
+        if a.goto is not None:
+            need(loc + ("goto",), "state", a.goto, spec.states)
+        if a.reach is not None:
+            need(loc + ("reach", "chain"), "chain", a.reach.chain, spec.chains)
+        if a.grasp is not None:
+            need(loc + ("grasp", "chain"), "chain", a.grasp.chain, spec.chains)
+        if a.release is not None and a.release != "all":
+            need(loc + ("release",), "chain", a.release, list(spec.chains) + ["all"])
+        if a.while_held and not (a.stiffness or a.damping):
+            raise located.error(loc + ("while_held",), "'while_held' undoes stiffness/damping "
+                                                       "changes, but this action sets none")
+        if a.while_held and loc[0] == "states" and loc[2] == "enter":
+            raise located.error(loc + ("while_held",), "'while_held' needs a key")
+    for name, state in spec.states.items():
+        for i, t in enumerate(state.transitions):
+            need(("states", name, "transitions", i, "to"), "state", t.to, spec.states)
+    _check_reachable(spec, located)
+
+
+def _check_reachable(spec, located: Located) -> None:
+    if not spec.states:
+        return
+    everywhere = {k.goto for k in spec.keys if k.goto}
+    edges: dict[str, set[str]] = {}
+    for name, state in spec.states.items():
+        out = set(everywhere)
+        out |= {k.goto for k in state.keys if k.goto}
+        out |= {t.to for t in state.transitions}
+        if state.enter is not None and state.enter.goto:
+            out.add(state.enter.goto)
+        edges[name] = out
+    start = spec.start_state
+    seen, todo = {start}, [start]
+    while todo:
+        for nxt in edges[todo.pop()]:
+            if nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    for name in spec.states:
+        if name not in seen:
+            raise located.error(("states", name),
+                                f"state '{name}' is unreachable from the initial state "
+                                f"'{start}': no key 'goto', transition or entry leads to it",
+                                prefer_key=True)
+
+
+def sensor_problem(sensor: str, character: CharacterSpec) -> str | None:
+    """Why a condition's sensor name is wrong for this character, or None."""
+    if sensor in FIXED_SENSORS:
+        return None
+    kind, _, name = sensor.partition(".")
+    joints = [j.name for j in character.joints]
+    links = [link.name for link in character.links]
+    if kind in JOINT_SENSORS and name:
+        return None if name in joints else unknown("joint", name, joints,
+                                                    f" for character '{character.name}'")
+    if kind in LINK_SENSORS and name:
+        return None if name in links else unknown("link", name, links,
+                                                  f" for character '{character.name}'")
+    forms = list(FIXED_SENSORS) + [f"{k}.JOINT" for k in JOINT_SENSORS] + \
+        [f"{k}.LINK" for k in LINK_SENSORS]
+    return unknown("sensor", sensor, forms)
+
+
+def check_character_refs(spec, character: CharacterSpec, located: Located) -> None:
+    """Joint and link names must exist (joints driven by servos must be actuated) and
+    pose angles must be within the joints' limits."""
+    actuated = [j.name for j in character.actuated]
+    owner = f" for character '{character.name}'"
+
+    def need(loc, name, prefer_key=False):
+        if name not in actuated:
+            raise located.error(loc, unknown("joint", name, actuated, owner),
+                                prefer_key=prefer_key)
+
+    def in_limits(loc, name, deg):
+        limits = character.joint(name).limits
+        if limits is not None and not limits[0] <= deg <= limits[1]:
+            raise located.error(loc, f"{deg:g} deg for joint '{name}' is outside its limits "
+                                     f"[{limits[0]:g}, {limits[1]:g}]")
+
+    for name in spec.gains:
+        need(("gains", name), name, True)
+    for pose_name, pose in spec.poses.items():
+        for field in ("joints", "stiffness", "damping"):
+            for name in getattr(pose, field):
+                need(("poses", pose_name, field, name), name, True)
+        for name, deg in pose.joints.items():
+            in_limits(("poses", pose_name, "joints", name), name, deg)
+    for loc, m in all_maps(spec):
+        if getattr(m, "grid", None) is not None:
+            continue
+        if m.joint is not None:
+            need(loc + ("joint",), m.joint)
+        for name in m.joints:
+            need(loc + ("joints", name), name, True)
+    for loc, a in actions(spec):
+        for field in ("set", "adjust", "stiffness", "damping"):
+            for name in getattr(a, field):
+                need(loc + (field, name), name, True)
+        for name, deg in a.set.items():
+            in_limits(loc + ("set", name), name, deg)
+    for name, chain in spec.chains.items():
+        for i, joint in enumerate(chain.joints):
+            need(("chains", name, "joints", i), joint)
+        first, second = (character.joint(j) for j in chain.joints)
+        if second.parent != first.child:
+            raise located.error(("chains", name, "joints"),
+                                f"chain '{name}': joint '{second.name}' must be on link "
+                                f"'{first.child}' (the child of '{first.name}'), but its "
+                                f"parent is '{second.parent}'")
+    for sname, state in spec.states.items():
+        for i, t in enumerate(state.transitions):
+            if t.when is not None:
+                problem = sensor_problem(t.when.sensor, character)
+                if problem:
+                    raise located.error(("states", sname, "transitions", i, "when", "sensor"),
+                                        problem)

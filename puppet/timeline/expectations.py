@@ -1,0 +1,230 @@
+"""What a replayed log must show: checked by ``puppet replay --check`` and test suites.
+
+Expectations live in the log header (``"expect": [...]``) or in a sidecar file
+``LOG.expect.yaml`` next to the log (``expect:`` then a list); the sidecar wins.
+Each entry names one check:
+
+    expect:
+      - x_at_end: {link: base, min: 0.5}       # x of the link's centre of mass at the end, m
+      - x_at_end: {com: true, max: 2.0}        # ... or of the whole character's
+      - upright_at_end: true                   # root within 45 deg of upright at the end
+      - never_fell: true                       # root never more than 90 deg from upright
+                                               # while touching the ground
+      - reached_height: {link: base, min: 0.05}
+                                  # the link's lowest point rose >= 5 cm above its start
+      - airborne: {link: base, min_seconds: 0.1}
+                                  # the link out of contact for 0.1 s in one stretch
+      - final_hash: 0123456789abcdef           # the exact final state
+
+"Upright" is the root link's angle from its model orientation, taken modulo full
+turns. A fall is the root more than 90 deg from upright while any link of the
+character touches the ground: a somersault in the air that lands upright is not one.
+The trajectory is sampled every few steps (``Trajectory``), so "never" and
+"for 0.1 s" are as fine as that sampling (1/120 s by default).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from pydantic import Field, NonNegativeFloat, model_validator
+
+from puppet.data.errors import DataError
+from puppet.data.validate import Spec, validate
+from puppet.data.yamlfile import Located, load_file
+
+UPRIGHT_DEG = 45.0  # upright_at_end tolerance (Character.upright's default)
+FELL_DEG = 90.0  # never_fell: beyond this from upright is a fall
+
+
+class XAtEnd(Spec):
+    link: str | None = Field(None, description="link whose centre of mass is measured")
+    com: bool = Field(False, description="measure the whole character's centre of mass")
+    min: float | None = None
+    max: float | None = None
+
+    @model_validator(mode="after")
+    def _check(self):
+        if (self.link is None) == (not self.com):
+            raise ValueError("give either 'link: NAME' or 'com: true'")
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min', 'max' or both")
+        return self
+
+
+class ReachedHeight(Spec):
+    link: str
+    min: float = Field(description="m the link's lowest point must rise above its start")
+
+
+class Airborne(Spec):
+    link: str
+    min_seconds: NonNegativeFloat = Field(description="s out of contact in one stretch")
+
+
+class Expectation(Spec):
+    x_at_end: XAtEnd | None = None
+    upright_at_end: bool | None = None
+    never_fell: bool | None = None
+    reached_height: ReachedHeight | None = None
+    airborne: Airborne | None = None
+    final_hash: str | None = None
+
+    @model_validator(mode="after")
+    def _one(self):
+        given = [n for n in type(self).model_fields if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("each expectation names exactly one check; got "
+                             f"{', '.join(given) or 'none'}")
+        return self
+
+    @property
+    def kind(self) -> str:
+        return next(n for n in type(self).model_fields if getattr(self, n) is not None)
+
+    @property
+    def value(self):
+        return getattr(self, self.kind)
+
+    def link(self) -> str | None:
+        v = self.value
+        return getattr(v, "link", None) if isinstance(v, Spec) else None
+
+    def describe(self) -> str:
+        v = self.value
+        if isinstance(v, XAtEnd):
+            what = "com" if v.com else v.link
+            bounds = " ".join(f"{k} {b}" for k, b in (("min", v.min), ("max", v.max))
+                              if b is not None)
+            return f"x_at_end {what} {bounds}"
+        if isinstance(v, ReachedHeight):
+            return f"reached_height {v.link} min {v.min} m"
+        if isinstance(v, Airborne):
+            return f"airborne {v.link} min {v.min_seconds} s"
+        return f"{self.kind} {v}".replace("True", "true").replace("False", "false")
+
+
+class ExpectFile(Spec):
+    description: str = ""
+    expect: list[Expectation]
+
+
+@dataclass
+class Expectations:
+    """Validated expectations and where they came from (for errors about link names)."""
+
+    items: list[Expectation]
+    located: Located | None
+    loc_prefix: tuple  # data path of the list inside ``located``
+
+    def check_links(self, links: list[str]) -> None:
+        """DataError (at the entry) for a link the character does not have."""
+        for i, e in enumerate(self.items):
+            name = e.link()
+            if name is not None and name not in links:
+                msg = f"unknown link '{name}'; the character has: {', '.join(links)}"
+                if self.located is None:
+                    raise DataError("expect", None, None, msg)
+                raise self.located.error(self.loc_prefix + (i, e.kind, "link"), msg)
+
+
+def sidecar_path(log_path: str | Path) -> Path:
+    """``NAME.expect.yaml`` next to ``NAME.jsonl`` (``NAME.jsonl.expect.yaml`` also works)."""
+    p = Path(log_path)
+    plain = p.with_name(p.name.removesuffix(".jsonl") + ".expect.yaml")
+    if not plain.is_file():
+        other = p.with_name(p.name + ".expect.yaml")
+        if other.is_file():
+            return other
+    return plain
+
+
+def load_expectations(log_path: str | Path, header: dict) -> Expectations:
+    """The sidecar file's expectations if there is one, else the header's."""
+    side = sidecar_path(log_path)
+    if side.is_file():
+        located = load_file(side)
+        spec = validate(located, ExpectFile)
+        return Expectations(spec.expect, located, ("expect",))
+    raw = header.get("expect") or []
+    located = Located(str(log_path), {"expect": raw}, value_pos={(): (1, 1)})
+    spec = validate(located, ExpectFile)
+    return Expectations(spec.expect, located, ("expect",))
+
+
+def parse_expectations(items: list, where: str = "expect") -> Expectations:
+    """Expectations given as Python data (e.g. by a test)."""
+    located = Located(where, {"expect": list(items)})
+    return Expectations(validate(located, ExpectFile).expect, located, ("expect",))
+
+
+# -- evaluation ------------------------------------------------------------------------
+@dataclass
+class Outcome:
+    expectation: str  # what was expected, one line
+    passed: bool
+    measured: str  # what was measured, one line
+
+    def __str__(self) -> str:
+        return f"{'ok  ' if self.passed else 'FAIL'} {self.expectation}: {self.measured}"
+
+
+def _tilt_deg(angle: np.ndarray) -> np.ndarray:
+    return np.abs(np.degrees(np.remainder(angle + np.pi, 2 * np.pi) - np.pi))
+
+
+def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, float]:
+    """Longest stretch of consecutive true samples: (seconds, start time)."""
+    best, best_t0, start = 0.0, 0.0, None
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
+    for i, f in enumerate(flags):
+        if f and start is None:
+            start = i
+        if start is not None and (not f or i == len(flags) - 1):
+            last = i if f else i - 1
+            length = t[last] - t[start] + dt
+            if length > best:
+                best, best_t0 = length, t[start]
+            start = None
+    return float(best), float(best_t0)
+
+
+def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
+    """Check one expectation against a sampled trajectory (see ``Trajectory``)."""
+    v, desc = e.value, e.describe()
+    if isinstance(v, XAtEnd):
+        x = float(traj.com[-1, 0]) if v.com else float(traj.x[-1, traj.index(v.link)])
+        ok = (v.min is None or x >= v.min) and (v.max is None or x <= v.max)
+        return Outcome(desc, ok, f"x = {x:.3f} m at t = {traj.t[-1]:.2f} s")
+    if e.kind == "upright_at_end":
+        tilt = float(_tilt_deg(traj.root_angle[-1:])[0])
+        upright = tilt <= UPRIGHT_DEG
+        return Outcome(desc, upright == v, f"root {tilt:.0f} deg from upright at the end")
+    if e.kind == "never_fell":
+        tilt = np.where(traj.contact.any(axis=1), _tilt_deg(traj.root_angle), 0.0)
+        i = int(np.argmax(tilt))
+        fell = bool(tilt[i] > FELL_DEG)
+        return Outcome(desc, (not fell) == v, f"largest tilt on the ground {tilt[i]:.0f} deg "
+                                              f"at t = {traj.t[i]:.2f} s")
+    if isinstance(v, ReachedHeight):
+        low = traj.lowest[:, traj.index(v.link)]
+        rise = low - low[0]
+        i = int(np.argmax(rise))
+        return Outcome(desc, bool(rise[i] >= v.min),
+                       f"rose {rise[i]:.3f} m (at t = {traj.t[i]:.2f} s)")
+    if isinstance(v, Airborne):
+        free = ~traj.contact[:, traj.index(v.link)]
+        length, t0 = _longest_run(free, traj.t)
+        return Outcome(desc, length >= v.min_seconds - 1e-9,
+                       f"longest time out of contact {length:.3f} s"
+                       + (f" (from t = {t0:.2f} s)" if length > 0 else ""))
+    if e.kind == "final_hash":
+        return Outcome(desc, final_hash == v, f"final hash {final_hash}")
+    raise AssertionError(e.kind)
+
+
+def evaluate_all(items: list[Expectation], traj, final_hash: str) -> list[Outcome]:
+    return [evaluate(e, traj, final_hash) for e in items]
+

@@ -1,0 +1,370 @@
+"""Replay a log through a fresh Session: same events at the same steps, same bits.
+
+The header names the interface, character and scene; when one of those files has
+changed since the recording (its hash differs) the replay warns in one line and goes
+on. Events are applied in file order; the sim is advanced to each event's step first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from puppet.data.catalog import Setup, file_hash, load_setup
+from puppet.data.errors import DataError
+from puppet.session import Session
+from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
+from puppet.timeline.log import Log, read_log
+from puppet.timeline.playback import play
+
+SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
+
+
+@dataclass
+class Trajectory:
+    """Sampled states of a replay, one row per sample (numpy arrays).
+
+    Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
+    (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
+    something outside the character). Per joint (``joints`` order): ``joint_angle``,
+    ``joint_target`` (rad). ``com`` is (n, 2). After a rewind the abandoned branch's
+    samples are dropped: the trajectory is the history that was kept.
+    """
+
+    links: list[str]
+    joints: list[str]
+    step: np.ndarray
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    angle: np.ndarray
+    lowest: np.ndarray
+    contact: np.ndarray
+    com: np.ndarray
+    root_angle: np.ndarray
+    joint_angle: np.ndarray
+    joint_target: np.ndarray
+
+    def index(self, link: str) -> int:
+        return self.links.index(link)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+
+class Sampler:
+    """An ``on_tick`` callback that records the session's state."""
+
+    def __init__(self, session: Session):
+        c = session.character
+        self.links = list(c.link_order)
+        self.joints = list(c.servos)
+        self.root = c.spec.root
+        self.rows: list[tuple] = []
+
+    def __call__(self, session: Session) -> None:
+        step = session.steps
+        if self.rows and step <= self.rows[-1][0]:  # time went back: a rewind
+            while self.rows and self.rows[-1][0] >= step:
+                self.rows.pop()
+        c = session.character
+        per_link = []
+        for name in self.links:
+            body = c.bodies[name]
+            p = body.local_to_world(body.center_of_gravity)
+            low = min(sh.cache_bb().bottom for sh in c.shapes[name])
+            per_link.append((p[0], p[1], body.angle, low, c.in_contact(name)))
+        servos = [c.servos[j] for j in self.joints]
+        self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
+                          [s.angle for s in servos], [s.target for s in servos]))
+
+    def trajectory(self) -> Trajectory:
+        rows = self.rows
+        n, nl, nj = len(rows), len(self.links), len(self.joints)
+        link = np.array([r[2] for r in rows], dtype=float).reshape(n, nl, 5)
+        return Trajectory(
+            links=self.links, joints=self.joints,
+            step=np.array([r[0] for r in rows], dtype=np.int64),
+            t=np.array([r[1] for r in rows], dtype=float),
+            x=link[:, :, 0], y=link[:, :, 1], angle=link[:, :, 2], lowest=link[:, :, 3],
+            contact=link[:, :, 4].astype(bool),
+            com=np.array([r[3] for r in rows], dtype=float).reshape(n, 2),
+            root_angle=np.array([r[4] for r in rows], dtype=float),
+            joint_angle=np.array([r[5] for r in rows], dtype=float).reshape(n, nj),
+            joint_target=np.array([r[6] for r in rows], dtype=float).reshape(n, nj))
+
+
+@dataclass
+class ReplayResult:
+    """What a replay ended in. ``failed`` lists the expectations that did not hold
+    (including the recorded end hash, when the log has one and the replay ran to
+    the end)."""
+
+    path: str
+    final_hash: str
+    steps: int
+    time: float
+    recorded_hash: str | None
+    trajectory: Trajectory | None
+    outcomes: list[Outcome] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    truncated_at: int | None = None
+    session: Session | None = field(default=None, repr=False)
+
+    @property
+    def failed(self) -> list[Outcome]:
+        return [o for o in self.outcomes if not o.passed]
+
+    @property
+    def ok(self) -> bool:
+        return not self.failed
+
+    @property
+    def summary(self) -> dict:
+        return {"log": self.path, "steps": self.steps, "time": round(self.time, 6),
+                "hash": self.final_hash, "recorded_hash": self.recorded_hash,
+                "checks": len(self.outcomes), "failed": [str(o) for o in self.failed],
+                "warnings": list(self.warnings), "truncated_at": self.truncated_at}
+
+
+def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
+    """Load what the header names; a one-line warning for each file that changed."""
+    h = log.header
+    try:
+        setup = load_setup(h["interface"], h["scene"])
+    except DataError as exc:
+        if exc.path in (h["interface"], h["scene"]):  # not found: say it is the log's
+            raise DataError(log.path, 1, None, f"header: {exc.message}") from None
+        raise
+    warnings = []
+    for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
+                       ("scene", setup.scene_path)):
+        recorded = h.get(f"{kind}_hash")
+        if recorded is not None and file_hash(Path(path)) != recorded:
+            warnings.append(f"{log.path}: warning: {kind} '{h.get(kind, path)}' has changed "
+                            f"since this log was recorded ({path}); replaying anyway, "
+                            "results may differ")
+    if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
+        warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
+                        f"the interface now uses '{Path(setup.character_path).stem}'")
+    return setup, warnings
+
+
+def new_session(log: Log, setup: Setup) -> Session:
+    return Session(setup, dt=float(log.header["dt"]),
+                   checkpoint_interval=float(log.header.get("checkpoint_interval", 1.0)))
+
+
+def apply_log(session: Session, log: Log, until_step: int | None = None, every: int = 0,
+              on_tick=None) -> None:
+    """Feed a log's events into a session (file order); DataError at a bad event's line."""
+    current = {"i": -1}
+
+    def on_event(i, _event):
+        current["i"] = i
+
+    end = log.end_step
+    if end is None and log.events:
+        end = log.events[-1].step
+    try:
+        play(session, log.pairs(), until_step, every, on_tick, end_step=end, on_event=on_event)
+    except (ValueError, KeyError, TypeError) as exc:
+        i = current["i"]
+        line = log.events[i].line if 0 <= i < len(log.events) else None
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        raise DataError(log.path, line, None, f"cannot apply this event: {msg}") from None
+
+
+def replay(path: str | Path, until_step: int | None = None, allow_truncated: bool = False,
+           check: bool = True, sample_every: int = SAMPLE_EVERY,
+           trajectory: bool = True) -> ReplayResult:
+    """Replay a log headless, as fast as it goes; evaluate its expectations."""
+    log = read_log(path, allow_truncated)
+    setup, warnings = setup_for_log(log)
+    if log.truncated_at is not None:
+        warnings.append(f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; "
+                        f"replaying the {len(log.events)} events before it")
+    expectations = load_expectations(path, log.header) if check else None
+    session = new_session(log, setup)
+    if expectations is not None:
+        expectations.check_links(list(session.character.link_order))
+    sampler = Sampler(session) if (trajectory or expectations) else None
+    if sampler is not None:
+        sampler(session)
+    apply_log(session, log, until_step, sample_every if sampler else 0, sampler)
+    if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
+        sampler(session)
+    traj = sampler.trajectory() if sampler is not None else None
+    final = session.sim.state_hash()
+    outcomes: list[Outcome] = []
+    if expectations is not None:
+        outcomes = evaluate_all(expectations.items, traj, final)
+        if log.end_hash and until_step is None and log.truncated_at is None:
+            outcomes.append(Outcome("same end as the recording", final == log.end_hash,
+                                    f"replayed {final}, recorded {log.end_hash}"))
+    return ReplayResult(str(path), final, session.steps, session.time, log.end_hash, traj,
+                        outcomes, warnings, log.truncated_at, session)
+
+
+# -- the ``puppet replay`` command -----------------------------------------------------
+EXIT_FAILED, EXIT_DATA_ERROR = 1, 2
+
+
+def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool) -> dict:
+    """One headless replay, as a plain dict (runs in a worker process)."""
+    try:
+        result = replay(path, until_step, allow_truncated, check=check, trajectory=check)
+    except DataError as exc:
+        return {"log": path, "error": str(exc)}
+    except Exception as exc:  # noqa: BLE001 - one bad log must not stop the others
+        return {"log": path, "error": f"{path}: internal error: {type(exc).__name__}: {exc}"}
+    out = result.summary
+    out["outcomes"] = [str(o) for o in result.outcomes]
+    return out
+
+
+def _print_one(res: dict, check: bool) -> None:
+    import sys
+
+    for w in res.get("warnings", []):
+        print(w, file=sys.stderr)
+    rec = res["recorded_hash"]
+    same = "" if rec is None else (" (same as recorded)" if rec == res["hash"]
+                                   else f" (recorded {rec}: DIFFERENT)")
+    print(f"{res['log']}: step {res['steps']}  t={res['time']:.3f}s  "
+          f"state={res['hash']}{same}")
+    if check:
+        for line in res["outcomes"]:
+            print(f"  {line}")
+        if not res["outcomes"]:
+            print("  (no expectations)")
+
+
+def _table(results: list[dict], check: bool) -> str:
+    rows = [("log", "steps", "state", "checks", "result")]
+    for r in results:
+        if "error" in r:
+            rows.append((r["log"], "-", "-", "-", "ERROR"))
+            continue
+        n, failed = r["checks"], len(r["failed"])
+        verdict = "FAIL" if failed else "ok"
+        if r["recorded_hash"] is not None and r["recorded_hash"] != r["hash"] and not check:
+            verdict = "differs"
+        rows.append((r["log"], str(r["steps"]), r["hash"],
+                     f"{n - failed}/{n}" if check else "-", verdict))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip()
+                     for row in rows)
+
+
+def replay_command(args) -> int:
+    """``puppet replay LOG... [--headless] [--check] [--until-step N] [--allow-truncated]
+    [--jobs N]``"""
+    import sys
+
+    logs = list(args.logs)
+    if not args.headless:
+        if len(logs) > 1:
+            raise SystemExit("puppet replay: several logs need --headless")
+        if args.check:
+            raise SystemExit("puppet replay: --check needs --headless")
+        from puppet.app.window import run_window
+
+        log = read_log(logs[0], args.allow_truncated)
+        setup, warnings = setup_for_log(log)
+        for w in warnings:
+            print(w, file=sys.stderr)
+        slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
+        return run_window(setup, slowdown, replay=log, until_step=args.until_step)
+
+    if len(logs) == 1 and args.jobs <= 1:
+        res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check)
+        if "error" in res:
+            print(res["error"], file=sys.stderr)
+            return EXIT_DATA_ERROR
+        _print_one(res, args.check)
+        return EXIT_FAILED if args.check and res["failed"] else 0
+
+    from tqdm import tqdm
+
+    params = (args.until_step, args.allow_truncated, args.check)
+    results: dict[int, dict] = {}
+    # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
+    bar = tqdm(total=len(logs), unit="log", desc="replay", file=sys.stderr, disable=None)
+    if args.jobs > 1:
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+            futures = {pool.submit(_replay_one, p, *params): i for i, p in enumerate(logs)}
+            for fut in as_completed(futures):
+                results[futures[fut]] = fut.result()
+                bar.update(1)
+    else:
+        for i, p in enumerate(logs):
+            results[i] = _replay_one(p, *params)
+            bar.update(1)
+    bar.close()
+    ordered = [results[i] for i in range(len(logs))]
+    errors = [r for r in ordered if "error" in r]
+    for r in errors:
+        print(r["error"], file=sys.stderr)
+    for r in ordered:
+        for w in r.get("warnings", []):
+            print(w, file=sys.stderr)
+        if args.check and "error" not in r:
+            for line in r["failed"]:
+                print(f"{r['log']}: {line}")
+    print(_table(ordered, args.check))
+    failed = sum(1 for r in ordered if "error" not in r and r["failed"])
+    print(f"{len(ordered)} logs: {len(ordered) - failed - len(errors)} ok, {failed} failed, "
+          f"{len(errors)} errors")
+    if errors:
+        return EXIT_DATA_ERROR
+    return EXIT_FAILED if args.check and failed else 0
+
+
+class LogFeeder:
+    """Feeds a log into a session a budget of steps at a time (the window's replay):
+    the same order and rule as ``play``, cut into frames."""
+
+    def __init__(self, session: Session, log: Log, until_step: int | None = None):
+        self.session = session
+        self.events = log.pairs()
+        self.i = 0
+        self.until = until_step
+        self.end = log.end_step if log.end_step is not None else (
+            self.events[-1][0] if self.events else 0)
+        self.speed_keys: list[str] = []  # "slower"/"faster" pressed while recording
+
+    def _held_by_until(self) -> bool:
+        s = self.session.steps
+        return (self.until is not None and s >= self.until
+                and (self.i >= len(self.events) or self.events[self.i][0] != s))
+
+    @property
+    def finished(self) -> bool:
+        if self._held_by_until():
+            return True
+        return self.i >= len(self.events) and self.session.steps >= self.end
+
+    def advance(self, steps: int) -> None:
+        s, events, budget = self.session, self.events, steps
+        while True:
+            while (self.i < len(events) and events[self.i][0] <= s.steps
+                   and not self._held_by_until()):
+                action = s.handle(events[self.i][1])
+                if action in ("slower", "faster"):
+                    self.speed_keys.append(action)
+                self.i += 1
+            if budget <= 0 or self.finished:
+                return
+            nxt = events[self.i][0] if self.i < len(events) else self.end
+            if self.until is not None:
+                nxt = min(nxt, self.until)
+            k = min(budget, nxt - s.steps)
+            if k <= 0:
+                return
+            s.advance(k)
+            budget -= k

@@ -1,0 +1,56 @@
+"""``puppet bench --quick --json`` runs and reports a well-formed, positive set of figures.
+
+No timing assertions here: the speed targets live in the benchmark's own report.
+"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_quick_bench() -> tuple[int, dict]:
+    proc = subprocess.run([sys.executable, "-m", "puppet", "bench", "--quick", "--json"],
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    return proc.returncode, json.loads(proc.stdout)
+
+
+def test_quick_bench_reports_every_character_with_positive_figures():
+    _, report = run_quick_bench()
+    shipped = sorted(p.stem for p in (ROOT / "characters").glob("*.yaml"))
+    assert [c["character"] for c in report["characters"]] == shipped
+    assert report["quick"] is True
+    assert isinstance(report["all_pass"], bool)
+    for c in report["characters"]:
+        sp, cp, rw = c["speed"], c["checkpoint"], c["rewind"]
+        for value in (sp["control_speed_x"], sp["bare_same_motion_speed_x"],
+                      sp["bare_at_rest_speed_x"], sp["sim_seconds"],
+                      cp["bytes"], cp["snapshot_ms"], cp["restore_ms"], cp["checkpoint_ms"],
+                      rw["entries"], rw["ring_bytes"], rw["ring_traced_peak_bytes"],
+                      rw["control_with_ring_speed_x"], rw["restore_ms"], rw["resume_ms"],
+                      rw["rewound_s"]):
+            assert value > 0, c
+        assert isinstance(sp["control_overhead_pct"], float)
+        # the bare run goes through the same trajectory as the controlled one
+        assert sp["same_motion_state_identical"] is True
+        names = {t["name"] for t in c["targets"]}
+        assert names == {"speed with control", "control overhead", "checkpoint",
+                         "rewind 60 s and resume"}
+        for t in c["targets"]:
+            assert set(t) == {"name", "value", "op", "limit", "unit", "pass"}
+            assert isinstance(t["pass"], bool)
+    logs = report["logs"]
+    assert isinstance(logs["status"], str) and isinstance(logs["items"], list)
+    if not list((ROOT / "assets" / "logs").glob("*.jsonl")):
+        assert logs["status"] == "no logs"
+
+
+def test_bench_table_names_targets_and_verdicts():
+    from puppet.bench import format_report, run_bench
+
+    text = format_report(run_bench(quick=True))
+    assert "speed with control" in text and "checkpoint" in text
+    assert "PASS" in text or "MISS" in text

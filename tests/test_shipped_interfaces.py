@@ -1,0 +1,38 @@
+"""Every shipped interface passes `puppet check`, plays, and draws its key map."""
+
+from pathlib import Path
+
+import pytest
+
+from puppet.checker import check_file
+from puppet.data.catalog import load_setup
+from puppet.interface import events as ev
+from puppet.interface.describe import interface_lines
+from puppet.session import Session
+
+INTERFACES = sorted((Path(__file__).parents[1] / "interfaces").glob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", INTERFACES, ids=[p.stem for p in INTERFACES])
+def test_shipped_interface_checks_and_plays_every_key(path):
+    assert check_file(path) == "interface"
+    session = Session(load_setup(str(path)))
+    for binding in session.setup.interface.keys:
+        session.handle(ev.key(binding.key, True))
+        session.handle(ev.key(binding.key, False))
+        session.advance(60)
+    assert not session.sim.blown_up()
+    assert interface_lines(session.setup.interface, session.runtime.state,
+                           session.runtime.mode)
+
+
+def test_luxo_pose_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
+    session = Session(load_setup("luxo-pose-keys"))
+    assert session.runtime.state == "upright"
+    c = session.character
+    c.place(0.0, 0.6, 3.1, c.start_joint_angles())  # upside down, above the floor
+    session.advance(480)
+    assert session.runtime.state == "on_back"
+    assert session.runtime.binding("q").sequence == "roll_over"
+    session.handle(ev.key("q", True))
+    assert session.runtime.sequence.name == "roll_over"

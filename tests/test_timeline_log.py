@@ -1,0 +1,172 @@
+"""Input logs: written line by line as the session goes, read back strictly."""
+
+import datetime
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.data.errors import DataError
+from puppet.interface import events as ev
+from puppet.session import Session
+from puppet.timeline.log import Recorder, default_path, read_log
+from puppet.timeline.playback import play
+from puppet.testing import record_script
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "puppet", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd or ROOT, timeout=60)
+
+
+def test_header_events_and_end_line(tmp_path):
+    session = Session(load_setup("luxo-mouse"))
+    path = tmp_path / "a.jsonl"
+    rec = Recorder(session, path, description="two events", expect=[{"upright_at_end": True}])
+    session.handle(ev.mouse(0.2, 0.3))
+    session.advance(100)
+    session.handle(ev.key("space", True))
+    # flushed as it goes: everything so far is on disk before close
+    lines = path.read_text().splitlines()
+    assert len(lines) == 3
+    rec.close()
+    lines = [json.loads(x) for x in path.read_text().splitlines()]
+    head = lines[0]
+    assert head["format"] == "puppet-log" and head["version"] == 1
+    for key in ("puppet", "interface", "interface_hash", "character", "character_hash",
+                "scene", "scene_hash", "dt", "seed", "slowdown", "checkpoint_interval"):
+        assert key in head, key
+    assert head["interface"] == "luxo-mouse" and head["character"] == "luxo"
+    assert head["dt"] == session.sim.dt and head["description"] == "two events"
+    assert head["expect"] == [{"upright_at_end": True}]
+    assert lines[1] == {"step": 0, "event": {"type": "mouse", "x": 0.2, "y": 0.3}}
+    assert lines[2] == {"step": 100, "event": {"type": "key", "key": "space", "down": True}}
+    assert lines[3] == {"end": 100, "hash": session.sim.state_hash()}
+    assert session.listener is None  # unhooked
+
+
+def test_killed_recording_keeps_its_events_and_replays(tmp_path):
+    session = Session(load_setup("luxo-mouse"))
+    path = tmp_path / "killed.jsonl"
+    Recorder(session, path)  # never closed, like a killed process
+    session.handle(ev.mouse(1.0, 0.1))
+    session.advance(50)
+    session.handle(ev.mouse(0.1, 0.9))
+    log = read_log(path)
+    assert [e.step for e in log.events] == [0, 50] and log.end is None
+
+
+def test_default_path_never_overwrites(tmp_path):
+    now = datetime.datetime(2024, 5, 6, 7, 8, 9)
+    first = default_path("luxo-mouse", tmp_path, now)
+    assert first == tmp_path / "recordings" / "luxo-mouse-20240506-070809.jsonl"
+    first.parent.mkdir()
+    first.write_text("x")
+    second = default_path("luxo-mouse", tmp_path, now)
+    assert second.name == "luxo-mouse-20240506-070809-2.jsonl"
+    second.write_text("x")
+    assert default_path("luxo-mouse", tmp_path, now).name.endswith("-3.jsonl")
+
+
+def _write(path: Path, lines: list[str]) -> Path:
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture
+def hop_log(tmp_path) -> Path:
+    return record_script("luxo-hop", tmp_path / "hop.jsonl", seconds=1.0)
+
+
+def test_corrupt_line_names_its_line(hop_log, tmp_path):
+    lines = hop_log.read_text().splitlines()
+    lines[4] = lines[4][:20]  # cut mid-line
+    bad = _write(tmp_path / "bad.jsonl", lines)
+    with pytest.raises(DataError) as info:
+        read_log(bad)
+    assert info.value.line == 5 and "not valid JSON" in info.value.message
+    log = read_log(bad, allow_truncated=True)
+    assert len(log.events) == 3 and log.truncated_at == 5
+
+
+@pytest.mark.parametrize("line, fragment", [
+    ('{"step": 3}', 'expected {"step": N'),
+    ('{"step": -1, "event": {"type": "mouse", "x": 0, "y": 0}}', "'step' must be"),
+    ('{"step": 1, "event": {"type": "teleport"}}', "unknown event type 'teleport'"),
+    ('{"step": 1, "event": {"type": "mouse", "x": 0}}', "without 'y'"),
+    ('{"step": 1, "event": {"type": "action", "name": "rewind"}}', "to_step"),
+    ('[1, 2]', 'expected {"step": N'),
+])
+def test_bad_event_lines(tmp_path, hop_log, line, fragment):
+    lines = hop_log.read_text().splitlines()[:3] + [line]
+    with pytest.raises(DataError) as info:
+        read_log(_write(tmp_path / "x.jsonl", lines))
+    assert info.value.line == 4 and fragment in info.value.message, str(info.value)
+
+
+def test_nothing_after_the_end_line(tmp_path, hop_log):
+    lines = hop_log.read_text().splitlines()
+    lines.append(lines[1])
+    with pytest.raises(DataError) as info:
+        read_log(_write(tmp_path / "x.jsonl", lines))
+    assert info.value.line == len(lines) and "end line" in info.value.message
+
+
+def test_other_format_version_says_so(tmp_path, hop_log):
+    lines = hop_log.read_text().splitlines()
+    head = json.loads(lines[0])
+    head["version"] = 2
+    lines[0] = json.dumps(head)
+    with pytest.raises(DataError) as info:
+        read_log(_write(tmp_path / "v2.jsonl", lines))
+    assert info.value.line == 1 and "version 2 is not supported" in info.value.message
+    assert "reads version 1" in info.value.message
+    with pytest.raises(DataError, match="not a puppet log"):
+        read_log(_write(tmp_path / "n.jsonl", ['{"hello": 1}']))
+
+
+def test_cli_corrupt_log_one_line_exit_2_and_allow_truncated(tmp_path, hop_log):
+    lines = hop_log.read_text().splitlines()
+    lines[6] = "{not json"
+    bad = _write(tmp_path / "bad.jsonl", lines)
+    proc = _cli("replay", bad, "--headless")
+    assert proc.returncode == 2, proc.stderr
+    err = proc.stderr.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"{bad}:7: not valid JSON"), proc.stderr
+    assert "Traceback" not in proc.stderr
+    proc = _cli("replay", bad, "--headless", "--allow-truncated")
+    assert proc.returncode == 0, proc.stderr
+    assert f"{bad}:7: warning" in proc.stderr and "state=" in proc.stdout
+
+
+def test_changed_data_file_warns_and_still_replays(tmp_path):
+    iface = tmp_path / "my-iface.yaml"
+    iface.write_text((ROOT / "interfaces" / "luxo-mouse.yaml").read_text())
+    session = Session(load_setup(str(iface)))
+    path = tmp_path / "log.jsonl"
+    with Recorder(session, path):
+        play(session, [(0, ev.mouse(0.9, 0.2))], 200)
+    head = json.loads(path.read_text().splitlines()[0])
+    assert head["interface"] == str(iface)  # not a catalog name: the path
+    iface.write_text(iface.read_text() + "\n# edited\n")
+    proc = _cli("replay", path, "--headless")
+    assert proc.returncode == 0, proc.stderr
+    warnings = [x for x in proc.stderr.splitlines() if "warning" in x]
+    assert len(warnings) == 1 and "interface" in warnings[0] and "changed" in warnings[0]
+    assert "state=" in proc.stdout
+
+
+def test_play_record_headless_writes_a_replayable_log(tmp_path):
+    path = tmp_path / "rec.jsonl"
+    proc = _cli("play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds", "1",
+                "--record", path)
+    assert proc.returncode == 0, proc.stderr
+    played = proc.stdout.split("state=")[1].split()[0]
+    proc = _cli("replay", path, "--headless")
+    assert proc.returncode == 0, proc.stderr
+    assert f"state={played} (same as recorded)" in proc.stdout

@@ -1,0 +1,187 @@
+"""Replay: file order, --until-step, expectations, --check, parallel runs, replay_log."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.data.errors import DataError
+from puppet.interface import events as ev
+from puppet.session import Session
+from puppet.testing import check, record_script, replay_log
+from puppet.timeline.playback import play
+
+ROOT = Path(__file__).resolve().parents[1]
+
+HOP_EXPECT = [
+    {"x_at_end": {"link": "base", "min": 0.5}},
+    {"x_at_end": {"com": True, "min": 0.5, "max": 3.0}},
+    {"upright_at_end": True},
+    {"never_fell": True},
+    {"reached_height": {"link": "base", "min": 0.03}},
+    {"airborne": {"link": "base", "min_seconds": 0.1}},
+]
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "puppet", *map(str, args)],
+                          capture_output=True, text=True, cwd=ROOT, timeout=60)
+
+
+@pytest.fixture(scope="module")
+def hop(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("logs") / "hop.jsonl"
+    return record_script("luxo-hop", path, expect=HOP_EXPECT)
+
+
+def test_play_applies_events_in_file_order_not_sorted():
+    session = Session(load_setup("luxo-mouse"))
+    seen = []
+    session.listener = lambda step, e: seen.append((step, e["x"]))
+    play(session, [(10, ev.mouse(0.1, 0.5)), (5, ev.mouse(0.2, 0.5)),
+                   (20, ev.mouse(0.3, 0.5))], None)
+    assert seen == [(10, 0.1), (10, 0.2), (20, 0.3)]
+    assert session.steps == 20
+
+
+def test_play_until_step_stops_the_first_time_it_gets_there():
+    session = Session(load_setup("luxo-mouse"))
+    session.advance(96)
+    rewind = {"type": "action", "name": "rewind", "to_step": 48}
+    events = [(100, ev.mouse(0.1, 0.5)), (100, rewind), (60, ev.mouse(0.2, 0.5))]
+    play(session, events, 100)  # the events at 100 act (one goes back), then on to 100
+    assert session.steps == 100 and session.runtime.inputs["mouse.x"] == 0.2
+    session2 = Session(load_setup("luxo-mouse"))
+    play(session2, [(100, ev.mouse(0.1, 0.5)), (120, ev.mouse(0.2, 0.5))], 110)
+    assert session2.steps == 110 and session2.runtime.inputs["mouse.x"] == 0.1
+
+
+def test_replay_log_is_bit_identical_and_meets_expectations(hop):
+    result = replay_log(hop)
+    assert result.final_hash == result.recorded_hash
+    assert result.ok, [str(f) for f in result.failed]
+    assert len(result.outcomes) == len(HOP_EXPECT) + 1  # + same end as the recording
+    traj = result.trajectory
+    n = len(traj)
+    assert n > 500 and traj.t[0] == 0.0 and np.all(np.diff(traj.t) > 0)
+    assert traj.x.shape == (n, 3) and traj.joint_angle.shape == (n, 2)
+    assert traj.joint_target.shape == (n, 2) and traj.contact.dtype == bool
+    base = traj.index("base")
+    assert traj.x[-1, base] - traj.x[0, base] > 0.5
+    assert not traj.contact[:, base].all() and traj.contact[:, base].any()
+    assert result.summary["hash"] == result.final_hash
+
+
+def test_failed_expectations_say_what_was_measured(hop):
+    failed = check(replay_log(hop), [{"x_at_end": {"link": "base", "min": 5.0}},
+                                     {"airborne": {"link": "base", "min_seconds": 3}},
+                                     {"final_hash": "0000000000000000"},
+                                     {"upright_at_end": False},
+                                     {"reached_height": {"link": "upper_arm", "min": 1.0}}])
+    text = [str(f) for f in failed]
+    assert len(failed) == 5, text
+    assert text[0].startswith("FAIL x_at_end base min 5.0: x = 0.")
+    assert "longest time out of contact 0.3" in text[1]
+    assert "final hash " in text[2]
+
+
+def test_never_fell_catches_a_fall(tmp_path):
+    # Drag the lamp over onto its back and hold it there.
+    session = Session(load_setup("luxo-mouse"))
+    from puppet.timeline.log import Recorder
+
+    path = tmp_path / "fall.jsonl"
+    with Recorder(session, path, expect=[{"never_fell": True}, {"upright_at_end": False}]):
+        play(session, [(0, ev.drag_start("upper_arm", (0.0, 0.43), (-0.8, 0.05)))], 1440)
+    result = replay_log(path)
+    assert [o.expectation for o in result.failed] == ["never_fell true"], \
+        [str(o) for o in result.outcomes]
+
+
+def test_until_step(hop):
+    result = replay_log(hop, until_step=300)
+    assert result.steps == 300
+    assert all(o.expectation != "same end as the recording" for o in result.outcomes)
+
+
+def test_sidecar_expectations_win_and_report_file_line(hop, tmp_path):
+    log = tmp_path / "hop.jsonl"
+    log.write_text(hop.read_text())
+    side = tmp_path / "hop.expect.yaml"
+    side.write_text("expect:\n  - upright_at_end: true\n  - x_at_end: {link: base, max: 0.1}\n")
+    result = replay_log(log)
+    assert [o.expectation for o in result.failed] == ["x_at_end base max 0.1"]
+    assert len(result.outcomes) == 3
+    side.write_text("expect:\n  - upright_at_end: true\n  - reached_height: {link: bse, min: 1}\n")
+    with pytest.raises(DataError) as info:
+        replay_log(log)
+    assert info.value.path == str(side) and info.value.line == 3
+    assert "unknown link 'bse'" in info.value.message
+    side.write_text("expect:\n  - upright_at_end: true\n    never_fell: true\n")
+    with pytest.raises(DataError) as info:
+        replay_log(log)
+    assert info.value.line == 2 and "exactly one check" in info.value.message
+    side.write_text("expect:\n  - x_at_end: {link: base, mn: 1}\n")
+    with pytest.raises(DataError) as info:
+        replay_log(log)
+    assert info.value.line == 2 and "did you mean 'min'" in info.value.message
+
+
+def test_bad_header_expectation_points_at_line_1(hop, tmp_path):
+    lines = hop.read_text().splitlines()
+    head = json.loads(lines[0])
+    head["expect"] = [{"landed": True}]
+    lines[0] = json.dumps(head)
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(DataError) as info:
+        replay_log(bad)
+    assert info.value.line == 1 and "unknown key 'landed'" in info.value.message
+
+
+def test_cli_check_exit_codes_and_messages(hop, tmp_path):
+    proc = _cli("replay", hop, "--headless", "--check")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "(same as recorded)" in proc.stdout and "ok   airborne base" in proc.stdout
+    log = tmp_path / "h.jsonl"
+    log.write_text(hop.read_text())
+    (tmp_path / "h.expect.yaml").write_text("expect:\n  - x_at_end: {com: true, min: 9}\n")
+    proc = _cli("replay", log, "--headless", "--check")
+    assert proc.returncode == 1
+    assert "FAIL x_at_end com min 9.0: x = " in proc.stdout
+
+
+def test_cli_parallel_summary_table(hop, tmp_path):
+    failing = tmp_path / "f.jsonl"
+    failing.write_text(hop.read_text())
+    (tmp_path / "f.expect.yaml").write_text("expect:\n  - final_hash: abc\n")
+    proc = _cli("replay", hop, failing, hop, "--headless", "--check", "--jobs", "2")
+    assert proc.returncode == 1, proc.stderr
+    rows = proc.stdout.splitlines()
+    assert ["log", "steps", "state", "checks", "result"] in [r.split() for r in rows]
+    table = [r.split() for r in rows if r.split()[0] in (str(hop), str(failing))]
+    results = {r[0]: r[-1] for r in table}
+    assert results[str(hop)] == "ok" and results[str(failing)] == "FAIL"
+    assert "3 logs: 2 ok, 1 failed, 0 errors" in proc.stdout
+    assert f"{failing}: FAIL final_hash abc" in proc.stdout
+
+
+def test_window_feeder_passes_on_recorded_speed_keys(tmp_path):
+    from puppet.timeline.log import Recorder, read_log
+    from puppet.timeline.replay import LogFeeder, new_session
+
+    session = Session(load_setup("luxo-mouse"))
+    path = tmp_path / "keys.jsonl"
+    with Recorder(session, path):
+        session.advance(10)
+        assert session.handle(ev.key("-", True)) == "slower"
+        session.advance(10)
+    log = read_log(path)
+    feeder = LogFeeder(new_session(log, load_setup("luxo-mouse")), log)
+    feeder.advance(100)
+    assert feeder.finished and feeder.speed_keys == ["slower"]
+    assert feeder.session.steps == 20
