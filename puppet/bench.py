@@ -15,9 +15,10 @@ that drives it, builds a Session on the interface's scene and measures:
 * **bare, at rest** - the same Simulation stepped with no targets at all (the character
   stands still): shown for information, it is not the same physics work.
 * **checkpoint** - ``Simulation.snapshot`` / ``restore`` / ``checkpoint`` times and bytes.
-* **rewind** - a ring of checkpoints every 0.1 s over 60 s of controlled play (the control
-  speed with the ring running, and its memory under ``tracemalloc``); then restoring the
-  oldest one (60 s ago), putting the interface state back, and stepping one frame.
+* **rewind** - 60 s of controlled play with the Session's history (keyframes every
+  checkpoint interval plus the input events; its memory under ``tracemalloc``); then
+  ``Session.rewind_to`` a step 60 s back (restore the keyframe before it, re-simulate the
+  input up to it) and one frame of play from there.
 * **logs** - replay speed of every ``assets/logs/*.jsonl`` through
   ``puppet.testing.replay_log`` (when that module exists).
 
@@ -40,7 +41,6 @@ from collections import deque
 from pathlib import Path
 
 FRAME_HZ = 60.0  # the window's frame rate: one batch of input per frame
-RING_INTERVAL = 0.1  # s of simulated time between rewind checkpoints
 REWIND_SECONDS = 60.0
 
 # Targets (the report's PASS/MISS). Speeds are simulated seconds per wall second.
@@ -58,20 +58,27 @@ QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds
 
 # -- what to measure -----------------------------------------------------------------
 def characters_and_interfaces() -> list[tuple[str, str | None]]:
-    """(character name, the first interface (by file name) using it, or None)."""
+    """(character name, the interface the benchmark drives it with, or None): the first
+    (by file name) whose always-active maps read the mouse, since the benchmark's input
+    is a mouse gesture; else the first using the character at all."""
     from puppet.data.catalog import find, folder
     from puppet.data.errors import DataError
     from puppet.data.interfaces import parse_interface
     from puppet.data.yamlfile import load_file
 
     users: dict[Path, str] = {}
+    mouse_users: dict[Path, str] = {}
     for path in sorted(folder("interface").glob("*.yaml")):
         try:
             spec = parse_interface(load_file(path))
             char_path = find("character", spec.character).resolve()
         except DataError:
             continue  # an invalid interface is `puppet check`'s business, not ours
+        mouse = any(i.startswith("mouse.") for m in spec.maps for i in m.inputs)
+        if mouse and char_path not in mouse_users:
+            mouse_users[char_path] = path.stem
         users.setdefault(char_path, path.stem)
+    users.update(mouse_users)
     out = []
     for path in sorted(folder("character").glob("*.yaml")):
         out.append((path.stem, users.get(path.resolve())))
@@ -277,32 +284,8 @@ def measure_checkpoint(subject: Subject, repeats: int) -> dict:
     return out
 
 
-def _build_ring(subject: Subject, obj, inputs, every: int) -> deque:
-    sim = subject.sim_of(obj)
-    runtime = getattr(obj, "runtime", None)
-    ring: deque = deque(maxlen=len(inputs) // every + 1)
-    ring.append((sim.checkpoint(), runtime.get_state() if runtime else None, sim.steps))
-    n = subject.steps_per_frame
-    for f, batch in enumerate(inputs, 1):
-        if runtime is not None:
-            for event in batch:
-                obj.handle(event)
-            obj.advance(n)
-        else:
-            sim.step(n)
-        if f % every == 0:
-            ring.append((sim.checkpoint(), runtime.get_state() if runtime else None,
-                         sim.steps))
-    return ring
-
-
-def _has_history(obj) -> bool:
-    return hasattr(obj, "history") and hasattr(obj, "rewind_to")
-
-
 def measure_session_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
-    """The Session keeps its own rewind ring (``puppet.timeline.history``): play with
-    it, weigh it, and rewind through ``Session.rewind_to`` to the snapshot 60 s back."""
+    """Play with the Session's history, weigh it, and ``Session.rewind_to`` 60 s back."""
     frames = subject.frames(seconds)
     inputs = gesture(frames, subject.interface_spec)
     sim_seconds = frames * subject.steps_per_frame * subject.dt
@@ -317,91 +300,44 @@ def measure_session_rewind(subject: Subject, seconds: float, repeats: int) -> di
     finally:
         tracemalloc.stop()
     history = session.history
-    ring = list(history.ring)
-    target = history.ring_before(session.steps - round(seconds / session.sim.dt))
-    age = (session.steps - target.step) * session.sim.dt
+    keyframes = list(history.auto)
+    # Not on a keyframe: the rewind restores the keyframe before and re-simulates input.
+    target = max(history.oldest(), session.steps - round(seconds / session.sim.dt) + 7)
+    age = (session.steps - target) * session.sim.dt
     n = subject.steps_per_frame
+    head = session.steps
 
     def restore() -> None:
-        session.rewind_to(target.step)
+        session.rewind_to(target)
 
     def resume() -> None:
-        session.rewind_to(target.step)
-        session.advance(n)  # the first frame after the rewind
+        session.rewind_to(target)
+        session.advance(n)  # the first frame after the rewind (this branches the history)
 
     restore_ms = _median_ms(restore, repeats)
+    assert session.history.head == head  # rewinding alone keeps the future
+    
+
     resume_ms = _median_ms(resume, repeats)
     return {
         "source": "Session.history", "seconds": sim_seconds,
-        "interval_s": history.ring_every * session.sim.dt, "entries": len(ring),
-        "rewound_s": age, "ring_bytes": sum(len(snap.sim) for snap in ring),
-        "ring_traced_current_bytes": current - base, "ring_traced_peak_bytes": peak - base,
+        "interval_s": history.checkpoint_every * session.sim.dt, "entries": len(keyframes),
+        "rewound_s": age, "keyframe_bytes": sum(len(snap.sim) for snap in keyframes),
+        "traced_current_bytes": current - base, "traced_peak_bytes": peak - base,
         "restore_ms": restore_ms, "resume_ms": resume_ms, "repeats": repeats,
     }
 
 
 def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
+    out = measure_session_rewind(subject, seconds, repeats)
     frames = subject.frames(seconds)
-    every = max(1, round(RING_INTERVAL * FRAME_HZ))
     inputs = gesture(frames, subject.interface_spec)
-    sim_seconds = frames * subject.steps_per_frame * subject.dt
-    if _has_history(subject.session()):
-        out = measure_session_rewind(subject, seconds, repeats)
-        # the control speed above already includes the Session's own ring
-        gc.collect()
-        obj = subject.session()
-        t0 = time.perf_counter()
-        _play_frames(subject, obj, inputs)
-        out["control_with_ring_speed_x"] = sim_seconds / (time.perf_counter() - t0)
-        return out
-
-    # 1. control speed with the ring running (a checkpoint every 0.1 s)
-    obj = subject.session()
     gc.collect()
+    session = subject.session()
     t0 = time.perf_counter()
-    ring = _build_ring(subject, obj, inputs, every)
-    ring_wall = time.perf_counter() - t0
-
-    # 2. memory of the ring: a second identical run under tracemalloc
-    del ring
-    obj2 = subject.session()
-    gc.collect()
-    tracemalloc.start()
-    try:
-        base, _ = tracemalloc.get_traced_memory()
-        tracemalloc.reset_peak()
-        ring = _build_ring(subject, obj2, inputs, every)
-        current, peak = tracemalloc.get_traced_memory()
-    finally:
-        tracemalloc.stop()
-    ring_bytes = sum(len(data) for data, _, _ in ring)
-
-    # 3. rewind: restore the oldest snapshot, put the interface state back, continue
-    sim = subject.sim_of(obj2)
-    runtime = getattr(obj2, "runtime", None)
-    oldest_data, oldest_state, oldest_steps = ring[0]
-    age = (sim.steps - oldest_steps) * sim.dt
-    n = subject.steps_per_frame
-
-    def restore() -> None:
-        sim.restore(oldest_data)
-        if runtime is not None:
-            runtime.set_state(oldest_state)
-
-    def resume() -> None:
-        restore()
-        sim.step(n)  # the first frame after the rewind: contacts are rebuilt here
-
-    restore_ms = _median_ms(restore, repeats)
-    resume_ms = _median_ms(resume, repeats)
-    return {
-        "source": "bench ring of Simulation.checkpoint", "seconds": sim_seconds,
-        "interval_s": every / FRAME_HZ, "entries": len(ring),
-        "rewound_s": age, "ring_bytes": ring_bytes,
-        "ring_traced_current_bytes": current - base, "ring_traced_peak_bytes": peak - base,
-        "control_with_ring_speed_x": sim_seconds / ring_wall,
-        "restore_ms": restore_ms, "resume_ms": resume_ms, "repeats": repeats,
-    }
+    _play_frames(subject, session, inputs)
+    out["control_with_history_speed_x"] = out["seconds"] / (time.perf_counter() - t0)
+    return out
 
 
 # -- logs ----------------------------------------------------------------------------
@@ -553,12 +489,12 @@ def format_report(report: dict) -> str:
         row("restore", f"{cp['restore_ms']:.3f} ms")
         row("checkpoint (snapshot + re-seat)", f"{cp['checkpoint_ms']:.3f} ms",
             limit["checkpoint"], verdict["checkpoint"])
-        row(f"ring ({rw['source']}): {rw['entries']} x {rw['interval_s']:g} s",
-            _fmt_bytes(rw["ring_bytes"]))
+        row(f"keyframes ({rw['source']}): {rw['entries']} x {rw['interval_s']:g} s",
+            _fmt_bytes(rw["keyframe_bytes"]))
         row("tracemalloc over the run: retained / peak",
-            f"{_fmt_bytes(rw['ring_traced_current_bytes'])} / "
-            f"{_fmt_bytes(rw['ring_traced_peak_bytes'])}")
-        row("speed with control + ring", f"{rw['control_with_ring_speed_x']:.0f}x")
+            f"{_fmt_bytes(rw['traced_current_bytes'])} / "
+            f"{_fmt_bytes(rw['traced_peak_bytes'])}")
+        row("speed with control + history", f"{rw['control_with_history_speed_x']:.0f}x")
         row(f"rewind {rw['rewound_s']:.1f} s: restore oldest", f"{rw['restore_ms']:.3f} ms")
         row(f"rewind {rw['rewound_s']:.1f} s: restore + first frame",
             f"{rw['resume_ms']:.3f} ms", limit["rewind 60 s and resume"],

@@ -34,6 +34,7 @@ class Session:
         self._start = self.sim.checkpoint()
         self.history = History(dt, checkpoint_interval)
         self.history.set_start(Snapshot(0, self._start, self.runtime.get_state()))
+        self._rebuilding = False  # re-simulating recorded history (rewind): record nothing
 
     @property
     def character(self):
@@ -50,9 +51,14 @@ class Session:
     def handle(self, event: Event) -> str | None:
         """Apply an input event at the current step. Returns the app action a key
         stands for when that action is the window's business (pause, quit...)."""
-        if self.listener is not None:
-            self.listener(self.sim.steps, event)
         kind = event["type"]
+        if not self._rebuilding:
+            if self.listener is not None:
+                self.listener(self.sim.steps, event)
+            if not (kind == "action" and event.get("name") in ("rewind", "restore")):
+                if self.sim.steps < self.history.head:
+                    self.history.branch(self.sim.steps)  # new input: the future is rewritten
+                self.history.record(self.sim.steps, event)
         if kind == "key" and event["down"]:
             app_action = self.key_to_app.get(event["key"])
             if app_action is not None and not self.runtime.handles_key(event["key"]):
@@ -63,8 +69,6 @@ class Session:
         if kind == "action":
             self.perform(event["name"], event.get("to_step"))
             return None
-        if kind != "key" or event["down"] or self.runtime.handles_key(event["key"]):
-            self.history.branch(self.sim.steps)  # new input: the future is rewritten
         if kind == "drag":
             phase = event["phase"]
             if phase == "start":
@@ -82,7 +86,6 @@ class Session:
 
     def perform(self, name: str, to_step: int | None = None) -> None:
         if name == "reset":
-            self.history.branch(self.sim.steps)
             self.reset()
         elif name == "checkpoint":
             self.checkpoint()
@@ -108,6 +111,8 @@ class Session:
         the steps are split between calls."""
         remaining = steps
         sim, history, runtime = self.sim, self.history, self.runtime
+        if remaining > 0 and not self._rebuilding and sim.steps < history.head:
+            history.branch(sim.steps)  # playing on from a rewound point
         while remaining > 0:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics
@@ -123,6 +128,8 @@ class Session:
             remaining -= n
             if sim.steps == boundary:
                 self._at_boundary()
+        if not self._rebuilding:
+            history.reached(sim.steps)
 
     # -- history: checkpoints, rewind, blow-up recovery --------------------------------
     def _snapshot(self, reseat: bool) -> Snapshot:
@@ -143,9 +150,8 @@ class Session:
         if self.sim.blown_up():
             self._recover()
             return
-        ring, auto = self.history.due(self.sim.steps)
-        if ring or auto:
-            self.history.add(self._snapshot(reseat=False), ring, auto)
+        if not self._rebuilding and self.history.keyframe_due(self.sim.steps):
+            self.history.add(self._snapshot(reseat=False))
 
     def _recover(self) -> None:
         """Back to the last good checkpoint's state; the time line goes on (like reset)."""
@@ -164,7 +170,8 @@ class Session:
     def checkpoint(self) -> Snapshot:
         """A manual checkpoint here (the "restore" action goes back to it)."""
         snap = self._snapshot(reseat=True)
-        self.history.add_manual(snap)
+        if not self._rebuilding:  # re-simulating: re-seat the same way, keep the original
+            self.history.add_manual(snap)
         return snap
 
     def restore_checkpoint(self) -> None:
@@ -175,11 +182,24 @@ class Session:
         self.history.branch(snap.step)
 
     def rewind_to(self, step: int) -> None:
-        """Back (or forward, within a rewound history) to the snapshot at ``step``."""
-        snap = self.history.at(step)
-        if snap is None:
-            raise ValueError(f"cannot rewind to step {step}: no snapshot there")
+        """Back (or forward, within a rewound history) to ``step``: restore the last
+        keyframe at or before it and re-simulate the recorded input up to it. The
+        history is kept until new input (or stepping on) branches it."""
+        history = self.history
+        if not history.oldest() <= step <= history.head:
+            raise ValueError(f"cannot rewind to step {step}: no snapshot there (the history "
+                             f"spans steps {history.oldest()}..{history.head})")
+        snap = history.keyframe_before(step)
         self._restore(snap)
+        self._rebuilding = True
+        try:
+            for at, event in history.events_after(snap, step):
+                if at > self.sim.steps:
+                    self.advance(at - self.sim.steps)
+                self.handle(event)
+            self.advance(step - self.sim.steps)
+        finally:
+            self._rebuilding = False
 
     def preview(self, step: int) -> None:
         """Show the snapshot at ``step`` while scrubbing (the window commits the

@@ -29,8 +29,8 @@ def test_quick_bench_reports_every_character_with_positive_figures():
         for value in (sp["control_speed_x"], sp["bare_same_motion_speed_x"],
                       sp["bare_at_rest_speed_x"], sp["sim_seconds"],
                       cp["bytes"], cp["snapshot_ms"], cp["restore_ms"], cp["checkpoint_ms"],
-                      rw["entries"], rw["ring_bytes"], rw["ring_traced_peak_bytes"],
-                      rw["control_with_ring_speed_x"], rw["restore_ms"], rw["resume_ms"],
+                      rw["entries"], rw["keyframe_bytes"], rw["traced_peak_bytes"],
+                      rw["control_with_history_speed_x"], rw["restore_ms"], rw["resume_ms"],
                       rw["rewound_s"]):
             assert value > 0, c
         assert isinstance(sp["control_overhead_pct"], float)

@@ -1,20 +1,22 @@
-"""Checkpoints and the rewind ring: snapshots of a session kept by step.
+"""Checkpoints and rewind: keyframes of a session plus the input that followed them.
 
-Every snapshot is taken with ``Simulation.checkpoint()``, which re-seats the live run
-on a restored copy, so restoring a snapshot and feeding the same inputs again is
-bit-identical to the run that never restored (pymunk drops the solver's warm-start
-state when pickling; re-seating makes the live run drop it at the same moment).
+Any earlier step of the current history can be rebuilt: restore the last keyframe at or
+before it and re-simulate the recorded input events up to it. That keeps the per-step
+cost low (one pickled snapshot per checkpoint interval instead of a dense ring) while
+scrubbing stays smooth at any step, and a replay of a log does the very same restores
+and re-simulations, so rewinds replay bit-identically.
 
-Snapshots are taken at fixed step boundaries only (multiples of the ring and the
-checkpoint intervals) and on the "checkpoint" action, so a replay of a log takes the
-same snapshots at the same steps as the run that recorded it.
+Kinds of snapshot:
+  start   the start pose (step 0), re-seated
+  auto    every ``checkpoint_interval`` s of simulated time, the last ``keep_seconds``;
+          keyframes for rewinding and for blow-up recovery. Plain snapshots (not
+          re-seated), so a session that is never rewound steps exactly like plain
+          stepping and references to its bodies stay valid.
+  manual  the "checkpoint" action, re-seated (``Simulation.checkpoint``): restoring
+          it and feeding the same input is bit-identical to never restoring.
 
-Kinds:
-  ring    every ``ring_interval`` s of simulated time, the last ``ring_seconds``;
-          what holding the rewind key scrubs through
-  auto    every ``checkpoint_interval`` s (bounded); blow-up recovery
-  manual  the "checkpoint" action; what the "restore" action goes back to
-  start   the start pose (step 0)
+Snapshots are taken at fixed step boundaries (multiples of the interval) and on the
+checkpoint action only, so a replay takes them at the same steps as the recording.
 """
 
 from __future__ import annotations
@@ -22,10 +24,9 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-RING_INTERVAL = 0.1  # s of simulated time between rewind snapshots
-RING_SECONDS = 180.0  # s of simulated time the rewind ring covers
-CHECKPOINT_INTERVAL = 1.0  # s between automatic checkpoints
-MAX_AUTO = 600  # automatic checkpoints kept
+CHECKPOINT_INTERVAL = 1.0  # s of simulated time between automatic checkpoints
+KEEP_SECONDS = 180.0  # s of simulated time that can be rewound
+HEALTH_INTERVAL = 0.25  # s between blow-up checks
 
 
 @dataclass
@@ -33,89 +34,100 @@ class Snapshot:
     step: int
     sim: bytes
     runtime: dict = field(repr=False)
-    kind: str = "ring"
+    kind: str = "auto"
+    event_seq: int = 0  # how many events had been recorded when it was taken
 
 
 class History:
-    """Snapshots by step. Entries stay sorted by step: after a rewind, the first new
-    input (or the next snapshot) drops everything later ("the history branches")."""
+    """Keyframes and events by step on the current branch. Rewinding moves the session
+    back without forgetting; new input (or stepping on) from an earlier step branches:
+    everything later is dropped."""
 
     def __init__(self, dt: float, checkpoint_interval: float = CHECKPOINT_INTERVAL,
-                 ring_interval: float = RING_INTERVAL, ring_seconds: float = RING_SECONDS):
+                 keep_seconds: float = KEEP_SECONDS):
         self.dt = dt
-        self.ring_every = max(1, round(ring_interval / dt))
-        self.checkpoint_every = (max(1, round(checkpoint_interval / dt))
-                                 if checkpoint_interval and checkpoint_interval > 0 else 0)
-        self.ring: deque[Snapshot] = deque(
-            maxlen=max(1, round(ring_seconds / (self.ring_every * dt))))
-        self.auto: deque[Snapshot] = deque(maxlen=MAX_AUTO)
+        interval = checkpoint_interval if checkpoint_interval and checkpoint_interval > 0 \
+            else CHECKPOINT_INTERVAL
+        self.checkpoint_every = max(1, round(interval / dt))
+        self.health_every = max(1, min(self.checkpoint_every, round(HEALTH_INTERVAL / dt)))
+        self.auto: deque[Snapshot] = deque(
+            maxlen=max(2, round(keep_seconds / (self.checkpoint_every * dt)) + 1))
         self.manual: list[Snapshot] = []
+        self.events: list[tuple[int, int, dict]] = []  # (seq, step, event)
+        self.next_seq = 0
         self.start: Snapshot | None = None
+        self.head = 0  # the furthest step of the current branch
 
     # -- when ------------------------------------------------------------------------
     def next_boundary(self, step: int) -> int:
-        """The first step after ``step`` at which a snapshot is due."""
-        b = (step // self.ring_every + 1) * self.ring_every
-        if self.checkpoint_every:
-            b = min(b, (step // self.checkpoint_every + 1) * self.checkpoint_every)
-        return b
+        """The first step after ``step`` at which a health check or keyframe is due."""
+        return (step // self.health_every + 1) * self.health_every
 
-    def due(self, step: int) -> tuple[bool, bool]:
-        """(ring, auto) snapshots due at ``step``."""
-        ring = step % self.ring_every == 0
-        auto = bool(self.checkpoint_every) and step % self.checkpoint_every == 0
-        return ring, auto
+    def keyframe_due(self, step: int) -> bool:
+        return step % self.checkpoint_every == 0
 
     # -- adding ------------------------------------------------------------------------
     def set_start(self, snap: Snapshot) -> None:
         snap.kind = "start"
+        snap.event_seq = self.next_seq
         self.start = snap
-        self.ring.clear()
         self.auto.clear()
         self.manual.clear()
-        self.ring.append(snap)
+        self.events.clear()
         self.auto.append(snap)
+        self.head = snap.step
 
-    def add(self, snap: Snapshot, ring: bool, auto: bool) -> None:
-        self.branch(snap.step - 1)
-        if ring:
-            self.ring.append(snap)
-        if auto:
-            self.auto.append(snap)
+    def add(self, snap: Snapshot) -> None:
+        """An automatic keyframe (at the head of the history)."""
+        snap.kind = "auto"
+        snap.event_seq = self.next_seq
+        self.auto.append(snap)
+        oldest = self.auto[0].event_seq
+        if self.events and self.events[0][0] < oldest:
+            self.events = [e for e in self.events if e[0] >= oldest]
 
     def add_manual(self, snap: Snapshot) -> None:
         snap.kind = "manual"
-        self.branch(snap.step)
+        snap.event_seq = self.next_seq
         self.manual.append(snap)
 
+    def record(self, step: int, event: dict) -> None:
+        self.events.append((self.next_seq, step, event))
+        self.next_seq += 1
+
+    def reached(self, step: int) -> None:
+        if step > self.head:
+            self.head = step
+
     def branch(self, step: int) -> None:
-        """Forget every snapshot later than ``step`` (new input after a rewind)."""
-        for seq in (self.ring, self.auto, self.manual):
+        """Forget everything after ``step``: keyframes later than it and events at or
+        after it (they belonged to the abandoned future)."""
+        for seq in (self.auto, self.manual):
             while seq and seq[-1].step > step:
                 seq.pop()
+        while self.events and self.events[-1][1] >= step:
+            self.events.pop()
+        self.head = step
 
     # -- finding -----------------------------------------------------------------------
-    def at(self, step: int) -> Snapshot | None:
-        """The snapshot taken at exactly ``step`` (ring first, then checkpoints)."""
-        for seq in (self.ring, self.manual, self.auto):
-            for snap in reversed(seq):
-                if snap.step == step:
-                    return snap
-                if snap.step < step:
-                    break
-        if self.start is not None and self.start.step == step:
-            return self.start
-        return None
+    def oldest(self) -> int:
+        return self.auto[0].step if self.auto else 0
 
-    def ring_before(self, step: float) -> Snapshot | None:
-        """The latest ring snapshot at or before ``step`` (the oldest if none)."""
+    def keyframe_before(self, step: int) -> Snapshot | None:
+        """The latest snapshot at or before ``step`` (the later-taken one on a tie)."""
         best = None
-        for snap in self.ring:
-            if snap.step <= step:
-                best = snap
-            else:
-                break
-        return best if best is not None else (self.ring[0] if self.ring else None)
+        for seq in (self.auto, self.manual):
+            for snap in reversed(seq):
+                if snap.step <= step:
+                    if best is None or (snap.step, snap.event_seq) > (best.step, best.event_seq):
+                        best = snap
+                    break
+        return best
+
+    def events_after(self, snap: Snapshot, stop: int) -> list[tuple[int, dict]]:
+        """(step, event) recorded after ``snap`` was taken and before step ``stop``."""
+        return [(step, e) for seq, step, e in self.events
+                if seq >= snap.event_seq and step < stop]
 
     def last_manual(self, step: int) -> Snapshot | None:
         for snap in reversed(self.manual):
@@ -136,10 +148,10 @@ class History:
 
     # -- for the HUD's timeline bar ----------------------------------------------------
     def span(self) -> tuple[int, int] | None:
-        """(oldest, newest) step the ring can scrub to."""
-        if not self.ring:
+        """(oldest, newest) step that can be rewound to."""
+        if not self.auto:
             return None
-        return self.ring[0].step, self.ring[-1].step
+        return self.oldest(), self.head
 
     def checkpoint_steps(self) -> list[int]:
         return [s.step for s in self.manual]
@@ -149,7 +161,7 @@ SCRUB_RATE = 1.0  # s of simulated time per wall s when a scrub starts (it speed
 
 
 class Scrubber:
-    """Holding the rewind key: move through the ring (back, or forward with shift),
+    """Holding the rewind key: move through the history (back, or forward with shift),
     showing each snapshot; on release, commit with a logged "rewind" action so that a
     replay of the log branches at the same place. Pure logic, no pygame."""
 
@@ -184,9 +196,9 @@ class Scrubber:
         self.pos = min(max(self.pos, float(span[0])), float(span[1]))
         if direction < 0 and not self.moved:  # show the first step back at once
             self.pos = min(self.pos, self.session.steps - 1)
-        snap = history.ring_before(self.pos)
-        if snap is not None and snap.step != self.session.steps:
-            self.session.preview(snap.step)
+        step = int(self.pos)
+        if step != self.session.steps:
+            self.session.preview(step)
             self.moved = True
 
     def release(self) -> None:
