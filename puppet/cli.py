@@ -20,12 +20,20 @@ def _play(args: argparse.Namespace) -> int:
     from puppet.data.catalog import load_setup
 
     setup = load_setup(args.interface, args.scene)
+    ghost = None
+    if args.ghost:  # a log replaying beside the live character (never touches it)
+        from puppet.timeline.ghost import Ghost
+
+        ghost = Ghost(args.ghost)
+        for w in ghost.warnings:
+            print(w, file=sys.stderr)
     if not args.headless:
         if args.input or args.screenshot or args.frames:
             raise SystemExit("puppet play: --input, --screenshot and --frames need --headless")
         from puppet.app.window import run_window
 
-        return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record)
+        return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
+                          ghost=ghost)
     from puppet.app.headless import run_headless
     from puppet.data.catalog import find
     from puppet.physics.simulation import DEFAULT_DT
@@ -39,20 +47,13 @@ def _play(args: argparse.Namespace) -> int:
             seconds = script.seconds
     if seconds is None:
         seconds = 5.0
-    if args.record:  # record the scripted run as a log (see ``puppet replay``)
-        if args.screenshot or args.frames:
-            raise SystemExit("puppet play: --record with --headless does not write images")
-        from puppet.session import Session
-        from puppet.timeline.log import record_events
-
-        session = Session(setup)
-        record_events(session, events, round(seconds / session.sim.dt), args.record,
-                      slowdown=args.slowdown,
-                      description=script.description if args.input else None)
+    # --record writes the scripted run as a log (see ``puppet replay``); images too
+    session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
+                           slowdown=args.slowdown, record=args.record,
+                           description=(script.description or None) if args.input else None,
+                           ghost=ghost)
+    if args.record:
         print(f"recorded {args.record}")
-    else:
-        session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
-                               slowdown=args.slowdown)
     c = session.character
     x, y = c.com()
     print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
@@ -100,6 +101,10 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
+    if args.video or args.plot:
+        from puppet.app.export import export_command
+
+        return export_command(args)
     from puppet.timeline.replay import replay_command
 
     return replay_command(args)
@@ -133,6 +138,9 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write the input log here (default in a window: "
                            "recordings/INTERFACE-DATE-TIME.jsonl)")
     play.add_argument("--no-record", action="store_true", help="do not record a log")
+    play.add_argument("--ghost", metavar="LOG",
+                      help="replay this log as a translucent ghost beside the character, "
+                           "in step with its time (the ghost does not touch the live run)")
     play.set_defaults(func=_play)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
@@ -150,7 +158,20 @@ def build_parser() -> argparse.ArgumentParser:
                         help="replay the valid lines before a corrupt or cut-off one")
     replay.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
                         help="replay several logs in N processes (headless)")
-    replay.add_argument("--slowdown", type=float, help="window: override the recorded slowdown")
+    replay.add_argument("--slowdown", type=float,
+                        help="window and --video: override the recorded slowdown")
+    replay.add_argument("--video", metavar="OUT",
+                        help="headless: render the replay as the window shows it, HUD "
+                             "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")
+    replay.add_argument("--fps", type=float, default=30.0, help="frame rate for --video "
+                                                                "(default 30)")
+    replay.add_argument("--size", default="1280x720", metavar="WxH",
+                        help="window size drawn for --video (default 1280x720)")
+    replay.add_argument("--scale", type=float, default=1.0,
+                        help="shrink --video frames by this factor (e.g. 0.5 for a gif)")
+    replay.add_argument("--plot", metavar="PNG",
+                        help="headless: plot joint targets against actual angles over "
+                             "time, one subplot per actuated joint")
     replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs")

@@ -38,24 +38,35 @@ class FrameRenderer:
         self.small = pygame.font.Font(None, 20)
         self.info = HudInfo(slowdown=slowdown, measured=slowdown)
 
-    def render(self, session: Session, hud: bool = True):
+    def render(self, session: Session, hud: bool = True, wall_dt: float | None = None,
+               ghost: Session | None = None):
+        """``wall_dt``: wall seconds since the last frame, for the camera's easing as in
+        the window (None snaps to the character). ``ghost``: a session drawn
+        translucently beside the live one (see ``puppet.timeline.ghost``)."""
         from puppet.app.hud import draw_hud
         from puppet.app.render import draw_world
 
-        self.camera.follow(session.character.com(), None)
-        draw_world(self.surface, session, self.camera, self.small)
+        self.camera.follow(session.character.com(), wall_dt)
+        draw_world(self.surface, session, self.camera, self.small, ghost=ghost)
         if hud:
             draw_hud(self.surface, session, self.info, self.font, self.small)
         return self.surface
 
-    def save(self, session: Session, path: str | Path, hud: bool = True) -> None:
+    def save(self, session: Session, path: str | Path, hud: bool = True,
+             ghost: Session | None = None) -> None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
-        self.pygame.image.save(self.render(session, hud), str(path))
+        self.pygame.image.save(self.render(session, hud, ghost=ghost), str(path))
 
 
 def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
                  screenshot: str | None = None, frames_dir: str | None = None,
-                 fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None) -> Session:
+                 fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None,
+                 record: str | Path | None = None, description: str | None = None,
+                 ghost=None) -> Session:
+    """Play ``events`` for ``seconds``; write the final frame (``screenshot``) and/or
+    every frame at ``fps`` (``frames_dir``); ``record``: also write the input log
+    there (the images do not change the run: same log, same state hash).
+    ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
@@ -67,9 +78,24 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
         counter = iter(range(10 ** 9))
 
         def on_tick(s: Session) -> None:
-            renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png")
+            renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png",
+                          ghost=_synced(ghost, s))
 
-    play(session, events, until, every, on_tick)
+    if record:
+        from puppet.timeline.log import Recorder
+
+        with Recorder(session, record, slowdown=slowdown, description=description):
+            play(session, events, until, every, on_tick)
+    else:
+        play(session, events, until, every, on_tick)
     if screenshot:
-        renderer.save(session, screenshot)
+        renderer.save(session, screenshot, ghost=_synced(ghost, session))
     return session
+
+
+def _synced(ghost, session: Session) -> Session | None:
+    """The ghost's session, brought to ``session``'s time (None without a ghost)."""
+    if ghost is None:
+        return None
+    ghost.sync(session)
+    return ghost.session

@@ -17,8 +17,13 @@ def _shade(color, f: float):
     return tuple(max(0, min(255, int(c * f))) for c in color)
 
 
+GHOST_ALPHA = 100  # how opaque a ghost (a log replaying beside the live run) is drawn
+
+
 def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
-               font: pygame.font.Font | None = None) -> None:
+               font: pygame.font.Font | None = None, ghost: Session | None = None) -> None:
+    """The scene and the character; ``ghost`` (another session, e.g. a log replaying
+    in lock-step) is drawn translucently behind the live character."""
     scene = session.setup.scene
     surface.fill(scene.sky)
     _draw_grid(surface, camera, None)
@@ -26,7 +31,9 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     _draw_grid(surface, camera, font, labels_only=True)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
-    _draw_character(surface, session, camera)
+    if ghost is not None and not ghost.sim.blown_up():
+        draw_character(surface, ghost, camera, GHOST_ALPHA)
+    draw_character(surface, session, camera)
     _draw_drag(surface, session, camera)
 
 
@@ -70,7 +77,29 @@ def _draw_marker(surface, camera: Camera, marker, ground_y: float, font) -> None
         surface.blit(font.render(marker.label, True, (160, 40, 40)), (b[0] + 4, b[1] - 20))
 
 
-def _draw_character(surface, session: Session, camera: Camera) -> None:
+_layers: dict[tuple[int, int], pygame.Surface] = {}  # reused translucent layers, by size
+
+
+def draw_character(surface: pygame.Surface, session: Session, camera: Camera,
+                   alpha: int = 255) -> None:
+    """Draw ``session``'s character; ``alpha`` < 255 draws it translucently (a ghost):
+    drawn opaque on a transparent layer, then blended in as a whole, so overlapping
+    links do not show through each other."""
+    if alpha >= 255:
+        _draw_character(surface, session, camera)
+        return
+    size = surface.get_size()
+    layer = _layers.get(size)
+    if layer is None:
+        _layers.clear()
+        layer = _layers[size] = pygame.Surface(size, pygame.SRCALPHA)
+    layer.fill((0, 0, 0, 0))
+    _draw_character(layer, session, camera, com_mark=False)
+    layer.set_alpha(max(0, int(alpha)))
+    surface.blit(layer, (0, 0))
+
+
+def _draw_character(surface, session: Session, camera: Camera, com_mark: bool = True) -> None:
     character = session.character
     links = sorted(character.spec.links, key=lambda link: LAYER_ORDER[link.layer])
     for link in links:
@@ -83,6 +112,8 @@ def _draw_character(surface, session: Session, camera: Camera) -> None:
         p = camera.to_screen(character.bodies[joint.parent].local_to_world(joint.anchor))
         r = max(2, int(0.008 * camera.scale))
         pygame.draw.circle(surface, (60, 64, 72), p, r)
+    if not com_mark:
+        return
     cx, cy = camera.to_screen(character.com())
     pygame.draw.line(surface, (230, 120, 30), (cx - 5, cy), (cx + 5, cy), 2)
     pygame.draw.line(surface, (230, 120, 30), (cx, cy - 5), (cx, cy + 5), 2)

@@ -7,6 +7,7 @@ steps; everything that changes the simulation goes through ``Session.handle``.
 from __future__ import annotations
 
 import os
+import warnings
 import time
 
 from puppet.data.catalog import Setup
@@ -23,10 +24,12 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
-               until_step: int | None = None) -> int:
+               until_step: int | None = None, ghost=None) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
-    the devices, at the recorded slowdown; the devices only drive the window."""
+    the devices, at the recorded slowdown; the devices only drive the window.
+    ``ghost`` (a ``puppet.timeline.ghost.Ghost``) replays beside the character in
+    step with its time, drawn translucently; it never touches the live session."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -40,11 +43,15 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
     joysticks: dict = {}
     screen = pygame.display.set_mode(size, pygame.RESIZABLE)
-    pygame.display.set_caption(f"puppet - {setup.interface.name}")
-    try:
-        pygame.Window.from_display_module().minimum_size = MIN_SIZE
+    title = f"puppet - {setup.interface.name}"
+    try:  # pygame-ce: the display's Window object carries the title and a minimum size
+        with warnings.catch_warnings():  # we draw through pygame.display, knowingly
+            warnings.simplefilter("ignore", DeprecationWarning)
+            window = pygame.Window.from_display_module()
+        window.title = title
+        window.minimum_size = MIN_SIZE
     except (AttributeError, pygame.error):
-        pass
+        pygame.display.set_caption(title)
     font = pygame.font.Font(None, 24)
     small = pygame.font.Font(None, 20)
 
@@ -189,7 +196,10 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             screen.fill((235, 235, 235))
         else:
             camera.follow(session.character.com(), wall_dt)
-            draw_world(screen, session, camera, small)
+            if ghost is not None:
+                ghost.sync(session)
+            draw_world(screen, session, camera, small,
+                       ghost=ghost.session if ghost is not None else None)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
     scrub.release()

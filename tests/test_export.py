@@ -1,0 +1,193 @@
+"""Replay export (video, gif, joint plot), the ghost, and --record with images."""
+
+from pathlib import Path
+
+import imageio.v2 as imageio
+import imageio.v3 as iio
+import pygame
+import pytest
+
+from puppet.app.export import export_video
+from puppet.app.headless import run_headless
+from puppet.cli import main
+from puppet.data.catalog import find, load_setup
+from puppet.testing import record_script, replay_log
+from puppet.timeline.ghost import Ghost
+from puppet.timeline.log import read_log
+from puppet.timeline.plot import plot_joints, save_joint_plot
+from puppet.timeline.replay import replay
+from puppet.timeline.script import compile_script, load_script
+
+SMALL = (320, 192)
+
+
+@pytest.fixture(scope="module")
+def hop(tmp_path_factory) -> Path:
+    """The first hop (1.3 s of luxo-hop) as a log."""
+    path = tmp_path_factory.mktemp("export") / "hop.jsonl"
+    return record_script("luxo-hop", path, seconds=1.3)
+
+
+def _hop_events():
+    return compile_script(load_script(find("script", "luxo-hop")), 1 / 480)
+
+
+def test_mp4_has_the_frames_and_size_written(hop, tmp_path):
+    out = tmp_path / "hop.mp4"
+    video = export_video(hop, out, fps=10, size=SMALL, hold=0.5, progress=False)
+    assert video.frames == 1 + 13 + 5  # first frame, 1.3 s at 10 fps, 0.5 s hold
+    reader = imageio.get_reader(str(out))
+    assert reader.count_frames() == video.frames
+    assert reader.get_meta_data()["fps"] == 10
+    frames = iio.imread(str(out), index=None, plugin="FFMPEG")
+    assert frames.shape == (video.frames, SMALL[1], SMALL[0], 3)
+    assert frames[0].std() > 5  # a picture, not a blank frame
+    # the replay behind the video ends where the log does
+    assert video.session.sim.state_hash() == read_log(hop).end_hash
+
+
+def test_gif_frames_scale_and_slowdown(hop, tmp_path):
+    out = tmp_path / "hop.gif"
+    # slowdown 2: 1.3 simulated seconds take 2.6 s of video
+    video = export_video(hop, out, fps=10, size=(640, 384), scale=0.5, slowdown=2,
+                         hold=0, progress=False)
+    assert video.frames == 1 + 26 and video.size == SMALL
+    frames = iio.imread(str(out), index=None)
+    assert frames.shape[0] == video.frames  # every frame differs (the HUD clock moves)
+    assert frames.shape[1:3] == (SMALL[1], SMALL[0])
+    assert iio.immeta(str(out))["loop"] == 0
+
+
+def test_cli_video_and_plot(hop, tmp_path, capsys):
+    mp4, png = tmp_path / "v.mp4", tmp_path / "p.png"
+    assert main(["replay", str(hop), "--headless", "--video", str(mp4), "--plot", str(png),
+                 "--fps", "8", "--size", "320x192"]) == 0
+    out = capsys.readouterr().out
+    assert "same as recorded" in out and f"wrote {mp4}" in out and f"wrote {png}" in out
+    assert imageio.get_reader(str(mp4)).count_frames() == 1 + 11 + 8  # ceil(1.3 * 8)
+    assert pygame.image.load(str(png)).get_width() > 500
+
+
+def test_cli_export_refusals(hop, tmp_path):
+    with pytest.raises(SystemExit, match="need --headless"):
+        main(["replay", str(hop), "--video", str(tmp_path / "v.mp4")])
+    with pytest.raises(SystemExit, match="cannot write '.webp'"):
+        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.webp")])
+    with pytest.raises(SystemExit, match="one log"):
+        main(["replay", str(hop), str(hop), "--headless", "--plot", str(tmp_path / "p.png")])
+
+
+def test_plot_has_one_subplot_per_actuated_joint(hop, tmp_path):
+    result = replay_log(hop)
+    traj = result.trajectory
+    fig = save_joint_plot(traj, tmp_path / "joints.png", "hop", {"knee": (-40.0, 165.0)})
+    assert (tmp_path / "joints.png").stat().st_size > 10_000
+    joints = list(result.session.character.servos)
+    assert traj.joints == joints and len(joints) == 2
+    assert len(fig.axes) == len(joints)
+    for ax, name in zip(fig.axes, joints):
+        assert name in ax.get_ylabel()
+        labels = [line.get_label() for line in ax.get_lines()]
+        assert labels[:2] == ["target", "angle"]
+        assert len(ax.get_lines()[1].get_xdata()) == len(traj)
+    # the limits are drawn on the knee only (2 extra lines)
+    assert len(fig.axes[joints.index("knee")].get_lines()) == 4
+    assert len(plot_joints(traj).axes) == len(joints)
+
+
+def test_ghost_does_not_change_the_live_run(hop, tmp_path):
+    setup = load_setup("luxo-mouse")
+    events = _hop_events()
+    plain = run_headless(setup, events, 1.0, screenshot=str(tmp_path / "plain.png"),
+                         size=SMALL)
+    ghost = Ghost(hop)
+    with_ghost = run_headless(setup, [], 1.0, size=SMALL)  # the live lamp stands still
+    haunted = run_headless(setup, events, 1.0, frames_dir=str(tmp_path / "frames"), fps=10,
+                           screenshot=str(tmp_path / "ghost.png"), size=SMALL, ghost=ghost)
+    assert haunted.sim.state_hash() == plain.sim.state_hash()
+    assert ghost.session is not haunted and ghost.session.sim.space is not haunted.sim.space
+    assert ghost.session.steps == haunted.steps == 480  # in lock-step
+    assert len(list((tmp_path / "frames").glob("*.png"))) == 10
+    # beside a lamp standing still, the ghost shows up in the picture
+    still = run_headless(setup, [], 1.0, screenshot=str(tmp_path / "still.png"), size=SMALL)
+    ghost2 = Ghost(hop)
+    ghost2.sync(still)
+    assert ghost2.session.sim.state_hash() == replay(hop, until_step=480).final_hash
+    assert with_ghost.sim.state_hash() == still.sim.state_hash()
+    a = pygame.image.tobytes(pygame.image.load(str(tmp_path / "still.png")), "RGB")
+    run_headless(setup, [], 1.0, screenshot=str(tmp_path / "still-ghost.png"), size=SMALL,
+                 ghost=Ghost(hop))
+    b = pygame.image.tobytes(pygame.image.load(str(tmp_path / "still-ghost.png")), "RGB")
+    assert a != b
+
+
+def test_ghost_follows_the_live_time_back(hop):
+    setup = load_setup("luxo-mouse")
+    live = run_headless(setup, [], 1.0)
+    ghost = Ghost(hop)
+    ghost.sync(live)
+    late = ghost.session.sim.state_hash()
+    live.rewind_to(240)  # the live run goes back: so does the ghost
+    ghost.sync(live)
+    assert ghost.session.steps == 240
+    assert ghost.session.sim.state_hash() == replay(hop, until_step=240).final_hash
+    live.advance(240)
+    ghost.sync(live)
+    assert ghost.session.sim.state_hash() == late
+
+
+def test_headless_record_with_screenshot_and_frames(tmp_path, capsys):
+    log, shot, frames = tmp_path / "rec.jsonl", tmp_path / "shot.png", tmp_path / "frames"
+    assert main(["play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds",
+                 "0.5", "--record", str(log), "--screenshot", str(shot), "--frames",
+                 str(frames), "--fps", "10"]) == 0
+    out = capsys.readouterr().out
+    assert f"recorded {log}" in out and f"wrote {shot}" in out
+    assert pygame.image.load(str(shot)).get_size() == (1280, 720)
+    assert len(list(frames.glob("frame_*.png"))) == 5
+    recorded = read_log(log)
+    printed = out.split("state=")[1].split()[0]
+    assert recorded.end_hash == printed == replay(log).final_hash
+    assert recorded.header["description"]  # the script's description is kept
+    # the same run without images records the same log
+    plain = tmp_path / "plain.jsonl"
+    assert main(["play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds",
+                 "0.5", "--record", str(plain)]) == 0
+    assert plain.read_text() == log.read_text()
+
+
+def test_play_ghost_option(hop, tmp_path, capsys):
+    shot = tmp_path / "g.png"
+    assert main(["play", "luxo-mouse", "--headless", "--seconds", "0.3", "--ghost", str(hop),
+                 "--screenshot", str(shot)]) == 0
+    assert shot.exists()
+    assert main(["play", "luxo-mouse", "--headless", "--seconds", "0.3", "--ghost",
+                 str(tmp_path / "missing.jsonl")]) == 2
+
+
+def test_window_draws_a_ghost_and_records_only_the_live_run(hop, tmp_path, monkeypatch):
+    from puppet.app import window
+
+    frame = {"n": 0}
+    real_get = pygame.event.get
+
+    def key(kind, k):
+        return pygame.event.Event(kind, key=k, mod=0, unicode="", scancode=0)
+
+    plan = {30: [key(pygame.KEYDOWN, pygame.K_b)], 45: [key(pygame.KEYUP, pygame.K_b)],
+            70: [pygame.event.Event(pygame.QUIT)]}
+
+    def fake_get(*args, **kw):  # scripted window events: hold rewind a while, then quit
+        frame["n"] += 1
+        real_get()
+        return plan.get(frame["n"], [])
+
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    monkeypatch.setattr(pygame.mouse, "get_focused", lambda: False)
+    path = tmp_path / "live.jsonl"
+    ghost = Ghost(hop)
+    assert window.run_window(load_setup("luxo-mouse"), record=str(path), ghost=ghost) == 0
+    log = read_log(path)
+    assert any(e.event.get("name") == "rewind" for e in log.events)
+    assert ghost.fed == log.end_step  # the ghost ended at the live time
+    assert replay(path).final_hash == log.end_hash  # the live log replays without it
