@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import pygame
 
+from puppet.app.keymap import draw_keymap
 from puppet.interface.describe import app_lines, interface_lines
 from puppet.session import Session
 
@@ -71,6 +72,9 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
             continue
         surface.blit(small.render(k, True, TEXT), (x0 + 8, y))
         surface.blit(small.render(text, True, DIM), (x0 + 110, y))
+    if info.show_help:  # pose keys as pictures, laid out like the keyboard
+        draw_keymap(surface, setup.interface, setup.character, small, (8, 16 + height),
+                    state=session.runtime.state)
     draw_timeline(surface, session, info, small)
     if info.message:
         msg = font.render(info.message, True, (160, 30, 30))

@@ -81,6 +81,11 @@ def check_names(spec, located: Located) -> None:
                                         f"grid pose '{pose}' sets joints "
                                         f"{sorted(these)} but '{first}' sets "
                                         f"{sorted(joints)}; grid poses must set the same joints")
+        for i, joint in enumerate(getattr(m, "joints", None) or []):
+            if joint not in joints:
+                raise located.error(loc + ("joints", i),
+                                    unknown("joint", joint, sorted(joints),
+                                            " among the grid poses' joints"))
     for loc, a in actions(spec):
         if a.pose is not None:
             need(loc + ("pose",), "pose", a.pose, spec.poses)

@@ -85,6 +85,14 @@ class GridMapSpec(Spec):
     grid: list[list[str]] = Field(min_length=1)
     x: str = "mouse.x"
     y: str = "mouse.y"
+    joints: list[str] | None = Field(
+        None, description="drive only these of the poses' joints (default: all); with "
+                          "several maps over one grid, each limb can have its own map")
+    mirror: list[Literal["x", "y"]] = Field(
+        default_factory=list, description="flip these inputs (u -> 1 - u) before the "
+                                          "lookup: [x, y] reflects the input through the "
+                                          "grid's centre, half a cycle out of phase for "
+                                          "a circling mouse")
 
     _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
 
@@ -95,6 +103,14 @@ class GridMapSpec(Spec):
             raise ValueError("grid rows must all have the same, non-zero number of poses")
         if len(self.grid) < 2 and widths == {1}:
             raise ValueError("a grid needs at least two poses")
+        if len(set(self.mirror)) != len(self.mirror):
+            raise ValueError(f"'mirror' names an axis twice: {self.mirror}")
+        if self.joints is not None:
+            if not self.joints:
+                raise ValueError("'joints' is empty; leave it out to drive all the "
+                                 "poses' joints")
+            if len(set(self.joints)) != len(self.joints):
+                raise ValueError(f"'joints' names a joint twice: {self.joints}")
         return self
 
     @property

@@ -13,7 +13,10 @@ def _fmt(v: float) -> str:
 def map_line(m) -> tuple[str, str]:
     if getattr(m, "grid", None) is not None:
         rows, cols = len(m.grid), len(m.grid[0])
-        return f"{m.x}, {m.y}", f"pose grid {rows}x{cols}"
+        extra = "".join(f" {a}-mirrored" for a in m.mirror)
+        if m.joints:
+            extra += " -> " + ", ".join(m.joints)
+        return f"{m.x}, {m.y}", f"pose grid {rows}x{cols}{extra}"
     joints = ", ".join(m.gains()) if len(m.gains()) > 1 else next(iter(m.gains()))
     return m.input, f"{joints} {_fmt(m.to[0])}..{_fmt(m.to[1])} deg"
 

@@ -44,7 +44,12 @@ def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float
     """Bilinear blend of the four grid poses around (x, y); poses hold radians.
 
     Row 0 is the top (y = 1), column 0 the left (x = 0); inputs are clamped to 0..1.
+    Axes in ``spec.mirror`` are flipped first (u -> 1 - u); only ``spec.joints`` are
+    returned when the map names them.
     """
+    if spec.mirror:
+        x = 1.0 - x if "x" in spec.mirror else x
+        y = 1.0 - y if "y" in spec.mirror else y
     rows, cols = len(spec.grid), len(spec.grid[0])
     fx = min(1.0, max(0.0, x)) * (cols - 1)
     fy = (1.0 - min(1.0, max(0.0, y))) * (rows - 1)
@@ -54,9 +59,11 @@ def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float
     corners = ((r0, c0, (1 - tx) * (1 - ty)), (r0, c1, tx * (1 - ty)),
                (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
     out: dict[str, float] = {}
+    only = spec.joints
     for r, c, w in corners:
         for joint, angle in poses[spec.grid[r][c]].items():
-            out[joint] = out.get(joint, 0.0) + w * angle
+            if only is None or joint in only:
+                out[joint] = out.get(joint, 0.0) + w * angle
     return out
 
 
