@@ -26,8 +26,8 @@ def test_shipped_interface_checks_and_plays_every_key(path):
                            session.runtime.mode)
 
 
-def test_luxo_pose_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
-    session = Session(load_setup("luxo-pose-keys"))
+def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
+    session = Session(load_setup("luxo-keys"))
     assert session.runtime.state == "upright"
     c = session.character
     c.place(0.0, 0.6, 3.1, c.start_joint_angles())  # upside down, above the floor
