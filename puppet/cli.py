@@ -17,9 +17,17 @@ EXIT_DATA_ERROR = 2
 
 
 def _play(args: argparse.Namespace) -> int:
-    from puppet.data.catalog import load_setup
+    from puppet.data.catalog import find, load_setup
+    from puppet.timeline.script import load_script
 
-    setup = load_setup(args.interface, args.scene)
+    script = None
+    if args.input and args.headless:
+        script = load_script(find("script", args.input))
+        if script.interface and Path(script.interface).stem != Path(args.interface).stem:
+            print(f"puppet: warning: {args.input} was written for interface "
+                  f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
+    # A script made for a scene plays there unless --scene says otherwise.
+    setup = load_setup(args.interface, args.scene or (script.scene if script else None))
     ghost = None
     if args.ghost:  # a log replaying beside the live character (never touches it)
         from puppet.timeline.ghost import Ghost
@@ -35,13 +43,11 @@ def _play(args: argparse.Namespace) -> int:
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
                           ghost=ghost)
     from puppet.app.headless import run_headless
-    from puppet.data.catalog import find
     from puppet.physics.simulation import DEFAULT_DT
-    from puppet.timeline.script import compile_script, load_script
+    from puppet.timeline.script import compile_script
 
     events, seconds = [], args.seconds
-    if args.input:
-        script = load_script(find("script", args.input))
+    if script is not None:
         events = compile_script(script, DEFAULT_DT)
         if seconds is None:
             seconds = script.seconds

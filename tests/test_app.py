@@ -74,3 +74,12 @@ def test_app_keys_clash_is_reported_and_rebinding_fixes_it(tmp_path):
     assert info.value.line == 5 and "'pause'" in info.value.message
     spec = parse_interface(load_text(text + "app_keys: {pause: f5}\n", "x.yaml"))
     assert spec.app_key_table()["pause"] == "f5"
+
+
+def test_a_script_plays_on_the_scene_it_was_written_for():
+    proc = puppet("play", "luxo-mouse", "--headless", "--input", "luxo-ski-jump")
+    assert proc.returncode == 0, proc.stderr
+    x = float(proc.stdout.split("com=(")[1].split(",")[0])
+    assert x > 8.0  # down the ski jump, not hopping about on the flat floor
+    other = puppet("play", "luxo-keys", "--headless", "--input", "luxo-hop", "--seconds", "0.1")
+    assert "written for interface 'luxo-mouse'" in other.stderr

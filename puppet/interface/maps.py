@@ -39,6 +39,20 @@ def linear_targets(spec: LinearMapSpec, value: float) -> dict[str, float]:
     return {joint: gain * v for joint, gain in spec.gains().items()}
 
 
+def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
+    """The four (row, col, weight) around (x, y) on a rows x cols grid."""
+    if mirror:
+        x = 1.0 - x if "x" in mirror else x
+        y = 1.0 - y if "y" in mirror else y
+    fx = min(1.0, max(0.0, x)) * (cols - 1)
+    fy = (1.0 - min(1.0, max(0.0, y))) * (rows - 1)
+    c0, r0 = min(int(fx), cols - 2) if cols > 1 else 0, min(int(fy), rows - 2) if rows > 1 else 0
+    tx, ty = fx - c0, fy - r0
+    c1, r1 = min(c0 + 1, cols - 1), min(r0 + 1, rows - 1)
+    return ((r0, c0, (1 - tx) * (1 - ty)), (r0, c1, tx * (1 - ty)),
+            (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
+
+
 def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float,
                  y: float) -> dict[str, float]:
     """Bilinear blend of the four grid poses around (x, y); poses hold radians.
@@ -47,20 +61,9 @@ def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float
     Axes in ``spec.mirror`` are flipped first (u -> 1 - u); only ``spec.joints`` are
     returned when the map names them.
     """
-    if spec.mirror:
-        x = 1.0 - x if "x" in spec.mirror else x
-        y = 1.0 - y if "y" in spec.mirror else y
-    rows, cols = len(spec.grid), len(spec.grid[0])
-    fx = min(1.0, max(0.0, x)) * (cols - 1)
-    fy = (1.0 - min(1.0, max(0.0, y))) * (rows - 1)
-    c0, r0 = min(int(fx), cols - 2) if cols > 1 else 0, min(int(fy), rows - 2) if rows > 1 else 0
-    tx, ty = fx - c0, fy - r0
-    c1, r1 = min(c0 + 1, cols - 1), min(r0 + 1, rows - 1)
-    corners = ((r0, c0, (1 - tx) * (1 - ty)), (r0, c1, tx * (1 - ty)),
-               (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
     out: dict[str, float] = {}
     only = spec.joints
-    for r, c, w in corners:
+    for r, c, w in _grid_corners(len(spec.grid), len(spec.grid[0]), spec.mirror, x, y):
         for joint, angle in poses[spec.grid[r][c]].items():
             if only is None or joint in only:
                 out[joint] = out.get(joint, 0.0) + w * angle
@@ -71,16 +74,39 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
     """A fast ``apply(values) -> joints written`` for one map (the mouse hot path):
     constants are worked out once and servos looked up once."""
     if isinstance(spec, GridMapSpec):
-        x_name, y_name = spec.x, spec.y
+        # Same arithmetic, in the same order, as grid_targets (so the bits agree), with
+        # each cell's pose reduced to (joint index, angle) for the joints this map drives.
+        x_name, y_name, mirror = spec.x, spec.y, spec.mirror
+        rows, cols, only = len(spec.grid), len(spec.grid[0]), spec.joints
+        joints: list[str] = []
+        cells = []
+        for row in spec.grid:
+            cells.append([])
+            for name in row:
+                pairs = []
+                for joint, angle in pose_targets[name].items():
+                    if only is None or joint in only:
+                        if joint not in joints:
+                            joints.append(joint)
+                        pairs.append((joints.index(joint), angle))
+                cells[-1].append(tuple(pairs))
+        targets = [servos[j] for j in joints]
 
         def apply_grid(values):
             x, y = values.get(x_name), values.get(y_name)
             if x is None or y is None:
                 return ()
-            out = grid_targets(spec, pose_targets, x, y)
-            for joint, angle in out.items():
-                servos[joint].target = angle
-            return out
+            acc = [None] * len(joints)
+            for r, c, w in _grid_corners(rows, cols, mirror, x, y):
+                for i, angle in cells[r][c]:
+                    a = acc[i]
+                    acc[i] = (0.0 if a is None else a) + w * angle
+            written = []
+            for i, a in enumerate(acc):
+                if a is not None:
+                    targets[i].target = a
+                    written.append(joints[i])
+            return written
         return apply_grid
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)

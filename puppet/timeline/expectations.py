@@ -14,6 +14,15 @@ Each entry names one check:
                                   # the link's lowest point rose >= 5 cm above its start
       - airborne: {link: base, min_seconds: 0.1}
                                   # the link out of contact for 0.1 s in one stretch
+      - turned: {link: base, min_degrees: 300, direction: backward}
+                                  # the link's accumulated rotation, start to end, at
+                                  # least 300 deg backward (counter-clockwise for a
+                                  # character facing +x; forward is clockwise)
+      - turned: {link: base, min_degrees: 270, direction: backward, in_flight: true}
+                                  # ... turned within one stretch with no link touching
+      - landed_at: {link: base, min: 6.0}
+                                  # where the longest flight ended (the longest stretch
+                                  # with no link touching): the link's x at touchdown, m
       - final_hash: 0123456789abcdef           # the exact final state
 
 "Upright" is the root link's angle from its model orientation, taken modulo full
@@ -27,6 +36,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 from pydantic import Field, NonNegativeFloat, model_validator
@@ -64,12 +74,28 @@ class Airborne(Spec):
     min_seconds: NonNegativeFloat = Field(description="s out of contact in one stretch")
 
 
+class Turned(Spec):
+    link: str
+    min_degrees: NonNegativeFloat = Field(description="deg of accumulated rotation")
+    direction: Literal["backward", "forward"] = Field(
+        "backward", description="backward = counter-clockwise (the model faces +x)")
+    in_flight: bool = Field(False, description="count only the turn made in one stretch "
+                                               "with no link of the character touching")
+
+
+class LandedAt(Spec):
+    link: str
+    min: float = Field(description="m: x of the link when the longest flight ended")
+
+
 class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     upright_at_end: bool | None = None
     never_fell: bool | None = None
     reached_height: ReachedHeight | None = None
     airborne: Airborne | None = None
+    turned: Turned | None = None
+    landed_at: LandedAt | None = None
     final_hash: str | None = None
 
     @model_validator(mode="after")
@@ -103,6 +129,11 @@ class Expectation(Spec):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, Airborne):
             return f"airborne {v.link} min {v.min_seconds} s"
+        if isinstance(v, Turned):
+            return (f"turned {v.link} {v.direction} min {v.min_degrees} deg"
+                    + (" in flight" if v.in_flight else ""))
+        if isinstance(v, LandedAt):
+            return f"landed_at {v.link} min x {v.min} m"
         return f"{self.kind} {v}".replace("True", "true").replace("False", "false")
 
 
@@ -220,6 +251,45 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return Outcome(desc, length >= v.min_seconds - 1e-9,
                        f"longest time out of contact {length:.3f} s"
                        + (f" (from t = {t0:.2f} s)" if length > 0 else ""))
+    if isinstance(v, Turned):
+        sign = 1.0 if v.direction == "backward" else -1.0
+        turn = sign * np.degrees(np.unwrap(traj.angle[:, traj.index(v.link)]))
+        where = ""
+        if v.in_flight:
+            free = ~traj.contact.any(axis=1)
+            best, best_t0 = 0.0, None
+            i = 0
+            while i < len(free):
+                if free[i]:
+                    j = i
+                    while j + 1 < len(free) and free[j + 1]:
+                        j += 1
+                    # from the last sample on the ground before to the first after
+                    a, b = max(i - 1, 0), min(j + 1, len(free) - 1)
+                    if turn[b] - turn[a] > best:
+                        best, best_t0 = float(turn[b] - turn[a]), float(traj.t[a])
+                    i = j + 1
+                else:
+                    i += 1
+            amount = best
+            if best_t0 is not None:
+                where = f" in the flight from t = {best_t0:.2f} s"
+        else:
+            amount = float(turn[-1] - turn[0])
+        return Outcome(desc, amount >= v.min_degrees,
+                       f"turned {amount:.0f} deg {v.direction}{where}")
+    if isinstance(v, LandedAt):
+        free = ~traj.contact.any(axis=1)
+        length, t0 = _longest_run(free, traj.t)
+        if length <= 0:
+            return Outcome(desc, False, "never in the air")
+        i = int(np.searchsorted(traj.t, t0))
+        while i < len(free) and free[i]:
+            i += 1  # the first sample touching again (or the last sample)
+        i = min(i, len(free) - 1)
+        x = float(traj.x[i, traj.index(v.link)])
+        return Outcome(desc, x >= v.min, f"longest flight {length:.2f} s from t = {t0:.2f} s, "
+                                         f"touched down at x = {x:.3f} m (t = {traj.t[i]:.2f} s)")
     if e.kind == "final_hash":
         return Outcome(desc, final_hash == v, f"final hash {final_hash}")
     raise AssertionError(e.kind)

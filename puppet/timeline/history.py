@@ -24,9 +24,9 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-CHECKPOINT_INTERVAL = 1.0  # s of simulated time between automatic checkpoints
+CHECKPOINT_INTERVAL = 2.0  # s of simulated time between automatic checkpoints (keyframes)
 KEEP_SECONDS = 180.0  # s of simulated time that can be rewound
-HEALTH_INTERVAL = 0.25  # s between blow-up checks
+HEALTH_INTERVAL = 0.5  # s between blow-up checks
 
 
 @dataclass
