@@ -109,27 +109,31 @@ class Session:
         """Step the physics, taking the history's snapshots at their step boundaries
         (and recovering from a blow-up there), so the result does not depend on how
         the steps are split between calls."""
-        remaining = steps
+        if steps <= 0:
+            return
         sim, history, runtime = self.sim, self.history, self.runtime
-        if remaining > 0 and not self._rebuilding and sim.steps < history.head:
+        if sim.steps < history.head and not self._rebuilding:
             history.branch(sim.steps)  # playing on from a rewound point
-        while remaining > 0:
+        every = history.health_every
+        remaining = steps
+        while remaining:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics
-            # steps in one tight loop.
-            if runtime.next_wakeup is not None and runtime.next_wakeup <= sim.steps:
-                runtime.tick(sim.steps, sim.time)
-            boundary = history.next_boundary(sim.steps)
-            stop = boundary
-            if runtime.next_wakeup is not None and runtime.next_wakeup < boundary:
-                stop = runtime.next_wakeup
-            n = min(remaining, stop - sim.steps)
+            # steps in one tight loop up to the next history boundary.
+            now = sim.steps
+            wake = runtime.next_wakeup
+            if wake is not None and wake <= now:
+                runtime.tick(now, sim.time)
+                wake = runtime.next_wakeup
+            boundary = (now // every + 1) * every
+            stop = boundary if wake is None or wake >= boundary else wake
+            n = stop - now if stop - now < remaining else remaining
             sim.step(n)
             remaining -= n
-            if sim.steps == boundary:
+            if now + n == boundary:
                 self._at_boundary()
-        if not self._rebuilding:
-            history.reached(sim.steps)
+        if sim.steps > history.head and not self._rebuilding:
+            history.head = sim.steps
 
     # -- history: checkpoints, rewind, blow-up recovery --------------------------------
     def _snapshot(self, reseat: bool) -> Snapshot:

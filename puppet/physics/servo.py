@@ -12,6 +12,10 @@ from __future__ import annotations
 
 import pymunk
 
+# pymunk's own property setter, called directly: assigning through the instance also runs
+# pymunk's attribute-typing hook, which triples the cost of the hot mouse-to-target path.
+_SET_REST_ANGLE = pymunk.DampedRotarySpring.rest_angle.fset
+
 
 class PDServo:
     """Drives ``angle = child.angle - parent.angle`` (radians) toward ``target``."""
@@ -46,7 +50,7 @@ class PDServo:
 
     @target.setter
     def target(self, value: float) -> None:
-        self.spring.rest_angle = value
+        _SET_REST_ANGLE(self.spring, value)
 
     @property
     def stiffness(self) -> float:

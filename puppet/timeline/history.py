@@ -24,7 +24,7 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-CHECKPOINT_INTERVAL = 2.0  # s of simulated time between automatic checkpoints (keyframes)
+CHECKPOINT_INTERVAL = 3.0  # s of simulated time between automatic checkpoints (keyframes)
 KEEP_SECONDS = 180.0  # s of simulated time that can be rewound
 HEALTH_INTERVAL = 0.5  # s between blow-up checks
 
@@ -49,7 +49,9 @@ class History:
         interval = checkpoint_interval if checkpoint_interval and checkpoint_interval > 0 \
             else CHECKPOINT_INTERVAL
         self.checkpoint_every = max(1, round(interval / dt))
+        # Health checks and keyframes share boundaries: a keyframe falls on a health check.
         self.health_every = max(1, min(self.checkpoint_every, round(HEALTH_INTERVAL / dt)))
+        self.checkpoint_every -= self.checkpoint_every % self.health_every
         self.auto: deque[Snapshot] = deque(
             maxlen=max(2, round(keep_seconds / (self.checkpoint_every * dt)) + 1))
         self.manual: list[Snapshot] = []
@@ -59,10 +61,6 @@ class History:
         self.head = 0  # the furthest step of the current branch
 
     # -- when ------------------------------------------------------------------------
-    def next_boundary(self, step: int) -> int:
-        """The first step after ``step`` at which a health check or keyframe is due."""
-        return (step // self.health_every + 1) * self.health_every
-
     def keyframe_due(self, step: int) -> bool:
         return step % self.checkpoint_every == 0
 
@@ -94,10 +92,6 @@ class History:
     def record(self, step: int, event: dict) -> None:
         self.events.append((self.next_seq, step, event))
         self.next_seq += 1
-
-    def reached(self, step: int) -> None:
-        if step > self.head:
-            self.head = step
 
     def branch(self, step: int) -> None:
         """Forget everything after ``step``: keyframes later than it and events at or
