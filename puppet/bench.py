@@ -1,12 +1,15 @@
 """``puppet bench``: how fast the simulation runs, headless, for every shipped character.
 
 For each character (``characters/*.yaml``) it takes the first interface (by file name)
-that drives it, builds a Session on the interface's scene and measures:
+that drives it with the mouse, builds a Session on the interface's scene and measures:
 
 * **control** - simulated seconds per wall second of a Session fed the way the window
   feeds it: one frame = one mouse event (a scripted figure-of-eight gesture; a press or
   release of one of the interface's keys every 0.5 s if it has keys) handed to
-  ``Session.handle``, then ``Session.advance`` of 1/60 s of steps. No rendering.
+  ``Session.handle``, then ``Session.advance`` of 1/60 s of steps. No rendering. This
+  is the control layer (devices -> interface runtime -> PD targets -> steps) with the
+  timeline's automatic keyframes off; the same run with them on is reported beside it,
+  since the timeline has budgets of its own (checkpoint and rewind times, below).
 * **bare, same motion** - the same Simulation stepped by ``space.step(dt)`` in a plain
   loop, with the servo targets the control run produced written straight onto the pymunk
   springs between frames (so it goes through the identical trajectory: the state hashes
@@ -57,32 +60,23 @@ QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds
 
 
 # -- what to measure -----------------------------------------------------------------
-def characters_and_interfaces() -> list[tuple[str, str | None]]:
-    """(character name, the interface the benchmark drives it with, or None): the first
-    (by file name) whose always-active maps read the mouse, since the benchmark's input
-    is a mouse gesture; else the first using the character at all."""
+def characters_and_interfaces() -> list[tuple[str, list[str]]]:
+    """(character name, every valid interface that drives it, by file name)."""
     from puppet.data.catalog import find, folder
     from puppet.data.errors import DataError
     from puppet.data.interfaces import parse_interface
     from puppet.data.yamlfile import load_file
 
-    users: dict[Path, str] = {}
-    mouse_users: dict[Path, str] = {}
+    users: dict[Path, list[str]] = {}
     for path in sorted(folder("interface").glob("*.yaml")):
         try:
             spec = parse_interface(load_file(path))
             char_path = find("character", spec.character).resolve()
         except DataError:
             continue  # an invalid interface is `puppet check`'s business, not ours
-        mouse = any(i.startswith("mouse.") for m in spec.maps for i in m.inputs)
-        if mouse and char_path not in mouse_users:
-            mouse_users[char_path] = path.stem
-        users.setdefault(char_path, path.stem)
-    users.update(mouse_users)
-    out = []
-    for path in sorted(folder("character").glob("*.yaml")):
-        out.append((path.stem, users.get(path.resolve())))
-    return out
+        users.setdefault(char_path, []).append(path.stem)
+    return [(path.stem, users.get(path.resolve(), []))
+            for path in sorted(folder("character").glob("*.yaml"))]
 
 
 def gesture(frames: int, interface_spec) -> list[list[dict]]:
@@ -90,7 +84,10 @@ def gesture(frames: int, interface_spec) -> list[list[dict]]:
     from puppet.interface import events as ev
     from puppet.interface.app_keys import normalize_key
 
-    keys = [normalize_key(k.key) for k in interface_spec.keys] if interface_spec else []
+    # Keys that change the world itself (gravity, friction, random kicks) are left out:
+    # the bare run replays servo changes only, and those are not the control layer's cost.
+    keys = [normalize_key(k.key) for k in (interface_spec.keys if interface_spec else [])
+            if k.gravity is None and k.friction is None and k.perturb is None]
     per_tap = max(1, round(0.5 * FRAME_HZ))
     out = []
     for f in range(frames):
@@ -136,12 +133,12 @@ class Subject:
     def frames(self, seconds: float) -> int:
         return max(1, round(seconds * FRAME_HZ))
 
-    def session(self):
+    def session(self, keyframes: bool = True):
         """A fresh Session (or, without an interface, a fresh Simulation)."""
         if self.setup is not None:
             from puppet.session import Session
 
-            return Session(self.setup, self.dt)
+            return Session(self.setup, self.dt, keyframes=keyframes)
         from puppet.physics.simulation import Simulation
 
         return Simulation(self.character_spec, self.scene_spec, self.dt)
@@ -152,9 +149,11 @@ class Subject:
 
 
 # -- runs ----------------------------------------------------------------------------
-def run_control(subject: Subject, inputs: list[list[dict]]) -> tuple[float, object]:
-    """Wall seconds of a controlled run (one input batch then one frame of steps)."""
-    obj = subject.session()
+def run_control(subject: Subject, inputs: list[list[dict]],
+                keyframes: bool = False) -> tuple[float, object]:
+    """Wall seconds of a controlled run (one input batch then one frame of steps): the
+    control layer alone, or (``keyframes``) with the timeline's automatic keyframes."""
+    obj = subject.session(keyframes)
     n = subject.steps_per_frame
     gc.collect()
     if subject.setup is None:  # no interface: nothing to control, just the Simulation
@@ -172,21 +171,36 @@ def run_control(subject: Subject, inputs: list[list[dict]]) -> tuple[float, obje
     return time.perf_counter() - t0, obj
 
 
+def _servo_params(spring) -> tuple[float, float, float, float]:
+    return (spring.rest_angle, spring.stiffness, spring.damping, spring.max_force)
+
+
 def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]]:
-    """Per frame, the (spring index, rest angle) changes the control layer made."""
+    """Per frame, the servo changes the control layer made, at the step they acted:
+    ``[(step in frame, [(spring index, (target, stiffness, damping, max torque)), ...])]``.
+    Key sequences change targets between frames' events, so this goes step by step."""
     if subject.setup is None:
         return [[] for _ in inputs]
-    session = subject.session()
-    servos = list(session.character.servos.values())
-    last = [s.target for s in servos]
+    session = subject.session(keyframes=False)
+    runtime = session.runtime
+    springs = lambda: [s.spring for s in session.character.servos.values()]  # noqa: E731
+    last = [_servo_params(sp) for sp in springs()]
     trace = []
     for batch in inputs:
         for event in batch:
             session.handle(event)
-        now = [s.target for s in servos]
-        trace.append([(i, a) for i, (a, b) in enumerate(zip(now, last)) if a != b])
-        last = now
-        session.advance(subject.steps_per_frame)
+        frame = []
+        for k in range(subject.steps_per_frame):
+            wake = runtime.next_wakeup  # tick here, as advance would, before reading
+            if wake is not None and wake <= session.steps:
+                runtime.tick(session.steps, session.time)
+            now = [_servo_params(sp) for sp in springs()]
+            changed = [(i, p) for i, (p, q) in enumerate(zip(now, last)) if p != q]
+            if changed:
+                frame.append((k, changed))
+            last = now
+            session.advance(1)
+        trace.append(frame)
     return trace
 
 
@@ -201,10 +215,19 @@ def run_bare(subject: Subject, trace: list[list[tuple]], with_targets: bool
     gc.collect()
     if with_targets:
         t0 = time.perf_counter()
-        for changes in trace:
-            for i, angle in changes:
-                springs[i].rest_angle = angle
-            for _ in range(n):
+        for frame in trace:
+            done = 0
+            for k, changed in frame:
+                for _ in range(k - done):
+                    step(dt)
+                done = k
+                for i, (angle, stiffness, damping, torque) in changed:
+                    spring = springs[i]
+                    spring.rest_angle = angle
+                    spring.stiffness = stiffness
+                    spring.damping = damping
+                    spring.max_force = torque
+            for _ in range(n - done):
                 step(dt)
         wall = time.perf_counter() - t0
     else:
@@ -223,17 +246,18 @@ def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
     inputs = gesture(frames, subject.interface_spec)
     trace = target_trace(subject, inputs)
     run_control(subject, inputs[: max(1, frames // 10)])  # warm up
-    control, same, rest = [], [], []
+    control, timeline, same, rest = [], [], [], []
     identical = True
-    for _ in range(repeats):  # interleaved, so a busy machine slows all three alike
+    for _ in range(repeats):  # interleaved, so a busy machine slows all four alike
         wall, obj = run_control(subject, inputs)
         control.append(wall)
+        timeline.append(run_control(subject, inputs, keyframes=True)[0])
         wall, sim = run_bare(subject, trace, with_targets=True)
         same.append(wall)
         identical = identical and sim.state_hash() == subject.sim_of(obj).state_hash()
         wall, _ = run_bare(subject, trace, with_targets=False)
         rest.append(wall)
-    c, s, r = (statistics.median(x) for x in (control, same, rest))
+    c, h, s, r = (statistics.median(x) for x in (control, timeline, same, rest))
     return {
         "sim_seconds": sim_seconds, "repeats": repeats, "frames": frames,
         "steps_per_frame": subject.steps_per_frame,
@@ -241,11 +265,14 @@ def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
         "bare_same_motion_speed_x": sim_seconds / s,
         "bare_at_rest_speed_x": sim_seconds / r,
         "control_overhead_pct": (c / s - 1.0) * 100.0,
+        "with_keyframes_speed_x": sim_seconds / h,
+        "with_keyframes_overhead_pct": (h / s - 1.0) * 100.0,
         "overhead_vs_rest_pct": (c / r - 1.0) * 100.0,
         "same_motion_state_identical": identical,
         "control_us_per_frame": c / frames * 1e6,
         "bare_us_per_frame": s / frames * 1e6,
-        "wall_samples_s": {"control": control, "bare_same_motion": same, "bare_at_rest": rest},
+        "wall_samples_s": {"control": control, "with_keyframes": timeline,
+                           "bare_same_motion": same, "bare_at_rest": rest},
     }
 
 
@@ -400,22 +427,34 @@ def _target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
             "pass": bool(ok)}
 
 
-def bench_character(character: str, interface: str | None, cfg: dict) -> dict:
-    subject = Subject(character, interface)
-    sim = subject.sim_of(subject.session())
-    res: dict = {"character": character, "interface": interface, "scene": subject.scene,
+def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
+    """Speed and control overhead through every interface of the character; checkpoint
+    and rewind figures (which do not depend on the interface) through the first."""
+    subjects = [Subject(character, name) for name in interfaces] or [Subject(character, None)]
+    first = subjects[0]
+    sim = first.sim_of(first.session())
+    res: dict = {"character": character, "scene": first.scene,
                  "bodies": len(sim.character.bodies),
-                 "constraints": len(sim.space.constraints)}
-    res["speed"] = measure_speed(subject, cfg["seconds"], cfg["repeats"])
-    res["checkpoint"] = measure_checkpoint(subject, cfg["checkpoint_repeats"])
-    res["rewind"] = measure_rewind(subject, cfg["rewind_seconds"], cfg["rewind_repeats"])
-    sp, cp, rw = res["speed"], res["checkpoint"], res["rewind"]
-    res["targets"] = [
-        _target("speed with control", sp["control_speed_x"], ">=",
-                SPEED_TARGET.get(character, SPEED_TARGET_DEFAULT), "x"),
-        _target("control overhead", sp["control_overhead_pct"], "<=", OVERHEAD_TARGET_PCT, "%"),
-        _target("checkpoint", cp["checkpoint_ms"], "<", CHECKPOINT_TARGET_MS, "ms"),
-        _target("rewind 60 s and resume", rw["resume_ms"], "<", REWIND_TARGET_MS, "ms"),
+                 "constraints": len(sim.space.constraints), "interfaces": []}
+    res["targets"] = []
+    for subject in subjects:
+        sp = measure_speed(subject, cfg["seconds"], cfg["repeats"])
+        res["interfaces"].append({"interface": subject.interface, "scene": subject.scene,
+                                  "speed": sp})
+        label = subject.interface or "no interface"
+        res["targets"] += [
+            _target(f"speed with control: {label}", sp["control_speed_x"], ">=",
+                    SPEED_TARGET.get(character, SPEED_TARGET_DEFAULT), "x"),
+            _target(f"control overhead: {label}", sp["control_overhead_pct"], "<=",
+                    OVERHEAD_TARGET_PCT, "%"),
+        ]
+    res["checkpoint"] = measure_checkpoint(first, cfg["checkpoint_repeats"])
+    res["rewind"] = measure_rewind(first, cfg["rewind_seconds"], cfg["rewind_repeats"])
+    res["targets"] += [
+        _target("checkpoint", res["checkpoint"]["checkpoint_ms"], "<", CHECKPOINT_TARGET_MS,
+                "ms"),
+        _target("rewind 60 s and resume", res["rewind"]["resume_ms"], "<", REWIND_TARGET_MS,
+                "ms"),
     ]
     return res
 
@@ -437,10 +476,10 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
     if unknown:
         raise SystemExit(f"puppet bench: no character named {', '.join(unknown)}; known: "
                          f"{', '.join(c for c, _ in subjects)}")
-    for character, interface in subjects:
+    for character, interfaces in subjects:
         if only and character not in only:
             continue
-        report["characters"].append(bench_character(character, interface, cfg))
+        report["characters"].append(bench_character(character, interfaces, cfg))
     report["logs"] = measure_logs(cfg["log_repeats"])
     report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"])
     return report
@@ -465,25 +504,29 @@ def format_report(report: dict) -> str:
         lines.append(f"  {label:<44} {value:>12}  {target:<10} {verdict}")
 
     for c in report["characters"]:
-        sp, cp, rw = c["speed"], c["checkpoint"], c["rewind"]
+        cp, rw = c["checkpoint"], c["rewind"]
         verdict = {t["name"]: ("PASS" if t["pass"] else "MISS") for t in c["targets"]}
         limit = {t["name"]: f"{t['op']} {t['limit']:g}{' ' if t['unit'] == 'ms' else ''}"
                              f"{t['unit']}" for t in c["targets"]}
         lines.append("")
-        via = f"interface {c['interface']}" if c["interface"] else "no interface: Simulation"
-        lines.append(f"{c['character']} ({via}, scene {c['scene']}; {c['bodies']} bodies, "
-                     f"{c['constraints']} constraints)")
-        row("speed with control (Session, real time = 1x)", f"{sp['control_speed_x']:.0f}x",
-            limit["speed with control"], verdict["speed with control"])
-        row("bare space.step, same motion", f"{sp['bare_same_motion_speed_x']:.0f}x")
-        row("control overhead vs same motion", f"{sp['control_overhead_pct']:.1f}%",
-            limit["control overhead"], verdict["control overhead"])
-        row("  per frame: control / bare", f"{sp['control_us_per_frame']:.1f}/"
-            f"{sp['bare_us_per_frame']:.1f} us")
-        row("  same trajectory (state hash)", "identical" if sp["same_motion_state_identical"]
-            else "DIFFERENT")
-        row("bare space.step, at rest (info)", f"{sp['bare_at_rest_speed_x']:.0f}x")
-        row("overhead vs at rest (info)", f"{sp['overhead_vs_rest_pct']:.1f}%")
+        lines.append(f"{c['character']} ({c['bodies']} bodies, {c['constraints']} constraints)")
+        for entry in c["interfaces"]:
+            sp, name = entry["speed"], entry["interface"] or "no interface"
+            lines.append(f" via {name} on {entry['scene']}")
+            row("speed with control (Session, real time = 1x)",
+                f"{sp['control_speed_x']:.0f}x", limit[f"speed with control: {name}"],
+                verdict[f"speed with control: {name}"])
+            row("bare space.step, same motion", f"{sp['bare_same_motion_speed_x']:.0f}x")
+            row("control overhead vs same motion", f"{sp['control_overhead_pct']:.1f}%",
+                limit[f"control overhead: {name}"], verdict[f"control overhead: {name}"])
+            row("  per frame: control / bare", f"{sp['control_us_per_frame']:.1f}/"
+                f"{sp['bare_us_per_frame']:.1f} us")
+            row("  same trajectory (state hash)",
+                "identical" if sp["same_motion_state_identical"] else "DIFFERENT")
+            row("with the timeline's keyframes: speed", f"{sp['with_keyframes_speed_x']:.0f}x")
+            row("with the timeline's keyframes: overhead (info)",
+                f"{sp['with_keyframes_overhead_pct']:.1f}%")
+        lines.append(" timeline")
         row("snapshot size", _fmt_bytes(cp["bytes"]))
         row("snapshot", f"{cp['snapshot_ms']:.3f} ms")
         row("restore", f"{cp['restore_ms']:.3f} ms")

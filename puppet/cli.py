@@ -53,6 +53,11 @@ def _play(args: argparse.Namespace) -> int:
             seconds = script.seconds
     if seconds is None:
         seconds = 5.0
+    late = sum(1 for step, _ in events if step * DEFAULT_DT > seconds)
+    if late:
+        print(f"puppet: warning: {late} scripted event(s) come after the run ends at "
+              f"{seconds:g} s and never act (set 'seconds:' in the script, or --seconds)",
+              file=sys.stderr)
     # --record writes the scripted run as a log (see ``puppet replay``); images too
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,

@@ -7,9 +7,12 @@ act at the current step; nothing here reads a clock.
 
 from __future__ import annotations
 
+import dataclasses
+import json
 from collections.abc import Callable
 
-from puppet.data.catalog import Setup
+from puppet.data.catalog import Setup, parse_interface_text
+from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
@@ -19,12 +22,20 @@ from puppet.timeline.history import CHECKPOINT_INTERVAL, History, Snapshot
 
 class Session:
     def __init__(self, setup: Setup, dt: float = DEFAULT_DT,
-                 checkpoint_interval: float = CHECKPOINT_INTERVAL):
+                 checkpoint_interval: float = CHECKPOINT_INTERVAL, keyframes: bool = True):
+        """``keyframes=False`` turns off the automatic checkpoints (rewinds then reach
+        back to manual checkpoints and the start only): the benchmark uses it to weigh
+        the control layer apart from the timeline."""
         self.setup = setup
         self.sim = Simulation(setup.character, setup.scene, dt)
         self.runtime = InterfaceRuntime(setup.interface, self.sim.character, self.sim)
         self.app_keys = setup.interface.app_key_table()
         self.key_to_app = {key: action for action, key in self.app_keys.items()}
+        # Every interface this session has run (hot reloads): snapshots name theirs by
+        # index, so a rewind across a reload restores the interface of that time.
+        self.versions: list[InterfaceSpec] = [setup.interface]
+        self._version_of: dict = {}  # reload text (or other key) -> index in versions
+        self.version = 0
         self.checkpoint_interval = checkpoint_interval
         # Called with (step, event) for every event handled, before it acts (recording).
         self.listener: Callable[[int, Event], None] | None = None
@@ -32,8 +43,8 @@ class Session:
         self.message_serial = 0  # bumped on every new message
         self.blowups = 0
         self._start = self.sim.checkpoint()
-        self.history = History(dt, checkpoint_interval)
-        self.history.set_start(Snapshot(0, self._start, self.runtime.get_state()))
+        self.history = History(dt, checkpoint_interval, keyframes=keyframes)
+        self.history.set_start(Snapshot(0, self._start, self._runtime_state()))
         self._rebuilding = False  # re-simulating recorded history (rewind): record nothing
 
     @property
@@ -68,6 +79,12 @@ class Session:
                 return app_action
         if kind == "action":
             self.perform(event["name"], event.get("to_step"))
+            return None
+        if kind == "reload":
+            self.reload(event["text"], event.get("path"))
+            return None
+        if kind == "gesture":
+            self.bind_gesture(event["key"], event["path"], event.get("description", ""))
             return None
         if kind == "drag":
             phase = event["phase"]
@@ -105,13 +122,65 @@ class Session:
         self.sim.steps = steps
         self.runtime.reset()
 
+    # -- hot reload ---------------------------------------------------------------------
+    @property
+    def interface(self) -> InterfaceSpec:
+        return self.versions[self.version]
+
+    def reload(self, text: str, path: str | None = None) -> None:
+        """Run the interface in ``text`` from now on (the "reload" event). It is parsed
+        and checked against this session's character exactly like ``puppet check``
+        does (DataError if invalid: the window checks before sending); the new runtime
+        takes over input state and what is running (``InterfaceRuntime.adopt``), the
+        physics and the servo targets are untouched."""
+        key = ("text", text)
+        index = self._version_of.get(key)
+        if index is None:
+            spec = parse_interface_text(text, path or str(self.setup.interface_path),
+                                        self.setup.character, self.setup.character_path)[0]
+            index = self._add_version(key, spec)
+        self._run_version(index, adopt=True)
+
+    def bind_gesture(self, key: str, path, description: str = "") -> None:
+        """Bind a recorded mouse path to a key (the "gesture" event): the live interface
+        is the current one with that gesture (ValueError if the key is taken or the
+        path is invalid; the window checks first)."""
+        vkey = ("gesture", self.version, key, json.dumps(path), description)
+        index = self._version_of.get(vkey)
+        if index is None:
+            index = self._add_version(vkey, with_gesture(self.interface, key, path, description))
+        self._run_version(index, adopt=True)
+
+    def _add_version(self, key, spec: InterfaceSpec) -> int:
+        self.versions.append(spec)
+        self._version_of[key] = len(self.versions) - 1
+        return len(self.versions) - 1
+
+    def _run_version(self, index: int, adopt: bool) -> None:
+        """Switch to interface version ``index``: with ``adopt``, continuing what the
+        current runtime does; without, touching nothing (a snapshot's state follows)."""
+        spec = self.versions[index]
+        runtime = InterfaceRuntime(spec, self.sim.character, self.sim, start=False)
+        if adopt:
+            runtime.adopt(self.runtime)
+        self.runtime = runtime
+        self.version = index
+        self.setup = dataclasses.replace(self.setup, interface=spec)
+        self.app_keys = spec.app_key_table()
+        self.key_to_app = {key: action for action, key in self.app_keys.items()}
+
+    def _runtime_state(self) -> dict:
+        state = self.runtime.get_state()
+        state["interface_version"] = self.version
+        return state
+
     def advance(self, steps: int = 1) -> None:
         """Step the physics, taking the history's snapshots at their step boundaries
         (and recovering from a blow-up there), so the result does not depend on how
         the steps are split between calls."""
         if steps <= 0:
             return
-        sim, history, runtime = self.sim, self.history, self.runtime
+        sim, history = self.sim, self.history
         if sim.steps < history.head and not self._rebuilding:
             history.branch(sim.steps)  # playing on from a rewound point
         every = history.health_every
@@ -121,6 +190,7 @@ class Session:
             # steps the runtime asks for; when idle (next_wakeup None) the physics
             # steps in one tight loop up to the next history boundary.
             now = sim.steps
+            runtime = self.runtime  # a blow-up recovery may switch interface versions
             wake = runtime.next_wakeup
             if wake is not None and wake <= now:
                 runtime.tick(now, sim.time)
@@ -144,11 +214,20 @@ class Session:
         rewound gives exactly the bits of plain stepping. Either way a replay of a log
         takes the same snapshots at the same steps, so rewinds replay exactly."""
         data = self.sim.checkpoint() if reseat else self.sim.snapshot()
-        return Snapshot(self.sim.steps, data, self.runtime.get_state())
+        return Snapshot(self.sim.steps, data, self._runtime_state())
 
-    def _restore(self, snap: Snapshot) -> None:
+    def _restore(self, snap: Snapshot, keep_interface: bool = False) -> None:
+        """Restore a snapshot, with the interface version it was taken under; with
+        ``keep_interface`` the current version then takes over again (as a reload
+        would), so going back to a checkpoint does not undo a hot reload."""
+        current = self.version
+        index = snap.runtime.get("interface_version", 0)
+        if index != self.version:
+            self._run_version(index, adopt=False)
         self.sim.restore(snap.sim)
         self.runtime.set_state(snap.runtime)
+        if keep_interface and self.version != current:
+            self._run_version(current, adopt=True)
 
     def _at_boundary(self) -> None:
         if self.sim.blown_up():
@@ -161,7 +240,7 @@ class Session:
         """Back to the last good checkpoint's state; the time line goes on (like reset)."""
         steps = self.sim.steps
         snap = self.history.last_checkpoint(steps)
-        self._restore(snap)
+        self._restore(snap, keep_interface=True)
         self.sim.steps = steps
         self.blowups += 1
         self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
@@ -182,7 +261,7 @@ class Session:
         """Back to the last manual checkpoint (else the last automatic one)."""
         steps = self.sim.steps
         snap = self.history.last_manual(steps) or self.history.last_checkpoint(steps)
-        self._restore(snap)
+        self._restore(snap, keep_interface=True)
         self.history.branch(snap.step)
 
     def rewind_to(self, step: int) -> None:

@@ -83,3 +83,12 @@ def test_a_script_plays_on_the_scene_it_was_written_for():
     assert x > 8.0  # down the ski jump, not hopping about on the flat floor
     other = puppet("play", "luxo-keys", "--headless", "--input", "luxo-hop", "--seconds", "0.1")
     assert "written for interface 'luxo-mouse'" in other.stderr
+
+
+def test_scripted_events_after_the_end_of_the_run_are_reported(tmp_path):
+    script = tmp_path / "late.yaml"
+    script.write_text("description: late\nevents:\n  - {t: 0.5, mouse: [0.5, 0.5]}\n"
+                      "  - {t: 9.0, key: a}\n")
+    proc = puppet("play", "luxo-mouse", "--headless", "--input", str(script))
+    assert proc.returncode == 0
+    assert "2 scripted event(s) come after the run ends at 5 s" in proc.stderr

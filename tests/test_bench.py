@@ -24,24 +24,33 @@ def test_quick_bench_reports_every_character_with_positive_figures():
     assert [c["character"] for c in report["characters"]] == shipped
     assert report["quick"] is True
     assert isinstance(report["all_pass"], bool)
+    interfaces = {p.stem for p in (ROOT / "interfaces").glob("*.yaml")}
+    measured = set()
     for c in report["characters"]:
-        sp, cp, rw = c["speed"], c["checkpoint"], c["rewind"]
-        for value in (sp["control_speed_x"], sp["bare_same_motion_speed_x"],
-                      sp["bare_at_rest_speed_x"], sp["sim_seconds"],
-                      cp["bytes"], cp["snapshot_ms"], cp["restore_ms"], cp["checkpoint_ms"],
+        cp, rw = c["checkpoint"], c["rewind"]
+        for value in (cp["bytes"], cp["snapshot_ms"], cp["restore_ms"], cp["checkpoint_ms"],
                       rw["entries"], rw["keyframe_bytes"], rw["traced_peak_bytes"],
                       rw["control_with_history_speed_x"], rw["restore_ms"], rw["resume_ms"],
                       rw["rewound_s"]):
             assert value > 0, c
-        assert isinstance(sp["control_overhead_pct"], float)
-        # the bare run goes through the same trajectory as the controlled one
-        assert sp["same_motion_state_identical"] is True
         names = {t["name"] for t in c["targets"]}
-        assert names == {"speed with control", "control overhead", "checkpoint",
-                         "rewind 60 s and resume"}
+        for entry in c["interfaces"]:
+            sp, name = entry["speed"], entry["interface"]
+            measured.add(name)
+            for value in (sp["control_speed_x"], sp["bare_same_motion_speed_x"],
+                          sp["bare_at_rest_speed_x"], sp["sim_seconds"],
+                          sp["with_keyframes_speed_x"]):
+                assert value > 0, (name, sp)
+            assert isinstance(sp["control_overhead_pct"], float)
+            # the bare run goes through the same trajectory as the controlled one, keys
+            # and pose sequences included
+            assert sp["same_motion_state_identical"] is True, name
+            assert {f"speed with control: {name}", f"control overhead: {name}"} <= names
+        assert {"checkpoint", "rewind 60 s and resume"} <= names
         for t in c["targets"]:
             assert set(t) == {"name", "value", "op", "limit", "unit", "pass"}
             assert isinstance(t["pass"], bool)
+    assert measured == interfaces  # every shipped interface is measured
     logs = report["logs"]
     assert isinstance(logs["status"], str) and isinstance(logs["items"], list)
     if not list((ROOT / "assets" / "logs").glob("*.jsonl")):

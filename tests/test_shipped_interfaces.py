@@ -36,3 +36,15 @@ def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
     assert session.runtime.binding("q").sequence == "roll_over"
     session.handle(ev.key("q", True))
     assert session.runtime.sequence.name == "roll_over"
+
+
+def test_key_map_names_the_live_state_and_lists_each_key_once():
+    from puppet.data.catalog import load_setup
+    from puppet.interface.describe import interface_lines, where_line
+
+    spec = load_setup("luxo-keys").interface
+    assert spec.states, "luxo-keys has a state machine"
+    for state in spec.states:
+        keys = [k for k, _ in interface_lines(spec, state, None) if not k.startswith("mouse")]
+        assert len(keys) == len(set(keys)), (state, keys)
+        assert f"state {state}" in where_line(spec, state, None)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import pygame
 
 from puppet.app.keymap import draw_keymap
-from puppet.interface.describe import app_lines, interface_lines
+from puppet.interface.describe import app_lines, interface_lines, where_line
 from puppet.session import Session
 
 TEXT = (40, 44, 52)
@@ -54,9 +54,11 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     for i, text in enumerate(lines):
         surface.blit(font.render(text, True, TEXT if i else (20, 60, 120)), (16, 12 + i * 22))
 
-    controls = interface_lines(setup.interface, session.runtime.state, session.runtime.mode)
+    runtime = session.runtime
+    controls = interface_lines(setup.interface, runtime.state, runtime.mode)
     app = app_lines(setup.interface)
-    rows = [("controls", "")] + controls
+    where = where_line(setup.interface, runtime.state, runtime.mode)
+    rows = [(f"controls  ({where})" if where else "controls", "")] + controls
     if info.show_help:
         rows += [("", ""), ("app keys", "")] + app
     else:

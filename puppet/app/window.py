@@ -67,7 +67,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
         path = record or default_path(setup.interface.name)
         recorder = Recorder(session, path, slowdown=slowdown or setup.interface.slowdown,
-                            exclusive=record is None)
+                            exclusive=record is None, embed_interface=True)
         print(f"recording to {path}")
     from puppet.timeline.history import Scrubber
 
@@ -78,6 +78,38 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     camera.resize(*screen.get_size())
     camera.follow(session.character.com(), None)
     info = HudInfo()
+    reloader = None
+    reload_error = ""  # shown until the file is valid again
+    if feeder is None:  # hot reload: saving the interface file applies it at once
+        from puppet.app.reloader import Reloader
+        from puppet.data.catalog import parse_interface_text
+
+        def check_text(text: str) -> None:
+            parse_interface_text(text, str(setup.interface_path), setup.character,
+                                 setup.character_path)
+
+        reloader = Reloader(setup.interface_path, check_text, now=time.perf_counter())
+    from puppet.app.gestures import GestureRecorder
+
+    gestures = GestureRecorder()
+
+    def save_gestures() -> str:
+        """Write the live interface's gestures into its file (the reload follows)."""
+        from puppet.data.catalog import read_text
+        from puppet.data.errors import DataError
+        from puppet.data.gesture_file import replace_gestures
+
+        if reload_error:
+            return "the interface file has an error: fix it before saving gestures"
+        path = setup.interface_path
+        try:
+            text = replace_gestures(read_text(path), session.interface.gestures)
+            check_text(text)
+            path.write_text(text, encoding="utf-8")
+        except (DataError, OSError) as exc:
+            return f"gestures not saved: {exc}"
+        gestures.unsaved.clear()
+        return f"saved {len(session.interface.gestures)} gesture(s) into {path}"
     pressed: dict[str, str] = {}  # key name -> chord it was pressed as
     dragging = False
     last_mouse = None
@@ -117,6 +149,11 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             clock.faster()
         elif name == "help":
             info.show_help = not info.show_help
+        elif name == "record_gesture" and feeder is None:
+            session.say(gestures.toggle(session.time, last_mouse,
+                                        session.app_keys["record_gesture"]))
+        elif name == "save_gestures" and reloader is not None:
+            session.say(save_gestures())
         elif name and name.startswith("slowdown:"):  # an interface key's slowdown
             clock.set_slowdown(float(name.split(":", 1)[1]))
         return True
@@ -136,6 +173,13 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 if name in MODIFIER_KEYS or not name:
                     continue
                 chord = key_chord(name, mods())
+                if gestures.binding:  # the key a recorded gesture goes on
+                    event_, text = gestures.bind(chord, session.interface,
+                                                 session.app_keys["save_gestures"])
+                    if event_ is not None:
+                        handle(event_)
+                    session.say(text)
+                    continue
                 pressed[name] = chord
                 running = app_action(handle(ev.key(chord, True))) and running
             elif event.type == pygame.KEYUP:
@@ -164,8 +208,19 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                    min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
             if pos != last_mouse:
                 handle(ev.mouse(*pos))
+                gestures.add(session.time, *pos)
                 last_mouse = pos
 
+        if reloader is not None and not scrub.active:
+            change = reloader.poll(time.perf_counter())
+            if change is not None and not change.ok:
+                reload_error = change.error  # the last good version keeps running
+            elif change is not None:
+                reload_error = ""
+                handle(ev.reload(change.text, str(setup.interface_path)))
+                for event_ in gestures.rebind_after_reload(session.interface):
+                    handle(event_)  # bound since the last save: keep them
+                session.say(f"reloaded {setup.interface_path}")
         steps = clock.steps_for(wall_dt)
         if scrub.active:
             scrub.update(wall_dt, forward=bool(pygame.key.get_mods() & pygame.KMOD_SHIFT))
@@ -185,6 +240,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             info.message = session.message
         elif info.message and now > message_until:
             info.message = ""
+        if reload_error:
+            info.message = reload_error
         info.scrubbing = scrub.active
         clock.sample(time.perf_counter() - start, session.time)
         info.slowdown = clock.slowdown

@@ -15,7 +15,7 @@ from puppet.data.characters import CharacterSpec, parse_character
 from puppet.data.errors import DataError
 from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
 from puppet.data.scenes import SceneSpec, parse_scene
-from puppet.data.yamlfile import load_file
+from puppet.data.yamlfile import Located, load_file, load_text
 
 ROOT = Path(os.environ.get("PUPPET_HOME") or Path(__file__).resolve().parents[2])
 
@@ -97,17 +97,38 @@ def load_scene_named(name: str) -> tuple[SceneSpec, Path]:
     return parse_scene(load_file(path)), path
 
 
-def load_setup(interface: str, scene: str | None = None) -> Setup:
-    """Load an interface by name or path, its character and a scene (its default if None)."""
-    interface_path = find("interface", interface)
-    located = load_file(interface_path)
+def parse_interface_text(text: str, path: str | Path, character: CharacterSpec | None = None,
+                         character_path: str | Path | None = None
+                         ) -> tuple[InterfaceSpec, Located, CharacterSpec, Path | None]:
+    """Parse and validate an interface's YAML ``text`` as the file ``path`` (error
+    messages name it): the checks ``puppet check`` makes, including the references to
+    its character. With ``character`` (a running session's, for a hot reload or a
+    replayed reload event) the text must name that character, and no file is read;
+    without, the character is found by name and loaded.
+
+    Returns (spec, located, character spec, character path or None)."""
+    located = load_text(text, str(path))
     spec = parse_interface(located)
-    try:
-        character_path = find("character", spec.character)
-    except DataError as exc:
-        raise located.error(("character",), exc.message) from None
-    character = parse_character(load_file(character_path))
+    if character is None:
+        try:
+            character_path = find("character", spec.character)
+        except DataError as exc:
+            raise located.error(("character",), exc.message) from None
+        character = parse_character(load_file(character_path))
+    else:
+        running = Path(character_path).stem if character_path is not None else character.name
+        if Path(spec.character).stem != running:
+            raise located.error(("character",), f"character '{spec.character}' is not the "
+                                                f"running session's '{running}'; a reload "
+                                                "cannot change the character (restart instead)")
     check_against_character(spec, character, located)
+    return spec, located, character, (Path(character_path) if character_path else None)
+
+
+def setup_from_text(text: str, interface_path: str | Path, scene: str | None = None) -> Setup:
+    """A Setup from an interface's text (the file need not hold that text any more:
+    a log that embeds the interface replays it)."""
+    spec, located, character, character_path = parse_interface_text(text, interface_path)
     try:
         scene_path = find("scene", scene or spec.scene)
     except DataError as exc:
@@ -115,4 +136,23 @@ def load_setup(interface: str, scene: str | None = None) -> Setup:
             raise
         raise located.error(("scene",), exc.message) from None
     scene_spec = parse_scene(load_file(scene_path))
-    return Setup(spec, character, scene_spec, interface_path, character_path, scene_path)
+    return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path)
+
+
+def read_text(path: str | Path) -> str:
+    """A data file's text (UTF-8), with the loader's one-line errors."""
+    path = Path(path)
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise DataError(str(path), None, None, "no such file") from None
+    except UnicodeDecodeError as exc:
+        raise DataError(str(path), None, None, f"not UTF-8 text ({exc.reason})") from None
+    except OSError as exc:
+        raise DataError(str(path), None, None, f"cannot read: {exc.strerror}") from None
+
+
+def load_setup(interface: str, scene: str | None = None) -> Setup:
+    """Load an interface by name or path, its character and a scene (its default if None)."""
+    interface_path = find("interface", interface)
+    return setup_from_text(read_text(interface_path), interface_path, scene)

@@ -25,8 +25,8 @@ from puppet.data.yamlfile import Located, load_file
 from puppet.interface.app_keys import APP_KEYS, normalize_key
 
 __all__ = ["CONTINUOUS_INPUTS", "InterfaceSpec", "LinearMapSpec", "GridMapSpec",
-           "KeyActionSpec", "StateSpec", "load_interface", "parse_interface",
-           "check_against_character"]
+           "KeyActionSpec", "StateSpec", "GestureSpec", "load_interface", "parse_interface",
+           "check_against_character", "with_gesture"]
 
 
 class GainSpec(Spec):
@@ -153,6 +153,21 @@ class StateSpec(Spec):
     description: str = ""
 
 
+class GestureSpec(Spec):
+    """A recorded mouse performance bound to a key: pressing the key plays ``path``
+    back through the active mouse maps, in sim time, as a sequence plays its poses."""
+
+    key: str
+    description: str = ""
+    path: list[tuple[float, float, float]] = Field(
+        min_length=1, description="[t, x, y] points: t s since the key press (increasing), "
+                                  "x and y the mouse position 0..1 (y up)")
+
+    @property
+    def duration(self) -> float:
+        return self.path[-1][0]
+
+
 class InterfaceSpec(Spec):
     name: str
     description: str
@@ -171,6 +186,8 @@ class InterfaceSpec(Spec):
     mode: str | None = Field(None, description="starting mode; default the first")
     keys: list[KeyActionSpec] = Field(default_factory=list)
     states: dict[str, StateSpec] = Field(default_factory=dict)
+    gestures: list[GestureSpec] = Field(default_factory=list,
+                                        description="recorded mouse paths bound to keys")
     initial: str | None = Field(None, description="starting state; default the first")
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
     control_rate: float = Field(120.0, ge=1.0, le=10000.0,
@@ -232,6 +249,57 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
             seen[key] = i
 
 
+def gesture_problems(spec: InterfaceSpec, gestures=None):
+    """(location, message) of each problem with ``gestures`` (default: the spec's) in
+    ``spec``: times must start at >= 0 and increase, x and y lie in 0..1, and a key
+    may be bound once (not an app key, nor a key of ``keys`` or of a state)."""
+    gestures = spec.gestures if gestures is None else gestures
+    by_key = {key: f"the app's '{action}' key" for action, key in spec.app_key_table().items()}
+    for i, k in enumerate(spec.keys):
+        by_key.setdefault(normalize_key(k.key), f"bound in keys[{i}]")
+    for name, state in spec.states.items():
+        for i, k in enumerate(state.keys):
+            by_key.setdefault(normalize_key(k.key), f"bound in state '{name}' (keys[{i}])")
+    for i, g in enumerate(gestures):
+        loc = ("gestures", i)
+        last = None
+        for j, (t, x, y) in enumerate(g.path):
+            if t < 0 or (last is not None and t <= last):
+                yield loc + ("path", j, 0), (f"gesture time {t:g} s must be "
+                                              + ("0 or more" if last is None else
+                                                 f"after the previous point's {last:g} s"))
+            for c, v in ((1, x), (2, y)):
+                if not 0.0 <= v <= 1.0:
+                    yield loc + ("path", j, c), (f"gesture {'xy'[c - 1]} = {v:g} is outside "
+                                                 "0..1 (mouse positions are normalised)")
+            last = t
+        key = normalize_key(g.key)
+        if key in by_key:
+            yield loc + ("key",), f"key '{key}' of a gesture is {by_key[key]}"
+        by_key[key] = f"the key of gestures[{i}]"
+
+
+def _check_gestures(spec: InterfaceSpec, located: Located) -> None:
+    for loc, message in gesture_problems(spec):
+        raise located.error(loc, message)
+
+
+def with_gesture(spec: InterfaceSpec, key: str, path, description: str = "") -> InterfaceSpec:
+    """``spec`` with a gesture bound to ``key`` (replacing a gesture already there).
+    ValueError (one line) if the gesture is invalid or the key is taken."""
+    import pydantic
+
+    key = normalize_key(key)
+    try:
+        gesture = GestureSpec(key=key, path=[tuple(p) for p in path], description=description)
+    except pydantic.ValidationError as exc:
+        raise ValueError(f"bad gesture: {exc.errors()[0]['msg']}") from None
+    gestures = [g for g in spec.gestures if normalize_key(g.key) != key] + [gesture]
+    for _, message in gesture_problems(spec, gestures):
+        raise ValueError(message)
+    return spec.model_copy(update={"gestures": gestures})
+
+
 def check_against_character(spec: InterfaceSpec, character: CharacterSpec,
                             located: Located) -> None:
     """Joint, link and chain references must fit the interface's character."""
@@ -245,6 +313,7 @@ def parse_interface(located: Located) -> InterfaceSpec:
 
     spec = validate(located, InterfaceSpec)
     _check_keys(spec, located)
+    _check_gestures(spec, located)
     check_names(spec, located)
     return spec
 

@@ -108,7 +108,7 @@ def to_data_error(located: Located, model: type[pydantic.BaseModel],
         key = loc[-1] if loc else "?"
         allowed = _allowed_keys(model, loc[:-1])
         close = difflib.get_close_matches(str(key), allowed, n=1)
-        hint = f"; did you mean '{close[0]}'?" if close else ""
+        hint = f"; did you mean '{close[0]}'?" if close else ";"
         return located.error(loc, f"unknown key '{key}'{hint} expected one of: "
                                   f"{', '.join(allowed)}", prefer_key=True)
     if kind == "missing":

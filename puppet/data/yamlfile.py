@@ -85,6 +85,10 @@ def load_text(text: str, path: str) -> Located:
         mark = exc.problem_mark or exc.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark else (None, None)
         problem = exc.problem or exc.context or "invalid YAML"
+        if "expected ',' or" in problem:  # an unclosed or broken { } / [ ] item
+            problem += (" (look at the lines above too: inside { } and [ ] items are "
+                        "separated by commas, and a '# comment' there hides the rest of "
+                        "its line, closing bracket included)")
         raise DataError(path, line, col, f"YAML syntax error: {problem}") from None
     except yaml.YAMLError as exc:
         raise DataError(path, None, None, f"YAML error: {exc}") from None

@@ -20,6 +20,8 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "restore": ("backspace", "back to the last checkpoint"),
     "rewind": ("b", "hold to rewind (release to play on from there)"),
     "forward": ("shift+b", "hold to scrub forward again after rewinding"),
+    "record_gesture": ("f2", "record a mouse gesture / stop; then press its key"),
+    "save_gestures": ("f3", "save the bound gestures into the interface file"),
 }
 
 # Actions that change the simulation (and so are handled by the Session, replayed

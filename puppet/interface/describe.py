@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from puppet.data.interfaces import InterfaceSpec
-from puppet.interface.app_keys import APP_KEYS
+from puppet.interface.app_keys import APP_KEYS, normalize_key
 
 
 def _fmt(v: float) -> str:
@@ -57,10 +57,24 @@ def interface_lines(spec: InterfaceSpec, state: str | None = None,
     if spec.states:
         state = state if state is not None else spec.start_state
         lines += [map_line(m) for m in spec.states[state].maps]
-        keys = list(spec.states[state].keys) + keys
+        own = spec.states[state].keys
+        bound = {normalize_key(k.key) for k in own}  # a state's key overrides the top level's
+        keys = list(own) + [k for k in keys if normalize_key(k.key) not in bound]
     for k in keys:
         lines.append((k.key, action_text(k)))
+    for g in spec.gestures:  # recorded mouse paths
+        lines.append((g.key, g.description or f"gesture {g.duration:.1f} s"))
     return lines
+
+
+def where_line(spec: InterfaceSpec, state: str | None, mode: str | None) -> str:
+    """"state upright, mode walk": which bindings are live now ("" if neither exists)."""
+    parts = []
+    if spec.states:
+        parts.append(f"state {state if state is not None else spec.start_state}")
+    if spec.modes:
+        parts.append(f"mode {mode if mode is not None else spec.start_mode}")
+    return ", ".join(parts)
 
 
 def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:

@@ -10,6 +10,10 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
   {"type": "gamepad", "name": "axis0", "value": -0.3}        input gamepad.axis0
   {"type": "channel", "name": "lean", "value": 0.2}          input channel.lean (plugins)
+  {"type": "reload", "text": "...", "path": "interfaces/x.yaml"}  run this interface text
+                                                    from now on (hot reload of the file)
+  {"type": "gesture", "key": "h", "path": [[t, x, y], ...], "description": ""}
+                                                    bind a recorded mouse path to a key
 """
 
 from __future__ import annotations
@@ -58,3 +62,21 @@ def gamepad(name: str, value: float) -> Event:
 def channel(name: str, value: float) -> Event:
     """A named plugin channel (e.g. a mocap feature): input channel.<name>."""
     return {"type": "channel", "name": name, "value": float(value)}
+
+
+def reload(text: str, path: str | None = None) -> Event:
+    """Run the interface in ``text`` from now on (the file was saved). The log keeps the
+    whole text, so a replay rebuilds the same interface without reading the file."""
+    event: Event = {"type": "reload", "text": str(text)}
+    if path is not None:
+        event["path"] = str(path)
+    return event
+
+
+def gesture(key: str, path, description: str = "") -> Event:
+    """Bind a recorded mouse path ([t s since the start, x, y] points) to a key."""
+    event: Event = {"type": "gesture", "key": str(key),
+                    "path": [[float(t), float(x), float(y)] for t, x, y in path]}
+    if description:
+        event["description"] = str(description)
+    return event

@@ -41,12 +41,15 @@ from puppet.interface.state_machine import StateMachine
 from puppet.physics.character import Character
 
 SEQ = "seq"
+GESTURE = "gesture"
 MAX_CHAINED_GOTOS = 16
 
 
 class InterfaceRuntime:
     def __init__(self, spec: InterfaceSpec, character: Character, sim=None,
-                 dt: float | None = None):
+                 dt: float | None = None, start: bool = True):
+        """``start=False``: touch no servo (no gains, no state entry); the caller then
+        gives the runtime its state (``set_state`` from a snapshot, or ``adopt``)."""
         self.spec = spec
         self.character = character
         self.sim = sim
@@ -56,6 +59,9 @@ class InterfaceRuntime:
         self.pose_targets = {n: p.targets for n, p in self.poses.items()}
         self.plans = sequences.compile_sequences(spec.sequences, self.dt)
         self.bindings = {normalize_key(k.key): k for k in spec.keys}
+        # key -> [(step offset, x, y)]: recorded mouse paths, replayed in sim time
+        self.gestures = {normalize_key(g.key): [(round(t / self.dt), x, y) for t, x, y in g.path]
+                         for g in spec.gestures}
         self.state_bindings = {name: {normalize_key(k.key): k for k in s.keys}
                                for name, s in spec.states.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
@@ -66,14 +72,75 @@ class InterfaceRuntime:
         self.next_wakeup: int | None = None
         self._map_cache: dict[int, object] = {}
         self._clear_activity()
-        self.apply_gains()
-        self._start_control()
+        if start:
+            self.apply_gains()
+            self._start_control()
+
+    def adopt(self, old: InterfaceRuntime) -> None:
+        """Take over from ``old``, the runtime of the interface this one replaces (a hot
+        reload): the physics and the servo targets stay as they are, so nothing moves
+        until an input changes or a key is pressed; input values and held keys carry
+        over; so does what is running (sequence, reaches, grasps, gain holds, state,
+        mode, perturbation) where the new interface defines it the same way. The rest
+        ends, leaving its joints' targets where they are."""
+        now = old.step_now()
+        self.now = old.now
+        self.inputs = dict(old.inputs)
+        self.held = set(old.held)
+        spec, was = self.spec, old.spec
+        self.mode = old.mode if old.mode in spec.modes else spec.start_mode
+        kept: set[str] = set()
+        seq = old.sequence
+        if (seq is not None and seq.name in spec.sequences
+                and spec.sequences[seq.name] == was.sequences.get(seq.name)
+                and all(spec.poses.get(p.pose) == was.poses.get(p.pose)
+                        for p in spec.sequences[seq.name])):
+            self.sequence = sequences.RunningSequence.from_state(seq.to_state())
+            kept.add(SEQ)
+        g = old.gesture
+        if g is not None and self.gestures.get(g[0]) == old.gestures.get(g[0]):
+            self.gesture = list(g)
+            kept.add(GESTURE)
+        same_chain = {n for n in old.chains if n in spec.chains
+                      and spec.chains[n] == was.chains[n]}
+        for name, reach in old.reaches.items():
+            if name in same_chain:
+                self.reaches[name] = Reach.from_state(reach.to_state())
+                kept.add(f"reach:{name}")
+        self.grasps = {n: [[list(p) for p in g[0]], g[1], g[2]]
+                       for n, g in old.grasps.items() if n in same_chain}
+        for name in list(old.grasped):
+            if name in same_chain:
+                self.grasped[name] = list(old.grasped[name])
+            else:
+                old.release(name)  # its chain is gone or changed: let go
+        self.owner = {j: tag for j, tag in old.owner.items() if tag in kept}
+        if spec.gains == was.gains:
+            self.gain_holds = {c: {j: list(v) for j, v in h.items()}
+                               for c, h in old.gain_holds.items()}
+        else:
+            self.apply_gains()
+        if spec.perturbation == was.perturbation:
+            self.perturber.set_state(old.perturber.get_state())
+        elif old.perturber.on:
+            self.perturber.switch("on", now)
+        if self.machine is not None:
+            if old.machine is not None and old.machine.current in spec.states:
+                self.machine.set_state(old.machine.get_state())
+                self._refresh_active_maps()
+            else:  # a new state machine (or the state is gone): start it
+                self._start_control()
+                return
+        else:
+            self._refresh_active_maps()
+        self._reschedule(now)
 
     # -- bookkeeping -------------------------------------------------------------
     def _clear_activity(self) -> None:
         self.mode = self.spec.start_mode
         self.owner: dict[str, str] = {}  # joint -> "seq" or "reach:<chain>"
         self.sequence: sequences.RunningSequence | None = None
+        self.gesture: list | None = None  # [key, start step, index of the next point]
         self.reaches: dict[str, Reach] = {}
         self.grasps: dict[str, list] = {}  # chain -> [points, tolerance, until step|None]
         self.grasped: dict[str, list[float]] = {}  # chain -> world point held
@@ -110,6 +177,15 @@ class InterfaceRuntime:
             for name in m.inputs:
                 self.maps_by_input.setdefault(name, []).append(m)
         self._mouse_maps = self._compiled(("mouse.x", "mouse.y"))
+        joints: set[str] = set()
+        for m in active:
+            if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
+                if getattr(m, "grid", None) is not None:
+                    these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
+                    joints |= these if m.joints is None else these & set(m.joints)
+                else:
+                    joints |= set(m.gains())
+        self._mouse_joints = joints  # what a gesture drives
 
     def _compiled(self, inputs) -> list:
         """Compiled appliers of the active maps reading any of ``inputs``, in order."""
@@ -145,7 +221,7 @@ class InterfaceRuntime:
         return self.bindings.get(chord)
 
     def handles_key(self, chord: str) -> bool:
-        return self.binding(chord) is not None
+        return self.binding(chord) is not None or chord in self.gestures
 
     def on_event(self, event: Event) -> str | None:
         """Apply an input event at the current step. Returns an app action the event
@@ -195,6 +271,8 @@ class InterfaceRuntime:
         self.held.add(chord)
         binding = self.binding(chord)
         if binding is None:
+            if chord in self.gestures:
+                self._start_gesture(chord, now)
             return None
         return self.run_action(binding, now, chord)
 
@@ -282,6 +360,39 @@ class InterfaceRuntime:
             self.owner[joint] = SEQ
         apply_pose(self.character.servos, self.poses[self.plans[name][0][0]])
 
+    # -- gestures --------------------------------------------------------------------
+    def _start_gesture(self, chord: str, now: int) -> None:
+        """Play a recorded mouse path: it owns the joints the active mouse maps drive
+        (taken back like a sequence's: by a pose, a moving mouse, a new sequence)."""
+        self._drop(GESTURE)
+        for joint in self._mouse_joints:
+            self.owner[joint] = GESTURE
+        self.gesture = [chord, now, 0]
+        self._play_gesture(now)
+
+    def _play_gesture(self, step: int) -> None:
+        """Feed the gesture's points due by ``step`` through the mouse maps, writing
+        only the joints it still owns; end it when done or when it owns none."""
+        chord, start, index = self.gesture
+        path = self.gestures[chord]
+        owned = {j for j, o in self.owner.items() if o == GESTURE}
+        if owned:
+            servos = self.character.servos
+            others = [(servos[j], servos[j].target) for j in self._mouse_joints - owned]
+            values = dict(self.inputs)
+            while index < len(path) and start + path[index][0] <= step:
+                values["mouse.x"], values["mouse.y"] = path[index][1], path[index][2]
+                for apply in self._mouse_maps:
+                    apply(values)
+                index += 1
+            for servo, target in others:  # joints taken back by later actions
+                servo.target = target
+        if index >= len(path) or not owned:
+            self._drop(GESTURE)
+            self.gesture = None
+        else:
+            self.gesture[2] = index
+
     def _start_reach(self, r, now: int) -> None:
         chain = self.chains[r.chain]
         tag = f"reach:{r.chain}"
@@ -351,6 +462,8 @@ class InterfaceRuntime:
                     apply_pose(servos, self.poses[pose_name], owned)
             if seq is not None and SEQ not in self.owner.values():
                 self.sequence = None
+        if self.gesture is not None:
+            self._play_gesture(step)
         for name, reach in list(self.reaches.items()):
             tag = f"reach:{name}"
             owned = [j for j, o in self.owner.items() if o == tag]
@@ -384,7 +497,8 @@ class InterfaceRuntime:
 
     def _timed(self) -> bool:
         """Anything that could need a tick (else the runtime is idle)."""
-        return bool(self.sequence is not None or self.reaches or self.grasps
+        return bool(self.sequence is not None or self.gesture is not None
+                    or self.reaches or self.grasps
                     or self.perturber.on or self.machine is not None)
 
     def _reschedule(self, earliest: int) -> None:
@@ -401,6 +515,9 @@ class InterfaceRuntime:
 
         if self.sequence is not None:
             at(self.sequence.until)
+        if self.gesture is not None:
+            chord, start, index = self.gesture
+            at(start + self.gestures[chord][index][0])
         if self.reaches or self.grasps:
             at(earliest)
         if self.perturber.on:
@@ -430,6 +547,7 @@ class InterfaceRuntime:
         return {"inputs": dict(self.inputs), "held": sorted(self.held), "mode": self.mode,
                 "owner": dict(self.owner),
                 "sequence": self.sequence.to_state() if self.sequence else None,
+                "gesture": list(self.gesture) if self.gesture else None,
                 "reaches": {n: r.to_state() for n, r in self.reaches.items()},
                 "grasps": {n: [[list(p) for p in g[0]], g[1], g[2]]
                            for n, g in self.grasps.items()},
@@ -447,6 +565,7 @@ class InterfaceRuntime:
         self.mode = state["mode"]
         self.owner = dict(state["owner"])
         self.sequence = sequences.RunningSequence.from_state(state["sequence"])
+        self.gesture = list(state["gesture"]) if state.get("gesture") else None
         self.reaches = {n: Reach.from_state(r) for n, r in state["reaches"].items()}
         self.grasps = {n: [[list(p) for p in g[0]], g[1], g[2]]
                        for n, g in state["grasps"].items()}

@@ -44,8 +44,9 @@ class History:
     everything later is dropped."""
 
     def __init__(self, dt: float, checkpoint_interval: float = CHECKPOINT_INTERVAL,
-                 keep_seconds: float = KEEP_SECONDS):
+                 keep_seconds: float = KEEP_SECONDS, keyframes: bool = True):
         self.dt = dt
+        self.keyframes = keyframes  # False: rewinds reach back to manual checkpoints only
         interval = checkpoint_interval if checkpoint_interval and checkpoint_interval > 0 \
             else CHECKPOINT_INTERVAL
         self.checkpoint_every = max(1, round(interval / dt))
@@ -62,7 +63,7 @@ class History:
 
     # -- when ------------------------------------------------------------------------
     def keyframe_due(self, step: int) -> bool:
-        return step % self.checkpoint_every == 0
+        return self.keyframes and step % self.checkpoint_every == 0
 
     # -- adding ------------------------------------------------------------------------
     def set_start(self, snap: Snapshot) -> None:

@@ -40,6 +40,8 @@ EVENT_FIELDS = {  # event type -> required fields (besides "type")
     "mouse_button": ("button", "down"),  # interface inputs (puppet/interface/events.py)
     "gamepad": ("name", "value"),
     "channel": ("name", "value"),
+    "reload": ("text",),  # a hot reload: the interface's whole new text
+    "gesture": ("key", "path"),  # bind a recorded mouse path to a key
 }
 
 
@@ -57,7 +59,10 @@ def _name(path: Path, kind: str) -> str:
 
 
 def make_header(session, slowdown: float | None = None, description: str | None = None,
-                expect: list | None = None) -> dict:
+                expect: list | None = None, embed_interface: bool = False) -> dict:
+    """``embed_interface``: keep the interface file's text in the header
+    (``interface_text``), so the log replays even after the file was edited (the
+    window's logs do: a hot reload edits it while recording)."""
     setup: Setup = session.setup
     header: dict[str, Any] = {
         "format": FORMAT,
@@ -74,6 +79,8 @@ def make_header(session, slowdown: float | None = None, description: str | None 
         "slowdown": float(slowdown if slowdown is not None else setup.interface.slowdown),
         "checkpoint_interval": session.checkpoint_interval,
     }
+    if embed_interface:
+        header["interface_text"] = Path(setup.interface_path).read_text(encoding="utf-8")
     if description:
         header["description"] = description
     if expect:
@@ -106,13 +113,13 @@ class Recorder:
 
     def __init__(self, session, path: str | Path, slowdown: float | None = None,
                  description: str | None = None, expect: list | None = None,
-                 exclusive: bool = False):
+                 exclusive: bool = False, embed_interface: bool = False):
         self.session = session
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.file = self.path.open("x" if exclusive else "w", encoding="utf-8")
         self.lines = 0
-        self._write(make_header(session, slowdown, description, expect))
+        self._write(make_header(session, slowdown, description, expect, embed_interface))
         self._previous = session.listener
         session.listener = self.on_event
 
@@ -191,6 +198,8 @@ def _check_header(path: str, header: Any) -> dict:
     ci = header.get("checkpoint_interval", 1.0)
     if not isinstance(ci, (int, float)) or isinstance(ci, bool) or ci < 0:
         raise DataError(path, 1, None, f"header: bad 'checkpoint_interval' {ci!r}")
+    if "interface_text" in header and not isinstance(header["interface_text"], str):
+        raise DataError(path, 1, None, "header: 'interface_text' must be a string")
     if "expect" in header and not isinstance(header["expect"], list):
         raise DataError(path, 1, None, "header: 'expect' must be a list")
     return header
@@ -225,6 +234,14 @@ def _check_event(obj: Any) -> str | None:
         if event["name"] == "rewind" and not (isinstance(event.get("to_step"), int)
                                               and event["to_step"] >= 0):
             return "rewind action needs a whole-number 'to_step' >= 0"
+    if kind == "reload" and not (isinstance(event["text"], str)
+                                 and isinstance(event.get("path", ""), str)):
+        return "reload event: 'text' (and 'path') must be strings"
+    if kind == "gesture" and not (isinstance(event["key"], str) and isinstance(event["path"], list)
+                                  and all(isinstance(p, list) and len(p) == 3
+                                          and all(_is_number(v) for v in p)
+                                          for p in event["path"])):
+        return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
     if kind == "drag" and event["phase"] not in ("start", "move", "end"):
         return f"drag event: unknown phase {event['phase']!r}"
     return None

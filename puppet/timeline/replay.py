@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from puppet.data.catalog import Setup, file_hash, load_setup
+from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
@@ -132,8 +132,16 @@ class ReplayResult:
 def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
     """Load what the header names; a one-line warning for each file that changed."""
     h = log.header
+    embedded = h.get("interface_text")
     try:
-        setup = load_setup(h["interface"], h["scene"])
+        if embedded is not None:  # the interface as recorded, whatever the file says now
+            try:
+                where = find("interface", h["interface"])
+            except DataError:
+                where = Path(h["interface"])
+            setup = setup_from_text(embedded, where, h["scene"])
+        else:
+            setup = load_setup(h["interface"], h["scene"])
     except DataError as exc:
         if exc.path in (h["interface"], h["scene"]):  # not found: say it is the log's
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
@@ -141,6 +149,8 @@ def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
     warnings = []
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
+        if kind == "interface" and embedded is not None:
+            continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and file_hash(Path(path)) != recorded:
             warnings.append(f"{log.path}: warning: {kind} '{h.get(kind, path)}' has changed "
@@ -170,6 +180,10 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
         end = log.events[-1].step
     try:
         play(session, log.pairs(), until_step, every, on_tick, end_step=end, on_event=on_event)
+    except DataError as exc:  # a reload event whose interface text is invalid
+        i = current["i"]
+        line = log.events[i].line if 0 <= i < len(log.events) else None
+        raise DataError(log.path, line, None, f"cannot apply this event: {exc}") from None
     except (ValueError, KeyError, TypeError) as exc:
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
