@@ -22,7 +22,7 @@ from puppet.data.actions import (CONTINUOUS_INPUTS, ActionSpec, ChainSpec, Condi
 from puppet.data.characters import CharacterSpec
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
-from puppet.interface.app_keys import APP_KEYS, normalize_key
+from puppet.interface.app_keys import APP_KEYS, key_problem, normalize_key
 
 __all__ = ["CONTINUOUS_INPUTS", "InterfaceSpec", "LinearMapSpec", "GridMapSpec",
            "KeyActionSpec", "StateSpec", "GestureSpec", "load_interface", "parse_interface",
@@ -217,11 +217,20 @@ class InterfaceSpec(Spec):
 
 
 def _check_keys(spec: InterfaceSpec, located: Located) -> None:
-    for action in spec.app_keys:
+    for action, key in spec.app_keys.items():
         if action not in APP_KEYS:
             raise located.error(("app_keys", action),
                                 f"unknown app action '{action}'; expected one of: "
                                 f"{', '.join(APP_KEYS)}", prefer_key=True)
+        if key_problem(key):
+            raise located.error(("app_keys", action), key_problem(key))
+    named = [(("keys", i, "key"), k.key) for i, k in enumerate(spec.keys)]
+    named += [(("states", n, "keys", i, "key"), k.key) for n, state in spec.states.items()
+              for i, k in enumerate(state.keys)]
+    named += [(("gestures", i, "key"), g.key) for i, g in enumerate(spec.gestures)]
+    for loc, key in named:
+        if key_problem(key):
+            raise located.error(loc, key_problem(key))
     app_table = spec.app_key_table()
     by_key: dict[str, str] = {}
     for action, key in app_table.items():

@@ -40,6 +40,44 @@ def normalize_key(text: str) -> str:
     return "+".join(mods + [parts[-1]])
 
 
+_KEY_NAMES: frozenset[str] | None = None
+BUTTON_KEYS = ("mouse.left", "mouse.middle", "mouse.right")  # bindable like keys
+
+
+def _key_names() -> frozenset[str]:
+    """pygame's key names (what ``pygame.key.name`` reports for a pressed key)."""
+    global _KEY_NAMES
+    if _KEY_NAMES is None:
+        import os
+        import warnings
+
+        os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+        import pygame
+
+        with warnings.catch_warnings():  # names need no display, so no pygame.init()
+            warnings.simplefilter("ignore")
+            _KEY_NAMES = frozenset(
+                pygame.key.name(getattr(pygame, c)).lower() for c in dir(pygame)
+                if c.startswith("K_")) - {""}
+    return _KEY_NAMES
+
+
+def key_problem(text: str) -> str | None:
+    """Why ``text`` is not a key chord a device can send, or None if it is one."""
+    parts = [p.strip().lower() for p in text.split("+")] if text != "+" else ["+"]
+    if text.endswith("++"):
+        parts = [p.strip().lower() for p in text[:-2].split("+")] + ["+"]
+    for mod in parts[:-1]:
+        if mod not in MODIFIERS:
+            return f"unknown modifier '{mod}' in key '{text}'; expected {', '.join(MODIFIERS)}"
+    name = parts[-1]
+    if name in _key_names() or name in BUTTON_KEYS or \
+            (name.startswith("gamepad.button") and name[len("gamepad.button"):].isdigit()):
+        return None
+    return (f"unknown key name '{name}'; expected a pygame key name such as a, 1, space, "
+            f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.button0")
+
+
 def key_chord(name: str, mods: tuple[str, ...] | list[str] = ()) -> str:
     """Chord string for a key name and held modifiers."""
     return "+".join(sorted(set(m for m in mods if m in MODIFIERS)) + [name.lower()])

@@ -20,7 +20,7 @@ from pydantic import Field, NonNegativeFloat, model_validator
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface import events as ev
-from puppet.interface.app_keys import normalize_key
+from puppet.interface.app_keys import SIM_ACTIONS, key_problem, normalize_key
 from puppet.interface.events import Event
 
 Vec2 = tuple[float, float]
@@ -31,7 +31,7 @@ class DragSpec(Spec):
     link: str
     point: Vec2 = (0.0, 0.0)
     to: Vec2 = Field(description="world target, m")
-    start: Vec2 | None = Field(None, description="world target at start; default: the point")
+    start: Vec2 | None = Field(None, description="world target at start; default: 'to'")
     over: NonNegativeFloat = 0.0
     hold: NonNegativeFloat = 0.0
 
@@ -51,6 +51,12 @@ class ScriptEntry(Spec):
         if len(given) != 1:
             raise ValueError("each entry needs exactly one of mouse, key, action, drag; "
                              f"got {', '.join(given) or 'none'}")
+        if self.action is not None and self.action not in SIM_ACTIONS:
+            raise ValueError(f"unknown action '{self.action}'; a script can perform "
+                             f"{', '.join(sorted(SIM_ACTIONS))} (window actions such as "
+                             "pause or slowdown have no meaning in a headless run)")
+        if self.key is not None and key_problem(self.key):
+            raise ValueError(key_problem(self.key))
         if self.mouse is not None and not all(0.0 <= v <= 1.0 for v in self.mouse):
             raise ValueError(f"mouse position must be within [0, 1] x [0, 1], got "
                              f"{list(self.mouse)}")
