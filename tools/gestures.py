@@ -146,3 +146,22 @@ def climb(evaluate, score, bounds, best_s, best_p, best_o, budget):
         if not improved:
             step = {k: v / 2 for k, v in step.items()}
     return best_s, best_p, best_o
+
+
+def search(evaluate, score, bounds, rng, tries: int, climbs: int, refine: int, report):
+    """Random restarts then hill climbs: ``tries`` random points within ``bounds``, then
+    ``climb`` from each of the best ``climbs``; ``report(rank, s0, s1, outcome)`` after
+    each climb. Returns (score, p, outcome) of the best."""
+    pool = []
+    for _ in range(tries):
+        p = {k: rng.uniform(lo, hi) for k, (lo, hi) in bounds.items()}
+        o = evaluate(p)
+        pool.append((score(o), p, o))
+    pool.sort(key=lambda item: -item[0])
+    best_s, best_p, best_o = pool[0]
+    for rank, (s0, p0, o0) in enumerate(pool[:climbs]):
+        s1, p1, o1 = climb(evaluate, score, bounds, s0, p0, o0, refine)
+        report(rank, s0, s1, o1)
+        if s1 > best_s:
+            best_s, best_p, best_o = s1, p1, o1
+    return best_s, best_p, best_o

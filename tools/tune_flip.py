@@ -29,7 +29,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tools.gestures import Runner, climb, compile_entries  # noqa: E402
+from tools.gestures import Runner, compile_entries, search  # noqa: E402
 
 STAND = (0.656, 0.583)
 # name: (low, high)
@@ -91,20 +91,12 @@ def main(argv=None) -> int:
         # the checkpoint is at step 0: entries act from there on
         return runner.run(compile_entries(entries(p), runner.dt, STAND), until)
 
-    rng = random.Random(args.seed)
-    pool = []
-    for _ in range(args.tries):
-        p = {k: rng.uniform(lo, hi) for k, (lo, hi) in BOUNDS.items()}
-        o = evaluate(p)
-        pool.append((score(o), p, o))
-    pool.sort(key=lambda item: -item[0])
-    best_s, best_p, best_o = pool[0]
-    for rank, (s0, p0, o0) in enumerate(pool[:args.climbs]):
-        s1, p1, o1 = climb(evaluate, score, BOUNDS, s0, p0, o0, args.refine)
+    def report(rank, s0, s1, o1):
         print(f"climb {rank}: score {s0:.1f} -> {s1:.1f}, turned {o1.turned:.0f}, "
               f"tilt at end {o1.tilt_end:.0f}, on the floor {o1.max_tilt_ground:.0f}")
-        if s1 > best_s:
-            best_s, best_p, best_o = s1, p1, o1
+
+    best_s, best_p, best_o = search(evaluate, score, BOUNDS, random.Random(args.seed),
+                                    args.tries, args.climbs, args.refine, report)
     o = best_o
     print(f"best: score {best_s:.1f} turned {o.turned:.0f} deg, tilt at end "
           f"{o.tilt_end:.0f}, largest tilt on the floor {o.max_tilt_ground:.0f}, "

@@ -27,7 +27,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tools.gestures import Runner, climb, compile_entries  # noqa: E402
+from tools.gestures import Runner, compile_entries, search  # noqa: E402
 
 STAND = (0.656, 0.583)
 HOP_OFF = [  # the first hop of luxo-hop.yaml: off the start platform onto the snow
@@ -98,21 +98,13 @@ def main(argv=None) -> int:
         runner.back()
         return runner.run(compile_entries(entries(p), runner.dt, STAND), until)
 
-    rng = random.Random(args.seed)
-    pool = []
-    for _ in range(args.tries):
-        p = {k: rng.uniform(lo, hi) for k, (lo, hi) in BOUNDS.items()}
-        o = evaluate(p)
-        pool.append((score(o), p, o))
-    pool.sort(key=lambda item: -item[0])
-    best_s, best_p, best_o = pool[0]
-    for rank, (s0, p0, o0) in enumerate(pool[:args.climbs]):
-        s1, p1, o1 = climb(evaluate, score, BOUNDS, s0, p0, o0, args.refine)
+    def report(rank, s0, s1, o1):
         print(f"climb {rank}: score {s0:.1f} -> {s1:.1f}, landed at {o1.flight_x[1]:.2f} m, "
               f"tilt at end {o1.tilt_end:.0f}, on the snow {o1.max_tilt_ground:.0f}",
               flush=True)
-        if s1 > best_s:
-            best_s, best_p, best_o = s1, p1, o1
+
+    best_s, best_p, best_o = search(evaluate, score, BOUNDS, random.Random(args.seed),
+                                    args.tries, args.climbs, args.refine, report)
     o = best_o
     print(f"best: score {best_s:.1f}: flight {o.flight_x[0]:.2f} -> {o.flight_x[1]:.2f} m "
           f"({o.airborne:.2f} s), x at end {o.x_end:.2f} m, tilt at end {o.tilt_end:.0f}, "

@@ -95,7 +95,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
     def save_gestures() -> str:
         """Write the live interface's gestures into its file (the reload follows)."""
-        from puppet.data.catalog import read_text
+        from puppet.data.yamlfile import read_text
         from puppet.data.errors import DataError
         from puppet.data.gesture_file import replace_gestures
 

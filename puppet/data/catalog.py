@@ -15,7 +15,7 @@ from puppet.data.characters import CharacterSpec, parse_character
 from puppet.data.errors import DataError
 from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
 from puppet.data.scenes import SceneSpec, parse_scene
-from puppet.data.yamlfile import Located, load_file, load_text
+from puppet.data.yamlfile import Located, load_file, load_text, read_text
 
 ROOT = Path(os.environ.get("PUPPET_HOME") or Path(__file__).resolve().parents[2])
 
@@ -137,19 +137,6 @@ def setup_from_text(text: str, interface_path: str | Path, scene: str | None = N
         raise located.error(("scene",), exc.message) from None
     scene_spec = parse_scene(load_file(scene_path))
     return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path)
-
-
-def read_text(path: str | Path) -> str:
-    """A data file's text (UTF-8), with the loader's one-line errors."""
-    path = Path(path)
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise DataError(str(path), None, None, "no such file") from None
-    except UnicodeDecodeError as exc:
-        raise DataError(str(path), None, None, f"not UTF-8 text ({exc.reason})") from None
-    except OSError as exc:
-        raise DataError(str(path), None, None, f"cannot read: {exc.strerror}") from None
 
 
 def load_setup(interface: str, scene: str | None = None) -> Setup:

@@ -104,15 +104,19 @@ def load_text(text: str, path: str) -> Located:
     return located
 
 
-def load_file(path: str | Path) -> Located:
-    """Read and parse a YAML file (UTF-8)."""
+def read_text(path: str | Path) -> str:
+    """A data file's text (UTF-8), with the loader's one-line errors."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise DataError(str(path), None, None, "no such file") from None
     except UnicodeDecodeError as exc:
         raise DataError(str(path), None, None, f"not UTF-8 text ({exc.reason})") from None
     except OSError as exc:
         raise DataError(str(path), None, None, f"cannot read: {exc.strerror}") from None
-    return load_text(text, str(path))
+
+
+def load_file(path: str | Path) -> Located:
+    """Read and parse a YAML file (UTF-8)."""
+    return load_text(read_text(path), str(path))
