@@ -219,3 +219,50 @@ def test_grid_map_joints_and_mirror_are_validated(tmp_path):
     s.handle(ev.mouse(0.0, 0.5))  # mirrored: pose b's knee; the ankle is not driven
     assert deg(s.character.servos["knee"].target) == pytest.approx(90)
     assert s.character.servos["ankle"].target == ankle
+
+
+def test_the_gap_log_leaps_the_gap_rather_than_stepping_across_it():
+    """assets/logs/cat-gap.jsonl (its expectations are checked by test_logs.py) really
+    leaps: replayed step by step, the cat never touches the gap's walls or floor, never
+    touches both sides of the gap at once (a 25 cm gap is short enough for a stretched
+    cat to bridge), and is wholly in the air between its last touch on the near side and
+    its first on the far side - the back feet leave before the front feet land."""
+    import yaml
+
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import apply_log, new_session, setup_for_log
+
+    scene = yaml.safe_load((ROOT / "assets/scenes/cat-gap.yaml").read_text())
+    pit = next(g["points"] for g in scene["ground"] if g["name"] == "gap floor")
+    near, far, rim = pit[0][0], pit[-1][0], 0.005
+    log = read_log(ROOT / "assets/logs/cat-gap.jsonl")
+    setup, _ = setup_for_log(log)
+    s = new_session(log, setup)
+    c = s.character
+    seen = {"pit": [], "bridge": [], "last_near": None, "first_far": None, "between": []}
+
+    def tick(sess):
+        pts = []
+        for n in c.link_order:
+            c.bodies[n].each_arbiter(lambda arb: pts.extend(
+                (p.point_a.x, p.point_a.y) for p in arb.contact_point_set.points))
+        if any(y < -rim for _, y in pts):
+            seen["pit"].append(sess.time)
+        on_near = any(x <= near + rim for x, _ in pts)
+        on_far = any(x >= far - rim for x, _ in pts)
+        if on_near and on_far:
+            seen["bridge"].append(sess.time)
+        if on_near:
+            seen["last_near"] = sess.time
+        if on_far and seen["first_far"] is None:
+            seen["first_far"] = sess.time
+        if pts and not on_near and not on_far:
+            seen["between"].append(sess.time)
+
+    apply_log(s, log, every=1, on_tick=tick)
+    assert not seen["pit"], f"touched the gap's walls or floor at t = {seen['pit'][:3]}"
+    assert not seen["bridge"], f"touched both sides at once at t = {seen['bridge'][:3]}"
+    assert not seen["between"]
+    flight = seen["first_far"] - seen["last_near"]
+    assert flight >= 0.05, f"in the air over the gap for {flight:.3f} s only"
+    assert c.com()[0] > 3.6 + 0.15  # and on, past the top step's edge
