@@ -64,7 +64,9 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     else:
         help_key = setup.interface.app_key_table()["help"]
         rows += [("", ""), (help_key, "all keys")]
-    width = 330
+    # As wide as the longest line needs, up to half the window (then text is clipped).
+    widest = max((110 + small.size(text)[0] for _, text in rows if text), default=0)
+    width = int(min(max(330, widest + 16), surface.get_width() / 2))
     x0 = surface.get_width() - width - 8
     _panel(surface, pygame.Rect(x0, 8, width, 8 + len(rows) * 18))
     for i, (k, text) in enumerate(rows):

@@ -190,7 +190,7 @@ class InterfaceSpec(Spec):
                                         description="recorded mouse paths bound to keys")
     initial: str | None = Field(None, description="starting state; default the first")
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
-    control_rate: float = Field(120.0, ge=1.0, le=10000.0,
+    control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
 
     @field_validator("sequences")
