@@ -18,6 +18,7 @@ from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, Simulation
 from puppet.timeline.history import CHECKPOINT_INTERVAL, History, Snapshot
+from puppet.timeline.playback import play
 
 
 class Session:
@@ -276,11 +277,7 @@ class Session:
         self._restore(snap)
         self._rebuilding = True
         try:
-            for at, event in history.events_after(snap, step):
-                if at > self.sim.steps:
-                    self.advance(at - self.sim.steps)
-                self.handle(event)
-            self.advance(step - self.sim.steps)
+            play(self, history.events_after(snap, step), until_step=None, end_step=step)
         finally:
             self._rebuilding = False
 

@@ -34,7 +34,6 @@ class Snapshot:
     step: int
     sim: bytes
     runtime: dict = field(repr=False)
-    kind: str = "auto"
     event_seq: int = 0  # how many events had been recorded when it was taken
 
 
@@ -67,7 +66,6 @@ class History:
 
     # -- adding ------------------------------------------------------------------------
     def set_start(self, snap: Snapshot) -> None:
-        snap.kind = "start"
         snap.event_seq = self.next_seq
         self.start = snap
         self.auto.clear()
@@ -78,7 +76,6 @@ class History:
 
     def add(self, snap: Snapshot) -> None:
         """An automatic keyframe (at the head of the history)."""
-        snap.kind = "auto"
         snap.event_seq = self.next_seq
         self.auto.append(snap)
         oldest = self.auto[0].event_seq
@@ -86,7 +83,6 @@ class History:
             self.events = [e for e in self.events if e[0] >= oldest]
 
     def add_manual(self, snap: Snapshot) -> None:
-        snap.kind = "manual"
         snap.event_seq = self.next_seq
         self.manual.append(snap)
 
@@ -131,15 +127,9 @@ class History:
         return None
 
     def last_checkpoint(self, before: int) -> Snapshot | None:
-        """The latest manual or automatic checkpoint strictly before step ``before``."""
-        best = None
-        for seq in (self.manual, self.auto):
-            for snap in reversed(seq):
-                if snap.step < before:
-                    if best is None or snap.step > best.step:
-                        best = snap
-                    break
-        return best if best is not None else self.start
+        """The latest manual or automatic checkpoint strictly before step ``before``
+        (the start, if the automatic ones that old have been dropped)."""
+        return self.keyframe_before(before - 1) or self.start
 
     # -- for the HUD's timeline bar ----------------------------------------------------
     def span(self) -> tuple[int, int] | None:

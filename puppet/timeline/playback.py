@@ -10,9 +10,12 @@ per-step callback is only paid for when one is asked for.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING
 
 from puppet.interface.events import Event
-from puppet.session import Session
+
+if TYPE_CHECKING:  # the session itself plays its history back through here
+    from puppet.session import Session
 
 
 def play(session: Session, events: Iterable[tuple[int, Event]], until_step: int | None,
