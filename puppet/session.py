@@ -30,8 +30,7 @@ class Session:
         self.setup = setup
         self.sim = Simulation(setup.character, setup.scene, dt)
         self.runtime = InterfaceRuntime(setup.interface, self.sim.character, self.sim)
-        self.app_keys = setup.interface.app_key_table()
-        self.key_to_app = {key: action for action, key in self.app_keys.items()}
+        self._bind_app_keys(setup.interface)
         # Every interface this session has run (hot reloads): snapshots name theirs by
         # index, so a rewind across a reload restores the interface of that time.
         self.versions: list[InterfaceSpec] = [setup.interface]
@@ -167,6 +166,10 @@ class Session:
         self.runtime = runtime
         self.version = index
         self.setup = dataclasses.replace(self.setup, interface=spec)
+        self._bind_app_keys(spec)
+
+    def _bind_app_keys(self, spec: InterfaceSpec) -> None:
+        """The app's keys as ``spec`` binds them, both ways round."""
         self.app_keys = spec.app_key_table()
         self.key_to_app = {key: action for action, key in self.app_keys.items()}
 

@@ -21,7 +21,6 @@ from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
 VIDEO_EXTS = {".mp4", ".mov", ".mkv", ".avi"}  # through ffmpeg (imageio-ffmpeg)
 GIF_EXTS = {".gif"}  # through pillow
-MESSAGE_SECONDS = 5.0  # how long a session message stays on screen (as in the window)
 
 
 @dataclass
@@ -130,15 +129,10 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     writer = _Writer(Path(out), fps)
     frames = 0
     video_time = 0.0
-    seen_message, message_until = session.message_serial, 0.0
 
     def emit(wall_dt: float | None) -> None:
-        nonlocal frames, seen_message, message_until
-        if session.message_serial != seen_message:  # e.g. a blow-up was recovered
-            seen_message, message_until = session.message_serial, video_time + MESSAGE_SECONDS
-            info.message = session.message
-        elif info.message and video_time > message_until:
-            info.message = ""
+        nonlocal frames
+        info.follow_messages(session, video_time)
         info.slowdown = info.measured = clock.slowdown
         if not session.sim.blown_up():  # between two checks: keep the last good frame
             renderer.render(session, hud, wall_dt=wall_dt)

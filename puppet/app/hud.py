@@ -15,6 +15,9 @@ DIM = (110, 116, 128)
 PANEL = (255, 255, 255, 200)
 
 
+MESSAGE_SECONDS = 5.0  # how long a session message stays on screen
+
+
 @dataclass
 class HudInfo:
     slowdown: float = 1.0
@@ -24,6 +27,18 @@ class HudInfo:
     show_help: bool = False
     message: str = ""
     scrubbing: bool = False  # the rewind key is held
+    _seen_serial: int = 0
+    _message_until: float = 0.0
+
+    def follow_messages(self, session: Session, now: float) -> None:
+        """Show the session's newest message (e.g. a recovered blow-up) for
+        MESSAGE_SECONDS of the caller's clock (wall time in the window, video time in
+        an export), then clear it."""
+        if session.message_serial != self._seen_serial:
+            self._seen_serial, self._message_until = session.message_serial, now + MESSAGE_SECONDS
+            self.message = session.message
+        elif self.message and now > self._message_until:
+            self.message = ""
 
 
 def _panel(surface, rect) -> None:

@@ -72,7 +72,6 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    seen_message, message_until = session.message_serial, 0.0
     clock = SimClock(session.sim.dt, slowdown or setup.interface.slowdown)
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
@@ -234,12 +233,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                             f"{session.sim.state_hash()} (recorded {replay.end_hash or '-'})")
         else:
             session.advance(steps)
-        now = time.perf_counter()
-        if session.message_serial != seen_message:  # e.g. a blow-up was recovered
-            seen_message, message_until = session.message_serial, now + 5.0
-            info.message = session.message
-        elif info.message and now > message_until:
-            info.message = ""
+        info.follow_messages(session, time.perf_counter())
         if reload_error:
             info.message = reload_error
         info.scrubbing = scrub.active
