@@ -40,7 +40,6 @@ import statistics
 import sys
 import time
 import tracemalloc
-from collections import deque
 from pathlib import Path
 
 FRAME_HZ = 60.0  # the window's frame rate: one batch of input per frame

@@ -7,7 +7,6 @@ from pathlib import Path
 from puppet.data import catalog
 from puppet.data.characters import parse_character
 from puppet.data.errors import DataError
-from puppet.data.interfaces import check_against_character, parse_interface
 from puppet.data.scenes import parse_scene
 from puppet.data.yamlfile import Located, load_file
 from puppet.timeline.script import parse_script
@@ -46,13 +45,7 @@ def check_file(path: str | Path) -> str:
     elif kind == "script":
         parse_script(located)
     else:
-        spec = parse_interface(located)
-        try:
-            character_path = catalog.find("character", spec.character)
-        except DataError as exc:
-            raise located.error(("character",), exc.message) from None
-        character = parse_character(load_file(character_path))
-        check_against_character(spec, character, located)
+        spec = catalog.check_interface(located)[0]
         try:
             catalog.find("scene", spec.scene)
         except DataError as exc:

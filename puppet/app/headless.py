@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import os
 from pathlib import Path
 
@@ -81,12 +83,12 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
             renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png",
                           ghost=_synced(ghost, s))
 
+    recording = contextlib.nullcontext()
     if record:
         from puppet.timeline.log import Recorder
 
-        with Recorder(session, record, slowdown=slowdown, description=description):
-            play(session, events, until, every, on_tick)
-    else:
+        recording = Recorder(session, record, slowdown=slowdown, description=description)
+    with recording:
         play(session, events, until, every, on_tick)
     if screenshot:
         renderer.save(session, screenshot, ghost=_synced(ghost, session))

@@ -28,7 +28,6 @@ INPUT_PATTERNS = (
     ("gamepad.buttonN", r"gamepad\.button\d+"),
     ("channel.NAME", r"channel\.[A-Za-z_][A-Za-z0-9_.-]*"),
 )
-CONTINUOUS_INPUTS = ("mouse.x", "mouse.y")  # kept for older callers
 
 
 def check_input_name(name: str) -> str:

@@ -108,6 +108,16 @@ def parse_interface_text(text: str, path: str | Path, character: CharacterSpec |
 
     Returns (spec, located, character spec, character path or None)."""
     located = load_text(text, str(path))
+    spec, character, character_path = check_interface(located, character, character_path)
+    return spec, located, character, (Path(character_path) if character_path else None)
+
+
+def check_interface(located: Located, character: CharacterSpec | None = None,
+                    character_path: str | Path | None = None
+                    ) -> tuple[InterfaceSpec, CharacterSpec, str | Path | None]:
+    """Validate a parsed interface file and its references to its character (found by
+    name and loaded, unless a running session's ``character`` is given: then the file
+    must name that one). Returns (spec, character spec, character path)."""
     spec = parse_interface(located)
     if character is None:
         try:
@@ -122,7 +132,7 @@ def parse_interface_text(text: str, path: str | Path, character: CharacterSpec |
                                                 f"running session's '{running}'; a reload "
                                                 "cannot change the character (restart instead)")
     check_against_character(spec, character, located)
-    return spec, located, character, (Path(character_path) if character_path else None)
+    return spec, character, character_path
 
 
 def setup_from_text(text: str, interface_path: str | Path, scene: str | None = None) -> Setup:

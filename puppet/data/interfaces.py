@@ -16,7 +16,7 @@ from typing import Annotated, Literal, Union
 from pydantic import (Discriminator, Field, PositiveFloat, NonNegativeFloat, Tag,
                       field_validator, model_validator)
 
-from puppet.data.actions import (CONTINUOUS_INPUTS, ActionSpec, ChainSpec, ConditionSpec,
+from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
                                  KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
                                  check_input_name)
 from puppet.data.characters import CharacterSpec
@@ -24,7 +24,7 @@ from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface.app_keys import APP_KEYS, key_problem, normalize_key
 
-__all__ = ["CONTINUOUS_INPUTS", "InterfaceSpec", "LinearMapSpec", "GridMapSpec",
+__all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
            "KeyActionSpec", "StateSpec", "GestureSpec", "load_interface", "parse_interface",
            "check_against_character", "with_gesture"]
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 
-from puppet.data.interfaces import GridMapSpec, LinearMapSpec
+from puppet.data.interfaces import GridMapSpec
+from puppet.interface.ik import hermite
 
 
 def shape(curve, u: float) -> float:
@@ -18,25 +19,9 @@ def shape(curve, u: float) -> float:
     if curve == "linear":
         return u
     if curve == "smoothstep":
-        u = min(1.0, max(0.0, u))
-        return u * u * (3.0 - 2.0 * u)
+        return hermite(u)  # the same ease as an IK reach: 3u^2 - 2u^3, clamped
     p = curve.power  # sign-preserving power, so unclamped maps stay monotonic
     return math.copysign(abs(u) ** p, u)
-
-
-def linear(spec: LinearMapSpec, value: float) -> float:
-    """Mapped value (radians, before per-joint gains) for an input value."""
-    (x0, x1), (y0, y1) = spec.from_, spec.to
-    u = (value - x0) / (x1 - x0)
-    if spec.clamp:
-        u = min(1.0, max(0.0, u))
-    return math.radians(y0 + shape(spec.curve, u) * (y1 - y0))
-
-
-def linear_targets(spec: LinearMapSpec, value: float) -> dict[str, float]:
-    """Joint -> target (radians): the mapped value times each joint's gain."""
-    v = linear(spec, value)
-    return {joint: gain * v for joint, gain in spec.gains().items()}
 
 
 def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
@@ -53,29 +38,14 @@ def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
             (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
 
 
-def grid_targets(spec: GridMapSpec, poses: dict[str, dict[str, float]], x: float,
-                 y: float) -> dict[str, float]:
-    """Bilinear blend of the four grid poses around (x, y); poses hold radians.
-
-    Row 0 is the top (y = 1), column 0 the left (x = 0); inputs are clamped to 0..1.
-    Axes in ``spec.mirror`` are flipped first (u -> 1 - u); only ``spec.joints`` are
-    returned when the map names them.
-    """
-    out: dict[str, float] = {}
-    only = spec.joints
-    for r, c, w in _grid_corners(len(spec.grid), len(spec.grid[0]), spec.mirror, x, y):
-        for joint, angle in poses[spec.grid[r][c]].items():
-            if only is None or joint in only:
-                out[joint] = out.get(joint, 0.0) + w * angle
-    return out
-
-
 def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
     """A fast ``apply(values) -> joints written`` for one map (the mouse hot path):
     constants are worked out once and servos looked up once."""
     if isinstance(spec, GridMapSpec):
-        # Same arithmetic, in the same order, as grid_targets (so the bits agree), with
-        # each cell's pose reduced to (joint index, angle) for the joints this map drives.
+        # Bilinear blend of the four grid poses around (x, y): row 0 is the top (y = 1),
+        # column 0 the left (x = 0), inputs clamped to 0..1, axes in ``mirror`` flipped
+        # first. Each cell's pose is reduced to (joint index, angle) for the joints
+        # this map drives (``joints:``, else all of the pose's).
         x_name, y_name, mirror = spec.x, spec.y, spec.mirror
         rows, cols, only = len(spec.grid), len(spec.grid[0]), spec.joints
         joints: list[str] = []
