@@ -367,37 +367,14 @@ def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
 
 
 # -- logs ----------------------------------------------------------------------------
-def replay_function():
-    """``puppet.testing.replay_log`` if it exists yet (another module provides it)."""
-    try:
-        from puppet.testing import replay_log
-    except ImportError:
-        return None
-    return replay_log
-
-
-def _replayed_seconds(result) -> float | None:
-    for holder in (result, getattr(result, "session", None), getattr(result, "sim", None)):
-        t = getattr(holder, "time", None)
-        if isinstance(t, (int, float)):
-            return float(t)
-    if isinstance(result, dict):
-        for key in ("time", "seconds", "sim_seconds"):
-            if isinstance(result.get(key), (int, float)):
-                return float(result[key])
-    return None
-
-
 def measure_logs(repeats: int) -> dict:
     from puppet.data.catalog import folder
 
     logs = sorted(folder("log").glob("*.jsonl"))
     if not logs:
         return {"status": "no logs", "items": []}
-    replay_log = replay_function()
-    if replay_log is None:
-        return {"status": "no replayer (puppet.testing.replay_log missing)",
-                "items": [{"log": p.stem} for p in logs]}
+    from puppet.testing import replay_log
+
     items = []
     for path in logs:
         item: dict = {"log": path.stem}
@@ -410,7 +387,7 @@ def measure_logs(repeats: int) -> dict:
                 result = replay_log(path)
                 walls.append(time.perf_counter() - t0)
             wall = statistics.median(walls)
-            seconds = _replayed_seconds(result)
+            seconds = result.time
             item.update({"wall_s": wall, "sim_seconds": seconds,
                          "speed_x": seconds / wall if seconds and wall > 0 else None})
         except Exception as exc:  # noqa: BLE001 - a report, not a test

@@ -205,7 +205,7 @@ def export_command(args) -> int:
     size = _parse_size(args.size)
     path = args.logs[0]
     log = read_log(path, args.allow_truncated)
-    result = replay(path, args.until_step, args.allow_truncated, check=args.check,
+    result = replay(log, args.until_step, args.allow_truncated, check=args.check,
                     trajectory=bool(args.plot) or args.check)
     for w in result.warnings:
         print(w, file=sys.stderr)

@@ -26,10 +26,6 @@ class GestureRecorder:
         self.unsaved: dict[str, dict] = {}  # key -> gesture event bound since the last save
 
     @property
-    def recording(self) -> bool:
-        return self.state == RECORDING
-
-    @property
     def binding(self) -> bool:
         return self.state == BINDING
 

@@ -17,6 +17,7 @@ import math
 
 import pygame
 
+from puppet.app.render import LAYER_ORDER
 from puppet.data.characters import CharacterSpec
 from puppet.interface.app_keys import MODIFIERS
 
@@ -126,8 +127,7 @@ def draw_pose_icon(surface: pygame.Surface, rect: pygame.Rect, spec: CharacterSp
         for shape in spec.link(name).shapes:
             pts = [to_px(_apply(frames[name], p)) for p in _shape_points(shape)]
             _draw_stick(surface, shape, pts, CONTEXT, 1, scale)
-    order = {"far": 0, "mid": 1, "near": 2}
-    for name in sorted(moved, key=lambda n: order[spec.link(n).layer]):
+    for name in sorted(moved, key=lambda n: LAYER_ORDER[spec.link(n).layer]):
         link = spec.link(name)
         far = link.layer == "far"
         color = tuple(int(c * FAR_SHADE) for c in link.color) if far else link.color

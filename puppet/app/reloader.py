@@ -51,10 +51,6 @@ class Reloader:
             return None
         return st.st_mtime_ns, st.st_size
 
-    def mark_seen(self) -> None:
-        """Take the file as it is now as known (after writing it ourselves, say)."""
-        self.seen = self._stamp()
-
     def poll(self, now: float) -> Change | None:
         """A Change when the file was saved since the last poll, else None."""
         if now < self.next_poll:

@@ -55,24 +55,26 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     font = pygame.font.Font(None, 24)
     small = pygame.font.Font(None, 20)
 
-    session = Session(setup)
     feeder = recorder = None
+    slowdown = slowdown or setup.interface.slowdown
     if replay is not None:  # events come from a log; the devices only drive the window
         from puppet.timeline.replay import LogFeeder, new_session
 
         session = new_session(replay, setup)
         feeder = LogFeeder(session, replay, until_step)
-    elif not no_record:
+    else:
+        session = Session(setup)
+    if replay is None and not no_record:
         from puppet.timeline.log import Recorder, default_path
 
         path = record or default_path(setup.interface.name)
-        recorder = Recorder(session, path, slowdown=slowdown or setup.interface.slowdown,
+        recorder = Recorder(session, path, slowdown=slowdown,
                             exclusive=record is None, embed_interface=True)
         print(f"recording to {path}")
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    clock = SimClock(session.sim.dt, slowdown or setup.interface.slowdown)
+    clock = SimClock(session.sim.dt, slowdown)
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
     camera.follow(session.character.com(), None)

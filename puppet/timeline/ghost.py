@@ -31,10 +31,6 @@ class Ghost:
         self.fed = 0
         self.feeder.advance(0)  # the events logged at step 0 act before any step
 
-    @property
-    def finished(self) -> bool:
-        return self.feeder.finished
-
     def sync(self, live: Session) -> None:
         """Bring the ghost to the live session's simulated time."""
         target = round(live.time / self.session.sim.dt)

@@ -118,7 +118,6 @@ class Recorder:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.file = self.path.open("x" if exclusive else "w", encoding="utf-8")
-        self.lines = 0
         self._write(make_header(session, slowdown, description, expect, embed_interface))
         self._previous = session.listener
         session.listener = self.on_event
@@ -126,7 +125,6 @@ class Recorder:
     def _write(self, obj) -> None:
         self.file.write(_dumps(obj) + "\n")
         self.file.flush()
-        self.lines += 1
 
     def on_event(self, step: int, event: Event) -> None:
         if self.file.closed:

@@ -191,11 +191,13 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
         raise DataError(log.path, line, None, f"cannot apply this event: {msg}") from None
 
 
-def replay(path: str | Path, until_step: int | None = None, allow_truncated: bool = False,
+def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True) -> ReplayResult:
-    """Replay a log headless, as fast as it goes; evaluate its expectations."""
-    log = read_log(path, allow_truncated)
+    """Replay a log (a path, or one already read) headless, as fast as it goes;
+    evaluate its expectations."""
+    log = path if isinstance(path, Log) else read_log(path, allow_truncated)
+    path = log.path
     setup, warnings = setup_for_log(log)
     if log.truncated_at is not None:
         warnings.append(f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; "
