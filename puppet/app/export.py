@@ -39,8 +39,7 @@ def _even(n: float) -> int:
 def _forward_steps(log: Log, until_step: int | None) -> int:
     """Steps the replay will run (rewinds count again): for the progress bar."""
     fed = cur = 0
-    end = log.end_step if log.end_step is not None else (
-        log.events[-1].step if log.events else 0)
+    end = log.last_step
     for e in log.events:
         if until_step is not None and e.step > until_step:
             break

@@ -77,7 +77,7 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     if info.show_help:
         rows += [("", ""), ("app keys", "")] + app
     else:
-        help_key = setup.interface.app_key_table()["help"]
+        help_key = session.app_keys["help"]
         rows += [("", ""), (help_key, "all keys")]
     # As wide as the longest line needs, up to half the window (then text is clipped).
     widest = max((110 + small.size(text)[0] for _, text in rows if text), default=0)

@@ -172,6 +172,13 @@ class Log:
         return None if self.end is None else self.end["end"]
 
     @property
+    def last_step(self) -> int:
+        """Where the replay ends: the recorded end, else the last event's step."""
+        if self.end_step is not None:
+            return self.end_step
+        return self.events[-1].step if self.events else 0
+
+    @property
     def end_hash(self) -> str | None:
         return None if self.end is None else self.end.get("hash")
 

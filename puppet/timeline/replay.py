@@ -175,11 +175,9 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
     def on_event(i, _event):
         current["i"] = i
 
-    end = log.end_step
-    if end is None and log.events:
-        end = log.events[-1].step
     try:
-        play(session, log.pairs(), until_step, every, on_tick, end_step=end, on_event=on_event)
+        play(session, log.pairs(), until_step, every, on_tick, end_step=log.last_step,
+             on_event=on_event)
     except DataError as exc:  # a reload event whose interface text is invalid
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
@@ -350,8 +348,7 @@ class LogFeeder:
         self.events = log.pairs()
         self.i = 0
         self.until = until_step
-        self.end = log.end_step if log.end_step is not None else (
-            self.events[-1][0] if self.events else 0)
+        self.end = log.last_step
         self.speed_keys: list[str] = []  # "slower"/"faster" pressed while recording
 
     def _held_by_until(self) -> bool:
