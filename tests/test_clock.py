@@ -34,3 +34,16 @@ def test_measured_rate():
     for i in range(61):
         clock.sample(i / 60, i / 600)
     assert math.isclose(clock.measured_slowdown(), 10.0, rel_tol=1e-6)
+
+
+def test_apply_takes_the_speed_actions_and_says_so():
+    clock = SimClock(1 / 480, 1.0)
+    assert clock.apply("slower") and clock.slowdown == SLOWDOWNS[1]
+    assert clock.apply("faster") and clock.slowdown == 1
+    assert clock.apply("slowdown:4") and clock.slowdown == 4
+    assert clock.steps_for(0.1) == 12  # 0.1 wall s at 4x: 0.025 simulated s
+    assert clock.apply("slowdown:250") and clock.slowdown == 100
+    # not speed: pause is the viewer's (a replay's steps already hold what a pause did)
+    for other in ("pause", "quit", "help", None):
+        assert not clock.apply(other)
+    assert clock.slowdown == 100 and not clock.paused

@@ -191,3 +191,77 @@ def test_window_draws_a_ghost_and_records_only_the_live_run(hop, tmp_path, monke
     assert any(e.event.get("name") == "rewind" for e in log.events)
     assert ghost.fed == log.end_step  # the ghost ended at the live time
     assert replay(path).final_hash == log.end_hash  # the live log replays without it
+
+
+@pytest.fixture(scope="module")
+def slowed(tmp_path_factory) -> Path:
+    """luxo-keys: 0.1 s, then `l` (slowdown 4) for 0.2 s, then `k` (1x) for 0.3 s."""
+    from puppet.interface import events as ev
+    from puppet.session import Session
+    from puppet.timeline.log import Recorder
+
+    session = Session(load_setup("luxo-keys"))
+    path = tmp_path_factory.mktemp("slowed") / "slowed.jsonl"
+    with Recorder(session, path, slowdown=1.0):
+        session.advance(48)
+        assert session.handle(ev.key("l", True)) == "slowdown:4"
+        session.handle(ev.key("l", False))
+        session.advance(96)
+        assert session.handle(ev.key("k", True)) == "slowdown:1"
+        session.handle(ev.key("k", False))
+        session.advance(144)
+    return path
+
+
+def test_video_follows_a_recorded_slowdown_key(slowed, tmp_path, monkeypatch):
+    import puppet.app.export as export
+
+    budgets = []
+
+    class Spy(export.LogFeeder):
+        def advance(self, steps):
+            budgets.append(steps)
+            super().advance(steps)
+
+    monkeypatch.setattr(export, "LogFeeder", Spy)
+    video = export_video(slowed, tmp_path / "slowed.gif", fps=10, size=SMALL, hold=0,
+                         progress=False)
+    # as live: 0.1 s a frame is 48 steps at 1x, 12 at 4x (the events at step 0 first)
+    assert budgets == [0, 48] + [12] * 8 + [48] * 3
+    assert video.frames == 1 + 1 + 8 + 3
+    assert video.session.sim.state_hash() == read_log(slowed).end_hash
+
+
+def test_window_replay_follows_a_recorded_slowdown_key(slowed, monkeypatch):
+    import puppet.app.clock as clock_mod
+    import puppet.timeline.replay as replay_mod
+    from puppet.app import window
+
+    seen, feeders = [], []
+
+    class SpyClock(clock_mod.SimClock):
+        def apply(self, action):
+            applied = super().apply(action)
+            seen.append((action, applied, self.slowdown))
+            return applied
+
+    class SpyFeeder(replay_mod.LogFeeder):
+        def __init__(self, *a, **kw):
+            super().__init__(*a, **kw)
+            feeders.append(self)
+
+    real_get = pygame.event.get
+
+    def fake_get(*args, **kw):  # quit once the replay is over
+        real_get()
+        done = feeders and feeders[0].finished
+        return [pygame.event.Event(pygame.QUIT)] if done else []
+
+    monkeypatch.setattr(clock_mod, "SimClock", SpyClock)
+    monkeypatch.setattr(replay_mod, "LogFeeder", SpyFeeder)
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    monkeypatch.setattr(pygame.mouse, "get_focused", lambda: False)
+    log = read_log(slowed)
+    assert window.run_window(load_setup("luxo-keys"), replay=log) == 0
+    assert seen == [("slowdown:4", True, 4.0), ("slowdown:1", True, 1.0)]
+    assert feeders[0].session.sim.state_hash() == log.end_hash

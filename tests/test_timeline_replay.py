@@ -14,6 +14,7 @@ from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.testing import check, record_script, replay_log
 from puppet.timeline.playback import play
+from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -181,7 +182,61 @@ def test_window_feeder_passes_on_recorded_speed_keys(tmp_path):
         assert session.handle(ev.key("-", True)) == "slower"
         session.advance(10)
     log = read_log(path)
-    feeder = LogFeeder(new_session(log, load_setup("luxo-mouse")), log)
+    actions = []
+    feeder = LogFeeder(new_session(log, load_setup("luxo-mouse")), log,
+                       on_action=actions.append)
     feeder.advance(100)
-    assert feeder.finished and feeder.speed_keys == ["slower"]
+    assert feeder.finished and actions == ["slower"]
     assert feeder.session.steps == 20
+
+
+@pytest.fixture(scope="module")
+def rewound(tmp_path_factory) -> Path:
+    """A short log with mouse moves and a recorded rewind (from step 300 back to 150)."""
+    from puppet.timeline.log import Recorder
+
+    session = Session(load_setup("luxo-mouse"))
+    path = tmp_path_factory.mktemp("logs") / "rewound.jsonl"
+    with Recorder(session, path):
+        session.handle(ev.mouse(0.9, 0.1))
+        session.advance(120)
+        session.handle(ev.mouse(0.1, 0.9))
+        session.advance(180)
+        session.handle({"type": "action", "name": "rewind", "to_step": 150})
+        session.handle(ev.mouse(0.5, 0.5))
+        session.advance(100)
+    return path
+
+
+def _fed(path: Path, until: int | None, budget: int) -> Session:
+    """The window's and the export's way: a LogFeeder driven ``budget`` steps a frame."""
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    log = read_log(path)
+    feeder = LogFeeder(new_session(log, setup_for_log(log)[0]), log, until)
+    feeder.advance(0)
+    while not feeder.finished:
+        feeder.advance(budget)
+    return feeder.session
+
+
+@pytest.mark.parametrize("until", [None, 100, 150, 200, 250, 280, 300, 420])
+def test_window_feeder_stops_where_headless_replay_does(rewound, until):
+    # The log ends at 250 (after going back from 300 to 150). 250: the end; 280:
+    # first reached before the rewind; 300: the rewind's own step (it acts, then the
+    # replay runs on past the end to 300 again); 420: past everything.
+    headless = replay(rewound, until_step=until, check=False, trajectory=False)
+    for budget in (1, 7, 64):
+        fed = _fed(rewound, until, budget)
+        assert (fed.steps, fed.sim.state_hash()) == (headless.steps, headless.final_hash), \
+            f"until {until}, budget {budget}"
+    assert headless.steps == (250 if until is None else until)
+
+
+@pytest.mark.parametrize("until", [None, 1000, 2880, 3000])
+def test_window_feeder_matches_headless_replay_on_a_real_log(until):
+    path = ROOT / "assets" / "logs" / "luxo-keys-sit-stand.jsonl"
+    headless = replay(path, until_step=until, check=False, trajectory=False)
+    fed = _fed(path, until, 97)
+    assert (fed.steps, fed.sim.state_hash()) == (headless.steps, headless.final_hash)

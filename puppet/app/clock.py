@@ -38,6 +38,22 @@ class SimClock:
         self.slowdown = min(100.0, max(1.0, float(value)))
         self.index = nearest_slowdown_index(self.slowdown)
 
+    def apply(self, action: str | None) -> bool:
+        """Apply a speed action: "slower", "faster" (the app keys) or "slowdown:N" (an
+        interface key). One place for the live window, its replay and the video export,
+        which pass on the actions a log's events return. False for any other action;
+        pause is not one: it is the viewer's own (a log's steps already hold what a
+        pause did: nothing), so a replay must not stop at a recorded pause."""
+        if action == "slower":
+            self.slower()
+        elif action == "faster":
+            self.faster()
+        elif action is not None and action.startswith("slowdown:"):
+            self.set_slowdown(float(action.split(":", 1)[1]))
+        else:
+            return False
+        return True
+
     def toggle_pause(self) -> None:
         self.paused = not self.paused
         self._owed = 0.0

@@ -2,7 +2,8 @@
 
 The video is the window's replay drawn off-screen: a ``LogFeeder`` advances the log by
 (1 / fps) / slowdown simulated seconds per frame, the camera eases as in the window,
-the HUD is drawn, and the recorded speed keys change the slowdown as they did live.
+the HUD is drawn, and the recorded speed keys ("slower", "faster", an interface's
+``slowdown:`` keys) change the slowdown as they did live, through ``SimClock.apply``.
 Frames go to imageio: mp4 (and other containers) through imageio-ffmpeg's bundled
 ffmpeg binary, gif through pillow. Nothing is hand-encoded.
 """
@@ -113,10 +114,10 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     setup, _warnings = setup_for_log(log)
     slowdown = float(slowdown or log.header.get("slowdown") or 1.0)
     session = new_session(log, setup)
-    feeder = LogFeeder(session, log, until_step)
+    clock = SimClock(session.sim.dt, slowdown)
+    feeder = LogFeeder(session, log, until_step, on_action=clock.apply)
     renderer = FrameRenderer(session, tuple(size), slowdown)
     pygame = renderer.pygame
-    clock = SimClock(session.sim.dt, slowdown)
     info = renderer.info
     info.fps = fps
     out_size = (_even(size[0] * scale), _even(size[1] * scale))
@@ -150,9 +151,7 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
             owed += frame_dt / clock.slowdown / session.sim.dt
             n = int(owed + 1e-9)
             owed -= n
-            feeder.advance(n)
-            while feeder.speed_keys:  # the recorded slowdown changes
-                getattr(clock, feeder.speed_keys.pop(0))()
+            feeder.advance(n)  # recorded speed keys reach the clock (clock.apply)
             video_time += frame_dt
             emit(frame_dt)
         if hold > 0:

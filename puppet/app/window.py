@@ -61,9 +61,11 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         from puppet.timeline.replay import LogFeeder, new_session
 
         session = new_session(replay, setup)
-        feeder = LogFeeder(session, replay, until_step)
     else:
         session = Session(setup)
+    clock = SimClock(session.sim.dt, slowdown)
+    if replay is not None:  # the recorded speed keys change the slowdown as they did live
+        feeder = LogFeeder(session, replay, until_step, on_action=clock.apply)
     if replay is None and not no_record:
         from puppet.timeline.log import Recorder, default_path
 
@@ -74,7 +76,6 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    clock = SimClock(session.sim.dt, slowdown)
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
     camera.follow(session.character.com(), None)
@@ -137,6 +138,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         """Do a window-side app action; False means quit."""
         if name == "quit":
             return False
+        if clock.apply(name):  # slower, faster, an interface key's slowdown
+            return True
         if name in ("rewind", "forward"):
             scrub.start(forward=name == "forward")
         if name == "pause":
@@ -144,10 +147,6 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         elif name == "step":
             if clock.paused:
                 session.advance(1)
-        elif name == "slower":
-            clock.slower()
-        elif name == "faster":
-            clock.faster()
         elif name == "help":
             info.show_help = not info.show_help
         elif name == "record_gesture" and feeder is None:
@@ -155,8 +154,6 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                                         session.app_keys["record_gesture"]))
         elif name == "save_gestures" and reloader is not None:
             session.say(save_gestures())
-        elif name and name.startswith("slowdown:"):  # an interface key's slowdown
-            clock.set_slowdown(float(name.split(":", 1)[1]))
         return True
 
     running = True
@@ -227,8 +224,6 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             scrub.update(wall_dt, forward=bool(pygame.key.get_mods() & pygame.KMOD_SHIFT))
         elif feeder is not None:
             feeder.advance(steps)
-            while feeder.speed_keys:  # the recorded slowdown changes
-                app_action(feeder.speed_keys.pop(0))
             if feeder.finished and not clock.paused:
                 clock.toggle_pause()
                 session.say(f"replay finished at step {session.steps}: state "

@@ -1,7 +1,9 @@
 """Feed (step, event) pairs into a session, stepping the physics between them.
 
 Events are applied in the order given (a log's file order): a recorded rewind makes
-the steps go back, and the events after it act on the new branch.
+the steps go back, and the events after it act on the new branch. ``next_move`` is
+the rule of when to apply, advance or stop; every replay (headless ``play``, the
+window's and the export's ``LogFeeder``) follows it, so they all end alike.
 
 The physics runs in long uninterrupted stretches from one event to the next; a
 per-step callback is only paid for when one is asked for.
@@ -16,6 +18,25 @@ from puppet.interface.events import Event
 
 if TYPE_CHECKING:  # the session itself plays its history back through here
     from puppet.session import Session
+
+
+def next_move(steps: int, next_event: int | None, until_step: int | None,
+              end_step: int | None) -> int | None:
+    """The one stepping rule of a replay, shared by ``play`` (headless) and
+    ``LogFeeder`` (the window, the video export, the ghost) so that they stop at the
+    same step in the same state. At ``steps``, with the next pending event logged at
+    ``next_event`` (None: no more): 0 means apply that event now; n > 0 means advance
+    n steps first (to the event, ``until_step`` or ``end_step``); None means stop.
+    ``until_step`` and ``end_step`` mean what they mean for ``play``."""
+    if until_step is not None and steps >= until_step:
+        return 0 if next_event == steps else None  # the events logged at it act first
+    if next_event is not None:
+        if next_event <= steps:
+            return 0
+        target = next_event if until_step is None else min(next_event, until_step)
+    else:  # the events ran out: on to until_step, else to end_step
+        target = end_step if until_step is None else until_step
+    return None if target is None or target <= steps else target - steps
 
 
 def play(session: Session, events: Iterable[tuple[int, Event]], until_step: int | None,
@@ -36,25 +57,17 @@ def play(session: Session, events: Iterable[tuple[int, Event]], until_step: int 
     index = 0
     nxt = next(pending, None)
     ticking = bool(every) and on_tick is not None
-    while True:
-        while nxt is not None and nxt[0] <= session.steps and (
-                until_step is None or session.steps < until_step or nxt[0] == session.steps):
+    while (move := next_move(session.steps, None if nxt is None else nxt[0], until_step,
+                             end_step)) is not None:
+        if move == 0:
             if on_event is not None:
                 on_event(index, nxt[1])
             session.handle(nxt[1])
             index += 1
             nxt = next(pending, None)
-        if nxt is None:
-            target = until_step if until_step is not None else end_step
-            if target is None or session.steps >= target:
-                break
-            stop = target
-        else:
-            if until_step is not None and session.steps >= until_step:
-                break
-            stop = nxt[0] if until_step is None else min(until_step, nxt[0])
+            continue
         if ticking:
-            stop = min(stop, (session.steps // every + 1) * every)
-        session.advance(stop - session.steps)
+            move = min(move, every - session.steps % every)
+        session.advance(move)
         if ticking and session.steps % every == 0:
             on_tick(session)

@@ -7,6 +7,7 @@ on. Events are applied in file order; the sim is advanced to each event's step f
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -17,7 +18,7 @@ from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
 from puppet.timeline.log import Log, read_log
-from puppet.timeline.playback import play
+from puppet.timeline.playback import next_move, play
 
 SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
 
@@ -340,44 +341,42 @@ def replay_command(args) -> int:
 
 
 class LogFeeder:
-    """Feeds a log into a session a budget of steps at a time (the window's replay):
-    the same order and rule as ``play``, cut into frames."""
+    """Feeds a log into a session a budget of steps at a time (the window's replay,
+    the video export, the ghost): ``play``'s rule (``next_move``), cut into frames.
 
-    def __init__(self, session: Session, log: Log, until_step: int | None = None):
+    ``on_action`` (if given) gets every app action the replayed events ask for (e.g.
+    "slowdown:4"), for the viewer's clock to follow as it did live (``SimClock.apply``).
+    """
+
+    def __init__(self, session: Session, log: Log, until_step: int | None = None,
+                 on_action: Callable[[str], object] | None = None):
         self.session = session
         self.events = log.pairs()
         self.i = 0
         self.until = until_step
         self.end = log.last_step
-        self.speed_keys: list[str] = []  # "slower"/"faster" pressed while recording
+        self.on_action = on_action
 
-    def _held_by_until(self) -> bool:
-        s = self.session.steps
-        return (self.until is not None and s >= self.until
-                and (self.i >= len(self.events) or self.events[self.i][0] != s))
+    def _move(self) -> int | None:
+        nxt = self.events[self.i][0] if self.i < len(self.events) else None
+        return next_move(self.session.steps, nxt, self.until, self.end)
 
     @property
     def finished(self) -> bool:
-        if self._held_by_until():
-            return True
-        return self.i >= len(self.events) and self.session.steps >= self.end
+        return self._move() is None
 
     def advance(self, steps: int) -> None:
-        s, events, budget = self.session, self.events, steps
-        while True:
-            while (self.i < len(events) and events[self.i][0] <= s.steps
-                   and not self._held_by_until()):
-                action = s.handle(events[self.i][1])
-                if action in ("slower", "faster"):
-                    self.speed_keys.append(action)
+        """Run up to ``steps`` steps; the events due at the step reached act too."""
+        budget = steps
+        while (move := self._move()) is not None:
+            if move == 0:
+                action = self.session.handle(self.events[self.i][1])
                 self.i += 1
-            if budget <= 0 or self.finished:
+                if action is not None and self.on_action is not None:
+                    self.on_action(action)
+            elif budget <= 0:
                 return
-            nxt = events[self.i][0] if self.i < len(events) else self.end
-            if self.until is not None:
-                nxt = min(nxt, self.until)
-            k = min(budget, nxt - s.steps)
-            if k <= 0:
-                return
-            s.advance(k)
-            budget -= k
+            else:
+                k = min(budget, move)
+                self.session.advance(k)
+                budget -= k
