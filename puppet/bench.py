@@ -13,7 +13,7 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
 * **bare, same motion** - the same Simulation stepped by ``space.step(dt)`` in a plain
   loop, with the servo targets the control run produced written straight onto the pymunk
   springs between frames (so it goes through the identical trajectory: the state hashes
-  are compared). ``control overhead = bare time / control time - 1`` on this pair, since
+  are compared). ``control overhead = control time / bare time - 1`` on this pair, since
   a different motion costs the physics a different amount.
 * **bare, at rest** - the same Simulation stepped with no targets at all (the character
   stands still): shown for information, it is not the same physics work.
@@ -25,9 +25,12 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
 * **logs** - replay speed of every ``assets/logs/*.jsonl`` through
   ``puppet.testing.replay_log`` (when that module exists).
 
-Every time is a median over repeats of ``time.perf_counter`` measurements; the control
-and bare runs are interleaved so that a busy machine slows them alike. Targets are
-reported PASS/MISS; the exit code is 0 unless ``--strict``.
+Every time is a median over repeats of ``time.perf_counter`` measurements. The control,
+keyframes and bare runs of a repeat are played in turns, 0.5 s of frames each (the order
+rotating), so that a machine whose speed drifts - a shared VM's does, by tens of per
+cent over seconds - slows them alike; the overhead is the median of the repeats'
+control/bare ratios (their range is shown). Targets are reported PASS/MISS; the exit
+code is 0 unless ``--strict``.
 """
 
 from __future__ import annotations
@@ -148,26 +151,36 @@ class Subject:
 
 
 # -- runs ----------------------------------------------------------------------------
-def run_control(subject: Subject, inputs: list[list[dict]],
-                keyframes: bool = False) -> tuple[float, object]:
-    """Wall seconds of a controlled run (one input batch then one frame of steps): the
-    control layer alone, or (``keyframes``) with the timeline's automatic keyframes."""
-    obj = subject.session(keyframes)
+# Each run is a generator: ``send(k)`` plays its next k frames. The variants of one
+# measurement are played in turns, a chunk of frames each, so that a machine whose
+# speed drifts (a shared VM) slows them alike; their order rotates every chunk.
+CHUNK_FRAMES = 30
+
+
+def control_run(subject: Subject, inputs: list[list[dict]], keyframes: bool = False,
+                obj=None):
+    """A controlled run (one input batch then one frame of steps, as the window does):
+    the control layer alone, or (``keyframes``) with the timeline's automatic keyframes.
+    Plays on ``obj`` if given, else a fresh Session (or, without an interface, a
+    Simulation); yields it."""
+    obj = subject.session(keyframes) if obj is None else obj
     n = subject.steps_per_frame
-    gc.collect()
+    frames = iter(inputs)
+    k = yield obj
     if subject.setup is None:  # no interface: nothing to control, just the Simulation
         step = obj.step
-        t0 = time.perf_counter()
-        for _ in inputs:
-            step(n)
-        return time.perf_counter() - t0, obj
+        while True:
+            for _ in range(k):
+                next(frames)
+                step(n)
+            k = yield obj
     handle, advance = obj.handle, obj.advance
-    t0 = time.perf_counter()
-    for batch in inputs:
-        for event in batch:
-            handle(event)
-        advance(n)
-    return time.perf_counter() - t0, obj
+    while True:
+        for _ in range(k):
+            for event in next(frames):
+                handle(event)
+            advance(n)
+        k = yield obj
 
 
 def _servo_params(spring) -> tuple[float, float, float, float]:
@@ -192,7 +205,7 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
         for k in range(subject.steps_per_frame):
             wake = runtime.next_wakeup  # tick here, as advance would, before reading
             if wake is not None and wake <= session.steps:
-                runtime.tick(session.steps, session.time)
+                runtime.tick(session.steps)
             now = [_servo_params(sp) for sp in springs()]
             changed = [(i, p) for i, (p, q) in enumerate(zip(now, last)) if p != q]
             if changed:
@@ -203,23 +216,23 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
     return trace
 
 
-def run_bare(subject: Subject, trace: list[list[tuple]], with_targets: bool
-             ) -> tuple[float, object]:
-    """Wall seconds of ``space.step(dt)`` in a plain loop over the same frames."""
-    obj = subject.session()  # the same Simulation, interface gains applied
-    sim = subject.sim_of(obj)
+def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
+    """``space.step(dt)`` in a plain loop over the same frames: with the servo changes
+    of ``trace`` written straight onto the springs, or (not ``with_targets``) none.
+    Yields the Simulation."""
+    sim = subject.sim_of(subject.session())  # the same Simulation, interface gains applied
     springs = [s.spring for s in sim.character.servos.values()]
     step, dt, n = sim.space.step, sim.dt, subject.steps_per_frame
-    frames = len(trace)
-    gc.collect()
-    if with_targets:
-        t0 = time.perf_counter()
-        for frame in trace:
+    frames = iter(trace)
+    k = yield sim
+    while True:
+        for _ in range(k):
+            frame = next(frames) if with_targets else ()
             done = 0
-            for k, changed in frame:
-                for _ in range(k - done):
+            for at, changed in frame:
+                for _ in range(at - done):
                     step(dt)
-                done = k
+                done = at
                 for i, (angle, stiffness, damping, torque) in changed:
                     spring = springs[i]
                     spring.rest_angle = angle
@@ -228,15 +241,27 @@ def run_bare(subject: Subject, trace: list[list[tuple]], with_targets: bool
                     spring.max_force = torque
             for _ in range(n - done):
                 step(dt)
-        wall = time.perf_counter() - t0
-    else:
-        total = frames * n
-        t0 = time.perf_counter()
-        for _ in range(total):
-            step(dt)
-        wall = time.perf_counter() - t0
-    sim.steps += frames * n
-    return wall, sim
+        sim.steps += k * n
+        k = yield sim
+
+
+def in_turns(runs: dict, frames: int, chunk: int = CHUNK_FRAMES) -> tuple[dict, dict]:
+    """Play the runs (name -> primed-to-be generator) in turns, ``chunk`` frames each;
+    wall seconds of each and what each yielded last."""
+    last = {name: next(run) for name, run in runs.items()}
+    wall = dict.fromkeys(runs, 0.0)
+    order = list(runs)
+    gc.collect()
+    done = 0
+    while done < frames:
+        k = min(chunk, frames - done)
+        for name in order:
+            t0 = time.perf_counter()
+            last[name] = runs[name].send(k)
+            wall[name] += time.perf_counter() - t0
+        order.append(order.pop(0))
+        done += k
+    return wall, last
 
 
 def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
@@ -244,34 +269,41 @@ def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
     sim_seconds = frames * subject.steps_per_frame * subject.dt
     inputs = gesture(frames, subject.interface_spec)
     trace = target_trace(subject, inputs)
-    run_control(subject, inputs[: max(1, frames // 10)])  # warm up
-    control, timeline, same, rest = [], [], [], []
+    in_turns({"warm-up": control_run(subject, inputs)}, max(1, frames // 10))
+    samples: dict[str, list[float]] = {"control": [], "with_keyframes": [],
+                                       "bare_same_motion": [], "bare_at_rest": []}
+    ratios, ratios_keyframes = [], []
     identical = True
-    for _ in range(repeats):  # interleaved, so a busy machine slows all four alike
-        wall, obj = run_control(subject, inputs)
-        control.append(wall)
-        timeline.append(run_control(subject, inputs, keyframes=True)[0])
-        wall, sim = run_bare(subject, trace, with_targets=True)
-        same.append(wall)
-        identical = identical and sim.state_hash() == subject.sim_of(obj).state_hash()
-        wall, _ = run_bare(subject, trace, with_targets=False)
-        rest.append(wall)
-    c, h, s, r = (statistics.median(x) for x in (control, timeline, same, rest))
+    for _ in range(repeats):
+        wall, last = in_turns({
+            "control": control_run(subject, inputs),
+            "with_keyframes": control_run(subject, inputs, keyframes=True),
+            "bare_same_motion": bare_run(subject, trace, with_targets=True),
+            "bare_at_rest": bare_run(subject, trace, with_targets=False)}, frames)
+        for name, value in wall.items():
+            samples[name].append(value)
+        ratios.append(wall["control"] / wall["bare_same_motion"])
+        ratios_keyframes.append(wall["with_keyframes"] / wall["bare_same_motion"])
+        identical = identical and (last["bare_same_motion"].state_hash()
+                                   == subject.sim_of(last["control"]).state_hash())
+    c, h, s, r = (statistics.median(samples[name]) for name in samples)
     return {
         "sim_seconds": sim_seconds, "repeats": repeats, "frames": frames,
-        "steps_per_frame": subject.steps_per_frame,
+        "steps_per_frame": subject.steps_per_frame, "chunk_frames": CHUNK_FRAMES,
         "control_speed_x": sim_seconds / c,
         "bare_same_motion_speed_x": sim_seconds / s,
         "bare_at_rest_speed_x": sim_seconds / r,
-        "control_overhead_pct": (c / s - 1.0) * 100.0,
+        # medians of the per-repeat ratios of runs played in turns
+        "control_overhead_pct": (statistics.median(ratios) - 1.0) * 100.0,
+        "control_overhead_range_pct": [(min(ratios) - 1.0) * 100.0,
+                                       (max(ratios) - 1.0) * 100.0],
         "with_keyframes_speed_x": sim_seconds / h,
-        "with_keyframes_overhead_pct": (h / s - 1.0) * 100.0,
+        "with_keyframes_overhead_pct": (statistics.median(ratios_keyframes) - 1.0) * 100.0,
         "overhead_vs_rest_pct": (c / r - 1.0) * 100.0,
         "same_motion_state_identical": identical,
         "control_us_per_frame": c / frames * 1e6,
         "bare_us_per_frame": s / frames * 1e6,
-        "wall_samples_s": {"control": control, "with_keyframes": timeline,
-                           "bare_same_motion": same, "bare_at_rest": rest},
+        "wall_samples_s": samples,
     }
 
 
@@ -285,13 +317,9 @@ def _median_ms(fn, repeats: int) -> float:
 
 
 def _play_frames(subject: Subject, obj, inputs) -> None:
-    if subject.setup is None:
-        obj.step(subject.steps_per_frame * len(inputs))
-        return
-    for batch in inputs:
-        for event in batch:
-            obj.handle(event)
-        obj.advance(subject.steps_per_frame)
+    run = control_run(subject, inputs, obj=obj)
+    next(run)
+    run.send(len(inputs))
 
 
 def measure_checkpoint(subject: Subject, repeats: int) -> dict:
@@ -342,7 +370,6 @@ def measure_session_rewind(subject: Subject, seconds: float, repeats: int) -> di
 
     restore_ms = _median_ms(restore, repeats)
     assert session.history.head == head  # rewinding alone keeps the future
-    
 
     resume_ms = _median_ms(resume, repeats)
     return {
@@ -493,7 +520,9 @@ def format_report(report: dict) -> str:
                 f"{sp['control_speed_x']:.0f}x", limit[f"speed with control: {name}"],
                 verdict[f"speed with control: {name}"])
             row("bare space.step, same motion", f"{sp['bare_same_motion_speed_x']:.0f}x")
-            row("control overhead vs same motion", f"{sp['control_overhead_pct']:.1f}%",
+            lo, hi = sp["control_overhead_range_pct"]
+            row(f"control overhead vs same motion ({lo:.0f}..{hi:.0f}%)",
+                f"{sp['control_overhead_pct']:.1f}%",
                 limit[f"control overhead: {name}"], verdict[f"control overhead: {name}"])
             row("  per frame: control / bare", f"{sp['control_us_per_frame']:.1f}/"
                 f"{sp['bare_us_per_frame']:.1f} us")

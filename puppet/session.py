@@ -70,6 +70,8 @@ class Session:
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
                 self.history.record(self.sim.steps, event)
+        if kind == "mouse":  # the most frequent event: straight to the interface
+            return self.runtime.on_event(event)
         if kind == "key" and event["down"]:
             app_action = self.key_to_app.get(event["key"])
             if app_action is not None and not self.runtime.handles_key(event["key"]):
@@ -188,26 +190,27 @@ class Session:
         if sim.steps < history.head and not self._rebuilding:
             history.branch(sim.steps)  # playing on from a rewound point
         every = history.health_every
-        remaining = steps
-        while remaining:
+        now = sim.steps
+        end = now + steps
+        while now < end:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics
             # steps in one tight loop up to the next history boundary.
-            now = sim.steps
             runtime = self.runtime  # a blow-up recovery may switch interface versions
             wake = runtime.next_wakeup
             if wake is not None and wake <= now:
-                runtime.tick(now, sim.time)
+                runtime.tick(now)
                 wake = runtime.next_wakeup
-            boundary = (now // every + 1) * every
-            stop = boundary if wake is None or wake >= boundary else wake
-            n = stop - now if stop - now < remaining else remaining
-            sim.step(n)
-            remaining -= n
-            if now + n == boundary:
-                self._at_boundary()
-        if sim.steps > history.head and not self._rebuilding:
-            history.head = sim.steps
+            boundary = now - now % every + every
+            stop = end if end < boundary else boundary
+            if wake is not None and wake < stop:
+                stop = wake
+            sim.step(stop - now)
+            now = stop
+            if now == boundary:
+                self._at_boundary()  # a recovery restores the state, not the step count
+        if now > history.head and not self._rebuilding:
+            history.head = now
 
     # -- history: checkpoints, rewind, blow-up recovery --------------------------------
     def _snapshot(self, reseat: bool) -> Snapshot:

@@ -178,6 +178,36 @@ def test_select_control_mode_switches_which_maps_the_mouse_drives(tmp_path):
     assert targets(s) == {"ankle": 50, "knee": 20}
 
 
+def test_entering_a_mode_or_state_runs_only_the_maps_that_became_active(tmp_path):
+    """A sequence owns the ankle; the always-active mouse map on the ankle does not
+    take it back when a mode or state whose own maps read the same input is entered."""
+    s = make(tmp_path, POSES, """
+    maps:
+      - {input: mouse.y, joint: ankle, to: [0, 50]}
+    modes:
+      still: []
+      folded: [{input: mouse.y, joint: knee, to: [0, 100]}]
+    initial: idle
+    states:
+      idle: {}
+      bent:
+        maps: [{input: mouse.y, joint: knee, to: [0, 80]}]
+    keys:
+      - {key: a, sequence: sit}
+      - {key: m, mode: folded}
+      - {key: y, goto: bent}
+    """)
+    s.handle(ev.mouse(0.5, 1.0))
+    press(s, "a")
+    assert targets(s) == {"ankle": -70, "knee": 130}  # the sequence's crouch
+    press(s, "m")
+    assert targets(s) == {"ankle": -70, "knee": 100}  # the mode's map took the knee only
+    press(s, "y")
+    assert targets(s) == {"ankle": -70, "knee": 80}  # the state's map, the knee only
+    s.handle(ev.mouse(0.5, 0.2))  # the mouse moves: every map reading it acts
+    assert targets(s) == {"ankle": 10, "knee": 16}
+
+
 # -- state machines ----------------------------------------------------------------------
 STATES = POSES + """
 initial: standing
@@ -199,6 +229,14 @@ states:
     transitions:
       - {to: standing, when: {sensor: joint.knee, below: 20}}
 """
+
+
+def test_every_sensor_puppet_check_accepts_has_a_reader():
+    from puppet.data import interface_refs as refs
+    from puppet.interface import conditions
+
+    assert set(conditions.FIXED) == set(refs.FIXED_SENSORS)
+    assert set(conditions.NAMED) == set(refs.JOINT_SENSORS) | set(refs.LINK_SENSORS)
 
 
 def test_same_key_does_different_things_in_different_states(tmp_path):

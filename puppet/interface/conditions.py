@@ -1,8 +1,10 @@
-"""Sensor conditions written as data, compiled to fast predicates on a Character.
+"""Sensor conditions written as data, compiled to fast tests on a Character.
 
 Conditions drive state-machine transitions ("when the lean passes 20 deg, swap
-legs"). Each reads one named sensor - the same names the Character's sensor
-methods have - and compares it with thresholds converted to SI once, up front.
+legs"). Each reads one named sensor (the names ``puppet check`` accepts, listed in
+``puppet.data.interface_refs``) and compares it with thresholds converted to SI once,
+up front. A reader and its test are separate so that a state polling several
+conditions on one sensor reads it once per poll.
 """
 
 from __future__ import annotations
@@ -13,49 +15,74 @@ from collections.abc import Callable
 from puppet.data.actions import ConditionSpec
 from puppet.physics.character import Character
 
-Predicate = Callable[[Character], bool]
+Reader = Callable[[], float]
+Test = Callable[[float], bool]
 _TURN = 2.0 * math.pi  # world angles are read within one turn: -180..180 deg
 
 
-def _reader(sensor: str, character: Character) -> tuple[Callable[[], float], bool]:
-    """A zero-argument reader of the sensor and whether its unit is an angle."""
-    c = character
-    kind, _, name = sensor.partition(".")
-    if sensor == "root.angle":
-        return (lambda: math.remainder(c.root_angle(), _TURN)), True
-    if sensor == "lean":
-        def lean() -> float:
-            x, y = c.com()
-            rx, ry = c.bodies[c.spec.root].position
-            return math.atan2(x - rx, y - ry)
-        return lean, True
-    if kind == "com":
-        index = {"x": 0, "y": 1}.get(name)
-        if index is not None:
-            return (lambda: c.com()[index]), False
-        index = {"vx": 0, "vy": 1}[name]
-        return (lambda: c.com_velocity()[index]), False
-    if kind == "joint":
-        joint = c.spec.joint(name)
+def _lean(c: Character) -> Reader:
+    def lean() -> float:
+        x, y = c.com()
+        rx, ry = c.bodies[c.spec.root].position
+        return math.atan2(x - rx, y - ry)
+    return lean
 
-        def angle() -> float:
-            return c.bodies[joint.child].angle - c.bodies[joint.parent].angle
-        return angle, True
-    if kind == "angle":
-        return (lambda: math.remainder(c.bodies[name].angle, _TURN)), True
-    if kind == "height":
-        return (lambda: c.link_position(name)[1]), False
-    if kind == "contact":
-        return (lambda: 1.0 if c.in_contact(name) else 0.0), False
+
+def _angle(c: Character, link: str) -> Reader:
+    """A link's world angle within one turn."""
+    remainder = math.remainder
+    return lambda: remainder(c.bodies[link].angle, _TURN)
+
+
+def _joint(c: Character, name: str) -> Reader:
+    joint = c.spec.joint(name)
+
+    def angle() -> float:  # c.bodies looked up on every read: a restore re-binds them
+        return c.bodies[joint.child].angle - c.bodies[joint.parent].angle
+    return angle
+
+
+# sensor name -> (reader factory, reads an angle?)
+FIXED: dict[str, tuple[Callable[[Character], Reader], bool]] = {
+    "root.angle": (lambda c: _angle(c, c.spec.root), True),
+    "lean": (_lean, True),
+    "com.x": (lambda c: lambda: c.com()[0], False),
+    "com.y": (lambda c: lambda: c.com()[1], False),
+    "com.vx": (lambda c: lambda: c.com_velocity()[0], False),
+    "com.vy": (lambda c: lambda: c.com_velocity()[1], False),
+}
+# "<kind>.<joint or link name>" -> (reader factory, reads an angle?)
+NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {
+    "joint": (_joint, True),
+    "angle": (_angle, True),
+    "height": (lambda c, n: lambda: c.link_position(n)[1], False),
+    "contact": (lambda c, n: lambda: 1.0 if c.in_contact(n) else 0.0, False),
+}
+
+
+def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
+    if sensor in FIXED:
+        make, is_angle = FIXED[sensor]
+        return make, is_angle, ()
+    kind, _, name = sensor.partition(".")
+    if kind in NAMED and name:
+        make, is_angle = NAMED[kind]
+        return make, is_angle, (name,)
     raise ValueError(f"unknown sensor '{sensor}'")
 
 
-def compile_condition(spec: ConditionSpec, character: Character) -> Predicate:
-    read, is_angle = _reader(spec.sensor, character)
+def reader(sensor: str, character: Character) -> Reader:
+    """A zero-argument reader of the sensor's current value (SI units)."""
+    make, _, args = _lookup(sensor)
+    return make(character, *args)
+
+
+def compile_test(spec: ConditionSpec) -> Test:
+    """The condition as a test on its sensor's value."""
     if spec.is_ is not None:
         want = spec.is_
-        return lambda _c: (read() > 0.5) == want
-    conv = math.radians if is_angle else float
+        return lambda value: (value > 0.5) == want
+    conv = math.radians if _lookup(spec.sensor)[1] else float
     lo = conv(spec.above) if spec.above is not None else -math.inf
     hi = conv(spec.below) if spec.below is not None else math.inf
-    return lambda _c: lo < read() < hi
+    return lambda value: lo < value < hi

@@ -107,8 +107,7 @@ class InterfaceRuntime:
             if name in same_chain:
                 self.reaches[name] = Reach.from_state(reach.to_state())
                 kept.add(f"reach:{name}")
-        self.grasps = {n: [[list(p) for p in g[0]], g[1], g[2]]
-                       for n, g in old.grasps.items() if n in same_chain}
+        self.grasps = _copy_grasps({n: g for n, g in old.grasps.items() if n in same_chain})
         for name in list(old.grasped):
             if name in same_chain:
                 self.grasped[name] = list(old.grasped[name])
@@ -116,8 +115,7 @@ class InterfaceRuntime:
                 old.release(name)  # its chain is gone or changed: let go
         self.owner = {j: tag for j, tag in old.owner.items() if tag in kept}
         if spec.gains == was.gains:
-            self.gain_holds = {c: {j: list(v) for j, v in h.items()}
-                               for c, h in old.gain_holds.items()}
+            self.gain_holds = _copy_holds(old.gain_holds)
         else:
             self.apply_gains()
         if spec.perturbation == was.perturbation:
@@ -172,10 +170,6 @@ class InterfaceRuntime:
         if self.machine is not None:
             active += self.spec.states[self.machine.current].maps
         self.active_maps = active
-        self.maps_by_input: dict[str, list] = {}
-        for m in active:
-            for name in m.inputs:
-                self.maps_by_input.setdefault(name, []).append(m)
         self._mouse_maps = self._compiled(("mouse.x", "mouse.y"))
         joints: set[str] = set()
         for m in active:
@@ -189,16 +183,16 @@ class InterfaceRuntime:
 
     def _compiled(self, inputs) -> list:
         """Compiled appliers of the active maps reading any of ``inputs``, in order."""
-        cache = self._map_cache
-        out = []
-        for m in self.active_maps:
-            if any(i in inputs for i in m.inputs):
-                key = id(m)
-                if key not in cache:
-                    cache[key] = mapping.compile_map(m, self.character.servos,
-                                                     self.pose_targets)
-                out.append(cache[key])
-        return out
+        return [self._applier(m) for m in self.active_maps
+                if any(i in inputs for i in m.inputs)]
+
+    def _applier(self, m):
+        """The compiled form of map ``m`` (compiled once per runtime)."""
+        applier = self._map_cache.get(id(m))
+        if applier is None:
+            applier = self._map_cache[id(m)] = mapping.compile_map(
+                m, self.character.servos, self.pose_targets)
+        return applier
 
     def apply_gains(self) -> None:
         """Interface gains override the character's defaults."""
@@ -227,8 +221,6 @@ class InterfaceRuntime:
         """Apply an input event at the current step. Returns an app action the event
         asks for (e.g. "pause", "slowdown:10"), for the session to perform or pass on."""
         kind = event["type"]
-        now = self.step_now()
-        result = None
         if kind == "mouse":
             self.inputs["mouse.x"] = event["x"]
             self.inputs["mouse.y"] = event["y"]
@@ -237,9 +229,12 @@ class InterfaceRuntime:
                 written = apply(values)
                 if owner:
                     self._take(written)
-            if self.next_wakeup is None and not self._timed():
-                return None
-        elif kind == "key":
+            # Maps write targets and take joints; nothing that sets a wake-up changes
+            # (an emptied sequence or gesture ends at its own next wake-up).
+            return None
+        now = self.step_now()
+        result = None
+        if kind == "key":
             result = self._press(event["key"], event["down"], now)
         elif kind in ("mouse_button", "gamepad", "channel"):
             if kind == "mouse_button":
@@ -282,6 +277,12 @@ class InterfaceRuntime:
         for apply in self._compiled(set(inputs)):
             self._take(apply(self.inputs))
 
+    def _activate(self, maps) -> None:
+        """Maps that just became active (a mode or state entered) act at once with the
+        inputs as they are; the maps that were active already leave their joints be."""
+        for m in maps:
+            self._take(self._applier(m)(self.inputs))
+
     # -- actions -----------------------------------------------------------------
     def _take(self, joints) -> None:
         """Instant writes take joints back from sequences and reaches."""
@@ -306,7 +307,7 @@ class InterfaceRuntime:
         if a.mode is not None and a.mode != self.mode:
             self.mode = a.mode
             self._refresh_active_maps()
-            self.apply_maps({i for m in self.spec.modes[a.mode] for i in m.inputs})
+            self._activate(self.spec.modes[a.mode])
         if a.goto is not None and self.machine is not None:
             self._enter_state(a.goto, now, depth)
         servos = self.character.servos
@@ -345,7 +346,7 @@ class InterfaceRuntime:
             return
         self.machine.enter(name, now)
         self._refresh_active_maps()
-        self.apply_maps({i for m in self.spec.states[name].maps for i in m.inputs})
+        self._activate(self.spec.states[name].maps)
         enter = self.spec.states[name].enter
         if enter is not None:
             self.run_action(enter, now, None, depth + 1)
@@ -446,7 +447,7 @@ class InterfaceRuntime:
                     self.sim.space.remove(c)
 
     # -- time --------------------------------------------------------------------
-    def tick(self, step: int, time: float | None = None) -> str | None:
+    def tick(self, step: int) -> None:
         """Do the time-driven work due at ``step`` (called before stepping from it)."""
         self.now = step
         servos = self.character.servos
@@ -464,7 +465,7 @@ class InterfaceRuntime:
                 self.sequence = None
         if self.gesture is not None:
             self._play_gesture(step)
-        for name, reach in list(self.reaches.items()):
+        for name, reach in list(self.reaches.items()) if self.reaches else ():
             tag = f"reach:{name}"
             owned = [j for j, o in self.owner.items() if o == tag]
             if not owned:
@@ -480,51 +481,42 @@ class InterfaceRuntime:
             if step >= reach.end:
                 self._drop(tag)
                 del self.reaches[name]
-        for name, (points, tolerance, until) in list(self.grasps.items()):
+        for name, (points, tolerance, until) in list(self.grasps.items()) if self.grasps else ():
             if self._try_grasp(name, points, tolerance) or (until is not None and step >= until):
                 del self.grasps[name]
         p = self.perturber
         if p.on and p.next_kick is not None and step >= p.next_kick:
             p.kick(self.character, step)
-        if self.machine is not None:
+        machine = self.machine
+        if machine is not None:
+            to = machine.due(step)
             for _ in range(MAX_CHAINED_GOTOS):
-                to = self.machine.due(step)
                 if to is None:
                     break
                 self._enter_state(to, step, 0)
+                to = machine.due(step)
         self._reschedule(step + 1)
-        return None
-
-    def _timed(self) -> bool:
-        """Anything that could need a tick (else the runtime is idle)."""
-        return bool(self.sequence is not None or self.gesture is not None
-                    or self.reaches or self.grasps
-                    or self.perturber.on or self.machine is not None)
 
     def _reschedule(self, earliest: int) -> None:
-        if not self._timed():
-            self.next_wakeup = None
-            return
+        """``next_wakeup``: the first step >= ``earliest`` at which something is due,
+        None when idle. Runs after every tick and key, so it is kept lean."""
         wake = None
-
-        def at(step):
-            nonlocal wake
-            if step is not None:
-                step = max(step, earliest)
-                wake = step if wake is None or step < wake else wake
-
         if self.sequence is not None:
-            at(self.sequence.until)
+            wake = self.sequence.until
         if self.gesture is not None:
             chord, start, index = self.gesture
-            at(start + self.gestures[chord][index][0])
+            at = start + self.gestures[chord][index][0]
+            wake = at if wake is None or at < wake else wake
         if self.reaches or self.grasps:
-            at(earliest)
-        if self.perturber.on:
-            at(self.perturber.next_kick)
+            wake = earliest
+        p = self.perturber
+        if p.on and p.next_kick is not None:
+            wake = p.next_kick if wake is None or p.next_kick < wake else wake
         if self.machine is not None:
-            at(self.machine.next_check(earliest))
-        self.next_wakeup = wake
+            at = self.machine.next_check(earliest)
+            if at is not None and (wake is None or at < wake):
+                wake = at
+        self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
     @property
     def active(self) -> bool:
@@ -549,11 +541,9 @@ class InterfaceRuntime:
                 "sequence": self.sequence.to_state() if self.sequence else None,
                 "gesture": list(self.gesture) if self.gesture else None,
                 "reaches": {n: r.to_state() for n, r in self.reaches.items()},
-                "grasps": {n: [[list(p) for p in g[0]], g[1], g[2]]
-                           for n, g in self.grasps.items()},
+                "grasps": _copy_grasps(self.grasps),
                 "grasped": {n: list(p) for n, p in self.grasped.items()},
-                "gain_holds": {c: {j: list(v) for j, v in h.items()}
-                               for c, h in self.gain_holds.items()},
+                "gain_holds": _copy_holds(self.gain_holds),
                 "machine": self.machine.get_state() if self.machine else None,
                 "perturb": self.perturber.get_state(), "next_wakeup": self.next_wakeup}
 
@@ -567,13 +557,22 @@ class InterfaceRuntime:
         self.sequence = sequences.RunningSequence.from_state(state["sequence"])
         self.gesture = list(state["gesture"]) if state.get("gesture") else None
         self.reaches = {n: Reach.from_state(r) for n, r in state["reaches"].items()}
-        self.grasps = {n: [[list(p) for p in g[0]], g[1], g[2]]
-                       for n, g in state["grasps"].items()}
+        self.grasps = _copy_grasps(state["grasps"])
         self.grasped = {n: list(p) for n, p in state["grasped"].items()}
-        self.gain_holds = {c: {j: list(v) for j, v in h.items()}
-                           for c, h in state["gain_holds"].items()}
+        self.gain_holds = _copy_holds(state["gain_holds"])
         if self.machine is not None and state["machine"] is not None:
             self.machine.set_state(state["machine"])
         self.perturber.set_state(state["perturb"])
         self.next_wakeup = state["next_wakeup"]
         self._refresh_active_maps()
+
+
+def _copy_grasps(grasps: dict) -> dict:
+    """A deep copy of armed grasps (chain -> [points, tolerance, until step])."""
+    return {n: [[list(p) for p in points], tolerance, until]
+            for n, (points, tolerance, until) in grasps.items()}
+
+
+def _copy_holds(holds: dict) -> dict:
+    """A deep copy of gain holds (chord -> joint -> [stiffness, damping])."""
+    return {c: {j: list(v) for j, v in h.items()} for c, h in holds.items()}
