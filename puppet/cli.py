@@ -44,15 +44,10 @@ def _play(args: argparse.Namespace) -> int:
                           ghost=ghost)
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
-    from puppet.timeline.script import compile_script
+    from puppet.timeline.script import compile_script, run_seconds
 
-    events, seconds = [], args.seconds
-    if script is not None:
-        events = compile_script(script, DEFAULT_DT)
-        if seconds is None:
-            seconds = script.seconds
-    if seconds is None:
-        seconds = 5.0
+    events = compile_script(script, DEFAULT_DT) if script is not None else []
+    seconds = run_seconds(script, args.seconds)
     late = sum(1 for step, _ in events if step * DEFAULT_DT > seconds)
     if late:
         print(f"puppet: warning: {late} scripted event(s) come after the run ends at "

@@ -21,7 +21,7 @@ from puppet.session import Session
 from puppet.timeline.expectations import Outcome, evaluate_all, parse_expectations
 from puppet.timeline.log import Recorder, read_log, record_events
 from puppet.timeline.replay import SAMPLE_EVERY, ReplayResult, Trajectory, replay
-from puppet.timeline.script import compile_script, load_script
+from puppet.timeline.script import compile_script, load_script, run_seconds
 
 __all__ = ["ReplayResult", "Trajectory", "Outcome", "replay_log", "record_script",
            "check", "Recorder", "read_log"]
@@ -61,6 +61,6 @@ def record_script(script: str, path: str | Path, interface: str | None = None,
         raise ValueError(f"script '{script}' names no interface; pass interface=")
     session = Session(load_setup(iface, scene or spec.scene))
     events = compile_script(spec, session.sim.dt)
-    until = round((seconds or spec.seconds or 5.0) / session.sim.dt)
+    until = round(run_seconds(spec, seconds) / session.sim.dt)
     return record_events(session, events, until, path, expect=expect,
                          description=description or spec.description or None)

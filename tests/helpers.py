@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from puppet.data.catalog import find, load_setup
 from puppet.session import Session
 from puppet.timeline.playback import play
-from puppet.timeline.script import compile_script, load_script
+from puppet.timeline.script import compile_script, load_script, run_seconds
 
 
 @dataclass
@@ -34,6 +34,6 @@ def run_script(script: str, interface: str, scene: str | None = None, every: int
         })
 
     sample(session)
-    until = round((spec.seconds or 5.0) / session.sim.dt)
+    until = round(run_seconds(spec) / session.sim.dt)
     play(session, compile_script(spec, session.sim.dt), until, every, sample)
     return run

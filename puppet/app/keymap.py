@@ -19,7 +19,8 @@ import pygame
 
 from puppet.app.render import LAYER_ORDER
 from puppet.data.characters import CharacterSpec
-from puppet.interface.app_keys import MODIFIERS
+from puppet.interface.app_keys import MODIFIERS, normalize_key
+from puppet.interface.describe import live_keys
 
 KEY_ROWS = ("1234567890-=", "qwertyuiop[]", "asdfghjkl;'", "zxcvbnm,./")
 ROW_STAGGER = (0.0, 0.5, 0.75, 1.25)  # key widths each row is shifted right
@@ -166,20 +167,9 @@ def _key_place(key: str) -> tuple[int, float] | None:
 
 
 def pose_key_bindings(interface, state: str | None = None) -> list[tuple[str, str]]:
-    """(key chord, pose name) for keys that set a pose (state keys first)."""
-    from puppet.interface.app_keys import normalize_key
-
-    keys = list(interface.keys)
-    if interface.states:
-        state = state if state is not None else interface.start_state
-        keys = list(interface.states[state].keys) + keys
-    seen, out = set(), []
-    for k in keys:
-        chord = normalize_key(k.key)
-        if k.pose is not None and chord not in seen:
-            seen.add(chord)
-            out.append((chord, k.pose))
-    return out
+    """(key chord, pose name) for the keys live in ``state`` that set a pose."""
+    return [(normalize_key(k.key), k.pose) for k in live_keys(interface, state)
+            if k.pose is not None]
 
 
 def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
 from puppet.interface.app_keys import APP_KEYS, normalize_key
 
@@ -46,6 +47,18 @@ def action_text(k) -> str:
     return " ".join(parts)
 
 
+def live_keys(spec: InterfaceSpec, state: str | None = None) -> list[ActionSpec]:
+    """The key actions live in ``state`` (default: the start state): the state's own keys,
+    then the top level's it does not rebind. The order ``InterfaceRuntime.binding``
+    looks them up in, so the HUD and the key map show what a key would do."""
+    keys = list(spec.keys)
+    if not spec.states:
+        return keys
+    own = spec.states[state if state is not None else spec.start_state].keys
+    bound = {normalize_key(k.key) for k in own}
+    return list(own) + [k for k in keys if normalize_key(k.key) not in bound]
+
+
 def interface_lines(spec: InterfaceSpec, state: str | None = None,
                     mode: str | None = None) -> list[tuple[str, str]]:
     """(input, what it does) for the interface's own controls (in a state and mode)."""
@@ -53,14 +66,10 @@ def interface_lines(spec: InterfaceSpec, state: str | None = None,
     mode = mode if mode is not None else spec.start_mode
     if mode is not None:
         lines += [map_line(m) for m in spec.modes[mode]]
-    keys = list(spec.keys)
     if spec.states:
         state = state if state is not None else spec.start_state
         lines += [map_line(m) for m in spec.states[state].maps]
-        own = spec.states[state].keys
-        bound = {normalize_key(k.key) for k in own}  # a state's key overrides the top level's
-        keys = list(own) + [k for k in keys if normalize_key(k.key) not in bound]
-    for k in keys:
+    for k in live_keys(spec, state):
         lines.append((k.key, action_text(k)))
     for g in spec.gestures:  # recorded mouse paths
         lines.append((g.key, g.description or f"gesture {g.duration:.1f} s"))

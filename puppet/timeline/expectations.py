@@ -206,20 +206,24 @@ def _tilt_deg(angle: np.ndarray) -> np.ndarray:
     return np.abs(np.degrees(np.remainder(angle + np.pi, 2 * np.pi) - np.pi))
 
 
-def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, float]:
-    """Longest stretch of consecutive true samples: (seconds, start time)."""
-    best, best_t0, start = 0.0, 0.0, None
+def _runs(flags: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) sample index of each stretch of consecutive true samples: the
+    flights (or times out of contact) that airborne, turned and landed_at measure."""
+    edges = np.diff(np.concatenate(([0], np.asarray(flags, dtype=np.int8), [0])))
+    return list(zip(np.flatnonzero(edges == 1).tolist(),
+                    (np.flatnonzero(edges == -1) - 1).tolist()))
+
+
+def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, int, int]:
+    """Longest (first if tied) stretch of true samples: (seconds, first, last index);
+    (0.0, -1, -1) if there is none."""
+    best = (0.0, -1, -1)
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
-    for i, f in enumerate(flags):
-        if f and start is None:
-            start = i
-        if start is not None and (not f or i == len(flags) - 1):
-            last = i if f else i - 1
-            length = t[last] - t[start] + dt
-            if length > best:
-                best, best_t0 = length, t[start]
-            start = None
-    return float(best), float(best_t0)
+    for i, j in _runs(flags):
+        length = float(t[j] - t[i] + dt)
+        if length > best[0]:
+            best = (length, i, j)
+    return best
 
 
 def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
@@ -247,10 +251,10 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        f"rose {rise[i]:.3f} m (at t = {traj.t[i]:.2f} s)")
     if isinstance(v, Airborne):
         free = ~traj.contact[:, traj.index(v.link)]
-        length, t0 = _longest_run(free, traj.t)
+        length, i, _ = _longest_run(free, traj.t)
         return Outcome(desc, length >= v.min_seconds - 1e-9,
                        f"longest time out of contact {length:.3f} s"
-                       + (f" (from t = {t0:.2f} s)" if length > 0 else ""))
+                       + (f" (from t = {traj.t[i]:.2f} s)" if length > 0 else ""))
     if isinstance(v, Turned):
         sign = 1.0 if v.direction == "backward" else -1.0
         turn = sign * np.degrees(np.unwrap(traj.angle[:, traj.index(v.link)]))
@@ -258,19 +262,11 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         if v.in_flight:
             free = ~traj.contact.any(axis=1)
             best, best_t0 = 0.0, None
-            i = 0
-            while i < len(free):
-                if free[i]:
-                    j = i
-                    while j + 1 < len(free) and free[j + 1]:
-                        j += 1
-                    # from the last sample on the ground before to the first after
-                    a, b = max(i - 1, 0), min(j + 1, len(free) - 1)
-                    if turn[b] - turn[a] > best:
-                        best, best_t0 = float(turn[b] - turn[a]), float(traj.t[a])
-                    i = j + 1
-                else:
-                    i += 1
+            for i, j in _runs(free):
+                # from the last sample on the ground before to the first after
+                a, b = max(i - 1, 0), min(j + 1, len(free) - 1)
+                if turn[b] - turn[a] > best:
+                    best, best_t0 = float(turn[b] - turn[a]), float(traj.t[a])
             amount = best
             if best_t0 is not None:
                 where = f" in the flight from t = {best_t0:.2f} s"
@@ -280,15 +276,13 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        f"turned {amount:.0f} deg {v.direction}{where}")
     if isinstance(v, LandedAt):
         free = ~traj.contact.any(axis=1)
-        length, t0 = _longest_run(free, traj.t)
+        length, first, last = _longest_run(free, traj.t)
         if length <= 0:
             return Outcome(desc, False, "never in the air")
-        i = int(np.searchsorted(traj.t, t0))
-        while i < len(free) and free[i]:
-            i += 1  # the first sample touching again (or the last sample)
-        i = min(i, len(free) - 1)
+        i = min(last + 1, len(free) - 1)  # the first sample touching again (or the last)
         x = float(traj.x[i, traj.index(v.link)])
-        return Outcome(desc, x >= v.min, f"longest flight {length:.2f} s from t = {t0:.2f} s, "
+        return Outcome(desc, x >= v.min, f"longest flight {length:.2f} s from t = "
+                                         f"{traj.t[first]:.2f} s, "
                                          f"touched down at x = {x:.3f} m (t = {traj.t[i]:.2f} s)")
     if e.kind == "final_hash":
         return Outcome(desc, final_hash == v, f"final hash {final_hash}")

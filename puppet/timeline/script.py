@@ -25,6 +25,7 @@ from puppet.interface.events import Event
 
 Vec2 = tuple[float, float]
 GLIDE_RATE = 240.0  # Hz: how often a gliding mouse reports, like a gaming mouse
+DEFAULT_SECONDS = 5.0  # a scripted run's length when neither the caller nor the script says
 
 
 class DragSpec(Spec):
@@ -69,6 +70,14 @@ class ScriptSpec(Spec):
     scene: str | None = None
     seconds: NonNegativeFloat | None = Field(None, description="default run length, s")
     events: list[ScriptEntry]
+
+
+def run_seconds(spec: ScriptSpec | None, seconds: float | None = None) -> float:
+    """How long a scripted run lasts: ``seconds`` if given, else the script's, else
+    DEFAULT_SECONDS. One rule for ``puppet play --headless`` and ``record_script``."""
+    if seconds is None and spec is not None:
+        seconds = spec.seconds
+    return DEFAULT_SECONDS if seconds is None else seconds
 
 
 def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
