@@ -127,20 +127,24 @@ class Character:
         return min(shape.cache_bb().bottom for shapes in self.shapes.values() for shape in shapes)
 
     # -- restoring from a snapshot ------------------------------------------------
-    def state_objects(self) -> tuple:
-        """Every pymunk object we hold a reference to, in a fixed order (for pickling)."""
-        return (tuple(self.bodies[n] for n in self.link_order),
-                tuple(tuple(self.shapes[n]) for n in self.link_order),
-                tuple(self.hinges),
-                tuple(s.spring for s in self.servos.values()))
+    def state_objects(self) -> list:
+        """Every pymunk object we hold, in a fixed order: a flat list, which a snapshot
+        keeps as indices into its space (``bind`` takes the restored copies back)."""
+        out: list = [self.bodies[n] for n in self.link_order]
+        for n in self.link_order:
+            out += self.shapes[n]
+        out += self.hinges
+        out += [s.spring for s in self.servos.values()]
+        return out
 
-    def bind(self, objects: tuple) -> None:
-        bodies, shapes, hinges, springs = objects
-        self.bodies = dict(zip(self.link_order, bodies))
-        self.shapes = {n: list(s) for n, s in zip(self.link_order, shapes)}
-        self.hinges = list(hinges)
-        for servo, spring in zip(self.servos.values(), springs):
-            servo.bind(spring)
+    def bind(self, objects: list) -> None:
+        """Hold, and point the servos at, restored copies of ``state_objects()``."""
+        it = iter(objects)
+        self.bodies = {n: next(it) for n in self.link_order}
+        self.shapes = {n: [next(it) for _ in self.shapes[n]] for n in self.link_order}
+        self.hinges = [next(it) for _ in self.hinges]
+        for servo in self.servos.values():
+            servo.bind(next(it))
 
     # -- sensors (named after what they measure; also used by conditions and checks)
     def com(self) -> tuple[float, float]:

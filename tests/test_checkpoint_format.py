@@ -1,0 +1,171 @@
+"""Simulation snapshots: the hand-written format restores exactly what pymunk's pickle did.
+
+``restore`` rebuilds a fresh space as unpickling one would; restored runs (every log's
+start and its checkpoints) must keep their bits, so the reference here is the pickle
+format it replaced: both restores of one mid-motion state (ground contacts, a grasp
+joint, the Ctrl+drag spring, changed friction, gravity and servo gains) must agree
+bit for bit, right after restoring and 2000 steps later.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+
+import pymunk
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.physics import simulation
+from puppet.physics.simulation import Simulation
+
+SETUPS = ["luxo-mouse", "cat-bound"]
+
+
+def _legacy_snapshot(sim: Simulation) -> bytes:
+    """The format before: pymunk's own pickle of the space and the objects we hold."""
+    objects = (sim.space, sim.character.state_objects(), tuple(sim.ground),
+               sim.drag_body, sim.drag_spring, sim.steps)
+    return pickle.dumps(objects, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def _legacy_restore(sim: Simulation, data: bytes) -> None:
+    space, character, ground, drag_body, drag_spring, steps = pickle.loads(data)
+    sim.space = space
+    sim.character.bind(character)
+    sim.ground = list(ground)
+    sim.drag_body, sim.drag_spring = drag_body, drag_spring
+    sim.steps = steps
+
+
+def _sim(setup: str) -> Simulation:
+    s = load_setup(setup)
+    return Simulation(s.character, s.scene)
+
+
+def _drive(sim: Simulation, steps: int) -> None:
+    """Swing every joint, targets a function of the step only (so runs are comparable)."""
+    start = sim.character.start_joint_angles()
+    for _ in range(0, steps, 24):
+        for i, (name, servo) in enumerate(sim.character.servos.items()):
+            servo.target = start.get(name, 0.0) + 0.6 * math.sin(3.0 * sim.time + i)
+        sim.step(24)
+
+
+def _grasps(sim: Simulation) -> list:
+    return [c for c in sim.space.constraints
+            if isinstance(c, pymunk.PivotJoint) and c.b is sim.space.static_body]
+
+
+def _busy(setup: str) -> Simulation:
+    """Mid-motion on the ground, one link grasping the world, another dragged."""
+    sim = _sim(setup)
+    _drive(sim, 480)
+    c = sim.character
+    held, dragged = c.bodies[c.link_order[0]], c.link_order[-1]
+    sim.space.add(pymunk.PivotJoint(held, sim.space.static_body, (0.0, 0.0),
+                                    tuple(held.position)))  # as InterfaceRuntime grasps
+    x, y = c.bodies[dragged].position
+    sim.start_drag(dragged, (0.0, 0.0), (x + 0.05, y + 0.1))
+    sim.ground[0].friction = 0.4
+    sim.gravity = (0.3, -9.0)
+    servo = next(iter(c.servos.values()))
+    servo.stiffness *= 1.2
+    servo.max_torque *= 0.9
+    _drive(sim, 240)
+    assert sim.space._get_arbiters(), "the state should have ground contacts"
+    return sim
+
+
+def test_attributes_are_set_in_pymunks_pickle_order():
+    assert [*simulation.SPACE_ATTRS, "threads"] == pymunk.Space._pickle_attrs_general
+    assert list(simulation.BODY_ATTRS) == pymunk.Body._pickle_attrs_general
+    assert list(simulation.SHAPE_ATTRS) == pymunk.Shape._pickle_attrs_general
+    assert list(simulation.CONSTRAINT_ATTRS) == pymunk.Constraint._pickle_attrs_general
+
+
+@pytest.mark.parametrize("setup", SETUPS)
+def test_restore_is_bit_identical_to_restoring_pymunks_pickle(setup):
+    sim = _busy(setup)
+    old, new = _sim(setup), _sim(setup)
+    _legacy_restore(old, _legacy_snapshot(sim))
+    data = sim.snapshot()
+    assert type(data) is bytes
+    new.restore(data)
+    # every body, shape, constraint, cached contact and counter, as the format sees them
+    assert new.snapshot() == old.snapshot()
+    for run in (old, new):
+        run.move_drag((0.2, 0.5))
+        _drive(run, 2016)
+    assert new.state_vector() == old.state_vector()
+    assert new.snapshot() == old.snapshot()
+
+
+@pytest.mark.parametrize("setup", SETUPS)
+def test_restored_copies_agree_but_differ_from_the_run_that_was_not_reseated(setup):
+    sim = _busy(setup)
+    data = sim.snapshot()
+    first, second = _sim(setup), _sim(setup)
+    first.restore(data)
+    second.restore(data)
+    for run in (sim, first, second):
+        _drive(run, 2016)
+    assert first.state_vector() == second.state_vector()
+    # pymunk keeps no solver warm-start: hence checkpoint() re-seats the live run
+    assert first.state_vector() != sim.state_vector()
+
+
+@pytest.mark.parametrize("setup", SETUPS)
+def test_restoring_a_checkpoint_replays_the_run_that_never_restored(setup):
+    sim = _busy(setup)
+    data = sim.checkpoint()
+    _drive(sim, 2016)
+    straight = sim.state_vector()
+    sim.restore(data)
+    _drive(sim, 2016)
+    assert sim.state_vector() == straight
+
+
+def test_restore_brings_back_joints_springs_gains_and_world_parameters():
+    sim = _busy("cat-bound")
+    c = sim.character
+    servo = c.servos["spine"]
+    before = (servo.target, servo.stiffness, servo.damping, servo.max_torque,
+              sim.gravity, sim.ground[0].friction)
+    data = sim.snapshot()
+    sim.end_drag()
+    sim.space.remove(*_grasps(sim))
+    servo.target, servo.stiffness = 1.0, 5.0
+    sim.gravity, sim.ground[0].friction = (0.0, -1.0), 0.9
+    sim.restore(data)
+    assert (servo.target, servo.stiffness, servo.damping, servo.max_torque,
+            sim.gravity, sim.ground[0].friction) == before
+    space = sim.space
+    assert len(_grasps(sim)) == 1 and _grasps(sim)[0].a is c.bodies[c.link_order[0]]
+    assert sim.drag_spring in space.constraints and sim.drag_body in space.bodies
+    assert sim.drag_spring.b is c.bodies[c.link_order[-1]]
+    assert all(g in space.shapes for g in sim.ground)
+    for name, body in c.bodies.items():
+        assert body in space.bodies and all(s.body is body for s in c.shapes[name])
+    for s in c.servos.values():
+        assert s.spring in space.constraints
+        assert (s.child, s.parent) == (s.spring.a, s.spring.b)
+        assert s.child in space.bodies and s.parent in space.bodies
+
+
+def test_a_snapshot_restores_in_another_process(tmp_path):
+    sim = _busy("cat-bound")
+    path = tmp_path / "state.bin"
+    path.write_bytes(sim.snapshot())
+    sim.restore(path.read_bytes())
+    _drive(sim, 960)
+    code = ("import sys; sys.path.insert(0, sys.argv[1]);"
+            "from test_checkpoint_format import _sim, _drive;"
+            "sim = _sim('cat-bound'); sim.restore(open(sys.argv[2], 'rb').read());"
+            "_drive(sim, 960); print(sim.state_hash())")
+    out = subprocess.run([sys.executable, "-c", code, str(Path(__file__).parent), str(path)],
+                         capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == sim.state_hash()
