@@ -28,6 +28,14 @@ def _play(args: argparse.Namespace) -> int:
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     # A script made for a scene plays there unless --scene says otherwise.
     setup = load_setup(args.interface, args.scene or (script.scene if script else None))
+    if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden
+        import dataclasses
+
+        if not 0.5 <= args.checkpoint_every <= 600:
+            raise SystemExit(f"puppet play: --checkpoint-every must be 0.5..600 seconds, "
+                             f"got {args.checkpoint_every:g}")
+        setup = dataclasses.replace(setup, interface=setup.interface.model_copy(
+            update={"checkpoint_every": args.checkpoint_every}))
     ghost = None
     if args.ghost:  # a log replaying beside the live character (never touches it)
         from puppet.timeline.ghost import Ghost
@@ -144,6 +152,9 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write the input log here (default in a window: "
                            "recordings/INTERFACE-DATE-TIME.jsonl)")
     play.add_argument("--no-record", action="store_true", help="do not record a log")
+    play.add_argument("--checkpoint-every", type=float, metavar="SECONDS",
+                      help="simulated seconds between automatic checkpoints (0.5-600; "
+                           "default: the interface's checkpoint_every, else 3)")
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")

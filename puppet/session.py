@@ -17,16 +17,19 @@ from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, Simulation
-from puppet.timeline.history import CHECKPOINT_INTERVAL, History, Snapshot
+from puppet.timeline.history import History, Snapshot
 from puppet.timeline.playback import play
 
 
 class Session:
     def __init__(self, setup: Setup, dt: float = DEFAULT_DT,
-                 checkpoint_interval: float = CHECKPOINT_INTERVAL, keyframes: bool = True):
-        """``keyframes=False`` turns off the automatic checkpoints (rewinds then reach
-        back to manual checkpoints and the start only): the benchmark uses it to weigh
-        the control layer apart from the timeline."""
+                 checkpoint_interval: float | None = None, keyframes: bool = True):
+        """``checkpoint_interval``: seconds between automatic checkpoints (default: the
+        interface's ``checkpoint_every``). ``keyframes=False`` turns them off (rewinds
+        then reach back to manual checkpoints and the start only): the benchmark uses
+        it to weigh the control layer apart from the timeline."""
+        if checkpoint_interval is None:
+            checkpoint_interval = setup.interface.checkpoint_every
         self.setup = setup
         self.sim = Simulation(setup.character, setup.scene, dt)
         self.runtime = InterfaceRuntime(setup.interface, self.sim.character, self.sim)

@@ -170,3 +170,37 @@ def test_play_record_headless_writes_a_replayable_log(tmp_path):
     proc = _cli("replay", path, "--headless")
     assert proc.returncode == 0, proc.stderr
     assert f"state={played} (same as recorded)" in proc.stdout
+
+
+def test_checkpoint_interval_from_the_interface_or_the_command_line(tmp_path):
+    """Automatic checkpoints come every ``checkpoint_every`` s of the interface, or of
+    ``--checkpoint-every``; the log records the interval and its replay uses it."""
+    import textwrap
+
+    from puppet.data.catalog import load_setup
+    from puppet.session import Session
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import new_session, setup_for_log
+
+    iface = tmp_path / "iface.yaml"
+    iface.write_text(textwrap.dedent("""\
+        name: t
+        description: test
+        character: luxo
+        checkpoint_every: 1.5
+        maps: [{input: mouse.x, joint: ankle, to: [30, -80]}]
+        """))
+    session = Session(load_setup(str(iface)))
+    session.advance(round(4.0 / session.sim.dt))
+    assert [s.step * session.sim.dt for s in session.history.auto] == [0.0, 1.5, 3.0]
+    path = tmp_path / "rec.jsonl"
+    proc = _cli("play", iface, "--headless", "--input", "luxo-hop", "--seconds", "2",
+                "--checkpoint-every", "0.5", "--record", path)
+    assert proc.returncode == 0, proc.stderr
+    log = read_log(path)
+    assert log.header["checkpoint_interval"] == 0.5
+    replayed = new_session(log, setup_for_log(log)[0])
+    assert replayed.history.checkpoint_every * replayed.sim.dt == 0.5
+    proc = _cli("play", iface, "--headless", "--checkpoint-every", "0.01")
+    assert proc.returncode != 0 and "Traceback" not in proc.stderr
+    assert "--checkpoint-every must be 0.5..600 seconds" in proc.stderr

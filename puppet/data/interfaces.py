@@ -29,6 +29,8 @@ __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
            "check_against_character", "with_gesture"]
 
 
+CHECKPOINT_EVERY = 3.0  # s of simulated time between automatic checkpoints (keyframes)
+
 class GainSpec(Spec):
     stiffness: NonNegativeFloat | None = None
     damping: NonNegativeFloat | None = None
@@ -192,6 +194,9 @@ class InterfaceSpec(Spec):
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
     control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
+    checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=0.5, le=600.0,
+                                    description="s of simulated time between automatic "
+                                                "checkpoints (the rewind's keyframes)")
 
     @field_validator("sequences")
     @classmethod

@@ -24,7 +24,8 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-CHECKPOINT_INTERVAL = 3.0  # s of simulated time between automatic checkpoints (keyframes)
+from puppet.data.interfaces import CHECKPOINT_EVERY
+
 KEEP_SECONDS = 180.0  # s of simulated time that can be rewound
 HEALTH_INTERVAL = 0.5  # s between blow-up checks
 
@@ -42,12 +43,12 @@ class History:
     back without forgetting; new input (or stepping on) from an earlier step branches:
     everything later is dropped."""
 
-    def __init__(self, dt: float, checkpoint_interval: float = CHECKPOINT_INTERVAL,
+    def __init__(self, dt: float, checkpoint_interval: float = CHECKPOINT_EVERY,
                  keep_seconds: float = KEEP_SECONDS, keyframes: bool = True):
         self.dt = dt
         self.keyframes = keyframes  # False: rewinds reach back to manual checkpoints only
         interval = checkpoint_interval if checkpoint_interval and checkpoint_interval > 0 \
-            else CHECKPOINT_INTERVAL
+            else CHECKPOINT_EVERY
         self.checkpoint_every = max(1, round(interval / dt))
         # Health checks and keyframes share boundaries: a keyframe falls on a health check.
         self.health_every = max(1, min(self.checkpoint_every, round(HEALTH_INTERVAL / dt)))
