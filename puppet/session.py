@@ -265,6 +265,7 @@ class Session:
         snap = self._snapshot(reseat=True)
         if not self._rebuilding:  # re-simulating: re-seat the same way, keep the original
             self.history.add_manual(snap)
+            self.say(f"checkpoint at t={snap.step * self.sim.dt:.2f} s")
         return snap
 
     def restore_checkpoint(self) -> None:
@@ -273,6 +274,8 @@ class Session:
         snap = self.history.last_manual(steps) or self.history.last_checkpoint(steps)
         self._restore(snap, keep_interface=True)
         self.history.branch(snap.step)
+        if not self._rebuilding:
+            self.say(f"back to the checkpoint of t={snap.step * self.sim.dt:.2f} s")
 
     def rewind_to(self, step: int) -> None:
         """Back (or forward, within a rewound history) to ``step``: restore the last

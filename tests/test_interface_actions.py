@@ -424,3 +424,17 @@ def test_gamepad_channel_and_button_events_replay_from_a_log(tmp_path):
     play(again, read_log(path).pairs(), 400)
     assert again.sim.state_hash() == first.sim.state_hash()
     assert targets(again) == {"ankle": -30, "knee": pytest.approx(116)}
+
+
+def test_pointer_for_pose_finds_where_the_mouse_maps_hold_the_start_pose(tmp_path):
+    s = Session(load_setup("luxo-mouse"))
+    before = targets(s)
+    x, y = s.runtime.pointer_for_pose()
+    assert targets(s) == before  # the search leaves the targets alone
+    assert (x, y) == (pytest.approx(0.656, abs=0.002), pytest.approx(0.583, abs=0.002))
+    s.handle(ev.mouse(x, y))
+    assert targets(s) == {j: pytest.approx(a, abs=0.5) for j, a in before.items()}
+    # no mouse maps, or none that reach the pose: nowhere to put the pointer
+    assert make(tmp_path, POSES).runtime.pointer_for_pose() is None
+    assert make(tmp_path, "maps: [{input: mouse.x, joint: ankle, to: [10, 80]}]\n"
+                ).runtime.pointer_for_pose() is None

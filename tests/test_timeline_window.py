@@ -89,3 +89,40 @@ def test_hud_timeline_bar_draws(tmp_path):
     w, h = surface.get_size()
     row = [surface.get_at((x, h - 18))[:3] for x in range(w - 40, w - 10)]
     assert (20, 30, 50) in row
+
+
+def test_paused_scrub_back_release_then_forward_keeps_the_future(tmp_path, scripted_events,
+                                                                 monkeypatch):
+    """Pause, hold B (back), release, hold Shift+B (forward): releasing the scrub key
+    is not input, so the future it scrubbed back from is still there to go forward to."""
+    sessions, seen = [], {}
+
+    class Spy(Session):
+        def __init__(self, *a, **kw):
+            super().__init__(*a, **kw)
+            sessions.append(self)
+
+    monkeypatch.setattr(window, "Session", Spy)
+    shift = {"on": False}
+    monkeypatch.setattr(pygame.key, "get_mods",
+                        lambda: pygame.KMOD_SHIFT if shift["on"] else 0)
+
+    def watch():
+        frame = scripted_events["frame"]
+        if sessions:
+            seen[frame] = sessions[0].steps
+        shift["on"] = 100 <= frame <= 131
+        return frame >= 140
+
+    scripted_events["quit_when"] = watch
+    scripted_events["events"] = [
+        (60, _key(pygame.KEYDOWN, pygame.K_p)), (61, _key(pygame.KEYUP, pygame.K_p)),
+        (62, _key(pygame.KEYDOWN, pygame.K_b)), (92, _key(pygame.KEYUP, pygame.K_b)),
+        (100, _key(pygame.KEYDOWN, pygame.K_b)), (130, _key(pygame.KEYUP, pygame.K_b))]
+    path = tmp_path / "scrub.jsonl"
+    assert window.run_window(load_setup("luxo-mouse"), record=str(path)) == 0
+    paused, back, forward = seen[61], seen[95], seen[135]
+    assert back < paused - 50  # scrubbed back
+    assert back < forward <= paused  # and forward again, within the kept future
+    log = read_log(path)
+    assert replay(path).final_hash == log.end_hash

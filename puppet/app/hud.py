@@ -27,6 +27,7 @@ class HudInfo:
     show_help: bool = False
     message: str = ""
     scrubbing: bool = False  # the rewind key is held
+    replaying: str = ""  # the log a window replay plays (its events, not the devices)
     _seen_serial: int = 0
     _message_until: float = 0.0
 
@@ -62,6 +63,8 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         f"slowdown {_fmt_rate(info.slowdown)} (measured {_fmt_rate(info.measured)})",
         f"fps {info.fps:.0f}" if info.fps is not None else "fps -",
     ]
+    if info.replaying:
+        lines.append(f"REPLAY  {info.replaying}")
     if info.paused:
         lines.append("PAUSED  (step with the step key)")
     height = 8 + len(lines) * 22

@@ -7,8 +7,9 @@ steps; everything that changes the simulation goes through ``Session.handle``.
 from __future__ import annotations
 
 import os
-import warnings
 import time
+import warnings
+from pathlib import Path
 
 from puppet.data.catalog import Setup
 from puppet.app.devices import device_events
@@ -79,7 +80,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
     camera.follow(session.character.com(), None)
-    info = HudInfo()
+    info = HudInfo(replaying=Path(replay.path).name if replay is not None else "")
     reloader = None
     reload_error = ""  # shown until the file is valid again
     if feeder is None:  # hot reload: saving the interface file applies it at once
@@ -112,6 +113,12 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             return f"gestures not saved: {exc}"
         gestures.unsaved.clear()
         return f"saved {len(session.interface.gestures)} gesture(s) into {path}"
+    if feeder is None:  # start with the pointer where the mouse maps hold the pose
+        rest = session.runtime.pointer_for_pose()
+        if rest is not None:
+            w, h = screen.get_size()
+            pygame.mouse.set_pos((round(rest[0] * (w - 1)), round((1.0 - rest[1]) * (h - 1))))
+            session.say("the pointer starts where the mouse holds the start pose")
     pressed: dict[str, str] = {}  # key name -> chord it was pressed as
     dragging = False
     last_mouse = None
@@ -132,7 +139,27 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             return None
         if scrub.active and event["type"] in ("mouse", "drag"):
             return None
+        if event["type"] == "key" and not session.runtime.handles_key(event["key"]):
+            action = session.key_to_app.get(event["key"])
+            if action in ("rewind", "forward"):  # the window's own: the scrub commits
+                return action if event["down"] else None  # with a logged rewind action
         return session.handle(event)
+
+    def send_mouse() -> None:
+        """The pointer's position to the session if it moved. Not while paused: moving
+        the mouse to the keys would be new input, branching away the future that the
+        scrub keys can still move through; it acts when the simulation steps again."""
+        nonlocal last_mouse
+        if dragging or not pygame.mouse.get_focused():
+            return
+        w, h = screen.get_size()
+        mx, my = pygame.mouse.get_pos()
+        pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
+               min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
+        if pos != last_mouse:
+            handle(ev.mouse(*pos))
+            gestures.add(session.time, *pos)
+            last_mouse = pos
 
     def app_action(name: str | None) -> bool:
         """Do a window-side app action; False means quit."""
@@ -146,6 +173,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             clock.toggle_pause()
         elif name == "step":
             if clock.paused:
+                send_mouse()
                 session.advance(1)
         elif name == "help":
             info.show_help = not info.show_help
@@ -199,15 +227,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 dragging = False
             elif event.type == pygame.MOUSEMOTION and dragging:
                 handle(ev.drag_move(camera.to_world(event.pos)))
-        if not dragging and pygame.mouse.get_focused():
-            w, h = screen.get_size()
-            mx, my = pygame.mouse.get_pos()
-            pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
-                   min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
-            if pos != last_mouse:
-                handle(ev.mouse(*pos))
-                gestures.add(session.time, *pos)
-                last_mouse = pos
+        if not clock.paused:
+            send_mouse()
 
         if reloader is not None and not scrub.active:
             change = reloader.poll(time.perf_counter())
@@ -240,14 +261,13 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.fps = frames.get_fps() or None
         info.paused = clock.paused
 
-        if session.sim.blown_up():  # between two checks: do not draw NaNs
-            screen.fill((235, 235, 235))
-        else:
-            camera.follow(session.character.com(), wall_dt)
-            if ghost is not None:
-                ghost.sync(session)
-            draw_world(screen, session, camera, small,
-                       ghost=ghost.session if ghost is not None else None)
+        if session.sim.blown_up():
+            continue  # until the next health check recovers it: keep the last frame shown
+        camera.follow(session.character.com(), wall_dt)
+        if ghost is not None:
+            ghost.sync(session)
+        draw_world(screen, session, camera, small,
+                   ghost=ghost.session if ghost is not None else None)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
     scrub.release()

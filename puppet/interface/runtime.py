@@ -194,6 +194,44 @@ class InterfaceRuntime:
                 m, self.character.servos, self.pose_targets)
         return applier
 
+    def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
+        """The mouse position (x, y in 0..1) at which the active mouse maps give the
+        targets the joints have now (at the start: the start pose), or None if no
+        position comes within ``tolerance_deg`` on every joint they drive. The window
+        puts the pointer there when it opens, so its first mouse event does not snap
+        the character out of its pose (the middle of luxo-mouse throws Luxo over).
+        A grid search, then a pattern search; the targets are left as they were."""
+        if not self._mouse_maps or not self._mouse_joints:
+            return None
+        servos = self.character.servos
+        want = {j: servos[j].target for j in self._mouse_joints}
+        values = dict(self.inputs)
+
+        def score(x: float, y: float) -> tuple[float, float]:
+            values["mouse.x"], values["mouse.y"] = x, y
+            for apply in self._mouse_maps:
+                apply(values)  # written straight to the servos; put back below
+            error = max(abs(servos[j].target - t) for j, t in want.items())
+            return error, abs(x - 0.5) + abs(y - 0.5)  # ties: nearer the middle
+
+        try:
+            n = 20
+            best, x, y = min((score(i / n, k / n), i / n, k / n)
+                             for i in range(n + 1) for k in range(n + 1))
+            step = 1.0 / n
+            while step > 1e-4:
+                moves = [(min(1.0, max(0.0, x + dx * step)), min(1.0, max(0.0, y + dy * step)))
+                         for dx in (-1, 0, 1) for dy in (-1, 0, 1) if dx or dy]
+                found = min((score(*p), *p) for p in moves)
+                if found[0] < best:
+                    best, x, y = found
+                else:
+                    step /= 2
+        finally:
+            for joint, target in want.items():
+                servos[joint].target = target
+        return (x, y) if best[0] <= math.radians(tolerance_deg) else None
+
     def apply_gains(self) -> None:
         """Interface gains override the character's defaults."""
         for name, servo in self.character.servos.items():
