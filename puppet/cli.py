@@ -14,12 +14,18 @@ from puppet import __version__
 from puppet.data.errors import DataError
 
 EXIT_DATA_ERROR = 2
+# what ``puppet list`` lists; "recording": the window's own logs (recordings/)
+KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
 
 def _play(args: argparse.Namespace) -> int:
     from puppet.data.catalog import find, load_setup
     from puppet.timeline.script import load_script
 
+    if args.record and Path(args.record).exists():  # a log is never silently overwritten
+        print(f"puppet play: --record {args.record} exists; choose another path or delete it",
+              file=sys.stderr)
+        return EXIT_DATA_ERROR
     script = None
     if args.input and args.headless:
         script = load_script(find("script", args.input))
@@ -39,8 +45,9 @@ def _play(args: argparse.Namespace) -> int:
     ghost = None
     if args.ghost:  # a log replaying beside the live character (never touches it)
         from puppet.timeline.ghost import Ghost
+        from puppet.timeline.replay import find_log
 
-        ghost = Ghost(args.ghost)
+        ghost = Ghost(find_log(args.ghost))
         for w in ghost.warnings:
             print(w, file=sys.stderr)
     if not args.headless:
@@ -74,13 +81,15 @@ def _play(args: argparse.Namespace) -> int:
           f"state={session.sim.state_hash()}")
     if args.screenshot:
         print(f"wrote {args.screenshot}")
+    for note in session.blowup_messages:  # the window shows them; here nothing would
+        print(f"puppet play: {note}", file=sys.stderr)
     return 0
 
 
 def _list(args: argparse.Namespace) -> int:
     from puppet.data.catalog import FOLDERS, list_kind
 
-    kinds = [args.kind] if args.kind else ["character", "interface", "scene", "script", "log"]
+    kinds = [args.kind] if args.kind else list(KINDS)
     for kind in kinds:
         items = list_kind(kind)
         print(f"{kind}s ({FOLDERS[kind][0]}/):")
@@ -149,8 +158,8 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--frames", metavar="DIR", help="write every frame as DIR/frame_N.png")
     play.add_argument("--fps", type=float, default=30.0, help="frame rate for --frames")
     play.add_argument("--record", metavar="PATH",
-                      help="write the input log here (default in a window: "
-                           "recordings/INTERFACE-DATE-TIME.jsonl)")
+                      help="write the input log here, a new file: an existing PATH is an "
+                           "error (default in a window: recordings/INTERFACE-DATE-TIME.jsonl)")
     play.add_argument("--no-record", action="store_true", help="do not record a log")
     play.add_argument("--checkpoint-every", type=float, metavar="SECONDS",
                       help="simulated seconds between automatic checkpoints (0.5-600; "
@@ -164,7 +173,9 @@ def build_parser() -> argparse.ArgumentParser:
                             description="Replay recorded input logs. Headless prints the "
                                         "final state hash; --check evaluates the log's "
                                         "expectations (exit 1 if one fails).")
-    replay.add_argument("logs", nargs="+", metavar="LOG", help="log file(s) (.jsonl)")
+    replay.add_argument("logs", nargs="+", metavar="LOG",
+                        help="log file(s) (.jsonl), or names (assets/logs/NAME.jsonl, "
+                             "else recordings/NAME.jsonl)")
     replay.add_argument("--headless", action="store_true", help="no window, as fast as it goes")
     replay.add_argument("--check", action="store_true",
                         help="evaluate the expectations (header 'expect' or LOG.expect.yaml)")
@@ -191,9 +202,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "time, one subplot per actuated joint")
     replay.set_defaults(func=_replay)
 
-    lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs")
-    lst.add_argument("kind", nargs="?",
-                     choices=["character", "interface", "scene", "script", "log"])
+    lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs "
+                                      "and your recordings")
+    lst.add_argument("kind", nargs="?", choices=KINDS)
     lst.set_defaults(func=_list)
 
     check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)")

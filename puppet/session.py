@@ -45,6 +45,7 @@ class Session:
         self.message = ""  # the last thing the user should be told (e.g. a blow-up)
         self.message_serial = 0  # bumped on every new message
         self.blowups = 0
+        self.blowup_messages: list[str] = []  # what each recovery said (headless runs print them)
         self._start = self.sim.checkpoint()
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
         self.history.set_start(Snapshot(0, self._start, self._runtime_state()))
@@ -255,6 +256,7 @@ class Session:
         self.blowups += 1
         self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
                  f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s")
+        self.blowup_messages.append(self.message)
 
     def say(self, text: str) -> None:
         self.message = text

@@ -8,8 +8,8 @@
     assert result.trajectory.y[:, base].max() > 0.1
 
 ``ReplayResult`` has the final state hash, the trajectory (numpy arrays of time,
-per-link x/y/angle, joint angles and targets...), the summary and the failed
-expectations (each with what was measured).
+per-link x/y/angle, joint angles and targets, the interface's state and mode...), the
+summary and the failed expectations (each with what was measured).
 """
 
 from __future__ import annotations

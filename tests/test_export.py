@@ -265,3 +265,25 @@ def test_window_replay_follows_a_recorded_slowdown_key(slowed, monkeypatch):
     assert window.run_window(load_setup("luxo-keys"), replay=log) == 0
     assert seen == [("slowdown:4", True, 4.0), ("slowdown:1", True, 1.0)]
     assert feeders[0].session.sim.state_hash() == log.end_hash
+
+
+def test_gif_frame_delays_keep_time_in_whole_centiseconds(hop, tmp_path):
+    """A gif stores whole 1/100 s per frame: at 15 fps the delays alternate 7 and 6 cs
+    (70, 60, 70, 70, 60, ...) so that n frames last n / 15 s, not 0.06 n s (11 % fast)."""
+    from PIL import Image, ImageSequence
+
+    out = tmp_path / "hop.gif"
+    video = export_video(hop, out, fps=15, size=SMALL, hold=0, progress=False)
+    with Image.open(out) as gif:
+        delays = [frame.info["duration"] for frame in ImageSequence.Iterator(gif)]
+    assert len(delays) == video.frames  # every frame differs: none merged
+    assert set(delays) == {60, 70}
+    for n in range(1, len(delays) + 1):  # never more than 5 ms off the clock
+        assert abs(sum(delays[:n]) - n * 1000 / 15) <= 5, n
+
+
+def test_cli_refuses_a_gif_faster_than_50_fps(hop, tmp_path):
+    with pytest.raises(SystemExit, match="too fast for a gif"):
+        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.gif"),
+              "--fps", "60"])
+    assert not (tmp_path / "v.gif").exists()

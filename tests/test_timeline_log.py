@@ -145,19 +145,27 @@ def test_cli_corrupt_log_one_line_exit_2_and_allow_truncated(tmp_path, hop_log):
 
 
 def test_changed_data_file_warns_and_still_replays(tmp_path):
+    """The interface replays from the log's own copy of it (``interface_text``), so
+    editing its file changes nothing; a changed scene (or character) file warns."""
     iface = tmp_path / "my-iface.yaml"
     iface.write_text((ROOT / "interfaces" / "luxo-mouse.yaml").read_text())
-    session = Session(load_setup(str(iface)))
+    scene = tmp_path / "my-scene.yaml"
+    scene.write_text((ROOT / "assets" / "scenes" / "flat.yaml").read_text())
+    session = Session(load_setup(str(iface), str(scene)))
     path = tmp_path / "log.jsonl"
     with Recorder(session, path):
         play(session, [(0, ev.mouse(0.9, 0.2))], 200)
     head = json.loads(path.read_text().splitlines()[0])
     assert head["interface"] == str(iface)  # not a catalog name: the path
-    iface.write_text(iface.read_text() + "\n# edited\n")
+    iface.write_text(iface.read_text().replace("[80, -80]", "[0, 0]"))
+    proc = _cli("replay", path, "--headless")
+    assert proc.returncode == 0, proc.stderr
+    assert "warning" not in proc.stderr and "(same as recorded)" in proc.stdout
+    scene.write_text(scene.read_text() + "\n# edited\n")
     proc = _cli("replay", path, "--headless")
     assert proc.returncode == 0, proc.stderr
     warnings = [x for x in proc.stderr.splitlines() if "warning" in x]
-    assert len(warnings) == 1 and "interface" in warnings[0] and "changed" in warnings[0]
+    assert len(warnings) == 1 and "scene" in warnings[0] and "changed" in warnings[0]
     assert "state=" in proc.stdout
 
 
@@ -204,3 +212,55 @@ def test_checkpoint_interval_from_the_interface_or_the_command_line(tmp_path):
     proc = _cli("play", iface, "--headless", "--checkpoint-every", "0.01")
     assert proc.returncode != 0 and "Traceback" not in proc.stderr
     assert "--checkpoint-every must be 0.5..600 seconds" in proc.stderr
+
+
+def test_record_never_overwrites_an_existing_file(tmp_path, monkeypatch):
+    """``--record PATH`` with PATH taken is a one-line error (exit 2) before anything
+    runs, headless or in the window; and the Recorder itself opens exclusively, so a
+    file that appears between the check and the open is not overwritten either."""
+    from puppet.app import window
+    from puppet.cli import main
+
+    taken = tmp_path / "rec.jsonl"
+    taken.write_text("precious, not even a log\n")
+    proc = _cli("play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds",
+                "0.2", "--record", taken)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.strip().splitlines() == [
+        f"puppet play: --record {taken} exists; choose another path or delete it"]
+    monkeypatch.setattr(window, "run_window", lambda *a, **k: pytest.fail("window opened"))
+    assert main(["play", "luxo-mouse", "--record", str(taken)]) == 2
+    session = Session(load_setup("luxo-mouse"))
+    with pytest.raises(DataError, match="rec.jsonl: exists; choose another path"):
+        Recorder(session, taken)
+    assert taken.read_text() == "precious, not even a log\n"
+    assert session.listener is None
+
+
+def test_headless_recording_replays_from_any_directory(tmp_path):
+    """A headless recording of an interface given by a relative path embeds the
+    interface's text as window recordings do, and names its file by absolute path: it
+    replays from another directory, even with the file gone."""
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "mine.yaml").write_text((ROOT / "interfaces" / "luxo-mouse.yaml").read_text())
+    proc = _cli("play", "mine.yaml", "--headless", "--input", "luxo-hop", "--seconds", "0.5",
+                "--record", "rec.jsonl", cwd=work)
+    assert proc.returncode == 0, proc.stderr
+    head = read_log(work / "rec.jsonl").header
+    assert head["interface"] == str((work / "mine.yaml").resolve())
+    assert head["interface_text"] == (work / "mine.yaml").read_text()
+    (work / "mine.yaml").unlink()
+    proc = _cli("replay", work / "rec.jsonl", "--headless", cwd="/")
+    assert proc.returncode == 0, proc.stderr
+    assert "(same as recorded)" in proc.stdout
+
+
+def test_bad_json_line_names_the_column_in_plain_words(tmp_path, hop_log):
+    lines = hop_log.read_text().splitlines()
+    lines[2] = '{"step": 5, "event": {"type": "key", "key": "q'
+    with pytest.raises(DataError) as info:
+        read_log(_write(tmp_path / "cut.jsonl", lines))
+    assert info.value.line == 3
+    assert "not valid JSON (Unterminated string starting at column 45)" in info.value.message
+    assert "at at" not in info.value.message

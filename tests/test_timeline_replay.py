@@ -240,3 +240,91 @@ def test_window_feeder_matches_headless_replay_on_a_real_log(until):
     headless = replay(path, until_step=until, check=False, trajectory=False)
     fed = _fed(path, until, 97)
     assert (fed.steps, fed.sim.state_hash()) == (headless.steps, headless.final_hash)
+
+
+def _with_end_hash(src: Path, dst: Path, end_hash: str) -> Path:
+    lines = src.read_text().splitlines()
+    end = json.loads(lines[-1])
+    lines[-1] = json.dumps({"end": end["end"], "hash": end_hash})
+    dst.write_text("\n".join(lines) + "\n")
+    return dst
+
+
+def test_a_log_that_ends_elsewhere_is_not_ok_in_table_summary_or_exit_code(hop, tmp_path):
+    """Without --check a log whose replay does not end in its recorded state is
+    "differs" in the table, counted as "differ" (not ok) in the summary, and exits 1;
+    with --check it is a failed check. --until-step has nothing to compare."""
+    odd = _with_end_hash(hop, tmp_path / "odd.jsonl", "0123456789abcdef")
+    proc = _cli("replay", hop, odd, "--headless", "--jobs", "2")
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    results = {r.split()[0]: r.split()[-1] for r in proc.stdout.splitlines()
+               if r.split()[0] in (str(hop), str(odd))}
+    assert results == {str(hop): "ok", str(odd): "differs"}
+    assert "2 logs: 1 ok, 1 differ, 0 errors, 0 blow-ups" in proc.stdout
+    proc = _cli("replay", hop, odd, "--headless", "--check", "--jobs", "2")
+    assert proc.returncode == 1 and "2 logs: 1 ok, 1 failed, 0 errors" in proc.stdout
+    proc = _cli("replay", odd, "--headless")
+    assert proc.returncode == 1 and "(recorded 0123456789abcdef: DIFFERENT)" in proc.stdout
+    proc = _cli("replay", odd, "--headless", "--until-step", "300")
+    assert proc.returncode == 0 and "DIFFERENT" not in proc.stdout, proc.stdout
+
+
+def test_replay_takes_a_log_by_name_from_the_logs_or_recordings_folder(hop, tmp_path,
+                                                                       monkeypatch, capsys):
+    from puppet.cli import main
+    from puppet.data import catalog
+
+    assert main(["replay", "luxo-hop", "--headless", "--until-step", "50"]) == 0
+    assert str(ROOT / "assets" / "logs" / "luxo-hop.jsonl") in capsys.readouterr().out
+    mine = tmp_path / "recordings"
+    mine.mkdir()
+    (mine / "luxo-mouse-20260101-120000.jsonl").write_text(hop.read_text())
+    monkeypatch.setitem(catalog.FOLDERS, "recording", (str(mine), ".jsonl"))
+    assert main(["list"]) == 0
+    listed = capsys.readouterr().out
+    assert f"recordings ({mine}/):\n  luxo-mouse-20260101-120000" in listed
+    assert main(["replay", "luxo-mouse-20260101-120000", "--headless"]) == 0
+    assert "(same as recorded)" in capsys.readouterr().out
+    assert main(["replay", "no-such-log", "--headless"]) == 2
+    assert "no log named 'no-such-log'; known: " in capsys.readouterr().err
+
+
+BOOM = """\
+name: boom
+description: luxo-mouse with a key that blows the simulation up
+character: luxo
+checkpoint_every: 0.5
+maps:
+  - {input: mouse.x, joint: ankle, from: [0, 1], to: [80, -80]}
+keys:
+  - {key: g, gravity: [0, 100000000], description: absurd gravity}
+  - {key: n, gravity: [0, -9.81], description: earth gravity}
+"""
+BOOM_SCRIPT = """\
+seconds: 1.5
+events:
+  - {t: 0.0, mouse: [0.5, 0.5]}
+  - {t: 0.6, key: g}
+  - {t: 0.7, key: n}
+"""
+
+
+def test_headless_play_and_replay_report_each_blow_up(tmp_path):
+    (tmp_path / "boom.yaml").write_text(BOOM)
+    (tmp_path / "boom-script.yaml").write_text(BOOM_SCRIPT)
+    log = tmp_path / "boom.jsonl"
+    proc = _cli("play", tmp_path / "boom.yaml", "--headless", "--input",
+                tmp_path / "boom-script.yaml", "--record", log)
+    assert proc.returncode == 0, proc.stderr
+    note = "the simulation blew up at t=1.00 s; restored the checkpoint of t=0.50 s"
+    assert proc.stderr.splitlines() == [f"puppet play: {note}"]
+    result = replay(log)
+    assert result.blowups == [note] and result.session.blowups == 1
+    proc = _cli("replay", log, "--headless")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.splitlines() == [f"{log}: {note}"]
+    assert "(same as recorded)  blow-ups=1" in proc.stdout
+    calm = ROOT / "assets" / "logs" / "luxo-hop.jsonl"
+    proc = _cli("replay", log, calm, "--headless")
+    assert proc.returncode == 0 and "2 logs: 2 ok, 0 differ, 0 errors, 1 blow-up" in proc.stdout
+    assert proc.stderr.splitlines() == [f"{log}: {note}"]

@@ -4,8 +4,9 @@ The video is the window's replay drawn off-screen: a ``LogFeeder`` advances the 
 (1 / fps) / slowdown simulated seconds per frame, the camera eases as in the window,
 the HUD is drawn, and the recorded speed keys ("slower", "faster", an interface's
 ``slowdown:`` keys) change the slowdown as they did live, through ``SimClock.apply``.
-Frames go to imageio: mp4 (and other containers) through imageio-ffmpeg's bundled
-ffmpeg binary, gif through pillow. Nothing is hand-encoded.
+Frames go to imageio (mp4 and other containers, through imageio-ffmpeg's bundled
+ffmpeg binary) or to pillow (gif, with per-frame delays so that it keeps time).
+Nothing is hand-encoded.
 """
 
 from __future__ import annotations
@@ -53,18 +54,30 @@ def _forward_steps(log: Log, until_step: int | None) -> int:
     return fed + max(0, stop - cur)
 
 
+def gif_delays(frames: int, fps: float) -> list[int]:
+    """Per-frame gif delays in ms, whole centiseconds (all a gif can store) whose
+    running sum stays within 5 ms of frame / fps: at 15 fps 70, 60, 70, 70, 60, ...
+    (a constant 6 cs would play 11 % fast). Each frame ends at round(100 k / fps) cs."""
+    ends = [round(100 * k / fps) for k in range(frames + 1)]
+    return [10 * (b - a) for a, b in zip(ends, ends[1:])]
+
+
 class _Writer:
-    """Frames (h, w, 3 uint8 arrays) to a video or gif file, by the file's extension."""
+    """Frames (h, w, 3 uint8 arrays) to a video or gif file, by the file's extension.
+
+    A gif is written by pillow at ``close`` (pillow saves all frames at once, as
+    imageio's pillow plugin does too), with per-frame delays from ``gif_delays``;
+    pillow merges identical frames and adds up their delays."""
 
     def __init__(self, path: Path, fps: float):
         ext = path.suffix.lower()
         path.parent.mkdir(parents=True, exist_ok=True)
+        self.path = path
         self.fps = fps
+        self.gif: list | None = None
+        self.video = None
         if ext in GIF_EXTS:
-            import imageio.v3 as iio
-
-            self.gif = iio.imopen(str(path), "w", plugin="pillow")
-            self.video = None
+            self.gif = []
         elif ext in VIDEO_EXTS:
             import imageio.v2 as imageio
 
@@ -72,23 +85,26 @@ class _Writer:
             # macro_block_size=2: even sizes are kept as they are (yuv420p needs even)
             self.video = imageio.get_writer(str(path), fps=fps, macro_block_size=2,
                                             ffmpeg_log_level="error", **options)
-            self.gif = None
         else:
             raise ValueError(f"cannot write '{path.suffix}' files: use one of "
                              f"{', '.join(sorted(VIDEO_EXTS | GIF_EXTS))}")
 
     def write(self, frame) -> None:
         if self.gif is not None:
-            # gif frame delays are whole 1/100 s: 30 fps plays at 1/0.03 = 33 fps
-            self.gif.write(frame, duration=1000.0 / self.fps, loop=0)
+            from PIL import Image
+
+            self.gif.append(Image.fromarray(frame))
         else:
             self.video.append_data(frame)
 
     def close(self) -> None:
-        if self.gif is not None:
-            self.gif.close()
-        else:
+        if self.gif is None:
             self.video.close()
+        elif self.gif:
+            first, *rest = self.gif
+            first.save(self.path, format="GIF", save_all=True, append_images=rest, loop=0,
+                       duration=gif_delays(len(self.gif), self.fps))
+            self.gif = []
 
 
 def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
@@ -187,7 +203,8 @@ def _parse_size(text: str) -> tuple[int, int]:
 
 def export_command(args) -> int:
     """The replay command with --video and/or --plot (one log, headless)."""
-    from puppet.timeline.replay import EXIT_FAILED, replay
+    from puppet.timeline.replay import (exit_code, find_log, print_notes, replay, state_line,
+                                        verdict)
 
     if not args.headless:
         raise SystemExit("puppet replay: --video and --plot need --headless")
@@ -198,25 +215,25 @@ def export_command(args) -> int:
                          f"files; use one of {', '.join(sorted(VIDEO_EXTS | GIF_EXTS))}")
     if args.fps <= 0:
         raise SystemExit("puppet replay: --fps must be positive")
+    if args.video and Path(args.video).suffix.lower() in GIF_EXTS and args.fps > 50:
+        raise SystemExit(f"puppet replay: --fps {args.fps:g} is too fast for a gif (frame "
+                         "delays are whole 1/100 s, and players slow down delays under "
+                         "2/100 s): use --fps 50 or less, or an .mp4")
     if not 0 < args.scale <= 4:
         raise SystemExit("puppet replay: --scale must be in (0, 4]")
     size = _parse_size(args.size)
-    path = args.logs[0]
+    path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,
                     trajectory=bool(args.plot) or args.check)
-    for w in result.warnings:
-        print(w, file=sys.stderr)
-    rec = result.recorded_hash
-    same = "" if rec is None or args.until_step is not None else (
-        " (same as recorded)" if rec == result.final_hash
-                                   else f" (recorded {rec}: DIFFERENT)")
-    print(f"{path}: step {result.steps}  t={result.time:.3f}s  state={result.final_hash}{same}")
+    res = result.summary
+    print(state_line(res))
     if args.check:
         for o in result.outcomes:
             print(f"  {o}")
         if not result.outcomes:
             print("  (no expectations)")
+    print_notes(res)
     if args.plot:
         from puppet.timeline.plot import joint_limits, save_joint_plot
 
@@ -233,4 +250,4 @@ def export_command(args) -> int:
                   file=sys.stderr)
         print(f"wrote {args.video} ({video.frames} frames, {video.size[0]}x{video.size[1]}, "
               f"{video.fps:g} fps)")
-    return EXIT_FAILED if args.check and result.failed else 0
+    return exit_code([verdict(res)])

@@ -71,8 +71,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         from puppet.timeline.log import Recorder, default_path
 
         path = record or default_path(setup.interface.name)
-        recorder = Recorder(session, path, slowdown=slowdown,
-                            exclusive=record is None, embed_interface=True)
+        recorder = Recorder(session, path, slowdown=slowdown)
         print(f"recording to {path}")
     from puppet.timeline.history import Scrubber
 

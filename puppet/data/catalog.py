@@ -1,4 +1,4 @@
-"""Find data files by name: characters, interfaces, scenes, scripts and logs.
+"""Find data files by name: characters, interfaces, scenes, scripts, logs and recordings.
 
 Names resolve to ``<root>/<folder>/<name>.yaml``; a path to an existing file is
 taken as is. The root is the checkout (or ``$PUPPET_HOME``).
@@ -25,6 +25,7 @@ FOLDERS = {
     "scene": ("assets/scenes", ".yaml"),
     "script": ("assets/scripts", ".yaml"),
     "log": ("assets/logs", ".jsonl"),
+    "recording": ("recordings", ".jsonl"),  # the window's own logs (not shipped)
 }
 
 

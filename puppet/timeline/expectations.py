@@ -23,23 +23,33 @@ Each entry names one check:
       - landed_at: {link: base, min: 6.0}
                                   # where the longest flight ended (the longest stretch
                                   # with no link touching): the link's x at touchdown, m
+      - stayed_in_state: upright               # the interface's state machine was in
+                                               # 'upright' at every sample of the run
+      - stayed_in_state: {state: sitting, from: 0.6, until: 4.0}
+                                  # ... from t = 0.6 s to t = 4.0 s (both optional)
+      - stayed_in_mode: {mode: keys, from: 1.0}   # the same for the interface's mode
+      - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
       - final_hash: 0123456789abcdef           # the exact final state
 
 "Upright" is the root link's angle from its model orientation, taken modulo full
 turns. A fall is the root more than 90 deg from upright while any link of the
 character touches the ground: a somersault in the air that lands upright is not one.
 The trajectory is sampled every few steps (``Trajectory``), so "never" and
-"for 0.1 s" are as fine as that sampling (1/120 s by default).
+"for 0.1 s" are as fine as that sampling (1/120 s by default); so is "stayed": a
+state left and re-entered between two samples goes unseen. A state or mode the
+interface does not define is a DataError at the entry, raised when the expectations
+are evaluated: the interface is only known for sure once replayed (the header's copy,
+or the versions a reload brought in).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
-from pydantic import Field, NonNegativeFloat, model_validator
+from pydantic import Field, NonNegativeFloat, PrivateAttr, model_validator
 
 from puppet.data.errors import DataError
 from puppet.data.validate import Spec, validate
@@ -88,6 +98,44 @@ class LandedAt(Spec):
     min: float = Field(description="m: x of the link when the longest flight ended")
 
 
+class StayedIn(Spec):
+    """The common part of stayed_in_state and stayed_in_mode: the time window. The
+    shorthand ``stayed_in_state: NAME`` is the whole run."""
+
+    column: ClassVar[str]  # the Trajectory column and the key naming it: state or mode
+    from_: NonNegativeFloat | None = Field(None, alias="from",
+                                           description="s: window start (default: the start)")
+    until: NonNegativeFloat | None = Field(None, description="s: window end (default: the end)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, data):
+        return {cls.column: data} if isinstance(data, str) else data
+
+    @model_validator(mode="after")
+    def _window(self):
+        if self.from_ is not None and self.until is not None and self.from_ > self.until:
+            raise ValueError("'from' must not be later than 'until'")
+        return self
+
+    @property
+    def name(self) -> str:
+        return getattr(self, self.column)
+
+
+class StayedInState(StayedIn):
+    column: ClassVar[str] = "state"
+    state: str = Field(description="the interface state it must stay in")
+
+
+class StayedInMode(StayedIn):
+    column: ClassVar[str] = "mode"
+    mode: str = Field(description="the interface mode it must stay in")
+
+
+AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
+
+
 class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     upright_at_end: bool | None = None
@@ -96,7 +144,13 @@ class Expectation(Spec):
     airborne: Airborne | None = None
     turned: Turned | None = None
     landed_at: LandedAt | None = None
+    stayed_in_state: StayedInState | None = None
+    stayed_in_mode: StayedInMode | None = None
+    in_state_at_end: str | None = None
+    in_mode_at_end: str | None = None
     final_hash: str | None = None
+    # (Located, data path) of this entry, for errors found only when evaluating
+    _where: tuple | None = PrivateAttr(None)
 
     @model_validator(mode="after")
     def _one(self):
@@ -113,6 +167,13 @@ class Expectation(Spec):
     @property
     def value(self):
         return getattr(self, self.kind)
+
+    def error(self, message: str, *sub) -> DataError:
+        """A DataError at this entry (``sub``: a key inside it) if it came from a file."""
+        if self._where is None:
+            return DataError("expect", None, None, message)
+        located, loc = self._where
+        return located.error(loc + sub, message)
 
     def link(self) -> str | None:
         v = self.value
@@ -134,6 +195,10 @@ class Expectation(Spec):
                     + (" in flight" if v.in_flight else ""))
         if isinstance(v, LandedAt):
             return f"landed_at {v.link} min x {v.min} m"
+        if isinstance(v, StayedIn):
+            window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
+                             if b is not None)
+            return f"{self.kind} {v.name}{window}"
         return f"{self.kind} {v}".replace("True", "true").replace("False", "false")
 
 
@@ -150,15 +215,18 @@ class Expectations:
     located: Located | None
     loc_prefix: tuple  # data path of the list inside ``located``
 
+    def __post_init__(self):
+        if self.located is not None:
+            for i, e in enumerate(self.items):
+                e._where = (self.located, self.loc_prefix + (i, e.kind))
+
     def check_links(self, links: list[str]) -> None:
         """DataError (at the entry) for a link the character does not have."""
-        for i, e in enumerate(self.items):
+        for e in self.items:
             name = e.link()
             if name is not None and name not in links:
-                msg = f"unknown link '{name}'; the character has: {', '.join(links)}"
-                if self.located is None:
-                    raise DataError("expect", None, None, msg)
-                raise self.located.error(self.loc_prefix + (i, e.kind, "link"), msg)
+                raise e.error(f"unknown link '{name}'; the character has: {', '.join(links)}",
+                              "link")
 
 
 def sidecar_path(log_path: str | Path) -> Path:
@@ -226,6 +294,52 @@ def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, int, int]:
     return best
 
 
+def _named(x) -> str:
+    """A state or mode for a message; none for an interface (version) without them."""
+    return "none" if x is None else f"'{x}'"
+
+
+def _check_name(e: Expectation, traj, column: str, name: str, *sub) -> None:
+    """DataError (at the entry) for a state or mode the interface does not define."""
+    names = getattr(traj, f"{column}_names")
+    if name not in names:
+        have = (f"the interface has: {', '.join(names)}" if names
+                else f"the interface has no {column}s")
+        raise e.error(f"unknown {column} '{name}'; {have}", *sub)
+
+
+def _stayed(e: Expectation, v: StayedIn, traj) -> Outcome:
+    """In the state (or mode) at every sample of the window; else where it first was
+    not: the state it left for, or the one it was in when the window began."""
+    _check_name(e, traj, v.column, v.name, v.column)  # at the name (shorthand: the entry)
+    t, seen = traj.t, getattr(traj, v.column)
+    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
+    hi = np.inf if v.until is None else v.until + 1e-9
+    idx = np.flatnonzero((t >= lo) & (t <= hi))
+    if len(idx) == 0:
+        return Outcome(e.describe(), False, f"no samples in the window (the run is "
+                                            f"{t[-1]:.2f} s)")
+    off = idx[seen[idx] != v.name]
+    if len(off) == 0:
+        return Outcome(e.describe(), True, f"in '{v.name}' from t = {t[idx[0]]:.2f} s "
+                                           f"to {t[idx[-1]]:.2f} s")
+    k = int(off[0])
+    if k == idx[0]:
+        what = f"in {_named(seen[k])}, not '{v.name}', at t = {t[k]:.2f} s"
+    else:
+        what = f"left '{v.name}' for {_named(seen[k])} at t = {t[k]:.2f} s"
+    return Outcome(e.describe(), False, what)
+
+
+def _at_end(e: Expectation, column: str, traj) -> Outcome:
+    _check_name(e, traj, column, e.value)
+    seen = getattr(traj, column)
+    changed = np.flatnonzero(seen != seen[-1])
+    since = traj.t[changed[-1] + 1] if len(changed) else traj.t[0]
+    return Outcome(e.describe(), seen[-1] == e.value,
+                   f"in {_named(seen[-1])} at the end (since t = {since:.2f} s)")
+
+
 def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
     """Check one expectation against a sampled trajectory (see ``Trajectory``)."""
     v, desc = e.value, e.describe()
@@ -284,6 +398,10 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return Outcome(desc, x >= v.min, f"longest flight {length:.2f} s from t = "
                                          f"{traj.t[first]:.2f} s, "
                                          f"touched down at x = {x:.3f} m (t = {traj.t[i]:.2f} s)")
+    if isinstance(v, StayedIn):
+        return _stayed(e, v, traj)
+    if e.kind in AT_END:
+        return _at_end(e, AT_END[e.kind], traj)
     if e.kind == "final_hash":
         return Outcome(desc, final_hash == v, f"final hash {final_hash}")
     raise AssertionError(e.kind)

@@ -30,7 +30,7 @@ from puppet.interface.events import Event
 
 FORMAT = "puppet-log"
 VERSION = 1
-RECORDINGS = "recordings"  # folder (under the repository root) the window records into
+RECORDINGS = FOLDERS["recording"][0]  # where (under the root) the window records to
 
 EVENT_FIELDS = {  # event type -> required fields (besides "type")
     "mouse": ("x", "y"),
@@ -47,22 +47,24 @@ EVENT_FIELDS = {  # event type -> required fields (besides "type")
 
 def _name(path: Path, kind: str) -> str:
     """How a log names a data file: its catalog name if it is the catalog's file of
-    that name, else its path."""
+    that name, else its absolute path (a relative one would only resolve from the
+    directory the recording was made in)."""
     sub, ext = FOLDERS[kind]
     path = Path(path)
     try:
         if path.resolve() == (ROOT / sub / (path.stem + ext)).resolve():
             return path.stem
+        return str(path.resolve())
     except OSError:
-        pass
-    return str(path)
+        return str(path.absolute())
 
 
 def make_header(session, slowdown: float | None = None, description: str | None = None,
-                expect: list | None = None, embed_interface: bool = False) -> dict:
-    """``embed_interface``: keep the interface file's text in the header
-    (``interface_text``), so the log replays even after the file was edited (the
-    window's logs do: a hot reload edits it while recording)."""
+                expect: list | None = None, embed_interface: bool = True) -> dict:
+    """``embed_interface`` (the default, for window and headless recordings alike):
+    keep the interface file's text in the header (``interface_text``), so the log
+    replays from anywhere, even after the file was edited, moved or deleted (a hot
+    reload edits it while recording)."""
     setup: Setup = session.setup
     header: dict[str, Any] = {
         "format": FORMAT,
@@ -88,6 +90,9 @@ def make_header(session, slowdown: float | None = None, description: str | None 
     return header
 
 
+EXISTS = "exists; choose another path or delete it (a log is never overwritten)"
+
+
 def default_path(interface_name: str, root: Path | None = None, now=None) -> Path:
     """recordings/<interface>-<YYYYmmdd-HHMMSS>.jsonl, never an existing file."""
     folder = Path(root if root is not None else ROOT) / RECORDINGS
@@ -109,15 +114,21 @@ def _dumps(obj) -> str:
 class Recorder:
     """Writes a session's events to a log as they are handled.
 
-    Hooks in as ``session.listener``; ``close()`` writes the end line (clean exit)."""
+    Hooks in as ``session.listener``; ``close()`` writes the end line (clean exit).
+    The file is created exclusively (mode 'x'): a log is never silently overwritten,
+    not even by a race between checking a path and opening it; an existing ``path``
+    is a DataError."""
 
     def __init__(self, session, path: str | Path, slowdown: float | None = None,
                  description: str | None = None, expect: list | None = None,
-                 exclusive: bool = False, embed_interface: bool = False):
+                 embed_interface: bool = True):
         self.session = session
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.file = self.path.open("x" if exclusive else "w", encoding="utf-8")
+        try:
+            self.file = self.path.open("x", encoding="utf-8")
+        except FileExistsError:
+            raise DataError(str(path), None, None, EXISTS) from None
         self._write(make_header(session, slowdown, description, expect, embed_interface))
         self._previous = session.listener
         session.listener = self.on_event
@@ -252,6 +263,13 @@ def _check_event(obj: Any) -> str | None:
     return None
 
 
+def _json_problem(exc: json.JSONDecodeError) -> str:
+    """json's message with its column: some messages end in "at" ("Unterminated string
+    starting at"), which must not become "starting at at column 5"."""
+    msg = exc.msg[:-3] if exc.msg.endswith(" at") else exc.msg
+    return f"{msg} at column {exc.colno}"
+
+
 def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     """Parse a log. A bad line raises DataError(path, line); with ``allow_truncated``
     the valid lines before it are kept (``Log.truncated_at`` says where it stopped)."""
@@ -270,8 +288,8 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     try:
         header = json.loads(lines[0])
     except ValueError as exc:
-        raise DataError(path_s, 1, None, f"not valid JSON ({exc.msg}); line 1 must be "
-                                         "the log header") from None
+        raise DataError(path_s, 1, None, f"not valid JSON ({_json_problem(exc)}); line 1 "
+                                         "must be the log header") from None
     log = Log(path_s, _check_header(path_s, header))
     for i, line in enumerate(lines[1:], start=2):
         problem = None
@@ -284,7 +302,7 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
             try:
                 obj = json.loads(line)
             except ValueError as exc:
-                problem = f"not valid JSON ({exc.msg} at column {exc.colno})"
+                problem = f"not valid JSON ({_json_problem(exc)})"
         if problem is None and isinstance(obj, dict) and "end" in obj:
             end = obj.get("end")
             if (set(obj) - {"end", "hash"} or not isinstance(end, int) or isinstance(end, bool)

@@ -30,8 +30,12 @@ class Trajectory:
     Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
     (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
     something outside the character). Per joint (``joints`` order): ``joint_angle``,
-    ``joint_target`` (rad). ``com`` is (n, 2). After a rewind the abandoned branch's
-    samples are dropped: the trajectory is the history that was kept.
+    ``joint_target`` (rad). ``com`` is (n, 2). ``state`` and ``mode`` (object arrays
+    of names, None without states or modes) are the interface's state and mode at each
+    sample, for expectations about what the character was doing; ``state_names`` and
+    ``mode_names`` are the ones the interface defines (every version, if it was
+    reloaded), so such an expectation can say a name does not exist. After a rewind the
+    abandoned branch's samples are dropped: the trajectory is the history that was kept.
     """
 
     links: list[str]
@@ -47,6 +51,10 @@ class Trajectory:
     root_angle: np.ndarray
     joint_angle: np.ndarray
     joint_target: np.ndarray
+    state: np.ndarray
+    mode: np.ndarray
+    state_names: list[str]
+    mode_names: list[str]
 
     def index(self, link: str) -> int:
         return self.links.index(link)
@@ -64,9 +72,17 @@ class Sampler:
         self.joints = list(c.servos)
         self.root = c.spec.root
         self.rows: list[tuple] = []
+        self.state_names: dict[str, None] = {}  # ordered sets
+        self.mode_names: dict[str, None] = {}
+        self._runtime = None
 
     def __call__(self, session: Session) -> None:
         step = session.steps
+        rt = session.runtime
+        if rt is not self._runtime:  # the start, or a reload: names it may have added
+            self._runtime = rt
+            self.state_names.update(dict.fromkeys(rt.spec.states))
+            self.mode_names.update(dict.fromkeys(rt.spec.modes))
         if self.rows and step <= self.rows[-1][0]:  # time went back: a rewind
             while self.rows and self.rows[-1][0] >= step:
                 self.rows.pop()
@@ -79,7 +95,8 @@ class Sampler:
             per_link.append((p[0], p[1], body.angle, low, c.in_contact(name)))
         servos = [c.servos[j] for j in self.joints]
         self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
-                          [s.angle for s in servos], [s.target for s in servos]))
+                          [s.angle for s in servos], [s.target for s in servos],
+                          rt.state, rt.mode))
 
     def trajectory(self) -> Trajectory:
         rows = self.rows
@@ -94,7 +111,10 @@ class Sampler:
             com=np.array([r[3] for r in rows], dtype=float).reshape(n, 2),
             root_angle=np.array([r[4] for r in rows], dtype=float),
             joint_angle=np.array([r[5] for r in rows], dtype=float).reshape(n, nj),
-            joint_target=np.array([r[6] for r in rows], dtype=float).reshape(n, nj))
+            joint_target=np.array([r[6] for r in rows], dtype=float).reshape(n, nj),
+            state=np.array([r[7] for r in rows], dtype=object),
+            mode=np.array([r[8] for r in rows], dtype=object),
+            state_names=list(self.state_names), mode_names=list(self.mode_names))
 
 
 @dataclass
@@ -113,6 +133,10 @@ class ReplayResult:
     warnings: list[str] = field(default_factory=list)
     truncated_at: int | None = None
     session: Session | None = field(default=None, repr=False)
+    # True/False: the replay ended in the recorded end state or not; None: nothing to
+    # compare (no end line, stopped early with until_step, or a truncated log)
+    same_end: bool | None = None
+    blowups: list[str] = field(default_factory=list)  # the session's note for each
 
     @property
     def failed(self) -> list[Outcome]:
@@ -126,8 +150,25 @@ class ReplayResult:
     def summary(self) -> dict:
         return {"log": self.path, "steps": self.steps, "time": round(self.time, 6),
                 "hash": self.final_hash, "recorded_hash": self.recorded_hash,
+                "same_end": self.same_end,
                 "checks": len(self.outcomes), "failed": [str(o) for o in self.failed],
-                "warnings": list(self.warnings), "truncated_at": self.truncated_at}
+                "warnings": list(self.warnings), "truncated_at": self.truncated_at,
+                "blowups": list(self.blowups)}
+
+
+def find_log(name: str) -> str:
+    """A LOG argument as a path: an existing file or a path as given; a bare name is
+    looked up as interfaces and scripts are, in assets/logs/ and then recordings/
+    (where the window saves its sessions). DataError names the known logs."""
+    if Path(name).is_file() or len(Path(name).parts) > 1:
+        return name
+    try:
+        return str(find("log", name))
+    except DataError as exc:
+        try:
+            return str(find("recording", name))
+        except DataError:
+            raise exc from None
 
 
 def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
@@ -213,14 +254,18 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
         sampler(session)
     traj = sampler.trajectory() if sampler is not None else None
     final = session.sim.state_hash()
+    same_end = None
+    if log.end_hash and until_step is None and log.truncated_at is None:
+        same_end = final == log.end_hash
     outcomes: list[Outcome] = []
     if expectations is not None:
         outcomes = evaluate_all(expectations.items, traj, final)
-        if log.end_hash and until_step is None and log.truncated_at is None:
-            outcomes.append(Outcome("same end as the recording", final == log.end_hash,
+        if same_end is not None:
+            outcomes.append(Outcome("same end as the recording", same_end,
                                     f"replayed {final}, recorded {log.end_hash}"))
     return ReplayResult(str(path), final, session.steps, session.time, log.end_hash, traj,
-                        outcomes, warnings, log.truncated_at, session)
+                        outcomes, warnings, log.truncated_at, session, same_end,
+                        list(session.blowup_messages))
 
 
 # -- the ``puppet replay`` command -----------------------------------------------------
@@ -228,9 +273,10 @@ EXIT_FAILED, EXIT_DATA_ERROR = 1, 2
 
 
 def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool) -> dict:
-    """One headless replay, as a plain dict (runs in a worker process)."""
+    """One headless replay, as a plain dict (runs in a worker process). ``path`` may
+    be a log's name (``find_log``)."""
     try:
-        result = replay(path, until_step, allow_truncated, check=check, trajectory=check)
+        result = replay(find_log(path), until_step, allow_truncated, check=check, trajectory=check)
     except DataError as exc:
         return {"log": path, "error": str(exc)}
     except Exception as exc:  # noqa: BLE001 - one bad log must not stop the others
@@ -240,21 +286,52 @@ def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check:
     return out
 
 
-def _print_one(res: dict, check: bool) -> None:
+def verdict(res: dict) -> str:
+    """A replay's one word, the same in the table, the summary line and the exit code:
+    ERROR (cannot be replayed), FAIL (an expectation failed; with --check the recorded
+    end state is one), "differs" (no --check, and the replay did not end in the recorded
+    state: not ok either), else ok."""
+    if "error" in res:
+        return "ERROR"
+    if res["failed"]:
+        return "FAIL"
+    return "differs" if res["same_end"] is False else "ok"
+
+
+def exit_code(verdicts: list[str]) -> int:
+    """2 if a log cannot be replayed, 1 if one failed or differs, else 0."""
+    if "ERROR" in verdicts:
+        return EXIT_DATA_ERROR
+    return EXIT_FAILED if {"FAIL", "differs"} & set(verdicts) else 0
+
+
+def state_line(res: dict) -> str:
+    """``LOG: step N  t=...s  state=HASH (same as recorded)  blow-ups=K``."""
+    same = {None: "", True: " (same as recorded)",
+            False: f" (recorded {res['recorded_hash']}: DIFFERENT)"}[res["same_end"]]
+    blown = f"  blow-ups={len(res['blowups'])}" if res["blowups"] else ""
+    return (f"{res['log']}: step {res['steps']}  t={res['time']:.3f}s  "
+            f"state={res['hash']}{same}{blown}")
+
+
+def print_notes(res: dict) -> None:
+    """A replay's warnings and one line per blow-up, to stderr."""
     import sys
 
     for w in res.get("warnings", []):
         print(w, file=sys.stderr)
-    rec = res["recorded_hash"]
-    same = "" if rec is None else (" (same as recorded)" if rec == res["hash"]
-                                   else f" (recorded {rec}: DIFFERENT)")
-    print(f"{res['log']}: step {res['steps']}  t={res['time']:.3f}s  "
-          f"state={res['hash']}{same}")
+    for note in res.get("blowups", []):
+        print(f"{res['log']}: {note}", file=sys.stderr)
+
+
+def _print_one(res: dict, check: bool) -> None:
+    print(state_line(res))
     if check:
         for line in res["outcomes"]:
             print(f"  {line}")
         if not res["outcomes"]:
             print("  (no expectations)")
+    print_notes(res)
 
 
 def _table(results: list[dict], check: bool) -> str:
@@ -264,19 +341,27 @@ def _table(results: list[dict], check: bool) -> str:
             rows.append((r["log"], "-", "-", "-", "ERROR"))
             continue
         n, failed = r["checks"], len(r["failed"])
-        verdict = "FAIL" if failed else "ok"
-        if r["recorded_hash"] is not None and r["recorded_hash"] != r["hash"] and not check:
-            verdict = "differs"
         rows.append((r["log"], str(r["steps"]), r["hash"],
-                     f"{n - failed}/{n}" if check else "-", verdict))
+                     f"{n - failed}/{n}" if check else "-", verdict(r)))
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip()
                      for row in rows)
 
 
+def summary_line(results: list[dict], check: bool) -> str:
+    """``N logs: A ok, B failed, C errors, D blow-ups`` (without --check, a log that
+    does not end in its recorded state is counted as "differ", not ok)."""
+    words = [verdict(r) for r in results]
+    middle = (f"{words.count('FAIL')} failed" if check else f"{words.count('differs')} differ")
+    blowups = sum(len(r.get("blowups", [])) for r in results)
+    return (f"{len(results)} logs: {words.count('ok')} ok, {middle}, "
+            f"{words.count('ERROR')} errors, {blowups} blow-up{'' if blowups == 1 else 's'}")
+
+
 def replay_command(args) -> int:
     """``puppet replay LOG... [--headless] [--check] [--until-step N] [--allow-truncated]
-    [--jobs N]``"""
+    [--jobs N]``. Exit 2 if a log cannot be replayed, 1 if one fails its expectations
+    (--check) or ends in another state than recorded, else 0."""
     import sys
 
     logs = list(args.logs)
@@ -287,7 +372,7 @@ def replay_command(args) -> int:
             raise SystemExit("puppet replay: --check needs --headless")
         from puppet.app.window import run_window
 
-        log = read_log(logs[0], args.allow_truncated)
+        log = read_log(find_log(logs[0]), args.allow_truncated)
         setup, warnings = setup_for_log(log)
         for w in warnings:
             print(w, file=sys.stderr)
@@ -300,7 +385,7 @@ def replay_command(args) -> int:
             print(res["error"], file=sys.stderr)
             return EXIT_DATA_ERROR
         _print_one(res, args.check)
-        return EXIT_FAILED if args.check and res["failed"] else 0
+        return exit_code([verdict(res)])
 
     from tqdm import tqdm
 
@@ -322,22 +407,17 @@ def replay_command(args) -> int:
             bar.update(1)
     bar.close()
     ordered = [results[i] for i in range(len(logs))]
-    errors = [r for r in ordered if "error" in r]
-    for r in errors:
-        print(r["error"], file=sys.stderr)
     for r in ordered:
-        for w in r.get("warnings", []):
-            print(w, file=sys.stderr)
+        if "error" in r:
+            print(r["error"], file=sys.stderr)
+    for r in ordered:
+        print_notes(r)
         if args.check and "error" not in r:
             for line in r["failed"]:
                 print(f"{r['log']}: {line}")
     print(_table(ordered, args.check))
-    failed = sum(1 for r in ordered if "error" not in r and r["failed"])
-    print(f"{len(ordered)} logs: {len(ordered) - failed - len(errors)} ok, {failed} failed, "
-          f"{len(errors)} errors")
-    if errors:
-        return EXIT_DATA_ERROR
-    return EXIT_FAILED if args.check and failed else 0
+    print(summary_line(ordered, args.check))
+    return exit_code([verdict(r) for r in ordered])
 
 
 class LogFeeder:
