@@ -14,6 +14,21 @@ from puppet import __version__
 from puppet.data.errors import DataError
 
 EXIT_DATA_ERROR = 2
+
+
+def _slowdown(text: str) -> float:
+    """--slowdown: wall seconds per simulated second, MIN_SLOWDOWN..MAX_SLOWDOWN."""
+    from puppet.app.clock import MAX_SLOWDOWN, MIN_SLOWDOWN
+
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not MIN_SLOWDOWN <= value <= MAX_SLOWDOWN:
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not a slowdown from {MIN_SLOWDOWN:g} to {MAX_SLOWDOWN:g} (wall s per "
+            f"simulated s: 4 = four times slower, 0.5 = twice as fast)")
+    return value
 # what ``puppet list`` lists; "recording": the window's own logs (recordings/)
 KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
@@ -147,8 +162,9 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("interface", help="interface name (interfaces/NAME.yaml) or path")
     play.add_argument("--scene", help="scene name (assets/scenes/NAME.yaml) or path; "
                                       "default: the interface's")
-    play.add_argument("--slowdown", type=float, help="wall seconds per simulated second "
-                                                     "(1-100); default: the interface's")
+    play.add_argument("--slowdown", type=_slowdown,
+                      help="wall seconds per simulated second (0.1-100; below 1 is faster "
+                           "than real time); default: the interface's")
     play.add_argument("--headless", action="store_true", help="no window")
     play.add_argument("--input", metavar="SCRIPT",
                       help="scripted input (assets/scripts/NAME.yaml or path), headless")
@@ -186,8 +202,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="replay the valid lines before a corrupt or cut-off one")
     replay.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
                         help="replay several logs in N processes (headless)")
-    replay.add_argument("--slowdown", type=float,
-                        help="window and --video: override the recorded slowdown")
+    replay.add_argument("--slowdown", type=_slowdown,
+                        help="window and --video: override the recorded slowdown "
+                             "(0.1-100; 0.25 watches a replay four times faster)")
     replay.add_argument("--video", metavar="OUT",
                         help="headless: render the replay as the window shows it, HUD "
                              "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")

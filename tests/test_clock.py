@@ -47,3 +47,27 @@ def test_apply_takes_the_speed_actions_and_says_so():
     for other in ("pause", "quit", "help", None):
         assert not clock.apply(other)
     assert clock.slowdown == 100 and not clock.paused
+
+
+def test_a_chosen_slowdown_below_1_fast_forwards_and_the_keys_stop_at_real_time():
+    clock = SimClock(1 / 480, 0.25)
+    assert clock.steps_for(0.05) == 96  # 0.05 wall s at 4x speed: 0.2 simulated s
+    clock.faster()
+    assert clock.slowdown == 0.25  # the faster key does not slow a fast-forward down
+    clock.slower()
+    assert clock.slowdown > 1
+    assert SimClock(1 / 480, 0.001).slowdown == 0.1
+
+
+def test_cli_slowdown_out_of_range_is_a_one_line_error():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    for bad in ("0", "-2", "500", "fast"):
+        proc = subprocess.run([sys.executable, "-m", "puppet", "replay",
+                               "assets/logs/luxo-hop.jsonl", "--slowdown", bad],
+                              capture_output=True, text=True, timeout=60,
+                              cwd=Path(__file__).resolve().parents[1])
+        assert proc.returncode == 2 and "Traceback" not in proc.stderr
+        assert "is not a slowdown from 0.1 to 100" in proc.stderr

@@ -1,7 +1,8 @@
 """Wall clock to simulation steps: slowdown, pause, single step, measured rate.
 
 The slowdown factor is how many wall seconds one simulated second takes (the paper's
-"simulation rate"). It moves in log-spaced steps from 1x to 100x.
+"simulation rate"). The keys move it in log-spaced steps from 1x to 100x; a chosen
+value (``--slowdown``) may also be below 1, down to 0.1: a replay watched fast.
 """
 
 from __future__ import annotations
@@ -9,6 +10,7 @@ from __future__ import annotations
 from collections import deque
 
 SLOWDOWNS = tuple(round(10 ** (i / 6), 2) for i in range(13))  # 1, 1.47, 2.15 ... 100
+MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0  # 0.1: ten times faster than real time
 MAX_CATCH_UP = 0.1  # wall s of simulation one frame may owe; more is dropped (no spiral)
 
 
@@ -19,8 +21,7 @@ def nearest_slowdown_index(value: float) -> int:
 class SimClock:
     def __init__(self, dt: float, slowdown: float = 1.0):
         self.dt = dt
-        self.index = nearest_slowdown_index(slowdown)
-        self.slowdown = float(slowdown)
+        self.set_slowdown(slowdown)
         self.paused = False
         self._owed = 0.0  # simulated seconds owed to the wall clock
         self._history: deque[tuple[float, float]] = deque()  # (wall, sim) samples
@@ -30,12 +31,14 @@ class SimClock:
         self.slowdown = SLOWDOWNS[self.index]
 
     def faster(self) -> None:
+        if self.slowdown <= SLOWDOWNS[0]:
+            return  # already at real time or a chosen fast-forward: the keys stop at 1x
         self.index = max(self.index - 1, 0)
         self.slowdown = SLOWDOWNS[self.index]
 
     def set_slowdown(self, value: float) -> None:
-        """Set the slowdown directly (an interface's ``slowdown:`` key), 1..100."""
-        self.slowdown = min(100.0, max(1.0, float(value)))
+        """Set the slowdown directly (an interface's ``slowdown:`` key), 0.1..100."""
+        self.slowdown = min(MAX_SLOWDOWN, max(MIN_SLOWDOWN, float(value)))
         self.index = nearest_slowdown_index(self.slowdown)
 
     def apply(self, action: str | None) -> bool:

@@ -51,7 +51,7 @@ def _panel(surface, rect) -> None:
 def _fmt_rate(x: float | None) -> str:
     if x is None:
         return "-"
-    return f"{x:.1f}x" if x < 10 else f"{x:.0f}x"
+    return f"{x:.2f}x" if x < 1 else f"{x:.1f}x" if x < 10 else f"{x:.0f}x"
 
 
 def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
