@@ -14,6 +14,7 @@ from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.timeline.log import Recorder, default_path, read_log
 from puppet.timeline.playback import play
+from puppet.timeline.replay import replay
 from puppet.testing import record_script
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,6 +60,9 @@ def test_killed_recording_keeps_its_events_and_replays(tmp_path):
     session.handle(ev.mouse(0.1, 0.9))
     log = read_log(path)
     assert [e.step for e in log.events] == [0, 50] and log.end is None
+    result = replay(path)  # replays, and says why there is no end state to compare
+    assert result.steps == 50 and result.same_end is None
+    assert any("no end line" in w and "killed" in w for w in result.warnings)
 
 
 def test_default_path_never_overwrites(tmp_path):

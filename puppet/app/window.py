@@ -25,12 +25,13 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
-               until_step: int | None = None, ghost=None) -> int:
+               until_step: int | None = None, ghost=None, note: str = "") -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
     ``ghost`` (a ``puppet.timeline.ghost.Ghost``) replays beside the character in
-    step with its time, drawn translucently; it never touches the live session."""
+    step with its time, drawn translucently; it never touches the live session.
+    ``note``: shown on screen at the start (e.g. what is wrong with a replayed log)."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -112,6 +113,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             return f"gestures not saved: {exc}"
         gestures.unsaved.clear()
         return f"saved {len(session.interface.gestures)} gesture(s) into {path}"
+    if note:
+        session.say(note)
     if feeder is None:  # start with the pointer where the mouse maps hold the pose
         rest = session.runtime.pointer_for_pose()
         if rest is not None:
@@ -246,8 +249,11 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             feeder.advance(steps)
             if feeder.finished and not clock.paused:
                 clock.toggle_pause()
-                session.say(f"replay finished at step {session.steps}: state "
-                            f"{session.sim.state_hash()} (recorded {replay.end_hash or '-'})")
+                final, recorded = session.sim.state_hash(), replay.end_hash
+                same = ("no recorded end state to compare" if recorded is None
+                        else "the same as recorded" if final == recorded
+                        else f"recorded {recorded}: DIFFERENT")
+                session.say(f"replay finished at step {session.steps}: state {final} ({same})")
         else:
             session.advance(steps)
         info.follow_messages(session, time.perf_counter())

@@ -171,6 +171,20 @@ def find_log(name: str) -> str:
             raise exc from None
 
 
+def cut_warnings(log: Log) -> list[str]:
+    """What a replay should say about a log that does not end as a closed recording
+    does: cut off at a bad line (replayed with --allow-truncated), or with no end line
+    (the recording was killed or crashed: nothing to compare the end state with)."""
+    if log.truncated_at is not None:
+        return [f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; "
+                f"replaying the {len(log.events)} events before it"]
+    if log.end is None:
+        return [f"{log.path}: warning: no end line (the recording did not close: killed or "
+                f"crashed?); replaying its {len(log.events)} events, with no recorded end "
+                f"state to compare"]
+    return []
+
+
 def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
     """Load what the header names; a one-line warning for each file that changed."""
     h = log.header
@@ -239,9 +253,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
     setup, warnings = setup_for_log(log)
-    if log.truncated_at is not None:
-        warnings.append(f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; "
-                        f"replaying the {len(log.events)} events before it")
+    warnings += cut_warnings(log)
     expectations = load_expectations(path, log.header) if check else None
     session = new_session(log, setup)
     if expectations is not None:
@@ -374,10 +386,12 @@ def replay_command(args) -> int:
 
         log = read_log(find_log(logs[0]), args.allow_truncated)
         setup, warnings = setup_for_log(log)
+        warnings += cut_warnings(log)
         for w in warnings:
             print(w, file=sys.stderr)
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
-        return run_window(setup, slowdown, replay=log, until_step=args.until_step)
+        return run_window(setup, slowdown, replay=log, until_step=args.until_step,
+                          note=" / ".join(w.split("warning: ", 1)[-1] for w in warnings))
 
     if len(logs) == 1 and args.jobs <= 1:
         res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check)
