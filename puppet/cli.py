@@ -198,6 +198,9 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--until-step", type=int, metavar="N",
                         help="stop at step N (the first time the replay is there "
                              "with no more events for it)")
+    replay.add_argument("--as-recorded", action="store_true",
+                        help="replay the interface as recorded in the log (its header's "
+                             "copy), not today's file")
     replay.add_argument("--allow-truncated", action="store_true",
                         help="replay the valid lines before a corrupt or cut-off one")
     replay.add_argument("--jobs", "-j", type=int, default=1, metavar="N",

@@ -217,15 +217,16 @@ class Session:
             history.head = now
 
     # -- history: checkpoints, rewind, blow-up recovery --------------------------------
-    def _snapshot(self, reseat: bool) -> Snapshot:
-        """The state now. ``reseat``: continue on a restored copy (``Simulation.checkpoint``)
-        so that restoring this snapshot and feeding the same inputs is bit-identical to
-        never restoring. Periodic snapshots do not re-seat: the live run (and every
-        reference to its bodies) is left alone, and stepping a session that is never
-        rewound gives exactly the bits of plain stepping. Either way a replay of a log
-        takes the same snapshots at the same steps, so rewinds replay exactly."""
-        data = self.sim.checkpoint() if reseat else self.sim.snapshot()
-        return Snapshot(self.sim.steps, data, self._runtime_state())
+    def _snapshot(self) -> Snapshot:
+        """The state now, continuing on a restored copy (``Simulation.checkpoint``), so
+        that restoring this snapshot and feeding the same inputs is bit-identical to
+        never restoring: a rewind shows exactly what was played, and going back to any
+        checkpoint, automatic or manual, replays exactly. (pymunk's copies lose part of
+        the solver's warm start; a plain snapshot would restore a past that drifts by
+        up to centimetres from the one played.) The price: the run depends on where the
+        checkpoints fall, which the log records (the interval; checkpoint actions), so
+        a replay takes the same ones at the same steps and reaches the same bits."""
+        return Snapshot(self.sim.steps, self.sim.checkpoint(), self._runtime_state())
 
     def _restore(self, snap: Snapshot, keep_interface: bool = False) -> None:
         """Restore a snapshot, with the interface version it was taken under; with
@@ -245,7 +246,7 @@ class Session:
             self._recover()
             return
         if not self._rebuilding and self.history.keyframe_due(self.sim.steps):
-            self.history.add(self._snapshot(reseat=False))
+            self.history.add(self._snapshot())
 
     def _recover(self) -> None:
         """Back to the last good checkpoint's state; the time line goes on (like reset)."""
@@ -264,7 +265,7 @@ class Session:
 
     def checkpoint(self) -> Snapshot:
         """A manual checkpoint here (the "restore" action goes back to it)."""
-        snap = self._snapshot(reseat=True)
+        snap = self._snapshot()
         if not self._rebuilding:  # re-simulating: re-seat the same way, keep the original
             self.history.add_manual(snap)
             self.say(f"checkpoint at t={snap.step * self.sim.dt:.2f} s")

@@ -28,13 +28,14 @@ __all__ = ["ReplayResult", "Trajectory", "Outcome", "replay_log", "record_script
 
 
 def replay_log(path: str | Path, until_step: int | None = None, allow_truncated: bool = False,
-               expect: list | None = None, sample_every: int = SAMPLE_EVERY) -> ReplayResult:
+               expect: list | None = None, sample_every: int = SAMPLE_EVERY,
+               as_recorded: bool = False) -> ReplayResult:
     """Replay ``path`` headless and check its expectations (header or sidecar file).
 
     ``expect`` (a list of expectation dicts, as in a sidecar file) replaces the log's.
     """
     result = replay(path, until_step, allow_truncated, check=expect is None,
-                    sample_every=sample_every)
+                    sample_every=sample_every, as_recorded=as_recorded)
     if expect is not None:
         items = parse_expectations(expect, f"{path} (expect=)")
         items.check_links(result.trajectory.links)

@@ -100,9 +100,14 @@ def test_a_log_with_a_reload_replays_to_the_same_bits_without_the_file(tmp_path)
         s.advance(400)
     live = s.sim.state_hash()
     (tmp_path / "iface.yaml").write_text(BASE.replace("to: [80, -80]", "to: [0, 0]"))
-    result = replay(log)
+    result = replay(log, as_recorded=True)
     assert result.final_hash == live and result.ok, result.summary
     assert result.warnings == []  # the interface came from the log's header
+    today = replay(log)  # by default, against today's file: it changed, and says so
+    assert today.final_hash != live and "has changed" in today.warnings[0]
+    (tmp_path / "iface.yaml").unlink()  # gone: the recorded copy stands in
+    gone = replay(log)
+    assert gone.final_hash == live and "not found" in gone.warnings[0]
 
 
 def test_rewind_across_a_reload_restores_the_interface_of_that_time(tmp_path):
@@ -225,8 +230,8 @@ def test_window_records_binds_saves_and_reloads(tmp_path, monkeypatch):
     reloads = [e.event["text"] for e in log.events if e.event["type"] == "reload"]
     assert 'key: "j"' in reloads[0] and "to: [40, -40]" in reloads[1]
     assert "interface_text" in log.header
-    path.write_text("broken: [")  # the replay does not read the file
-    assert replay(log_path).final_hash == log.end_hash
+    path.write_text("broken: [")  # replaying as recorded does not read the file
+    assert replay(log_path, as_recorded=True).final_hash == log.end_hash
 
 
 def test_a_logged_reload_with_a_bad_text_names_the_log_line(tmp_path):

@@ -75,7 +75,8 @@ def test_the_hop_log_fails_with_weakened_servos(tmp_path):
     spec["name"] = "luxo-mouse-weak"
     iface = tmp_path / "luxo-mouse-weak.yaml"
     iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    weak = _copy_log(log, tmp_path, interface=str(iface))
+    weak = _copy_log(log, tmp_path, interface=str(iface),
+                     interface_text=iface.read_text(encoding="utf-8"))
     result = replay_log(weak)
     failed = {o.expectation.split()[0] for o in result.failed} - {"same"}
     assert {"x_at_end", "upright_at_end"} <= failed, [str(o) for o in result.outcomes]

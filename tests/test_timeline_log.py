@@ -149,8 +149,8 @@ def test_cli_corrupt_log_one_line_exit_2_and_allow_truncated(tmp_path, hop_log):
 
 
 def test_changed_data_file_warns_and_still_replays(tmp_path):
-    """The interface replays from the log's own copy of it (``interface_text``), so
-    editing its file changes nothing; a changed scene (or character) file warns."""
+    """A changed interface, scene or character file warns and replays anyway: the
+    interface is today's file (--as-recorded replays the log's own copy of it)."""
     iface = tmp_path / "my-iface.yaml"
     iface.write_text((ROOT / "interfaces" / "luxo-mouse.yaml").read_text())
     scene = tmp_path / "my-scene.yaml"
@@ -161,10 +161,15 @@ def test_changed_data_file_warns_and_still_replays(tmp_path):
         play(session, [(0, ev.mouse(0.9, 0.2))], 200)
     head = json.loads(path.read_text().splitlines()[0])
     assert head["interface"] == str(iface)  # not a catalog name: the path
-    iface.write_text(iface.read_text().replace("[80, -80]", "[0, 0]"))
-    proc = _cli("replay", path, "--headless")
+    original = iface.read_text()
+    iface.write_text(original.replace("[80, -80]", "[0, 0]"))
+    proc = _cli("replay", path, "--headless")  # today's interface: it ends elsewhere
+    assert proc.returncode == 1 and "DIFFERENT" in proc.stdout
+    assert "interface" in proc.stderr and "has changed" in proc.stderr
+    proc = _cli("replay", path, "--headless", "--as-recorded")
     assert proc.returncode == 0, proc.stderr
     assert "warning" not in proc.stderr and "(same as recorded)" in proc.stdout
+    iface.write_text(original)
     scene.write_text(scene.read_text() + "\n# edited\n")
     proc = _cli("replay", path, "--headless")
     assert proc.returncode == 0, proc.stderr

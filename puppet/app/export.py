@@ -111,7 +111,7 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
                  size=DEFAULT_SIZE, slowdown: float | None = None,
                  until_step: int | None = None, allow_truncated: bool = False,
                  scale: float = 1.0, hud: bool = True, hold: float = 1.0,
-                 progress: bool | None = None) -> VideoResult:
+                 progress: bool | None = None, as_recorded: bool = False) -> VideoResult:
     """Replay ``log`` headless into a video at ``out`` (.mp4/.mov/.mkv/.avi or .gif).
 
     ``slowdown`` (default: the recorded one) is wall seconds per simulated second, as
@@ -127,7 +127,7 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
         raise ValueError(f"fps must be positive, got {fps}")
     if not isinstance(log, Log):
         log = read_log(log, allow_truncated)
-    setup, _warnings = setup_for_log(log)
+    setup, _warnings = setup_for_log(log, as_recorded)
     slowdown = float(slowdown or log.header.get("slowdown") or 1.0)
     session = new_session(log, setup)
     clock = SimClock(session.sim.dt, slowdown)
@@ -225,7 +225,7 @@ def export_command(args) -> int:
     path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,
-                    trajectory=bool(args.plot) or args.check)
+                    trajectory=bool(args.plot) or args.check, as_recorded=args.as_recorded)
     res = result.summary
     print(state_line(res))
     if args.check:
@@ -243,7 +243,7 @@ def export_command(args) -> int:
         print(f"wrote {args.plot}")
     if args.video:
         video = export_video(log, args.video, args.fps, size, args.slowdown, args.until_step,
-                             args.allow_truncated, args.scale)
+                             args.allow_truncated, args.scale, as_recorded=args.as_recorded)
         if video.session.sim.state_hash() != result.final_hash:
             print(f"{path}: warning: the video's replay ended in state "
                   f"{video.session.sim.state_hash()}, not {result.final_hash}",

@@ -21,7 +21,9 @@ from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 class Ghost:
     def __init__(self, log: Log | str | Path, allow_truncated: bool = False):
         self.log = log if isinstance(log, Log) else read_log(log, allow_truncated)
-        self.setup, self.warnings = setup_for_log(self.log)
+        # the run as it was played, whatever the interface file says now
+        self.setup, self.warnings = setup_for_log(self.log, as_recorded="interface_text"
+                                                  in self.log.header)
         self.fed = 0  # steps fed to the ghost so far: its clock (a log's rewinds go back)
         self._start()
 

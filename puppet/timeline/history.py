@@ -2,18 +2,17 @@
 
 Any earlier step of the current history can be rebuilt: restore the last keyframe at or
 before it and re-simulate the recorded input events up to it. That keeps the per-step
-cost low (one pickled snapshot per checkpoint interval instead of a dense ring) while
-scrubbing stays smooth at any step, and a replay of a log does the very same restores
-and re-simulations, so rewinds replay bit-identically.
+cost low (one snapshot per checkpoint interval instead of a dense ring) while scrubbing
+stays smooth at any step, and a replay of a log does the very same restores and
+re-simulations, so rewinds replay bit-identically.
 
-Kinds of snapshot:
-  start   the start pose (step 0), re-seated
+Kinds of snapshot, all re-seated (``Simulation.checkpoint``: restoring one and feeding
+the same input is bit-identical to never restoring, so a rewind rebuilds exactly the
+past that was played):
+  start   the start pose (step 0)
   auto    every ``checkpoint_interval`` s of simulated time, the last ``keep_seconds``;
-          keyframes for rewinding and for blow-up recovery. Plain snapshots (not
-          re-seated), so a session that is never rewound steps exactly like plain
-          stepping and references to its bodies stay valid.
-  manual  the "checkpoint" action, re-seated (``Simulation.checkpoint``): restoring
-          it and feeding the same input is bit-identical to never restoring.
+          keyframes for rewinding and for blow-up recovery
+  manual  the "checkpoint" action (the "restore" action goes back to it)
 
 Snapshots are taken at fixed step boundaries (multiples of the interval) and on the
 checkpoint action only, so a replay takes them at the same steps as the recording.

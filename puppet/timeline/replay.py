@@ -185,33 +185,51 @@ def cut_warnings(log: Log) -> list[str]:
     return []
 
 
-def setup_for_log(log: Log) -> tuple[Setup, list[str]]:
-    """Load what the header names; a one-line warning for each file that changed."""
+def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]]:
+    """Load what the header names; a one-line warning for each file that changed.
+
+    The interface is today's file, so that yesterday's session replays against
+    today's interface (a designer's test; a feat log fails when its interface breaks),
+    with a warning if it changed. ``as_recorded`` replays the copy the header holds
+    (``interface_text``) instead: the session exactly as it was played; so does a log
+    whose interface file is gone."""
     h = log.header
     embedded = h.get("interface_text")
+    if as_recorded and embedded is None:
+        raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
+                                           "(interface_text) to replay --as-recorded")
     try:
-        if embedded is not None:  # the interface as recorded, whatever the file says now
-            try:
-                where = find("interface", h["interface"])
-            except DataError:
-                where = Path(h["interface"])
-            setup = setup_from_text(embedded, where, h["scene"])
+        where = find("interface", h["interface"])
+    except DataError:
+        where = None
+        if embedded is None:
+            raise DataError(log.path, 1, None, f"header: no interface named "
+                                               f"'{h['interface']}'") from None
+    from_copy = embedded is not None and (as_recorded or where is None)
+    try:
+        if from_copy:
+            setup = setup_from_text(embedded, where or Path(h["interface"]), h["scene"])
         else:
-            setup = load_setup(h["interface"], h["scene"])
+            setup = load_setup(str(where), h["scene"])
     except DataError as exc:
         if exc.path in (h["interface"], h["scene"]):  # not found: say it is the log's
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
         raise
     warnings = []
+    if from_copy and not as_recorded:
+        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found; "
+                        "replaying the copy recorded in the log")
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
-        if kind == "interface" and embedded is not None:
+        if kind == "interface" and from_copy:
             continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and file_hash(Path(path)) != recorded:
             warnings.append(f"{log.path}: warning: {kind} '{h.get(kind, path)}' has changed "
                             f"since this log was recorded ({path}); replaying anyway, "
-                            "results may differ")
+                            "results may differ"
+                            + (" (--as-recorded replays the recorded interface)"
+                               if kind == "interface" and embedded is not None else ""))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
                         f"the interface now uses '{Path(setup.character_path).stem}'")
@@ -247,12 +265,12 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
-           trajectory: bool = True) -> ReplayResult:
+           trajectory: bool = True, as_recorded: bool = False) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
-    evaluate its expectations."""
+    evaluate its expectations. ``as_recorded``: see ``setup_for_log``."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
-    setup, warnings = setup_for_log(log)
+    setup, warnings = setup_for_log(log, as_recorded)
     warnings += cut_warnings(log)
     expectations = load_expectations(path, log.header) if check else None
     session = new_session(log, setup)
@@ -284,11 +302,13 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
 EXIT_FAILED, EXIT_DATA_ERROR = 1, 2
 
 
-def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool) -> dict:
+def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
+                as_recorded: bool = False) -> dict:
     """One headless replay, as a plain dict (runs in a worker process). ``path`` may
     be a log's name (``find_log``)."""
     try:
-        result = replay(find_log(path), until_step, allow_truncated, check=check, trajectory=check)
+        result = replay(find_log(path), until_step, allow_truncated, check=check, trajectory=check,
+                        as_recorded=as_recorded)
     except DataError as exc:
         return {"log": path, "error": str(exc)}
     except Exception as exc:  # noqa: BLE001 - one bad log must not stop the others
@@ -385,7 +405,7 @@ def replay_command(args) -> int:
         from puppet.app.window import run_window
 
         log = read_log(find_log(logs[0]), args.allow_truncated)
-        setup, warnings = setup_for_log(log)
+        setup, warnings = setup_for_log(log, args.as_recorded)
         warnings += cut_warnings(log)
         for w in warnings:
             print(w, file=sys.stderr)
@@ -394,7 +414,8 @@ def replay_command(args) -> int:
                           note=" / ".join(w.split("warning: ", 1)[-1] for w in warnings))
 
     if len(logs) == 1 and args.jobs <= 1:
-        res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check)
+        res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
+                          args.as_recorded)
         if "error" in res:
             print(res["error"], file=sys.stderr)
             return EXIT_DATA_ERROR
@@ -403,7 +424,7 @@ def replay_command(args) -> int:
 
     from tqdm import tqdm
 
-    params = (args.until_step, args.allow_truncated, args.check)
+    params = (args.until_step, args.allow_truncated, args.check, args.as_recorded)
     results: dict[int, dict] = {}
     # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
     bar = tqdm(total=len(logs), unit="log", desc="replay", file=sys.stderr, disable=None)
