@@ -4,4 +4,4 @@ Data flow, one direction per step:
 input devices -> interface runtime -> PD targets -> physics step -> render / record.
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"

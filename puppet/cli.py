@@ -12,23 +12,32 @@ from pathlib import Path
 
 from puppet import __version__
 from puppet.data.errors import DataError
+from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN,
+                                    MIN_SLOWDOWN)
+from puppet.timeline.log import EXISTS
 
 EXIT_DATA_ERROR = 2
 
 
-def _slowdown(text: str) -> float:
-    """--slowdown: wall seconds per simulated second, MIN_SLOWDOWN..MAX_SLOWDOWN."""
-    from puppet.app.clock import MAX_SLOWDOWN, MIN_SLOWDOWN
+def _number_in(what: str, lo: float, hi: float, hint: str):
+    """An argparse type: a number lo..hi, else a one-line usage error (exit 2)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo:g} to {hi:g} "
+                                              f"({hint})")
+        return value
+    return parse
 
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not MIN_SLOWDOWN <= value <= MAX_SLOWDOWN:
-        raise argparse.ArgumentTypeError(
-            f"'{text}' is not a slowdown from {MIN_SLOWDOWN:g} to {MAX_SLOWDOWN:g} (wall s per "
-            f"simulated s: 4 = four times slower, 0.5 = twice as fast)")
-    return value
+
+_slowdown = _number_in("slowdown", MIN_SLOWDOWN, MAX_SLOWDOWN,
+                       "wall s per simulated s: 4 = four times slower, 0.5 = twice as fast")
+_checkpoint_every = _number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT_MAX,
+                               "simulated seconds, a multiple of 0.5")
+
 # what ``puppet list`` lists; "recording": the window's own logs (recordings/)
 KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
@@ -38,8 +47,7 @@ def _play(args: argparse.Namespace) -> int:
     from puppet.timeline.script import load_script
 
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
-        print(f"puppet play: --record {args.record} exists; choose another path or delete it",
-              file=sys.stderr)
+        print(f"puppet play: --record {args.record}: {EXISTS}", file=sys.stderr)
         return EXIT_DATA_ERROR
     script = None
     if args.input and args.headless:
@@ -52,9 +60,6 @@ def _play(args: argparse.Namespace) -> int:
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden
         import dataclasses
 
-        if not 0.5 <= args.checkpoint_every <= 600:
-            raise SystemExit(f"puppet play: --checkpoint-every must be 0.5..600 seconds, "
-                             f"got {args.checkpoint_every:g}")
         setup = dataclasses.replace(setup, interface=setup.interface.model_copy(
             update={"checkpoint_every": args.checkpoint_every}))
     ghost = None
@@ -177,7 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write the input log here, a new file: an existing PATH is an "
                            "error (default in a window: recordings/INTERFACE-DATE-TIME.jsonl)")
     play.add_argument("--no-record", action="store_true", help="do not record a log")
-    play.add_argument("--checkpoint-every", type=float, metavar="SECONDS",
+    play.add_argument("--checkpoint-every", type=_checkpoint_every, metavar="SECONDS",
                       help="simulated seconds between automatic checkpoints (0.5-600; "
                            "default: the interface's checkpoint_every, else 3)")
     play.add_argument("--ghost", metavar="LOG",

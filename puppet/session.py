@@ -69,8 +69,9 @@ class Session:
         kind = event["type"]
         if not self._rebuilding:
             if self.listener is not None:
-                self.listener(self.sim.steps, event)
-            if not (kind == "action" and event.get("name") in ("rewind", "restore")):
+                self.listener(self.sim.steps, event)  # logged, all of it (speed keys too)
+            if not (kind == "action" and event.get("name") in ("rewind", "restore")
+                    or self._window_key(event)):
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
                 self.history.record(self.sim.steps, event)
@@ -106,6 +107,16 @@ class Session:
             self.perform(action)
             return None
         return action
+
+    def _window_key(self, event: Event) -> bool:
+        """A key (down or up) of an app action that is the window's business (help,
+        pause, slowdown...), not input to the simulation: it does not rewrite the
+        future, so scrubbing back, pressing it and scrubbing forward again works."""
+        if event["type"] != "key":
+            return False
+        action = self.key_to_app.get(event["key"])
+        return (action is not None and action not in SIM_ACTIONS
+                and not self.runtime.handles_key(event["key"]))
 
     def perform(self, name: str, to_step: int | None = None) -> None:
         if name == "reset":
@@ -254,6 +265,8 @@ class Session:
         snap = self.history.last_checkpoint(steps)
         self._restore(snap, keep_interface=True)
         self.sim.steps = steps
+        if self._rebuilding:
+            return  # re-simulating history (a rewind): this one was counted when it happened
         self.blowups += 1
         self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
                  f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s")

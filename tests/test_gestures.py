@@ -128,7 +128,7 @@ def test_saving_replaces_the_block_and_keeps_every_other_byte(tmp_path):
 def test_recording_and_binding_through_session_events_replays_exactly(tmp_path):
     s = session_for(tmp_path, BASE, checkpoint_interval=0.5)
     log = tmp_path / "g.jsonl"
-    rec = Recorder(s, log, embed_interface=True)
+    rec = Recorder(s, log)
     g = GestureRecorder()
     s.handle(ev.mouse(0.5, 0.5))
     g.toggle(s.time, (0.5, 0.5), "f2")

@@ -34,3 +34,23 @@ def test_runs_are_the_stretches_of_true_samples():
     flags = np.array([1, 1, 0, 1, 0, 0, 1], dtype=bool)
     assert _runs(flags) == [(0, 1), (3, 3), (6, 6)]
     assert _runs(np.zeros(3, dtype=bool)) == []
+
+
+def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface():
+    """The HUD and the key map (describe.live_keys) show what a key does: the binding
+    the runtime would run, in every state of every shipped interface."""
+    from pathlib import Path
+
+    from puppet.data.catalog import load_setup
+    from puppet.interface.app_keys import normalize_key
+    from puppet.interface.describe import live_keys
+    from puppet.session import Session
+
+    for path in sorted((Path(__file__).resolve().parents[1] / "interfaces").glob("*.yaml")):
+        session = Session(load_setup(path.stem))
+        spec, runtime = session.interface, session.runtime
+        for state in spec.states or [None]:
+            if state is not None:
+                runtime.machine.enter(state, session.steps)
+            for k in live_keys(spec, state):
+                assert runtime.binding(normalize_key(k.key)) is k, (path.stem, state, k.key)

@@ -320,6 +320,9 @@ def test_headless_play_and_replay_report_each_blow_up(tmp_path):
     assert proc.stderr.splitlines() == [f"puppet play: {note}"]
     result = replay(log)
     assert result.blowups == [note] and result.session.blowups == 1
+    end = result.session.steps
+    result.session.rewind_to(end - 1)  # re-simulates across the blow-up: not a new one
+    assert result.session.blowups == 1 and result.session.blowup_messages == [note]
     proc = _cli("replay", log, "--headless")
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr.splitlines() == [f"{log}: {note}"]

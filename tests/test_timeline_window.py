@@ -93,8 +93,9 @@ def test_hud_timeline_bar_draws(tmp_path):
 
 def test_paused_scrub_back_release_then_forward_keeps_the_future(tmp_path, scripted_events,
                                                                  monkeypatch):
-    """Pause, hold B (back), release, hold Shift+B (forward): releasing the scrub key
-    is not input, so the future it scrubbed back from is still there to go forward to."""
+    """Pause, hold B (back), release, press F1 (help), hold Shift+B (forward): neither
+    the scrub key's release nor a window key is input, so the future scrubbed back from
+    is still there to go forward to."""
     sessions, seen = [], {}
 
     class Spy(Session):
@@ -118,6 +119,7 @@ def test_paused_scrub_back_release_then_forward_keeps_the_future(tmp_path, scrip
     scripted_events["events"] = [
         (60, _key(pygame.KEYDOWN, pygame.K_p)), (61, _key(pygame.KEYUP, pygame.K_p)),
         (62, _key(pygame.KEYDOWN, pygame.K_b)), (92, _key(pygame.KEYUP, pygame.K_b)),
+        (95, _key(pygame.KEYDOWN, pygame.K_F1)), (96, _key(pygame.KEYUP, pygame.K_F1)),
         (100, _key(pygame.KEYDOWN, pygame.K_b)), (130, _key(pygame.KEYUP, pygame.K_b))]
     path = tmp_path / "scrub.jsonl"
     assert window.run_window(load_setup("luxo-mouse"), record=str(path)) == 0

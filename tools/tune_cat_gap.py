@@ -5,8 +5,11 @@ checkpoints, as the paper's users did, and write it as a script.
                                  [--refine 30] [--hard-tries 400] [--seed 3]
                                  [--write assets/scripts/cat-gap.yaml]
 
-The defaults are what wrote assets/scripts/cat-gap.yaml (about 10 minutes on one
-core: 17 strides, 56 backtracks - the gap's edge took hundreds of tries).
+``--seed 5`` wrote assets/scripts/cat-gap.yaml (16 strides, no backtracks, 40 s on one
+core). The search does not check everything tests/test_cat.py does (no touch between
+the gap's two sides, airborne from the last near-side touch to the first far-side
+one): seeds 3 and 4 gave performances that pass the log's expectations but not
+that test, so run it on what this writes.
 
 Each stride is one bound cycle on the cat-bound keys (tools/tune_cat.py): at the
 stride's start the back pair pushes (a, or ctrl+a held = over-extended and stiff) and

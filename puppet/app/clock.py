@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from collections import deque
 
+from puppet.data.interfaces import MAX_SLOWDOWN, MIN_SLOWDOWN
+
 SLOWDOWNS = tuple(round(10 ** (i / 6), 2) for i in range(13))  # 1, 1.47, 2.15 ... 100
-MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0  # 0.1: ten times faster than real time
 MAX_CATCH_UP = 0.1  # wall s of simulation one frame may owe; more is dropped (no spiral)
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from puppet.app.headless import DEFAULT_SIZE, FrameRenderer
 from puppet.session import Session
 from puppet.timeline.log import Log, read_log
-from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+from puppet.timeline.replay import LogFeeder, finished_message, new_session, setup_for_log
 
 VIDEO_EXTS = {".mp4", ".mov", ".mkv", ".avi"}  # through ffmpeg (imageio-ffmpeg)
 GIF_EXTS = {".gif"}  # through pillow
@@ -171,8 +171,7 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
             video_time += frame_dt
             emit(frame_dt)
         if hold > 0:
-            session.say(f"replay finished at step {session.steps}: state "
-                        f"{session.sim.state_hash()} (recorded {log.end_hash or '-'})")
+            session.say(finished_message(session, log))
             info.paused = True
             for _ in range(round(hold * fps)):
                 video_time += frame_dt
@@ -203,8 +202,7 @@ def _parse_size(text: str) -> tuple[int, int]:
 
 def export_command(args) -> int:
     """The replay command with --video and/or --plot (one log, headless)."""
-    from puppet.timeline.replay import (exit_code, find_log, print_notes, replay, state_line,
-                                        verdict)
+    from puppet.timeline.replay import exit_code, find_log, print_one, replay, verdict
 
     if not args.headless:
         raise SystemExit("puppet replay: --video and --plot need --headless")
@@ -227,13 +225,8 @@ def export_command(args) -> int:
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,
                     trajectory=bool(args.plot) or args.check, as_recorded=args.as_recorded)
     res = result.summary
-    print(state_line(res))
-    if args.check:
-        for o in result.outcomes:
-            print(f"  {o}")
-        if not result.outcomes:
-            print("  (no expectations)")
-    print_notes(res)
+    res["outcomes"] = [str(o) for o in result.outcomes]
+    print_one(res, args.check)
     if args.plot:
         from puppet.timeline.plot import joint_limits, save_joint_plot
 

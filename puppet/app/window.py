@@ -60,7 +60,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     feeder = recorder = None
     slowdown = slowdown or setup.interface.slowdown
     if replay is not None:  # events come from a log; the devices only drive the window
-        from puppet.timeline.replay import LogFeeder, new_session
+        from puppet.timeline.replay import LogFeeder, finished_message, new_session
 
         session = new_session(replay, setup)
     else:
@@ -145,6 +145,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             action = session.key_to_app.get(event["key"])
             if action in ("rewind", "forward"):  # the window's own: the scrub commits
                 return action if event["down"] else None  # with a logged rewind action
+        scrub.commit()  # a key while scrubbing acts at the step shown, in the log too
         return session.handle(event)
 
     def send_mouse() -> None:
@@ -174,7 +175,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         if name == "pause":
             clock.toggle_pause()
         elif name == "step":
-            if clock.paused:
+            if clock.paused and feeder is not None:
+                feeder.advance(1)  # the log's events due there act first
+            elif clock.paused:
                 send_mouse()
                 session.advance(1)
         elif name == "help":
@@ -249,11 +252,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             feeder.advance(steps)
             if feeder.finished and not clock.paused:
                 clock.toggle_pause()
-                final, recorded = session.sim.state_hash(), replay.end_hash
-                same = ("no recorded end state to compare" if recorded is None
-                        else "the same as recorded" if final == recorded
-                        else f"recorded {recorded}: DIFFERENT")
-                session.say(f"replay finished at step {session.steps}: state {final} ({same})")
+                session.say(finished_message(session, replay))
         else:
             session.advance(steps)
         info.follow_messages(session, time.perf_counter())
@@ -266,13 +265,12 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.fps = frames.get_fps() or None
         info.paused = clock.paused
 
-        if session.sim.blown_up():
-            continue  # until the next health check recovers it: keep the last frame shown
-        camera.follow(session.character.com(), wall_dt)
-        if ghost is not None:
-            ghost.sync(session)
-        draw_world(screen, session, camera, small,
-                   ghost=ghost.session if ghost is not None else None)
+        if not session.sim.blown_up():  # else, until the next health check recovers
+            camera.follow(session.character.com(), wall_dt)  # it: the last world drawn
+            if ghost is not None:
+                ghost.sync(session)
+            draw_world(screen, session, camera, small,
+                       ghost=ghost.session if ghost is not None else None)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
     scrub.release()

@@ -30,6 +30,9 @@ __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
 
 
 CHECKPOINT_EVERY = 3.0  # s of simulated time between automatic checkpoints (keyframes)
+CHECKPOINT_MIN, CHECKPOINT_MAX = 0.5, 600.0  # s; the interval is a multiple of 0.5 s
+MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0  # wall s per simulated s; 0.1: ten times faster
+
 
 class GainSpec(Spec):
     stiffness: NonNegativeFloat | None = None
@@ -194,7 +197,7 @@ class InterfaceSpec(Spec):
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
     control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
-    checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=0.5, le=600.0,
+    checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=CHECKPOINT_MIN, le=CHECKPOINT_MAX,
                                     description="s of simulated time between automatic "
                                                 "checkpoints (the rewind's keyframes)")
 

@@ -186,11 +186,15 @@ class Scrubber:
             self.session.preview(step)
             self.moved = True
 
-    def release(self) -> None:
-        """Play on from the snapshot shown (a logged rewind action)."""
-        if not self.active:
-            return
-        self.active = False
-        if self.moved:
+    def commit(self) -> None:
+        """Log the step shown as a rewind action (if the scrub moved), so that input
+        handled from here on is logged after it and a replay applies it there too."""
+        if self.active and self.moved:
+            self.moved = False
             self.session.handle({"type": "action", "name": "rewind",
                                  "to_step": self.session.steps})
+
+    def release(self) -> None:
+        """Play on from the snapshot shown (a logged rewind action)."""
+        self.commit()
+        self.active = False

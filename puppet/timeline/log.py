@@ -25,6 +25,8 @@ from typing import Any
 
 from puppet import __version__
 from puppet.data.catalog import FOLDERS, ROOT, Setup, file_hash
+from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT_MIN,
+                                    MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data.errors import DataError
 from puppet.interface.events import Event
 
@@ -60,11 +62,10 @@ def _name(path: Path, kind: str) -> str:
 
 
 def make_header(session, slowdown: float | None = None, description: str | None = None,
-                expect: list | None = None, embed_interface: bool = True) -> dict:
-    """``embed_interface`` (the default, for window and headless recordings alike):
-    keep the interface file's text in the header (``interface_text``), so the log
-    replays from anywhere, even after the file was edited, moved or deleted (a hot
-    reload edits it while recording)."""
+                expect: list | None = None) -> dict:
+    """The header of a log. It keeps the interface file's text (``interface_text``),
+    so the log can replay the interface as recorded (``--as-recorded``), and from
+    anywhere once the file is moved or deleted (a hot reload edits it while recording)."""
     setup: Setup = session.setup
     header: dict[str, Any] = {
         "format": FORMAT,
@@ -81,8 +82,7 @@ def make_header(session, slowdown: float | None = None, description: str | None 
         "slowdown": float(slowdown if slowdown is not None else setup.interface.slowdown),
         "checkpoint_interval": session.checkpoint_interval,
     }
-    if embed_interface:
-        header["interface_text"] = Path(setup.interface_path).read_text(encoding="utf-8")
+    header["interface_text"] = Path(setup.interface_path).read_text(encoding="utf-8")
     if description:
         header["description"] = description
     if expect:
@@ -120,8 +120,7 @@ class Recorder:
     is a DataError."""
 
     def __init__(self, session, path: str | Path, slowdown: float | None = None,
-                 description: str | None = None, expect: list | None = None,
-                 embed_interface: bool = True):
+                 description: str | None = None, expect: list | None = None):
         self.session = session
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -129,7 +128,7 @@ class Recorder:
             self.file = self.path.open("x", encoding="utf-8")
         except FileExistsError:
             raise DataError(str(path), None, None, EXISTS) from None
-        self._write(make_header(session, slowdown, description, expect, embed_interface))
+        self._write(make_header(session, slowdown, description, expect))
         self._previous = session.listener
         session.listener = self.on_event
 
@@ -211,9 +210,15 @@ def _check_header(path: str, header: Any) -> dict:
                                            f"{'number' if key == 'dt' else 'string'}")
     if not header["dt"] > 0:
         raise DataError(path, 1, None, f"header: 'dt' must be positive, got {header['dt']}")
-    ci = header.get("checkpoint_interval", 1.0)
-    if not isinstance(ci, (int, float)) or isinstance(ci, bool) or ci < 0:
-        raise DataError(path, 1, None, f"header: bad 'checkpoint_interval' {ci!r}")
+    ci = header.setdefault("checkpoint_interval", CHECKPOINT_EVERY)
+    if not _is_number(ci) or not CHECKPOINT_MIN <= ci <= CHECKPOINT_MAX:
+        raise DataError(path, 1, None, f"header: 'checkpoint_interval' must be a number of "
+                                       f"seconds, {CHECKPOINT_MIN:g}..{CHECKPOINT_MAX:g}; "
+                                       f"got {ci!r}")
+    slowdown = header.setdefault("slowdown", 1.0)
+    if not _is_number(slowdown) or not MIN_SLOWDOWN <= slowdown <= MAX_SLOWDOWN:
+        raise DataError(path, 1, None, f"header: 'slowdown' must be a number, "
+                                       f"{MIN_SLOWDOWN:g}..{MAX_SLOWDOWN:g}; got {slowdown!r}")
     if "interface_text" in header and not isinstance(header["interface_text"], str):
         raise DataError(path, 1, None, "header: 'interface_text' must be a string")
     if "expect" in header and not isinstance(header["expect"], list):

@@ -7,12 +7,14 @@ on. Events are applied in file order; the sim is advanced to each event's step f
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from puppet import __version__
 from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
@@ -212,10 +214,22 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
         else:
             setup = load_setup(str(where), h["scene"])
     except DataError as exc:
-        if exc.path in (h["interface"], h["scene"]):  # not found: say it is the log's
+        if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
+        if not from_copy and embedded is not None and exc.path == str(where):
+            raise DataError(exc.path, exc.line, exc.col,
+                            f"{exc.message} (--as-recorded replays the log's own copy of "
+                            f"the interface)") from None
         raise
     warnings = []
+    if h.get("puppet") != __version__:
+        warnings.append(f"{log.path}: warning: recorded by puppet {h.get('puppet')}, this is "
+                        f"{__version__}: the physics or the interface runtime may have "
+                        f"changed since, so the replay may end elsewhere")
+    reloads = [e.step for e in log.events if e.event["type"] == "reload"]
+    if reloads and not from_copy:
+        warnings.append(f"{log.path}: note: the session hot-reloaded its interface (first at "
+                        f"step {reloads[0]}); from there on the recorded versions play")
     if from_copy and not as_recorded:
         warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found; "
                         "replaying the copy recorded in the log")
@@ -238,7 +252,7 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
 
 def new_session(log: Log, setup: Setup) -> Session:
     return Session(setup, dt=float(log.header["dt"]),
-                   checkpoint_interval=float(log.header.get("checkpoint_interval", 1.0)))
+                   checkpoint_interval=float(log.header["checkpoint_interval"]))
 
 
 def apply_log(session: Session, log: Log, until_step: int | None = None, every: int = 0,
@@ -356,7 +370,17 @@ def print_notes(res: dict) -> None:
         print(f"{res['log']}: {note}", file=sys.stderr)
 
 
-def _print_one(res: dict, check: bool) -> None:
+def finished_message(session: Session, log: Log) -> str:
+    """What the window and a video say when a replay ends: where, and whether the state
+    is the recorded one."""
+    final, recorded = session.sim.state_hash(), log.end_hash
+    same = ("no recorded end state to compare" if recorded is None
+            else "the same as recorded" if final == recorded
+            else f"recorded {recorded}: DIFFERENT")
+    return f"replay finished at step {session.steps}: state {final} ({same})"
+
+
+def print_one(res: dict, check: bool) -> None:
     print(state_line(res))
     if check:
         for line in res["outcomes"]:
@@ -411,7 +435,8 @@ def replay_command(args) -> int:
             print(w, file=sys.stderr)
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
         return run_window(setup, slowdown, replay=log, until_step=args.until_step,
-                          note=" / ".join(w.split("warning: ", 1)[-1] for w in warnings))
+                          note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
+                                          for w in warnings))
 
     if len(logs) == 1 and args.jobs <= 1:
         res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
@@ -419,7 +444,7 @@ def replay_command(args) -> int:
         if "error" in res:
             print(res["error"], file=sys.stderr)
             return EXIT_DATA_ERROR
-        _print_one(res, args.check)
+        print_one(res, args.check)
         return exit_code([verdict(res)])
 
     from tqdm import tqdm
