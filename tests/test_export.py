@@ -134,6 +134,18 @@ def test_ghost_follows_the_live_time_back(hop):
     live.advance(240)
     ghost.sync(live)
     assert ghost.session.sim.state_hash() == late
+    # a longer log, across the ghost's own checkpoints (every 3 s): it rewinds through
+    # them, exactly, with no replay from the start
+    full = Path(__file__).resolve().parents[1] / "assets" / "logs" / "luxo-hop.jsonl"
+    ghost = Ghost(full)
+    live.advance(round(3.5 / live.sim.dt) - live.steps)
+    ghost.sync(live)
+    rebuilt = []
+    ghost._start = lambda: rebuilt.append(True)  # must not replay from the start
+    live.rewind_to(1500)  # after its checkpoint at 3 s
+    ghost.sync(live)
+    assert not rebuilt and ghost.session.steps == 1500
+    assert ghost.session.sim.state_hash() == replay(full, until_step=1500).final_hash
 
 
 def test_headless_record_with_screenshot_and_frames(tmp_path, capsys):

@@ -5,12 +5,16 @@ runtime) fed from the log by a ``LogFeeder``. ``sync(live)`` advances it to the 
 session's simulated time; nothing of the live session is written to, so the live
 simulation and its log are exactly what they would be without a ghost.
 
-When the live time goes back (a rewind), the ghost is rebuilt and fed again from the
-start of its log up to the live time (replays run far faster than real time).
+When the live time goes back (a rewind), the ghost goes back too: through its own
+session's history (its checkpoints are exact, so it rewinds to the very state it had
+there, re-simulating at most one checkpoint interval), or, for a log that itself
+rewinds or restores (its steps are not its clock) or a time older than the history
+keeps, by being rebuilt and fed again from the start of its log.
 """
 
 from __future__ import annotations
 
+import bisect
 from pathlib import Path
 
 from puppet.session import Session
@@ -24,6 +28,11 @@ class Ghost:
         # the run as it was played, whatever the interface file says now
         self.setup, self.warnings = setup_for_log(self.log, as_recorded="interface_text"
                                                   in self.log.header)
+        # A log whose steps only go forward: its session's step is the ghost's clock.
+        self._linear = not any(e.event["type"] == "action"
+                               and e.event.get("name") in ("rewind", "restore")
+                               for e in self.log.events)
+        self._steps = [e.step for e in self.log.events]
         self.fed = 0  # steps fed to the ghost so far: its clock (a log's rewinds go back)
         self._start()
 
@@ -37,7 +46,15 @@ class Ghost:
         """Bring the ghost to the live session's simulated time."""
         target = round(live.time / self.session.sim.dt)
         if target < self.fed:  # the live run went back in time
-            self._start()
+            if self._linear and target >= self.session.steps:
+                self.fed = target  # still after the ghost's log ended: it stays there
+            elif self._linear and self.session.history.oldest() <= target:
+                self.session.rewind_to(target)  # replays the events before target
+                self.feeder.i = bisect.bisect_left(self._steps, target)
+                self.fed = target
+                self.feeder.advance(0)  # and the events logged at target, as play() does
+            else:
+                self._start()
         if target > self.fed:
             self.feeder.advance(target - self.fed)
             self.fed = target
