@@ -28,10 +28,6 @@ class Ghost:
         # the run as it was played, whatever the interface file says now
         self.setup, self.warnings = setup_for_log(self.log, as_recorded="interface_text"
                                                   in self.log.header)
-        # A log whose steps only go forward: its session's step is the ghost's clock.
-        self._linear = not any(e.event["type"] == "action"
-                               and e.event.get("name") in ("rewind", "restore")
-                               for e in self.log.events)
         self._steps = [e.step for e in self.log.events]
         self.fed = 0  # steps fed to the ghost so far: its clock (a log's rewinds go back)
         self._start()
@@ -46,9 +42,12 @@ class Ghost:
         """Bring the ghost to the live session's simulated time."""
         target = round(live.time / self.session.sim.dt)
         if target < self.fed:  # the live run went back in time
-            if self._linear and target >= self.session.steps:
+            # Its session's step is the ghost's clock as long as the log has not gone
+            # back itself (a rewind or restore in it) and has not ended.
+            linear = self.session.steps == min(self.fed, self.feeder.end)
+            if linear and target >= self.session.steps:
                 self.fed = target  # still after the ghost's log ended: it stays there
-            elif self._linear and self.session.history.oldest() <= target:
+            elif linear and self.session.history.oldest() <= target:
                 self.session.rewind_to(target)  # replays the events before target
                 self.feeder.i = bisect.bisect_left(self._steps, target)
                 self.fed = target
