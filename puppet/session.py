@@ -71,7 +71,7 @@ class Session:
             if self.listener is not None:
                 self.listener(self.sim.steps, event)  # logged, all of it (speed keys too)
             if not (kind == "action" and event.get("name") in ("rewind", "restore")
-                    or self._window_key(event)):
+                    or kind == "key" and self._window_key(event)):
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
                 self.history.record(self.sim.steps, event)
@@ -109,11 +109,9 @@ class Session:
         return action
 
     def _window_key(self, event: Event) -> bool:
-        """A key (down or up) of an app action that is the window's business (help,
+        """A key event (down or up) of an app action that is the window's business (help,
         pause, slowdown...), not input to the simulation: it does not rewrite the
         future, so scrubbing back, pressing it and scrubbing forward again works."""
-        if event["type"] != "key":
-            return False
         action = self.key_to_app.get(event["key"])
         return (action is not None and action not in SIM_ACTIONS
                 and not self.runtime.handles_key(event["key"]))
