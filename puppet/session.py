@@ -46,9 +46,10 @@ class Session:
         self.message_serial = 0  # bumped on every new message
         self.blowups = 0
         self.blowup_messages: list[str] = []  # what each recovery said (headless runs print them)
-        self._start = self.sim.checkpoint()
+        start = self._snapshot()  # re-seated, like every checkpoint
+        self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
-        self.history.set_start(Snapshot(0, self._start, self._runtime_state()))
+        self.history.set_start(start)
         self._rebuilding = False  # re-simulating recorded history (rewind): record nothing
 
     @property

@@ -556,10 +556,6 @@ class InterfaceRuntime:
                 wake = at
         self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
-    @property
-    def active(self) -> bool:
-        return self.next_wakeup is not None
-
     # -- reset and snapshots -------------------------------------------------------
     def reset(self) -> None:
         """After the character is reset: start-pose targets, then the current inputs."""

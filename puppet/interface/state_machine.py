@@ -12,7 +12,6 @@ from puppet.interface.conditions import compile_test, reader
 
 class StateMachine:
     def __init__(self, spec, character, dt: float):
-        self.states = spec.states
         # Sensor conditions are polled at the control rate, on steps that are multiples
         # of ``every`` (absolute, so how advance() calls are split does not matter).
         self.every = max(1, round(1.0 / (spec.control_rate * dt)))
