@@ -19,7 +19,7 @@ import pymunk
 import pytest
 
 from puppet.data.catalog import load_setup
-from puppet.physics import simulation
+from puppet.physics import snapshot
 from puppet.physics.simulation import Simulation
 
 SETUPS = ["luxo-mouse", "cat-bound"]
@@ -28,12 +28,14 @@ SETUPS = ["luxo-mouse", "cat-bound"]
 def _legacy_snapshot(sim: Simulation) -> bytes:
     """The format before: pymunk's own pickle of the space and the objects we hold."""
     objects = (sim.space, sim.character.state_objects(), tuple(sim.ground),
-               sim.drag_body, sim.drag_spring, sim.steps)
+               sim.drag_body, sim.drag_spring, sim.steps,
+               [(name, joint, prop) for name, (joint, prop) in sim.grasps.items()])
     return pickle.dumps(objects, protocol=pickle.HIGHEST_PROTOCOL)
 
 
 def _legacy_restore(sim: Simulation, data: bytes) -> None:
-    space, character, ground, drag_body, drag_spring, steps = pickle.loads(data)
+    space, character, ground, drag_body, drag_spring, steps, grasps = pickle.loads(data)
+    sim.grasps = {name: (joint, prop) for name, joint, prop in grasps}
     sim.space = space
     sim.character.bind(character)
     sim.ground = list(ground)
@@ -66,8 +68,7 @@ def _busy(setup: str) -> Simulation:
     _drive(sim, 480)
     c = sim.character
     held, dragged = c.bodies[c.link_order[0]], c.link_order[-1]
-    sim.space.add(pymunk.PivotJoint(held, sim.space.static_body, (0.0, 0.0),
-                                    tuple(held.position)))  # as InterfaceRuntime grasps
+    sim.attach("held", c.link_order[0], (0.0, 0.0), tuple(held.position))  # as a grasp does
     x, y = c.bodies[dragged].position
     sim.start_drag(dragged, (0.0, 0.0), (x + 0.05, y + 0.1))
     sim.ground[0].friction = 0.4
@@ -81,10 +82,10 @@ def _busy(setup: str) -> Simulation:
 
 
 def test_attributes_are_set_in_pymunks_pickle_order():
-    assert [*simulation.SPACE_ATTRS, "threads"] == pymunk.Space._pickle_attrs_general
-    assert list(simulation.BODY_ATTRS) == pymunk.Body._pickle_attrs_general
-    assert list(simulation.SHAPE_ATTRS) == pymunk.Shape._pickle_attrs_general
-    assert list(simulation.CONSTRAINT_ATTRS) == pymunk.Constraint._pickle_attrs_general
+    assert [*snapshot.SPACE_ATTRS, "threads"] == pymunk.Space._pickle_attrs_general
+    assert list(snapshot.BODY_ATTRS) == pymunk.Body._pickle_attrs_general
+    assert list(snapshot.SHAPE_ATTRS) == pymunk.Shape._pickle_attrs_general
+    assert list(snapshot.CONSTRAINT_ATTRS) == pymunk.Constraint._pickle_attrs_general
 
 
 @pytest.mark.parametrize("setup", SETUPS)
@@ -137,7 +138,7 @@ def test_restore_brings_back_joints_springs_gains_and_world_parameters():
               sim.gravity, sim.ground[0].friction)
     data = sim.snapshot()
     sim.end_drag()
-    sim.space.remove(*_grasps(sim))
+    sim.detach("held")
     servo.target, servo.stiffness = 1.0, 5.0
     sim.gravity, sim.ground[0].friction = (0.0, -1.0), 0.9
     sim.restore(data)

@@ -2,6 +2,7 @@
 
 import math
 
+from puppet.interface.app_keys import SetSlowdown
 from puppet.app.clock import SLOWDOWNS, SimClock
 
 
@@ -40,9 +41,9 @@ def test_apply_takes_the_speed_actions_and_says_so():
     clock = SimClock(1 / 480, 1.0)
     assert clock.apply("slower") and clock.slowdown == SLOWDOWNS[1]
     assert clock.apply("faster") and clock.slowdown == 1
-    assert clock.apply("slowdown:4") and clock.slowdown == 4
+    assert clock.apply(SetSlowdown(4)) and clock.slowdown == 4
     assert clock.steps_for(0.1) == 12  # 0.1 wall s at 4x: 0.025 simulated s
-    assert clock.apply("slowdown:250") and clock.slowdown == 100
+    assert clock.apply(SetSlowdown(250)) and clock.slowdown == 100
     # not speed: pause is the viewer's (a replay's steps already hold what a pause did)
     for other in ("pause", "quit", "help", None):
         assert not clock.apply(other)

@@ -11,6 +11,7 @@ from puppet.app.export import export_video
 from puppet.app.headless import run_headless
 from puppet.cli import main
 from puppet.data.catalog import find, load_setup
+from puppet.interface.app_keys import SetSlowdown
 from puppet.testing import record_script, replay_log
 from puppet.timeline.ghost import Ghost
 from puppet.timeline.log import read_log
@@ -209,6 +210,7 @@ def test_window_draws_a_ghost_and_records_only_the_live_run(hop, tmp_path, monke
 def slowed(tmp_path_factory) -> Path:
     """luxo-keys: 0.1 s, then `l` (slowdown 4) for 0.2 s, then `k` (1x) for 0.3 s."""
     from puppet.interface import events as ev
+    from puppet.interface.app_keys import SetSlowdown
     from puppet.session import Session
     from puppet.timeline.log import Recorder
 
@@ -216,10 +218,10 @@ def slowed(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("slowed") / "slowed.jsonl"
     with Recorder(session, path, slowdown=1.0):
         session.advance(48)
-        assert session.handle(ev.key("l", True)) == "slowdown:4"
+        assert session.handle(ev.key("l", True)) == SetSlowdown(4)
         session.handle(ev.key("l", False))
         session.advance(96)
-        assert session.handle(ev.key("k", True)) == "slowdown:1"
+        assert session.handle(ev.key("k", True)) == SetSlowdown(1)
         session.handle(ev.key("k", False))
         session.advance(144)
     return path
@@ -275,7 +277,7 @@ def test_window_replay_follows_a_recorded_slowdown_key(slowed, monkeypatch):
     monkeypatch.setattr(pygame.mouse, "get_focused", lambda: False)
     log = read_log(slowed)
     assert window.run_window(load_setup("luxo-keys"), replay=log) == 0
-    assert seen == [("slowdown:4", True, 4.0), ("slowdown:1", True, 1.0)]
+    assert seen == [(SetSlowdown(4), True, 4.0), (SetSlowdown(1), True, 1.0)]
     assert feeders[0].session.sim.state_hash() == log.end_hash
 
 

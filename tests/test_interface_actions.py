@@ -11,6 +11,7 @@ import pytest
 
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
+from puppet.interface.app_keys import SetSlowdown
 from puppet.session import Session
 
 HEADER = "name: t\ndescription: test interface\ncharacter: luxo\n"
@@ -280,7 +281,7 @@ def test_meta_keys(tmp_path):
     assert tuple(s.sim.space.gravity) == (0, -3)
     press(s, "f")
     assert all(seg.friction == 0.1 for seg in s.sim.ground)
-    assert press(s, "z") == "slowdown:10"
+    assert press(s, "z") == SetSlowdown(10)
     assert press(s, "x") == "pause"
     s.advance(10)
     assert press(s, "k") is None  # a sim action: the session took the checkpoint

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections import deque
 
 from puppet.data.interfaces import MAX_SLOWDOWN, MIN_SLOWDOWN
+from puppet.interface.app_keys import SetSlowdown
 
 SLOWDOWNS = tuple(round(10 ** (i / 6), 2) for i in range(13))  # 1, 1.47, 2.15 ... 100
 MAX_CATCH_UP = 0.1  # wall s of simulation one frame may owe; more is dropped (no spiral)
@@ -42,8 +43,8 @@ class SimClock:
         self.slowdown = min(MAX_SLOWDOWN, max(MIN_SLOWDOWN, float(value)))
         self.index = nearest_slowdown_index(self.slowdown)
 
-    def apply(self, action: str | None) -> bool:
-        """Apply a speed action: "slower", "faster" (the app keys) or "slowdown:N" (an
+    def apply(self, action) -> bool:
+        """Apply a speed action: "slower", "faster" (the app keys) or ``SetSlowdown`` (an
         interface key). One place for the live window, its replay and the video export,
         which pass on the actions a log's events return. False for any other action;
         pause is not one: it is the viewer's own (a log's steps already hold what a
@@ -52,8 +53,8 @@ class SimClock:
             self.slower()
         elif action == "faster":
             self.faster()
-        elif action is not None and action.startswith("slowdown:"):
-            self.set_slowdown(float(action.split(":", 1)[1]))
+        elif isinstance(action, SetSlowdown):
+            self.set_slowdown(action.value)
         else:
             return False
         return True

@@ -91,36 +91,94 @@ class ConditionSpec(Spec):
 
 
 class ChainSpec(Spec):
-    """Two actuated joints in a row and an end point on the second joint's child link."""
+    """Two or more actuated joints in a row (an arm; a leg with hip, knee and ankle) and
+    an end point on the last joint's child link."""
 
-    joints: tuple[str, str] = Field(description="[proximal joint, distal joint]")
+    joints: list[str] = Field(min_length=2, description="proximal joint first")
     end: Vec2 = Field(description="end effector, model frame, m")
     description: str = ""
 
 
+class PropPointSpec(Spec):
+    """A grasp point of a scene prop, picked relative to what a chain holds: ``offset``
+    0 is the point nearest the chain's end (the one it holds, if it holds one), 1 the
+    next in the prop's order, -1 the previous, 2 the one after next."""
+
+    prop: str
+    offset: int = Field(0, ge=-20, le=20)
+    of: str | None = Field(None, description="the chain whose hold counts from (default: "
+                                             "the reaching chain)")
+
+
+class SteerSpec(Spec):
+    """A target steered by two continuous inputs: x and y map linearly (clamped) from
+    their input ranges onto ``x_to`` / ``y_to`` metres in the reach's frame."""
+
+    x: str = "mouse.x"
+    y: str = "mouse.y"
+    x_from: Vec2 = (0.0, 1.0)
+    y_from: Vec2 = (0.0, 1.0)
+    x_to: Vec2 = Field(description="m at x_from[0] and x_from[1]")
+    y_to: Vec2 = Field(description="m at y_from[0] and y_from[1]")
+
+    _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.x_from[0] == self.x_from[1] or self.y_from[0] == self.y_from[1]:
+            raise ValueError("'x_from' and 'y_from' must each be two different input values")
+        return self
+
+
 class ReachSpec(Spec):
-    """Move a chain's end toward a point along a Hermite-eased path, IK every step."""
+    """Move a chain's end toward a target along a Hermite-eased path, IK every step. The
+    target is a fixed point (``target``, in ``frame``), a scene prop's grasp point
+    (``point``, followed as the prop moves) or steered by two inputs (``steer``)."""
 
     chain: str
-    target: Vec2 = Field(description="m; in 'frame' coordinates")
+    target: Vec2 | None = Field(None, description="m; in 'frame' coordinates")
+    point: PropPointSpec | None = None
+    steer: SteerSpec | None = None
     frame: Literal["world", "root"] = Field(
-        "root", description="root: relative to the root link at the moment of the key")
+        "root", description="root: relative to the root link at the moment of the key "
+                            "(for steer: as it moves)")
     duration: PositiveFloat = Field(0.5, description="s from start to target")
-    hold: NonNegativeFloat = Field(0.0, description="s to keep re-solving at the target")
+    hold: NonNegativeFloat = Field(0.0, description="s to keep re-solving at the target "
+                                                    "(a steered reach is held until "
+                                                    "preempted)")
     grasp: bool = Field(False, description="grasp the target when the end gets within "
-                                           "the chain's grasp tolerance")
+                                           "tolerance")
     tolerance: PositiveFloat = Field(0.04, description="m, for grasp")
+
+    @model_validator(mode="after")
+    def _check(self):
+        given = [n for n in ("target", "point", "steer") if getattr(self, n) is not None]
+        if len(given) != 1:
+            raise ValueError("a reach needs exactly one of 'target' (a point), 'point' (a "
+                             "prop's grasp point) or 'steer' (two inputs)"
+                             + (f"; got {' and '.join(given)}" if given else ""))
+        return self
 
 
 class GraspSpec(Spec):
-    """Arm a grasp: the chain's end holds the first of ``points`` it comes within
-    ``tolerance`` of (a pivot joint to the world)."""
+    """Arm a grasp: the chain's end holds the first of ``points`` (world) it comes within
+    ``tolerance`` of, pinned to the world; or the nearest grasp point or segment of
+    ``prop`` (a scene prop's name, or ``any``) within ``tolerance``, pinned to the prop,
+    which may move."""
 
     chain: str
-    points: list[Vec2] = Field(min_length=1, description="world points, m")
+    points: list[Vec2] | None = Field(None, min_length=1, description="world points, m")
+    prop: str | None = Field(None, description="a scene prop, or 'any'")
     tolerance: PositiveFloat = Field(0.04, description="m")
     within: PositiveFloat | None = Field(None, description="s the grasp stays armed; "
                                                            "default until released")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if (self.points is None) == (self.prop is None):
+            raise ValueError("a grasp needs exactly one of 'points' (world points) or "
+                             "'prop' (a scene prop's grasp points)")
+        return self
 
 
 class ActionSpec(Spec):
@@ -130,12 +188,15 @@ class ActionSpec(Spec):
     set: dict[str, float] = Field(default_factory=dict, description="joint -> deg")
     adjust: dict[str, float] = Field(default_factory=dict, description="joint -> +deg")
     sequence: str | None = Field(None, description="start a named pose sequence")
+    repeat: int | Literal["forever"] | None = Field(
+        None, description="play the sequence this many times (or until preempted)")
     stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
     damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
     while_held: bool = Field(False, description="undo the stiffness/damping changes "
                                                 "when the key is released")
     mode: str | None = Field(None, description="select a control mode (map set)")
-    goto: str | None = Field(None, description="go to a state of the state machine")
+    goto: str | None = Field(None, description="go to a state (MACHINE.STATE for a state "
+                                               "of another machine)")
     reach: ReachSpec | None = None
     grasp: GraspSpec | None = None
     release: str | None = Field(None, description="chain name, or 'all'")
@@ -153,6 +214,15 @@ class ActionSpec(Spec):
             raise ValueError(f"unknown app action '{value}'; expected one of: "
                              f"{', '.join(META_APP_ACTIONS)}")
         return value
+
+    @model_validator(mode="after")
+    def _check_repeat(self):
+        if self.repeat is not None:
+            if self.sequence is None:
+                raise ValueError("'repeat' repeats a sequence, but this action starts none")
+            if isinstance(self.repeat, int) and not 1 <= self.repeat <= 10000:
+                raise ValueError(f"'repeat' {self.repeat} must be 1..10000 or 'forever'")
+        return self
 
     def touched_joints(self) -> set[str]:
         return set(self.set) | set(self.adjust)

@@ -147,6 +147,9 @@ def setup_from_text(text: str, interface_path: str | Path, scene: str | None = N
             raise
         raise located.error(("scene",), exc.message) from None
     scene_spec = parse_scene(load_file(scene_path))
+    from puppet.data.interface_refs import check_scene_refs
+
+    check_scene_refs(spec, scene_spec, located, scene_path.stem)
     return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path)
 
 

@@ -30,15 +30,41 @@ def unknown(kind: str, name: str, known, owner: str = "") -> str:
     return f"unknown {kind} '{name}'{owner}{hint}expected one of: {listing}"
 
 
+def machine_locs(spec) -> Iterator[tuple[str, tuple, object]]:
+    """(machine name, location of its states' parent, machine spec) for every machine."""
+    for name, machine in spec.state_machines().items():
+        yield name, (() if name == "main" else ("machines", name)), machine
+
+
 def actions(spec) -> Iterator[tuple[tuple, ActionSpec]]:
-    """Every action in the file with its location: keys, state entries, state keys."""
+    """Every action in the file with its location: keys, state entries, state keys,
+    any_state keys, in every machine."""
+    for a in machine_actions(spec):
+        yield a[1], a[2]
+
+
+def machine_actions(spec) -> Iterator[tuple[str | None, tuple, ActionSpec]]:
+    """(machine or None for top-level keys, location, action) of every action."""
     for i, k in enumerate(spec.keys):
-        yield ("keys", i), k
-    for name, state in spec.states.items():
-        if state.enter is not None:
-            yield ("states", name, "enter"), state.enter
-        for i, k in enumerate(state.keys):
-            yield ("states", name, "keys", i), k
+        yield None, ("keys", i), k
+    for mname, where, machine in machine_locs(spec):
+        for name, state in machine.states.items():
+            if state.enter is not None:
+                yield mname, where + ("states", name, "enter"), state.enter
+            for i, k in enumerate(state.keys):
+                yield mname, where + ("states", name, "keys", i), k
+        for i, k in enumerate(machine.any_state.keys):
+            yield mname, where + ("any_state", "keys", i), k
+
+
+def transitions(spec) -> Iterator[tuple[str, str | None, tuple, object]]:
+    """(machine, state or None for any_state, location, transition) of every transition."""
+    for mname, where, machine in machine_locs(spec):
+        for name, state in machine.states.items():
+            for i, t in enumerate(state.transitions):
+                yield mname, name, where + ("states", name, "transitions", i), t
+        for i, t in enumerate(machine.any_state.transitions):
+            yield mname, None, where + ("any_state", "transitions", i), t
 
 
 def all_maps(spec) -> Iterator[tuple[tuple, object]]:
@@ -47,9 +73,10 @@ def all_maps(spec) -> Iterator[tuple[tuple, object]]:
     for mode, maps in spec.modes.items():
         for i, m in enumerate(maps):
             yield ("modes", mode, i), m
-    for name, state in spec.states.items():
-        for i, m in enumerate(state.maps):
-            yield ("states", name, "maps", i), m
+    for _, where, machine in machine_locs(spec):
+        for name, state in machine.states.items():
+            for i, m in enumerate(state.maps):
+                yield where + ("states", name, "maps", i), m
 
 
 def check_names(spec, located: Located) -> None:
@@ -65,6 +92,13 @@ def check_names(spec, located: Located) -> None:
         need(("mode",), "mode", spec.mode, spec.modes)
     if spec.initial is not None:
         need(("initial",), "state", spec.initial, spec.states)
+    if spec.states and "main" in spec.machines:
+        raise located.error(("machines", "main"), "machine name 'main' is the top-level "
+                                                  "'states'; name this machine otherwise",
+                            prefer_key=True)
+    for mname, machine in spec.machines.items():
+        if machine.initial is not None:
+            need(("machines", mname, "initial"), "state", machine.initial, machine.states)
     for loc, m in all_maps(spec):
         grid = getattr(m, "grid", None)
         if grid is None:
@@ -86,6 +120,21 @@ def check_names(spec, located: Located) -> None:
                 raise located.error(loc + ("joints", i),
                                     unknown("joint", joint, sorted(joints),
                                             " among the grid poses' joints"))
+    def need_state(loc, name, machine):
+        if spec.resolve_goto(name, machine) is None:
+            every = [f"{m}.{st}" if m != "main" else st
+                     for m, ms in spec.state_machines().items() for st in ms.states]
+            owners = [m for m, ms in spec.state_machines().items() if name in ms.states]
+            if len(owners) > 1:
+                raise located.error(loc, f"state '{name}' is in machines "
+                                         f"{', '.join(owners)}; write MACHINE.{name}")
+            raise located.error(loc, unknown("state", name, every))
+
+    for machine, loc, a in machine_actions(spec):
+        if a.goto is not None:
+            need_state(loc + ("goto",), a.goto, machine)
+        if a.reach is not None and a.reach.point is not None and a.reach.point.of is not None:
+            need(loc + ("reach", "point", "of"), "chain", a.reach.point.of, spec.chains)
     for loc, a in actions(spec):
         if a.pose is not None:
             need(loc + ("pose",), "pose", a.pose, spec.poses)
@@ -93,8 +142,6 @@ def check_names(spec, located: Located) -> None:
             need(loc + ("sequence",), "sequence", a.sequence, spec.sequences)
         if a.mode is not None:
             need(loc + ("mode",), "mode", a.mode, spec.modes)
-        if a.goto is not None:
-            need(loc + ("goto",), "state", a.goto, spec.states)
         if a.reach is not None:
             need(loc + ("reach", "chain"), "chain", a.reach.chain, spec.chains)
         if a.grasp is not None:
@@ -106,37 +153,50 @@ def check_names(spec, located: Located) -> None:
                                                        "changes, but this action sets none")
         if a.while_held and loc[0] == "states" and loc[2] == "enter":
             raise located.error(loc + ("while_held",), "'while_held' needs a key")
-    for name, state in spec.states.items():
-        for i, t in enumerate(state.transitions):
-            need(("states", name, "transitions", i, "to"), "state", t.to, spec.states)
+    for machine, _, loc, t in transitions(spec):
+        need_state(loc + ("to",), t.to, machine)
     _check_reachable(spec, located)
 
 
 def _check_reachable(spec, located: Located) -> None:
-    if not spec.states:
-        return
-    everywhere = {k.goto for k in spec.keys if k.goto}
-    edges: dict[str, set[str]] = {}
-    for name, state in spec.states.items():
-        out = set(everywhere)
-        out |= {k.goto for k in state.keys if k.goto}
-        out |= {t.to for t in state.transitions}
-        if state.enter is not None and state.enter.goto:
-            out.add(state.enter.goto)
-        edges[name] = out
-    start = spec.start_state
-    seen, todo = {start}, [start]
-    while todo:
-        for nxt in edges[todo.pop()]:
-            if nxt not in seen:
-                seen.add(nxt)
-                todo.append(nxt)
-    for name in spec.states:
-        if name not in seen:
-            raise located.error(("states", name),
-                                f"state '{name}' is unreachable from the initial state "
-                                f"'{start}': no key 'goto', transition or entry leads to it",
-                                prefer_key=True)
+    """Every state of every machine can be reached from its machine's initial state
+    (through gotos from anywhere that lead into the machine, its own states' keys,
+    entries and transitions, and its any_state rules)."""
+    machines = spec.state_machines()
+    edges: dict[tuple[str, str], set[tuple[str, str]]] = {}
+    anywhere: set[tuple[str, str]] = set()  # reachable from any state of any machine
+    for machine, loc, a in machine_actions(spec):
+        if a.goto is None:
+            continue
+        to = spec.resolve_goto(a.goto, machine)
+        if machine is None or loc[len(loc) - 3:len(loc) - 1] == ("any_state", "keys"):
+            anywhere.add(to)
+        else:
+            state = loc[loc.index("states") + 1]
+            if to[0] == machine:
+                edges.setdefault((machine, state), set()).add(to)
+            else:
+                anywhere.add(to)  # a key in one machine moving another: live while there
+    for machine, state, loc, t in transitions(spec):
+        to = spec.resolve_goto(t.to, machine)
+        if state is None:
+            anywhere.add(to)
+        else:
+            edges.setdefault((machine, state), set()).add(to)
+    for mname, where, ms in machine_locs(spec):
+        start = (mname, ms.start_state)
+        seen, todo = {start}, [start]
+        while todo:
+            for nxt in edges.get(todo.pop(), set()) | anywhere:
+                if nxt[0] == mname and nxt not in seen:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        for name in ms.states:
+            if (mname, name) not in seen:
+                raise located.error(where + ("states", name),
+                                    f"state '{name}' is unreachable from the initial state "
+                                    f"'{ms.start_state}': no key 'goto', transition or entry "
+                                    "leads to it", prefer_key=True)
 
 
 def sensor_problem(sensor: str, character: CharacterSpec) -> str | None:
@@ -198,16 +258,32 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
     for name, chain in spec.chains.items():
         for i, joint in enumerate(chain.joints):
             need(("chains", name, "joints", i), joint)
-        first, second = (character.joint(j) for j in chain.joints)
-        if second.parent != first.child:
-            raise located.error(("chains", name, "joints"),
-                                f"chain '{name}': joint '{second.name}' must be on link "
-                                f"'{first.child}' (the child of '{first.name}'), but its "
-                                f"parent is '{second.parent}'")
-    for sname, state in spec.states.items():
-        for i, t in enumerate(state.transitions):
-            if t.when is not None:
-                problem = sensor_problem(t.when.sensor, character)
-                if problem:
-                    raise located.error(("states", sname, "transitions", i, "when", "sensor"),
-                                        problem)
+        for i, (first, second) in enumerate(zip(chain.joints, chain.joints[1:])):
+            first, second = character.joint(first), character.joint(second)
+            if second.parent != first.child:
+                raise located.error(("chains", name, "joints", i + 1),
+                                    f"chain '{name}': joint '{second.name}' must be on link "
+                                    f"'{first.child}' (the child of '{first.name}'), but its "
+                                    f"parent is '{second.parent}'")
+    for _, _, loc, t in transitions(spec):
+        if t.when is not None:
+            problem = sensor_problem(t.when.sensor, character)
+            if problem:
+                raise located.error(loc + ("when", "sensor"), problem)
+
+
+def check_scene_refs(spec, scene, located: Located, scene_name: str) -> None:
+    """Props named by reaches and grasps must be props of the scene played."""
+    props = list(scene.props)
+    for loc, a in actions(spec):
+        named = []
+        if a.reach is not None and a.reach.point is not None:
+            named.append((loc + ("reach", "point", "prop"), a.reach.point.prop))
+        if a.grasp is not None and a.grasp.prop not in (None, "any"):
+            named.append((loc + ("grasp", "prop"), a.grasp.prop))
+        for where, prop in named:
+            if prop not in props:
+                raise located.error(where, unknown("prop", prop, props,
+                                                   f" in scene '{scene_name}'"))
+            if where[-2] == "point" and not scene.props[prop].grasp_points:
+                raise located.error(where, f"prop '{prop}' has no grasp_points to reach for")

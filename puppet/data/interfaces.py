@@ -158,6 +158,31 @@ class StateSpec(Spec):
     description: str = ""
 
 
+class AnyStateSpec(Spec):
+    """Keys and transitions of a machine that hold in every one of its states (a
+    transition never fires from the state it leads to); a state's own keys win."""
+
+    keys: list[KeyActionSpec] = Field(default_factory=list)
+    transitions: list[TransitionSpec] = Field(default_factory=list)
+
+
+class MachineSpec(Spec):
+    """A named state machine running beside the others (one per limb, a gait machine
+    beside a grasp machine): its own states, start state and ``any_state`` rules."""
+
+    states: dict[str, StateSpec] = Field(min_length=1)
+    initial: str | None = Field(None, description="starting state; default the first")
+    any_state: AnyStateSpec = Field(default_factory=AnyStateSpec)
+    description: str = ""
+
+    @property
+    def start_state(self) -> str:
+        return self.initial if self.initial is not None else next(iter(self.states))
+
+
+MAIN_MACHINE = "main"  # the name of the machine of the top-level ``states:``
+
+
 class GestureSpec(Spec):
     """A recorded mouse performance bound to a key: pressing the key plays ``path``
     back through the active mouse maps, in sim time, as a sequence plays its poses."""
@@ -194,6 +219,11 @@ class InterfaceSpec(Spec):
     gestures: list[GestureSpec] = Field(default_factory=list,
                                         description="recorded mouse paths bound to keys")
     initial: str | None = Field(None, description="starting state; default the first")
+    any_state: AnyStateSpec = Field(default_factory=AnyStateSpec,
+                                    description="keys and transitions of every state")
+    machines: dict[str, MachineSpec] = Field(
+        default_factory=dict, description="more state machines, side by side with "
+                                          "'states' (the machine 'main')")
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
     control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
@@ -223,6 +253,31 @@ class InterfaceSpec(Spec):
     def start_state(self) -> str | None:
         return self.initial if self.initial is not None else next(iter(self.states), None)
 
+    def state_machines(self) -> dict[str, MachineSpec]:
+        """Every state machine by name, in the order they run: the top-level ``states``
+        (as machine 'main') first, then ``machines``."""
+        out: dict[str, MachineSpec] = {}
+        if self.states:
+            out[MAIN_MACHINE] = MachineSpec.model_construct(
+                states=self.states, initial=self.initial, any_state=self.any_state,
+                description="")
+        out.update(self.machines)
+        return out
+
+    def resolve_goto(self, name: str, machine: str | None = None) -> tuple[str, str] | None:
+        """(machine, state) a ``goto`` names: MACHINE.STATE, else a state of ``machine``
+        (the machine the action belongs to), else the one machine with such a state.
+        None if there is no such state or the name is ambiguous."""
+        machines = self.state_machines()
+        head, dot, tail = name.partition(".")
+        if dot and head in machines and tail in machines[head].states:
+            return head, tail
+        if machine is not None and name in machines.get(machine, MachineSpec.model_construct(
+                states={})).states:
+            return machine, name
+        found = [m for m, spec in machines.items() if name in spec.states]
+        return (found[0], name) if len(found) == 1 else None
+
 
 def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     for action, key in spec.app_keys.items():
@@ -236,6 +291,7 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     named += [(("states", n, "keys", i, "key"), k.key) for n, state in spec.states.items()
               for i, k in enumerate(state.keys)]
     named += [(("gestures", i, "key"), g.key) for i, g in enumerate(spec.gestures)]
+    named += [(loc, k.key) for loc, k in machine_keys(spec)]
     for loc, key in named:
         if key_problem(key):
             raise located.error(loc, key_problem(key))
@@ -248,6 +304,11 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
         by_key[key] = f"app:{action}"
     lists = [(("keys",), spec.keys)] + [(("states", name, "keys"), state.keys)
                                         for name, state in spec.states.items()]
+    lists += [(("any_state", "keys"), spec.any_state.keys)]
+    for mname, machine in spec.machines.items():
+        lists += [(("machines", mname, "states", name, "keys"), state.keys)
+                  for name, state in machine.states.items()]
+        lists += [(("machines", mname, "any_state", "keys"), machine.any_state.keys)]
     for where, bindings in lists:
         seen: dict[str, int] = {}
         for i, binding in enumerate(bindings):
@@ -266,6 +327,18 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
             seen[key] = i
 
 
+def machine_keys(spec: InterfaceSpec):
+    """(location, key action) of the keys of ``any_state`` and of the extra machines."""
+    for i, k in enumerate(spec.any_state.keys):
+        yield ("any_state", "keys", i, "key"), k
+    for mname, machine in spec.machines.items():
+        for sname, state in machine.states.items():
+            for i, k in enumerate(state.keys):
+                yield ("machines", mname, "states", sname, "keys", i, "key"), k
+        for i, k in enumerate(machine.any_state.keys):
+            yield ("machines", mname, "any_state", "keys", i, "key"), k
+
+
 def gesture_problems(spec: InterfaceSpec, gestures=None):
     """(location, message) of each problem with ``gestures`` (default: the spec's) in
     ``spec``: times must start at >= 0 and increase, x and y lie in 0..1, and a key
@@ -277,6 +350,8 @@ def gesture_problems(spec: InterfaceSpec, gestures=None):
     for name, state in spec.states.items():
         for i, k in enumerate(state.keys):
             by_key.setdefault(normalize_key(k.key), f"bound in state '{name}' (keys[{i}])")
+    for loc, k in machine_keys(spec):
+        by_key.setdefault(normalize_key(k.key), f"bound in {'.'.join(map(str, loc[:-1]))}")
     for i, g in enumerate(gestures):
         loc = ("gestures", i)
         last = None

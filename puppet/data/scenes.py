@@ -1,8 +1,12 @@
-"""Scene files (``assets/scenes/*.yaml``): ground polylines, friction, gravity, start."""
+"""Scene files (``assets/scenes/*.yaml``): ground polylines, friction, gravity, start,
+and props: named static or dynamic bodies (bars, rungs, a rope's links, a wall) with
+named grasp points and grasp segments that a hand or foot can hold."""
 
 from __future__ import annotations
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat
+from typing import Literal
+
+from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
@@ -24,6 +28,62 @@ class MarkerSpec(Spec):
     label: str
 
 
+class PropShapeSpec(Spec):
+    """One collision shape of a prop, in the prop's own frame (m): a segment (a bar, a
+    rung, a wall's face) with a radius, or a circle."""
+
+    segment: tuple[Vec2, Vec2] | None = None
+    circle: Vec2 | None = Field(None, description="centre, m")
+    radius: PositiveFloat = Field(0.02, description="m")
+    friction: NonNegativeFloat = 0.9
+    collide: bool = Field(True, description="the character collides with it (a bar "
+                                            "held only by grasps need not)")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if (self.segment is None) == (self.circle is None):
+            raise ValueError("a prop shape needs exactly one of 'segment' or 'circle'")
+        if self.segment is not None and self.segment[0] == self.segment[1]:
+            raise ValueError("a segment needs two distinct ends")
+        return self
+
+
+class PropSpec(Spec):
+    """A named body in the scene that characters may touch and grasp. ``static`` props
+    never move; ``dynamic`` ones have a mass and may hang from a ``pivot`` (a pin to the
+    world or to another prop: a pendulum bar, a rope made of links)."""
+
+    body: Literal["static", "dynamic"] = "static"
+    position: Vec2 = Field(description="the prop's origin in the world, m")
+    angle: float = Field(0.0, description="deg")
+    mass: PositiveFloat | None = Field(None, description="kg (dynamic props)")
+    shapes: list[PropShapeSpec] = Field(default_factory=list)
+    grasp_points: dict[str, Vec2] = Field(
+        default_factory=dict, description="name -> point in the prop's frame, m; their "
+                                          "order is the order reaches count in (next, "
+                                          "previous)")
+    grasp_segments: list[tuple[Vec2, Vec2]] = Field(
+        default_factory=list, description="segments any point of which may be held")
+    pivot: Vec2 | None = Field(None, description="world point the prop hangs from, m")
+    pivot_to: str | None = Field(None, description="the prop the pivot pins it to "
+                                                   "(default: the world)")
+    color: tuple[int, int, int] = (120, 110, 100)
+    description: str = ""
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.body == "dynamic" and self.mass is None:
+            raise ValueError("a dynamic prop needs a 'mass' (kg)")
+        if self.body == "static" and (self.mass is not None or self.pivot is not None):
+            raise ValueError("a static prop has no 'mass' or 'pivot'; make it "
+                             "'body: dynamic' to let it move")
+        if self.pivot_to is not None and self.pivot is None:
+            raise ValueError("'pivot_to' needs a 'pivot' point")
+        if self.body == "dynamic" and not self.shapes:
+            raise ValueError("a dynamic prop needs at least one shape (for its inertia)")
+        return self
+
+
 class StartSpec(Spec):
     x: float = 0.0
     y: float = 0.0
@@ -36,6 +96,8 @@ class SceneSpec(Spec):
     ground: list[GroundSpec] = Field(min_length=1)
     start: StartSpec = Field(default_factory=StartSpec)
     markers: list[MarkerSpec] = Field(default_factory=list)
+    props: dict[str, PropSpec] = Field(default_factory=dict,
+                                       description="name -> a static or dynamic body")
     sky: tuple[int, int, int] = (226, 232, 240)
 
     def ground_height(self, x: float) -> float | None:
@@ -57,6 +119,14 @@ def parse_scene(located: Located) -> SceneSpec:
             if a == b:
                 raise located.error(("ground", i, "points", k + 1),
                                     "repeated point: a ground segment needs two distinct ends")
+    names = list(spec.props)
+    for i, (name, prop) in enumerate(spec.props.items()):
+        if prop.pivot_to is not None and prop.pivot_to not in names[:i]:
+            from puppet.data.interface_refs import unknown
+
+            raise located.error(("props", name, "pivot_to"),
+                                unknown("prop", prop.pivot_to, names[:i],
+                                        " listed before it"))
     return spec
 
 

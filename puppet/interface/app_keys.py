@@ -7,6 +7,9 @@ for itself without rebinding the app's action is refused at load time.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from enum import Enum
+
 # action -> (default key, what it does). Order is the order shown in the HUD.
 APP_KEYS: dict[str, tuple[str, str]] = {
     "quit": ("escape", "quit"),
@@ -24,9 +27,42 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "save_gestures": ("f3", "save the bound gestures into the interface file"),
 }
 
+
+
+class AppAction(str, Enum):
+    """The app's actions as a typed vocabulary (a ``str`` so that it prints, logs and
+    compares as its name). What a key asks of the app, or an interface's ``app:``."""
+
+    QUIT = "quit"
+    RESET = "reset"
+    PAUSE = "pause"
+    STEP = "step"
+    SLOWER = "slower"
+    FASTER = "faster"
+    HELP = "help"
+    CHECKPOINT = "checkpoint"
+    RESTORE = "restore"
+    REWIND = "rewind"
+    FORWARD = "forward"
+    RECORD_GESTURE = "record_gesture"
+    SAVE_GESTURES = "save_gestures"
+
+    def __str__(self) -> str:
+        return self.value
+
+    __format__ = str.__format__
+
+
+@dataclass(frozen=True)
+class SetSlowdown:
+    """Set the slowdown to ``value`` (an interface key's ``slowdown:``)."""
+
+    value: float
+
+
 # Actions that change the simulation (and so are handled by the Session, replayed
 # from logs); the others only change how the window presents it.
-SIM_ACTIONS = frozenset({"reset", "checkpoint", "restore"})
+SIM_ACTIONS = frozenset({AppAction.RESET, AppAction.CHECKPOINT, AppAction.RESTORE})
 
 MODIFIERS = ("ctrl", "shift", "alt")
 

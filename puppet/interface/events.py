@@ -10,6 +10,8 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
   {"type": "gamepad", "name": "axis0", "value": -0.3}        input gamepad.axis0
   {"type": "channel", "name": "lean", "value": 0.2}          input channel.lean (plugins)
+  {"type": "channels", "values": {"hip": 0.3, "knee": -0.1}}  many channels at one step
+                                                    (a mocap frame): one log line
   {"type": "reload", "text": "...", "path": "interfaces/x.yaml"}  run this interface text
                                                     from now on (hot reload of the file)
   {"type": "gesture", "key": "h", "path": [[t, x, y], ...], "description": ""}
@@ -62,6 +64,12 @@ def gamepad(name: str, value: float) -> Event:
 def channel(name: str, value: float) -> Event:
     """A named plugin channel (e.g. a mocap feature): input channel.<name>."""
     return {"type": "channel", "name": name, "value": float(value)}
+
+
+def channels(values) -> Event:
+    """Many named channels at one step (a frame of a motion-capture stream): inputs
+    channel.<name> for each. Logged as one line; the runtime's fast path applies it."""
+    return {"type": "channels", "values": {str(n): float(v) for n, v in values.items()}}
 
 
 def reload(text: str, path: str | None = None) -> Event:

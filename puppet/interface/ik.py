@@ -1,9 +1,19 @@
-"""Two-link analytic IK and the reach primitive: a limb's end follows a Hermite-eased
-path to a target point, with IK re-solved every step (the paper's "IK target select").
+"""Inverse kinematics for limbs of any length, solved every step of a reach.
 
-The chain is two actuated joints in a row (for Luxo: ankle, knee) and an end point on
-the second joint's child link, all in the character's model frame, so link vectors
-come straight from the joint anchors.
+A chain is two or more actuated joints in a row (Luxo's ankle and knee; an arm with
+shoulder and elbow; a leg with hip, knee and ankle) and an end point on the last
+joint's child link, all in the character's model frame, so link vectors come straight
+from the joint anchors.
+
+The solver is damped least squares (Levenberg-Marquardt on the end point), with the
+joint limits enforced by projection after every iteration and a joint that sits at a
+limit pushing outward left out of the next one. Why DLS rather than cyclic coordinate
+descent: it moves all joints together (CCD curls the distal joints first, which looks
+wrong on an arm), it degrades gracefully at singularities (a straight arm) and out of
+reach (the end stops at the nearest reachable point), and in the plane each iteration
+only inverts a 2x2 matrix. It starts from the joints' current targets, so a limb keeps
+its bend from one step to the next; a two-joint chain starts from the closed-form
+solution nearest its current bend, which is already exact when no limit is in the way.
 """
 
 from __future__ import annotations
@@ -15,6 +25,9 @@ from puppet.data.actions import ChainSpec
 from puppet.data.characters import CharacterSpec
 
 Vec = tuple[float, float]
+DAMPING = 0.02  # m: the DLS damping lambda (small: accurate; larger: smoother near singular)
+MAX_ITERATIONS = 40
+TOLERANCE = 1e-5  # m: close enough
 
 
 def _wrap(a: float) -> float:
@@ -28,7 +41,7 @@ def hermite(u: float) -> float:
 
 
 def solve_two_link(a1: Vec, a2: Vec, d: Vec, prefer_q2: float = 0.0) -> tuple[float, float]:
-    """Joint angles (q1, q2) putting the chain's end at ``d``.
+    """Joint angles (q1, q2) putting a two-link chain's end at ``d``, in closed form.
 
     ``a1``, ``a2`` are the two link vectors at zero joint angles and ``d`` the target
     relative to the first joint, in the first joint's parent frame. Out-of-reach
@@ -51,69 +64,96 @@ def solve_two_link(a1: Vec, a2: Vec, d: Vec, prefer_q2: float = 0.0) -> tuple[fl
     return best[1], best[2]
 
 
+def forward(links: list[Vec], q) -> tuple[list[Vec], Vec]:
+    """Joint positions and the end point of a chain with link vectors ``links`` (at
+    zero angles) turned by joint angles ``q``, from the first joint at the origin."""
+    x = y = angle = 0.0
+    joints = []
+    for (ax, ay), qi in zip(links, q):
+        joints.append((x, y))
+        angle += qi
+        c, s = math.cos(angle), math.sin(angle)
+        x += c * ax - s * ay
+        y += s * ax + c * ay
+    return joints, (x, y)
+
+
+def solve_dls(links: list[Vec], d: Vec, start, limits) -> list[float]:
+    """Joint angles putting the end of the chain ``links`` at (or nearest to) ``d``,
+    within ``limits`` ((lo, hi) radians or None per joint), from ``start``."""
+    q = [_clamp(v, lim) for v, lim in zip(start, limits)]
+    lam2 = DAMPING * DAMPING
+    for _ in range(MAX_ITERATIONS):
+        joints, (ex, ey) = forward(links, q)
+        rx, ry = d[0] - ex, d[1] - ey
+        if rx * rx + ry * ry < TOLERANCE * TOLERANCE:
+            break
+        # Column i of the Jacobian: the end's velocity for a unit turn of joint i.
+        cols = [(-(ey - jy), ex - jx) for jx, jy in joints]
+        for i, (lim, (cx, cy)) in enumerate(zip(limits, cols)):
+            if lim is not None:  # at a limit and the error pushes past it: leave it out
+                push = cx * rx + cy * ry
+                if (q[i] <= lim[0] and push < 0) or (q[i] >= lim[1] and push > 0):
+                    cols[i] = (0.0, 0.0)
+        a = lam2 + sum(cx * cx for cx, _ in cols)
+        b = sum(cx * cy for cx, cy in cols)
+        c = lam2 + sum(cy * cy for _, cy in cols)
+        det = a * c - b * b
+        w0, w1 = (c * rx - b * ry) / det, (a * ry - b * rx) / det
+        moved = 0.0
+        for i, (cx, cy) in enumerate(cols):
+            step = cx * w0 + cy * w1
+            new = _clamp(q[i] + step, limits[i])
+            moved += abs(new - q[i])
+            q[i] = new
+        if moved < 1e-9:  # stuck against limits: as near as it gets
+            break
+    return q
+
+
+def _clamp(v: float, lim) -> float:
+    return v if lim is None else min(lim[1], max(lim[0], v))
+
+
 @dataclass(frozen=True)
 class Chain:
-    """A named two-joint limb of a character, in model coordinates."""
+    """A named limb of a character (two or more joints in a row), in model coordinates."""
 
     name: str
-    joints: tuple[str, str]
+    joints: tuple[str, ...]
     parent_link: str  # the first joint's parent
-    end_link: str  # the second joint's child
+    end_link: str  # the last joint's child
     anchor: Vec  # first joint's pivot
-    a1: Vec
-    a2: Vec
+    links: tuple[Vec, ...]  # joint to joint, then last joint to the end point
     end: Vec
-    limits: tuple[tuple[float, float] | None, tuple[float, float] | None]
+    limits: tuple[tuple[float, float] | None, ...]
 
     @classmethod
     def from_spec(cls, name: str, spec: ChainSpec, character: CharacterSpec) -> Chain:
-        j1, j2 = (character.joint(j) for j in spec.joints)
+        joints = [character.joint(j) for j in spec.joints]
         lim = tuple(None if j.limits is None else tuple(math.radians(v) for v in j.limits)
-                    for j in (j1, j2))
-        return cls(name, tuple(spec.joints), j1.parent, j2.child, tuple(j1.anchor),
-                   (j2.anchor[0] - j1.anchor[0], j2.anchor[1] - j1.anchor[1]),
-                   (spec.end[0] - j2.anchor[0], spec.end[1] - j2.anchor[1]),
-                   tuple(spec.end), lim)
+                    for j in joints)
+        points = [tuple(j.anchor) for j in joints] + [tuple(spec.end)]
+        links = tuple((b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:]))
+        return cls(name, tuple(spec.joints), joints[0].parent, joints[-1].child,
+                   points[0], links, tuple(spec.end), lim)
 
     def end_world(self, character) -> Vec:
         p = character.bodies[self.end_link].local_to_world(self.end)
         return (p[0], p[1])
 
-    def solve(self, character, target: Vec, prefer_q2: float) -> tuple[float, float]:
-        """Joint targets (radians, within limits) reaching for a world point."""
+    def solve(self, character, target: Vec, current) -> tuple[float, ...]:
+        """Joint targets (radians, within limits) reaching for a world point, starting
+        from ``current`` (the joints' targets now)."""
         parent = character.bodies[self.parent_link]
         base = parent.local_to_world(self.anchor)
         c, s = math.cos(-parent.angle), math.sin(-parent.angle)
         dx, dy = target[0] - base[0], target[1] - base[1]
         d = (c * dx - s * dy, s * dx + c * dy)
-        q = solve_two_link(self.a1, self.a2, d, prefer_q2)
-        return tuple(q if lim is None else min(lim[1], max(lim[0], q))
-                     for q, lim in zip(q, self.limits))
-
-
-@dataclass
-class Reach:
-    """A running reach: from p0 to p1 (world, m) over steps [start, start + steps],
-    then held until ``end``; may grasp p1 within ``tolerance`` m."""
-
-    chain: str
-    p0: Vec
-    p1: Vec
-    start: int
-    steps: int
-    end: int
-    grasp: bool = False
-    tolerance: float = 0.04
-
-    def point(self, now: int) -> Vec:
-        h = hermite((now - self.start) / self.steps)
-        return (self.p0[0] + h * (self.p1[0] - self.p0[0]),
-                self.p0[1] + h * (self.p1[1] - self.p0[1]))
-
-    def to_state(self) -> list:
-        return [self.chain, list(self.p0), list(self.p1), self.start, self.steps, self.end,
-                self.grasp, self.tolerance]
-
-    @classmethod
-    def from_state(cls, s) -> Reach:
-        return cls(s[0], tuple(s[1]), tuple(s[2]), *s[3:])
+        if len(self.links) == 2:
+            q = solve_two_link(self.links[0], self.links[1], d, current[1])
+            clamped = tuple(_clamp(v, lim) for v, lim in zip(q, self.limits))
+            if clamped == q:
+                return q
+            current = clamped  # a limit is in the way: the nearest point within limits
+        return tuple(solve_dls(list(self.links), d, current, self.limits))

@@ -1,15 +1,19 @@
 """Run an interface file: input events in, PD targets and gains out.
 
-The runtime is event driven: targets change when an input changes, so between
-events the physics steps at full speed with nothing to do in Python. Time-driven
-work (pose sequences, reaches, armed grasps, state timers and conditions,
-perturbations) announces itself through ``next_wakeup``, the sim step at which
-``tick`` must next run; ``None`` means idle, and the session then steps the physics
-in one tight loop.
+The runtime is an arbiter over controllers (``puppet.interface.controllers``): it
+holds the bindings, the continuous maps and the joint owner table, runs the action a
+key stands for, and asks its controllers (pose sequences, gestures, reaches, grasps,
+random motion, state machines) to do their time-driven work.
+
+It is event driven: targets change when an input changes, so between events the
+physics steps at full speed with nothing to do in Python. Time-driven work announces
+itself through ``next_wakeup``, the minimum over the controllers of the sim step at
+which ``tick`` must next run; ``None`` means idle, and the session then steps the
+physics in one tight loop.
 
 Arbitration - who writes a joint's target - follows "the most recent action wins",
-per joint:
-  * a running sequence or reach *owns* the joints it drives;
+per joint (``puppet.interface.ownership``):
+  * a running sequence, gesture or reach *owns* the joints it drives;
   * a new sequence replaces the running sequence entirely; a new reach replaces the
     running reach of the same chain; either takes its joints from the other;
   * a pose, set or adjust (key, or state entry) and a continuous map that updates
@@ -27,21 +31,23 @@ from __future__ import annotations
 
 import math
 
-import pymunk
-
 from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
 from puppet.interface import maps as mapping
-from puppet.interface import meta, sequences
-from puppet.interface.app_keys import normalize_key
+from puppet.interface import meta
+from puppet.interface.app_keys import AppAction, SetSlowdown, normalize_key
+from puppet.interface.controllers.gesture import GestureController
+from puppet.interface.controllers.grasp import GraspController
+from puppet.interface.controllers.perturbation import Perturber
+from puppet.interface.controllers.reach import ReachController
+from puppet.interface.controllers.sequence import SequenceController
+from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.events import Event
-from puppet.interface.ik import Chain, Reach
+from puppet.interface.ik import Chain
+from puppet.interface.ownership import JointOwners
 from puppet.interface.poses import apply_pose, compile_poses
-from puppet.interface.state_machine import StateMachine
 from puppet.physics.character import Character
 
-SEQ = "seq"
-GESTURE = "gesture"
 MAX_CHAINED_GOTOS = 16
 
 
@@ -57,120 +63,143 @@ class InterfaceRuntime:
         self.now = 0  # current step when there is no Simulation to ask
         self.poses = compile_poses(spec.poses)
         self.pose_targets = {n: p.targets for n, p in self.poses.items()}
-        self.plans = sequences.compile_sequences(spec.sequences, self.dt)
         self.bindings = {normalize_key(k.key): k for k in spec.keys}
-        # key -> [(step offset, x, y)]: recorded mouse paths, replayed in sim time
-        self.gestures = {normalize_key(g.key): [(round(t / self.dt), x, y) for t, x, y in g.path]
-                         for g in spec.gestures}
-        self.state_bindings = {name: {normalize_key(k.key): k for k in s.keys}
-                               for name, s in spec.states.items()}
+        machines = spec.state_machines()
+        self.machines = {name: StateMachine(name, m, spec, character, self.dt)
+                         for name, m in machines.items()}
+        # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
+        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
+                               for mname, m in machines.items()
+                               for sname, s in m.states.items()}
+        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys}
+                             for mname, m in machines.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
-        self.machine = StateMachine(spec, character, self.dt) if spec.states else None
-        self.perturber = meta.Perturber(spec.perturbation, self.dt)
-        self.inputs: dict[str, float] = {}
+        self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
         self.held: set[str] = set()
+        self.owners = JointOwners()
+        servos = character.servos
+        self.sequences = SequenceController(spec.sequences, self.poses, servos, self.owners,
+                                            self.dt)
+        self.gestures = GestureController(spec.gestures, servos, self.owners, self.dt)
+        self.gestures.inputs = self.inputs
+        self.grasping = GraspController(self.chains, character, sim, self.dt)
+        self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
+                                        self.grasping, self.inputs, self.dt)
+        self.perturber = Perturber(spec.perturbation, character, self.dt)
+        # Tick order; the state machines tick after them.
+        self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
+                            self.perturber)
+        self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
         self._map_cache: dict[int, object] = {}
-        self._clear_activity()
+        self._channel_maps: dict[tuple, tuple] = {}
+        self.mode = spec.start_mode
+        self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
             self.apply_gains()
             self._start_control()
 
-    def adopt(self, old: InterfaceRuntime) -> None:
-        """Take over from ``old``, the runtime of the interface this one replaces (a hot
-        reload): the physics and the servo targets stay as they are, so nothing moves
-        until an input changes or a key is pressed; input values and held keys carry
-        over; so does what is running (sequence, reaches, grasps, gain holds, state,
-        mode, perturbation) where the new interface defines it the same way. The rest
-        ends, leaving its joints' targets where they are."""
-        now = old.step_now()
-        self.now = old.now
-        self.inputs = dict(old.inputs)
-        self.held = set(old.held)
-        spec, was = self.spec, old.spec
-        self.mode = old.mode if old.mode in spec.modes else spec.start_mode
-        kept: set[str] = set()
-        seq = old.sequence
-        if (seq is not None and seq.name in spec.sequences
-                and spec.sequences[seq.name] == was.sequences.get(seq.name)
-                and all(spec.poses.get(p.pose) == was.poses.get(p.pose)
-                        for p in spec.sequences[seq.name])):
-            self.sequence = sequences.RunningSequence.from_state(seq.to_state())
-            kept.add(SEQ)
-        g = old.gesture
-        if g is not None and self.gestures.get(g[0]) == old.gestures.get(g[0]):
-            self.gesture = list(g)
-            kept.add(GESTURE)
-        same_chain = {n for n in old.chains if n in spec.chains
-                      and spec.chains[n] == was.chains[n]}
-        for name, reach in old.reaches.items():
-            if name in same_chain:
-                self.reaches[name] = Reach.from_state(reach.to_state())
-                kept.add(f"reach:{name}")
-        self.grasps = _copy_grasps({n: g for n, g in old.grasps.items() if n in same_chain})
-        for name in list(old.grasped):
-            if name in same_chain:
-                self.grasped[name] = list(old.grasped[name])
-            else:
-                old.release(name)  # its chain is gone or changed: let go
-        self.owner = {j: tag for j, tag in old.owner.items() if tag in kept}
-        if spec.gains == was.gains:
-            self.gain_holds = _copy_holds(old.gain_holds)
-        else:
-            self.apply_gains()
-        if spec.perturbation == was.perturbation:
-            self.perturber.set_state(old.perturber.get_state())
-        elif old.perturber.on:
-            self.perturber.switch("on", now)
-        if self.machine is not None:
-            if old.machine is not None and old.machine.current in spec.states:
-                self.machine.set_state(old.machine.get_state())
-                self._refresh_active_maps()
-            else:  # a new state machine (or the state is gone): start it
-                self._start_control()
-                return
-        else:
-            self._refresh_active_maps()
-        self._reschedule(now)
+    # -- what runs (read by the HUD, replays and tests) -------------------------------
+    @property
+    def state(self) -> str | None:
+        """The first state machine's current state (None without states)."""
+        for machine in self.machines.values():
+            return machine.current
+        return None
 
-    # -- bookkeeping -------------------------------------------------------------
-    def _clear_activity(self) -> None:
-        self.mode = self.spec.start_mode
-        self.owner: dict[str, str] = {}  # joint -> "seq" or "reach:<chain>"
-        self.sequence: sequences.RunningSequence | None = None
-        self.gesture: list | None = None  # [key, start step, index of the next point]
-        self.reaches: dict[str, Reach] = {}
-        self.grasps: dict[str, list] = {}  # chain -> [points, tolerance, until step|None]
-        self.grasped: dict[str, list[float]] = {}  # chain -> world point held
-        self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
+    @property
+    def states(self) -> dict[str, str]:
+        """machine -> its current state."""
+        return {name: m.current for name, m in self.machines.items()}
 
-    def _start_control(self) -> None:
-        now = self.step_now()
-        if self.machine is not None:
-            self.machine.enter(self.machine.initial, now)
-        self._refresh_active_maps()
-        if self.machine is not None:
-            enter = self.spec.states[self.machine.current].enter
-            if enter is not None:
-                self.run_action(enter, now)
-        self._reschedule(now)
+    @property
+    def machine(self) -> StateMachine | None:
+        return next(iter(self.machines.values()), None)
+
+    @property
+    def sequence(self):
+        return self.sequences.running
+
+    @property
+    def gesture(self):
+        return self.gestures.running
+
+    @property
+    def reaches(self):
+        return self.reaching.reaches
+
+    @property
+    def grasped(self) -> dict[str, tuple[float, float]]:
+        return self.grasping.held
 
     def step_now(self) -> int:
         return self.sim.steps if self.sim is not None else self.now
 
-    @property
-    def state(self) -> str | None:
-        """The state machine's current state (None without states)."""
-        return self.machine.current if self.machine is not None else None
+    # -- hot reload ----------------------------------------------------------------------
+    def adopt(self, old: InterfaceRuntime) -> None:
+        """Take over from ``old``, the runtime of the interface this one replaces (a hot
+        reload): the physics and the servo targets stay as they are, so nothing moves
+        until an input changes or a key is pressed; input values and held keys carry
+        over; so does what is running (sequence, gesture, reaches, grasps, gain holds,
+        states, mode, random motion) where the new interface defines it the same way.
+        The rest ends, leaving its joints' targets where they are."""
+        now = old.step_now()
+        self.now = old.now
+        self.inputs.update(old.inputs)
+        self.held = set(old.held)
+        spec, was = self.spec, old.spec
+        self.mode = old.mode if old.mode in spec.modes else spec.start_mode
+
+        def same(kind: str, name: str) -> bool:
+            if kind == "sequence":
+                return (name in spec.sequences and spec.sequences[name] == was.sequences.get(name)
+                        and all(spec.poses.get(p.pose) == was.poses.get(p.pose)
+                                for p in spec.sequences[name]))
+            if kind == "chain":
+                return name in spec.chains and spec.chains[name] == was.chains.get(name)
+            return spec.perturbation == was.perturbation
+
+        kept = set()
+        for mine, theirs in zip(self.controllers, old.controllers):
+            kept |= mine.adopt(theirs, same, now)
+        self.owners.table = {j: o for j, o in old.owners.table.items() if o in kept}
+        if spec.gains == was.gains:
+            self.gain_holds = _copy_holds(old.gain_holds)
+        else:
+            self.apply_gains()
+        fresh = []
+        for name, machine in self.machines.items():
+            theirs = old.machines.get(name)
+            if theirs is not None and theirs.current in machine.spec.states:
+                machine.set_state(theirs.get_state())
+            else:  # a new state machine (or its state is gone): start it
+                machine.enter(machine.initial, now)
+                fresh.append(name)
+        self._refresh_active_maps()
+        for name in fresh:
+            self._run_entry(name, now, 0)
+        self._reschedule(now)
+
+    # -- maps ------------------------------------------------------------------------------
+    def _start_control(self) -> None:
+        now = self.step_now()
+        for machine in self.machines.values():
+            machine.enter(machine.initial, now)
+        self._refresh_active_maps()
+        for name in self.machines:
+            self._run_entry(name, now, 0)
+        self._reschedule(now)
 
     def _refresh_active_maps(self) -> None:
-        active = list(self.spec.maps)
+        spec = self.spec
+        active = list(spec.maps)
         if self.mode is not None:
-            active += self.spec.modes[self.mode]
-        if self.machine is not None:
-            active += self.spec.states[self.machine.current].maps
+            active += spec.modes[self.mode]
+        for machine in self.machines.values():
+            active += machine.spec.states[machine.current].maps
         self.active_maps = active
         self._mouse_maps = self._compiled(("mouse.x", "mouse.y"))
+        self._channel_maps = {}
         joints: set[str] = set()
         for m in active:
             if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
@@ -179,7 +208,8 @@ class InterfaceRuntime:
                     joints |= these if m.joints is None else these & set(m.joints)
                 else:
                     joints |= set(m.gains())
-        self._mouse_joints = joints  # what a gesture drives
+        self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
+        self.gestures.mouse_joints = joints
 
     def _compiled(self, inputs) -> list:
         """Compiled appliers of the active maps reading any of ``inputs``, in order."""
@@ -201,10 +231,11 @@ class InterfaceRuntime:
         puts the pointer there when it opens, so its first mouse event does not snap
         the character out of its pose (the middle of luxo-mouse throws Luxo over).
         A grid search, then a pattern search; the targets are left as they were."""
-        if not self._mouse_maps or not self._mouse_joints:
+        mouse_joints = self.gestures.mouse_joints
+        if not self._mouse_maps or not mouse_joints:
             return None
         servos = self.character.servos
-        want = {j: servos[j].target for j in self._mouse_joints}
+        want = {j: servos[j].target for j in mouse_joints}
         values = dict(self.inputs)
 
         def score(x: float, y: float) -> tuple[float, float]:
@@ -243,32 +274,55 @@ class InterfaceRuntime:
                 t = gain.max_torque if gain.max_torque is not None else t
             servo.stiffness, servo.damping, servo.max_torque = k, d, t
 
+    def apply_maps(self, inputs=None) -> None:
+        """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
+        inputs = self.inputs.keys() if inputs is None else inputs
+        for apply in self._compiled(set(inputs)):
+            self.owners.take(apply(self.inputs))
+
+    def _activate(self, maps) -> None:
+        """Maps that just became active (a mode or state entered) act at once with the
+        inputs as they are; the maps that were active already leave their joints be."""
+        for m in maps:
+            self.owners.take(self._applier(m)(self.inputs))
+
     # -- input -------------------------------------------------------------------
-    def binding(self, chord: str) -> ActionSpec | None:
-        """The action bound to a chord in the current state (state keys first)."""
-        if self.machine is not None:
-            found = self.state_bindings[self.machine.current].get(chord)
+    def _lookup(self, chord: str) -> tuple[ActionSpec | None, str | None]:
+        """The action bound to a chord now and the machine it belongs to: each machine's
+        current state's keys, then its any_state keys, then the top level's."""
+        for name, machine in self.machines.items():
+            found = self.state_bindings[(name, machine.current)].get(chord)
+            if found is None:
+                found = self.any_bindings[name].get(chord)
             if found is not None:
-                return found
-        return self.bindings.get(chord)
+                return found, name
+        return self.bindings.get(chord), None
+
+    def binding(self, chord: str) -> ActionSpec | None:
+        """The action bound to a chord in the current states (state keys first)."""
+        return self._lookup(chord)[0]
 
     def handles_key(self, chord: str) -> bool:
-        return self.binding(chord) is not None or chord in self.gestures
+        return self.binding(chord) is not None or chord in self.gestures.paths
 
-    def on_event(self, event: Event) -> str | None:
+    def on_event(self, event: Event):
         """Apply an input event at the current step. Returns an app action the event
-        asks for (e.g. "pause", "slowdown:10"), for the session to perform or pass on."""
+        asks for (an ``AppAction`` or ``SetSlowdown``), for the session to perform or
+        pass on."""
         kind = event["type"]
         if kind == "mouse":
             self.inputs["mouse.x"] = event["x"]
             self.inputs["mouse.y"] = event["y"]
-            values, owner = self.inputs, self.owner
+            values, table = self.inputs, self.owners.table
             for apply in self._mouse_maps:  # the hot path: no lookups, no allocation
                 written = apply(values)
-                if owner:
-                    self._take(written)
+                if table:
+                    self.owners.take(written)
             # Maps write targets and take joints; nothing that sets a wake-up changes
             # (an emptied sequence or gesture ends at its own next wake-up).
+            return None
+        if kind == "channels":
+            self._on_channels(event["values"])
             return None
         now = self.step_now()
         result = None
@@ -292,7 +346,25 @@ class InterfaceRuntime:
         self._reschedule(now)
         return result
 
-    def _press(self, chord: str, down: bool, now: int) -> str | None:
+    def _on_channels(self, values: dict[str, float]) -> None:
+        """Many named channels at one step (a mocap frame): like the mouse, a compiled
+        path per set of names - their input names and the maps reading any of them."""
+        names = tuple(values)
+        compiled = self._channel_maps.get(names)
+        if compiled is None:
+            inputs = tuple("channel." + n for n in names)
+            compiled = self._channel_maps[names] = (inputs, tuple(self._compiled(inputs)))
+        inputs, appliers = compiled
+        store = self.inputs
+        for name, value in zip(inputs, values.values()):
+            store[name] = value
+        table = self.owners.table
+        for apply in appliers:
+            written = apply(store)
+            if table:
+                self.owners.take(written)
+
+    def _press(self, chord: str, down: bool, now: int):
         if not down:
             self.held.discard(chord)
             restore = self.gain_holds.pop(chord, None)
@@ -302,39 +374,23 @@ class InterfaceRuntime:
                     servos[joint].stiffness, servos[joint].damping = k, d
             return None
         self.held.add(chord)
-        binding = self.binding(chord)
+        binding, machine = self._lookup(chord)
         if binding is None:
-            if chord in self.gestures:
-                self._start_gesture(chord, now)
+            if chord in self.gestures.paths:
+                self.gestures.start(chord, now)
             return None
-        return self.run_action(binding, now, chord)
-
-    def apply_maps(self, inputs=None) -> None:
-        """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
-        inputs = self.inputs.keys() if inputs is None else inputs
-        for apply in self._compiled(set(inputs)):
-            self._take(apply(self.inputs))
-
-    def _activate(self, maps) -> None:
-        """Maps that just became active (a mode or state entered) act at once with the
-        inputs as they are; the maps that were active already leave their joints be."""
-        for m in maps:
-            self._take(self._applier(m)(self.inputs))
+        return self.run_action(binding, now, chord, machine=machine)
 
     # -- actions -----------------------------------------------------------------
-    def _take(self, joints) -> None:
-        """Instant writes take joints back from sequences and reaches."""
-        if self.owner:
-            for joint in joints:
-                self.owner.pop(joint, None)
-
     def run_action(self, a: ActionSpec, now: int, chord: str | None = None,
-                   depth: int = 0) -> str | None:
+                   depth: int = 0, machine: str | None = None):
+        """Run one action (a key's, a state's entry). ``machine``: the state machine the
+        action belongs to (its ``goto`` names that machine's states first)."""
         result = None
         if a.app is not None:
-            result = a.app
+            result = AppAction(a.app)
         if a.slowdown is not None:
-            result = f"slowdown:{a.slowdown:g}"
+            result = SetSlowdown(a.slowdown)
         if self.sim is not None:
             if a.gravity is not None:
                 meta.set_gravity(self.sim, a.gravity)
@@ -346,8 +402,10 @@ class InterfaceRuntime:
             self.mode = a.mode
             self._refresh_active_maps()
             self._activate(self.spec.modes[a.mode])
-        if a.goto is not None and self.machine is not None:
-            self._enter_state(a.goto, now, depth)
+        if a.goto is not None and self.machines:
+            to = self.spec.resolve_goto(a.goto, machine)
+            if to is not None:
+                self._enter_state(to[0], to[1], now, depth)
         servos = self.character.servos
         if a.stiffness or a.damping:
             if a.while_held and chord is not None:
@@ -361,199 +419,71 @@ class InterfaceRuntime:
         if a.pose is not None:
             pose = self.poses[a.pose]
             apply_pose(servos, pose)
-            self._take(pose.targets)
+            self.owners.take(pose.targets)
         for joint, deg in a.set.items():
             servos[joint].target = math.radians(deg)
         for joint, deg in a.adjust.items():
             servos[joint].target += math.radians(deg)
-        self._take(a.touched_joints())
+        self.owners.take(a.touched_joints())
         if a.sequence is not None:
-            self._start_sequence(a.sequence, now)
+            self.sequences.start(a.sequence, now, a.repeat)
         if a.release is not None:
-            self.release(a.release)
+            self.grasping.release(a.release)
         if a.grasp is not None:
-            g = a.grasp
-            until = None if g.within is None else now + round(g.within / self.dt)
-            self.grasps[g.chain] = [[list(p) for p in g.points], g.tolerance, until]
+            self.grasping.arm(a.grasp, now)
         if a.reach is not None:
-            self._start_reach(a.reach, now)
+            self.reaching.start(a.reach, now)
         return result
 
-    def _enter_state(self, name: str, now: int, depth: int) -> None:
+    def release(self, which: str) -> None:
+        """Let go: unpin the chain ("all": every chain) and disarm its grasp."""
+        self.grasping.release(which)
+
+    def _enter_state(self, machine: str, state: str, now: int, depth: int) -> None:
         if depth >= MAX_CHAINED_GOTOS:
             return
-        self.machine.enter(name, now)
+        self.machines[machine].enter(state, now)
         self._refresh_active_maps()
-        self._activate(self.spec.states[name].maps)
-        enter = self.spec.states[name].enter
+        self._activate(self.machines[machine].spec.states[state].maps)
+        self._run_entry(machine, now, depth + 1)
+
+    def _run_entry(self, machine: str, now: int, depth: int) -> None:
+        m = self.machines[machine]
+        enter = m.spec.states[m.current].enter
         if enter is not None:
-            self.run_action(enter, now, None, depth + 1)
-
-    def _start_sequence(self, name: str, now: int) -> None:
-        self._drop(SEQ)
-        self.sequence = sequences.start(self.plans, name, now)
-        joints = set()
-        for pose_name, _ in self.plans[name]:
-            joints |= self.poses[pose_name].joints
-        for joint in joints:
-            self.owner[joint] = SEQ
-        apply_pose(self.character.servos, self.poses[self.plans[name][0][0]])
-
-    # -- gestures --------------------------------------------------------------------
-    def _start_gesture(self, chord: str, now: int) -> None:
-        """Play a recorded mouse path: it owns the joints the active mouse maps drive
-        (taken back like a sequence's: by a pose, a moving mouse, a new sequence)."""
-        self._drop(GESTURE)
-        for joint in self._mouse_joints:
-            self.owner[joint] = GESTURE
-        self.gesture = [chord, now, 0]
-        self._play_gesture(now)
-
-    def _play_gesture(self, step: int) -> None:
-        """Feed the gesture's points due by ``step`` through the mouse maps, writing
-        only the joints it still owns; end it when done or when it owns none."""
-        chord, start, index = self.gesture
-        path = self.gestures[chord]
-        owned = {j for j, o in self.owner.items() if o == GESTURE}
-        if owned:
-            servos = self.character.servos
-            others = [(servos[j], servos[j].target) for j in self._mouse_joints - owned]
-            values = dict(self.inputs)
-            while index < len(path) and start + path[index][0] <= step:
-                values["mouse.x"], values["mouse.y"] = path[index][1], path[index][2]
-                for apply in self._mouse_maps:
-                    apply(values)
-                index += 1
-            for servo, target in others:  # joints taken back by later actions
-                servo.target = target
-        if index >= len(path) or not owned:
-            self._drop(GESTURE)
-            self.gesture = None
-        else:
-            self.gesture[2] = index
-
-    def _start_reach(self, r, now: int) -> None:
-        chain = self.chains[r.chain]
-        tag = f"reach:{r.chain}"
-        self._drop(tag)
-        if r.frame == "root":
-            root = self.character.bodies[self.character.spec.root]
-            p = root.local_to_world(r.target)
-            target = (p[0], p[1])
-        else:
-            target = tuple(r.target)
-        steps = max(1, round(r.duration / self.dt))
-        self.reaches[r.chain] = Reach(r.chain, chain.end_world(self.character), target, now,
-                                      steps, now + steps + round(r.hold / self.dt),
-                                      r.grasp, r.tolerance)
-        for joint in chain.joints:
-            self.owner[joint] = tag
-
-    def _drop(self, tag: str) -> None:
-        for joint in [j for j, o in self.owner.items() if o == tag]:
-            del self.owner[joint]
-
-    # -- grasp ---------------------------------------------------------------------
-    def _grasp_constraints(self, chain: Chain) -> list:
-        space = self.sim.space
-        body = self.character.bodies[chain.end_link]
-        return [c for c in space.constraints if isinstance(c, pymunk.PivotJoint)
-                and c.a is body and c.b is space.static_body]
-
-    def _try_grasp(self, chain_name: str, points, tolerance: float) -> bool:
-        if self.sim is None or chain_name in self.grasped:
-            return chain_name in self.grasped
-        chain = self.chains[chain_name]
-        ex, ey = chain.end_world(self.character)
-        for p in points:
-            if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
-                body = self.character.bodies[chain.end_link]
-                joint = pymunk.PivotJoint(body, self.sim.space.static_body, chain.end,
-                                          (p[0], p[1]))
-                self.sim.space.add(joint)
-                self.grasped[chain_name] = [p[0], p[1]]
-                return True
-        return False
-
-    def release(self, which: str) -> None:
-        """Let go: remove the chain's grasp joint(s) and disarm its grasp."""
-        names = list(self.chains) if which == "all" else [which]
-        for name in names:
-            self.grasps.pop(name, None)
-            if self.grasped.pop(name, None) is not None and self.sim is not None:
-                for c in self._grasp_constraints(self.chains[name]):
-                    self.sim.space.remove(c)
+            self.run_action(enter, now, None, depth, machine)
 
     # -- time --------------------------------------------------------------------
     def tick(self, step: int) -> None:
         """Do the time-driven work due at ``step`` (called before stepping from it)."""
         self.now = step
-        servos = self.character.servos
-        seq = self.sequence
-        if seq is not None:
-            while seq is not None and step >= seq.until:
-                pose_name = sequences.next_pose(self.plans, seq)
-                if pose_name is None:
-                    self._drop(SEQ)
-                    self.sequence = seq = None
-                else:
-                    owned = {j for j, o in self.owner.items() if o == SEQ}
-                    apply_pose(servos, self.poses[pose_name], owned)
-            if seq is not None and SEQ not in self.owner.values():
-                self.sequence = None
-        if self.gesture is not None:
-            self._play_gesture(step)
-        for name, reach in list(self.reaches.items()) if self.reaches else ():
-            tag = f"reach:{name}"
-            owned = [j for j, o in self.owner.items() if o == tag]
-            if not owned:
-                del self.reaches[name]
-                continue
-            chain = self.chains[name]
-            q = chain.solve(self.character, reach.point(step), servos[chain.joints[1]].target)
-            for joint, angle in zip(chain.joints, q):
-                if joint in owned:
-                    servos[joint].target = angle
-            if reach.grasp:
-                self._try_grasp(name, [reach.p1], reach.tolerance)
-            if step >= reach.end:
-                self._drop(tag)
-                del self.reaches[name]
-        for name, (points, tolerance, until) in list(self.grasps.items()) if self.grasps else ():
-            if self._try_grasp(name, points, tolerance) or (until is not None and step >= until):
-                del self.grasps[name]
-        p = self.perturber
-        if p.on and p.next_kick is not None and step >= p.next_kick:
-            p.kick(self.character, step)
-        machine = self.machine
-        if machine is not None:
+        for controller in self._active:
+            controller.tick(step)
+        for name, machine in self.machines.items():
             to = machine.due(step)
             for _ in range(MAX_CHAINED_GOTOS):
                 if to is None:
                     break
-                self._enter_state(to, step, 0)
+                self._enter_state(to[0], to[1], step, 0)
                 to = machine.due(step)
         self._reschedule(step + 1)
 
     def _reschedule(self, earliest: int) -> None:
         """``next_wakeup``: the first step >= ``earliest`` at which something is due,
-        None when idle. Runs after every tick and key, so it is kept lean."""
+        None when idle; and which controllers have work. Runs after every tick and key,
+        so it is kept lean."""
         wake = None
-        if self.sequence is not None:
-            wake = self.sequence.until
-        if self.gesture is not None:
-            chord, start, index = self.gesture
-            at = start + self.gestures[chord][index][0]
-            wake = at if wake is None or at < wake else wake
-        if self.reaches or self.grasps:
-            wake = earliest
-        p = self.perturber
-        if p.on and p.next_kick is not None:
-            wake = p.next_kick if wake is None or p.next_kick < wake else wake
-        if self.machine is not None:
-            at = self.machine.next_check(earliest)
+        active = []
+        for controller in self.controllers:
+            at = controller.next_wakeup(earliest)
+            if at is not None:
+                active.append(controller)
+                wake = at if wake is None or at < wake else wake
+        for machine in self.machines.values():
+            at = machine.next_wakeup(earliest)
             if at is not None and (wake is None or at < wake):
                 wake = at
+        self._active = active
         self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
     # -- reset and snapshots -------------------------------------------------------
@@ -562,8 +492,11 @@ class InterfaceRuntime:
         start = self.character.start_joint_angles()
         for name, servo in self.character.servos.items():
             servo.target = start.get(name, 0.0)
-        self._clear_activity()  # the restored space has no grasp joints either
-        self.perturber.reset()
+        for controller in self.controllers:  # the restored space has no grasp joints either
+            controller.stop()
+        self.owners.table = {}
+        self.gain_holds = {}
+        self.mode = self.spec.start_mode
         self.apply_gains()
         self._start_control()
         self.apply_maps()
@@ -571,40 +504,26 @@ class InterfaceRuntime:
     # The runtime's own state rides along with physics snapshots (plain data).
     def get_state(self) -> dict:
         return {"inputs": dict(self.inputs), "held": sorted(self.held), "mode": self.mode,
-                "owner": dict(self.owner),
-                "sequence": self.sequence.to_state() if self.sequence else None,
-                "gesture": list(self.gesture) if self.gesture else None,
-                "reaches": {n: r.to_state() for n, r in self.reaches.items()},
-                "grasps": _copy_grasps(self.grasps),
-                "grasped": {n: list(p) for n, p in self.grasped.items()},
-                "gain_holds": _copy_holds(self.gain_holds),
-                "machine": self.machine.get_state() if self.machine else None,
-                "perturb": self.perturber.get_state(), "next_wakeup": self.next_wakeup}
+                "owners": self.owners.get_state(),
+                "controllers": [c.get_state() for c in self.controllers],
+                "machines": {n: m.get_state() for n, m in self.machines.items()},
+                "gain_holds": _copy_holds(self.gain_holds), "next_wakeup": self.next_wakeup}
 
     def set_state(self, state: dict) -> None:
-        self.inputs = dict(state["inputs"])
+        self.inputs.clear()
+        self.inputs.update(state["inputs"])
         self.held = set(state["held"])
-        if "owner" not in state:  # an old-style state: inputs only
-            return
         self.mode = state["mode"]
-        self.owner = dict(state["owner"])
-        self.sequence = sequences.RunningSequence.from_state(state["sequence"])
-        self.gesture = list(state["gesture"]) if state.get("gesture") else None
-        self.reaches = {n: Reach.from_state(r) for n, r in state["reaches"].items()}
-        self.grasps = _copy_grasps(state["grasps"])
-        self.grasped = {n: list(p) for n, p in state["grasped"].items()}
+        self.owners.set_state(state["owners"])
+        for controller, s in zip(self.controllers, state["controllers"]):
+            controller.set_state(s)
+        for name, s in state["machines"].items():
+            if name in self.machines:
+                self.machines[name].set_state(s)
         self.gain_holds = _copy_holds(state["gain_holds"])
-        if self.machine is not None and state["machine"] is not None:
-            self.machine.set_state(state["machine"])
-        self.perturber.set_state(state["perturb"])
-        self.next_wakeup = state["next_wakeup"]
         self._refresh_active_maps()
-
-
-def _copy_grasps(grasps: dict) -> dict:
-    """A deep copy of armed grasps (chain -> [points, tolerance, until step])."""
-    return {n: [[list(p) for p in points], tolerance, until]
-            for n, (points, tolerance, until) in grasps.items()}
+        self._reschedule(self.step_now())
+        self.next_wakeup = state["next_wakeup"]
 
 
 def _copy_holds(holds: dict) -> dict:

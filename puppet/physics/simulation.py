@@ -8,14 +8,9 @@ that need "restored == never restored" (checkpoints) re-seat the live run on a
 restored copy at the moment they snapshot: see ``checkpoint()``. Sessions do so at
 step 0, so every run's bits depend on exactly how ``restore`` builds the space.
 
-Snapshots are not pickled pymunk objects: pymunk's generic pickle support made a cat
-checkpoint cost 2-3 ms. ``snapshot`` records plain values instead - per object its
-class, constructor arguments and settable state, plus the cached contacts and
-counters pymunk's pickle keeps - and ``restore`` builds a fresh space from them with
-the calls, order and values that unpickling would use, so it is bit-identical to the
-pickle format it replaced (tests/test_checkpoint_format.py checks that). Not carried,
-as nothing here uses them: collision handlers, custom body velocity/position
-functions, constraint solve callbacks, extra attributes on pymunk objects.
+The snapshot format itself is ``puppet.physics.snapshot``. The Simulation owns every
+constraint the interface adds to the world (grasps, the Ctrl+drag spring), so that
+snapshots, rewinds and replays cover them exactly.
 """
 
 from __future__ import annotations
@@ -24,14 +19,15 @@ import hashlib
 import math
 import pickle
 import struct
-from operator import attrgetter
 
 import pymunk
-from pymunk._chipmunk_cffi import lib as _cp  # the C calls pymunk's own pickle uses
 
 from puppet.data.characters import CharacterSpec
 from puppet.data.scenes import SceneSpec
+from puppet.physics import props as prop_bodies
+from puppet.physics import snapshot
 from puppet.physics.character import Character
+from puppet.physics.props import Prop
 from puppet.physics.scene import build_ground
 
 DEFAULT_DT = 1.0 / 480.0  # s; small enough for stiff hopping servos on light links
@@ -52,6 +48,9 @@ class Simulation:
         self.space.iterations = SOLVER_ITERATIONS
         self.space.collision_slop = COLLISION_SLOP
         self.ground = build_ground(scene, self.space)
+        self.props: dict[str, Prop] = prop_bodies.build_props(scene, self.space)
+        # grasps held now: name (a chain) -> (pivot joint, prop name or None for the world)
+        self.grasps: dict[str, tuple[pymunk.PivotJoint, str | None]] = {}
         self.character = Character(character)
         self.character.add_to(self.space)
         self._place_at_start()
@@ -99,6 +98,37 @@ class Simulation:
             self.space.remove(self.drag_spring)
             self.drag_spring = None
 
+    # -- grasps: a pivot pinning a point of a link to the world or to a prop ----------
+    def attach(self, name: str, link: str, local_point: tuple[float, float],
+               world_point: tuple[float, float], prop: str | None = None) -> None:
+        """Pin ``local_point`` of ``link`` to ``world_point`` on ``prop`` (None: the
+        static world), as grasp ``name`` (replacing a grasp of that name). A link does
+        not collide with the prop it holds."""
+        self.detach(name)
+        body = self.character.bodies[link]
+        if prop is None:
+            joint = pymunk.PivotJoint(body, self.space.static_body, local_point, world_point)
+        else:
+            other = self.props[prop].body
+            joint = pymunk.PivotJoint(body, other, local_point, other.world_to_local(world_point))
+            joint.collide_bodies = False
+        self.space.add(joint)
+        self.grasps[name] = (joint, prop)
+
+    def detach(self, name: str) -> None:
+        held = self.grasps.pop(name, None)
+        if held is not None:
+            self.space.remove(held[0])
+
+    def grasp_point(self, name: str) -> tuple[float, float] | None:
+        """World point where grasp ``name`` holds (None if it does not)."""
+        held = self.grasps.get(name)
+        if held is None:
+            return None
+        joint = held[0]
+        p = joint.b.local_to_world(joint.anchor_b)
+        return (p[0], p[1])
+
     # -- physical parameters ---------------------------------------------------------
     @property
     def gravity(self) -> tuple[float, float]:
@@ -126,68 +156,36 @@ class Simulation:
         return data
 
     def _state(self) -> tuple:
-        """Plain values (tuples, numbers, pymunk classes) from which ``_rebuild`` makes
-        the space pymunk's own unpickling would make; objects are referred to by their
-        index in bodies + static body + shapes + constraints."""
-        space = self.space
-        static = space._static_body  # made on first use; pickle leaves out a None
-        bodies, shapes, constraints = list(space.bodies), space.shapes, space.constraints
-        objects = [*bodies, *(() if static is None else (static,)), *shapes, *constraints]
-        index = {o: i for i, o in enumerate(objects)}
-        cp_space = space._space
-        return (_plain(_SPACE_GET(space)), [_body_record(b) for b in bodies],
-                None if static is None else _body_record(static),
-                [_shape_record(s, index) for s in shapes],
-                [_constraint_record(c, index) for c in constraints],
-                (_cp.cpSpaceGetShapeIDCounter(cp_space), _cp.cpSpaceGetTimestamp(cp_space),
-                 _cp.cpSpaceGetCurrentTimeStep(cp_space)),
-                # sorted: the contact cache's own order follows the shapes' addresses
-                sorted(_arbiter_record(a, index) for a in space._get_arbiters()),
-                ([index[o] for o in self.character.state_objects()],
-                 [index[g] for g in self.ground], index[self.drag_body],
-                 None if self.drag_spring is None else index[self.drag_spring]),
-                self.steps)
+        named = {"character": self.character.state_objects(), "ground": self.ground,
+                 "drag": [self.drag_body] + ([] if self.drag_spring is None
+                                             else [self.drag_spring])}
+        if self.props:
+            named["props"] = prop_bodies.objects(self.props)
+        if self.grasps:
+            named["grasps"] = [joint for joint, _ in self.grasps.values()]
+        holders = [(name, prop) for name, (_, prop) in self.grasps.items()]
+        return snapshot.capture(self.space, named), holders, self.steps
 
     def _rebuild(self, state: tuple) -> None:
-        """A fresh space from ``_state``: the objects made, set up and added in the order
-        (and with the values) that unpickling the space with pymunk would use."""
-        (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
-         (character, ground, drag_body, drag_spring), steps) = state
-        objects = [_make_body(r) for r in bodies]
-        static_body = None if static is None else _make_body(static)
-        if static_body is not None:
-            objects.append(static_body)
-        first_shape = len(objects)
-        objects += [_make_shape(r, objects) for r in shapes]
-        first_constraint = len(objects)
-        objects += [_make_constraint(r, objects) for r in constraints]
-        space = pymunk.Space()
-        for setter, value in zip(_SPACE_SET, space_values):
-            setter(space, value)
-        space.add(*objects[:len(bodies)])
-        if static_body is not None:
-            space._static_body = static_body
-            space._setup_static_body(static_body)
-        space.add(*objects[first_shape:first_constraint])
-        space.add(*objects[first_constraint:])
-        cp_space = space._space
-        _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
-        _cp.cpSpaceSetTimestamp(cp_space, stamp)
-        _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
-        for r in arbiters:
-            _cp.cpSpaceAddCachedArbiter(cp_space, _make_arbiter(r, objects))
-        self.space = space
-        self.character.bind([objects[i] for i in character])
-        self.ground = [objects[i] for i in ground]
-        self.drag_body = objects[drag_body]
-        self.drag_spring = None if drag_spring is None else objects[drag_spring]
+        space_state, holders, steps = state
+        self.space, named = snapshot.rebuild(space_state)
+        self.character.bind(named["character"])
+        self.ground = named["ground"]
+        self.drag_body, *spring = named["drag"]
+        self.drag_spring = spring[0] if spring else None
+        if self.props:
+            prop_bodies.bind(self.props, named["props"])
+        self.grasps = {name: (joint, prop) for (name, prop), joint
+                       in zip(holders, named.get("grasps", ()))}
         self.steps = steps
 
     def state_vector(self) -> list[float]:
-        """Position, angle, velocity and angular velocity of every body, in link order."""
+        """Position, angle, velocity and angular velocity of every body, in link order,
+        then of every dynamic prop."""
         out: list[float] = []
-        for name in self.character.link_order:
-            b = self.character.bodies[name]
+        bodies = [self.character.bodies[name] for name in self.character.link_order]
+        bodies += [p.body for p in self.props.values() if p.body.body_type == pymunk.Body.DYNAMIC]
+        for b in bodies:
             out += (b.position.x, b.position.y, b.angle, b.velocity.x, b.velocity.y,
                     b.angular_velocity)
         return out
@@ -207,118 +205,3 @@ class Simulation:
             if vx * vx + vy * vy > MAX_SPEED ** 2 or abs(w) > 50 * MAX_SPEED:
                 return True
         return False
-
-
-# -- the snapshot format ------------------------------------------------------------------
-# Attributes in the order pymunk's pickle support sets them when it unpickles (its
-# ``_pickle_attrs_general`` lists; the order matters: a body's position is set before its
-# centre of gravity, a shape's mass before its density). tests/test_checkpoint_format.py
-# checks them against pymunk's lists.
-SPACE_ATTRS = ("iterations", "gravity", "damping", "idle_speed_threshold",
-               "sleep_time_threshold", "collision_slop", "collision_bias",
-               "collision_persistence")  # and "threads", a no-op on an unthreaded space
-BODY_ATTRS = ("force", "angle", "position", "center_of_gravity", "velocity",
-              "angular_velocity", "torque")
-SHAPE_ATTRS = ("sensor", "collision_type", "filter", "elasticity", "friction",
-               "surface_velocity", "_hashid")
-CONSTRAINT_ATTRS = ("max_force", "error_bias", "max_bias", "collide_bodies")
-_CONTACT_FIELDS = ("nMass", "tMass", "bounce", "jnAcc", "jtAcc", "jBias", "bias", "hash")
-
-
-def _setters(cls, names):
-    # the property setters themselves: assigning through a pymunk instance also runs
-    # its attribute-typing hook, which costs more than the setter
-    return tuple(getattr(cls, n).fset for n in names)
-
-
-_SPACE_GET, _SPACE_SET = attrgetter(*SPACE_ATTRS), _setters(pymunk.Space, SPACE_ATTRS)
-_BODY_GET, _BODY_SET = attrgetter(*BODY_ATTRS), _setters(pymunk.Body, BODY_ATTRS)
-_SHAPE_GET, _SHAPE_SET = attrgetter(*SHAPE_ATTRS), _setters(pymunk.Shape, SHAPE_ATTRS)
-_CONSTRAINT_GET = attrgetter(*CONSTRAINT_ATTRS)
-_CONSTRAINT_SET = _setters(pymunk.Constraint, CONSTRAINT_ATTRS)
-_SET_MASS, _SET_DENSITY = pymunk.Shape.mass.fset, pymunk.Shape.density.fset
-_init_getters: dict[type, object] = {}
-
-
-def _init_args(obj, skip: int) -> tuple:
-    """The constructor arguments pymunk's pickle would pass (its ``_pickle_attrs_init``,
-    after the ``skip`` body arguments)."""
-    cls = type(obj)
-    if cls is pymunk.Poly:
-        return (tuple(map(tuple, obj.get_vertices())), None, obj.radius)
-    get = _init_getters.get(cls)
-    if get is None:
-        names = cls._pickle_attrs_init[skip:]
-        one = attrgetter(*names)
-        get = _init_getters[cls] = one if len(names) > 1 else (lambda o: (one(o),))
-    return _plain(get(obj))
-
-
-def _plain(values) -> tuple:
-    """pymunk's Vec2d and ShapeFilter are named tuples, slow to pickle: plain tuples."""
-    return tuple([(*v,) if isinstance(v, tuple) else v for v in values])
-
-
-def _body_record(b: pymunk.Body) -> tuple:
-    return (b.body_type, b.mass, b.moment, _plain(_BODY_GET(b)))
-
-
-def _make_body(record) -> pymunk.Body:
-    body_type, mass, moment, values = record
-    body = pymunk.Body(mass, moment, body_type)
-    for setter, value in zip(_BODY_SET, values):
-        setter(body, value)
-    return body
-
-
-def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
-    return (type(s), index[s.body], _init_args(s, 1), _plain(_SHAPE_GET(s)), s.mass, s.density)
-
-
-def _make_shape(record, objects: list) -> pymunk.Shape:
-    cls, body, args, values, mass, density = record
-    shape = cls(objects[body], *args)
-    for setter, value in zip(_SHAPE_SET, values):
-        setter(shape, value)
-    if mass > 0:
-        _SET_MASS(shape, mass)
-    if density > 0:
-        _SET_DENSITY(shape, density)
-    return shape
-
-
-def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
-    return (type(c), index[c.a], index[c.b], _init_args(c, 2), _CONSTRAINT_GET(c))
-
-
-def _make_constraint(record, objects: list) -> pymunk.Constraint:
-    cls, a, b, args, values = record
-    constraint = cls(objects[a], objects[b], *args)
-    for setter, value in zip(_CONSTRAINT_SET, values):
-        setter(constraint, value)
-    return constraint
-
-
-def _arbiter_record(arb, index: dict) -> tuple:
-    """A cached arbiter (its contacts' accumulated impulses), as pymunk's pickle keeps it."""
-    shape = pymunk.Shape._from_cp_shape
-    contacts = tuple((c.r1.x, c.r1.y, c.r2.x, c.r2.y, *(getattr(c, f) for f in _CONTACT_FIELDS))
-                     for c in (arb.contacts[i] for i in range(arb.count)))
-    return (index[shape(arb.a)], index[shape(arb.b)], arb.e, arb.u,
-            (arb.surface_vr.x, arb.surface_vr.y), arb.count, contacts, (arb.n.x, arb.n.y),
-            arb.swapped, arb.stamp, arb.state)
-
-
-def _make_arbiter(record, objects: list):
-    a, b, e, u, surface_vr, count, contacts, n, swapped, stamp, state = record
-    arb = _cp.cpArbiterNew(objects[a]._shape, objects[b]._shape)
-    arb.e, arb.u, arb.surface_vr, arb.count = e, u, surface_vr, count
-    array = _cp.cpContactArrAlloc(len(contacts))
-    for i, values in enumerate(contacts):
-        c = array[i]
-        c.r1.x, c.r1.y, c.r2.x, c.r2.y = values[:4]
-        for field, value in zip(_CONTACT_FIELDS, values[4:]):
-            setattr(c, field, value)
-    arb.contacts, arb.n, arb.swapped, arb.stamp, arb.state = array, n, swapped, stamp, state
-    return arb
-

@@ -42,6 +42,7 @@ EVENT_FIELDS = {  # event type -> required fields (besides "type")
     "mouse_button": ("button", "down"),  # interface inputs (puppet/interface/events.py)
     "gamepad": ("name", "value"),
     "channel": ("name", "value"),
+    "channels": ("values",),  # many named channels at one step (a mocap frame)
     "reload": ("text",),  # a hot reload: the interface's whole new text
     "gesture": ("key", "path"),  # bind a recorded mouse path to a key
 }
@@ -263,6 +264,9 @@ def _check_event(obj: Any) -> str | None:
                                           and all(_is_number(v) for v in p)
                                           for p in event["path"])):
         return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
+    if kind == "channels" and not (isinstance(event["values"], dict) and all(
+            isinstance(n, str) and _is_number(v) for n, v in event["values"].items())):
+        return "channels event: 'values' must map channel names to numbers"
     if kind == "drag" and event["phase"] not in ("start", "move", "end"):
         return f"drag event: unknown phase {event['phase']!r}"
     return None

@@ -485,7 +485,7 @@ class LogFeeder:
     the video export, the ghost): ``play``'s rule (``next_move``), cut into frames.
 
     ``on_action`` (if given) gets every app action the replayed events ask for (e.g.
-    "slowdown:4"), for the viewer's clock to follow as it did live (``SimClock.apply``).
+    SetSlowdown(4)), for the viewer's clock to follow as it did live (``SimClock.apply``).
     """
 
     def __init__(self, session: Session, log: Log, until_step: int | None = None,

@@ -1,0 +1,158 @@
+"""IK reaches (the paper's "IK target select"): a chain's end follows a Hermite-eased
+path to a target over a fixed duration, with IK re-solved every step, then holds.
+
+The target is a fixed point (world, or the root link's frame at the moment of the
+key), a scene prop's grasp point (followed as the prop moves; picked relative to what
+a chain holds: the nearest, next or previous bar), or steered by two continuous inputs
+(the mouse, or two channels) so a device moves a hand. A new reach of a chain replaces
+its running one; a reach may grasp its target on arrival.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from puppet.interface.ik import hermite
+from puppet.interface.ownership import JointOwners, Owner, reach_owner
+
+
+@dataclass
+class Reach:
+    """A running reach of ``chain``: from p0 (world, m) to its target over steps
+    [start, start + steps], then held until ``end`` (None: until preempted)."""
+
+    chain: str
+    p0: tuple[float, float]
+    target: list  # ["point", x, y] | ["prop", prop, point name] | ["steer", ...]
+    start: int
+    steps: int
+    end: int | None
+    grasp: bool = False
+    tolerance: float = 0.04
+
+    def to_state(self) -> list:
+        return [self.chain, list(self.p0), list(self.target), self.start, self.steps,
+                self.end, self.grasp, self.tolerance]
+
+    @classmethod
+    def from_state(cls, s) -> Reach:
+        return cls(s[0], tuple(s[1]), list(s[2]), *s[3:])
+
+
+class ReachController:
+    def __init__(self, chains, character, sim, owners: JointOwners, servos, grasps,
+                 inputs: dict[str, float], dt: float):
+        self.chains = chains
+        self.character = character
+        self.sim = sim
+        self.owners_table = owners
+        self.servos = servos
+        self.grasps = grasps  # the GraspController, for reaches that grasp on arrival
+        self.inputs = inputs  # the runtime's input values (steered reaches read them)
+        self.dt = dt
+        self.reaches: dict[str, Reach] = {}
+
+    # -- targets -------------------------------------------------------------------
+    def _root_to_world(self, p) -> tuple[float, float]:
+        root = self.character.bodies[self.character.spec.root]
+        w = root.local_to_world(p)
+        return (w[0], w[1])
+
+    def target_now(self, target: list) -> tuple[float, float]:
+        """Where a target is at this moment (world, m)."""
+        kind = target[0]
+        if kind == "point":
+            return (target[1], target[2])
+        if kind == "prop":
+            return self.sim.props[target[1]].point_world(target[2])
+        _, xn, yn, (x0, x1), (y0, y1), (tx0, tx1), (ty0, ty1), frame = target
+        values = self.inputs
+        u = (values.get(xn, 0.5 * (x0 + x1)) - x0) / (x1 - x0)
+        v = (values.get(yn, 0.5 * (y0 + y1)) - y0) / (y1 - y0)
+        u, v = min(1.0, max(0.0, u)), min(1.0, max(0.0, v))
+        p = (tx0 + u * (tx1 - tx0), ty0 + v * (ty1 - ty0))
+        return self._root_to_world(p) if frame == "root" else p
+
+    def pick_prop_point(self, spec, chain: str) -> str:
+        """The name of the prop's grasp point ``spec`` picks for ``chain``: counted
+        ``offset`` places from the point nearest where chain ``of`` (default ``chain``)
+        holds, or from the point nearest its end if it holds nothing."""
+        prop = self.sim.props[spec.prop]
+        names = list(prop.points)
+        ref = self.grasps.held.get(spec.of or chain)
+        if ref is None:
+            ref = self.chains[spec.of or chain].end_world(self.character)
+        here = min(range(len(names)), key=lambda i: math.dist(prop.point_world(names[i]), ref))
+        return names[min(len(names) - 1, max(0, here + spec.offset))]
+
+    # -- running -------------------------------------------------------------------
+    def start(self, r, now: int) -> None:
+        chain = self.chains[r.chain]
+        owner = reach_owner(r.chain)
+        self.owners_table.drop(owner)
+        if r.target is not None:
+            p = self._root_to_world(r.target) if r.frame == "root" else tuple(r.target)
+            target = ["point", p[0], p[1]]
+        elif r.point is not None:
+            target = ["prop", r.point.prop, self.pick_prop_point(r.point, r.chain)]
+        else:
+            s = r.steer
+            target = ["steer", s.x, s.y, list(s.x_from), list(s.y_from), list(s.x_to),
+                      list(s.y_to), r.frame]
+        steps = max(1, round(r.duration / self.dt))
+        end = None if r.steer is not None else now + steps + round(r.hold / self.dt)
+        self.reaches[r.chain] = Reach(r.chain, chain.end_world(self.character), target, now,
+                                      steps, end, r.grasp, r.tolerance)
+        self.owners_table.claim(chain.joints, owner)
+
+    def tick(self, step: int) -> None:
+        if not self.reaches:
+            return
+        servos, owners = self.servos, self.owners_table
+        for name, reach in list(self.reaches.items()):
+            owner = reach_owner(name)
+            owned = owners.owned(owner)
+            if not owned:
+                del self.reaches[name]
+                continue
+            chain = self.chains[name]
+            goal = self.target_now(reach.target)
+            h = hermite((step - reach.start) / reach.steps)
+            p0 = reach.p0
+            point = (p0[0] + h * (goal[0] - p0[0]), p0[1] + h * (goal[1] - p0[1]))
+            q = chain.solve(self.character, point, [servos[j].target for j in chain.joints])
+            for joint, angle in zip(chain.joints, q):
+                if joint in owned:
+                    servos[joint].target = angle
+            if reach.grasp:
+                kind = reach.target[0]
+                if kind == "point":
+                    self.grasps.try_grasp(name, [goal], None, reach.tolerance)
+                elif kind == "prop":
+                    self.grasps.try_grasp(name, None, reach.target[1], reach.tolerance)
+                elif self.sim is not None and self.sim.props:
+                    self.grasps.try_grasp(name, None, "any", reach.tolerance)
+            if reach.end is not None and step >= reach.end:
+                owners.drop(owner)
+                del self.reaches[name]
+
+    def next_wakeup(self, earliest: int) -> int | None:
+        return earliest if self.reaches else None
+
+    def owners(self) -> set[Owner]:
+        return {reach_owner(n) for n in self.reaches}
+
+    def get_state(self):
+        return {n: r.to_state() for n, r in self.reaches.items()}
+
+    def set_state(self, state) -> None:
+        self.reaches = {n: Reach.from_state(r) for n, r in state.items()}
+
+    def adopt(self, old: ReachController, same, now: int) -> set[Owner]:
+        self.reaches = {n: Reach.from_state(r.to_state()) for n, r in old.reaches.items()
+                        if same("chain", n)}
+        return {reach_owner(n) for n in self.reaches}
+
+    def stop(self) -> None:
+        self.reaches = {}

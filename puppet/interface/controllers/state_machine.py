@@ -1,0 +1,95 @@
+"""State machines: which bindings and maps are live, and when to move on.
+
+States are data (``states:`` and ``machines:`` in an interface); several machines run
+side by side (one per limb, a gait machine beside a grasp machine). A key's ``goto``
+or a transition on a timer or a sensor condition changes a machine's state; a
+machine's ``any_state`` transitions hold in each of its states but the one they lead
+to. Times are whole steps since entering, so a machine replays bit-identically and
+its state is two plain values. Entering a state (running its ``enter`` action,
+activating its maps) is the runtime's work: ``due`` only says where to go.
+"""
+
+from __future__ import annotations
+
+from puppet.interface.conditions import compile_test, reader
+from puppet.interface.ownership import Owner
+
+
+class StateMachine:
+    def __init__(self, name: str, machine, interface, character, dt: float):
+        self.name = name
+        self.spec = machine
+        # Sensor conditions are polled at the control rate, on steps that are multiples
+        # of ``every`` (absolute, so how advance() calls are split does not matter).
+        self.every = max(1, round(1.0 / (interface.control_rate * dt)))
+        self.initial = machine.start_state
+        shared = list(machine.any_state.transitions)
+        self.readers = {t.when.sensor: reader(t.when.sensor, character)
+                        for state in machine.states.values()
+                        for t in [*state.transitions, *shared] if t.when is not None}
+
+        def compiled(t):
+            return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
+                    self.readers[t.when.sensor] if t.when is not None else None,
+                    compile_test(t.when) if t.when is not None else None)
+        # state -> [((machine, to), min steps in state, sensor reader or None, test)]:
+        # the state's own transitions first, then any_state's that lead elsewhere
+        self.transitions = {
+            sname: [compiled(t) for t in state.transitions]
+            + [compiled(t) for t in shared if interface.resolve_goto(t.to, name) != (name, sname)]
+            for sname, state in machine.states.items()}
+        # state -> (min steps in state before a sensor transition is polled, before a
+        # timer-only transition fires): next_wakeup is asked after every tick.
+        self.first_due = {
+            sname: (min((a for _, a, s, _ in ts if s is not None), default=None),
+                    min((a for _, a, s, _ in ts if s is None), default=None))
+            for sname, ts in self.transitions.items()}
+        self.current = self.initial
+        self.entered = 0
+
+    def enter(self, state: str, now: int) -> None:
+        self.current, self.entered = state, now
+
+    def next_wakeup(self, earliest: int) -> int | None:
+        """The first step >= earliest at which a transition could fire."""
+        polled, timer = self.first_due[self.current]
+        best = None
+        if polled is not None:
+            at = self.entered + polled
+            at = at if at > earliest else earliest
+            best = -(-at // self.every) * self.every
+        if timer is not None:
+            at = self.entered + timer
+            at = at if at > earliest else earliest
+            best = at if best is None or at < best else best
+        return best
+
+    def due(self, now: int) -> tuple[str, str] | None:
+        """(machine, state) to go to now, if a transition fires (first listed wins).
+        Sensors are polled on multiples of ``every``; conditions listed one after
+        another on the same sensor share one reading."""
+        polling = now % self.every == 0
+        last = value = None
+        for to, after, read, test in self.transitions[self.current]:
+            if now < self.entered + after:
+                continue
+            if read is None:
+                return to
+            if polling:
+                if read is not last:
+                    value, last = read(), read
+                if test(value):
+                    return to
+        return None
+
+    def owners(self) -> set[Owner]:
+        return set()
+
+    def get_state(self) -> list:
+        return [self.current, self.entered]
+
+    def set_state(self, state) -> None:
+        self.current, self.entered = state
+
+    def stop(self) -> None:
+        self.current, self.entered = self.initial, 0

@@ -1,0 +1,101 @@
+"""Scene props as pymunk bodies: bars, rungs, a wall, a pendulum, a rope's links.
+
+Each prop is its own body (static or dynamic), so a grasp pins a hand to *that* body
+and the hand does not collide with what it holds. Grasp points and segments are in
+the prop's frame and are read through its body, so a grasp follows a moving prop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pymunk
+
+from puppet.data.scenes import SceneSpec
+
+
+
+@dataclass
+class Prop:
+    name: str
+    body: pymunk.Body
+    points: dict[str, tuple[float, float]]  # name -> local point
+    segments: list[tuple[tuple[float, float], tuple[float, float]]]  # local
+    shapes: list[pymunk.Shape]
+    pin: pymunk.PivotJoint | None = None
+
+    def point_world(self, name: str) -> tuple[float, float]:
+        p = self.body.local_to_world(self.points[name])
+        return (p[0], p[1])
+
+    def nearest(self, world: tuple[float, float]) -> tuple[float, tuple[float, float], str | None]:
+        """(distance, world point, point name or None) of the graspable place nearest
+        ``world``: a named point or the nearest point on a grasp segment."""
+        best = (math.inf, world, None)
+        for name in self.points:
+            p = self.point_world(name)
+            d = math.hypot(p[0] - world[0], p[1] - world[1])
+            if d < best[0]:
+                best = (d, p, name)
+        for a, b in self.segments:
+            pa, pb = self.body.local_to_world(a), self.body.local_to_world(b)
+            vx, vy = pb[0] - pa[0], pb[1] - pa[1]
+            u = ((world[0] - pa[0]) * vx + (world[1] - pa[1]) * vy) / (vx * vx + vy * vy)
+            u = min(1.0, max(0.0, u))
+            p = (pa[0] + u * vx, pa[1] + u * vy)
+            d = math.hypot(p[0] - world[0], p[1] - world[1])
+            if d < best[0]:
+                best = (d, p, None)
+        return best
+
+
+def build_props(spec: SceneSpec, space: pymunk.Space) -> dict[str, Prop]:
+    """Add the scene's props to ``space`` (nothing at all for a scene without props)."""
+    props: dict[str, Prop] = {}
+    for name, p in spec.props.items():
+        dynamic = p.body == "dynamic"
+        body = pymunk.Body(body_type=pymunk.Body.DYNAMIC if dynamic else pymunk.Body.STATIC)
+        body.position = p.position
+        body.angle = math.radians(p.angle)
+        shapes = []
+        for s in p.shapes:
+            if s.segment is not None:
+                shape = pymunk.Segment(body, s.segment[0], s.segment[1], s.radius)
+            else:
+                shape = pymunk.Circle(body, s.radius, s.circle)
+            shape.friction = s.friction
+            if not s.collide:
+                shape.sensor = True
+            if dynamic:
+                shape.mass = p.mass / len(p.shapes)
+            shapes.append(shape)
+        space.add(body, *shapes)
+        pin = None
+        if p.pivot is not None:
+            other = props[p.pivot_to].body if p.pivot_to is not None else space.static_body
+            pin = pymunk.PivotJoint(body, other, p.pivot)
+            space.add(pin)
+        props[name] = Prop(name, body, dict(p.grasp_points), list(p.grasp_segments),
+                           shapes, pin)
+    return props
+
+
+def objects(props: dict[str, Prop]) -> list:
+    """Every pymunk object of the props, in a fixed order (for snapshots)."""
+    out: list = []
+    for prop in props.values():
+        out += [prop.body, *prop.shapes]
+        if prop.pin is not None:
+            out.append(prop.pin)
+    return out
+
+
+def bind(props: dict[str, Prop], restored: list) -> None:
+    """Point the props at restored copies of ``objects(props)``."""
+    it = iter(restored)
+    for prop in props.values():
+        prop.body = next(it)
+        prop.shapes = [next(it) for _ in prop.shapes]
+        if prop.pin is not None:
+            prop.pin = next(it)

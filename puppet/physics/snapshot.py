@@ -1,0 +1,191 @@
+"""The snapshot format: a pymunk space as plain values, and back, exactly.
+
+pymunk does not keep the solver's warm-start state across a copy or a pickle, and its
+generic pickle support made a cat checkpoint cost 2-3 ms. ``capture`` records plain
+values instead - per object its class, constructor arguments and settable state, plus
+the cached contacts and counters pymunk's pickle keeps - and ``rebuild`` builds a fresh
+space from them with the calls, order and values that unpickling would use, so it is
+bit-identical to the pickle format it replaced (tests/test_checkpoint_format.py checks
+that). Not carried, as nothing here uses them: collision handlers, custom body
+velocity/position functions, constraint solve callbacks, extra attributes on pymunk
+objects.
+
+The owner of the space (``Simulation``) names the objects it must find again after a
+rebuild (the character's bodies, the ground, grasp joints...): ``capture`` keeps them
+as indices, ``rebuild`` hands back the new objects under the same names.
+"""
+
+from __future__ import annotations
+
+from operator import attrgetter
+
+import pymunk
+from pymunk._chipmunk_cffi import lib as _cp  # the C calls pymunk's own pickle uses
+
+
+def capture(space: pymunk.Space, named: dict[str, list]) -> tuple:
+    """Plain values (tuples, numbers, pymunk classes) from which ``rebuild`` makes the
+    space pymunk's own unpickling would make; objects are referred to by their index in
+    bodies + static body + shapes + constraints. ``named``: lists of objects of the
+    space to find again (their indices are kept)."""
+    static = space._static_body  # made on first use; pickle leaves out a None
+    bodies, shapes, constraints = list(space.bodies), space.shapes, space.constraints
+    objects = [*bodies, *(() if static is None else (static,)), *shapes, *constraints]
+    index = {o: i for i, o in enumerate(objects)}
+    cp_space = space._space
+    return (_plain(_SPACE_GET(space)), [_body_record(b) for b in bodies],
+            None if static is None else _body_record(static),
+            [_shape_record(s, index) for s in shapes],
+            [_constraint_record(c, index) for c in constraints],
+            (_cp.cpSpaceGetShapeIDCounter(cp_space), _cp.cpSpaceGetTimestamp(cp_space),
+             _cp.cpSpaceGetCurrentTimeStep(cp_space)),
+            # sorted: the contact cache's own order follows the shapes' addresses
+            sorted(_arbiter_record(a, index) for a in space._get_arbiters()),
+            {name: [index[o] for o in objs] for name, objs in named.items()})
+
+
+def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
+    """A fresh space from ``capture``: the objects made, set up and added in the order
+    (and with the values) that unpickling the space with pymunk would use; and the
+    named objects' new copies."""
+    (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
+     named) = state
+    objects = [_make_body(r) for r in bodies]
+    static_body = None if static is None else _make_body(static)
+    if static_body is not None:
+        objects.append(static_body)
+    first_shape = len(objects)
+    objects += [_make_shape(r, objects) for r in shapes]
+    first_constraint = len(objects)
+    objects += [_make_constraint(r, objects) for r in constraints]
+    space = pymunk.Space()
+    for setter, value in zip(_SPACE_SET, space_values):
+        setter(space, value)
+    space.add(*objects[:len(bodies)])
+    if static_body is not None:
+        space._static_body = static_body
+        space._setup_static_body(static_body)
+    space.add(*objects[first_shape:first_constraint])
+    space.add(*objects[first_constraint:])
+    cp_space = space._space
+    _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
+    _cp.cpSpaceSetTimestamp(cp_space, stamp)
+    _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
+    for r in arbiters:
+        _cp.cpSpaceAddCachedArbiter(cp_space, _make_arbiter(r, objects))
+    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+# -- records ---------------------------------------------------------------------------
+# Attributes in the order pymunk's pickle support sets them when it unpickles (its
+# ``_pickle_attrs_general`` lists; the order matters: a body's position is set before its
+# centre of gravity, a shape's mass before its density). tests/test_checkpoint_format.py
+# checks them against pymunk's lists.
+SPACE_ATTRS = ("iterations", "gravity", "damping", "idle_speed_threshold",
+               "sleep_time_threshold", "collision_slop", "collision_bias",
+               "collision_persistence")  # and "threads", a no-op on an unthreaded space
+BODY_ATTRS = ("force", "angle", "position", "center_of_gravity", "velocity",
+              "angular_velocity", "torque")
+SHAPE_ATTRS = ("sensor", "collision_type", "filter", "elasticity", "friction",
+               "surface_velocity", "_hashid")
+CONSTRAINT_ATTRS = ("max_force", "error_bias", "max_bias", "collide_bodies")
+_CONTACT_FIELDS = ("nMass", "tMass", "bounce", "jnAcc", "jtAcc", "jBias", "bias", "hash")
+
+
+def _setters(cls, names):
+    # the property setters themselves: assigning through a pymunk instance also runs
+    # its attribute-typing hook, which costs more than the setter
+    return tuple(getattr(cls, n).fset for n in names)
+
+
+_SPACE_GET, _SPACE_SET = attrgetter(*SPACE_ATTRS), _setters(pymunk.Space, SPACE_ATTRS)
+_BODY_GET, _BODY_SET = attrgetter(*BODY_ATTRS), _setters(pymunk.Body, BODY_ATTRS)
+_SHAPE_GET, _SHAPE_SET = attrgetter(*SHAPE_ATTRS), _setters(pymunk.Shape, SHAPE_ATTRS)
+_CONSTRAINT_GET = attrgetter(*CONSTRAINT_ATTRS)
+_CONSTRAINT_SET = _setters(pymunk.Constraint, CONSTRAINT_ATTRS)
+_SET_MASS, _SET_DENSITY = pymunk.Shape.mass.fset, pymunk.Shape.density.fset
+_init_getters: dict[type, object] = {}
+
+
+def _init_args(obj, skip: int) -> tuple:
+    """The constructor arguments pymunk's pickle would pass (its ``_pickle_attrs_init``,
+    after the ``skip`` body arguments)."""
+    cls = type(obj)
+    if cls is pymunk.Poly:
+        return (tuple(map(tuple, obj.get_vertices())), None, obj.radius)
+    get = _init_getters.get(cls)
+    if get is None:
+        names = cls._pickle_attrs_init[skip:]
+        one = attrgetter(*names)
+        get = _init_getters[cls] = one if len(names) > 1 else (lambda o: (one(o),))
+    return _plain(get(obj))
+
+
+def _plain(values) -> tuple:
+    """pymunk's Vec2d and ShapeFilter are named tuples, slow to pickle: plain tuples."""
+    return tuple([(*v,) if isinstance(v, tuple) else v for v in values])
+
+
+def _body_record(b: pymunk.Body) -> tuple:
+    return (b.body_type, b.mass, b.moment, _plain(_BODY_GET(b)))
+
+
+def _make_body(record) -> pymunk.Body:
+    body_type, mass, moment, values = record
+    body = pymunk.Body(mass, moment, body_type)
+    for setter, value in zip(_BODY_SET, values):
+        setter(body, value)
+    return body
+
+
+def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
+    return (type(s), index[s.body], _init_args(s, 1), _plain(_SHAPE_GET(s)), s.mass, s.density)
+
+
+def _make_shape(record, objects: list) -> pymunk.Shape:
+    cls, body, args, values, mass, density = record
+    shape = cls(objects[body], *args)
+    for setter, value in zip(_SHAPE_SET, values):
+        setter(shape, value)
+    if mass > 0:
+        _SET_MASS(shape, mass)
+    if density > 0:
+        _SET_DENSITY(shape, density)
+    return shape
+
+
+def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
+    return (type(c), index[c.a], index[c.b], _init_args(c, 2), _CONSTRAINT_GET(c))
+
+
+def _make_constraint(record, objects: list) -> pymunk.Constraint:
+    cls, a, b, args, values = record
+    constraint = cls(objects[a], objects[b], *args)
+    for setter, value in zip(_CONSTRAINT_SET, values):
+        setter(constraint, value)
+    return constraint
+
+
+def _arbiter_record(arb, index: dict) -> tuple:
+    """A cached arbiter (its contacts' accumulated impulses), as pymunk's pickle keeps it."""
+    shape = pymunk.Shape._from_cp_shape
+    contacts = tuple((c.r1.x, c.r1.y, c.r2.x, c.r2.y, *(getattr(c, f) for f in _CONTACT_FIELDS))
+                     for c in (arb.contacts[i] for i in range(arb.count)))
+    return (index[shape(arb.a)], index[shape(arb.b)], arb.e, arb.u,
+            (arb.surface_vr.x, arb.surface_vr.y), arb.count, contacts, (arb.n.x, arb.n.y),
+            arb.swapped, arb.stamp, arb.state)
+
+
+def _make_arbiter(record, objects: list):
+    a, b, e, u, surface_vr, count, contacts, n, swapped, stamp, state = record
+    arb = _cp.cpArbiterNew(objects[a]._shape, objects[b]._shape)
+    arb.e, arb.u, arb.surface_vr, arb.count = e, u, surface_vr, count
+    array = _cp.cpContactArrAlloc(len(contacts))
+    for i, values in enumerate(contacts):
+        c = array[i]
+        c.r1.x, c.r1.y, c.r2.x, c.r2.y = values[:4]
+        for field, value in zip(_CONTACT_FIELDS, values[4:]):
+            setattr(c, field, value)
+    arb.contacts, arb.n, arb.swapped, arb.stamp, arb.state = array, n, swapped, stamp, state
+    return arb
+
