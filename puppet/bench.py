@@ -218,10 +218,11 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
 
 def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
     """``space.step(dt)`` in a plain loop over the same frames: with the servo changes
-    of ``trace`` written straight onto the springs, or (not ``with_targets``) none.
-    Yields the Simulation."""
+    of ``trace`` written onto the servos through the setters the Session uses (so the
+    baseline pays what the control run pays for a write), or (not ``with_targets``)
+    none. Yields the Simulation."""
     sim = subject.sim_of(subject.session())  # the same Simulation, interface gains applied
-    springs = [s.spring for s in sim.character.servos.values()]
+    servos = list(sim.character.servos.values())
     step, dt, n = sim.space.step, sim.dt, subject.steps_per_frame
     frames = iter(trace)
     k = yield sim
@@ -234,11 +235,11 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
                     step(dt)
                 done = at
                 for i, (angle, stiffness, damping, torque) in changed:
-                    spring = springs[i]
-                    spring.rest_angle = angle
-                    spring.stiffness = stiffness
-                    spring.damping = damping
-                    spring.max_force = torque
+                    servo = servos[i]
+                    servo.target = angle
+                    servo.stiffness = stiffness
+                    servo.damping = damping
+                    servo.max_torque = torque
             for _ in range(n - done):
                 step(dt)
         sim.steps += k * n
@@ -430,6 +431,114 @@ def measure_logs(repeats: int) -> dict:
 
 
 # -- the report ----------------------------------------------------------------------
+# -- a channels stream (a mocap frame of many values) ------------------------------------
+CHANNEL_HZ = 120.0
+CHANNEL_COUNT = 40
+CHANNEL_TARGET_PCT = 10.0
+CHANNEL_CHARACTER, CHANNEL_SCENE = "cat", "cat-flat"
+
+
+def channel_interface_text(character, count: int = CHANNEL_COUNT) -> str:
+    """An interface mapping the first of ``count`` channels c0, c1... one to each
+    actuated joint (+-20 deg around the start pose); the rest are read by nothing."""
+    lines = ["name: bench-channels", "description: channels onto every joint (bench)",
+             f"character: {character.name}", f"scene: {CHANNEL_SCENE}", "maps:"]
+    start = {j.name: character.start.joints.get(j.name, 0.0) for j in character.actuated}
+    for i, joint in enumerate(start):
+        if i >= count:
+            break
+        lo, hi = start[joint] - 20.0, start[joint] + 20.0
+        if character.joint(joint).limits is not None:
+            lim = character.joint(joint).limits
+            lo, hi = max(lo, lim[0]), min(hi, lim[1])
+        lines.append(f"  - {{input: channel.c{i}, joint: {joint}, from: [-1, 1], "
+                     f"to: [{lo:g}, {hi:g}]}}")
+    return "\n".join(lines) + "\n"
+
+
+def channel_frames(frames: int, count: int = CHANNEL_COUNT) -> list[list[dict]]:
+    """Per 1/60 s frame, the ``channels`` events of a 120 Hz stream of ``count``
+    slow sinusoids (the window drains a live source's events once a frame)."""
+    from puppet.interface import events as ev
+
+    per_frame = max(1, round(CHANNEL_HZ / FRAME_HZ))
+    out = []
+    for f in range(frames):
+        batch = []
+        for k in range(per_frame):
+            t = (f * per_frame + k) / CHANNEL_HZ
+            batch.append(ev.channels({f"c{i}": 0.8 * math.sin(2 * math.pi * (0.3 + 0.05 * i)
+                                                              * t + i)
+                                      for i in range(count)}))
+        out.append(batch)
+    return out
+
+
+def measure_channels(seconds: float, repeats: int) -> dict:
+    """A Session fed a 120 Hz x 40-value ``channels`` stream against the same Session
+    given the very targets the stream produced, written through the servo setters at
+    the same steps (identical physics: the state hashes are compared)."""
+    from puppet.data.catalog import load_character_named, setup_from_text
+    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.session import Session
+
+    character, _ = load_character_named(CHANNEL_CHARACTER)
+    setup = setup_from_text(channel_interface_text(character), "bench-channels.yaml")
+    n = max(1, round(1.0 / (FRAME_HZ * DEFAULT_DT)))
+    frames = max(1, round(seconds * FRAME_HZ))
+    inputs = channel_frames(frames)
+    probe = Session(setup, keyframes=False)
+    servos = list(probe.character.servos)
+    targets = []
+    for batch in inputs:
+        for event in batch:
+            probe.handle(event)
+        probe.runtime.flush()  # as advance would, so that the targets can be read
+        targets.append([probe.character.servos[j].target for j in servos])
+        probe.advance(n)
+
+    def streamed():
+        session = Session(setup, keyframes=False)
+        it = iter(inputs)
+        k = yield session
+        while True:
+            for _ in range(k):
+                for event in next(it):
+                    session.handle(event)
+                session.advance(n)
+            k = yield session
+
+    def written():
+        session = Session(setup, keyframes=False)
+        objs = [session.character.servos[j] for j in servos]
+        it = iter(targets)
+        k = yield session
+        while True:
+            for _ in range(k):
+                for servo, value in zip(objs, next(it)):
+                    servo.target = value
+                session.advance(n)
+            k = yield session
+
+    ratios, walls = [], []
+    identical = True
+    for _ in range(repeats):
+        wall, last = in_turns({"streamed": streamed(), "written": written()}, frames)
+        ratios.append(wall["streamed"] / wall["written"])
+        walls.append(wall["streamed"])
+        identical = identical and last["streamed"].sim.state_hash() == \
+            last["written"].sim.state_hash() == probe.sim.state_hash()
+    sim_seconds = frames * n * DEFAULT_DT
+    return {"character": CHANNEL_CHARACTER, "channels": CHANNEL_COUNT, "hz": CHANNEL_HZ,
+            "sim_seconds": sim_seconds, "repeats": repeats,
+            "overhead_pct": (statistics.median(ratios) - 1.0) * 100.0,
+            "overhead_range_pct": [(min(ratios) - 1.0) * 100.0, (max(ratios) - 1.0) * 100.0],
+            "speed_x": sim_seconds / statistics.median(walls),
+            "state_identical": identical,
+            "target": _target("channels stream overhead", (statistics.median(ratios) - 1.0)
+                              * 100.0, "<=", CHANNEL_TARGET_PCT, "%")}
+
+
 def _target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
     ok = value >= limit if op == ">=" else value <= limit if op == "<=" else value < limit
     return {"name": name, "value": value, "op": op, "limit": limit, "unit": unit,
@@ -489,8 +598,11 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
         if only and character not in only:
             continue
         report["characters"].append(bench_character(character, interfaces, cfg))
+    if not only or CHANNEL_CHARACTER in only:
+        report["channels"] = measure_channels(cfg["seconds"], cfg["repeats"])
     report["logs"] = measure_logs(cfg["log_repeats"])
-    report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"])
+    report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"]) \
+        and report.get("channels", {}).get("target", {}).get("pass", True)
     return report
 
 
@@ -554,6 +666,18 @@ def format_report(report: dict) -> str:
         row(f"rewind {rw['rewound_s']:.1f} s: that + first frame",
             f"{rw['resume_ms']:.3f} ms", limit["rewind 60 s and resume"],
             verdict["rewind 60 s and resume"])
+    ch = report.get("channels")
+    if ch is not None:
+        t = ch["target"]
+        lines.append("")
+        lines.append(f"input: a {ch['hz']:.0f} Hz stream of {ch['channels']} channels "
+                     f"({ch['character']}), against the same targets written directly")
+        lo, hi = ch["overhead_range_pct"]
+        row(f"channels overhead ({lo:.1f}..{hi:.1f}%)", f"{ch['overhead_pct']:.1f}%",
+            f"<= {t['limit']:g}%", "PASS" if t["pass"] else "MISS")
+        row("speed with the stream", f"{ch['speed_x']:.0f}x")
+        row("  same trajectory (state hash)",
+            "identical" if ch["state_identical"] else "DIFFERENT")
     logs = report["logs"]
     lines.append("")
     lines.append(f"log replay (assets/logs/*.jsonl): {logs['status']}")
@@ -568,6 +692,8 @@ def format_report(report: dict) -> str:
     lines.append("")
     misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
               for t in c["targets"] if not t["pass"]]
+    if ch is not None and not ch["target"]["pass"]:
+        misses.append(ch["target"]["name"])
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 

@@ -68,6 +68,18 @@ class Session:
         """Apply an input event at the current step. Returns the app action a key
         stands for when that action is the window's business (pause, quit...)."""
         kind = event["type"]
+        if kind == "channels":  # a stream's frame (mocap): recorded, then the fast path
+            if not self._rebuilding:
+                steps = self.sim.steps
+                if self.listener is not None:
+                    self.listener(steps, event)
+                if steps < self.history.head:
+                    self.history.branch(steps)
+                self.history.record(steps, event)
+            self.runtime._on_channels(event["values"])
+            return None
+        if self.runtime._pending:
+            self.runtime.flush()  # channel maps act before anything after them
         if not self._rebuilding:
             if self.listener is not None:
                 self.listener(self.sim.steps, event)  # logged, all of it (speed keys too)
@@ -200,6 +212,8 @@ class Session:
         the steps are split between calls."""
         if steps <= 0:
             return
+        if self.runtime._pending:
+            self.runtime.flush()  # the last channels frame's maps, before stepping
         sim, history = self.sim, self.history
         if sim.steps < history.head and not self._rebuilding:
             history.branch(sim.steps)  # playing on from a rewound point

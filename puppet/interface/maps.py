@@ -84,6 +84,19 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
     outs = [(servos[j], g) for j, g in spec.gains().items()]
     joints = tuple(spec.gains())
     plain = curve == "linear"
+    if len(outs) == 1 and outs[0][1] == 1.0 and plain:  # the common case, kept lean
+        servo = outs[0][0]
+
+        def apply_one(values):
+            value = values.get(name)
+            if value is None:
+                return ()
+            u = (value - x0) * inv
+            if clamp:
+                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            servo.target = 1.0 * (lo + u * span)
+            return joints
+        return apply_one
 
     def apply_linear(values):
         value = values.get(name)

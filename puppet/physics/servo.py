@@ -11,10 +11,13 @@ gain changes.
 from __future__ import annotations
 
 import pymunk
+from pymunk._chipmunk_cffi import lib as _cp
 
-# pymunk's own property setter, called directly: assigning through the instance also runs
-# pymunk's attribute-typing hook, which triples the cost of the hot mouse-to-target path.
-_SET_REST_ANGLE = pymunk.DampedRotarySpring.rest_angle.fset
+# The C call pymunk's own ``rest_angle`` setter makes, called directly: assigning through
+# the instance also runs pymunk's attribute-typing hook and two Python layers, which
+# triple the cost of the hot input-to-target path (maps write a target per joint per
+# event). The value written is the same.
+_SET_REST_ANGLE = _cp.cpDampedRotarySpringSetRestAngle
 
 
 class PDServo:
@@ -50,7 +53,7 @@ class PDServo:
 
     @target.setter
     def target(self, value: float) -> None:
-        _SET_REST_ANGLE(self.spring, value)
+        _SET_REST_ANGLE(self.spring._constraint, value)
 
     @property
     def stiffness(self) -> float:
