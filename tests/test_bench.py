@@ -20,7 +20,7 @@ def run_quick_bench() -> tuple[int, dict]:
 
 def test_quick_bench_reports_every_character_with_positive_figures():
     _, report = run_quick_bench()
-    shipped = sorted(p.stem for p in (ROOT / "characters").glob("*.yaml"))
+    shipped = [p.stem for p in sorted((ROOT / "characters").glob("*.yaml"))]
     assert [c["character"] for c in report["characters"]] == shipped
     assert report["quick"] is True
     assert isinstance(report["all_pass"], bool)

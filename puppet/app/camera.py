@@ -6,8 +6,10 @@ import math
 
 
 class Camera:
-    def __init__(self, view_height: float, center=(0.0, 0.0)):
+    def __init__(self, view_height: float, center=(0.0, 0.0), offset: float | None = None):
         self.view_height = view_height  # metres of world from top to bottom of the window
+        # metres the view's centre sits above the centre of mass
+        self.offset = 0.18 * view_height if offset is None else offset
         self.cx, self.cy = center
         self.width = self.height = 1
         self.scale = 1.0
@@ -18,7 +20,7 @@ class Camera:
 
     def target_for(self, com) -> tuple[float, float]:
         """Frame the character a little below the middle so the ground shows."""
-        return com[0], com[1] + 0.18 * self.view_height
+        return com[0], com[1] + self.offset
 
     def follow(self, com, wall_dt: float | None) -> None:
         """Ease toward the character; ``wall_dt=None`` snaps (for screenshots)."""

@@ -34,7 +34,8 @@ class FrameRenderer:
 
         self.pygame = pygame
         self.surface = pygame.Surface(size)
-        self.camera = Camera(session.setup.character.view_height)
+        self.camera = Camera(session.setup.character.view_height,
+                             offset=session.setup.character.view_offset)
         self.camera.resize(*size)
         self.font = pygame.font.Font(None, 24)
         self.small = pygame.font.Font(None, 20)

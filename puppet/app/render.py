@@ -29,6 +29,8 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     _draw_grid(surface, camera, None)
     _draw_ground(surface, session, camera)
     _draw_grid(surface, camera, font, labels_only=True)
+    for ruler in scene.rulers:
+        _draw_ruler(surface, camera, scene, ruler, font)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
     if ghost is not None and not ghost.sim.blown_up():
@@ -68,7 +70,37 @@ def _draw_ground(surface, session: Session, camera: Camera) -> None:
             pygame.draw.lines(surface, (235, 245, 255), False, pts, max(1, width // 2))
 
 
+def _draw_ruler(surface, camera: Camera, scene, ruler, font) -> None:
+    """Ticks standing on the ground, longer and labelled every ``label_every``."""
+    x0, x1 = camera.visible_x()
+    h = camera.view_height
+    for x, distance, labelled in ruler.ticks():
+        if not x0 - 1.0 <= x <= x1 + 1.0:
+            continue
+        y = scene.ground_height(x) or 0.0
+        a = camera.to_screen((x, y))
+        b = camera.to_screen((x, y + (0.035 if labelled else 0.018) * h))
+        pygame.draw.line(surface, _shade(ruler.color, 0.55), (a[0] + 1, a[1]), (b[0] + 1, b[1]), 1)
+        pygame.draw.line(surface, ruler.color, a, b, 2 if labelled else 1)
+        if labelled and font is not None:
+            text = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
+                    else f"{distance * 100:.0f} cm")
+            label = font.render(text, True, ruler.color)
+            surface.blit(label, (a[0] - label.get_width() / 2, a[1] + 4))
+
+
 def _draw_marker(surface, camera: Camera, marker, ground_y: float, font) -> None:
+    if marker.style == "line":
+        a = camera.to_screen((marker.x, ground_y - 0.01 * camera.view_height))
+        b = camera.to_screen((marker.x, ground_y + 0.006 * camera.view_height))
+        width = max(3, int(0.05 * camera.scale))
+        pygame.draw.line(surface, (250, 250, 250), a, b, width)
+        pygame.draw.line(surface, (200, 60, 60), (a[0] + width / 2, a[1]),
+                         (b[0] + width / 2, b[1]), 1)
+        if font is not None:
+            label = font.render(marker.label, True, (160, 40, 40))
+            surface.blit(label, (b[0] - label.get_width() / 2, b[1] - 22))
+        return
     a = camera.to_screen((marker.x, ground_y))
     b = camera.to_screen((marker.x, ground_y + 0.3 * camera.view_height))
     pygame.draw.line(surface, (200, 60, 60), a, b, 2)

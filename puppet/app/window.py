@@ -77,7 +77,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    camera = Camera(setup.character.view_height)
+    camera = Camera(setup.character.view_height, offset=setup.character.view_offset)
     camera.resize(*screen.get_size())
     camera.follow(session.character.com(), None)
     info = HudInfo(replaying=Path(replay.path).name if replay is not None else "")

@@ -58,6 +58,10 @@ class LinkSpec(Spec):
     color: tuple[int, int, int] = (200, 200, 210)
     layer: Literal["far", "mid", "near"] = Field(
         "mid", description="drawing order; far links are drawn darker, behind")
+    center_of_mass: Vec2 | None = Field(
+        None, description="model frame, m; with inertia, replaces the shapes' mass spread")
+    inertia: PositiveFloat | None = Field(
+        None, description="kg*m^2 about the centre of mass; given with center_of_mass")
     description: str = ""
 
 
@@ -83,11 +87,24 @@ class StartSpec(Spec):
     lift: float = Field(0.0, description="m above the scene's start point")
 
 
+class SolverSpec(Spec):
+    """The physics solver's settings while this character plays (absent: the engine's
+    defaults, SOLVER_ITERATIONS and COLLISION_SLOP in puppet/physics/simulation.py)."""
+    iterations: int | None = Field(None, ge=1, le=200,
+                                   description="constraint solver passes per step")
+    collision_slop: PositiveFloat | None = Field(
+        None, le=0.01, description="m of overlap allowed between shapes in contact")
+
+
 class CharacterSpec(Spec):
     name: str
     description: str
     notes: str = ""
     view_height: PositiveFloat = Field(1.0, description="m of world shown in the window")
+    view_offset: float | None = Field(
+        None, description="m the view's centre sits above the centre of mass "
+                          "(absent: 0.18 x view_height)")
+    solver: SolverSpec = Field(default_factory=SolverSpec)
     links: list[LinkSpec] = Field(min_length=1)
     joints: list[JointSpec] = Field(default_factory=list)
     start: StartSpec = Field(default_factory=StartSpec)
@@ -114,6 +131,14 @@ def _check_structure(spec: CharacterSpec, located: Located) -> None:
         if link.name in names:
             raise located.error(("links", i, "name"), f"duplicate link name '{link.name}'")
         names[link.name] = i
+    for i, link in enumerate(spec.links):
+        if (link.center_of_mass is None) != (link.inertia is None):
+            given, missing = (("center_of_mass", "inertia") if link.inertia is None
+                              else ("inertia", "center_of_mass"))
+            raise located.error(("links", i, given),
+                                f"link '{link.name}' gives {given} without {missing}; "
+                                "expected both (explicit mass properties) or neither "
+                                "(spread over the shapes)", prefer_key=True)
     has_parent: set[str] = set()
     joint_names: set[str] = set()
     for i, joint in enumerate(spec.joints):
@@ -175,5 +200,5 @@ def load_character(path) -> CharacterSpec:
     return parse_character(load_file(path))
 
 
-__all__ = ["CharacterSpec", "LinkSpec", "JointSpec", "PDSpec", "load_character",
+__all__ = ["CharacterSpec", "LinkSpec", "JointSpec", "PDSpec", "SolverSpec", "load_character",
            "parse_character", "pydantic"]

@@ -26,6 +26,30 @@ class GroundSpec(Spec):
 class MarkerSpec(Spec):
     x: float = Field(description="m")
     label: str
+    style: Literal["flag", "line"] = Field(
+        "flag", description="flag: a pole with a pennant; line: a board across the ground "
+                            "(a take-off or finish line)")
+
+
+class RulerSpec(Spec):
+    """Tick marks along the ground: distances from ``zero`` every ``step`` metres."""
+    start: float = Field(alias="from", description="m, first tick")
+    to: float = Field(description="m, last tick")
+    step: PositiveFloat = Field(description="m between ticks")
+    zero: float | None = Field(None, description="m the distances count from "
+                                                 "(absent: from)")
+    label_every: int = Field(1, ge=0, description="label every n-th tick (0: none)")
+    color: tuple[int, int, int] = (250, 250, 245)
+
+    @property
+    def origin(self) -> float:
+        return self.start if self.zero is None else self.zero
+
+    def ticks(self) -> list[tuple[float, float, bool]]:
+        """(x, distance from zero, labelled) for every tick."""
+        n = int(round((self.to - self.start) / self.step))
+        return [(self.start + k * self.step, self.start + k * self.step - self.origin,
+                 self.label_every > 0 and k % self.label_every == 0) for k in range(n + 1)]
 
 
 class PropShapeSpec(Spec):
@@ -98,6 +122,7 @@ class SceneSpec(Spec):
     markers: list[MarkerSpec] = Field(default_factory=list)
     props: dict[str, PropSpec] = Field(default_factory=dict,
                                        description="name -> a static or dynamic body")
+    rulers: list[RulerSpec] = Field(default_factory=list)
     sky: tuple[int, int, int] = (226, 232, 240)
 
     def ground_height(self, x: float) -> float | None:
@@ -127,6 +152,21 @@ def parse_scene(located: Located) -> SceneSpec:
             raise located.error(("props", name, "pivot_to"),
                                 unknown("prop", prop.pivot_to, names[:i],
                                         " listed before it"))
+    for i, ruler in enumerate(spec.rulers):
+        if not ruler.to > ruler.start:
+            raise located.error(("rulers", i, "to"),
+                                f"a ruler runs left to right: 'to' ({ruler.to:g}) must be "
+                                f"greater than 'from' ({ruler.start:g})")
+        count = (ruler.to - ruler.start) / ruler.step
+        if count > 2000:
+            raise located.error(("rulers", i, "step"),
+                                f"{count:.0f} ticks from {ruler.start:g} to {ruler.to:g} m; "
+                                "expected at most 2000 (a larger step)")
+        if abs(count - round(count)) > 1e-6:
+            raise located.error(("rulers", i, "step"),
+                                f"step {ruler.step:g} m does not divide the ruler's "
+                                f"{ruler.to - ruler.start:g} m; expected a whole number "
+                                "of steps from 'from' to 'to'")
     return spec
 
 

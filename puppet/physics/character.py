@@ -39,10 +39,27 @@ def _make_shapes(body: pymunk.Body, link: LinkSpec) -> list[pymunk.Shape]:
     areas = [max(_area(sh), 1e-9) for sh in shapes]
     total = sum(areas)
     for shape, area in zip(shapes, areas):
-        shape.mass = link.mass * area / total  # spread the link's mass by area
+        if link.inertia is None:  # else the body carries the link's mass properties
+            shape.mass = link.mass * area / total  # spread the link's mass by area
         shape.friction = link.friction
         shape.elasticity = link.elasticity
     return shapes
+
+
+def _mass_shape(body: pymunk.Body, link: LinkSpec, group: int) -> pymunk.Circle:
+    """The link's given mass properties (an anthropometric table's centre of mass and
+    inertia) as a solid disc of the link's mass at its centre of mass, radius chosen
+    so that its moment (m r^2 / 2) is the inertia. pymunk sums the body's mass,
+    centre of gravity and moment from its shapes; the collision shapes are massless,
+    and the disc collides with nothing (no category, no mask), so it never touches
+    the ground, is never picked, and is never drawn. (Setting a body's
+    centre_of_gravity directly would not survive a snapshot: pymunk's pickle order,
+    which snapshots follow, sets it after the position and so moves the body.)"""
+    disc = pymunk.Circle(body, math.sqrt(2.0 * link.inertia / link.mass), link.center_of_mass)
+    disc.mass = link.mass
+    disc.sensor = True
+    disc.filter = pymunk.ShapeFilter(group=group, categories=0, mask=0)
+    return disc
 
 
 def _area(shape: pymunk.Shape) -> float:
@@ -64,6 +81,8 @@ class Character:
         self.shapes: dict[str, list[pymunk.Shape]] = {}
         self.hinges: list[pymunk.Constraint] = []
         self.servos: dict[str, PDServo] = {}
+        # links with given mass properties: their mass disc (not a collision shape)
+        self.mass_shapes: dict[str, pymunk.Circle] = {}
         no_self_collision = pymunk.ShapeFilter(group=group)
         for link in spec.links:
             body = pymunk.Body()
@@ -72,6 +91,8 @@ class Character:
                 shape.filter = no_self_collision
             self.bodies[link.name] = body
             self.shapes[link.name] = shapes
+            if link.inertia is not None:
+                self.mass_shapes[link.name] = _mass_shape(body, link, group)
         start = {j.name: math.radians(v) for j, v in
                  ((spec.joint(n), v) for n, v in spec.start.joints.items())}
         for joint in spec.joints:
@@ -91,6 +112,8 @@ class Character:
     def add_to(self, space: pymunk.Space) -> None:
         for name in self.link_order:
             space.add(self.bodies[name], *self.shapes[name])
+            if name in self.mass_shapes:
+                space.add(self.mass_shapes[name])
         space.add(*self.hinges, *(s.spring for s in self.servos.values()))
 
     def place(self, x: float, y: float, angle: float, joint_angles: dict[str, float]) -> None:
@@ -133,6 +156,7 @@ class Character:
         out: list = [self.bodies[n] for n in self.link_order]
         for n in self.link_order:
             out += self.shapes[n]
+        out += self.mass_shapes.values()
         out += self.hinges
         out += [s.spring for s in self.servos.values()]
         return out
@@ -142,6 +166,7 @@ class Character:
         it = iter(objects)
         self.bodies = {n: next(it) for n in self.link_order}
         self.shapes = {n: [next(it) for _ in self.shapes[n]] for n in self.link_order}
+        self.mass_shapes = {n: next(it) for n in self.mass_shapes}
         self.hinges = [next(it) for _ in self.hinges]
         for servo in self.servos.values():
             servo.bind(next(it))

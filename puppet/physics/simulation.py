@@ -45,8 +45,9 @@ class Simulation:
         self.steps = 0
         self.space = pymunk.Space()
         self.space.gravity = scene.gravity
-        self.space.iterations = SOLVER_ITERATIONS
-        self.space.collision_slop = COLLISION_SLOP
+        solver = character.solver  # a character may need more passes or less slop
+        self.space.iterations = solver.iterations or SOLVER_ITERATIONS
+        self.space.collision_slop = solver.collision_slop or COLLISION_SLOP
         self.ground = build_ground(scene, self.space)
         self.props: dict[str, Prop] = prop_bodies.build_props(scene, self.space)
         # grasps held now: name (a chain) -> (pivot joint, prop name or None for the world)
