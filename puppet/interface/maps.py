@@ -38,9 +38,29 @@ def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
             (r1, c0, (1 - tx) * ty), (r1, c1, tx * ty))
 
 
-def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
+CHANNEL = "channel."
+
+
+def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channels=None):
     """A fast ``apply(values) -> joints written`` for one map (the mouse hot path):
-    constants are worked out once and servos looked up once."""
+    constants are worked out once and servos looked up once. ``channels``: the dict of
+    channel values by bare name (``channel.NAME`` inputs are read there, not in
+    ``values``: a stream's frame is stored with one dict update)."""
+    names = spec.inputs
+    if channels is not None and any(n.startswith(CHANNEL) for n in names):
+        if all(n.startswith(CHANNEL) for n in names):
+            bare = _renamed(spec, {n: n[len(CHANNEL):] for n in names})
+            if isinstance(spec, GridMapSpec):
+                inner = compile_map(bare, servos, pose_targets)
+                return lambda values: inner(channels)  # noqa: E731
+            return _compile_linear(bare, servos, channels)
+        inner = compile_map(spec, servos, pose_targets)  # channels and devices mixed
+
+        def apply_mixed(values):
+            merged = dict(values)
+            merged.update((CHANNEL + k, v) for k, v in channels.items())
+            return inner(merged)
+        return apply_mixed
     if isinstance(spec, GridMapSpec):
         # Bilinear blend of the four grid poses around (x, y): row 0 is the top (y = 1),
         # column 0 the left (x = 0), inputs clamped to 0..1, axes in ``mirror`` flipped
@@ -78,6 +98,12 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
                     written.append(joints[i])
             return written
         return apply_grid
+    return _compile_linear(spec, servos)
+
+
+def _compile_linear(spec, servos, source=None):
+    """A linear map's applier; it reads its input from ``source`` if given (then the
+    ``values`` it is called with are not looked at), else from ``values``."""
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
     clamp, curve, name = spec.clamp, spec.curve, spec.input
@@ -88,7 +114,7 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
         servo = outs[0][0]
 
         def apply_one(values):
-            value = values.get(name)
+            value = (values if source is None else source).get(name)
             if value is None:
                 return ()
             u = (value - x0) * inv
@@ -99,7 +125,7 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
         return apply_one
 
     def apply_linear(values):
-        value = values.get(name)
+        value = (values if source is None else source).get(name)
         if value is None:
             return ()
         u = (value - x0) * inv
@@ -110,3 +136,10 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]]):
             servo.target = gain * v
         return joints
     return apply_linear
+
+
+def _renamed(spec, names: dict[str, str]):
+    """``spec`` reading its inputs under other names."""
+    if isinstance(spec, GridMapSpec):
+        return spec.model_copy(update={"x": names[spec.x], "y": names[spec.y]})
+    return spec.model_copy(update={"input": names[spec.input]})

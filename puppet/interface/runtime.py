@@ -75,6 +75,7 @@ class InterfaceRuntime:
                              for mname, m in machines.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
+        self.channels: dict[str, float] = {}  # channel.NAME inputs, by bare NAME
         self.held: set[str] = set()
         self.owners = JointOwners()
         servos = character.servos
@@ -84,7 +85,7 @@ class InterfaceRuntime:
         self.gestures.inputs = self.inputs
         self.grasping = GraspController(self.chains, character, sim, self.dt)
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
-                                        self.grasping, self.inputs, self.dt)
+                                        self.grasping, self.read_input, self.dt)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
         # Tick order; the state machines tick after them.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
@@ -92,7 +93,7 @@ class InterfaceRuntime:
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
         self._map_cache: dict[int, object] = {}
-        self._channel_maps: dict[tuple, tuple] = {}
+        self._channel_maps: dict[tuple, tuple] = {}  # channel names -> maps reading them
         self._pending: list[tuple] = []  # channel maps not yet applied (see _on_channels)
         self.mode = spec.start_mode
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
@@ -136,6 +137,16 @@ class InterfaceRuntime:
     def step_now(self) -> int:
         return self.sim.steps if self.sim is not None else self.now
 
+    def read_input(self, name: str, default: float | None = None) -> float | None:
+        """An input's value now (mouse.x, gamepad.left_x, channel.NAME...)."""
+        if name.startswith("channel."):
+            return self.channels.get(name[8:], default)
+        return self.inputs.get(name, default)
+
+    def input_names(self) -> list[str]:
+        """Every input that has a value."""
+        return list(self.inputs) + ["channel." + n for n in self.channels]
+
     # -- hot reload ----------------------------------------------------------------------
     def adopt(self, old: InterfaceRuntime) -> None:
         """Take over from ``old``, the runtime of the interface this one replaces (a hot
@@ -147,6 +158,7 @@ class InterfaceRuntime:
         now = old.step_now()
         self.now = old.now
         self.inputs.update(old.inputs)
+        self.channels.update(old.channels)
         self.held = set(old.held)
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
@@ -224,7 +236,7 @@ class InterfaceRuntime:
         applier = self._map_cache.get(id(m))
         if applier is None:
             applier = self._map_cache[id(m)] = mapping.compile_map(
-                m, self.character.servos, self.pose_targets)
+                m, self.character.servos, self.pose_targets, self.channels)
         return applier
 
     def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
@@ -281,7 +293,7 @@ class InterfaceRuntime:
 
     def apply_maps(self, inputs=None) -> None:
         """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
-        inputs = self.inputs.keys() if inputs is None else inputs
+        inputs = self.input_names() if inputs is None else inputs
         for apply in self._compiled(set(inputs)):
             self.owners.take(apply(self.inputs))
 
@@ -342,8 +354,11 @@ class InterfaceRuntime:
                 name, value = f"gamepad.{event['name']}", float(event["value"])
             else:
                 name, value = f"channel.{event['name']}", float(event["value"])
-            was = self.inputs.get(name, 0.0)
-            self.inputs[name] = value
+            was = self.read_input(name, 0.0)
+            if kind == "channel":
+                self.channels[event["name"]] = value
+            else:
+                self.inputs[name] = value
             self.apply_maps((name,))
             if kind != "channel" and not name.startswith("gamepad.axis") \
                     and (was > 0.5) != (value > 0.5):  # buttons also act as keys
@@ -361,12 +376,11 @@ class InterfaceRuntime:
         - a 120 Hz stream drained once per 60 Hz frame - only the last is written to the
         servos: the same targets, and the same bits, at a fraction of the cost."""
         names = tuple(values)
-        compiled = self._channel_maps.get(names)
-        if compiled is None:
-            inputs = tuple("channel." + n for n in names)
-            compiled = self._channel_maps[names] = (inputs, tuple(self._compiled(inputs)))
-        inputs, appliers = compiled
-        self.inputs.update(zip(inputs, values.values()))
+        appliers = self._channel_maps.get(names)
+        if appliers is None:
+            appliers = self._channel_maps[names] = tuple(
+                self._compiled(tuple("channel." + n for n in names)))
+        self.channels.update(values)
         pending = self._pending
         if appliers and not (pending and pending[-1] is appliers):
             pending.append(appliers)
@@ -524,7 +538,8 @@ class InterfaceRuntime:
     def get_state(self) -> dict:
         if self._pending:
             self.flush()
-        return {"inputs": dict(self.inputs), "held": sorted(self.held), "mode": self.mode,
+        return {"inputs": dict(self.inputs), "channels": dict(self.channels),
+                "held": sorted(self.held), "mode": self.mode,
                 "owners": self.owners.get_state(),
                 "controllers": [c.get_state() for c in self.controllers],
                 "machines": {n: m.get_state() for n, m in self.machines.items()},
@@ -533,6 +548,8 @@ class InterfaceRuntime:
     def set_state(self, state: dict) -> None:
         self.inputs.clear()
         self.inputs.update(state["inputs"])
+        self.channels.clear()
+        self.channels.update(state["channels"])
         self.held = set(state["held"])
         self.mode = state["mode"]
         self.owners.set_state(state["owners"])

@@ -42,14 +42,14 @@ class Reach:
 
 class ReachController:
     def __init__(self, chains, character, sim, owners: JointOwners, servos, grasps,
-                 inputs: dict[str, float], dt: float):
+                 read_input, dt: float):
         self.chains = chains
         self.character = character
         self.sim = sim
         self.owners_table = owners
         self.servos = servos
         self.grasps = grasps  # the GraspController, for reaches that grasp on arrival
-        self.inputs = inputs  # the runtime's input values (steered reaches read them)
+        self.read_input = read_input  # (name, default) -> an input's value now (steering)
         self.dt = dt
         self.reaches: dict[str, Reach] = {}
 
@@ -67,9 +67,9 @@ class ReachController:
         if kind == "prop":
             return self.sim.props[target[1]].point_world(target[2])
         _, xn, yn, (x0, x1), (y0, y1), (tx0, tx1), (ty0, ty1), frame = target
-        values = self.inputs
-        u = (values.get(xn, 0.5 * (x0 + x1)) - x0) / (x1 - x0)
-        v = (values.get(yn, 0.5 * (y0 + y1)) - y0) / (y1 - y0)
+        read = self.read_input
+        u = (read(xn, 0.5 * (x0 + x1)) - x0) / (x1 - x0)
+        v = (read(yn, 0.5 * (y0 + y1)) - y0) / (y1 - y0)
         u, v = min(1.0, max(0.0, u)), min(1.0, max(0.0, v))
         p = (tx0 + u * (tx1 - tx0), ty0 + v * (ty1 - ty0))
         return self._root_to_world(p) if frame == "root" else p
