@@ -25,13 +25,16 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
-               until_step: int | None = None, ghost=None, note: str = "") -> int:
+               until_step: int | None = None, ghost=None, note: str = "",
+               sources=()) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
     ``ghost`` (a ``puppet.timeline.ghost.Ghost``) replays beside the character in
     step with its time, drawn translucently; it never touches the live session.
-    ``note``: shown on screen at the start (e.g. what is wrong with a replayed log)."""
+    ``note``: shown on screen at the start (e.g. what is wrong with a replayed log).
+    ``sources``: live input sources (``puppet.input.live.LiveQueue``s, e.g. a mocap
+    stream) drained once a frame into the session, like the devices."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -234,6 +237,10 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 handle(ev.drag_move(camera.to_world(event.pos)))
         if not clock.paused:
             send_mouse()
+            if feeder is None:
+                for source in sources:  # live streams, posted from their own threads
+                    for event_ in source.drain():
+                        handle(event_)
 
         if reloader is not None and not scrub.active:
             change = reloader.poll(time.perf_counter())

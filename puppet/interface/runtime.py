@@ -417,6 +417,8 @@ class InterfaceRuntime:
                    depth: int = 0, machine: str | None = None):
         """Run one action (a key's, a state's entry). ``machine``: the state machine the
         action belongs to (its ``goto`` names that machine's states first)."""
+        if self._pending:
+            self.flush()  # a stream's samples came first: they act first
         result = None
         if a.app is not None:
             result = AppAction(a.app)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -238,6 +239,11 @@ def _check_event(obj: Any) -> str | None:
     step, event = obj["step"], obj["event"]
     if not isinstance(step, int) or isinstance(step, bool) or step < 0:
         return f"'step' must be a whole number >= 0, got {step!r}"
+    return event_problem(event)
+
+
+def event_problem(event: Any) -> str | None:
+    """What is wrong with an input event (from a log line or a live source), or None."""
     if not isinstance(event, dict):
         return "'event' must be an object"
     kind = event.get("type")
@@ -265,8 +271,9 @@ def _check_event(obj: Any) -> str | None:
                                           for p in event["path"])):
         return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
     if kind == "channels" and not (isinstance(event["values"], dict) and all(
-            isinstance(n, str) and _is_number(v) for n, v in event["values"].items())):
-        return "channels event: 'values' must map channel names to numbers"
+            isinstance(n, str) and _is_number(v) and math.isfinite(v)
+            for n, v in event["values"].items())):
+        return "channels event: 'values' must map channel names to finite numbers"
     if kind == "drag" and event["phase"] not in ("start", "move", "end"):
         return f"drag event: unknown phase {event['phase']!r}"
     return None
