@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 from puppet.data.catalog import Setup, parse_interface_text
 from puppet.data.interfaces import InterfaceSpec, with_gesture
-from puppet.interface.app_keys import SIM_ACTIONS
+from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, Simulation
@@ -91,8 +91,8 @@ class Session:
         if kind == "mouse":  # the most frequent event: straight to the interface
             return self.runtime.on_event(event)
         if kind == "key" and event["down"]:
-            app_action = self.key_to_app.get(event["key"])
-            if app_action is not None and not self.runtime.handles_key(event["key"]):
+            app_action = self.app_action_of(event["key"])
+            if app_action is not None:
                 if app_action in SIM_ACTIONS:
                     self.perform(app_action)
                     return None
@@ -125,9 +125,18 @@ class Session:
         """A key event (down or up) of an app action that is the window's business (help,
         pause, slowdown...), not input to the simulation: it does not rewrite the
         future, so scrubbing back, pressing it and scrubbing forward again works."""
-        action = self.key_to_app.get(event["key"])
-        return (action is not None and action not in SIM_ACTIONS
-                and not self.runtime.handles_key(event["key"]))
+        action = self.app_action_of(event["key"])
+        return action is not None and action not in SIM_ACTIONS
+
+    def app_action_of(self, chord: str) -> AppAction | None:
+        """Who owns a key, decided here only: the app action ``chord`` stands for, or
+        None when it is the interface's input (an interface that binds an app's key
+        must have moved the app's action elsewhere: the loader refuses it otherwise;
+        a key neither binds is nobody's and comes back None too)."""
+        action = self.key_to_app.get(chord)
+        if action is None or self.runtime.handles_key(chord):
+            return None
+        return action
 
     def perform(self, name: str, to_step: int | None = None) -> None:
         if name == "reset":
@@ -199,7 +208,7 @@ class Session:
     def _bind_app_keys(self, spec: InterfaceSpec) -> None:
         """The app's keys as ``spec`` binds them, both ways round."""
         self.app_keys = spec.app_key_table()
-        self.key_to_app = {key: action for action, key in self.app_keys.items()}
+        self.key_to_app = {key: AppAction(action) for action, key in self.app_keys.items()}
 
     def _runtime_state(self) -> dict:
         state = self.runtime.get_state()

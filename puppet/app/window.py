@@ -144,8 +144,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             return None
         if scrub.active and event["type"] in ("mouse", "drag"):
             return None
-        if event["type"] == "key" and not session.runtime.handles_key(event["key"]):
-            action = session.key_to_app.get(event["key"])
+        if event["type"] == "key":
+            action = session.app_action_of(event["key"])
             if action in ("rewind", "forward"):  # the window's own: the scrub commits
                 return action if event["down"] else None  # with a logged rewind action
         scrub.commit()  # a key while scrubbing acts at the step shown, in the log too
