@@ -33,8 +33,9 @@ def guess_kind(path: Path, located: Located) -> str:
                             "(events:)")
 
 
-def check_file(path: str | Path) -> str:
-    """Validate one file; return its kind. Raises DataError on the first problem."""
+def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
+    """Validate one file; return its kind. Raises DataError on the first problem;
+    ``warnings`` collects what is valid but probably not meant (two maps on a joint)."""
     path = Path(path)
     located = load_file(path)
     kind = guess_kind(path, located)
@@ -46,6 +47,10 @@ def check_file(path: str | Path) -> str:
         parse_script(located)
     else:
         spec = catalog.check_interface(located)[0]
+        if warnings is not None:
+            from puppet.data.interface_refs import map_conflicts
+
+            warnings += map_conflicts(spec, located)
         try:
             catalog.find("scene", spec.scene)
         except DataError as exc:

@@ -57,6 +57,8 @@ def _play(args: argparse.Namespace) -> int:
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     # A script made for a scene plays there unless --scene says otherwise.
     setup = load_setup(args.interface, args.scene or (script.scene if script else None))
+    for w in setup.warnings:  # valid but probably not meant (two maps on one joint)
+        print(w, file=sys.stderr)
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden
         import dataclasses
 
@@ -76,7 +78,7 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.app.window import run_window
 
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
-                          ghost=ghost)
+                          ghost=ghost, note=setup.warnings[0] if setup.warnings else "")
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, run_seconds
@@ -127,7 +129,10 @@ def _check(args: argparse.Namespace) -> int:
     failed = 0
     for name in args.files:
         try:
-            kind = check_file(name)
+            warnings: list[str] = []
+            kind = check_file(name, warnings)
+            for w in warnings:
+                print(w, file=sys.stderr)
             if not args.quiet:
                 print(f"{name}: ok ({kind})")
         except DataError as exc:

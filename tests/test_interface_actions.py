@@ -439,3 +439,30 @@ def test_pointer_for_pose_finds_where_the_mouse_maps_hold_the_start_pose(tmp_pat
     assert make(tmp_path, POSES).runtime.pointer_for_pose() is None
     assert make(tmp_path, "maps: [{input: mouse.x, joint: ankle, to: [10, 80]}]\n"
                 ).runtime.pointer_for_pose() is None
+
+
+# -- designer feedback: two maps on one joint --------------------------------------------------
+def test_two_maps_writing_one_joint_in_one_mode_warn_at_load_naming_both(tmp_path, capsys):
+    from puppet.checker import check_file
+    from puppet.cli import main
+
+    path = tmp_path / "interfaces" / "two.yaml"
+    path.parent.mkdir()
+    path.write_text("name: two\ndescription: two maps\ncharacter: luxo\n"
+                    "maps:\n"
+                    "  - {input: mouse.x, joint: knee, to: [-30, 30]}\n"
+                    "modes:\n"
+                    "  lean:\n"
+                    "    - {input: mouse.y, joint: ankle, to: [-30, 30]}\n"
+                    "    - {input: mouse.y, joints: {knee: 1, ankle: -1}, to: [0, 20]}\n"
+                    "  calm:\n"
+                    "    - {input: mouse.y, joint: ankle, to: [-10, 10]}\n")
+    warnings: list[str] = []
+    assert check_file(path, warnings) == "interface"
+    assert len(warnings) == 2, warnings  # knee (top level and lean) and ankle (within lean)
+    knee = next(w for w in warnings if "'knee'" in w)
+    assert knee.startswith(f"{path}:9:") and "line 5" in knee and "mode 'lean'" in knee
+    ankle = next(w for w in warnings if "'ankle'" in w)
+    assert ankle.startswith(f"{path}:9:") and "line 8" in ankle
+    assert main(["check", str(path)]) == 0  # a warning, not an error
+    assert "warning: this map and the one at line 5" in capsys.readouterr().err

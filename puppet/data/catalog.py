@@ -86,6 +86,7 @@ class Setup:
     interface_path: Path
     character_path: Path
     scene_path: Path
+    warnings: tuple[str, ...] = ()  # valid, but probably not meant (puppet check's)
 
 
 def load_character_named(name: str) -> tuple[CharacterSpec, Path]:
@@ -150,7 +151,10 @@ def setup_from_text(text: str, interface_path: str | Path, scene: str | None = N
     from puppet.data.interface_refs import check_scene_refs
 
     check_scene_refs(spec, scene_spec, located, scene_path.stem)
-    return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path)
+    from puppet.data.interface_refs import map_conflicts
+
+    return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path,
+                 tuple(map_conflicts(spec, located)))
 
 
 def load_setup(interface: str, scene: str | None = None) -> Setup:

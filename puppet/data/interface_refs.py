@@ -287,3 +287,44 @@ def check_scene_refs(spec, scene, located: Located, scene_name: str) -> None:
                                                    f" in scene '{scene_name}'"))
             if where[-2] == "point" and not scene.props[prop].grasp_points:
                 raise located.error(where, f"prop '{prop}' has no grasp_points to reach for")
+
+
+def _map_joints(spec, m) -> set[str]:
+    grid = getattr(m, "grid", None)
+    if grid is None:
+        return set(m.gains())
+    joints = {j for row in grid for pose in row for j in spec.poses[pose].joints}
+    return joints if m.joints is None else joints & set(m.joints)
+
+
+def map_conflicts(spec, located: Located) -> list[str]:
+    """Warnings (``file:line:col: warning: ...``) for two maps that write one joint when
+    both are live (the top level's, a mode's, a state's of each machine): the later
+    one in the file wins whenever both inputs change, which is seldom what was meant."""
+    where = {id(m): loc for loc, m in all_maps(spec)}
+    groups: list[tuple[str, list]] = []
+    modes = list(spec.modes.items()) or [(None, [])]
+    machines = list(spec.state_machines().items())
+    states = [(f"state '{s}'" if mname == "main" else f"state '{mname}.{s}'", st.maps)
+              for mname, ms in machines for s, st in ms.states.items()] or [(None, [])]
+    for mode, mode_maps in modes:
+        for state, state_maps in states:
+            label = " and ".join(x for x in (mode and f"mode '{mode}'", state) if x)
+            groups.append((label, list(spec.maps) + list(mode_maps) + list(state_maps)))
+    out, seen = [], set()
+    for label, maps in groups:
+        writer: dict[str, object] = {}
+        for m in maps:
+            for joint in sorted(_map_joints(spec, m)):
+                first = writer.get(joint)
+                if first is not None and (id(first), id(m), joint) not in seen:
+                    seen.add((id(first), id(m), joint))
+                    a, b = located.where(where[id(first)]), located.where(where[id(m)])
+                    line, col = b if b else (None, None)
+                    at = f"{located.path}:{line}:{col}" if line else located.path
+                    out.append(f"{at}: warning: this map and the one at line "
+                               f"{a[0] if a else '?'} both write joint '{joint}'"
+                               + (f" in {label}" if label else "")
+                               + "; the one that updates last wins (give each joint one map)")
+                writer[joint] = m
+    return out
