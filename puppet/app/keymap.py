@@ -191,7 +191,7 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
         else:
             strips.setdefault(mods, []).append((chord, pose, place))
     # one scale for every picture, so the poses compare
-    by_pose = {p: interface.poses[p].joints for _, p in bindings}
+    by_pose = {p: interface.poses[p].joint_degrees() for _, p in bindings}
     extent = max(pose_extent(character, j) for j in by_pose.values()) or 1.0
     gap, label_h = 4, 16
     x0, y = topleft
@@ -222,7 +222,7 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
             pygame.draw.rect(surface, CAP, cap_rect, border_radius=5)
             pygame.draw.rect(surface, CAP_EDGE, cap_rect, 1, border_radius=5)
             draw_pose_icon(surface, cap_rect.inflate(-6, -6).move(3, 4), character,
-                           interface.poses[pose].joints, extent)
+                           interface.poses[pose].joint_degrees(), extent)
             key = _split_chord(chord)[1] if label not in ("other",) else chord
             surface.blit(font.render(key, True, LABEL), (cap_rect.x + 4, cap_rect.y + 2))
         y += nrows * (cap + gap)

@@ -9,9 +9,10 @@ seconds, lengths metres.
 from __future__ import annotations
 
 import re
-from typing import Literal
+from typing import Annotated, Literal, Union
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat, field_validator, model_validator
+from pydantic import (Discriminator, Field, NonNegativeFloat, PositiveFloat, Tag,
+                      field_validator, model_validator)
 
 from puppet.data.validate import Spec
 from puppet.interface.app_keys import APP_KEYS
@@ -27,6 +28,7 @@ INPUT_PATTERNS = (
     ("gamepad.axisN", r"gamepad\.axis\d+"),
     ("gamepad.buttonN", r"gamepad\.button\d+"),
     ("channel.NAME", r"channel\.[A-Za-z_][A-Za-z0-9_.-]*"),
+    ("sensor.SENSOR (e.g. sensor.com.vx, sensor.angle.chest)", r"sensor\.[A-Za-z_][A-Za-z0-9_.-]*"),
 )
 
 
@@ -43,10 +45,49 @@ def check_input_name(name: str) -> str:
 META_APP_ACTIONS = tuple(a for a in APP_KEYS if a != "quit")
 
 
-class PoseSpec(Spec):
-    """A full or partial pose: joint targets, optionally with gains for those joints."""
+class FrameTargetSpec(Spec):
+    """A joint's target given as the angle of one of its two links in the world
+    (``world``) or relative to another link (``relative_to`` and ``angle``), degrees,
+    re-solved from the figure's state at the control rate. ``hold`` says which of the
+    joint's links that angle is for: its child (default: a thigh held at 20 deg in the
+    world through the hip) or its parent (the trunk held upright through the stance
+    hip, whose child, the stance thigh, stands on the ground)."""
 
-    joints: dict[str, float] = Field(description="joint -> target, degrees")
+    world: float | None = Field(None, description="deg from the model's orientation")
+    relative_to: str | None = Field(None, description="a link")
+    angle: float | None = Field(None, description="deg, with relative_to")
+    hold: Literal["child", "parent"] = "child"
+
+    @model_validator(mode="after")
+    def _check(self):
+        if (self.world is None) == (self.relative_to is None):
+            raise ValueError("a frame target needs exactly one of 'world' (deg) or "
+                             "'relative_to' (a link, with 'angle')")
+        if self.relative_to is not None and self.angle is None:
+            raise ValueError("'relative_to' needs 'angle' (deg)")
+        if self.world is not None and self.angle is not None:
+            raise ValueError("'angle' goes with 'relative_to'; with 'world' the angle is "
+                             "the value of 'world'")
+        return self
+
+
+def _target_kind(value) -> str:
+    return "<frame>" if isinstance(value, (dict, FrameTargetSpec)) else "<deg>"
+
+
+Target = Annotated[Union[Annotated[float, Tag("<deg>")],
+                         Annotated[FrameTargetSpec, Tag("<frame>")]], Discriminator(_target_kind)]
+
+
+class PoseSpec(Spec):
+    """A full or partial pose: joint targets, optionally with gains for those joints.
+    A target is degrees of the joint, or a ``FrameTargetSpec`` ({world: deg} ...)."""
+
+    joints: dict[str, Target] = Field(description="joint -> target, degrees")
+
+    def joint_degrees(self) -> dict[str, float]:
+        """The targets given as joint angles (degrees); frame targets left out."""
+        return {j: v for j, v in self.joints.items() if isinstance(v, (int, float))}
     stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
     damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
     description: str = ""
@@ -185,7 +226,8 @@ class ActionSpec(Spec):
     """Everything one trigger (key, state entry) can do."""
 
     pose: str | None = Field(None, description="set a named pose absolutely")
-    set: dict[str, float] = Field(default_factory=dict, description="joint -> deg")
+    set: dict[str, Target] = Field(default_factory=dict, description="joint -> deg, or "
+                                                                     "{world: deg} ...")
     adjust: dict[str, float] = Field(default_factory=dict, description="joint -> +deg")
     sequence: str | None = Field(None, description="start a named pose sequence")
     repeat: int | Literal["forever"] | None = Field(

@@ -18,7 +18,7 @@ from puppet.data.yamlfile import Located
 
 FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy")
 JOINT_SENSORS = ("joint",)
-LINK_SENSORS = ("angle", "height", "contact")
+LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 
 
 def unknown(kind: str, name: str, known, owner: str = "") -> str:
@@ -204,6 +204,10 @@ def sensor_problem(sensor: str, character: CharacterSpec) -> str | None:
     if sensor in FIXED_SENSORS:
         return None
     kind, _, name = sensor.partition(".")
+    if sensor.startswith("com.dx."):
+        kind, name = "com.dx", sensor[len("com.dx."):]
+        if name == "support":  # from the middle of the support polygon
+            return None
     joints = [j.name for j in character.joints]
     links = [link.name for link in character.links]
     if kind in JOINT_SENSORS and name:
@@ -228,7 +232,17 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             raise located.error(loc, unknown("joint", name, actuated, owner),
                                 prefer_key=prefer_key)
 
+    links = [link.name for link in character.links]
+
+    def need_link(loc, name):
+        if name not in links:
+            raise located.error(loc, unknown("link", name, links, owner))
+
     def in_limits(loc, name, deg):
+        if not isinstance(deg, (int, float)):  # a frame target: checked as a link
+            if deg.relative_to is not None:
+                need_link(loc + ("relative_to",), deg.relative_to)
+            return
         limits = character.joint(name).limits
         if limits is not None and not limits[0] <= deg <= limits[1]:
             raise located.error(loc, f"{deg:g} deg for joint '{name}' is outside its limits "
@@ -243,12 +257,22 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
         for name, deg in pose.joints.items():
             in_limits(("poses", pose_name, "joints", name), name, deg)
     for loc, m in all_maps(spec):
+        for field in ("input", "x", "y"):
+            name = getattr(m, field, None)
+            if isinstance(name, str) and name.startswith("sensor."):
+                problem = sensor_problem(name[len("sensor."):], character)
+                if problem:
+                    raise located.error(loc + (field,), problem)
         if getattr(m, "grid", None) is not None:
             continue
         if m.joint is not None:
             need(loc + ("joint",), m.joint)
         for name in m.joints:
             need(loc + ("joints", name), name, True)
+        if m.frame not in ("joint", "world") and m.frame not in links:
+            raise located.error(loc + ("frame",), unknown(
+                "frame", m.frame, ["joint", "world"] + links,
+                " (joint, world or a link)"))
     for loc, a in actions(spec):
         for field in ("set", "adjust", "stiffness", "damping"):
             for name in getattr(a, field):

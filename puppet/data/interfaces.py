@@ -61,6 +61,14 @@ class LinearMapSpec(Spec):
     to: tuple[float, float] = Field(description="degrees at from[0] and from[1]")
     clamp: bool = True
     curve: Curve = "linear"
+    frame: str = Field("joint", description="joint: the value is the joint's angle; world: "
+                                            "the angle of the joint's child link in the "
+                                            "world; a link's name: relative to that link")
+    hold: Literal["child", "parent"] = Field(
+        "child", description="with a frame: the link whose angle the value is")
+    combine: Literal["set", "add"] = Field(
+        "set", description="set: the map writes the target; add: its value is added to "
+                           "the target whatever else writes (at the control rate)")
 
     _check_input = field_validator("input")(lambda cls, v: check_input_name(v))
 
@@ -71,7 +79,15 @@ class LinearMapSpec(Spec):
         if (self.joint is None) == (not self.joints):
             raise ValueError("a map needs exactly one of 'joint' (one joint) or 'joints' "
                              "(joint -> gain)")
+        if self.combine == "add" and self.frame != "joint":
+            raise ValueError("an 'add' map adds degrees of the joint to its target; "
+                             "'frame' goes with 'set' maps")
         return self
+
+    @property
+    def feedback(self) -> bool:
+        """Evaluated at the control rate (it reads sensors, or adds to a target)."""
+        return self.combine == "add" or self.input.startswith("sensor.")
 
     def gains(self) -> dict[str, float]:
         return {self.joint: 1.0} if self.joint is not None else dict(self.joints)
@@ -121,6 +137,10 @@ class GridMapSpec(Spec):
     @property
     def inputs(self) -> tuple[str, ...]:
         return (self.x, self.y)
+
+    @property
+    def feedback(self) -> bool:
+        return self.x.startswith("sensor.") or self.y.startswith("sensor.")
 
 
 def _map_kind(value) -> str:

@@ -34,6 +34,23 @@ def _angle(c: Character, link: str) -> Reader:
     return lambda: remainder(c.bodies[link].angle, _TURN)
 
 
+def _spin(c: Character, link: str) -> Reader:
+    """A link's angular velocity (rad/s, counter-clockwise)."""
+    return lambda: c.bodies[link].angular_velocity
+
+
+def _com_dx(c: Character, name: str) -> Reader:
+    """The centre of mass's horizontal offset (m, + ahead in +x) from a link's centre of
+    mass, or (``support``) from the middle of the support polygon: the segment between
+    the outermost ground contacts (0 when nothing touches)."""
+    if name == "support":
+        def from_support() -> float:
+            extent = c.support_extent()
+            return 0.0 if extent is None else c.com()[0] - 0.5 * (extent[0] + extent[1])
+        return from_support
+    return lambda: c.com()[0] - c.link_position(name)[0]
+
+
 def _joint(c: Character, name: str) -> Reader:
     joint = c.spec.joint(name)
 
@@ -57,6 +74,8 @@ NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {
     "angle": (_angle, True),
     "height": (lambda c, n: lambda: c.link_position(n)[1], False),
     "contact": (lambda c, n: lambda: 1.0 if c.in_contact(n) else 0.0, False),
+    "spin": (_spin, True),
+    "com.dx": (_com_dx, False),
 }
 
 
@@ -64,6 +83,9 @@ def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
     if sensor in FIXED:
         make, is_angle = FIXED[sensor]
         return make, is_angle, ()
+    if sensor.startswith("com.dx."):
+        make, is_angle = NAMED["com.dx"]
+        return make, is_angle, (sensor[len("com.dx."):],)
     kind, _, name = sensor.partition(".")
     if kind in NAMED and name:
         make, is_angle = NAMED[kind]
@@ -75,6 +97,16 @@ def reader(sensor: str, character: Character) -> Reader:
     """A zero-argument reader of the sensor's current value (SI units)."""
     make, _, args = _lookup(sensor)
     return make(character, *args)
+
+
+def map_reader(sensor: str, character: Character) -> Reader:
+    """A reader in the units files use (degrees, and degrees per second, for angles),
+    for maps whose input is ``sensor.<sensor>``."""
+    read = reader(sensor, character)
+    if _lookup(sensor)[1]:
+        k = 180.0 / math.pi
+        return lambda: read() * k
+    return read
 
 
 def compile_test(spec: ConditionSpec) -> Test:

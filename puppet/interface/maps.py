@@ -41,12 +41,17 @@ def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
 CHANNEL = "channel."
 
 
-def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channels=None):
+def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channels=None,
+                frames=None, frame_owner=None):
     """A fast ``apply(values) -> joints written`` for one map (the mouse hot path):
     constants are worked out once and servos looked up once. ``channels``: the dict of
     channel values by bare name (``channel.NAME`` inputs are read there, not in
-    ``values``: a stream's frame is stored with one dict update)."""
+    ``values``: a stream's frame is stored with one dict update). ``frames``: the
+    frame-target controller, for maps whose value is an angle in another frame, held
+    under ``frame_owner`` (default: the frame owner, claimed; a feedback map's own)."""
     names = spec.inputs
+    if not isinstance(spec, GridMapSpec) and spec.frame != "joint":
+        return _compile_frame(spec, frames, channels, frame_owner)
     if channels is not None and any(n.startswith(CHANNEL) for n in names):
         if all(n.startswith(CHANNEL) for n in names):
             bare = _renamed(spec, {n: n[len(CHANNEL):] for n in names})
@@ -136,6 +141,57 @@ def _compile_linear(spec, servos, source=None):
             servo.target = gain * v
         return joints
     return apply_linear
+
+
+def _unit(spec, source=None):
+    """``value(values) -> the map's output in radians`` (None without its input)."""
+    (x0, x1), (y0, y1) = spec.from_, spec.to
+    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+    clamp, curve, name = spec.clamp, spec.curve, spec.input
+    if name.startswith(CHANNEL) and source is not None:
+        name = name[len(CHANNEL):]  # read from the channels dict, by bare name
+    else:
+        source = None
+
+    def value(values):
+        v = (values if source is None else source).get(name)
+        if v is None:
+            return None
+        u = (v - x0) * inv
+        if clamp:
+            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+        return lo + (u if curve == "linear" else shape(curve, u)) * span
+    return value
+
+
+def compile_contribution(spec, channels=None):
+    """An 'add' map: ``contribution(values) -> [(joint, radians)]`` to add to targets."""
+    value = _unit(spec, channels)
+    gains = list(spec.gains().items())
+
+    def contribution(values):
+        v = value(values)
+        return () if v is None else [(j, g * v) for j, g in gains]
+    return contribution
+
+
+def _compile_frame(spec, frames, channels, owner=None):
+    """A map whose value is a link's angle in the world (``frame: world``) or relative
+    to a link: it holds frame targets (re-solved at the control rate), claiming them."""
+    from puppet.interface.poses import FrameTarget
+
+    value = _unit(spec, channels)
+    ref = None if spec.frame == "world" else spec.frame
+    parent = spec.hold == "parent"
+    gains = list(spec.gains().items())
+
+    def apply_frame(values):
+        v = value(values)
+        if v is not None:
+            for joint, g in gains:
+                frames.hold(joint, FrameTarget(ref, g * v, parent), owner)
+        return ()  # held under the frame owner: nothing for the caller to take
+    return apply_frame
 
 
 def _renamed(spec, names: dict[str, str]):

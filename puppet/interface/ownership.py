@@ -15,7 +15,7 @@ from dataclasses import dataclass
 class Owner:
     """A controller that can own joints: its kind and, for reaches, the chain."""
 
-    kind: str  # "sequence", "gesture" or "reach"
+    kind: str  # "sequence", "gesture", "reach", "frame" or "feedback"
     name: str = ""
 
     def __str__(self) -> str:
@@ -24,6 +24,8 @@ class Owner:
 
 SEQUENCE = Owner("sequence")
 GESTURE = Owner("gesture")
+FRAME = Owner("frame")  # a target held in another frame (controllers/frame.py)
+FEEDBACK = Owner("feedback")  # a map that reads the figure's sensors
 
 
 def reach_owner(chain: str) -> Owner:

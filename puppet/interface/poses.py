@@ -2,6 +2,9 @@
 
 A pose may be partial (only some joints) and may carry gains for its joints; a
 pose's gains apply together with its targets, so a "push" pose can also be stiffer.
+A joint's target may be given in another frame (a link's angle in the world, or
+relative to another link): those are handed to the frame-target controller, which
+re-solves them from the figure's state at the control rate.
 """
 
 from __future__ import annotations
@@ -9,37 +12,74 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from puppet.data.actions import PoseSpec
+from puppet.data.actions import FrameTargetSpec, PoseSpec
+
+
+@dataclass(frozen=True)
+class FrameTarget:
+    """A target in another frame: ``ref`` link's angle (None: the world) + ``angle``
+    (radians) for the joint's child link, or (``hold_parent``) for its parent."""
+
+    ref: str | None
+    angle: float
+    hold_parent: bool = False
+
+    def to_state(self) -> list:
+        return [self.ref, self.angle, self.hold_parent]
+
+
+def frame_target(spec: FrameTargetSpec) -> FrameTarget:
+    if spec.world is not None:
+        return FrameTarget(None, math.radians(spec.world), spec.hold == "parent")
+    return FrameTarget(spec.relative_to, math.radians(spec.angle), spec.hold == "parent")
 
 
 @dataclass(frozen=True)
 class Pose:
-    targets: dict[str, float]  # joint -> radians
+    targets: dict[str, float]  # joint -> radians (joint frame)
     stiffness: dict[str, float] = field(default_factory=dict)
     damping: dict[str, float] = field(default_factory=dict)
+    frames: dict[str, FrameTarget] = field(default_factory=dict)  # joint -> in another frame
 
     @property
     def joints(self) -> set[str]:
-        return set(self.targets) | set(self.stiffness) | set(self.damping)
+        return set(self.targets) | set(self.stiffness) | set(self.damping) | set(self.frames)
 
 
-def compile_pose(spec: PoseSpec) -> Pose:
-    return Pose({j: math.radians(v) for j, v in spec.joints.items()},
-                dict(spec.stiffness), dict(spec.damping))
+def compile_pose(spec: PoseSpec, rename=lambda n: n) -> Pose:
+    """``rename``: joint and link names as the roles bind them now."""
+    targets, frames = {}, {}
+    for j, v in spec.joints.items():
+        if isinstance(v, FrameTargetSpec):
+            t = frame_target(v)
+            frames[rename(j)] = FrameTarget(None if t.ref is None else rename(t.ref), t.angle,
+                                            t.hold_parent)
+        else:
+            targets[rename(j)] = math.radians(v)
+    return Pose(targets, {rename(j): k for j, k in spec.stiffness.items()},
+                {rename(j): d for j, d in spec.damping.items()}, frames)
 
 
-def compile_poses(specs: dict[str, PoseSpec]) -> dict[str, Pose]:
-    return {name: compile_pose(spec) for name, spec in specs.items()}
+def compile_poses(specs: dict[str, PoseSpec], rename=lambda n: n) -> dict[str, Pose]:
+    return {name: compile_pose(spec, rename) for name, spec in specs.items()}
 
 
-def apply_pose(servos, pose: Pose, only: set[str] | None = None) -> None:
-    """Write a pose's targets and gains to the servos (only the joints in ``only``)."""
+def apply_pose(servos, pose: Pose, only: set[str] | None = None, frames=None,
+               owner=None) -> None:
+    """Write a pose's targets and gains to the servos (only the joints in ``only``);
+    its frame targets go to ``frames`` (the frame-target controller) under ``owner``."""
     for joint, angle in pose.targets.items():
         if only is None or joint in only:
             servos[joint].target = angle
+            if frames is not None and frames.held:
+                frames.forget(joint)
     for joint, k in pose.stiffness.items():
         if only is None or joint in only:
             servos[joint].stiffness = k
     for joint, d in pose.damping.items():
         if only is None or joint in only:
             servos[joint].damping = d
+    if pose.frames and frames is not None:
+        for joint, target in pose.frames.items():
+            if only is None or joint in only:
+                frames.hold(joint, target, owner)

@@ -36,6 +36,9 @@ from puppet.data.interfaces import InterfaceSpec
 from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown, normalize_key
+from puppet.interface.conditions import map_reader
+from puppet.interface.controllers.feedback import Feedback
+from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
 from puppet.interface.controllers.grasp import GraspController
 from puppet.interface.controllers.perturbation import Perturber
@@ -44,8 +47,8 @@ from puppet.interface.controllers.sequence import SequenceController
 from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.events import Event
 from puppet.interface.ik import Chain
-from puppet.interface.ownership import JointOwners
-from puppet.interface.poses import apply_pose, compile_poses
+from puppet.interface.ownership import FEEDBACK, FRAME, JointOwners
+from puppet.interface.poses import apply_pose, compile_poses, frame_target
 from puppet.physics.character import Character
 
 MAX_CHAINED_GOTOS = 16
@@ -87,9 +90,15 @@ class InterfaceRuntime:
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
                                         self.grasping, self.read_input, self.dt)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
-        # Tick order; the state machines tick after them.
+        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
+        self.frames = FrameTargets(character, self.owners, every)
+        self.sequences.frames = self.frames
+        self.feedback = Feedback(servos, self.owners, self.inputs, every)
+        self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
+        # Tick order (the state machines tick after them): what runs writes its targets,
+        # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
-                            self.perturber)
+                            self.perturber, self.frames, self.feedback)
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
         self._map_cache: dict[int, object] = {}
@@ -199,6 +208,8 @@ class InterfaceRuntime:
         for machine in self.machines.values():
             machine.enter(machine.initial, now)
         self._refresh_active_maps()
+        for applier, joints in self.feedback.setters:  # sensor maps own their joints
+            self.feedback.claim(joints)
         for name in self.machines:
             self._run_entry(name, now, 0)
         self._reschedule(now)
@@ -215,6 +226,7 @@ class InterfaceRuntime:
         self.active_maps = active
         self._mouse_maps = self._compiled(("mouse.x", "mouse.y"))
         self._channel_maps = {}
+        self._push_feedback(active)
         joints: set[str] = set()
         for m in active:
             if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
@@ -227,16 +239,46 @@ class InterfaceRuntime:
         self.gestures.mouse_joints = joints
 
     def _compiled(self, inputs) -> list:
-        """Compiled appliers of the active maps reading any of ``inputs``, in order."""
+        """Compiled appliers of the active device maps reading any of ``inputs``, in
+        order (feedback maps run at the control rate instead)."""
         return [self._applier(m) for m in self.active_maps
-                if any(i in inputs for i in m.inputs)]
+                if not m.feedback and any(i in inputs for i in m.inputs)]
+
+    def _push_feedback(self, active) -> None:
+        """Hand the active feedback maps (sensor inputs, ``add``) to their controller."""
+        readers, setters, adders = {}, [], []
+        for m in active:
+            if not m.feedback:
+                continue
+            for name in m.inputs:
+                if name.startswith("sensor.") and name not in readers:
+                    read = self._readers.get(name)
+                    if read is None:
+                        read = self._readers[name] = map_reader(name[7:], self.character)
+                    readers[name] = read
+            if getattr(m, "combine", "set") == "add":
+                adders.append(self._applier(m))
+            else:
+                setters.append((self._applier(m), tuple(sorted(self._map_joints(m)))))
+        self.feedback.set_maps(list(readers.items()), setters, adders)
+
+    def _map_joints(self, m) -> set[str]:
+        if getattr(m, "grid", None) is not None:
+            these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
+            return these if m.joints is None else these & set(m.joints)
+        return set(m.gains())
 
     def _applier(self, m):
         """The compiled form of map ``m`` (compiled once per runtime)."""
         applier = self._map_cache.get(id(m))
         if applier is None:
-            applier = self._map_cache[id(m)] = mapping.compile_map(
-                m, self.character.servos, self.pose_targets, self.channels)
+            if getattr(m, "combine", "set") == "add":
+                applier = mapping.compile_contribution(m, self.channels)
+            else:
+                applier = mapping.compile_map(m, self.character.servos, self.pose_targets,
+                                              self.channels, self.frames,
+                                              FEEDBACK if m.feedback else None)
+            self._map_cache[id(m)] = applier
         return applier
 
     def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
@@ -299,9 +341,13 @@ class InterfaceRuntime:
 
     def _activate(self, maps) -> None:
         """Maps that just became active (a mode or state entered) act at once with the
-        inputs as they are; the maps that were active already leave their joints be."""
+        inputs as they are; the maps that were active already leave their joints be. A
+        sensor map takes its joints, and writes them at the next control step."""
         for m in maps:
-            self.owners.take(self._applier(m)(self.inputs))
+            if not m.feedback:
+                self.owners.take(self._applier(m)(self.inputs))
+            elif getattr(m, "combine", "set") != "add":
+                self.feedback.claim(self._map_joints(m))
 
     # -- input -------------------------------------------------------------------
     def _lookup(self, chord: str) -> tuple[ActionSpec | None, str | None]:
@@ -449,15 +495,24 @@ class InterfaceRuntime:
                 servos[joint].stiffness = k
             for joint, d in a.damping.items():
                 servos[joint].damping = d
+        frames = self.frames
         if a.pose is not None:
             pose = self.poses[a.pose]
-            apply_pose(servos, pose)
             self.owners.take(pose.targets)
+            apply_pose(servos, pose, frames=frames, owner=FRAME)
+        held = []
         for joint, deg in a.set.items():
-            servos[joint].target = math.radians(deg)
+            if isinstance(deg, (int, float)):
+                servos[joint].target = math.radians(deg)
+                frames.forget(joint)
+            else:
+                held.append((joint, frame_target(deg)))
         for joint, deg in a.adjust.items():
             servos[joint].target += math.radians(deg)
+            frames.forget(joint)
         self.owners.take(a.touched_joints())
+        for joint, target in held:  # after the take: a frame target is held (owned)
+            frames.hold(joint, target)
         if a.sequence is not None:
             self.sequences.start(a.sequence, now, a.repeat)
         if a.release is not None:

@@ -204,6 +204,18 @@ class Character:
         self.bodies[name].each_arbiter(lambda arbiter: touching.append(1))
         return bool(touching)
 
+    def support_extent(self) -> tuple[float, float] | None:
+        """(leftmost, rightmost) x of the points where the character touches anything
+        outside itself (the support polygon, in the plane a segment), or None."""
+        xs: list[float] = []
+
+        def collect(arbiter) -> None:
+            for p in arbiter.contact_point_set.points:
+                xs.append(p.point_a.x)
+        for body in self.bodies.values():
+            body.each_arbiter(collect)
+        return (min(xs), max(xs)) if xs else None
+
     def joint_angle(self, name: str) -> float:
         return self.servos[name].angle
 

@@ -48,6 +48,7 @@ class SequenceController:
         self.servos = servos
         self.owners_table = owners
         self.running: RunningSequence | None = None
+        self.frames = None  # the frame-target controller, for poses in other frames
 
     def start(self, name: str, now: int, repeat: int | str | None = None) -> None:
         """Start sequence ``name`` (replacing the running one); ``repeat``: plays in
@@ -60,7 +61,7 @@ class SequenceController:
         for pose_name, _ in plan:
             joints |= self.poses[pose_name].joints
         self.owners_table.claim(joints, SEQUENCE)
-        apply_pose(self.servos, self.poses[plan[0][0]])
+        apply_pose(self.servos, self.poses[plan[0][0]], None, self.frames, SEQUENCE)
 
     def _next_pose(self, running: RunningSequence) -> str | None:
         """Move on to the next step; its pose name, or None when the sequence is over."""
@@ -86,7 +87,8 @@ class SequenceController:
                 owners.drop(SEQUENCE)
                 self.running = seq = None
             else:
-                apply_pose(self.servos, self.poses[pose_name], owners.owned(SEQUENCE))
+                apply_pose(self.servos, self.poses[pose_name], owners.owned(SEQUENCE),
+                           self.frames, SEQUENCE)
         if seq is not None and not owners.holds_any(SEQUENCE):
             self.running = None  # every joint taken back: it has ended
 

@@ -1,0 +1,84 @@
+"""Targets in another frame: a joint held so that one of its links keeps an angle in
+the world, or relative to another link ("the chest 5 degrees forward of vertical,
+held by the stance hip"), re-solved from the figure's state at the control rate.
+
+A frame target is written by a pose, a set or a map like any target, so the owner
+table decides who may write the joint: an instant write holds it under the FRAME
+owner (a later write takes it back, as from a sequence); a sequence's pose holds it
+under the sequence. The re-solve runs on steps that are multiples of the control
+period (absolute, so replays split their steps any way and agree).
+"""
+
+from __future__ import annotations
+
+import math
+
+from puppet.interface.ownership import FRAME, JointOwners, Owner
+from puppet.interface.poses import FrameTarget
+
+_TURN = 2.0 * math.pi
+
+
+class FrameTargets:
+    def __init__(self, character, owners: JointOwners, every: int):
+        self.character = character
+        self.owners_table = owners
+        self.every = every
+        self.held: dict[str, tuple[FrameTarget, Owner]] = {}  # joint -> (target, owner)
+        self.joints = {j.name: j for j in character.spec.actuated}
+
+    def hold(self, joint: str, target: FrameTarget, owner: Owner | None = None) -> None:
+        """Hold ``joint`` at ``target`` from now on (solved at once, then at the control
+        rate) under ``owner`` (default FRAME: an instant write, which claims it)."""
+        owner = owner or FRAME
+        if owner == FRAME:
+            self.owners_table.table[joint] = FRAME
+        self.held[joint] = (target, owner)
+        self._solve(joint, target)
+
+    def forget(self, joint: str) -> None:
+        self.held.pop(joint, None)
+
+    def _solve(self, joint: str, target: FrameTarget) -> None:
+        c = self.character
+        spec = self.joints[joint]
+        parent, child = c.bodies[spec.parent], c.bodies[spec.child]
+        want = target.angle + (0.0 if target.ref is None else c.bodies[target.ref].angle)
+        if target.hold_parent:  # the parent at ``want``: child - want
+            q = child.angle - want
+        else:  # the child at ``want``: want - parent
+            q = want - parent.angle
+        now = child.angle - parent.angle  # the same turn as the joint is in now
+        c.servos[joint].target = now + math.remainder(q - now, _TURN)
+
+    def tick(self, step: int) -> None:
+        if step % self.every:
+            return
+        table = self.owners_table.table
+        for joint, (target, owner) in list(self.held.items()):
+            if table.get(joint) != owner:  # taken back by a later write: let go
+                del self.held[joint]
+            else:
+                self._solve(joint, target)
+
+    def next_wakeup(self, earliest: int) -> int | None:
+        if not self.held:
+            return None
+        return -(-earliest // self.every) * self.every
+
+    def owners(self) -> set[Owner]:
+        return {FRAME} if any(o == FRAME for _, o in self.held.values()) else set()
+
+    def get_state(self):
+        return {j: [t.to_state(), o.kind, o.name] for j, (t, o) in self.held.items()}
+
+    def set_state(self, state) -> None:
+        self.held = {j: (FrameTarget(*t), Owner(kind, name))
+                     for j, (t, kind, name) in state.items()}
+
+    def adopt(self, old: FrameTargets, same, now: int) -> set[Owner]:
+        self.held = dict(old.held)
+        return self.owners()
+
+    def stop(self) -> None:
+        self.held = {}

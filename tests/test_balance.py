@@ -1,0 +1,142 @@
+"""Balance as data: targets in the world frame, maps that read the figure's sensors,
+maps that add to a target (puppet/interface/controllers/frame.py and feedback.py)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from puppet.data.actions import ActionSpec
+from puppet.data.catalog import load_setup
+from puppet.data.errors import DataError
+from puppet.session import Session
+
+ARMS = "neck: 0, shoulder_near: -6, elbow_near: 12, shoulder_far: 6, elbow_far: 12"
+# Knees bent 10 deg. Held as joint angles, the hips and ankles keep the legs' shape and
+# the figure tips over; held in the world frame (the hips hold the pelvis upright, the
+# ankles the shanks at 5 deg), it stands on its own and takes a push.
+JOINT_RELATIVE = ("waist: 0, hip_near: 5, knee_near: -10, ankle_near: 5, "
+                  "hip_far: 5, knee_far: -10, ankle_far: 5")
+WORLD_FRAME = ("waist: {world: 0}, hip_near: {world: 0, hold: parent}, knee_near: -10, "
+               "ankle_near: {world: -5, hold: parent}, hip_far: {world: 0, hold: parent}, "
+               "knee_far: -10, ankle_far: {world: -5, hold: parent}")
+
+
+def _stance(tmp_path, joints: str, name: str, extra: str = "") -> Session:
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(f"name: {name}\ndescription: a stance\ncharacter: biped\n"
+                    f"scene: biped-track\nposes:\n  stand:\n    joints: {{{joints}, {ARMS}}}\n"
+                    f"states:\n  standing:\n    enter: {{pose: stand}}\n{extra}")
+    return Session(load_setup(str(path)))
+
+
+def _stands_after_push(session: Session, impulse: float) -> bool:
+    session.advance(480)  # settle 1 s
+    c = session.character
+    chest = c.bodies["chest"]
+    chest.apply_impulse_at_local_point((impulse, 0.0), chest.center_of_gravity)
+    session.advance(4 * 480)
+    upright = all(abs(math.degrees(math.remainder(c.bodies[n].angle, 2 * math.pi))) < 45
+                  for n in ("pelvis", "chest"))
+    return upright and c.in_contact("foot_near") and c.in_contact("foot_far")
+
+
+def test_a_trunk_held_in_the_world_survives_a_backward_push_that_joint_targets_do_not(
+        tmp_path):
+    impulse = -12.0  # N*s backward at the chest's centre of mass (about 0.17 m/s)
+    assert _stands_after_push(_stance(tmp_path, WORLD_FRAME, "world"), impulse)
+    assert not _stands_after_push(_stance(tmp_path, JOINT_RELATIVE, "joints"), impulse)
+
+
+def test_a_world_target_is_resolved_from_the_links_at_the_control_rate(tmp_path):
+    s = _stance(tmp_path, WORLD_FRAME, "world")
+    s.advance(480)
+    c = s.character
+    assert abs(math.degrees(math.remainder(c.bodies["pelvis"].angle, 2 * math.pi))) < 2.0
+    s.advance(8)  # a control step (60 Hz = every 8 steps): the targets were just solved
+    s.runtime.frames.tick(s.steps)
+    hip, ankle = c.spec.joint("hip_near"), c.spec.joint("ankle_near")
+    # hold parent: target = child angle - the parent's wanted world angle
+    assert math.isclose(c.servos["hip_near"].target, c.bodies[hip.child].angle - 0.0,
+                        abs_tol=1e-12)
+    assert math.isclose(c.servos["ankle_near"].target,
+                        c.bodies[ankle.child].angle - math.radians(-5.0), abs_tol=1e-12)
+    # hold child (the waist holds the chest): target = wanted - the parent's angle
+    waist = c.spec.joint("waist")
+    assert math.isclose(c.servos["waist"].target, 0.0 - c.bodies[waist.parent].angle,
+                        abs_tol=1e-12)
+
+
+def test_a_later_pose_takes_a_frame_held_joint_back(tmp_path):
+    s = _stance(tmp_path, WORLD_FRAME, "world", "keys:\n  - {key: a, set: {waist: 7}}\n")
+    from puppet.interface import events as ev
+
+    s.advance(100)
+    assert "waist" in s.runtime.frames.held
+    s.handle(ev.key("a"))
+    s.advance(40)
+    assert "waist" not in s.runtime.frames.held
+    assert math.isclose(math.degrees(s.character.servos["waist"].target), 7.0)
+
+
+SENSOR_MAP = """maps:
+  - {input: sensor.angle.pelvis, joint: shoulder_near, from: [-10, 10], to: [-40, 40],
+     combine: add}
+"""
+
+
+def test_an_add_map_adds_to_whatever_writes_the_joint(tmp_path):
+    s = _stance(tmp_path, WORLD_FRAME, "world", SENSOR_MAP)
+    s.advance(480)
+    c = s.character
+    base = math.radians(-6.0)  # the pose's shoulder target
+    pelvis = math.degrees(c.bodies["pelvis"].angle)
+    want = base + math.radians(4.0 * max(-10, min(10, pelvis)))
+    assert math.isclose(c.servos["shoulder_near"].target, want, abs_tol=math.radians(0.5))
+    s.runtime.run_action(ActionSpec(set={"shoulder_near": 20.0}), s.steps)
+    s.advance(16)  # the next control step adds to the new base
+    pelvis = math.degrees(c.bodies["pelvis"].angle)
+    want = math.radians(20.0) + math.radians(4.0 * max(-10, min(10, pelvis)))
+    assert math.isclose(c.servos["shoulder_near"].target, want, abs_tol=math.radians(0.5))
+
+
+def test_feedback_runs_replay_bit_identically(tmp_path):
+    from puppet.interface import events as ev
+    from puppet.timeline.log import Recorder, read_log
+    from puppet.timeline.replay import replay
+
+    s = _stance(tmp_path, WORLD_FRAME, "world",
+                SENSOR_MAP + "keys:\n  - {key: a, set: {waist: {world: -8}}}\n")
+    path = tmp_path / "fb.jsonl"
+    with Recorder(s, path):
+        s.advance(480)
+        s.handle(ev.key("a"))
+        s.handle(ev.key("a", False))
+        s.advance(700)
+        s.handle(ev.action("checkpoint"))
+        s.advance(500)
+        s.handle({"type": "action", "name": "rewind", "to_step": 900})
+        s.advance(333)
+    log = read_log(path)
+    assert replay(path).final_hash == log.end_hash == s.sim.state_hash()
+    assert s.runtime.frames.held  # the world targets were live all along
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("maps:\n  - {input: sensor.com.vz, joint: waist, to: [0, 1]}\n", "unknown sensor"),
+    ("maps:\n  - {input: sensor.angle.chets, joint: waist, to: [0, 1]}\n", "did you mean"),
+    ("maps:\n  - {input: mouse.x, joint: waist, to: [0, 1], frame: wrold}\n", "unknown frame"),
+    ("maps:\n  - {input: mouse.x, joint: waist, to: [0, 1], frame: world, combine: add}\n",
+     "'frame' goes with 'set'"),
+    ("poses:\n  p: {joints: {waist: {world: 1, relative_to: chest, angle: 2}}}\n",
+     "exactly one of 'world'"),
+    ("poses:\n  p: {joints: {waist: {relative_to: chset, angle: 2}}}\n", "unknown link"),
+])
+def test_balance_constructs_are_checked_at_load(tmp_path, text, fragment):
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: bad\ndescription: bad\ncharacter: biped\n" + text)
+    with pytest.raises(DataError) as info:
+        load_setup(str(path))
+    assert fragment in str(info.value) and str(path) in str(info.value)
+    assert ":" in str(info.value).split(str(path))[1][:6]  # file:line
