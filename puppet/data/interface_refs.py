@@ -339,6 +339,8 @@ def map_conflicts(spec, located: Located) -> list[str]:
     for label, maps in groups:
         writer: dict[str, object] = {}
         for m in maps:
+            if getattr(m, "combine", "set") == "add":
+                continue  # adds to the target: combines with any writer, by design
             for joint in sorted(_map_joints(spec, m)):
                 first = writer.get(joint)
                 if first is not None and (id(first), id(m), joint) not in seen:

@@ -69,6 +69,7 @@ class LinearMapSpec(Spec):
     combine: Literal["set", "add"] = Field(
         "set", description="set: the map writes the target; add: its value is added to "
                            "the target whatever else writes (at the control rate)")
+    description: str = Field("", description="what it does, in the player's words")
 
     _check_input = field_validator("input")(lambda cls, v: check_input_name(v))
 
@@ -109,6 +110,7 @@ class GridMapSpec(Spec):
     joints: list[str] | None = Field(
         None, description="drive only these of the poses' joints (default: all); with "
                           "several maps over one grid, each limb can have its own map")
+    description: str = Field("", description="what it does, in the player's words")
     mirror: list[Literal["x", "y"]] = Field(
         default_factory=list, description="flip these inputs (u -> 1 - u) before the "
                                           "lookup: [x, y] reflects the input through the "

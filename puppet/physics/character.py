@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 import pymunk
+from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec, LinkSpec
 from puppet.physics.servo import PDServo
@@ -172,21 +173,34 @@ class Character:
             servo.bind(next(it))
 
     # -- sensors (named after what they measure; also used by conditions and checks)
+    def _mass_points(self) -> list:
+        """(C body, mass, centre of gravity) per link, for the centre-of-mass sensors:
+        the very C calls pymunk's ``local_to_world`` and ``velocity_at_local_point``
+        make, without building a Vec2d per body (they run at the control rate)."""
+        bodies = self.bodies
+        cached = self.__dict__.get("_points")
+        if cached is None or cached[0] is not bodies:
+            cached = self._points = (bodies, [(b._body, b.mass, tuple(b.center_of_gravity))
+                                              for b in bodies.values()])
+        return cached[1]
+
     def com(self) -> tuple[float, float]:
         """Centre of mass, world m."""
         mx = my = 0.0
-        for body in self.bodies.values():
-            p = body.local_to_world(body.center_of_gravity)
-            mx += body.mass * p[0]
-            my += body.mass * p[1]
+        to_world = _cp.cpBodyLocalToWorld
+        for body, mass, cog in self._mass_points():
+            p = to_world(body, cog)
+            mx += mass * p.x
+            my += mass * p.y
         return (mx / self.mass, my / self.mass)
 
     def com_velocity(self) -> tuple[float, float]:
         vx = vy = 0.0
-        for body in self.bodies.values():
-            v = body.velocity_at_local_point(body.center_of_gravity)
-            vx += body.mass * v[0]
-            vy += body.mass * v[1]
+        velocity = _cp.cpBodyGetVelocityAtLocalPoint
+        for body, mass, cog in self._mass_points():
+            v = velocity(body, cog)
+            vx += mass * v.x
+            vy += mass * v.y
         return (vx / self.mass, vy / self.mass)
 
     def root_angle(self) -> float:
