@@ -140,3 +140,76 @@ def test_balance_constructs_are_checked_at_load(tmp_path, text, fragment):
         load_setup(str(path))
     assert fragment in str(info.value) and str(path) in str(info.value)
     assert ":" in str(info.value).split(str(path))[1][:6]  # file:line
+
+
+ROLES = """roles:
+  stance_hip:   {near: hip_near, far: hip_far}
+  swing_hip:    {near: hip_far, far: hip_near}
+  swing_knee:   {near: knee_far, far: knee_near}
+  stance_thigh: {near: thigh_near, far: thigh_far}
+  swing_foot:   {near: foot_far, far: foot_near}
+poses:
+  swing_up: {joints: {swing_knee: -40, stance_hip: {world: 0, hold: parent}}}
+maps:
+  - {input: mouse.x, joint: swing_hip, from: [0, 1], to: [-20, 40]}
+states:
+  near_stance:
+    roles: near
+    enter: {pose: swing_up}
+    keys:
+      - {key: space, goto: far_stance}
+    transitions:
+      - {to: far_stance, when: {sensor: contact.swing_foot, is: true}, after: 2.0}
+  far_stance:
+    roles: far
+    enter: {pose: swing_up}
+    keys:
+      - {key: space, goto: near_stance}
+"""
+
+
+def test_roles_let_one_set_of_rules_drive_either_leg(tmp_path):
+    from puppet.interface import events as ev
+
+    path = tmp_path / "roles.yaml"
+    path.write_text("name: roles\ndescription: roles\ncharacter: biped\n" + ROLES)
+    s = Session(load_setup(str(path)))
+    servos = s.character.servos
+    s.handle(ev.mouse(1.0, 0.5))
+    assert math.isclose(math.degrees(servos["hip_far"].target), 40.0)  # swing = far leg
+    assert math.isclose(math.degrees(servos["knee_far"].target), -40.0)
+    assert "hip_near" in s.runtime.frames.held  # the stance hip holds the pelvis
+    near_hip = servos["hip_near"].target
+    s.handle(ev.key("space"))
+    assert s.runtime.state == "far_stance" and s.runtime.role_binding == "far"
+    s.handle(ev.mouse(0.0, 0.5))
+    assert math.isclose(math.degrees(servos["hip_near"].target), -20.0)  # now the near leg
+    assert math.isclose(math.degrees(servos["knee_near"].target), -40.0)
+    s.advance(8)  # a control step: the frame targets taken back by the map are let go
+    assert "hip_far" in s.runtime.frames.held and "hip_near" not in s.runtime.frames.held
+    assert near_hip != servos["hip_near"].target
+
+
+def test_a_condition_on_a_role_reads_the_link_the_binding_names(tmp_path):
+    path = tmp_path / "roles.yaml"
+    path.write_text("name: roles\ndescription: roles\ncharacter: biped\n" + ROLES)
+    s = Session(load_setup(str(path)))
+    s.advance(2 * 480 + 40)  # both feet down: swing_foot (foot_far) touches after 2 s
+    assert s.runtime.state == "far_stance"
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("roles:\n  hip_near: {a: hip_far, b: hip_near}\n", "has the name of a joint"),
+    ("roles:\n  r1: {a: hip_far, b: hip_near}\n  r2: {a: knee_far}\n", "same ones"),
+    ("roles:\n  r1: {a: hip_far, b: thigh_near}\n", "joints only, or links only"),
+    ("roles:\n  r1: {a: hip_far, b: hip_near}\nstates:\n  s: {roles: c}\n",
+     "unknown role binding 'c'"),
+    ("roles:\n  r1: {a: thigh_far, b: thigh_near}\n"
+     "maps:\n  - {input: mouse.x, joint: r1, to: [0, 1]}\n", "unknown joint 'r1'"),
+])
+def test_roles_are_checked_at_load(tmp_path, text, fragment):
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: bad\ndescription: bad\ncharacter: biped\n" + text)
+    with pytest.raises(DataError) as info:
+        load_setup(str(path))
+    assert fragment in str(info.value), str(info.value)

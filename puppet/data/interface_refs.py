@@ -92,6 +92,13 @@ def check_names(spec, located: Located) -> None:
         need(("mode",), "mode", spec.mode, spec.modes)
     if spec.initial is not None:
         need(("initial",), "state", spec.initial, spec.states)
+    bindings = spec.bindings
+    if spec.binding is not None:
+        need(("binding",), "role binding", spec.binding, bindings)
+    for _, where, machine in machine_locs(spec):
+        for name, state in machine.states.items():
+            if state.roles is not None:
+                need(where + ("states", name, "roles"), "role binding", state.roles, bindings)
     if spec.states and "main" in spec.machines:
         raise located.error(("machines", "main"), "machine name 'main' is the top-level "
                                                   "'states'; name this machine otherwise",
@@ -199,10 +206,18 @@ def _check_reachable(spec, located: Located) -> None:
                                     "leads to it", prefer_key=True)
 
 
-def sensor_problem(sensor: str, character: CharacterSpec) -> str | None:
-    """Why a condition's sensor name is wrong for this character, or None."""
+def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | None:
+    """Why a condition's sensor name is wrong for this character, or None. A joint or
+    link in it may be a role (``roles``: role -> binding -> name), checked per binding."""
     if sensor in FIXED_SENSORS:
         return None
+    for role, targets in (roles or {}).items():
+        if sensor.endswith("." + role):
+            for name in targets.values():
+                problem = sensor_problem(sensor[:-len(role)] + name, character)
+                if problem:
+                    return f"role '{role}': {problem}"
+            return None
     kind, _, name = sensor.partition(".")
     if sensor.startswith("com.dx."):
         kind, name = "com.dx", sensor[len("com.dx."):]
@@ -226,27 +241,25 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
     pose angles must be within the joints' limits."""
     actuated = [j.name for j in character.actuated]
     owner = f" for character '{character.name}'"
+    links = [link.name for link in character.links]
+    joint_roles, link_roles = _check_roles(spec, character, located, actuated, links)
 
     def need(loc, name, prefer_key=False):
-        if name not in actuated:
-            raise located.error(loc, unknown("joint", name, actuated, owner),
+        if name not in actuated and name not in joint_roles:
+            raise located.error(loc, unknown("joint", name, actuated + joint_roles, owner),
                                 prefer_key=prefer_key)
 
-    links = [link.name for link in character.links]
-
     def need_link(loc, name):
-        if name not in links:
-            raise located.error(loc, unknown("link", name, links, owner))
+        if name not in links and name not in link_roles:
+            raise located.error(loc, unknown("link", name, links + link_roles, owner))
 
     def in_limits(loc, name, deg):
         if not isinstance(deg, (int, float)):  # a frame target: checked as a link
             if deg.relative_to is not None:
                 need_link(loc + ("relative_to",), deg.relative_to)
             return
-        limits = character.joint(name).limits
-        if limits is not None and not limits[0] <= deg <= limits[1]:
-            raise located.error(loc, f"{deg:g} deg for joint '{name}' is outside its limits "
-                                     f"[{limits[0]:g}, {limits[1]:g}]")
+        for joint in spec.roles.get(name, {None: name}).values():  # each joint a role means
+            _in_limits(located, loc, joint, deg, character)
 
     for name in spec.gains:
         need(("gains", name), name, True)
@@ -260,7 +273,7 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
         for field in ("input", "x", "y"):
             name = getattr(m, field, None)
             if isinstance(name, str) and name.startswith("sensor."):
-                problem = sensor_problem(name[len("sensor."):], character)
+                problem = sensor_problem(name[len("sensor."):], character, spec.roles)
                 if problem:
                     raise located.error(loc + (field,), problem)
         if getattr(m, "grid", None) is not None:
@@ -269,7 +282,7 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             need(loc + ("joint",), m.joint)
         for name in m.joints:
             need(loc + ("joints", name), name, True)
-        if m.frame not in ("joint", "world") and m.frame not in links:
+        if m.frame not in ("joint", "world") and m.frame not in links + link_roles:
             raise located.error(loc + ("frame",), unknown(
                 "frame", m.frame, ["joint", "world"] + links,
                 " (joint, world or a link)"))
@@ -291,9 +304,44 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                                     f"parent is '{second.parent}'")
     for _, _, loc, t in transitions(spec):
         if t.when is not None:
-            problem = sensor_problem(t.when.sensor, character)
+            problem = sensor_problem(t.when.sensor, character, spec.roles)
             if problem:
                 raise located.error(loc + ("when", "sensor"), problem)
+
+
+def _in_limits(located, loc, name, deg, character) -> None:
+    limits = character.joint(name).limits
+    if limits is not None and not limits[0] <= deg <= limits[1]:
+        raise located.error(loc, f"{deg:g} deg for joint '{name}' is outside its limits "
+                                 f"[{limits[0]:g}, {limits[1]:g}]")
+
+
+def _check_roles(spec, character, located, actuated, links) -> tuple[list, list]:
+    """Roles name joints (all of one role's) or links, never clash with a real name,
+    and every role has the same bindings. Returns (joint roles, link roles)."""
+    joint_roles, link_roles = [], []
+    bindings = spec.bindings
+    for role, targets in spec.roles.items():
+        loc = ("roles", role)
+        if role in actuated or role in links or role in [j.name for j in character.joints]:
+            raise located.error(loc, f"role '{role}' has the name of a joint or link of "
+                                     f"'{character.name}'; name it otherwise",
+                                prefer_key=True)
+        if list(targets) != bindings:
+            raise located.error(loc, f"role '{role}' has bindings {list(targets)}; every "
+                                     f"role needs the same ones, in order: {bindings}")
+        names = list(targets.values())
+        if all(n in actuated for n in names):
+            joint_roles.append(role)
+        elif all(n in links for n in names):
+            link_roles.append(role)
+        else:
+            bad = next(n for n in names if n not in actuated and n not in links) \
+                if any(n not in actuated and n not in links for n in names) else names[0]
+            raise located.error(loc, unknown("joint or link", bad, actuated + links,
+                                             f" in role '{role}' (a role names actuated "
+                                             "joints only, or links only)"))
+    return joint_roles, link_roles
 
 
 def check_scene_refs(spec, scene, located: Located, scene_name: str) -> None:

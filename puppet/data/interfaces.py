@@ -177,6 +177,8 @@ class StateSpec(Spec):
     keys: list[KeyActionSpec] = Field(default_factory=list)
     maps: list[MapSpec] = Field(default_factory=list)
     transitions: list[TransitionSpec] = Field(default_factory=list)
+    roles: str | None = Field(None, description="the role binding this state selects "
+                                                "(which leg is the stance leg...)")
     description: str = ""
 
 
@@ -247,6 +249,12 @@ class InterfaceSpec(Spec):
         default_factory=dict, description="more state machines, side by side with "
                                           "'states' (the machine 'main')")
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
+    roles: dict[str, dict[str, str]] = Field(
+        default_factory=dict, description="role -> binding -> joint or link: names that "
+                                          "mean one joint or link in one binding and "
+                                          "another in the next (a state's 'roles')")
+    binding: str | None = Field(None, description="the starting role binding; default "
+                                                  "the first")
     control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
     checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=CHECKPOINT_MIN, le=CHECKPOINT_MAX,
@@ -274,6 +282,24 @@ class InterfaceSpec(Spec):
     @property
     def start_state(self) -> str | None:
         return self.initial if self.initial is not None else next(iter(self.states), None)
+
+    @property
+    def bindings(self) -> list[str]:
+        """The role bindings' names (those of the first role; all roles share them)."""
+        for targets in self.roles.values():
+            return list(targets)
+        return []
+
+    @property
+    def start_binding(self) -> str | None:
+        return self.binding if self.binding is not None else next(iter(self.bindings), None)
+
+    def renamer(self, binding: str | None):
+        """``name -> the joint or link it means`` under ``binding`` (itself unless a role)."""
+        roles = self.roles
+        if not roles or binding is None:
+            return lambda name: name
+        return lambda name: roles[name][binding] if name in roles else name
 
     def state_machines(self) -> dict[str, MachineSpec]:
         """Every state machine by name, in the order they run: the top-level ``states``

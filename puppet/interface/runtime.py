@@ -64,12 +64,17 @@ class InterfaceRuntime:
         self.sim = sim
         self.dt = dt if dt is not None else (sim.dt if sim is not None else 1.0 / 480.0)
         self.now = 0  # current step when there is no Simulation to ask
-        self.poses = compile_poses(spec.poses)
-        self.pose_targets = {n: p.targets for n, p in self.poses.items()}
+        # Roles: names that mean one joint or link in one binding, another in the next
+        # (the stance leg and the swing leg); poses and maps are compiled per binding.
+        self._pose_sets: dict[str | None, dict] = {}
+        self.role_binding: str | None = None
+        self._use_binding(spec.start_binding)
         self.bindings = {normalize_key(k.key): k for k in spec.keys}
         machines = spec.state_machines()
         self.machines = {name: StateMachine(name, m, spec, character, self.dt)
                          for name, m in machines.items()}
+        for machine in self.machines.values():
+            machine.use_renamer(self.role_binding, self._rename_sensor)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
         self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
                                for mname, m in machines.items()
@@ -101,7 +106,7 @@ class InterfaceRuntime:
                             self.perturber, self.frames, self.feedback)
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
-        self._map_cache: dict[int, object] = {}
+        self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> maps reading them
         self._pending: list[tuple] = []  # channel maps not yet applied (see _on_channels)
         self.mode = spec.start_mode
@@ -109,6 +114,43 @@ class InterfaceRuntime:
         if start:
             self.apply_gains()
             self._start_control()
+
+    def _use_binding(self, binding: str | None) -> None:
+        """Resolve roles as ``binding`` says from now on (poses, maps, sensors)."""
+        self.role_binding = binding
+        self._rename = self.spec.renamer(binding)
+        poses = self._pose_sets.get(binding)
+        if poses is None:
+            poses = self._pose_sets[binding] = compile_poses(self.spec.poses, self._rename)
+        self.poses = poses
+        self.pose_targets = {n: p.targets for n, p in poses.items()}
+        if "sequences" in self.__dict__:
+            self.sequences.poses = poses
+        for machine in self.__dict__.get("machines", {}).values():
+            machine.use_renamer(binding, self._rename_sensor)
+
+    def _rename_sensor(self, sensor: str) -> str:
+        """A sensor name with a role in it (angle.swing_thigh) as the binding means it."""
+        for role in self.spec.roles:
+            if sensor.endswith("." + role):
+                return sensor[:-len(role)] + self._rename(role)
+        return sensor
+
+    def _bound_map(self, m):
+        """Map ``m`` with its roles resolved under the current binding."""
+        if not self.spec.roles:
+            return m
+        r, rs = self._rename, self._rename_sensor
+        if getattr(m, "grid", None) is not None:
+            update = {"x": rs(m.x), "y": rs(m.y)}
+            if m.joints is not None:
+                update["joints"] = [r(j) for j in m.joints]
+            return m.model_copy(update=update)
+        update = {"input": rs(m.input), "joints": {r(j): g for j, g in m.joints.items()},
+                  "frame": r(m.frame)}
+        if m.joint is not None:
+            update["joint"] = r(m.joint)
+        return m.model_copy(update=update)
 
     # -- what runs (read by the HUD, replays and tests) -------------------------------
     @property
@@ -171,6 +213,8 @@ class InterfaceRuntime:
         self.held = set(old.held)
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
+        if old.role_binding in spec.bindings:
+            self._use_binding(old.role_binding)
 
         def same(kind: str, name: str) -> bool:
             if kind == "sequence":
@@ -230,11 +274,7 @@ class InterfaceRuntime:
         joints: set[str] = set()
         for m in active:
             if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
-                if getattr(m, "grid", None) is not None:
-                    these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
-                    joints |= these if m.joints is None else these & set(m.joints)
-                else:
-                    joints |= set(m.gains())
+                joints |= self._map_joints(m)
         self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
         self.gestures.mouse_joints = joints
 
@@ -250,7 +290,7 @@ class InterfaceRuntime:
         for m in active:
             if not m.feedback:
                 continue
-            for name in m.inputs:
+            for name in self._bound_map(m).inputs:
                 if name.startswith("sensor.") and name not in readers:
                     read = self._readers.get(name)
                     if read is None:
@@ -263,6 +303,7 @@ class InterfaceRuntime:
         self.feedback.set_maps(list(readers.items()), setters, adders)
 
     def _map_joints(self, m) -> set[str]:
+        m = self._bound_map(m)
         if getattr(m, "grid", None) is not None:
             these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
             return these if m.joints is None else these & set(m.joints)
@@ -270,15 +311,17 @@ class InterfaceRuntime:
 
     def _applier(self, m):
         """The compiled form of map ``m`` (compiled once per runtime)."""
-        applier = self._map_cache.get(id(m))
+        key = (id(m), self.role_binding)
+        applier = self._map_cache.get(key)
         if applier is None:
+            m = self._bound_map(m)
             if getattr(m, "combine", "set") == "add":
                 applier = mapping.compile_contribution(m, self.channels)
             else:
                 applier = mapping.compile_map(m, self.character.servos, self.pose_targets,
                                               self.channels, self.frames,
                                               FEEDBACK if m.feedback else None)
-            self._map_cache[id(m)] = applier
+            self._map_cache[key] = applier
         return applier
 
     def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
@@ -486,15 +529,17 @@ class InterfaceRuntime:
             if to is not None:
                 self._enter_state(to[0], to[1], now, depth)
         servos = self.character.servos
+        r = self._rename
         if a.stiffness or a.damping:
             if a.while_held and chord is not None:
                 saved = self.gain_holds.setdefault(chord, {})
                 for joint in set(a.stiffness) | set(a.damping):
-                    saved.setdefault(joint, [servos[joint].stiffness, servos[joint].damping])
+                    saved.setdefault(r(joint), [servos[r(joint)].stiffness,
+                                                servos[r(joint)].damping])
             for joint, k in a.stiffness.items():
-                servos[joint].stiffness = k
+                servos[r(joint)].stiffness = k
             for joint, d in a.damping.items():
-                servos[joint].damping = d
+                servos[r(joint)].damping = d
         frames = self.frames
         if a.pose is not None:
             pose = self.poses[a.pose]
@@ -502,15 +547,18 @@ class InterfaceRuntime:
             apply_pose(servos, pose, frames=frames, owner=FRAME)
         held = []
         for joint, deg in a.set.items():
+            joint = r(joint)
             if isinstance(deg, (int, float)):
                 servos[joint].target = math.radians(deg)
                 frames.forget(joint)
             else:
-                held.append((joint, frame_target(deg)))
+                t = frame_target(deg)
+                held.append((joint, t if t.ref is None else
+                             type(t)(r(t.ref), t.angle, t.hold_parent)))
         for joint, deg in a.adjust.items():
-            servos[joint].target += math.radians(deg)
-            frames.forget(joint)
-        self.owners.take(a.touched_joints())
+            servos[r(joint)].target += math.radians(deg)
+            frames.forget(r(joint))
+        self.owners.take([r(j) for j in a.touched_joints()])
         for joint, target in held:  # after the take: a frame target is held (owned)
             frames.hold(joint, target)
         if a.sequence is not None:
@@ -531,6 +579,9 @@ class InterfaceRuntime:
         if depth >= MAX_CHAINED_GOTOS:
             return
         self.machines[machine].enter(state, now)
+        roles = self.machines[machine].spec.states[state].roles
+        if roles is not None and roles != self.role_binding:
+            self._use_binding(roles)
         self._refresh_active_maps()
         self._activate(self.machines[machine].spec.states[state].maps)
         self._run_entry(machine, now, depth + 1)
@@ -587,6 +638,7 @@ class InterfaceRuntime:
         self.owners.table = {}
         self.gain_holds = {}
         self.mode = self.spec.start_mode
+        self._use_binding(self.spec.start_binding)
         self.apply_gains()
         self._start_control()
         self.apply_maps()
@@ -600,7 +652,8 @@ class InterfaceRuntime:
                 "owners": self.owners.get_state(),
                 "controllers": [c.get_state() for c in self.controllers],
                 "machines": {n: m.get_state() for n, m in self.machines.items()},
-                "gain_holds": _copy_holds(self.gain_holds), "next_wakeup": self.next_wakeup}
+                "gain_holds": _copy_holds(self.gain_holds), "binding": self.role_binding,
+                "next_wakeup": self.next_wakeup}
 
     def set_state(self, state: dict) -> None:
         self.inputs.clear()
@@ -616,6 +669,8 @@ class InterfaceRuntime:
             if name in self.machines:
                 self.machines[name].set_state(s)
         self.gain_holds = _copy_holds(state["gain_holds"])
+        if state["binding"] != self.role_binding:
+            self._use_binding(state["binding"])
         self._pending = []
         self._refresh_active_maps()
         self._reschedule(self.step_now())

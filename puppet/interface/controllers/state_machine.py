@@ -23,29 +23,44 @@ class StateMachine:
         # of ``every`` (absolute, so how advance() calls are split does not matter).
         self.every = max(1, round(1.0 / (interface.control_rate * dt)))
         self.initial = machine.start_state
+        self.interface, self.character, self.dt = interface, character, dt
+        self._tables: dict = {}  # role binding -> (transitions, first_due)
+        self.use_renamer(None, lambda sensor: sensor)
+        self.current = self.initial
+        self.entered = 0
+
+    def use_renamer(self, binding, rename) -> None:
+        """Read the sensors as role ``binding`` names them (``rename``: a sensor name
+        with a role in it -> the one it means now)."""
+        tables = self._tables.get(binding)
+        if tables is None:
+            tables = self._tables[binding] = self._compile(rename)
+        self.transitions, self.first_due = tables
+
+    def _compile(self, rename):
+        name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
         shared = list(machine.any_state.transitions)
-        self.readers = {t.when.sensor: reader(t.when.sensor, character)
-                        for state in machine.states.values()
-                        for t in [*state.transitions, *shared] if t.when is not None}
+        readers = {t.when.sensor: reader(rename(t.when.sensor), self.character)
+                   for state in machine.states.values()
+                   for t in [*state.transitions, *shared] if t.when is not None}
 
         def compiled(t):
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
-                    self.readers[t.when.sensor] if t.when is not None else None,
+                    readers[t.when.sensor] if t.when is not None else None,
                     compile_test(t.when) if t.when is not None else None)
         # state -> [((machine, to), min steps in state, sensor reader or None, test)]:
         # the state's own transitions first, then any_state's that lead elsewhere
-        self.transitions = {
+        transitions = {
             sname: [compiled(t) for t in state.transitions]
             + [compiled(t) for t in shared if interface.resolve_goto(t.to, name) != (name, sname)]
             for sname, state in machine.states.items()}
         # state -> (min steps in state before a sensor transition is polled, before a
         # timer-only transition fires): next_wakeup is asked after every tick.
-        self.first_due = {
+        first_due = {
             sname: (min((a for _, a, s, _ in ts if s is not None), default=None),
                     min((a for _, a, s, _ in ts if s is None), default=None))
-            for sname, ts in self.transitions.items()}
-        self.current = self.initial
-        self.entered = 0
+            for sname, ts in transitions.items()}
+        return transitions, first_due
 
     def enter(self, state: str, now: int) -> None:
         self.current, self.entered = state, now
