@@ -106,6 +106,9 @@ class Session:
         if kind == "gesture":
             self.bind_gesture(event["key"], event["path"], event.get("description", ""))
             return None
+        if kind == "push":
+            self.sim.push(event["link"], tuple(event["impulse"]), event.get("point"))
+            return None
         if kind == "drag":
             phase = event["phase"]
             if phase == "start":

@@ -6,6 +6,7 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "drag", "phase": "start", "link": name, "point": [lx, ly], "target": [x, y]}
   {"type": "drag", "phase": "move", "target": [x, y]}
   {"type": "drag", "phase": "end"}
+  {"type": "push", "link": name, "impulse": [jx, jy], "point": [lx, ly]}  a shove (N*s)
   {"type": "action", "name": "reset"}                 an app action that changes the sim
   {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
   {"type": "gamepad", "name": "axis0", "value": -0.3}        input gamepad.axis0
@@ -49,6 +50,16 @@ def drag_move(target) -> Event:
 
 def drag_end() -> Event:
     return {"type": "drag", "phase": "end"}
+
+
+def push(link: str, impulse, point=None) -> Event:
+    """A shove: ``impulse`` (N*s, world) at ``point`` of ``link`` (model frame, m;
+    default its centre of mass). An input like a drag, so a log replays it."""
+    event: Event = {"type": "push", "link": link,
+                    "impulse": [float(impulse[0]), float(impulse[1])]}
+    if point is not None:
+        event["point"] = [float(point[0]), float(point[1])]
+    return event
 
 
 def mouse_button(button: str, down: bool = True) -> Event:

@@ -99,6 +99,16 @@ class Simulation:
             self.space.remove(self.drag_spring)
             self.drag_spring = None
 
+    def push(self, link: str, impulse: tuple[float, float], point=None) -> None:
+        """A shove: ``impulse`` (N*s, world) at ``point`` of ``link`` (model frame, m;
+        None: its centre of mass). Unknown links are ignored (a log from elsewhere)."""
+        body = self.character.bodies.get(link)
+        if body is None:
+            return
+        # a body's local frame is the model frame placed at the body (character.py)
+        local = body.center_of_gravity if point is None else tuple(point)
+        body.apply_impulse_at_local_point(impulse, local)
+
     # -- grasps: a pivot pinning a point of a link to the world or to a prop ----------
     def attach(self, name: str, link: str, local_point: tuple[float, float],
                world_point: tuple[float, float], prop: str | None = None) -> None:

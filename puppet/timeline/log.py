@@ -40,6 +40,7 @@ EVENT_FIELDS = {  # event type -> required fields (besides "type")
     "key": ("key", "down"),
     "action": ("name",),
     "drag": ("phase",),
+    "push": ("link", "impulse"),  # a shove: an impulse at a point of a link
     "mouse_button": ("button", "down"),  # interface inputs (puppet/interface/events.py)
     "gamepad": ("name", "value"),
     "channel": ("name", "value"),
@@ -228,6 +229,11 @@ def _check_header(path: str, header: Any) -> dict:
     return header
 
 
+def _finite_pair(v) -> bool:
+    return isinstance(v, list) and len(v) == 2 and all(
+        _is_number(x) and math.isfinite(x) for x in v)
+
+
 def _is_number(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
@@ -274,6 +280,10 @@ def event_problem(event: Any) -> str | None:
             isinstance(n, str) and _is_number(v) and math.isfinite(v)
             for n, v in event["values"].items())):
         return "channels event: 'values' must map channel names to finite numbers"
+    if kind == "push" and not (
+            isinstance(event["link"], str) and _finite_pair(event["impulse"])
+            and ("point" not in event or _finite_pair(event["point"]))):
+        return "push event: 'link' must be a name, 'impulse' (and 'point') [x, y] numbers"
     if kind == "drag" and event["phase"] not in ("start", "move", "end"):
         return f"drag event: unknown phase {event['phase']!r}"
     return None

@@ -37,6 +37,15 @@ class DragSpec(Spec):
     hold: NonNegativeFloat = 0.0
 
 
+class PushSpec(Spec):
+    """A shove: an impulse (N*s) at a point of a link (the character file's coordinates)."""
+
+    link: str
+    impulse: Vec2 = Field(description="N*s, world x and y")
+    point: Vec2 | None = Field(None, description="model frame, m; default the link's "
+                                                 "centre of mass")
+
+
 class ScriptEntry(Spec):
     t: NonNegativeFloat = Field(description="s of simulated time")
     mouse: Vec2 | None = None
@@ -45,12 +54,14 @@ class ScriptEntry(Spec):
     hold: NonNegativeFloat = 0.0
     action: str | None = None
     drag: DragSpec | None = None
+    push: PushSpec | None = None
 
     @model_validator(mode="after")
     def _one_thing(self):
-        given = [n for n in ("mouse", "key", "action", "drag") if getattr(self, n) is not None]
+        given = [n for n in ("mouse", "key", "action", "drag", "push")
+                 if getattr(self, n) is not None]
         if len(given) != 1:
-            raise ValueError("each entry needs exactly one of mouse, key, action, drag; "
+            raise ValueError("each entry needs exactly one of mouse, key, action, drag, push; "
                              f"got {', '.join(given) or 'none'}")
         if self.action is not None and self.action not in SIM_ACTIONS:
             raise ValueError(f"unknown action '{self.action}'; a script can perform "
@@ -108,6 +119,8 @@ def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
             add(e.t + max(e.hold, dt), ev.key(chord, False))
         elif e.action is not None:
             add(e.t, ev.action(e.action))
+        elif e.push is not None:
+            add(e.t, ev.push(e.push.link, e.push.impulse, e.push.point))
         else:
             d = e.drag
             start = d.start if d.start is not None else None
