@@ -243,3 +243,50 @@ def test_grasp_on_a_swinging_bar_survives_checkpoint_rewind_and_replay(tmp_path)
     path = record_events(session(tmp_path), EVENTS, END, tmp_path / "swing.jsonl")
     assert read_log(path).end_hash == want
     assert replay(path, check=False).final_hash == want
+
+
+def test_the_window_draws_the_props_where_they_are():
+    """The swinging bar is drawn along its length, and follows the bar (paler than its
+    colour: the character passes through it, ``collide: false``)."""
+    from puppet.app.headless import FrameRenderer
+
+    s = Session(load_setup("luxo-mouse", "pendulum"))
+    renderer = FrameRenderer(s)
+    swing = s.sim.props["swing"]
+    colour = tuple(min(255, int(c * 1.3)) for c in s.setup.scene.props["swing"].color)
+
+    def bar_pixels() -> set:
+        image = renderer.render(s, hud=False)
+        cam = renderer.camera
+        points = [swing.body.local_to_world((0.0, -0.1 * k)) for k in range(1, 5)]
+        return {tuple(image.get_at([round(v) for v in cam.to_screen(p)]))[:3] for p in points}
+
+    assert bar_pixels() == {colour}
+    s.advance(240)  # half a second later the bar has swung elsewhere: still drawn on it
+    assert bar_pixels() == {colour}
+    flat = Session(load_setup("luxo-mouse"))
+    image = FrameRenderer(flat).render(flat, hud=False)
+    assert colour not in {tuple(image.get_at((x, y)))[:3]
+                          for x in range(0, 1280, 4) for y in range(0, 720, 4)}
+
+
+def test_channels_frames_are_one_log_line_each_and_replay_to_the_same_bits(tmp_path):
+    """A stream of channel frames (a tracked hand steering the shade, and a channel no
+    map reads) is logged one line per frame and replays exactly."""
+    frames = [(240 + 8 * i, ev.channels({"hx": 0.5 + 0.4 * math.sin(i / 10),
+                                          "hy": 0.5 + 0.4 * math.cos(i / 7), "spare": i}))
+              for i in range(100)]
+    events = [(240, ev.key("s", True)), (241, ev.key("s", False))] + frames
+    live = session(tmp_path)
+    path = record_events(live, sorted(events, key=lambda e: e[0]), 1100,
+                         tmp_path / "hand.jsonl")
+    lines = [line for line in path.read_text().splitlines() if '"channels"' in line]
+    assert len(lines) == 100
+    assert live.runtime.inputs["channel.spare"] == 99
+    want = live.sim.state_hash()
+    assert replay(path, check=False).final_hash == want == read_log(path).end_hash
+    # the end followed the hand (the last frame's target, held since)
+    hx, hy = frames[-1][1]["values"]["hx"], frames[-1][1]["values"]["hy"]
+    base = live.character.bodies["base"]
+    target = base.local_to_world((-0.04 + 0.1 * hx, 0.32 + 0.08 * hy))
+    assert math.dist(shade_end(live), target) < 0.01
