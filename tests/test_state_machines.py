@@ -181,6 +181,7 @@ def test_a_sequence_repeated_forever_runs_until_preempted(tmp_path):
     ("iface-machine-unreachable-state", (14, 7)),
     ("iface-reach-unknown-prop", (9, 50)),
     ("iface-reach-target-and-steer", (10, 7)),
+    ("iface-transition-other-machine", (9, 14)),
 ])
 def test_errors_of_the_new_features_name_file_line_and_column(name, where):
     """The broken files are also in test_loader's list; here: the column too."""
