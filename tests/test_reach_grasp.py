@@ -290,3 +290,20 @@ def test_channels_frames_are_one_log_line_each_and_replay_to_the_same_bits(tmp_p
     base = live.character.bodies["base"]
     target = base.local_to_world((-0.04 + 0.1 * hx, 0.32 + 0.08 * hy))
     assert math.dist(shade_end(live), target) < 0.01
+
+
+def test_a_hot_reload_naming_a_prop_the_scene_lacks_is_refused(tmp_path):
+    """Checked against the running scene, like play does (it was accepted, and pressing
+    the key then failed with a KeyError)."""
+    from puppet.data.errors import DataError
+
+    s = session(tmp_path)
+    s.advance(100)
+    with pytest.raises(DataError) as info:
+        s.reload(LUXO.replace("point: {prop: rail}", "point: {prop: rial}"),
+                 str(tmp_path / "t.yaml"))
+    assert str(info.value).startswith(f"{tmp_path / 't.yaml'}:13:")
+    assert "unknown prop 'rial' in scene 'pendulum'" in str(info.value)
+    press(s, "e")  # the running interface goes on
+    s.advance(10)
+    assert s.runtime.reaches["shade"].target[:2] == ["prop", "rail"]
