@@ -199,3 +199,69 @@ def test_play_refuses_a_reach_for_a_prop_of_another_scene(tmp_path):
     with pytest.raises(DataError) as info:
         setup_from_text(text, "x.yaml", scene="flat")
     assert str(info.value).startswith("x.yaml:9:50: unknown prop 'rail' in scene 'flat'")
+
+
+EVERYTHING = """
+name: t
+description: every controller at once, on the cat
+character: cat
+scene: cat-flat
+poses:
+  back_a: {joints: {hip_near: 30, hip_far: 14}}
+  back_b: {joints: {hip_near: 20, hip_far: 24}}
+sequences:
+  shuffle: [{pose: back_a, hold: 0.15}, {pose: back_b, hold: 0.15}]
+chains:
+  paw: {joints: [shoulder_near, elbow_near], end: [0.10, 0.012]}
+perturbation: {impulse: 0.0005, every: 0.05, seed: 9}
+keys:
+  - {key: q, sequence: shuffle, repeat: forever}
+  - key: w
+    reach: {chain: paw, steer: {x: channel.px, y: channel.py, x_to: [0.12, 0.2],
+            y_to: [0.02, 0.08]}, duration: 0.3}
+  - {key: g, grasp: {chain: paw, points: [[5.0, 5.0]], tolerance: 0.03}}
+  - {key: t, perturb: "on"}
+states:
+  one:
+    enter: {adjust: {neck: 5}}
+    transitions: [{to: two, after: 0.35}]
+  two:
+    enter: {adjust: {neck: -5}}
+    transitions: [{to: one, after: 0.4}]
+machines:
+  tail:
+    states:
+      low:
+        enter: {set: {tail: 10}}
+      high:
+        enter: {set: {tail: 40}}
+    any_state:
+      transitions:
+        - {to: high, when: {sensor: joint.hip_near, above: 27}}
+        - {to: low, when: {sensor: joint.hip_near, below: 23}}
+"""
+
+
+def test_every_controller_running_at_once_comes_back_exactly_from_a_checkpoint(tmp_path):
+    from puppet.timeline.playback import play
+
+    events = [(10, ev.key("q")), (20, ev.key("w")), (30, ev.key("g")), (40, ev.key("t"))]
+    events += [(50 + 16 * i, ev.channels({"px": (i % 7) / 6, "py": (i % 5) / 4}))
+               for i in range(60)]
+    events = sorted(events + [(500, ev.key("c"))], key=lambda e: e[0])  # a checkpoint
+    straight = session(tmp_path, EVERYTHING)
+    seen = set()
+    play(straight, events, 1500, 8, lambda s: seen.add(tuple(s.runtime.states.values())))
+    assert seen == {("one", "low"), ("one", "high"), ("two", "low"), ("two", "high")}
+    r = straight.runtime
+    assert r.sequence is not None and "paw" in r.reaches and "paw" in r.grasping.armed
+    assert r.perturber.on
+    want = straight.sim.state_hash()
+
+    s = session(tmp_path, EVERYTHING)
+    play(s, events, 1200)
+    s.handle(ev.action("restore"))
+    assert s.steps == 500
+    play(s, [e for e in events if e[0] > 500], 1500)
+    assert s.sim.state_hash() == want
+    assert s.runtime.get_state() == straight.runtime.get_state()
