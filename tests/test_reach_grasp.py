@@ -307,3 +307,85 @@ def test_a_hot_reload_naming_a_prop_the_scene_lacks_is_refused(tmp_path):
     press(s, "e")  # the running interface goes on
     s.advance(10)
     assert s.runtime.reaches["shade"].target[:2] == ["prop", "rail"]
+
+
+# -- a three-joint arm of our own, in a session ----------------------------------------------
+ARM3 = """
+name: arm3
+description: a very heavy base (it hardly moves without gravity) and a three-link arm (test character)
+links:
+  - name: base
+    mass: 1000.0
+    shapes: [{type: box, center: [0.0, 0.05], size: [0.4, 0.1]}]
+  - name: upper
+    mass: 1.0
+    shapes: [{type: segment, a: [0.0, 0.1], b: [0.0, 0.3], radius: 0.01}]
+  - name: fore
+    mass: 0.6
+    shapes: [{type: segment, a: [0.0, 0.3], b: [0.0, 0.45], radius: 0.01}]
+  - name: hand
+    mass: 0.3
+    shapes: [{type: segment, a: [0.0, 0.45], b: [0.0, 0.55], radius: 0.01}]
+joints:
+  - {name: shoulder, parent: base, child: upper, anchor: [0.0, 0.1], limits: [-80, 80],
+     pd: {stiffness: 40, damping: 1.0, max_torque: 60}}
+  - {name: elbow, parent: upper, child: fore, anchor: [0.0, 0.3], limits: [-120, 120],
+     pd: {stiffness: 20, damping: 0.4, max_torque: 40}}
+  - {name: wrist, parent: fore, child: hand, anchor: [0.0, 0.45], limits: [-60, 60],
+     pd: {stiffness: 5, damping: 0.08, max_torque: 20}}
+start: {joints: {shoulder: 0, elbow: 20, wrist: 10}}
+"""
+ARM3_SCENE = """
+name: arm3-floor
+description: a floor and no gravity (test scene)
+gravity: [0.0, 0.0]
+ground:
+  - points: [[-5.0, 0.0], [5.0, 0.0]]
+"""
+
+
+def arm3_session(tmp_path) -> Session:
+    (tmp_path / "arm3.yaml").write_text(ARM3)
+    (tmp_path / "arm3-floor.yaml").write_text(ARM3_SCENE)
+    iface = tmp_path / "arm3-reach.yaml"
+    iface.write_text(textwrap.dedent(f"""
+    name: arm3-reach
+    description: the arm reaches
+    character: {tmp_path / 'arm3.yaml'}
+    scene: {tmp_path / 'arm3-floor.yaml'}
+    chains:
+      arm: {{joints: [shoulder, elbow, wrist], end: [0.0, 0.55]}}
+    keys:
+      - {{key: e, reach: {{chain: arm, target: [0.25, 0.3], duration: 0.5, hold: 1.0}}}}
+      - {{key: f, reach: {{chain: arm, target: [-0.2, 0.4], duration: 0.5, hold: 1.0}}}}
+      - {{key: g, reach: {{chain: arm, target: [0.2, -0.5], duration: 0.5, hold: 1.0}}}}
+      - {{key: h, reach: {{chain: arm, target: [0.15, 0.45], duration: 0.5, hold: 1.0}}}}
+      - {{key: k, set: {{shoulder: 0, elbow: -40, wrist: 0}}}}
+    """))
+    return Session(load_setup(str(iface)))
+
+
+def test_a_three_joint_arm_reaches_within_1cm_and_keeps_its_limits_out_of_reach(tmp_path):
+    s = arm3_session(tmp_path)
+    chain = s.runtime.chains["arm"]
+    base = s.character.bodies["base"]
+    # (0.25, 0.3) from the start pose (elbow bent +20 deg) stalls 5 cm short with the
+    # shoulder and wrist at their limits: the way there bends the elbow the other way.
+    # The guide's advice: bend the limb the right way first (key k).
+    for key, target in (("f", (-0.2, 0.4)), ("h", (0.15, 0.45)), ("k", None),
+                        ("e", (0.25, 0.3))):
+        goal = target and base.local_to_world(target)  # the root frame at the press
+        press(s, key)
+        s.advance(480)
+        if goal is not None:
+            assert math.dist(chain.end_world(s.character), goal) < 0.01, key
+    press(s, "g")  # far below the floor: out of reach
+    limits = [tuple(math.degrees(v) for v in lim) for lim in chain.limits]
+    for _ in range(48):
+        s.advance(10)
+        for joint, (lo, hi) in zip(chain.joints, limits):
+            target = math.degrees(s.character.servos[joint].target)
+            assert lo <= target <= hi
+            assert lo - 1.0 <= math.degrees(s.character.joint_angle(joint)) <= hi + 1.0
+    # stretched toward it: the shoulder at its limit, pointing down-forward
+    assert math.degrees(s.character.servos["shoulder"].target) == pytest.approx(-80)
