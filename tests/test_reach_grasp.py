@@ -221,6 +221,10 @@ def test_grasp_on_a_swinging_bar_survives_checkpoint_rewind_and_replay(tmp_path)
     bar = straight.sim.props["swing"].body
     assert abs(bar.angular_velocity) > 0.1  # the bar moves (with the lamp on it)
     want = straight.sim.state_hash()
+    spin = bar.angular_velocity
+    bar.angular_velocity = spin + 1e-12  # the hash covers the swing (a dynamic prop) too
+    assert straight.sim.state_hash() != want
+    bar.angular_velocity = spin
 
     # back to the manual checkpoint (taken while holding) and on again
     s = session(tmp_path)
