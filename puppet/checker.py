@@ -52,7 +52,11 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
 
             warnings += map_conflicts(spec, located)
         try:
-            catalog.find("scene", spec.scene)
+            scene_path = catalog.find("scene", spec.scene)
         except DataError as exc:
             raise located.error(("scene",), exc.message) from None
+        # props named by reaches and grasps must be in the scene, as play checks
+        from puppet.data.interface_refs import check_scene_refs
+
+        check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
     return kind

@@ -169,15 +169,16 @@ class Session:
 
     def reload(self, text: str, path: str | None = None) -> None:
         """Run the interface in ``text`` from now on (the "reload" event). It is parsed
-        and checked against this session's character exactly like ``puppet check``
-        does (DataError if invalid: the window checks before sending); the new runtime
-        takes over input state and what is running (``InterfaceRuntime.adopt``), the
-        physics and the servo targets are untouched."""
+        and checked against this session's character and scene exactly like ``puppet
+        check`` does (DataError if invalid: the window checks before sending); the new
+        runtime takes over input state and what is running (``InterfaceRuntime.adopt``),
+        the physics and the servo targets are untouched."""
         key = ("text", text)
         index = self._version_of.get(key)
         if index is None:
             spec = parse_interface_text(text, path or str(self.setup.interface_path),
-                                        self.setup.character, self.setup.character_path)[0]
+                                        self.setup.character, self.setup.character_path,
+                                        self.setup.scene)[0]
             index = self._add_version(key, spec)
         self._run_version(index, adopt=True)
 

@@ -1,7 +1,8 @@
 """The designer docs' examples are valid, and the worked example does what it says.
 
 docs/interfaces.md and docs/scripts.md mark their YAML examples on the first line:
-  ``# file: interfaces/NAME.yaml`` / ``# file: assets/scripts/NAME.yaml``  a complete file;
+  ``# file: interfaces/NAME.yaml`` / ``# file: assets/scripts/NAME.yaml`` /
+  ``# file: assets/scenes/NAME.yaml``  a complete file;
   ``# snippet for luxo``  part of an interface: valid under a three-line Luxo header.
 Every marked block must pass ``puppet check``; the worked example's final file
 (the last ``interfaces/luxo-hopper.yaml`` block) is also played headless.
@@ -17,13 +18,14 @@ import pytest
 
 from puppet.checker import check_file
 from puppet.data.catalog import load_setup
+from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.timeline.playback import play
 from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
-FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts)/([A-Za-z0-9_.-]+\.yaml)\s*$")
+FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes)/([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
 LUXO_HEADER = "name: snippet\ndescription: a snippet from the docs\ncharacter: luxo\n"
 WORKED = "luxo-hopper.yaml"
@@ -62,9 +64,8 @@ BLOCKS = marked_blocks()
 def write_block(tmp_path: Path, line: int, text: str) -> Path:
     first = text.splitlines()[0]
     m = FILE_MARK.match(first)
-    if m:  # check_file tells a file's kind by its folder: interfaces/ or scripts/
-        folder = tmp_path / ("interfaces" if m.group(1) == "interfaces" else "scripts")
-        path = folder / m.group(2)
+    if m:  # check_file tells a file's kind by its folder: interfaces/, scripts/, scenes/
+        path = tmp_path / m.group(1).split("/")[-1] / m.group(2)
     else:
         path, text = tmp_path / "interfaces" / f"snippet-{line}.yaml", LUXO_HEADER + text
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -83,7 +84,7 @@ def test_docs_have_marked_examples():
 def test_doc_example_is_valid(tmp_path, doc, line, text):
     path = write_block(tmp_path, line, text)
     kind = check_file(path)
-    assert kind == ("script" if path.parent.name == "scripts" else "interface")
+    assert kind == {"scripts": "script", "scenes": "scene"}.get(path.parent.name, "interface")
 
 
 def worked_example(tmp_path: Path) -> Path:
@@ -143,3 +144,121 @@ def test_worked_example_script_falls_and_restarts(tmp_path):
     assert session.runtime.mode == "keys"
     assert session.character.upright()
     assert abs(session.character.bodies["base"].position.x) < 0.01
+
+
+# -- the guide's examples of chains, props, steering, machines, repeat, channels ---------
+def doc_session(tmp_path: Path, contains: str) -> Session:
+    """A session of the one marked block of docs/interfaces.md containing ``contains``."""
+    found = [(line, t) for line, t in yaml_blocks(DOCS / "interfaces.md")
+             if contains in t and (FILE_MARK.match(t.splitlines()[0])
+                                   or t.startswith(SNIPPET_MARK))]
+    assert len(found) == 1, f"{len(found)} blocks contain {contains!r}"
+    return Session(load_setup(str(write_block(tmp_path, *found[0]))))
+
+
+def tap(session: Session, key: str) -> None:
+    session.handle(ev.key(key, True))
+    session.handle(ev.key(key, False))
+
+
+def test_guide_repeat_plays_three_times_and_forever_until_a_pose(tmp_path):
+    s = doc_session(tmp_path, "sequence: nod, repeat: 3")
+    tap(s, "n")
+    s.advance(round(0.59 * 480))
+    assert s.runtime.sequence is not None
+    s.advance(round(0.02 * 480))
+    assert s.runtime.sequence is None  # 0.6 s: three plays of 0.2 s
+    tap(s, "m")
+    s.advance(5 * 480)
+    assert s.runtime.sequence is not None  # forever
+    tap(s, "1")
+    s.advance(50)
+    assert s.runtime.sequence is None
+
+
+def test_guide_goto_to_the_current_state_runs_its_entry_again(tmp_path):
+    s = doc_session(tmp_path, "goto: nodding, description: lean 5 degrees more")
+    ankle = s.character.servos["ankle"]
+    assert math.degrees(ankle.target) == pytest.approx(-30)  # the start's -25, then -5
+    s.advance(240)
+    tap(s, "a")
+    assert math.degrees(ankle.target) == pytest.approx(-35)
+    s.advance(400)  # 1 s after the start, not after the press: still nodding
+    assert s.runtime.state == "nodding"
+    s.advance(100)
+    assert s.runtime.state == "resting" and math.degrees(ankle.target) == pytest.approx(-25)
+
+
+def test_guide_two_machines_run_side_by_side(tmp_path):
+    s = doc_session(tmp_path, "goto: main.waiting")
+    assert s.runtime.states == {"main": "waiting", "watch": "open"}
+    tap(s, "k")  # fold the knee
+    s.advance(250)
+    assert s.runtime.states == {"main": "ticking", "watch": "folded"}
+    assert s.character.servos["ankle"].stiffness == 25
+    tap(s, "space")  # watch's key moves main
+    assert s.runtime.states == {"main": "waiting", "watch": "folded"}
+
+
+def test_guide_prop_reaches_walk_along_the_rail(tmp_path):
+    s = doc_session(tmp_path, "point: {prop: rail, offset: 1}")
+    s.advance(240)
+    rail = s.sim.props["rail"]
+    shade = s.runtime.chains["shade"]
+    for key, want in (("e", "back"), ("n", "middle"), ("n", "front"), ("n", "front"),
+                      ("v", "middle")):
+        tap(s, key)
+        s.advance(400)
+        assert math.dist(shade.end_world(s.character), rail.point_world(want)) < 0.01, key
+    tap(s, "g")  # catch the swing
+    s.advance(480)
+    assert "shade" in s.runtime.grasped
+    tap(s, "u")
+    s.advance(10)
+    assert s.runtime.grasped == {}
+
+
+def test_guide_steered_reach_follows_the_mouse_and_the_hand_channels(tmp_path):
+    s = doc_session(tmp_path, "steer: {x: channel.hand_x")
+    s.advance(240)
+    base = s.character.bodies["base"]
+    shade = s.runtime.chains["shade"]
+    tap(s, "t")
+    s.handle(ev.mouse(1.0, 0.0))  # right and down: the box's corner [0.06, 0.32]
+    s.advance(240)
+    assert math.dist(shade.end_world(s.character), base.local_to_world((0.06, 0.32))) < 0.01
+    tap(s, "y")
+    s.handle(ev.channels({"hand_x": -1.0, "hand_y": 1.0}))  # the other corner
+    s.advance(480)  # the base rocks as the shade swings over, and the box with it
+    assert math.dist(shade.end_world(s.character), base.local_to_world((-0.04, 0.40))) < 0.01
+    tap(s, "1")
+    s.advance(2)
+    assert s.runtime.reaches == {}
+
+
+def test_guide_channels_drive_their_maps(tmp_path):
+    s = doc_session(tmp_path, "input: channel.lean")
+    before = {n: sv.target for n, sv in s.character.servos.items()}
+    s.handle(ev.channels({"fold": 0.5}))  # lean not sent yet: the ankle stays
+    s.runtime.flush()  # a frame's maps act when anything next happens (here: now)
+    assert s.character.servos["ankle"].target == before["ankle"]
+    assert math.degrees(s.character.servos["knee"].target) == pytest.approx(70)
+    s.handle(ev.channels({"lean": 2.0, "fold": 0.0}))  # beyond 'from': the end
+    s.runtime.flush()
+    assert math.degrees(s.character.servos["ankle"].target) == pytest.approx(60)
+    assert math.degrees(s.character.servos["knee"].target) == pytest.approx(0)
+
+
+def test_guide_cat_paw_reaches_with_three_joints_and_the_spine_stops_at_its_limit(tmp_path):
+    s = doc_session(tmp_path, "name: cat-paw")
+    s.advance(240)
+    hips = s.character.bodies["hips"]
+    target = hips.local_to_world((0.20, 0.08))
+    paw = s.runtime.chains["paw"]
+    start = math.dist(paw.end_world(s.character), target)
+    tap(s, "e")
+    s.advance(480)
+    assert math.dist(paw.end_world(s.character), target) < 0.3 * start
+    spine = s.character.servos["spine"]
+    assert math.degrees(spine.target) == pytest.approx(35, abs=0.5)  # at its limit
+    assert s.character.upright()

@@ -33,6 +33,7 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
         _draw_ruler(surface, camera, scene, ruler, font)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
+    _draw_props(surface, session, camera)
     if ghost is not None and not ghost.sim.blown_up():
         draw_character(surface, ghost, camera, GHOST_ALPHA)
     draw_character(surface, session, camera)
@@ -87,6 +88,26 @@ def _draw_ruler(surface, camera: Camera, scene, ruler, font) -> None:
                     else f"{distance * 100:.0f} cm")
             label = font.render(text, True, ruler.color)
             surface.blit(label, (a[0] - label.get_width() / 2, a[1] + 4))
+
+
+def _draw_props(surface, session: Session, camera: Camera) -> None:
+    """The scene's props in their colours (shapes the character passes through paler),
+    each grasp point a small ring and each pivot a dark dot."""
+    specs = session.setup.scene.props
+    for name, prop in session.sim.props.items():
+        spec = specs[name]
+        body = prop.body
+        for shape, shape_spec in zip(prop.shapes, spec.shapes):
+            color = spec.color if shape_spec.collide else _shade(spec.color, 1.3)
+            _draw_shape(surface, camera, body, shape, color, _shade(spec.color, 0.55))
+        r = max(2, int(0.006 * camera.scale))
+        for point in prop.points:
+            pygame.draw.circle(surface, _shade(spec.color, 0.55),
+                               camera.to_screen(prop.point_world(point)), r, 1)
+        if prop.pin is not None:  # where it hangs (on another prop, it moves with it)
+            pin = prop.pin
+            pygame.draw.circle(surface, (60, 64, 72),
+                               camera.to_screen(pin.a.local_to_world(pin.anchor_a)), r)
 
 
 def _draw_marker(surface, camera: Camera, marker, ground_y: float, font) -> None:

@@ -92,7 +92,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
         def check_text(text: str) -> None:
             parse_interface_text(text, str(setup.interface_path), setup.character,
-                                 setup.character_path)
+                                 setup.character_path, setup.scene)
 
         reloader = Reloader(setup.interface_path, check_text, now=time.perf_counter())
     from puppet.app.gestures import GestureRecorder

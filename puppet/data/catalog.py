@@ -100,7 +100,8 @@ def load_scene_named(name: str) -> tuple[SceneSpec, Path]:
 
 
 def parse_interface_text(text: str, path: str | Path, character: CharacterSpec | None = None,
-                         character_path: str | Path | None = None
+                         character_path: str | Path | None = None,
+                         scene: SceneSpec | None = None
                          ) -> tuple[InterfaceSpec, Located, CharacterSpec, Path | None]:
     """Parse and validate an interface's YAML ``text`` as the file ``path`` (error
     messages name it): the checks ``puppet check`` makes, including the references to
@@ -108,9 +109,16 @@ def parse_interface_text(text: str, path: str | Path, character: CharacterSpec |
     replayed reload event) the text must name that character, and no file is read;
     without, the character is found by name and loaded.
 
+    With ``scene`` (the running session's), the props its reaches and grasps name
+    must be in that scene.
+
     Returns (spec, located, character spec, character path or None)."""
     located = load_text(text, str(path))
     spec, character, character_path = check_interface(located, character, character_path)
+    if scene is not None:
+        from puppet.data.interface_refs import check_scene_refs
+
+        check_scene_refs(spec, scene, located, scene.name)
     return spec, located, character, (Path(character_path) if character_path else None)
 
 

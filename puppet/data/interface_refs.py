@@ -162,6 +162,12 @@ def check_names(spec, located: Located) -> None:
             raise located.error(loc + ("while_held",), "'while_held' needs a key")
     for machine, _, loc, t in transitions(spec):
         need_state(loc + ("to",), t.to, machine)
+        other = spec.resolve_goto(t.to, machine)[0]
+        if other != machine:  # it would fire again at every step: its machine stays put
+            raise located.error(loc + ("to",), f"a transition moves its own machine "
+                                               f"'{machine}', but '{t.to}' is a state of "
+                                               f"machine '{other}'; to move '{other}', "
+                                               f"goto it from a state's enter or a key")
     _check_reachable(spec, located)
 
 

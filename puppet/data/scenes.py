@@ -149,9 +149,12 @@ def parse_scene(located: Located) -> SceneSpec:
         if prop.pivot_to is not None and prop.pivot_to not in names[:i]:
             from puppet.data.interface_refs import unknown
 
-            raise located.error(("props", name, "pivot_to"),
-                                unknown("prop", prop.pivot_to, names[:i],
-                                        " listed before it"))
+            if prop.pivot_to in names:
+                message = (f"prop '{prop.pivot_to}' is listed after '{name}'; a prop can "
+                           "only be pinned to a prop listed before it (move it up)")
+            else:
+                message = unknown("prop", prop.pivot_to, names[:i], " listed before it")
+            raise located.error(("props", name, "pivot_to"), message)
     for i, ruler in enumerate(spec.rulers):
         if not ruler.to > ruler.start:
             raise located.error(("rulers", i, "to"),

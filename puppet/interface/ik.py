@@ -80,13 +80,20 @@ def forward(links: list[Vec], q) -> tuple[list[Vec], Vec]:
 
 def solve_dls(links: list[Vec], d: Vec, start, limits) -> list[float]:
     """Joint angles putting the end of the chain ``links`` at (or nearest to) ``d``,
-    within ``limits`` ((lo, hi) radians or None per joint), from ``start``."""
+    within ``limits`` ((lo, hi) radians or None per joint), from ``start``.
+
+    A step is taken only if it brings the end nearer (else it is halved, down to a
+    thousandth): far out of reach a full DLS step is large, and clamped to the limits
+    it can throw the limb to the far side, where the limits then hold it (a cat's arm
+    reaching up and forward ended pointing back, 1.24 m from a target 0.98 m beyond
+    its reach)."""
     q = [_clamp(v, lim) for v, lim in zip(start, limits)]
     lam2 = DAMPING * DAMPING
+    joints, (ex, ey) = forward(links, q)
+    rx, ry = d[0] - ex, d[1] - ey
+    err2 = rx * rx + ry * ry
     for _ in range(MAX_ITERATIONS):
-        joints, (ex, ey) = forward(links, q)
-        rx, ry = d[0] - ex, d[1] - ey
-        if rx * rx + ry * ry < TOLERANCE * TOLERANCE:
+        if err2 < TOLERANCE * TOLERANCE:
             break
         # Column i of the Jacobian: the end's velocity for a unit turn of joint i.
         cols = [(-(ey - jy), ex - jx) for jx, jy in joints]
@@ -100,12 +107,20 @@ def solve_dls(links: list[Vec], d: Vec, start, limits) -> list[float]:
         c = lam2 + sum(cy * cy for _, cy in cols)
         det = a * c - b * b
         w0, w1 = (c * rx - b * ry) / det, (a * ry - b * rx) / det
-        moved = 0.0
-        for i, (cx, cy) in enumerate(cols):
-            step = cx * w0 + cy * w1
-            new = _clamp(q[i] + step, limits[i])
-            moved += abs(new - q[i])
-            q[i] = new
+        steps = [cx * w0 + cy * w1 for cx, cy in cols]
+        scale = 1.0
+        while True:
+            new = [_clamp(v + scale * step, lim) for v, step, lim in zip(q, steps, limits)]
+            new_joints, (nx, ny) = forward(links, new)
+            nrx, nry = d[0] - nx, d[1] - ny
+            new_err2 = nrx * nrx + nry * nry
+            if new_err2 < err2 or scale < 1e-3:
+                break
+            scale *= 0.5
+        if new_err2 >= err2:  # no step brings it nearer: as near as it gets
+            break
+        moved = sum(abs(v - w) for v, w in zip(new, q))
+        q, joints, ex, ey, rx, ry, err2 = new, new_joints, nx, ny, nrx, nry, new_err2
         if moved < 1e-9:  # stuck against limits: as near as it gets
             break
     return q

@@ -564,7 +564,7 @@ class InterfaceRuntime:
         if a.sequence is not None:
             self.sequences.start(a.sequence, now, a.repeat)
         if a.release is not None:
-            self.grasping.release(a.release)
+            self.release(a.release)
         if a.grasp is not None:
             self.grasping.arm(a.grasp, now)
         if a.reach is not None:
@@ -572,8 +572,10 @@ class InterfaceRuntime:
         return result
 
     def release(self, which: str) -> None:
-        """Let go: unpin the chain ("all": every chain) and disarm its grasp."""
+        """Let go: unpin the chain ("all": every chain) and disarm its grasp, also
+        a running reach's."""
         self.grasping.release(which)
+        self.reaching.let_go(which)
 
     def _enter_state(self, machine: str, state: str, now: int, depth: int) -> None:
         if depth >= MAX_CHAINED_GOTOS:

@@ -86,6 +86,13 @@ class ReachController:
         here = min(range(len(names)), key=lambda i: math.dist(prop.point_world(names[i]), ref))
         return names[min(len(names) - 1, max(0, here + spec.offset))]
 
+    def let_go(self, which: str) -> None:
+        """A release of chain ``which`` ("all": every chain): its running reach goes
+        on but no longer grasps (else it would take hold again at once)."""
+        for name, reach in self.reaches.items():
+            if which in ("all", name):
+                reach.grasp = False
+
     # -- running -------------------------------------------------------------------
     def start(self, r, now: int) -> None:
         chain = self.chains[r.chain]
