@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from puppet import __version__
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, UsageError
 from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN,
                                     MIN_SLOWDOWN)
 from puppet.timeline.log import EXISTS
@@ -259,7 +259,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except DataError as exc:
-        print(f"puppet: {exc}", file=sys.stderr)
+        print(f"puppet {args.command}: {exc}", file=sys.stderr)
+        return EXIT_DATA_ERROR
+    except UsageError as exc:
+        print(f"puppet {args.command}: {exc}", file=sys.stderr)
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130

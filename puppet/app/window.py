@@ -12,6 +12,7 @@ import warnings
 from pathlib import Path
 
 from puppet.data.catalog import Setup
+from puppet.data.errors import UsageError
 from puppet.app.devices import device_events
 from puppet.interface import events as ev
 from puppet.interface.app_keys import key_chord
@@ -40,7 +41,14 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
 
-    pygame.display.init()  # no pygame.init(): puppet makes no sound
+    try:
+        pygame.display.init()  # no pygame.init(): puppet makes no sound
+        missing = no_display(pygame)
+    except pygame.error as exc:
+        missing = f"no display found ({exc}); {HEADLESS_HINT}"
+    if missing:  # before anything is recorded
+        pygame.quit()
+        raise UsageError(missing)
     pygame.font.init()
     pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
     joysticks: dict = {}
@@ -279,6 +287,27 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         print(f"recorded {recorder.path}")
     pygame.quit()
     return 0
+
+
+HEADLESS_HINT = ("use --headless to run without a window (e.g. puppet play luxo-mouse "
+                 "--headless --input luxo-hop --screenshot out.png)")
+OFFSCREEN_DRIVERS = ("offscreen", "dummy")
+
+
+def no_display(pygame) -> str:
+    """Why no window can be seen ("" if one can). Without a display SDL falls back to
+    an off-screen video driver, and the window would run, invisibly, for ever. A
+    driver asked for by name (SDL_VIDEODRIVER=dummy, as the tests do) is the user's
+    choice."""
+    try:
+        driver = pygame.display.get_driver()
+    except pygame.error:
+        driver = ""
+    asked = os.environ.get("SDL_VIDEODRIVER", "").strip().lower()
+    if driver and (driver not in OFFSCREEN_DRIVERS or asked == driver):
+        return ""
+    return f"no display found (SDL could only open its '{driver or 'none'}' video driver); " \
+           f"{HEADLESS_HINT}"
 
 
 def _pick(session: Session, camera, screen_pos) -> tuple[str, tuple[float, float]] | None:
