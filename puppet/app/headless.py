@@ -7,6 +7,7 @@ import contextlib
 import os
 from pathlib import Path
 
+from puppet.app.camera import Camera, subject_of
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.session import Session
@@ -29,7 +30,6 @@ class FrameRenderer:
 
     def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0):
         pygame = _pygame()
-        from puppet.app.camera import Camera
         from puppet.app.hud import HudInfo
 
         self.pygame = pygame
@@ -48,7 +48,7 @@ class FrameRenderer:
         from puppet.app.hud import draw_hud
         from puppet.app.render import draw_world
 
-        self.camera.follow(session.character.com(), wall_dt)
+        self.camera.follow(subject_of(session), wall_dt)
         draw_world(self.surface, session, self.camera, self.small, ghost=ghost)
         if hud:
             draw_hud(self.surface, session, self.info, self.font, self.small)

@@ -36,7 +36,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
-    from puppet.app.camera import Camera
+    from puppet.app.camera import Camera, subject_of
     from puppet.app.clock import SimClock
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
@@ -87,7 +87,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     scrub = Scrubber(session)
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
-    camera.follow(session.character.com(), None)
+    camera.follow(subject_of(session), None)
     info = HudInfo(replaying=Path(replay.path).name if replay is not None else "")
     reloader = None
     reload_error = ""  # shown until the file is valid again
@@ -274,7 +274,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.paused = clock.paused
 
         if not session.sim.blown_up():  # else, until the next health check recovers
-            camera.follow(session.character.com(), wall_dt)  # it: the last world drawn
+            camera.follow(subject_of(session), wall_dt)  # it: the last world drawn
             if ghost is not None:
                 ghost.sync(session)
             draw_world(screen, session, camera, small,
