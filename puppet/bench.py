@@ -483,7 +483,9 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
     subjects = characters_and_interfaces()
     unknown = sorted(set(only or ()) - {c for c, _ in subjects})
     if unknown:
-        raise SystemExit(f"puppet bench: no character named {', '.join(unknown)}; known: "
+        from puppet.data.errors import UsageError
+
+        raise UsageError(f"no character named {', '.join(unknown)}; known: "
                          f"{', '.join(c for c, _ in subjects)}")
     for character, interfaces in subjects:
         if only and character not in only:

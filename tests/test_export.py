@@ -68,13 +68,25 @@ def test_cli_video_and_plot(hop, tmp_path, capsys):
     assert pygame.image.load(str(png)).get_width() > 500
 
 
-def test_cli_export_refusals(hop, tmp_path):
-    with pytest.raises(SystemExit, match="need --headless"):
-        main(["replay", str(hop), "--video", str(tmp_path / "v.mp4")])
-    with pytest.raises(SystemExit, match="cannot write '.webp'"):
-        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.webp")])
-    with pytest.raises(SystemExit, match="one log"):
-        main(["replay", str(hop), str(hop), "--headless", "--plot", str(tmp_path / "p.png")])
+def _refused(capsys, argv, fragment):
+    assert main(argv) == 2  # a usage error
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("puppet replay: ") and fragment in err[0], err
+
+
+def test_cli_export_refusals(hop, tmp_path, capsys):
+    _refused(capsys, ["replay", str(hop), "--video", str(tmp_path / "v.mp4")], "need --headless")
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path / "v.webp")],
+             "--video " + str(tmp_path / "v.webp") + ": '.webp'; give a file name ending in")
+    _refused(capsys, ["replay", str(hop), str(hop), "--headless", "--plot",
+                      str(tmp_path / "p.png")], "one log")
+    # a folder or a name with no extension is refused before anything is replayed or written
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path)],
+             "is a folder; give a file name ending in .avi or .gif")
+    _refused(capsys, ["replay", str(hop), "--headless", "--plot", str(tmp_path)], "is a folder")
+    _refused(capsys, ["replay", str(hop), "--headless", "--plot", str(tmp_path / "noext")],
+             "no extension; give a file name ending in .png")
+    assert list(tmp_path.iterdir()) == []  # nothing written, not even noext.png
 
 
 def test_plot_has_one_subplot_per_actuated_joint(hop, tmp_path):
@@ -294,8 +306,7 @@ def test_gif_frame_delays_keep_time_in_whole_centiseconds(hop, tmp_path):
         assert abs(sum(delays[:n]) - n * 1000 / 15) <= 5, n
 
 
-def test_cli_refuses_a_gif_faster_than_50_fps(hop, tmp_path):
-    with pytest.raises(SystemExit, match="too fast for a gif"):
-        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.gif"),
-              "--fps", "60"])
+def test_cli_refuses_a_gif_faster_than_50_fps(hop, tmp_path, capsys):
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path / "v.gif"),
+                      "--fps", "60"], "too fast for a gif")
     assert not (tmp_path / "v.gif").exists()

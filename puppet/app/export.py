@@ -190,36 +190,21 @@ def _pixels(pygame, surface):
 
 
 # -- ``puppet replay LOG --headless --video OUT --plot PNG`` ---------------------------
-def _parse_size(text: str) -> tuple[int, int]:
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise SystemExit(f"puppet replay: --size must be WIDTHxHEIGHT, got '{text}'") from None
-    if w < 64 or h < 64:
-        raise SystemExit(f"puppet replay: --size {text} is too small")
-    return w, h
-
-
 def export_command(args) -> int:
-    """The replay command with --video and/or --plot (one log, headless)."""
+    """The replay command with --video and/or --plot (one log, headless). The options'
+    ranges and the output names are checked by the command line (``puppet.cli``)."""
+    from puppet.data.errors import UsageError
     from puppet.timeline.replay import exit_code, find_log, print_one, replay, verdict
 
     if not args.headless:
-        raise SystemExit("puppet replay: --video and --plot need --headless")
+        raise UsageError("--video and --plot need --headless")
     if len(args.logs) != 1:
-        raise SystemExit("puppet replay: --video and --plot take one log")
-    if args.video and Path(args.video).suffix.lower() not in VIDEO_EXTS | GIF_EXTS:
-        raise SystemExit(f"puppet replay: --video: cannot write '{Path(args.video).suffix}' "
-                         f"files; use one of {', '.join(sorted(VIDEO_EXTS | GIF_EXTS))}")
-    if args.fps <= 0:
-        raise SystemExit("puppet replay: --fps must be positive")
+        raise UsageError("--video and --plot take one log")
     if args.video and Path(args.video).suffix.lower() in GIF_EXTS and args.fps > 50:
-        raise SystemExit(f"puppet replay: --fps {args.fps:g} is too fast for a gif (frame "
-                         "delays are whole 1/100 s, and players slow down delays under "
-                         "2/100 s): use --fps 50 or less, or an .mp4")
-    if not 0 < args.scale <= 4:
-        raise SystemExit("puppet replay: --scale must be in (0, 4]")
-    size = _parse_size(args.size)
+        raise UsageError(f"--fps {args.fps:g} is too fast for a gif (frame delays are whole "
+                         "1/100 s, and players slow down delays under 2/100 s): use --fps 50 "
+                         "or less, or an .mp4")
+    size = tuple(args.size)
     path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,

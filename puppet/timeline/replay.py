@@ -420,12 +420,14 @@ def replay_command(args) -> int:
     (--check) or ends in another state than recorded, else 0."""
     import sys
 
+    from puppet.data.errors import UsageError
+
     logs = list(args.logs)
     if not args.headless:
         if len(logs) > 1:
-            raise SystemExit("puppet replay: several logs need --headless")
+            raise UsageError("several logs need --headless")
         if args.check:
-            raise SystemExit("puppet replay: --check needs --headless")
+            raise UsageError("--check needs --headless")
         from puppet.app.window import run_window
 
         log = read_log(find_log(logs[0]), args.allow_truncated)
@@ -442,7 +444,7 @@ def replay_command(args) -> int:
         res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
                           args.as_recorded)
         if "error" in res:
-            print(res["error"], file=sys.stderr)
+            print(f"puppet replay: {res['error']}", file=sys.stderr)
             return EXIT_DATA_ERROR
         print_one(res, args.check)
         return exit_code([verdict(res)])
@@ -469,7 +471,7 @@ def replay_command(args) -> int:
     ordered = [results[i] for i in range(len(logs))]
     for r in ordered:
         if "error" in r:
-            print(r["error"], file=sys.stderr)
+            print(f"puppet replay: {r['error']}", file=sys.stderr)
     for r in ordered:
         print_notes(r)
         if args.check and "error" not in r:
