@@ -128,10 +128,13 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     if not isinstance(log, Log):
         log = read_log(log, allow_truncated)
     setup, _warnings = setup_for_log(log, as_recorded)
+    chosen = slowdown
     slowdown = float(slowdown or log.header.get("slowdown") or 1.0)
     session = new_session(log, setup)
     clock = SimClock(session.sim.dt, slowdown)
-    feeder = LogFeeder(session, log, until_step, on_action=clock.apply)
+    # a chosen slowdown wins over the recorded speed keys, as in the window's replay
+    feeder = LogFeeder(session, log, until_step,
+                       on_action=clock.apply if chosen is None else None)
     renderer = FrameRenderer(session, tuple(size), slowdown)
     pygame = renderer.pygame
     info = renderer.info

@@ -68,7 +68,8 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     if info.paused:
         lines.append("PAUSED  (step with the step key)")
     height = 8 + len(lines) * 22
-    _panel(surface, pygame.Rect(8, 8, 360, height))
+    width = max(360, 16 + max(font.size(text)[0] for text in lines))  # never clipped
+    _panel(surface, pygame.Rect(8, 8, width, height))
     for i, text in enumerate(lines):
         surface.blit(font.render(text, True, TEXT if i else (20, 60, 120)), (16, 12 + i * 22))
 

@@ -26,13 +26,16 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
-               until_step: int | None = None, ghost=None, note: str = "") -> int:
+               until_step: int | None = None, ghost=None, note: str = "",
+               slowdown_chosen: bool = False) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
     ``ghost`` (a ``puppet.timeline.ghost.Ghost``) replays beside the character in
     step with its time, drawn translucently; it never touches the live session.
-    ``note``: shown on screen at the start (e.g. what is wrong with a replayed log)."""
+    ``note``: shown on screen at the start (e.g. what is wrong with a replayed log).
+    ``slowdown_chosen``: the replay's slowdown was chosen (--slowdown), so the log's
+    recorded speed keys do not change it (the viewer's own keys still do)."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -75,7 +78,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         session = Session(setup)
     clock = SimClock(session.sim.dt, slowdown)
     if replay is not None:  # the recorded speed keys change the slowdown as they did live
-        feeder = LogFeeder(session, replay, until_step, on_action=clock.apply)
+        feeder = LogFeeder(session, replay, until_step,
+                           on_action=None if slowdown_chosen else clock.apply)
     if replay is None and not no_record:
         from puppet.timeline.log import Recorder, default_path
 
@@ -123,17 +127,53 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         return f"saved {len(session.interface.gestures)} gesture(s) into {path}"
     if note:
         session.say(note)
-    if feeder is None:  # start with the pointer where the mouse maps hold the pose
-        rest = session.runtime.pointer_for_pose()
-        if rest is not None:
-            w, h = screen.get_size()
-            pygame.mouse.set_pos((round(rest[0] * (w - 1)), round((1.0 - rest[1]) * (h - 1))))
-            session.say("the pointer starts where the mouse holds the start pose")
+    held_at: set = set()  # pointer positions (pixels) that are not input: see hold_pose
+    start_pointer: dict = {}  # interface version -> where the mouse holds the start pose
+
+    def start_pose_pointer():
+        """The pointer (0..1) at which the live interface's mouse maps hold the start
+        pose (None if no mouse map drives a joint): found on a fresh session of the
+        same interface, so it holds after a hot reload too."""
+        version = session.version
+        if version not in start_pointer:
+            import dataclasses
+
+            fresh = Session(dataclasses.replace(setup, interface=session.interface))
+            start_pointer[version] = fresh.runtime.pointer_for_pose()
+        return start_pointer[version]
+
+    def hold_pose(after_reset: bool = False) -> bool:
+        """Put the pointer where the mouse maps hold the start pose, and send no mouse
+        input until the user moves it, so the first mouse event does not throw the
+        character out of its pose. After a reset the maps are first given that
+        position (a logged mouse event: the reset re-applies the last inputs, which
+        threw the lamp). If the pointer cannot be moved (some systems refuse), the
+        pose is still held until the mouse moves. False if no mouse map drives a joint."""
+        nonlocal last_mouse
+        rest = start_pose_pointer()
+        if rest is None:
+            return False
+        if after_reset:
+            session.handle(ev.mouse(*rest))
+            last_mouse = rest
+        held_at.clear()
+        held_at.add(tuple(pygame.mouse.get_pos()))
+        w, h = screen.get_size()
+        target = (round(rest[0] * (w - 1)), round((1.0 - rest[1]) * (h - 1)))
+        pygame.mouse.set_pos(target)
+        held_at.add(target)
+        return True
+
     pressed: dict[str, str] = {}  # key name -> chord it was pressed as
     dragging = False
     last_mouse = None
+    if feeder is None and hold_pose():  # start where the mouse maps hold the start pose
+        session.say("the pointer starts where the mouse holds the start pose")
     frames = pygame.time.Clock()
     start = time.perf_counter()
+
+    def ctrl_held() -> bool:
+        return bool(pygame.key.get_mods() & pygame.KMOD_CTRL)
 
     def mods() -> list[str]:
         m = pygame.key.get_mods()
@@ -154,17 +194,27 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             if action in ("rewind", "forward"):  # the window's own: the scrub commits
                 return action if event["down"] else None  # with a logged rewind action
         scrub.commit()  # a key while scrubbing acts at the step shown, in the log too
-        return session.handle(event)
+        reset = (event["type"] == "key" and event["down"]
+                 and session.key_to_app.get(event["key"]) == "reset"
+                 and not session.runtime.handles_key(event["key"]))
+        action = session.handle(event)
+        if reset and hold_pose(after_reset=True):
+            session.say("reset: the pointer is back where the mouse holds the start pose")
+        return action
 
     def send_mouse() -> None:
         """The pointer's position to the session if it moved. Not while paused: moving
         the mouse to the keys would be new input, branching away the future that the
         scrub keys can still move through; it acts when the simulation steps again."""
         nonlocal last_mouse
-        if dragging or not pygame.mouse.get_focused():
-            return
+        if dragging or ctrl_held() or not pygame.mouse.get_focused():
+            return  # Ctrl is the drag's: the mouse does not drive the maps meanwhile
         w, h = screen.get_size()
         mx, my = pygame.mouse.get_pos()
+        if held_at:
+            if (mx, my) in held_at:
+                return  # holding the pose until the user moves the mouse
+            held_at.clear()
         pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
                min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
         if pos != last_mouse:
@@ -273,8 +323,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.fps = frames.get_fps() or None
         info.paused = clock.paused
 
-        if not session.sim.blown_up():  # else, until the next health check recovers
-            camera.follow(subject_of(session), wall_dt)  # it: the last world drawn
+        if not session.sim.blown_up():  # else (until the next health check recovers
+            if not (dragging or ctrl_held()):  # it) the last world drawn stays; the
+                camera.follow(subject_of(session), wall_dt)  # camera holds for a drag
             if ghost is not None:
                 ghost.sync(session)
             draw_world(screen, session, camera, small,

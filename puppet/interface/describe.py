@@ -89,4 +89,5 @@ def where_line(spec: InterfaceSpec, state: str | None, mode: str | None) -> str:
 def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
     """(key, what it does) for the app's keys as this interface binds them."""
     table = spec.app_key_table()
-    return [(table[action], text) for action, (_, text) in APP_KEYS.items()]
+    return [(table[action], text) for action, (_, text) in APP_KEYS.items()] + [
+        ("ctrl+drag", "pull a body with a spring (the mouse maps and the camera wait)")]

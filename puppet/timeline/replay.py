@@ -437,6 +437,7 @@ def replay_command(args) -> int:
             print(w, file=sys.stderr)
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
         return run_window(setup, slowdown, replay=log, until_step=args.until_step,
+                          slowdown_chosen=args.slowdown is not None,
                           note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
                                           for w in warnings))
 
