@@ -44,6 +44,7 @@ class Session:
         self.listener: Callable[[int, Event], None] | None = None
         self.message = ""  # the last thing the user should be told (e.g. a blow-up)
         self.message_serial = 0  # bumped on every new message
+        self.message_error = False  # the message says something went wrong
         self.blowups = 0
         self.blowup_messages: list[str] = []  # what each recovery said (headless runs print them)
         start = self._snapshot()  # re-seated, like every checkpoint
@@ -268,11 +269,13 @@ class Session:
             return  # re-simulating history (a rewind): this one was counted when it happened
         self.blowups += 1
         self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
-                 f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s")
+                 f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s", error=True)
         self.blowup_messages.append(self.message)
 
-    def say(self, text: str) -> None:
+    def say(self, text: str, error: bool = False) -> None:
+        """A message for the screen; ``error``: something went wrong (drawn in red)."""
         self.message = text
+        self.message_error = error
         self.message_serial += 1
 
     def checkpoint(self) -> Snapshot:

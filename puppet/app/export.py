@@ -174,7 +174,8 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
             video_time += frame_dt
             emit(frame_dt)
         if hold > 0:
-            session.say(finished_message(session, log))
+            done = finished_message(session, log)
+            session.say(done, error="DIFFERENT" in done)
             info.paused = True
             for _ in range(round(hold * fps)):
                 video_time += frame_dt

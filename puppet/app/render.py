@@ -7,7 +7,7 @@ import math
 import pygame
 import pymunk
 
-from puppet.app.camera import Camera
+from puppet.app.camera import BOTTOM_RESERVED_PX, Camera
 from puppet.session import Session
 
 LAYER_ORDER = {"far": 0, "mid": 1, "near": 2}
@@ -28,7 +28,7 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     surface.fill(scene.sky)
     _draw_grid(surface, camera, None)
     _draw_ground(surface, session, camera)
-    _draw_grid(surface, camera, font, labels_only=True)
+    _draw_grid(surface, camera, font, labels_only=True, scene=scene)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
     if ghost is not None and not ghost.sim.blown_up():
@@ -37,7 +37,8 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     _draw_drag(surface, session, camera)
 
 
-def _draw_grid(surface, camera: Camera, font, labels_only: bool = False) -> None:
+def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
+               scene=None) -> None:
     """Faint vertical lines every 0.5 m, labelled every metre: shows distance travelled."""
     x0, x1 = camera.visible_x()
     step = 0.5 if camera.view_height <= 3 else 1.0
@@ -49,9 +50,16 @@ def _draw_grid(surface, camera: Camera, font, labels_only: bool = False) -> None
         if not labels_only:
             pygame.draw.line(surface, (205, 212, 222) if whole else (215, 221, 230),
                              (sx, 0), (sx, surface.get_height()), 1)
-        if labels_only and whole and font is not None:
-            label = font.render(f"{x:.0f} m", True, (235, 230, 220))
-            surface.blit(label, (sx + 3, surface.get_height() - 22))
+        if labels_only and whole and font is not None:  # on the ground, on a light
+            label = font.render(f"{x:.0f} m", True, (40, 44, 52))  # tag: legible on any
+            ground = scene.ground_height(x) if scene is not None else None  # ground
+            top = camera.to_screen((x, ground))[1] + 6 if ground is not None else 0
+            top = min(top, surface.get_height() - BOTTOM_RESERVED_PX - 22)  # above the bar
+            tag = label.get_rect(topleft=(sx + 4, top)).inflate(6, 2)
+            back = pygame.Surface(tag.size, pygame.SRCALPHA)
+            back.fill((255, 255, 255, 190))
+            surface.blit(back, tag.topleft)
+            surface.blit(label, label.get_rect(center=tag.center))
         k += 1
 
 

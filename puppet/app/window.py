@@ -310,12 +310,13 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             feeder.advance(steps)
             if feeder.finished and not clock.paused:
                 clock.toggle_pause()
-                session.say(finished_message(session, replay))
+                done = finished_message(session, replay)
+                session.say(done, error="DIFFERENT" in done)
         else:
             session.advance(steps)
         info.follow_messages(session, time.perf_counter())
         if reload_error:
-            info.message = reload_error
+            info.message, info.message_error = reload_error, True
         info.scrubbing = scrub.active
         clock.sample(time.perf_counter() - start, session.time)
         info.slowdown = clock.slowdown
