@@ -138,7 +138,7 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.app.window import run_window
 
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
-                          ghost=ghost)
+                          ghost=ghost, overlay=args.overlay == "com")
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, run_seconds
@@ -154,7 +154,7 @@ def _play(args: argparse.Namespace) -> int:
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,
                            description=(script.description or None) if args.input else None,
-                           ghost=ghost)
+                           ghost=ghost, overlay=args.overlay == "com")
     if args.record:
         print(f"recorded {args.record}")
     c = session.character
@@ -260,6 +260,10 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")
+    play.add_argument("--overlay", choices=["com"],
+                      help="com: start with the balance overlay on (centre of mass, its "
+                           "ground point, the support between the outermost ground "
+                           "contacts, the extrapolated centre of mass); F4 toggles it")
     play.set_defaults(func=_play)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
@@ -298,6 +302,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="headless: plot joint targets against actual angles over "
                              "time, one subplot per actuated joint (.png, .pdf, .svg or "
                              ".jpg)")
+    replay.add_argument("--overlay", choices=["com"],
+                        help="com: draw the balance overlay (as F4 in the window) in the "
+                             "window and in --video")
     replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs "

@@ -111,13 +111,15 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
                  size=DEFAULT_SIZE, slowdown: float | None = None,
                  until_step: int | None = None, allow_truncated: bool = False,
                  scale: float = 1.0, hud: bool = True, hold: float = 1.0,
-                 progress: bool | None = None, as_recorded: bool = False) -> VideoResult:
+                 progress: bool | None = None, as_recorded: bool = False,
+                 overlay: bool = False) -> VideoResult:
     """Replay ``log`` headless into a video at ``out`` (.mp4/.mov/.mkv/.avi or .gif).
 
     ``slowdown`` (default: the recorded one) is wall seconds per simulated second, as
     in the window; ``size`` is the window size drawn, ``scale`` shrinks the frames
     written (e.g. 0.5 for a small gif); ``hold`` seconds of the last frame are added
     at the end. ``progress``: a tqdm bar (None: only when stderr is a terminal).
+    ``overlay``: draw the balance overlay (centre of mass, support, xcom) as F4 does.
     """
     from tqdm import tqdm
 
@@ -135,7 +137,7 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     # a chosen slowdown wins over the recorded speed keys, as in the window's replay
     feeder = LogFeeder(session, log, until_step,
                        on_action=clock.apply if chosen is None else None)
-    renderer = FrameRenderer(session, tuple(size), slowdown)
+    renderer = FrameRenderer(session, tuple(size), slowdown, overlay=overlay)
     pygame = renderer.pygame
     info = renderer.info
     info.fps = fps
@@ -225,7 +227,8 @@ def export_command(args) -> int:
         print(f"wrote {args.plot}")
     if args.video:
         video = export_video(log, args.video, args.fps, size, args.slowdown, args.until_step,
-                             args.allow_truncated, args.scale, as_recorded=args.as_recorded)
+                             args.allow_truncated, args.scale, as_recorded=args.as_recorded,
+                             overlay=getattr(args, "overlay", None) == "com")
         if video.session.sim.state_hash() != result.final_hash:
             print(f"{path}: warning: the video's replay ended in state "
                   f"{video.session.sim.state_hash()}, not {result.final_hash}",

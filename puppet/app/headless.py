@@ -28,7 +28,8 @@ def _pygame():
 class FrameRenderer:
     """Draws what the window would show (world and HUD) into an off-screen surface."""
 
-    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0):
+    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0,
+                 overlay: bool = False):
         pygame = _pygame()
         from puppet.app.hud import HudInfo
 
@@ -38,7 +39,7 @@ class FrameRenderer:
         self.camera.resize(*size)
         self.font = pygame.font.Font(None, 24)
         self.small = pygame.font.Font(None, 20)
-        self.info = HudInfo(slowdown=slowdown, measured=slowdown)
+        self.info = HudInfo(slowdown=slowdown, measured=slowdown, overlay=overlay)
 
     def render(self, session: Session, hud: bool = True, wall_dt: float | None = None,
                ghost: Session | None = None):
@@ -49,7 +50,8 @@ class FrameRenderer:
         from puppet.app.render import draw_world
 
         self.camera.follow(subject_of(session), wall_dt)
-        draw_world(self.surface, session, self.camera, self.small, ghost=ghost)
+        draw_world(self.surface, session, self.camera, self.small, ghost=ghost,
+                   overlay=self.info.overlay)
         if hud:
             draw_hud(self.surface, session, self.info, self.font, self.small)
         return self.surface
@@ -64,16 +66,18 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
                  screenshot: str | None = None, frames_dir: str | None = None,
                  fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None,
                  record: str | Path | None = None, description: str | None = None,
-                 ghost=None) -> Session:
+                 ghost=None, overlay: bool = False) -> Session:
     """Play ``events`` for ``seconds``; write the final frame (``screenshot``) and/or
     every frame at ``fps`` (``frames_dir``); ``record``: also write the input log
     there (the images do not change the run: same log, same state hash).
-    ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character."""
+    ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character;
+    ``overlay``: draw the balance overlay (``render.draw_balance``)."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
     if screenshot or frames_dir:
-        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown)
+        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
+                                 overlay=overlay)
     every, on_tick = 0, None
     if frames_dir:
         every = max(1, round(1.0 / (fps * session.sim.dt)))

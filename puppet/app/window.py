@@ -27,7 +27,7 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
                until_step: int | None = None, ghost=None, note: str = "",
-               slowdown_chosen: bool = False) -> int:
+               slowdown_chosen: bool = False, overlay: bool = False) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
@@ -92,7 +92,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
     camera.follow(subject_of(session), None)
-    info = HudInfo(replaying=Path(replay.path).name if replay is not None else "")
+    info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
+                   overlay=overlay)
     reloader = None
     reload_error = ""  # shown until the file is valid again
     if feeder is None:  # hot reload: saving the interface file applies it at once
@@ -240,6 +241,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 session.advance(1)
         elif name == "help":
             info.show_help = not info.show_help
+        elif name == "balance":
+            info.overlay = not info.overlay
         elif name == "record_gesture" and feeder is None:
             session.say(gestures.toggle(session.time, last_mouse,
                                         session.app_keys["record_gesture"]))
@@ -330,7 +333,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             if ghost is not None:
                 ghost.sync(session)
             draw_world(screen, session, camera, small,
-                       ghost=ghost.session if ghost is not None else None)
+                       ghost=ghost.session if ghost is not None else None,
+                       overlay=info.overlay)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
     scrub.release()

@@ -22,6 +22,7 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "forward": ("shift+b", "hold to scrub forward again after rewinding"),
     "record_gesture": ("f2", "record a mouse gesture / stop; then press its key"),
     "save_gestures": ("f3", "save the bound gestures into the interface file"),
+    "balance": ("f4", "show / hide the balance overlay: centre of mass, support, xcom"),
 }
 
 # Actions that change the simulation (and so are handled by the Session, replayed

@@ -438,6 +438,7 @@ def replay_command(args) -> int:
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
         return run_window(setup, slowdown, replay=log, until_step=args.until_step,
                           slowdown_chosen=args.slowdown is not None,
+                          overlay=getattr(args, "overlay", None) == "com",
                           note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
                                           for w in warnings))
 
