@@ -13,7 +13,7 @@ from pathlib import Path
 
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
-from puppet.app.devices import device_events
+from puppet.app.devices import Gamepads, device_events
 from puppet.interface import events as ev
 from puppet.interface.app_keys import key_chord
 from puppet.session import Session
@@ -54,7 +54,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         raise UsageError(missing)
     pygame.font.init()
     pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
-    joysticks: dict = {}
+    gamepads = Gamepads(pygame)
     screen = pygame.display.set_mode(size, pygame.RESIZABLE)
     title = f"puppet - {setup.interface.name}"
     try:  # pygame-ce: the display's Window object carries the title and a minimum size
@@ -254,7 +254,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     while running:
         wall_dt = frames.tick(60) / 1000.0
         for event in pygame.event.get():
-            for translated in device_events(pygame, event, joysticks):
+            for translated in device_events(pygame, event, gamepads,
+                                            session.interface.gamepad):
                 running = app_action(handle(translated)) and running
             if event.type == pygame.QUIT:
                 running = False

@@ -75,8 +75,12 @@ def key_problem(text: str) -> str | None:
     if name in _key_names() or name in BUTTON_KEYS or \
             (name.startswith("gamepad.button") and name[len("gamepad.button"):].isdigit()):
         return None
+    from puppet.interface.events import GAMEPAD_BUTTONS
+
+    if name.startswith("gamepad.") and name[len("gamepad."):] in GAMEPAD_BUTTONS:
+        return None
     return (f"unknown key name '{name}'; expected a pygame key name such as a, 1, space, "
-            f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.button0")
+            f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.a / gamepad.button0")
 
 
 def key_chord(name: str, mods: tuple[str, ...] | list[str] = ()) -> str:

@@ -14,9 +14,9 @@ def _fmt(v: float) -> str:
 # What an input is, to a player: its name on the HUD and the words for its two ends.
 _AXES = {"x": ("left-right", "left", "right"), "y": ("up-down", "bottom", "top")}
 _STICKS = {"left_x": ("left stick left-right", "left", "right"),
-           "left_y": ("left stick up-down", "down", "up"),
+           "left_y": ("left stick up-down", "bottom", "top"),
            "right_x": ("right stick left-right", "left", "right"),
-           "right_y": ("right stick up-down", "down", "up"),
+           "right_y": ("right stick up-down", "bottom", "top"),
            "left_trigger": ("left trigger", "released", "pulled"),
            "right_trigger": ("right trigger", "released", "pulled")}
 
@@ -55,6 +55,9 @@ def input_label(names) -> str:
 def joint_words(joints) -> str:
     """hip_near, knee_near -> "near hip and knee"; ankle -> "ankle"."""
     joints = list(joints)
+    stems = {j.rpartition("_")[0] for j in joints}
+    if len(joints) > 1 and len(stems) == 1 and "" not in stems:  # hip_near, hip_far
+        return f"{stems.pop().replace('_', ' ')}s (both sides)"
     sides = {j.rpartition("_")[2] for j in joints if "_" in j}
     if len(sides) == 1 and all("_" in j for j in joints):
         side = sides.pop()
@@ -84,7 +87,7 @@ def map_line(m) -> tuple[str, str]:
     gains = m.gains()
     who = joint_words(gains) if len(gains) > 1 else next(iter(gains)).replace("_", " ")
     a, b = m.to
-    if tuple(m.from_) != (0.0, 1.0):
+    if tuple(m.from_) not in ((0.0, 1.0), (-1.0, 1.0)):
         return what, f"{who} {_fmt(a)} deg at {m.from_[0]:g} .. {_fmt(b)} at {m.from_[1]:g}"
     return what, f"{who} {_fmt(a)} deg at the {lo} .. {_fmt(b)} at the {hi}"
 

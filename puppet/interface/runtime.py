@@ -34,7 +34,7 @@ from puppet.data.interfaces import InterfaceSpec
 from puppet.interface import maps as mapping
 from puppet.interface import meta, sequences
 from puppet.interface.app_keys import normalize_key
-from puppet.interface.events import Event
+from puppet.interface.events import Event, is_analog
 from puppet.interface.ik import Chain, Reach
 from puppet.interface.poses import apply_pose, compile_poses
 from puppet.interface.state_machine import StateMachine
@@ -284,7 +284,7 @@ class InterfaceRuntime:
             was = self.inputs.get(name, 0.0)
             self.inputs[name] = value
             self.apply_maps((name,))
-            if kind != "channel" and not name.startswith("gamepad.axis") \
+            if kind != "channel" and not is_analog(name) \
                     and (was > 0.5) != (value > 0.5):  # buttons also act as keys
                 result = self._press(name, value > 0.5, now)
         else:
