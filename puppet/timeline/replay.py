@@ -66,7 +66,13 @@ class Trajectory:
 
 
 class Sampler:
-    """An ``on_tick`` callback that records the session's state."""
+    """An ``on_tick`` callback that records the session's state.
+
+    It runs at every sample of every replay (most of a test replay's time went here),
+    so it reads pymunk through its C library directly, with what does not change (the
+    links' centres of gravity, the servos' springs and bodies) looked up once per
+    set of bodies (a restore rebuilds them): the same C calls pymunk's properties make,
+    so the same numbers to the bit (tested against the plain reading)."""
 
     def __init__(self, session: Session):
         c = session.character
@@ -77,6 +83,32 @@ class Sampler:
         self.state_names: dict[str, None] = {}  # ordered sets
         self.mode_names: dict[str, None] = {}
         self._runtime = None
+        self._key = None  # the bodies the plan below was made for
+        from pymunk._chipmunk_cffi import ffi, lib
+
+        self._lib = lib
+        touched = self._touched = [0]
+
+        @ffi.callback("void(cpBody *, cpArbiter *, void *)")
+        def count(body, arbiter, data):  # a link's arbiters: anything outside it
+            touched[0] += 1
+
+        self._count, self._null = count, ffi.NULL
+
+    def _plan(self, c) -> None:
+        """Per link (in ``links`` order): body, its C pointer, centre of gravity, the
+        C pointers of its shapes; the com's bodies in ``Character.com``'s order."""
+        self._key = c.bodies[self.links[0]]
+        self._per_link = [(c.bodies[n], c.bodies[n]._body, tuple(c.bodies[n].center_of_gravity),
+                           [sh._shape for sh in c.shapes[n]]) for n in self.links]
+        at = {n: i for i, n in enumerate(self.links)}
+        self._com_order = [(at[n], b.mass) for n, b in c.bodies.items()]
+        self._mass = c.mass
+        link_of = {id(c.bodies[n]): i for i, n in enumerate(self.links)}
+        # a joint's angle is its child's angle less its parent's: read once per link
+        self._servos = [(link_of[id(c.servos[j].child)], link_of[id(c.servos[j].parent)],
+                         c.servos[j].spring) for j in self.joints]
+        self._root = at[c.spec.root]
 
     def __call__(self, session: Session) -> None:
         step = session.steps
@@ -89,15 +121,25 @@ class Sampler:
             while self.rows and self.rows[-1][0] >= step:
                 self.rows.pop()
         c = session.character
+        if self._key is not c.bodies[self.links[0]]:  # a restore rebuilds all the bodies
+            self._plan(c)
+        lib, touched, count, null = self._lib, self._touched, self._count, self._null
+        to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeGetBB, lib.cpBodyEachArbiter
         per_link = []
-        for name in self.links:
-            body = c.bodies[name]
-            p = body.local_to_world(body.center_of_gravity)
-            low = min(sh.cache_bb().bottom for sh in c.shapes[name])
-            per_link.append((p[0], p[1], body.angle, low, c.in_contact(name)))
-        servos = [c.servos[j] for j in self.joints]
-        self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
-                          [s.angle for s in servos], [s.target for s in servos],
+        for body, ptr, cog, shapes in self._per_link:
+            p = to_world(ptr, cog)
+            touched[0] = 0
+            each(ptr, count, null)
+            per_link.append((p.x, p.y, body.angle, min(get_bb(sh).b for sh in shapes),
+                             touched[0] > 0))
+        mx = my = 0.0  # Character.com, from the positions just read, in its order
+        for i, mass in self._com_order:
+            mx += mass * per_link[i][0]
+            my += mass * per_link[i][1]
+        self.rows.append((step, session.time, per_link, (mx / self._mass, my / self._mass),
+                          per_link[self._root][2],
+                          [per_link[i][2] - per_link[k][2] for i, k, _ in self._servos],
+                          [spring.rest_angle for _, _, spring in self._servos],
                           rt.state, rt.mode))
 
     def trajectory(self) -> Trajectory:
