@@ -147,11 +147,15 @@ SCRUB_RATE = 1.0  # s of simulated time per wall s when a scrub starts (it speed
 
 class Scrubber:
     """Holding the rewind key: move through the history (back, or forward with shift),
-    showing each snapshot; on release, commit with a logged "rewind" action so that a
-    replay of the log branches at the same place. Pure logic, no pygame."""
+    showing cached poses of it (``puppet.timeline.preview``: each frame within its
+    budget); on release, commit with a logged "rewind" action, the one exact rewind, so
+    that a replay of the log branches at the same place. Pure logic, no pygame."""
 
     def __init__(self, session):
+        from puppet.timeline.preview import PoseCache
+
         self.session = session
+        self.cache = PoseCache(session)  # the preview: cached poses, budgeted per frame
         self.active = False
         self.forward = False
         self.moved = False
@@ -182,9 +186,9 @@ class Scrubber:
         if direction < 0 and not self.moved:  # show the first step back at once
             self.pos = min(self.pos, self.session.steps - 1)
         step = int(self.pos)
-        if step != self.session.steps:
-            self.session.preview(step)
-            self.moved = True
+        if step != self.session.steps:  # a cached pose (the exact rewind comes on commit)
+            if self.cache.show(step, forward=direction > 0) is not None:
+                self.moved = True
 
     def commit(self) -> None:
         """Log the step shown as a rewind action (if the scrub moved), so that input
