@@ -58,7 +58,7 @@ SCRUB_FRAME_TARGET_MS = 1000.0 / 60.0  # every scrub frame within a 60 Hz frame
 PROCESS_TARGET_MS = 150.0  # a short headless replay or a check, end to end
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
-        "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 30.0, "scrub_frames": 900,
+        "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 90.0, "scrub_frames": 600,
         "process_repeats": 5}
 QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds": 1.0,
          "rewind_repeats": 2, "log_repeats": 1, "scrub_played_s": 4.0, "scrub_frames": 30,
@@ -407,7 +407,8 @@ def measure_scrub(subject: Subject, played_s: float, frames: int) -> dict:
     """Holding the rewind key after ``played_s`` s of play: the wall time of each scrub
     frame (``Scrubber.update`` at 60 Hz: the preview's cache work and the pose shown),
     ``frames`` of them (the scrub speeds up the longer it is held, crossing keyframe
-    intervals), then the release (the one exact rewind)."""
+    intervals: 600 frames go 60 s back), then the release (the one exact rewind).
+    Frames after the scrub reached the oldest step are not counted."""
     from puppet.timeline.history import Scrubber
 
     session = subject.session()
@@ -416,7 +417,10 @@ def measure_scrub(subject: Subject, played_s: float, frames: int) -> dict:
     scrub = Scrubber(session)
     scrub.start()
     times, start = [], session.steps
+    oldest = session.history.oldest()
     for _ in range(frames):
+        if session.steps <= oldest:
+            break
         t0 = time.perf_counter()
         scrub.update(1.0 / FRAME_HZ)
         times.append((time.perf_counter() - t0) * 1e3)
@@ -424,7 +428,7 @@ def measure_scrub(subject: Subject, played_s: float, frames: int) -> dict:
     scrub.release()
     release_ms = (time.perf_counter() - t0) * 1e3
     times.sort()
-    return {"frames": frames, "p50_ms": times[len(times) // 2],
+    return {"frames": len(times), "p50_ms": times[len(times) // 2],
             "p99_ms": times[min(len(times) - 1, math.ceil(0.99 * len(times)) - 1)],
             "max_ms": times[-1], "release_ms": release_ms,
             "scrubbed_s": (start - session.steps) * session.sim.dt}

@@ -20,6 +20,7 @@ checkpoint action only, so a replay takes them at the same steps as the recordin
 
 from __future__ import annotations
 
+import gc
 from collections import deque
 from dataclasses import dataclass, field
 
@@ -169,6 +170,10 @@ class Scrubber:
         self.active, self.forward, self.moved = True, forward, False
         self.pos = float(self.session.steps)
         self.held = 0.0
+        # No full garbage collection in a scrub frame (a pass over the whole heap takes
+        # tens of ms): only the young generation, each frame, until the release.
+        self._gc_was_on = gc.isenabled()
+        gc.disable()
 
     def update(self, wall_dt: float, forward: bool = False) -> None:
         """One frame of scrubbing; ``forward``: a modifier says go the other way."""
@@ -179,6 +184,7 @@ class Scrubber:
         if span is None:
             return
         self.held += wall_dt
+        gc.collect(0)
         rate = SCRUB_RATE * (1.0 + self.held)  # the longer it is held, the faster
         direction = 1.0 if (self.forward or forward) else -1.0
         self.pos += direction * rate * wall_dt / history.dt
@@ -201,4 +207,6 @@ class Scrubber:
     def release(self) -> None:
         """Play on from the snapshot shown (a logged rewind action)."""
         self.commit()
+        if self.active and self._gc_was_on:
+            gc.enable()
         self.active = False

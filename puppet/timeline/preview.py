@@ -18,9 +18,10 @@ snapshot, the same events, the same machinery), so the poses are the poses playe
 from __future__ import annotations
 
 import time
+from array import array
 
 POSE_EVERY = 4  # steps between cached poses (1/120 s at the default step)
-BUDGET = 0.006  # wall s of re-simulation per scrub frame (a frame is 16.7 ms)
+BUDGET = 0.004  # wall s of re-simulation per scrub frame (a frame is 16.7 ms)
 CHUNK = 32  # steps re-simulated between clock reads
 
 
@@ -48,6 +49,7 @@ class PoseCache:
         self.running: _Interval | None = None  # the one the scratch session is in
         self._valid = None
         self._plan = None  # the live bodies (and their shapes) the poses are put on
+        self._scratch()  # made now, not in a scrub frame (it builds a whole session)
 
     # -- which interval ----------------------------------------------------------------
     def _validate(self) -> None:
@@ -98,8 +100,11 @@ class PoseCache:
         s = self.scratch
         c = s.character
         steps = s.sim.steps
-        iv.poses[steps] = (tuple((p.x, p.y, b.angle) for b in c.bodies.values()
-                                 for p in (b.position,)), s.runtime.state, s.runtime.mode)
+        flat = array("d")  # x, y, angle per body: one object, not tracked by the GC
+        for b in c.bodies.values():
+            p = b.position
+            flat.extend((p.x, p.y, b.angle))
+        iv.poses[steps] = (flat, s.runtime.state, s.runtime.mode)
         iv.reached = steps
 
     def _work(self, iv: _Interval, deadline: float) -> None:
@@ -164,9 +169,11 @@ class PoseCache:
         bodies = list(c.bodies.values())
         if self._plan is None or self._plan[0] is not bodies[0]:
             self._plan = (bodies[0], [s for shapes in c.shapes.values() for s in shapes])
-        for body, (x, y, a) in zip(bodies, pose[0]):
-            body.angle = a  # first: setting the angle keeps the centre of gravity, so
-            body.position = (x, y)  # the origin goes where it was after it
+        flat = pose[0]
+        for i, body in enumerate(bodies):
+            body.angle = flat[3 * i + 2]  # first: setting the angle keeps the centre of
+            body.position = (flat[3 * i], flat[3 * i + 1])  # gravity, so the origin goes
+            # where it was after it
         for shape in self._plan[1]:
             shape.cache_bb()  # for the camera's framing
         live.sim.steps = step
