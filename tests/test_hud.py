@@ -103,3 +103,16 @@ def test_the_timeline_bar_is_labelled_with_its_end_time():
     session.advance(480 * 4)
     texts, _ = _drawn(session)
     assert "4.0 s" in texts  # the bar's right end
+
+
+def test_gamepad_pose_buttons_get_their_own_strip_labelled_by_name():
+    from puppet.app.keymap import draw_keymap
+
+    pygame.font.init()
+    setup = load_setup("luxo-gamepad")
+    seen = []
+    font = SpyFont(pygame.font.Font(None, 20), seen)
+    draw_keymap(pygame.Surface((800, 400)), setup.interface, setup.character, font, (0, 0))
+    texts = [t for t, _ in seen]
+    assert "gamepad buttons" in texts and {"a", "b", "x", "y"} <= set(texts)
+    assert "gamepad.a" not in texts and "other" not in texts
