@@ -144,10 +144,11 @@ def plain_message(err: dict) -> str:
             msg = msg.removeprefix(prefix)
         return msg
     if kind == "union_tag_invalid":
-        return (f"unknown {ctx.get('discriminator', 'type').strip(chr(39))} "
+        return (f"unknown {str(ctx.get('discriminator', 'type')).strip(chr(39))} "
                 f"'{ctx.get('tag')}'; expected one of: {_quoted(ctx.get('expected_tags', ''))}")
     if kind == "union_tag_not_found":
-        return f"missing '{str(ctx.get('discriminator', 'type')).strip(chr(39))}', which says what it is"
+        key = str(ctx.get("discriminator", "type")).strip("'")
+        return f"missing '{key}', which says what it is"
     if kind in ("literal_error", "enum"):
         return f"expected one of: {_quoted(ctx.get('expected', ''))}"
     if kind in _BOUNDS:
