@@ -30,6 +30,7 @@ class HudInfo:
     scrubbing: bool = False  # the rewind key is held
     replaying: str = ""  # the log a window replay plays (its events, not the devices)
     overlay: bool = False  # the centre-of-mass overlay is on (see render.draw_balance)
+    branch: int | None = None  # the branch selected (history.branches index), listed
     _seen_serial: int = 0
     _message_until: float = 0.0
 
@@ -191,7 +192,9 @@ def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
     dt = session.sim.dt
     span = history.span()
     marks = history.checkpoint_steps()
-    last = max([session.steps] + ([span[1]] if span else []) + marks)
+    branches = history.branches if info.branch is not None else []
+    last = max([session.steps] + ([span[1]] if span else []) + marks
+               + [b.head for b in branches])
     end = max(last * dt, 1.0)
     w, h = surface.get_size()
     end_label = small.render(f"{end:.1f} s", True, DIM)
@@ -214,3 +217,34 @@ def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
         pygame.draw.line(surface, (230, 140, 30), (px(step), y - 8), (px(step), y + 8), 2)
     cur = px(session.steps)
     pygame.draw.line(surface, (20, 30, 50), (cur, y - 9), (cur, y + 9), 3)
+    if info.branch is not None:
+        draw_branches(surface, session, info, small, px, y)
+
+
+BRANCH = (130, 60, 170)
+
+
+def draw_branches(surface, session: Session, info: HudInfo, small, px, y: int) -> None:
+    """The branches near now on the timeline bar (each a purple span from its fork to its
+    end, numbered; the selected one thick) and a line saying what the keys do."""
+    history, keys = session.history, session.app_keys
+    near = history.branches_near(session.steps)
+    for rank, i in enumerate(near):
+        b = history.branches[i]
+        a, e = px(b.fork), px(b.head)
+        thick = 3 if i == info.branch else 1
+        pygame.draw.line(surface, BRANCH, (a, y - 11 - thick), (max(e, a + 2), y - 11 - thick),
+                         thick)
+        pygame.draw.line(surface, BRANCH, (a, y - 11 - thick), (a, y - 4), 1)
+        surface.blit(small.render(str(rank + 1), True, BRANCH), (a + 2, y - 30))
+    if info.branch is not None and info.branch < len(history.branches):
+        b = history.branches[info.branch]
+        dt = session.sim.dt
+        text = (f"branch {near.index(info.branch) + 1 if info.branch in near else '?'} of "
+                f"{len(near)}: from {b.fork * dt:.1f} s, {b.steps * dt:.1f} s long - "
+                f"{keys['take_branch']} takes it up, {keys['export_branch']} exports it, "
+                f"{keys['branches']} the next")
+        label = small.render(fit(small, text, surface.get_width() - 40), True, BRANCH)
+        rect = label.get_rect(bottomleft=(16, y - 34))
+        _panel(surface, rect.inflate(10, 6))
+        surface.blit(label, rect)

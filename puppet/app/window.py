@@ -243,12 +243,65 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             info.show_help = not info.show_help
         elif name == "balance":
             info.overlay = not info.overlay
+        elif name == "branches":
+            near = session.history.branches_near(session.steps)
+            if not near:
+                info.branch = None
+                session.say("no branches yet: rewind (hold B) and play on to keep one")
+            elif info.branch not in near:
+                info.branch = near[0]
+            elif near.index(info.branch) + 1 < len(near):
+                info.branch = near[near.index(info.branch) + 1]
+            else:
+                info.branch = None  # past the last one: the list closes
+        elif name == "take_branch" and feeder is None:
+            take_branch()
+        elif name == "export_branch" and feeder is None:
+            export_branch()
         elif name == "record_gesture" and feeder is None:
             session.say(gestures.toggle(session.time, last_mouse,
                                         session.app_keys["record_gesture"]))
         elif name == "save_gestures" and reloader is not None:
             session.say(save_gestures())
         return True
+
+    def selected_branch():
+        history = session.history
+        if info.branch is None or info.branch >= len(history.branches):
+            session.say(f"choose a branch first: {session.app_keys['branches']} lists them")
+            return None
+        return history.branches[info.branch]
+
+    def take_branch() -> None:
+        """Take up the selected branch: a logged "take" action (a replay does the same)."""
+        chosen = selected_branch()
+        if chosen is None:
+            return
+        history = session.history
+        if not history.oldest() <= chosen.fork <= history.head:
+            session.say("that branch forks before the history kept", error=True)
+            return
+        scrub.commit()
+        handle(ev.action("take") | {"branch": info.branch})
+        info.branch = None
+
+    def export_branch() -> None:
+        """Write the selected branch, from step 0, as a log of its own."""
+        from puppet.timeline.log import default_path, record_events
+
+        chosen = selected_branch()
+        if chosen is None:
+            return
+        events = session.branch_events(info.branch)
+        if events is None:
+            session.say("the history no longer reaches back to the start: cannot export",
+                        error=True)
+            return
+        path = default_path(f"{setup.interface.name}-branch")
+        at = chosen.fork * session.sim.dt
+        record_events(Session(setup), events, chosen.head, path, slowdown=slowdown,
+                      description=f"a branch of {setup.interface.name} from t={at:.2f} s")
+        session.say(f"exported the branch to {path}")
 
     running = True
     while running:

@@ -23,6 +23,9 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "record_gesture": ("f2", "record a mouse gesture / stop; then press its key"),
     "save_gestures": ("f3", "save the bound gestures into the interface file"),
     "balance": ("f4", "show / hide the balance overlay: centre of mass, support, xcom"),
+    "branches": ("f9", "list the abandoned futures near now (branches); again: the next"),
+    "take_branch": ("f10", "take up the selected branch again"),
+    "export_branch": ("f11", "export the selected branch as a log of its own"),
 }
 
 # Actions that change the simulation (and so are handled by the Session, replayed

@@ -38,6 +38,25 @@ class Snapshot:
     event_seq: int = 0  # how many events had been recorded when it was taken
 
 
+@dataclass
+class Branch:
+    """A future that was abandoned (new input after a rewind, or going back to a
+    checkpoint): its events and keyframes from ``fork`` (the step it left the kept
+    history at) to ``head``. Kept, so that it can be taken up again or exported."""
+    fork: int
+    head: int
+    events: list  # (seq, step, event), in order
+    auto: list
+    manual: list
+
+    @property
+    def steps(self) -> int:
+        return self.head - self.fork
+
+
+MAX_BRANCHES = 50  # abandoned futures kept (the oldest go first)
+
+
 class History:
     """Keyframes and events by step on the current branch. Rewinding moves the session
     back without forgetting; new input (or stepping on) from an earlier step branches:
@@ -60,6 +79,7 @@ class History:
         self.next_seq = 0
         self.start: Snapshot | None = None
         self.head = 0  # the furthest step of the current branch
+        self.branches: list[Branch] = []  # abandoned futures, oldest first
 
     # -- when ------------------------------------------------------------------------
     def keyframe_due(self, step: int) -> bool:
@@ -72,6 +92,7 @@ class History:
         self.auto.clear()
         self.manual.clear()
         self.events.clear()
+        self.branches.clear()
         self.auto.append(snap)
         self.head = snap.step
 
@@ -92,14 +113,25 @@ class History:
         self.next_seq += 1
 
     def branch(self, step: int) -> None:
-        """Forget everything after ``step``: keyframes later than it and events at or
-        after it (they belonged to the abandoned future)."""
-        for seq in (self.auto, self.manual):
+        """Leave everything after ``step`` (keyframes later than it, events at or after
+        it: the abandoned future) out of the history, kept as a ``Branch``."""
+        dropped: dict[str, list] = {"auto": [], "manual": [], "events": []}
+        for name, seq in (("auto", self.auto), ("manual", self.manual)):
             while seq and seq[-1].step > step:
-                seq.pop()
+                dropped[name].insert(0, seq.pop())
         while self.events and self.events[-1][1] >= step:
-            self.events.pop()
+            dropped["events"].insert(0, self.events.pop())
+        if self.head > step:
+            self.branches.append(Branch(step, self.head, dropped["events"], dropped["auto"],
+                                        dropped["manual"]))
+            del self.branches[:-MAX_BRANCHES]
         self.head = step
+
+    def branches_near(self, step: int, n: int = 5) -> list[int]:
+        """Indices of the ``n`` branches whose fork is nearest ``step``, nearest first."""
+        order = sorted(range(len(self.branches)),
+                       key=lambda i: (abs(self.branches[i].fork - step), -i))
+        return order[:n]
 
     # -- finding -----------------------------------------------------------------------
     def oldest(self) -> int:
@@ -168,6 +200,7 @@ class Scrubber:
             self.forward = forward
             return
         self.active, self.forward, self.moved = True, forward, False
+        self.origin = self.session.steps  # where the run is (the preview only shows)
         self.pos = float(self.session.steps)
         self.held = 0.0
         # No full garbage collection in a scrub frame (a pass over the whole heap takes
@@ -201,8 +234,11 @@ class Scrubber:
         handled from here on is logged after it and a replay applies it there too."""
         if self.active and self.moved:
             self.moved = False
-            self.session.handle({"type": "action", "name": "rewind",
-                                 "to_step": self.session.steps})
+            # Logged at the step the run is at, not the one shown: a replay plays on to
+            # there first, as the run did, so the future left is the same branch there.
+            shown, self.session.sim.steps = self.session.steps, self.origin
+            self.session.handle({"type": "action", "name": "rewind", "to_step": shown})
+            self.origin = self.session.steps
 
     def release(self) -> None:
         """Play on from the snapshot shown (a logged rewind action)."""

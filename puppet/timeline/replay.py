@@ -83,6 +83,7 @@ class Sampler:
         self.state_names: dict[str, None] = {}  # ordered sets
         self.mode_names: dict[str, None] = {}
         self._runtime = None
+        self._take = (0, 0)  # the session's last take seen (Session.last_take)
         self._key = None  # the bodies the plan below was made for
         from pymunk._chipmunk_cffi import ffi, lib
 
@@ -119,6 +120,11 @@ class Sampler:
             self.mode_names.update(dict.fromkeys(rt.spec.modes))
         if self.rows and step <= self.rows[-1][0]:  # time went back: a rewind
             while self.rows and self.rows[-1][0] >= step:
+                self.rows.pop()
+        take = getattr(session, "last_take", None)
+        if take is not None and take != self._take:  # a branch taken up: the samples
+            self._take = take  # after its fork belonged to the future left
+            while take[0] and self.rows and self.rows[-1][0] > take[1]:
                 self.rows.pop()
         c = session.character
         if self._key is not c.bodies[self.links[0]]:  # a restore rebuilds all the bodies
