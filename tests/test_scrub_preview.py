@@ -58,3 +58,24 @@ def test_the_preview_shows_the_exact_past_and_restores_nothing_until_release(int
     assert len(restores) == 1 and live.steps == step
     reference.rewind_to(step)
     assert live.sim.state_hash() == reference.sim.state_hash()
+
+
+def test_the_preview_uses_the_sessions_own_step_and_interval():
+    """A replayed log's session may step at another dt and checkpoint interval than
+    the interface's defaults: the preview re-simulates with the session's own."""
+    def played():
+        session = Session(load_setup("luxo-mouse"), dt=1 / 240, checkpoint_interval=1.0)
+        rng = random.Random(2)
+        for _ in range(240):
+            session.handle(ev.mouse(rng.random(), rng.random()))
+            session.advance(4)
+        return session
+
+    live, reference = played(), played()
+    scrub = Scrubber(live)
+    scrub.start()
+    for _ in range(40):
+        scrub.update(1 / 60)
+    assert live.steps < 960
+    reference.rewind_to(live.steps)
+    assert _pose(live) == _pose(reference)

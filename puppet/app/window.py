@@ -299,7 +299,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             return
         path = default_path(f"{setup.interface.name}-branch")
         at = chosen.fork * session.sim.dt
-        record_events(Session(setup), events, chosen.head, path, slowdown=slowdown,
+        fresh = Session(setup, dt=session.sim.dt,
+                        checkpoint_interval=session.checkpoint_interval)
+        record_events(fresh, events, chosen.head, path, slowdown=slowdown,
                       description=f"a branch of {setup.interface.name} from t={at:.2f} s")
         session.say(f"exported the branch to {path}")
 

@@ -79,7 +79,8 @@ class PoseCache:
         if self.scratch is None:
             from puppet.session import Session
 
-            self.scratch = Session(live.setup)
+            self.scratch = Session(live.setup, dt=live.sim.dt,  # the same steps
+                                   checkpoint_interval=live.checkpoint_interval)
         scratch = self.scratch
         scratch.versions = list(live.versions)  # hot reloads: the snapshots name them
         scratch._version_of = dict(live._version_of)
