@@ -57,11 +57,15 @@ REWIND_TARGET_MS = 100.0
 # the human figure's own budgets (issue 10): tighter than the defaults
 CHECKPOINT_TARGET = {"biped": 1.0, "biped-small": 1.0}
 REWIND_TARGET = {"biped": 30.0, "biped-small": 30.0}
+SCRUB_FRAME_TARGET_MS = 1000.0 / 60.0  # every scrub frame within a 60 Hz frame
+PROCESS_TARGET_MS = 150.0  # a short headless replay or a check, end to end
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
-        "rewind_repeats": 21, "log_repeats": 3}
+        "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 90.0, "scrub_frames": 600,
+        "process_repeats": 5}
 QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds": 1.0,
-         "rewind_repeats": 2, "log_repeats": 1}
+         "rewind_repeats": 2, "log_repeats": 1, "scrub_played_s": 4.0, "scrub_frames": 30,
+         "process_repeats": 1}
 
 
 # -- what to measure -----------------------------------------------------------------
@@ -403,6 +407,59 @@ def measure_rewind(subject: Subject, seconds: float, repeats: int) -> dict:
     return out
 
 
+def measure_scrub(subject: Subject, played_s: float, frames: int) -> dict:
+    """Holding the rewind key after ``played_s`` s of play: the wall time of each scrub
+    frame (``Scrubber.update`` at 60 Hz: the preview's cache work and the pose shown),
+    ``frames`` of them (the scrub speeds up the longer it is held, crossing keyframe
+    intervals: 600 frames go 60 s back), then the release (the one exact rewind).
+    Frames after the scrub reached the oldest step are not counted."""
+    from puppet.timeline.history import Scrubber
+
+    session = subject.session()
+    _play_frames(subject, session, gesture(subject.frames(played_s), subject.interface_spec))
+    gc.collect()
+    scrub = Scrubber(session)
+    scrub.start()
+    times, start = [], session.steps
+    oldest = session.history.oldest()
+    for _ in range(frames):
+        if session.steps <= oldest:
+            break
+        t0 = time.perf_counter()
+        scrub.update(1.0 / FRAME_HZ)
+        times.append((time.perf_counter() - t0) * 1e3)
+    t0 = time.perf_counter()
+    scrub.release()
+    release_ms = (time.perf_counter() - t0) * 1e3
+    times.sort()
+    return {"frames": len(times), "p50_ms": times[len(times) // 2],
+            "p99_ms": times[min(len(times) - 1, math.ceil(0.99 * len(times)) - 1)],
+            "max_ms": times[-1], "release_ms": release_ms,
+            "scrubbed_s": (start - session.steps) * session.sim.dt}
+
+
+def measure_processes(repeats: int) -> dict:
+    """Wall ms of whole ``puppet`` processes, as a user starts them: the import alone
+    (``--version``), a short headless replay (luxo-hop) and a check of one file."""
+    import subprocess
+
+    from puppet.data.catalog import ROOT
+
+    commands = {"startup": ["--version"],
+                "replay": ["replay", "luxo-hop", "--headless"],
+                "check": ["check", str(ROOT / "characters" / "luxo.yaml")]}
+    out = {}
+    for name, args in commands.items():
+        walls = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "puppet", *args], capture_output=True,
+                           cwd=ROOT, check=False)
+            walls.append((time.perf_counter() - t0) * 1e3)
+        out[f"{name}_ms"] = statistics.median(walls)
+    return out
+
+
 # -- logs ----------------------------------------------------------------------------
 def measure_logs(repeats: int) -> dict:
     from puppet.data.catalog import folder
@@ -573,6 +630,7 @@ def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
             _target(f"control overhead: {label}", sp["control_overhead_pct"], "<=",
                     OVERHEAD_TARGET_PCT, "%"),
         ]
+    res["scrub"] = measure_scrub(first, cfg["scrub_played_s"], cfg["scrub_frames"])
     res["checkpoint"] = measure_checkpoint(first, cfg["checkpoint_repeats"])
     res["rewind"] = measure_rewind(first, cfg["rewind_seconds"], cfg["rewind_repeats"])
     res["targets"] += [
@@ -580,6 +638,8 @@ def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
                 CHECKPOINT_TARGET.get(character, CHECKPOINT_TARGET_MS), "ms"),
         _target("rewind 60 s and resume", res["rewind"]["resume_ms"], "<",
                 REWIND_TARGET.get(character, REWIND_TARGET_MS), "ms"),
+        _target("scrub frame, worst", res["scrub"]["max_ms"], "<", SCRUB_FRAME_TARGET_MS,
+                "ms"),
     ]
     return res
 
@@ -599,7 +659,9 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
     subjects = characters_and_interfaces()
     unknown = sorted(set(only or ()) - {c for c, _ in subjects})
     if unknown:
-        raise SystemExit(f"puppet bench: no character named {', '.join(unknown)}; known: "
+        from puppet.data.errors import UsageError
+
+        raise UsageError(f"no character named {', '.join(unknown)}; known: "
                          f"{', '.join(c for c, _ in subjects)}")
     for character, interfaces in subjects:
         if only and character not in only:
@@ -610,7 +672,14 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
                           for name, scene, targeted in CHANNEL_SUBJECTS
                           if name in known and (not only or name in only)]
     report["logs"] = measure_logs(cfg["log_repeats"])
+    report["processes"] = measure_processes(cfg["process_repeats"])
+    pr = report["processes"]
+    report["targets"] = [
+        _target("headless replay process (luxo-hop)", pr["replay_ms"], "<", PROCESS_TARGET_MS,
+                "ms"),
+        _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms")]
     report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"]) \
+        and all(t["pass"] for t in report["targets"]) \
         and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"])
     return report
 
@@ -675,6 +744,12 @@ def format_report(report: dict) -> str:
         row(f"rewind {rw['rewound_s']:.1f} s: that + first frame",
             f"{rw['resume_ms']:.3f} ms", limit["rewind 60 s and resume"],
             verdict["rewind 60 s and resume"])
+        sc = c["scrub"]
+        row(f"scrub frame ({sc['frames']} frames, {sc['scrubbed_s']:.1f} s back): p50 / p99",
+            f"{sc['p50_ms']:.2f} / {sc['p99_ms']:.2f} ms")
+        row("scrub frame: worst", f"{sc['max_ms']:.2f} ms", limit["scrub frame, worst"],
+            verdict["scrub frame, worst"])
+        row("scrub release (the exact rewind)", f"{sc['release_ms']:.2f} ms")
     for ch in report.get("channels", []):
         t = ch["target"]
         lines.append("")
@@ -698,9 +773,24 @@ def format_report(report: dict) -> str:
                          f"({item['sim_seconds']:.1f} s in {item['wall_s'] * 1e3:.0f} ms)")
         elif "wall_s" in item:
             lines.append(f"  {item['log']:<44} {item['wall_s'] * 1e3:>9.0f} ms")
+    items = [i for i in logs["items"] if i.get("speed_x")]
+    if items:
+        sim, wall = sum(i["sim_seconds"] for i in items), sum(i["wall_s"] for i in items)
+        lines.append(f"  {'all (puppet.testing.replay_log, expectations)':<44} "
+                     f"{sim / wall:>11.0f}x  ({sim:.1f} s in {wall * 1e3:.0f} ms)")
+    pr = report["processes"]
+    verdict = {t["name"]: "PASS" if t["pass"] else "MISS" for t in report["targets"]}
+    lines.append("")
+    lines.append("processes (python -m puppet ..., end to end, medians)")
+    row("startup (--version)", f"{pr['startup_ms']:.0f} ms")
+    row("replay luxo-hop --headless", f"{pr['replay_ms']:.0f} ms", f"< {PROCESS_TARGET_MS:g} ms",
+        verdict["headless replay process (luxo-hop)"])
+    row("check characters/luxo.yaml", f"{pr['check_ms']:.0f} ms", f"< {PROCESS_TARGET_MS:g} ms",
+        verdict["check process (one file)"])
     lines.append("")
     misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
-              for t in c["targets"] if not t["pass"]]
+              for t in c["targets"] if not t["pass"]] + \
+        [t["name"] for t in report["targets"] if not t["pass"]]
     misses += [ch["target"]["name"] for ch in report.get("channels", [])
                if ch["target"] and not ch["target"]["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from puppet import __version__
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, UsageError
 from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN,
                                     MIN_SLOWDOWN)
 from puppet.timeline.log import EXISTS
@@ -33,6 +33,37 @@ def _number_in(what: str, lo: float, hi: float, hint: str):
     return parse
 
 
+def _whole_in(what: str, lo: int, hint: str):
+    """An argparse type: a whole number >= lo, else a one-line usage error (exit 2)."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = lo - 1
+        if value < lo:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} of {lo} or more "
+                                              f"({hint})")
+        return value
+    return parse
+
+
+def _size(text: str) -> tuple[int, int]:
+    """--size WxH: two whole numbers of pixels, each at least 64."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not WIDTHxHEIGHT in pixels "
+                                          f"(e.g. 1280x720)") from None
+    if w < 64 or h < 64 or w > 7680 or h > 4320:
+        raise argparse.ArgumentTypeError(f"'{text}': each side must be 64 to 7680x4320 pixels")
+    return w, h
+
+
+_seconds = _number_in("duration", 0.0, 24 * 3600.0, "simulated seconds")
+_fps = _number_in("frame rate", 1.0, 240.0, "frames per second")
+_scale = _number_in("scale", 0.05, 4.0, "0.5 halves the frames")
+_jobs = _whole_in("number of processes", 1, "1 replays in this process")
+_step = _whole_in("step", 0, "simulation steps from the start")
 _slowdown = _number_in("slowdown", MIN_SLOWDOWN, MAX_SLOWDOWN,
                        "wall s per simulated s: 4 = four times slower, 0.5 = twice as fast")
 _checkpoint_every = _number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT_MAX,
@@ -42,18 +73,51 @@ _checkpoint_every = _number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT
 KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
 
+IMAGE_EXTS = (".png", ".jpg", ".jpeg", ".bmp", ".tga")  # what pygame.image.save writes
+PLOT_EXTS = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's Agg writes
+
+
+def output_file(option: str, path: str, exts) -> Path:
+    """An option's output FILE, checked before anything runs: not a folder, and named
+    with one of ``exts`` (say what is expected, never write a file of another name)."""
+    p = Path(path)
+    if p.is_dir():
+        raise UsageError(f"{option} {path}: is a folder; give a file name ending in "
+                         f"{' or '.join(exts)}")
+    if p.suffix.lower() not in exts:
+        got = f"'{p.suffix}'" if p.suffix else "no extension"
+        raise UsageError(f"{option} {path}: {got}; give a file name ending in "
+                         f"{' or '.join(exts)}")
+    if p.parent.exists() and not p.parent.is_dir():
+        raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
+    return p
+
+
+def output_folder(option: str, path: str) -> Path:
+    """An option's output folder: a folder or a new path, not an existing file."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise UsageError(f"{option} {path}: is a file; give a folder (it is created if new)")
+    return p
+
+
 def _play(args: argparse.Namespace) -> int:
     from puppet.data.catalog import find, load_setup
     from puppet.timeline.script import load_script
 
+    if not args.headless and (args.input or args.screenshot or args.frames):
+        raise UsageError("--input, --screenshot and --frames need --headless")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
-        print(f"puppet play: --record {args.record}: {EXISTS}", file=sys.stderr)
-        return EXIT_DATA_ERROR
+        raise UsageError(f"--record {args.record}: {EXISTS}")
+    if args.screenshot:
+        output_file("--screenshot", args.screenshot, IMAGE_EXTS)
+    if args.frames:
+        output_folder("--frames", args.frames)
     script = None
     if args.input and args.headless:
         script = load_script(find("script", args.input))
         if script.interface and Path(script.interface).stem != Path(args.interface).stem:
-            print(f"puppet: warning: {args.input} was written for interface "
+            print(f"puppet play: warning: {args.input} was written for interface "
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     # A script made for a scene plays there unless --scene says otherwise.
     setup = load_setup(args.interface, args.scene or (script.scene if script else None))
@@ -73,12 +137,11 @@ def _play(args: argparse.Namespace) -> int:
         for w in ghost.warnings:
             print(w, file=sys.stderr)
     if not args.headless:
-        if args.input or args.screenshot or args.frames:
-            raise SystemExit("puppet play: --input, --screenshot and --frames need --headless")
         from puppet.app.window import run_window
 
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
-                          ghost=ghost, note=setup.warnings[0] if setup.warnings else "")
+                          ghost=ghost, overlay=args.overlay == "com",
+                          note=setup.warnings[0] if setup.warnings else "")
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, run_seconds
@@ -87,14 +150,14 @@ def _play(args: argparse.Namespace) -> int:
     seconds = run_seconds(script, args.seconds)
     late = sum(1 for step, _ in events if step * DEFAULT_DT > seconds)
     if late:
-        print(f"puppet: warning: {late} scripted event(s) come after the run ends at "
+        print(f"puppet play: warning: {late} scripted event(s) come after the run ends at "
               f"{seconds:g} s and never act (set 'seconds:' in the script, or --seconds)",
               file=sys.stderr)
     # --record writes the scripted run as a log (see ``puppet replay``); images too
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,
                            description=(script.description or None) if args.input else None,
-                           ghost=ghost)
+                           ghost=ghost, overlay=args.overlay == "com")
     if args.record:
         print(f"recorded {args.record}")
     c = session.character
@@ -136,7 +199,7 @@ def _check(args: argparse.Namespace) -> int:
             if not args.quiet:
                 print(f"{name}: ok ({kind})")
         except DataError as exc:
-            print(exc, file=sys.stderr)
+            print(f"puppet check: {exc}", file=sys.stderr)
             failed += 1
     return EXIT_DATA_ERROR if failed else 0
 
@@ -149,6 +212,12 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
+    if args.video:
+        from puppet.app.export import GIF_EXTS, VIDEO_EXTS
+
+        output_file("--video", args.video, tuple(sorted(VIDEO_EXTS | GIF_EXTS)))
+    if args.plot:
+        output_file("--plot", args.plot, PLOT_EXTS)
     if args.video or args.plot:
         from puppet.app.export import export_command
 
@@ -178,11 +247,15 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--headless", action="store_true", help="no window")
     play.add_argument("--input", metavar="SCRIPT",
                       help="scripted input (assets/scripts/NAME.yaml or path), headless")
-    play.add_argument("--seconds", type=float, help="simulated seconds to run headless "
+    play.add_argument("--seconds", type=_seconds, help="simulated seconds to run headless "
                                                     "(default: the script's, else 5)")
-    play.add_argument("--screenshot", metavar="PNG", help="write the final frame")
-    play.add_argument("--frames", metavar="DIR", help="write every frame as DIR/frame_N.png")
-    play.add_argument("--fps", type=float, default=30.0, help="frame rate for --frames")
+    play.add_argument("--screenshot", metavar="PNG",
+                      help="headless: write the final frame to this image file (.png, .jpg, "
+                           ".bmp or .tga)")
+    play.add_argument("--frames", metavar="DIR",
+                      help="headless: write every frame as DIR/frame_N.png (DIR is created)")
+    play.add_argument("--fps", type=_fps, default=30.0,
+                      help="frame rate for --frames (1-240, default 30)")
     play.add_argument("--record", metavar="PATH",
                       help="write the input log here, a new file: an existing PATH is an "
                            "error (default in a window: recordings/INTERFACE-DATE-TIME.jsonl)")
@@ -193,6 +266,10 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")
+    play.add_argument("--overlay", choices=["com"],
+                      help="com: start with the balance overlay on (centre of mass, its "
+                           "ground point, the support between the outermost ground "
+                           "contacts, the extrapolated centre of mass); F4 toggles it")
     play.set_defaults(func=_play)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
@@ -205,7 +282,7 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--headless", action="store_true", help="no window, as fast as it goes")
     replay.add_argument("--check", action="store_true",
                         help="evaluate the expectations (header 'expect' or LOG.expect.yaml)")
-    replay.add_argument("--until-step", type=int, metavar="N",
+    replay.add_argument("--until-step", type=_step, metavar="N",
                         help="stop at step N (the first time the replay is there "
                              "with no more events for it)")
     replay.add_argument("--as-recorded", action="store_true",
@@ -213,7 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
                              "copy), not today's file")
     replay.add_argument("--allow-truncated", action="store_true",
                         help="replay the valid lines before a corrupt or cut-off one")
-    replay.add_argument("--jobs", "-j", type=int, default=1, metavar="N",
+    replay.add_argument("--jobs", "-j", type=_jobs, default=1, metavar="N",
                         help="replay several logs in N processes (headless)")
     replay.add_argument("--slowdown", type=_slowdown,
                         help="window and --video: override the recorded slowdown "
@@ -221,24 +298,41 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--video", metavar="OUT",
                         help="headless: render the replay as the window shows it, HUD "
                              "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")
-    replay.add_argument("--fps", type=float, default=30.0, help="frame rate for --video "
-                                                                "(default 30)")
-    replay.add_argument("--size", default="1280x720", metavar="WxH",
+    replay.add_argument("--fps", type=_fps, default=30.0,
+                        help="frame rate for --video (1-240, at most 50 for a gif; default 30)")
+    replay.add_argument("--size", type=_size, default=(1280, 720), metavar="WxH",
                         help="window size drawn for --video (default 1280x720)")
-    replay.add_argument("--scale", type=float, default=1.0,
+    replay.add_argument("--scale", type=_scale, default=1.0,
                         help="shrink --video frames by this factor (e.g. 0.5 for a gif)")
     replay.add_argument("--plot", metavar="PNG",
                         help="headless: plot joint targets against actual angles over "
-                             "time, one subplot per actuated joint")
+                             "time, one subplot per actuated joint (.png, .pdf, .svg or "
+                             ".jpg)")
+    replay.add_argument("--overlay", choices=["com"],
+                        help="com: draw the balance overlay (as F4 in the window) in the "
+                             "window and in --video")
     replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs "
-                                      "and your recordings")
-    lst.add_argument("kind", nargs="?", choices=KINDS)
+                                      "and your recordings",
+                         description="List what can be named on the command line, with "
+                                     "each file's one-line description: characters/, "
+                                     "interfaces/, assets/scenes/, assets/scripts/, "
+                                     "assets/logs/ and recordings/ (the window's own logs).")
+    lst.add_argument("kind", nargs="?", choices=KINDS, metavar="KIND",
+                     help=f"only this kind: {', '.join(KINDS)} (default: all)")
     lst.set_defaults(func=_list)
 
-    check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)")
-    check.add_argument("files", nargs="+", metavar="FILE")
+    check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)",
+                           description="Validate data files as the app loads them: "
+                                       "characters, interfaces, scenes and scripts, "
+                                       "each told by its folder or keys. A valid "
+                                       "file prints 'FILE: ok (KIND)'; an invalid one a "
+                                       "line 'puppet check: FILE:LINE:COL: what is wrong, "
+                                       "what was expected'. Exit 0 if all are valid, "
+                                       "else 2.")
+    check.add_argument("files", nargs="+", metavar="FILE",
+                       help="YAML data file(s) to validate (paths, e.g. characters/luxo.yaml)")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     check.set_defaults(func=_check)
 
@@ -264,7 +358,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except DataError as exc:
-        print(f"puppet: {exc}", file=sys.stderr)
+        print(f"puppet {args.command}: {exc}", file=sys.stderr)
+        return EXIT_DATA_ERROR
+    except UsageError as exc:
+        print(f"puppet {args.command}: {exc}", file=sys.stderr)
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130

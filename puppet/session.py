@@ -44,6 +44,8 @@ class Session:
         self.listener: Callable[[int, Event], None] | None = None
         self.message = ""  # the last thing the user should be told (e.g. a blow-up)
         self.message_serial = 0  # bumped on every new message
+        self.message_error = False  # the message says something went wrong
+        self.last_take: tuple[int, int] = (0, 0)  # (how many takes, the last one's fork)
         self.blowups = 0
         self.blowup_messages: list[str] = []  # what each recovery said (headless runs print them)
         start = self._snapshot()  # re-seated, like every checkpoint
@@ -83,7 +85,7 @@ class Session:
         if not self._rebuilding:
             if self.listener is not None:
                 self.listener(self.sim.steps, event)  # logged, all of it (speed keys too)
-            if not (kind == "action" and event.get("name") in ("rewind", "restore")
+            if not (kind == "action" and event.get("name") in ("rewind", "restore", "take")
                     or kind == "key" and self._window_key(event)):
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
@@ -98,7 +100,7 @@ class Session:
                     return None
                 return app_action
         if kind == "action":
-            self.perform(event["name"], event.get("to_step"))
+            self.perform(event["name"], event.get("to_step"), event.get("branch"))
             return None
         if kind == "reload":
             self.reload(event["text"], event.get("path"))
@@ -141,7 +143,8 @@ class Session:
             return None
         return action
 
-    def perform(self, name: str, to_step: int | None = None) -> None:
+    def perform(self, name: str, to_step: int | None = None,
+                branch: int | None = None) -> None:
         if name == "reset":
             self.reset()
         elif name == "checkpoint":
@@ -152,6 +155,10 @@ class Session:
             if to_step is None:
                 raise ValueError("the rewind action needs 'to_step'")
             self.rewind_to(int(to_step))
+        elif name == "take":
+            if branch is None:
+                raise ValueError("the take action needs 'branch'")
+            self.take_branch(int(branch))
         else:
             raise ValueError(f"unknown simulation action '{name}'")
 
@@ -295,11 +302,13 @@ class Session:
             return  # re-simulating history (a rewind): this one was counted when it happened
         self.blowups += 1
         self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
-                 f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s")
+                 f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s", error=True)
         self.blowup_messages.append(self.message)
 
-    def say(self, text: str) -> None:
+    def say(self, text: str, error: bool = False) -> None:
+        """A message for the screen; ``error``: something went wrong (drawn in red)."""
         self.message = text
+        self.message_error = error
         self.message_serial += 1
 
     def checkpoint(self) -> Snapshot:
@@ -334,6 +343,43 @@ class Session:
             play(self, history.events_after(snap, step), until_step=None, end_step=step)
         finally:
             self._rebuilding = False
+
+    def take_branch(self, index: int) -> None:
+        """Take up an abandoned future again (the "take" action, logged with the
+        branch's index): back to where it forked (an exact rewind), the present future
+        kept as a branch in its turn, then the branch's input re-played up to its end,
+        with its keyframes taken as they were: the very run that was abandoned."""
+        history = self.history
+        if not 0 <= index < len(history.branches):
+            raise ValueError(f"no branch {index} (there are {len(history.branches)})")
+        chosen = history.branches[index]
+        if chosen.fork < history.oldest() or chosen.fork > history.head:
+            raise ValueError(f"branch {index} forks at step {chosen.fork}, outside the "
+                             f"history kept (steps {history.oldest()}..{history.head})")
+        self.rewind_to(chosen.fork)
+        self.last_take = (self.last_take[0] + 1, chosen.fork)  # a trajectory drops the rest
+        del history.branches[index]
+        history.branch(chosen.fork)  # the present future: a branch in its turn
+        listener, self.listener = self.listener, None  # the log has the take action
+        try:
+            play(self, [(step, e) for _, step, e in chosen.events], until_step=None,
+                 end_step=chosen.head)
+        finally:
+            self.listener = listener
+        if not self._rebuilding:
+            self.say(f"took up the branch from t={chosen.fork * self.sim.dt:.2f} s "
+                     f"({chosen.steps * self.sim.dt:.1f} s)")
+
+    def branch_events(self, index: int) -> list[tuple[int, Event]] | None:
+        """The whole input of branch ``index`` from step 0, as one linear history: the
+        kept events up to its fork, then its own (None if the history no longer reaches
+        back to step 0: only the last minutes are kept)."""
+        history = self.history
+        chosen = history.branches[index]
+        if history.oldest() > 0:
+            return None
+        before = [(step, e) for _, step, e in history.events if step < chosen.fork]
+        return before + [(step, e) for _, step, e in chosen.events]
 
     def preview(self, step: int) -> None:
         """Show the snapshot at ``step`` while scrubbing (the window commits the

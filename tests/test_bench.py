@@ -46,11 +46,18 @@ def test_quick_bench_reports_every_character_with_positive_figures():
             # and pose sequences included
             assert sp["same_motion_state_identical"] is True, name
             assert {f"speed with control: {name}", f"control overhead: {name}"} <= names
-        assert {"checkpoint", "rewind 60 s and resume"} <= names
+        assert {"checkpoint", "rewind 60 s and resume", "scrub frame, worst"} <= names
+        sc = c["scrub"]  # every scrub frame timed; the scrub went back; the release too
+        assert sc["frames"] > 0 and 0 < sc["p50_ms"] <= sc["p99_ms"] <= sc["max_ms"]
+        assert sc["scrubbed_s"] > 0 and sc["release_ms"] > 0
         for t in c["targets"]:
             assert set(t) == {"name", "value", "op", "limit", "unit", "pass"}
             assert isinstance(t["pass"], bool)
     assert measured == interfaces  # every shipped interface is measured
+    pr = report["processes"]  # whole puppet processes: startup, a replay, a check
+    assert pr["startup_ms"] > 0 and pr["replay_ms"] > 0 and pr["check_ms"] > 0
+    assert {t["name"] for t in report["targets"]} == {"headless replay process (luxo-hop)",
+                                                      "check process (one file)"}
     logs = report["logs"]
     assert isinstance(logs["status"], str) and isinstance(logs["items"], list)
     if not list((ROOT / "assets" / "logs").glob("*.jsonl")):

@@ -69,13 +69,25 @@ def test_cli_video_and_plot(hop, tmp_path, capsys):
     assert pygame.image.load(str(png)).get_width() > 500
 
 
-def test_cli_export_refusals(hop, tmp_path):
-    with pytest.raises(SystemExit, match="need --headless"):
-        main(["replay", str(hop), "--video", str(tmp_path / "v.mp4")])
-    with pytest.raises(SystemExit, match="cannot write '.webp'"):
-        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.webp")])
-    with pytest.raises(SystemExit, match="one log"):
-        main(["replay", str(hop), str(hop), "--headless", "--plot", str(tmp_path / "p.png")])
+def _refused(capsys, argv, fragment):
+    assert main(argv) == 2  # a usage error
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("puppet replay: ") and fragment in err[0], err
+
+
+def test_cli_export_refusals(hop, tmp_path, capsys):
+    _refused(capsys, ["replay", str(hop), "--video", str(tmp_path / "v.mp4")], "need --headless")
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path / "v.webp")],
+             "--video " + str(tmp_path / "v.webp") + ": '.webp'; give a file name ending in")
+    _refused(capsys, ["replay", str(hop), str(hop), "--headless", "--plot",
+                      str(tmp_path / "p.png")], "one log")
+    # a folder or a name with no extension is refused before anything is replayed or written
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path)],
+             "is a folder; give a file name ending in .avi or .gif")
+    _refused(capsys, ["replay", str(hop), "--headless", "--plot", str(tmp_path)], "is a folder")
+    _refused(capsys, ["replay", str(hop), "--headless", "--plot", str(tmp_path / "noext")],
+             "no extension; give a file name ending in .png")
+    assert list(tmp_path.iterdir()) == []  # nothing written, not even noext.png
 
 
 def test_plot_has_one_subplot_per_actuated_joint(hop, tmp_path):
@@ -296,8 +308,57 @@ def test_gif_frame_delays_keep_time_in_whole_centiseconds(hop, tmp_path):
         assert abs(sum(delays[:n]) - n * 1000 / 15) <= 5, n
 
 
-def test_cli_refuses_a_gif_faster_than_50_fps(hop, tmp_path):
-    with pytest.raises(SystemExit, match="too fast for a gif"):
-        main(["replay", str(hop), "--headless", "--video", str(tmp_path / "v.gif"),
-              "--fps", "60"])
+def test_cli_refuses_a_gif_faster_than_50_fps(hop, tmp_path, capsys):
+    _refused(capsys, ["replay", str(hop), "--headless", "--video", str(tmp_path / "v.gif"),
+                      "--fps", "60"], "too fast for a gif")
     assert not (tmp_path / "v.gif").exists()
+
+
+def test_a_chosen_slowdown_wins_over_the_recorded_speed_keys(slowed, tmp_path, monkeypatch):
+    """--slowdown 0.5 on a log with recorded slowdown keys: the video and the window's
+    replay keep 0.5 throughout (the recorded keys are not applied)."""
+    import puppet.app.clock as clock_mod
+    import puppet.app.export as export
+    import puppet.timeline.replay as replay_mod
+    from puppet.app import window
+
+    budgets = []
+
+    class Spy(export.LogFeeder):
+        def advance(self, steps):
+            budgets.append(steps)
+            super().advance(steps)
+
+    monkeypatch.setattr(export, "LogFeeder", Spy)
+    video = export_video(slowed, tmp_path / "fast.gif", fps=10, size=SMALL, hold=0,
+                         progress=False, slowdown=0.5)
+    assert set(budgets[1:]) == {96}  # 0.1 s a frame at 0.5: 96 steps, every frame
+    assert video.session.sim.state_hash() == read_log(slowed).end_hash
+
+    slowdowns, feeders = [], []
+
+    class SpyClock(clock_mod.SimClock):
+        def steps_for(self, wall_dt):
+            slowdowns.append(self.slowdown)
+            return super().steps_for(wall_dt)
+
+    class SpyFeeder(replay_mod.LogFeeder):
+        def __init__(self, *a, **kw):
+            super().__init__(*a, **kw)
+            feeders.append(self)
+
+    real_get = pygame.event.get
+
+    def fake_get(*args, **kw):
+        real_get()
+        return [pygame.event.Event(pygame.QUIT)] if feeders and feeders[0].finished else []
+
+    monkeypatch.setattr(clock_mod, "SimClock", SpyClock)
+    monkeypatch.setattr(replay_mod, "LogFeeder", SpyFeeder)
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    monkeypatch.setattr(pygame.mouse, "get_focused", lambda: False)
+    log = read_log(slowed)
+    assert window.run_window(load_setup("luxo-keys"), 0.5, replay=log,
+                             slowdown_chosen=True) == 0
+    assert set(slowdowns) == {0.5}
+    assert feeders[0].session.sim.state_hash() == log.end_hash

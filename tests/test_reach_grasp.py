@@ -256,6 +256,7 @@ def test_the_window_draws_the_props_where_they_are():
 
     s = Session(load_setup("luxo-mouse", "pendulum"))
     renderer = FrameRenderer(s)
+    renderer.camera.base_height = 3.0  # a wide view: the bar hangs above Luxo's frame
     swing = s.sim.props["swing"]
     colour = tuple(min(255, int(c * 1.3)) for c in s.setup.scene.props["swing"].color)
 

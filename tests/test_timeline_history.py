@@ -229,8 +229,11 @@ def test_scrubbing_back_and_forward():
     session.advance(2400)  # 5 s
     scrub = Scrubber(session)
     scrub.start()
-    scrub.update(1 / 60)
-    assert 2380 < session.steps < 2400  # the first frame back shows at once
+    frames = 0
+    while session.steps == 2400 and frames < 10:  # the preview's cache fills in slices
+        scrub.update(1 / 60)
+        frames += 1
+    assert 2300 < session.steps < 2400  # the first frames back show within a few frames
     for _ in range(60):
         scrub.update(1 / 60)
     back = session.steps
@@ -240,5 +243,7 @@ def test_scrubbing_back_and_forward():
     assert back < session.steps <= 2400
     listened = []
     session.listener = lambda step, e: listened.append((step, e))
+    shown = session.steps
     scrub.release()
-    assert listened == [(session.steps, rewind(session.steps))]
+    # logged at the step the run was at (a replay plays on to there, then rewinds)
+    assert listened == [(2400, rewind(shown))] and session.steps == shown

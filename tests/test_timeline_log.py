@@ -141,7 +141,8 @@ def test_cli_corrupt_log_one_line_exit_2_and_allow_truncated(tmp_path, hop_log):
     proc = _cli("replay", bad, "--headless")
     assert proc.returncode == 2, proc.stderr
     err = proc.stderr.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"{bad}:7: not valid JSON"), proc.stderr
+    assert len(err) == 1, proc.stderr
+    assert err[0].startswith(f"puppet replay: {bad}:7: not valid JSON"), proc.stderr
     assert "Traceback" not in proc.stderr
     proc = _cli("replay", bad, "--headless", "--allow-truncated")
     assert proc.returncode == 0, proc.stderr

@@ -85,9 +85,9 @@ def test_hud_timeline_bar_draws(tmp_path):
     session.advance(500)
     renderer = FrameRenderer(session, size=(640, 360))
     surface = renderer.render(session)
-    # the current-position marker is at the right end of the bar, dark
+    # the current-position marker is at the right end of the bar (before its end time), dark
     w, h = surface.get_size()
-    row = [surface.get_at((x, h - 18))[:3] for x in range(w - 40, w - 10)]
+    row = [surface.get_at((x, h - 18))[:3] for x in range(w - 90, w - 10)]
     assert (20, 30, 50) in row
 
 

@@ -103,7 +103,7 @@ def pt(x: float, y: float, s: float) -> str:
 
 
 def character_text(name: str, h: float, m: float, description: str, extra_notes: str,
-                   view_height: float, view_offset: float) -> str:
+                   view_height: float) -> str:
     s = h / H
     table = body_table(h, m)
     k_scale = (m / M) * s          # stiffness and torque ~ m g L
@@ -147,7 +147,7 @@ def character_text(name: str, h: float, m: float, description: str, extra_notes:
         "slop for this figure (the engine's 20 and 0.5 mm let it sway about 5x "
         "more)." + extra_notes)
     out += ["  " + line for line in _wrap(notes, 86)]
-    out += [f"view_height: {fmt(view_height)}", f"view_offset: {fmt(view_offset)}",
+    out += [f"view_height: {fmt(view_height)}",
             "solver: {iterations: 40, collision_slop: 0.0001}", "links:"]
 
     def link(name, mass_key, shapes, color, layer=None, friction=0.9, desc=None):
@@ -251,7 +251,7 @@ def files() -> dict[Path, str]:
         ROOT / "characters" / "biped.yaml": character_text(
             "biped", H, M,
             "A planar human, 1.75 m and 70 kg (Winter's anthropometric table); stands "
-            "with its targets held.", "", 2.4, -0.31),
+            "with its targets held.", "", 2.4),
         ROOT / "characters" / "biped-small.yaml": character_text(
             "biped-small", 1.0, 20.0,
             "The paper's smaller, lighter human for the long jump, 1.0 m and 20 kg, with the "
@@ -259,7 +259,7 @@ def files() -> dict[Path, str]:
             f" This is the small figure: lengths x{s:.3f}, masses x{20 / M:.3f}, inertias "
             f"x{20 / M * s * s:.4f}, stiffness and torque caps x{20 / M * s:.3f} (m*g*L), "
             f"damping x{20 / M * s ** 1.5:.3f} (the same damping ratio).",
-            2.4 * s, -0.31 * s),
+            2.4 * s),
     }
 
 

@@ -111,13 +111,15 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
                  size=DEFAULT_SIZE, slowdown: float | None = None,
                  until_step: int | None = None, allow_truncated: bool = False,
                  scale: float = 1.0, hud: bool = True, hold: float = 1.0,
-                 progress: bool | None = None, as_recorded: bool = False) -> VideoResult:
+                 progress: bool | None = None, as_recorded: bool = False,
+                 overlay: bool = False) -> VideoResult:
     """Replay ``log`` headless into a video at ``out`` (.mp4/.mov/.mkv/.avi or .gif).
 
     ``slowdown`` (default: the recorded one) is wall seconds per simulated second, as
     in the window; ``size`` is the window size drawn, ``scale`` shrinks the frames
     written (e.g. 0.5 for a small gif); ``hold`` seconds of the last frame are added
     at the end. ``progress``: a tqdm bar (None: only when stderr is a terminal).
+    ``overlay``: draw the balance overlay (centre of mass, support, xcom) as F4 does.
     """
     from tqdm import tqdm
 
@@ -128,11 +130,14 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     if not isinstance(log, Log):
         log = read_log(log, allow_truncated)
     setup, _warnings = setup_for_log(log, as_recorded)
+    chosen = slowdown
     slowdown = float(slowdown or log.header.get("slowdown") or 1.0)
     session = new_session(log, setup)
     clock = SimClock(session.sim.dt, slowdown)
-    feeder = LogFeeder(session, log, until_step, on_action=clock.apply)
-    renderer = FrameRenderer(session, tuple(size), slowdown)
+    # a chosen slowdown wins over the recorded speed keys, as in the window's replay
+    feeder = LogFeeder(session, log, until_step,
+                       on_action=clock.apply if chosen is None else None)
+    renderer = FrameRenderer(session, tuple(size), slowdown, overlay=overlay)
     pygame = renderer.pygame
     info = renderer.info
     info.fps = fps
@@ -171,7 +176,8 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
             video_time += frame_dt
             emit(frame_dt)
         if hold > 0:
-            session.say(finished_message(session, log))
+            done = finished_message(session, log)
+            session.say(done, error="DIFFERENT" in done)
             info.paused = True
             for _ in range(round(hold * fps)):
                 video_time += frame_dt
@@ -190,36 +196,21 @@ def _pixels(pygame, surface):
 
 
 # -- ``puppet replay LOG --headless --video OUT --plot PNG`` ---------------------------
-def _parse_size(text: str) -> tuple[int, int]:
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise SystemExit(f"puppet replay: --size must be WIDTHxHEIGHT, got '{text}'") from None
-    if w < 64 or h < 64:
-        raise SystemExit(f"puppet replay: --size {text} is too small")
-    return w, h
-
-
 def export_command(args) -> int:
-    """The replay command with --video and/or --plot (one log, headless)."""
+    """The replay command with --video and/or --plot (one log, headless). The options'
+    ranges and the output names are checked by the command line (``puppet.cli``)."""
+    from puppet.data.errors import UsageError
     from puppet.timeline.replay import exit_code, find_log, print_one, replay, verdict
 
     if not args.headless:
-        raise SystemExit("puppet replay: --video and --plot need --headless")
+        raise UsageError("--video and --plot need --headless")
     if len(args.logs) != 1:
-        raise SystemExit("puppet replay: --video and --plot take one log")
-    if args.video and Path(args.video).suffix.lower() not in VIDEO_EXTS | GIF_EXTS:
-        raise SystemExit(f"puppet replay: --video: cannot write '{Path(args.video).suffix}' "
-                         f"files; use one of {', '.join(sorted(VIDEO_EXTS | GIF_EXTS))}")
-    if args.fps <= 0:
-        raise SystemExit("puppet replay: --fps must be positive")
+        raise UsageError("--video and --plot take one log")
     if args.video and Path(args.video).suffix.lower() in GIF_EXTS and args.fps > 50:
-        raise SystemExit(f"puppet replay: --fps {args.fps:g} is too fast for a gif (frame "
-                         "delays are whole 1/100 s, and players slow down delays under "
-                         "2/100 s): use --fps 50 or less, or an .mp4")
-    if not 0 < args.scale <= 4:
-        raise SystemExit("puppet replay: --scale must be in (0, 4]")
-    size = _parse_size(args.size)
+        raise UsageError(f"--fps {args.fps:g} is too fast for a gif (frame delays are whole "
+                         "1/100 s, and players slow down delays under 2/100 s): use --fps 50 "
+                         "or less, or an .mp4")
+    size = tuple(args.size)
     path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,
@@ -236,7 +227,8 @@ def export_command(args) -> int:
         print(f"wrote {args.plot}")
     if args.video:
         video = export_video(log, args.video, args.fps, size, args.slowdown, args.until_step,
-                             args.allow_truncated, args.scale, as_recorded=args.as_recorded)
+                             args.allow_truncated, args.scale, as_recorded=args.as_recorded,
+                             overlay=getattr(args, "overlay", None) == "com")
         if video.session.sim.state_hash() != result.final_hash:
             print(f"{path}: warning: the video's replay ended in state "
                   f"{video.session.sim.state_hash()}, not {result.final_hash}",

@@ -7,6 +7,7 @@ import contextlib
 import os
 from pathlib import Path
 
+from puppet.app.camera import Camera, subject_of
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.session import Session
@@ -27,19 +28,18 @@ def _pygame():
 class FrameRenderer:
     """Draws what the window would show (world and HUD) into an off-screen surface."""
 
-    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0):
+    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0,
+                 overlay: bool = False):
         pygame = _pygame()
-        from puppet.app.camera import Camera
         from puppet.app.hud import HudInfo
 
         self.pygame = pygame
         self.surface = pygame.Surface(size)
-        self.camera = Camera(session.setup.character.view_height,
-                             offset=session.setup.character.view_offset)
+        self.camera = Camera(session.setup.character.view_height)
         self.camera.resize(*size)
         self.font = pygame.font.Font(None, 24)
         self.small = pygame.font.Font(None, 20)
-        self.info = HudInfo(slowdown=slowdown, measured=slowdown)
+        self.info = HudInfo(slowdown=slowdown, measured=slowdown, overlay=overlay)
 
     def render(self, session: Session, hud: bool = True, wall_dt: float | None = None,
                ghost: Session | None = None):
@@ -49,8 +49,9 @@ class FrameRenderer:
         from puppet.app.hud import draw_hud
         from puppet.app.render import draw_world
 
-        self.camera.follow(session.character.com(), wall_dt)
-        draw_world(self.surface, session, self.camera, self.small, ghost=ghost)
+        self.camera.follow(subject_of(session), wall_dt)
+        draw_world(self.surface, session, self.camera, self.small, ghost=ghost,
+                   overlay=self.info.overlay)
         if hud:
             draw_hud(self.surface, session, self.info, self.font, self.small)
         return self.surface
@@ -65,16 +66,18 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
                  screenshot: str | None = None, frames_dir: str | None = None,
                  fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None,
                  record: str | Path | None = None, description: str | None = None,
-                 ghost=None) -> Session:
+                 ghost=None, overlay: bool = False) -> Session:
     """Play ``events`` for ``seconds``; write the final frame (``screenshot``) and/or
     every frame at ``fps`` (``frames_dir``); ``record``: also write the input log
     there (the images do not change the run: same log, same state hash).
-    ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character."""
+    ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character;
+    ``overlay``: draw the balance overlay (``render.draw_balance``)."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
     if screenshot or frames_dir:
-        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown)
+        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
+                                 overlay=overlay)
     every, on_tick = 0, None
     if frames_dir:
         every = max(1, round(1.0 / (fps * session.sim.dt)))

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import pygame
 
 from puppet.app.keymap import draw_keymap
-from puppet.interface.describe import app_lines, interface_lines, where_line
+from puppet.interface.describe import app_lines, compact_lines, interface_lines, where_line
 from puppet.session import Session
 
 TEXT = (40, 44, 52)
@@ -26,8 +26,11 @@ class HudInfo:
     paused: bool = False
     show_help: bool = False
     message: str = ""
+    message_error: bool = False  # drawn in red; other messages are news, not errors
     scrubbing: bool = False  # the rewind key is held
     replaying: str = ""  # the log a window replay plays (its events, not the devices)
+    overlay: bool = False  # the centre-of-mass overlay is on (see render.draw_balance)
+    branch: int | None = None  # the branch selected (history.branches index), listed
     _seen_serial: int = 0
     _message_until: float = 0.0
 
@@ -38,8 +41,16 @@ class HudInfo:
         if session.message_serial != self._seen_serial:
             self._seen_serial, self._message_until = session.message_serial, now + MESSAGE_SECONDS
             self.message = session.message
+            self.message_error = session.message_error
         elif self.message and now > self._message_until:
             self.message = ""
+
+
+TITLE = (20, 60, 120)
+ERROR = (160, 30, 30)
+NEWS = (30, 70, 130)
+ROW = 18  # pixels per row of the small font
+GAP = 14  # pixels between a row's key and its text
 
 
 def _panel(surface, rect) -> None:
@@ -54,9 +65,74 @@ def _fmt_rate(x: float | None) -> str:
     return f"{x:.2f}x" if x < 1 else f"{x:.1f}x" if x < 10 else f"{x:.0f}x"
 
 
+def fit(font: pygame.font.Font, text: str, width: int) -> str:
+    """``text`` cut (with an ellipsis) to ``width`` pixels as ``font`` draws it."""
+    if font.size(text)[0] <= width:
+        return text
+    while text and font.size(text + "...")[0] > width:
+        text = text[:-1]
+    return text.rstrip() + "..."
+
+
+def layout_rows(font: pygame.font.Font, rows: list[tuple[str, str]],
+                max_width: int) -> tuple[int, int, list[tuple[str, str]]]:
+    """Lay out (key, text) rows by measured width: (key column width, panel width,
+    rows with each text fitted). A row with no text is a heading across both columns."""
+    keyed = [(k, t) for k, t in rows if t]
+    key_w = max((font.size(k)[0] for k, _ in keyed), default=0) + GAP
+    text_w = max((font.size(t)[0] for _, t in keyed), default=0)
+    head_w = max((font.size(k)[0] for k, t in rows if not t), default=0)
+    width = min(max(key_w + text_w, head_w) + 16, max_width)
+    room = max(20, width - 16 - key_w)
+    return key_w, width, [(fit(font, k, width - 16), "") if not t else (k, fit(font, t, room))
+                          for k, t in rows]
+
+
+BAR_HEIGHT = 30  # the timeline bar along the bottom, with its margin
+
+
+def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, top: int,
+              bottom: int, max_width: int) -> pygame.Rect:
+    """A panel of (key, text) rows laid out by measured width, its right edge at
+    ``right`` (None: its left edge at 8). Rows that do not fit above ``bottom`` go on in
+    a second column (and so on), each laid out by its own width."""
+    per = max(1, (bottom - top - 8) // ROW)
+    columns = [rows[i:i + per] for i in range(0, len(rows), per)]
+    share = max_width // len(columns)
+    laid = [layout_rows(small, col, share) for col in columns]
+    width = sum(w for _, w, _ in laid)
+    x0 = 8 if right is None else right - width
+    height = 8 + max(len(col) for col in columns) * ROW
+    rect = pygame.Rect(x0, top, width, height)
+    _panel(surface, rect)
+    x = x0
+    for key_w, col_w, col in laid:
+        for i, (k, text) in enumerate(col):
+            y = top + 4 + i * ROW
+            if not text:
+                surface.blit(small.render(k, True, TITLE), (x + 8, y))
+                continue
+            surface.blit(small.render(k, True, TEXT), (x + 8, y))
+            surface.blit(small.render(text, True, DIM), (x + 8 + key_w, y))
+        x += col_w
+    return rect
+
+
+def legend_rows(session: Session) -> list[tuple[str, str]]:
+    """What the marks on screen mean (the help panel's last part)."""
+    keys = session.app_keys
+    return [("on screen", ""),
+            ("orange +", "the centre of mass"),
+            ("bar: blue", f"the span you can rewind (hold {keys['rewind']})"),
+            ("bar: orange", f"your checkpoints ({keys['checkpoint']}); grey: automatic ones"),
+            ("bar: dark", "now; the bar's ends are 0 s and the latest time"),
+            ("N m", "distance along the ground, in metres")]
+
+
 def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
              font: pygame.font.Font, small: pygame.font.Font) -> None:
     setup = session.setup
+    keys = session.app_keys
     lines = [
         f"{setup.interface.name}  -  {setup.character.name} on {setup.scene.name}",
         f"sim time {session.time:7.2f} s   step {session.steps}",
@@ -66,41 +142,41 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     if info.replaying:
         lines.append(f"REPLAY  {info.replaying}")
     if info.paused:
-        lines.append("PAUSED  (step with the step key)")
+        lines.append(f"PAUSED  ({keys['step']} steps, {keys['pause']} resumes)")
     height = 8 + len(lines) * 22
-    _panel(surface, pygame.Rect(8, 8, 360, height))
+    left_w = min(surface.get_width() // 2 - 16,
+                 max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
+    _panel(surface, pygame.Rect(8, 8, left_w, height))
     for i, text in enumerate(lines):
-        surface.blit(font.render(text, True, TEXT if i else (20, 60, 120)), (16, 12 + i * 22))
+        surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT if i else TITLE),
+                     (16, 12 + i * 22))
 
     runtime = session.runtime
     controls = interface_lines(setup.interface, runtime.state, runtime.mode)
-    app = app_lines(setup.interface)
     where = where_line(setup.interface, runtime.state, runtime.mode)
-    rows = [(f"controls  ({where})" if where else "controls", "")] + controls
+    rows = [(f"controls  ({where})" if where else "controls", "")]
+    help_key = keys["help"]
     if info.show_help:
-        rows += [("", ""), ("app keys", "")] + app
-    else:
-        help_key = session.app_keys["help"]
-        rows += [("", ""), (help_key, "all keys")]
-    # As wide as the longest line needs, up to half the window (then text is clipped).
-    widest = max((110 + small.size(text)[0] for _, text in rows if text), default=0)
-    width = int(min(max(330, widest + 16), surface.get_width() / 2))
-    x0 = surface.get_width() - width - 8
-    _panel(surface, pygame.Rect(x0, 8, width, 8 + len(rows) * 18))
-    for i, (k, text) in enumerate(rows):
-        y = 12 + i * 18
-        if not text:
-            surface.blit(small.render(k, True, (20, 60, 120)), (x0 + 8, y))
-            continue
-        surface.blit(small.render(k, True, TEXT), (x0 + 8, y))
-        surface.blit(small.render(text, True, DIM), (x0 + 110, y))
+        rows += controls + [("", ""), ("app keys", "")] + app_lines(setup.interface)
+    else:  # compact: the maps on one input in one row, a few keys; the rest on help
+        rows += compact_lines(controls, f"{help_key}: all")
+        rows += [(help_key, "all keys, pose pictures, what the marks mean")]
+    bottom = surface.get_height() - BAR_HEIGHT - 16
+    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom,
+              surface.get_width() - left_w - 32)
+    if info.show_help:  # what the marks mean, bottom left, above the bar
+        legend = legend_rows(session)
+        draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW, bottom,
+                  surface.get_width() // 2)
     if info.show_help:  # pose keys as pictures, laid out like the keyboard
         draw_keymap(surface, setup.interface, setup.character, small, (8, 16 + height),
                     state=session.runtime.state)
     draw_timeline(surface, session, info, small)
     if info.message:
-        msg = font.render(info.message, True, (160, 30, 30))
-        rect = msg.get_rect(midbottom=(surface.get_width() / 2, surface.get_height() - 40))
+        msg = font.render(fit(font, info.message, surface.get_width() - 48), True,
+                          ERROR if info.message_error else NEWS)
+        rect = msg.get_rect(midbottom=(surface.get_width() / 2,
+                                       surface.get_height() - BAR_HEIGHT - 10))
         _panel(surface, rect.inflate(16, 8))
         surface.blit(msg, rect)
 
@@ -108,21 +184,25 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
 def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
                   small: pygame.font.Font) -> None:
     """A bar along the bottom: the rewindable span (blue), checkpoints (orange ticks),
-    automatic checkpoints (grey ticks) and where the simulation is now (dark line)."""
+    automatic checkpoints (grey ticks) and where the simulation is now (dark line),
+    between 0 s (left) and the latest time reached (right, labelled)."""
     history = getattr(session, "history", None)
     if history is None:
         return
     dt = session.sim.dt
     span = history.span()
     marks = history.checkpoint_steps()
-    last = max([session.steps] + ([span[1]] if span else []) + marks)
+    branches = history.branches if info.branch is not None else []
+    last = max([session.steps] + ([span[1]] if span else []) + marks
+               + [b.head for b in branches])
     end = max(last * dt, 1.0)
     w, h = surface.get_size()
-    x0, x1, y = 90, w - 16, h - 18
+    end_label = small.render(f"{end:.1f} s", True, DIM)
+    x0, x1, y = 90, w - 24 - end_label.get_width(), h - 18
     _panel(surface, pygame.Rect(8, y - 12, w - 16, 24))
     label = "REWIND" if info.scrubbing else f"{session.time:6.1f} s"
-    surface.blit(small.render(label, True, (20, 60, 120) if info.scrubbing else TEXT),
-                 (16, y - 7))
+    surface.blit(small.render(label, True, TITLE if info.scrubbing else TEXT), (16, y - 7))
+    surface.blit(end_label, (x1 + 8, y - 7))
 
     def px(step: int) -> int:
         return round(x0 + (x1 - x0) * min(1.0, step * dt / end))
@@ -137,3 +217,34 @@ def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
         pygame.draw.line(surface, (230, 140, 30), (px(step), y - 8), (px(step), y + 8), 2)
     cur = px(session.steps)
     pygame.draw.line(surface, (20, 30, 50), (cur, y - 9), (cur, y + 9), 3)
+    if info.branch is not None:
+        draw_branches(surface, session, info, small, px, y)
+
+
+BRANCH = (130, 60, 170)
+
+
+def draw_branches(surface, session: Session, info: HudInfo, small, px, y: int) -> None:
+    """The branches near now on the timeline bar (each a purple span from its fork to its
+    end, numbered; the selected one thick) and a line saying what the keys do."""
+    history, keys = session.history, session.app_keys
+    near = history.branches_near(session.steps)
+    for rank, i in enumerate(near):
+        b = history.branches[i]
+        a, e = px(b.fork), px(b.head)
+        thick = 3 if i == info.branch else 1
+        pygame.draw.line(surface, BRANCH, (a, y - 11 - thick), (max(e, a + 2), y - 11 - thick),
+                         thick)
+        pygame.draw.line(surface, BRANCH, (a, y - 11 - thick), (a, y - 4), 1)
+        surface.blit(small.render(str(rank + 1), True, BRANCH), (a + 2, y - 30))
+    if info.branch is not None and info.branch < len(history.branches):
+        b = history.branches[info.branch]
+        dt = session.sim.dt
+        text = (f"branch {near.index(info.branch) + 1 if info.branch in near else '?'} of "
+                f"{len(near)}: from {b.fork * dt:.1f} s, {b.steps * dt:.1f} s long - "
+                f"{keys['take_branch']} takes it up, {keys['export_branch']} exports it, "
+                f"{keys['branches']} the next")
+        label = small.render(fit(small, text, surface.get_width() - 40), True, BRANCH)
+        rect = label.get_rect(bottomleft=(16, y - 34))
+        _panel(surface, rect.inflate(10, 6))
+        surface.blit(label, rect)

@@ -204,6 +204,11 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
         placed = [(chord, pose, ((c - cmin) * (cap + gap), rows.index(r) * (cap + gap)))
                   for chord, pose, (r, c) in items]
         blocks.append((mods + "+" if mods else "", placed, len(rows)))
+    pads = [(ch, p) for ch, p in loose if ch.startswith("gamepad.")]
+    loose = [(ch, p) for ch, p in loose if not ch.startswith("gamepad.")]
+    if pads:  # gamepad buttons, labelled by their own name (a, b, start ...)
+        blocks.append(("gamepad", [(ch, p, (i * (cap + gap), 0)) for i, (ch, p) in
+                                   enumerate(pads)], 1))
     if loose:
         blocks.append(("other", [(ch, p, (i * (cap + gap), 0)) for i, (ch, p) in
                                  enumerate(loose)], 1))
@@ -215,7 +220,8 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
     surface.blit(panel, rect.topleft)
     y += 6
     for label, placed, nrows in blocks:
-        surface.blit(font.render(label or "pose keys", True, (20, 60, 120)), (x0 + 8, y))
+        heading = {"": "pose keys", "gamepad": "gamepad buttons"}.get(label, label)
+        surface.blit(font.render(heading, True, (20, 60, 120)), (x0 + 8, y))
         y += label_h
         for chord, pose, (px, py) in placed:
             cap_rect = pygame.Rect(x0 + 8 + px, y + py, cap, cap)
@@ -223,7 +229,11 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
             pygame.draw.rect(surface, CAP_EDGE, cap_rect, 1, border_radius=5)
             draw_pose_icon(surface, cap_rect.inflate(-6, -6).move(3, 4), character,
                            interface.poses[pose].joint_degrees(), extent)
-            key = _split_chord(chord)[1] if label not in ("other",) else chord
-            surface.blit(font.render(key, True, LABEL), (cap_rect.x + 4, cap_rect.y + 2))
+            key = chord.removeprefix("gamepad.") if label == "gamepad" else \
+                _split_chord(chord)[1] if label != "other" else chord
+            text = font.render(key, True, LABEL)
+            if text.get_width() > cap - 6:  # a long name: as much as fits the cap
+                text = text.subsurface((0, 0, cap - 6, text.get_height()))
+            surface.blit(text, (cap_rect.x + 4, cap_rect.y + 2))
         y += nrows * (cap + gap)
     return rect

@@ -7,7 +7,7 @@ import math
 import pygame
 import pymunk
 
-from puppet.app.camera import Camera
+from puppet.app.camera import BOTTOM_RESERVED_PX, Camera
 from puppet.session import Session
 
 LAYER_ORDER = {"far": 0, "mid": 1, "near": 2}
@@ -21,14 +21,16 @@ GHOST_ALPHA = 100  # how opaque a ghost (a log replaying beside the live run) is
 
 
 def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
-               font: pygame.font.Font | None = None, ghost: Session | None = None) -> None:
+               font: pygame.font.Font | None = None, ghost: Session | None = None,
+               overlay: bool = False) -> None:
     """The scene and the character; ``ghost`` (another session, e.g. a log replaying
-    in lock-step) is drawn translucently behind the live character."""
+    in lock-step) is drawn translucently behind the live character; ``overlay``: the
+    balance overlay (``draw_balance``) on top."""
     scene = session.setup.scene
     surface.fill(scene.sky)
     _draw_grid(surface, camera, None)
     _draw_ground(surface, session, camera)
-    _draw_grid(surface, camera, font, labels_only=True)
+    _draw_grid(surface, camera, font, labels_only=True, scene=scene)
     for ruler in scene.rulers:
         _draw_ruler(surface, camera, scene, ruler, font)
     for marker in scene.markers:
@@ -38,9 +40,45 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
         draw_character(surface, ghost, camera, GHOST_ALPHA)
     draw_character(surface, session, camera)
     _draw_drag(surface, session, camera)
+    if overlay:
+        draw_balance(surface, session, camera, font)
 
 
-def _draw_grid(surface, camera: Camera, font, labels_only: bool = False) -> None:
+BALANCE_IN = (30, 150, 70)  # the extrapolated centre of mass over the support
+BALANCE_OUT = (200, 50, 40)  # ... outside it (or nothing touches the ground)
+COM_COLOR = (230, 120, 30)
+
+
+def draw_balance(surface: pygame.Surface, session: Session, camera: Camera,
+                 font: pygame.font.Font | None = None) -> None:
+    """The balance overlay: the centre of mass (orange disc) and its plumb line to
+    the ground, the support polygon (the thick segment between the outermost ground
+    contacts), and the extrapolated centre of mass xcom = com + v * sqrt(l / g) on the
+    ground (a triangle: green over the support, red outside it)."""
+    from puppet.physics.balance import balance
+
+    scene = session.setup.scene
+    b = balance(session.character, scene.gravity, scene.ground_height)
+    com = camera.to_screen(b.com)
+    foot = camera.to_screen((b.com[0], b.ground_y))
+    pygame.draw.line(surface, COM_COLOR, com, foot, 1)
+    pygame.draw.circle(surface, COM_COLOR, com, 6, 2)
+    pygame.draw.circle(surface, COM_COLOR, foot, 3)
+    if b.support is not None:
+        a = camera.to_screen((b.support[0], b.ground_y))
+        c = camera.to_screen((b.support[1], b.ground_y))
+        pygame.draw.line(surface, (40, 90, 200), (a[0], foot[1]), (max(c[0], a[0] + 2), foot[1]), 5)
+    x = camera.to_screen((b.xcom, b.ground_y))[0]
+    color = BALANCE_IN if b.inside else BALANCE_OUT
+    y = foot[1]
+    pygame.draw.polygon(surface, color, [(x, y - 2), (x - 7, y - 14), (x + 7, y - 14)])
+    pygame.draw.line(surface, color, foot, (x, y), 2)
+    if font is not None:
+        surface.blit(font.render("xcom", True, color), (x - 14, y - 30))
+
+
+def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
+               scene=None) -> None:
     """Faint vertical lines every 0.5 m, labelled every metre: shows distance travelled."""
     x0, x1 = camera.visible_x()
     step = 0.5 if camera.view_height <= 3 else 1.0
@@ -52,9 +90,16 @@ def _draw_grid(surface, camera: Camera, font, labels_only: bool = False) -> None
         if not labels_only:
             pygame.draw.line(surface, (205, 212, 222) if whole else (215, 221, 230),
                              (sx, 0), (sx, surface.get_height()), 1)
-        if labels_only and whole and font is not None:
-            label = font.render(f"{x:.0f} m", True, (235, 230, 220))
-            surface.blit(label, (sx + 3, surface.get_height() - 22))
+        if labels_only and whole and font is not None:  # on the ground, on a light
+            label = font.render(f"{x:.0f} m", True, (40, 44, 52))  # tag: legible on any
+            ground = scene.ground_height(x) if scene is not None else None  # ground
+            top = camera.to_screen((x, ground))[1] + 6 if ground is not None else 0
+            top = min(top, surface.get_height() - BOTTOM_RESERVED_PX - 22)  # above the bar
+            tag = label.get_rect(topleft=(sx + 4, top)).inflate(6, 2)
+            back = pygame.Surface(tag.size, pygame.SRCALPHA)
+            back.fill((255, 255, 255, 190))
+            surface.blit(back, tag.topleft)
+            surface.blit(label, label.get_rect(center=tag.center))
         k += 1
 
 

@@ -12,7 +12,8 @@ import warnings
 from pathlib import Path
 
 from puppet.data.catalog import Setup
-from puppet.app.devices import device_events
+from puppet.data.errors import UsageError
+from puppet.app.devices import Gamepads, device_events
 from puppet.interface import events as ev
 from puppet.interface.app_keys import key_chord
 from puppet.session import Session
@@ -26,27 +27,36 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
                until_step: int | None = None, ghost=None, note: str = "",
-               sources=()) -> int:
+               slowdown_chosen: bool = False, overlay: bool = False, sources=()) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
     ``ghost`` (a ``puppet.timeline.ghost.Ghost``) replays beside the character in
     step with its time, drawn translucently; it never touches the live session.
     ``note``: shown on screen at the start (e.g. what is wrong with a replayed log).
+    ``slowdown_chosen``: the replay's slowdown was chosen (--slowdown), so the log's
+    recorded speed keys do not change it (the viewer's own keys still do).
     ``sources``: live input sources (``puppet.input.live.LiveQueue``s, e.g. a mocap
     stream) drained once a frame into the session, like the devices."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
-    from puppet.app.camera import Camera
+    from puppet.app.camera import Camera, subject_of
     from puppet.app.clock import SimClock
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
 
-    pygame.display.init()  # no pygame.init(): puppet makes no sound
+    try:
+        pygame.display.init()  # no pygame.init(): puppet makes no sound
+        missing = no_display(pygame)
+    except pygame.error as exc:
+        missing = f"no display found ({exc}); {HEADLESS_HINT}"
+    if missing:  # before anything is recorded
+        pygame.quit()
+        raise UsageError(missing)
     pygame.font.init()
     pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
-    joysticks: dict = {}
+    gamepads = Gamepads(pygame)
     screen = pygame.display.set_mode(size, pygame.RESIZABLE)
     title = f"puppet - {setup.interface.name}"
     try:  # pygame-ce: the display's Window object carries the title and a minimum size
@@ -70,7 +80,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         session = Session(setup)
     clock = SimClock(session.sim.dt, slowdown)
     if replay is not None:  # the recorded speed keys change the slowdown as they did live
-        feeder = LogFeeder(session, replay, until_step, on_action=clock.apply)
+        feeder = LogFeeder(session, replay, until_step,
+                           on_action=None if slowdown_chosen else clock.apply)
     if replay is None and not no_record:
         from puppet.timeline.log import Recorder, default_path
 
@@ -80,10 +91,11 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    camera = Camera(setup.character.view_height, offset=setup.character.view_offset)
+    camera = Camera(setup.character.view_height)
     camera.resize(*screen.get_size())
-    camera.follow(session.character.com(), None)
-    info = HudInfo(replaying=Path(replay.path).name if replay is not None else "")
+    camera.follow(subject_of(session), None)
+    info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
+                   overlay=overlay)
     reloader = None
     reload_error = ""  # shown until the file is valid again
     if feeder is None:  # hot reload: saving the interface file applies it at once
@@ -118,17 +130,53 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         return f"saved {len(session.interface.gestures)} gesture(s) into {path}"
     if note:
         session.say(note)
-    if feeder is None:  # start with the pointer where the mouse maps hold the pose
-        rest = session.runtime.pointer_for_pose()
-        if rest is not None:
-            w, h = screen.get_size()
-            pygame.mouse.set_pos((round(rest[0] * (w - 1)), round((1.0 - rest[1]) * (h - 1))))
-            session.say("the pointer starts where the mouse holds the start pose")
+    held_at: set = set()  # pointer positions (pixels) that are not input: see hold_pose
+    start_pointer: dict = {}  # interface version -> where the mouse holds the start pose
+
+    def start_pose_pointer():
+        """The pointer (0..1) at which the live interface's mouse maps hold the start
+        pose (None if no mouse map drives a joint): found on a fresh session of the
+        same interface, so it holds after a hot reload too."""
+        version = session.version
+        if version not in start_pointer:
+            import dataclasses
+
+            fresh = Session(dataclasses.replace(setup, interface=session.interface))
+            start_pointer[version] = fresh.runtime.pointer_for_pose()
+        return start_pointer[version]
+
+    def hold_pose(after_reset: bool = False) -> bool:
+        """Put the pointer where the mouse maps hold the start pose, and send no mouse
+        input until the user moves it, so the first mouse event does not throw the
+        character out of its pose. After a reset the maps are first given that
+        position (a logged mouse event: the reset re-applies the last inputs, which
+        threw the lamp). If the pointer cannot be moved (some systems refuse), the
+        pose is still held until the mouse moves. False if no mouse map drives a joint."""
+        nonlocal last_mouse
+        rest = start_pose_pointer()
+        if rest is None:
+            return False
+        if after_reset:
+            session.handle(ev.mouse(*rest))
+            last_mouse = rest
+        held_at.clear()
+        held_at.add(tuple(pygame.mouse.get_pos()))
+        w, h = screen.get_size()
+        target = (round(rest[0] * (w - 1)), round((1.0 - rest[1]) * (h - 1)))
+        pygame.mouse.set_pos(target)
+        held_at.add(target)
+        return True
+
     pressed: dict[str, str] = {}  # key name -> chord it was pressed as
     dragging = False
     last_mouse = None
+    if feeder is None and hold_pose():  # start where the mouse maps hold the start pose
+        session.say("the pointer starts where the mouse holds the start pose")
     frames = pygame.time.Clock()
     start = time.perf_counter()
+
+    def ctrl_held() -> bool:
+        return bool(pygame.key.get_mods() & pygame.KMOD_CTRL)
 
     def mods() -> list[str]:
         m = pygame.key.get_mods()
@@ -149,17 +197,27 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             if action in ("rewind", "forward"):  # the window's own: the scrub commits
                 return action if event["down"] else None  # with a logged rewind action
         scrub.commit()  # a key while scrubbing acts at the step shown, in the log too
-        return session.handle(event)
+        reset = (event["type"] == "key" and event["down"]
+                 and session.key_to_app.get(event["key"]) == "reset"
+                 and not session.runtime.handles_key(event["key"]))
+        action = session.handle(event)
+        if reset and hold_pose(after_reset=True):
+            session.say("reset: the pointer is back where the mouse holds the start pose")
+        return action
 
     def send_mouse() -> None:
         """The pointer's position to the session if it moved. Not while paused: moving
         the mouse to the keys would be new input, branching away the future that the
         scrub keys can still move through; it acts when the simulation steps again."""
         nonlocal last_mouse
-        if dragging or not pygame.mouse.get_focused():
-            return
+        if dragging or ctrl_held() or not pygame.mouse.get_focused():
+            return  # Ctrl is the drag's: the mouse does not drive the maps meanwhile
         w, h = screen.get_size()
         mx, my = pygame.mouse.get_pos()
+        if held_at:
+            if (mx, my) in held_at:
+                return  # holding the pose until the user moves the mouse
+            held_at.clear()
         pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
                min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
         if pos != last_mouse:
@@ -185,6 +243,23 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 session.advance(1)
         elif name == "help":
             info.show_help = not info.show_help
+        elif name == "balance":
+            info.overlay = not info.overlay
+        elif name == "branches":
+            near = session.history.branches_near(session.steps)
+            if not near:
+                info.branch = None
+                session.say("no branches yet: rewind (hold B) and play on to keep one")
+            elif info.branch not in near:
+                info.branch = near[0]
+            elif near.index(info.branch) + 1 < len(near):
+                info.branch = near[near.index(info.branch) + 1]
+            else:
+                info.branch = None  # past the last one: the list closes
+        elif name == "take_branch" and feeder is None:
+            take_branch()
+        elif name == "export_branch" and feeder is None:
+            export_branch()
         elif name == "record_gesture" and feeder is None:
             session.say(gestures.toggle(session.time, last_mouse,
                                         session.app_keys["record_gesture"]))
@@ -192,11 +267,52 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             session.say(save_gestures())
         return True
 
+    def selected_branch():
+        history = session.history
+        if info.branch is None or info.branch >= len(history.branches):
+            session.say(f"choose a branch first: {session.app_keys['branches']} lists them")
+            return None
+        return history.branches[info.branch]
+
+    def take_branch() -> None:
+        """Take up the selected branch: a logged "take" action (a replay does the same)."""
+        chosen = selected_branch()
+        if chosen is None:
+            return
+        history = session.history
+        if not history.oldest() <= chosen.fork <= history.head:
+            session.say("that branch forks before the history kept", error=True)
+            return
+        scrub.commit()
+        handle(ev.action("take") | {"branch": info.branch})
+        info.branch = None
+
+    def export_branch() -> None:
+        """Write the selected branch, from step 0, as a log of its own."""
+        from puppet.timeline.log import default_path, record_events
+
+        chosen = selected_branch()
+        if chosen is None:
+            return
+        events = session.branch_events(info.branch)
+        if events is None:
+            session.say("the history no longer reaches back to the start: cannot export",
+                        error=True)
+            return
+        path = default_path(f"{setup.interface.name}-branch")
+        at = chosen.fork * session.sim.dt
+        fresh = Session(setup, dt=session.sim.dt,
+                        checkpoint_interval=session.checkpoint_interval)
+        record_events(fresh, events, chosen.head, path, slowdown=slowdown,
+                      description=f"a branch of {setup.interface.name} from t={at:.2f} s")
+        session.say(f"exported the branch to {path}")
+
     running = True
     while running:
         wall_dt = frames.tick(60) / 1000.0
         for event in pygame.event.get():
-            for translated in device_events(pygame, event, joysticks):
+            for translated in device_events(pygame, event, gamepads,
+                                            session.interface.gamepad):
                 running = app_action(handle(translated)) and running
             if event.type == pygame.QUIT:
                 running = False
@@ -259,12 +375,13 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             feeder.advance(steps)
             if feeder.finished and not clock.paused:
                 clock.toggle_pause()
-                session.say(finished_message(session, replay))
+                done = finished_message(session, replay)
+                session.say(done, error="DIFFERENT" in done)
         else:
             session.advance(steps)
         info.follow_messages(session, time.perf_counter())
         if reload_error:
-            info.message = reload_error
+            info.message, info.message_error = reload_error, True
         info.scrubbing = scrub.active
         clock.sample(time.perf_counter() - start, session.time)
         info.slowdown = clock.slowdown
@@ -272,12 +389,14 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.fps = frames.get_fps() or None
         info.paused = clock.paused
 
-        if not session.sim.blown_up():  # else, until the next health check recovers
-            camera.follow(session.character.com(), wall_dt)  # it: the last world drawn
+        if not session.sim.blown_up():  # else (until the next health check recovers
+            if not (dragging or ctrl_held()):  # it) the last world drawn stays; the
+                camera.follow(subject_of(session), wall_dt)  # camera holds for a drag
             if ghost is not None:
                 ghost.sync(session)
             draw_world(screen, session, camera, small,
-                       ghost=ghost.session if ghost is not None else None)
+                       ghost=ghost.session if ghost is not None else None,
+                       overlay=info.overlay)
         draw_hud(screen, session, info, font, small)
         pygame.display.flip()
     scrub.release()
@@ -286,6 +405,27 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         print(f"recorded {recorder.path}")
     pygame.quit()
     return 0
+
+
+HEADLESS_HINT = ("use --headless to run without a window (e.g. puppet play luxo-mouse "
+                 "--headless --input luxo-hop --screenshot out.png)")
+OFFSCREEN_DRIVERS = ("offscreen", "dummy")
+
+
+def no_display(pygame) -> str:
+    """Why no window can be seen ("" if one can). Without a display SDL falls back to
+    an off-screen video driver, and the window would run, invisibly, for ever. A
+    driver asked for by name (SDL_VIDEODRIVER=dummy, as the tests do) is the user's
+    choice."""
+    try:
+        driver = pygame.display.get_driver()
+    except pygame.error:
+        driver = ""
+    asked = os.environ.get("SDL_VIDEODRIVER", "").strip().lower()
+    if driver and (driver not in OFFSCREEN_DRIVERS or asked == driver):
+        return ""
+    return f"no display found (SDL could only open its '{driver or 'none'}' video driver); " \
+           f"{HEADLESS_HINT}"
 
 
 def _pick(session: Session, camera, screen_pos) -> tuple[str, tuple[float, float]] | None:

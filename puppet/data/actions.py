@@ -16,6 +16,7 @@ from pydantic import (Discriminator, Field, NonNegativeFloat, PositiveFloat, Tag
 
 from puppet.data.validate import Spec
 from puppet.interface.app_keys import APP_KEYS
+from puppet.interface.events import GAMEPAD_BUTTONS
 
 Vec2 = tuple[float, float]
 
@@ -25,8 +26,13 @@ INPUT_PATTERNS = (
     ("mouse.x", r"mouse\.x"),
     ("mouse.y", r"mouse\.y"),
     ("mouse.left / mouse.middle / mouse.right", r"mouse\.(left|middle|right)"),
-    ("gamepad.axisN", r"gamepad\.axis\d+"),
-    ("gamepad.buttonN", r"gamepad\.button\d+"),
+    ("gamepad.left_x / left_y / right_x / right_y (-1..1, y up)",
+     r"gamepad\.(left|right)_[xy]"),
+    ("gamepad.left_trigger / right_trigger (0..1)", r"gamepad\.(left|right)_trigger"),
+    ("gamepad.a / b / x / y / start / back / left_shoulder / right_shoulder / dpad_up ...",
+     r"gamepad\.(" + "|".join(GAMEPAD_BUTTONS) + ")"),
+    ("gamepad.axisN / gamepad.buttonN (a joystick with no controller mapping)",
+     r"gamepad\.(axis|button)\d+"),
     ("channel.NAME", r"channel\.[A-Za-z_][A-Za-z0-9_.-]*"),
     ("sensor.SENSOR (e.g. sensor.com.vx, sensor.angle.chest)", r"sensor\.[A-Za-z_][A-Za-z0-9_.-]*"),
 )

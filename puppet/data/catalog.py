@@ -39,11 +39,26 @@ def find(kind: str, name: str) -> Path:
     if as_path.suffix and as_path.is_file():
         return as_path
     sub, ext = FOLDERS[kind]
+    if as_path.is_dir():
+        raise DataError(str(name), None, None, f"is a folder; expected {_a(kind)} name or a "
+                                               f"{ext} file")
+    if len(as_path.parts) > 1 or as_path.suffix == ext:  # a path, not a name: say so
+        raise DataError(str(name), None, None, f"no such file (expected {_a(kind)} name, "
+                                               f"e.g. '{_first(kind)}', or a {ext} file)")
     candidate = ROOT / sub / (name if name.endswith(ext) else name + ext)
     if candidate.is_file():
         return candidate
     known = ", ".join(n for n, _ in list_kind(kind)) or "none"
     raise DataError(str(name), None, None, f"no {kind} named '{name}'; known: {known}")
+
+
+def _a(word: str) -> str:
+    return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
+
+
+def _first(kind: str) -> str:
+    items = list_kind(kind)
+    return items[0][0] if items else "NAME"
 
 
 def list_kind(kind: str) -> list[tuple[str, str]]:

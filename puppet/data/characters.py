@@ -101,9 +101,6 @@ class CharacterSpec(Spec):
     description: str
     notes: str = ""
     view_height: PositiveFloat = Field(1.0, description="m of world shown in the window")
-    view_offset: float | None = Field(
-        None, description="m the view's centre sits above the centre of mass "
-                          "(absent: 0.18 x view_height)")
     solver: SolverSpec = Field(default_factory=SolverSpec)
     links: list[LinkSpec] = Field(min_length=1)
     joints: list[JointSpec] = Field(default_factory=list)

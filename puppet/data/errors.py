@@ -20,3 +20,9 @@ class DataError(Exception):
             if self.col is not None:
                 where += f":{self.col}"
         return f"{where}: {self.message}"
+
+
+class UsageError(Exception):
+    """A command used wrongly (a bad option, a path that is not there, no display).
+
+    The command line prints it as one line, ``puppet COMMAND: message``, and exits 2."""

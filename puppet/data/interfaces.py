@@ -222,6 +222,15 @@ class GestureSpec(Spec):
         return self.path[-1][0]
 
 
+class GamepadSpec(Spec):
+    """How a gamepad's sticks and triggers read: dead zones, as a fraction of the
+    travel. Inside a dead zone an input reads 0; beyond it the rest of the travel is
+    stretched back to the full range, so there is no jump at its edge."""
+
+    dead_zone: float = Field(0.12, ge=0.0, lt=1.0, description="sticks (-1..1)")
+    trigger_dead_zone: float = Field(0.05, ge=0.0, lt=1.0, description="triggers (0..1)")
+
+
 class InterfaceSpec(Spec):
     name: str
     description: str
@@ -257,6 +266,8 @@ class InterfaceSpec(Spec):
                                                   "the first")
     control_rate: float = Field(60.0, ge=1.0, le=10000.0,
                                 description="Hz at which sensor conditions are checked")
+    gamepad: GamepadSpec = Field(default_factory=GamepadSpec,
+                                 description="dead zones of the gamepad's sticks and triggers")
     checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=CHECKPOINT_MIN, le=CHECKPOINT_MAX,
                                     description="s of simulated time between automatic "
                                                 "checkpoints (the rewind's keyframes)")

@@ -115,8 +115,57 @@ def to_data_error(located: Located, model: type[pydantic.BaseModel],
         parent = loc[:-1]
         return located.error(parent, f"missing required key '{loc[-1]}' in "
                                      f"{'.'.join(str(p) for p in parent) or 'the file'}")
-    msg = err["msg"]
-    if msg.startswith("Value error, "):
-        msg = msg[len("Value error, "):]
     got = f" (got {_describe(err['input'])})" if "input" in err else ""
-    return located.error(loc, f"bad value for '{name}': {msg}{got}")
+    return located.error(loc, f"bad value for '{name}': {plain_message(err)}{got}")
+
+
+def _quoted(values) -> str:
+    if isinstance(values, str):  # pydantic's own list, e.g. "'box', 'circle'"
+        values = [v.strip().strip("'") for v in values.replace(" or ", ",").split(",")]
+    return ", ".join(str(v) for v in values if str(v))
+
+
+_BOUNDS = {"greater_than": ("gt", "more than"), "greater_than_equal": ("ge", "at least"),
+           "less_than": ("lt", "less than"), "less_than_equal": ("le", "at most")}
+_KINDS = {"float": "a number", "int": "a whole number", "bool": "true or false",
+          "string": "text", "list": "a list", "tuple": "a list", "dict": "a mapping",
+          "model": "a mapping of settings", "dataclass": "a mapping of settings",
+          "set": "a list"}
+
+
+def plain_message(err: dict) -> str:
+    """What a pydantic error means, in puppet's words (pydantic's own wording, such as
+    "Input tag 'x' found using 'type' does not match any of the expected tags", is
+    library talk): by the error's type, with its context values."""
+    kind, ctx = err["type"], err.get("ctx") or {}
+    if kind in ("value_error", "assertion_error"):
+        msg = str(ctx.get("error", err["msg"]))
+        for prefix in ("Value error, ", "Assertion failed, "):
+            msg = msg.removeprefix(prefix)
+        return msg
+    if kind == "union_tag_invalid":
+        return (f"unknown {str(ctx.get('discriminator', 'type')).strip(chr(39))} "
+                f"'{ctx.get('tag')}'; expected one of: {_quoted(ctx.get('expected_tags', ''))}")
+    if kind == "union_tag_not_found":
+        key = str(ctx.get("discriminator", "type")).strip("'")
+        return f"missing '{key}', which says what it is"
+    if kind in ("literal_error", "enum"):
+        return f"expected one of: {_quoted(ctx.get('expected', ''))}"
+    if kind in _BOUNDS:
+        key, words = _BOUNDS[kind]
+        value = ctx.get(key)
+        return f"must be {words} {value:g}" if isinstance(value, (int, float)) \
+            else f"must be {words} {value}"
+    if kind == "too_short":
+        return f"expected at least {ctx.get('min_length')} item(s)"
+    if kind == "too_long":
+        return f"expected at most {ctx.get('max_length')} item(s)"
+    if kind == "finite_number":
+        return "expected a finite number"
+    for prefix, what in _KINDS.items():
+        if kind.startswith(prefix + "_") or kind == prefix:
+            return f"expected {what}"
+    if kind in ("int_from_float",):
+        return "expected a whole number"
+    msg = err["msg"]  # a kind not met yet: pydantic's words, made less like a library's
+    return msg.replace("Input should be", "expected").replace("Input", "the value")

@@ -25,32 +25,24 @@ APP_KEYS: dict[str, tuple[str, str]] = {
     "forward": ("shift+b", "hold to scrub forward again after rewinding"),
     "record_gesture": ("f2", "record a mouse gesture / stop; then press its key"),
     "save_gestures": ("f3", "save the bound gestures into the interface file"),
+    "balance": ("f4", "show / hide the balance overlay: centre of mass, support, xcom"),
+    "branches": ("f9", "list the abandoned futures near now (branches); again: the next"),
+    "take_branch": ("f10", "take up the selected branch again"),
+    "export_branch": ("f11", "export the selected branch as a log of its own"),
 }
 
 
-
-class AppAction(str, Enum):
-    """The app's actions as a typed vocabulary (a ``str`` so that it prints, logs and
-    compares as its name). What a key asks of the app, or an interface's ``app:``."""
-
-    QUIT = "quit"
-    RESET = "reset"
-    PAUSE = "pause"
-    STEP = "step"
-    SLOWER = "slower"
-    FASTER = "faster"
-    HELP = "help"
-    CHECKPOINT = "checkpoint"
-    RESTORE = "restore"
-    REWIND = "rewind"
-    FORWARD = "forward"
-    RECORD_GESTURE = "record_gesture"
-    SAVE_GESTURES = "save_gestures"
-
+class _Named(str, Enum):
     def __str__(self) -> str:
         return self.value
 
     __format__ = str.__format__
+
+
+# The app's actions as a typed vocabulary, one member per entry of APP_KEYS (a ``str``
+# so that it prints, logs and compares as its name): what a key asks of the app, or an
+# interface's ``app:``. AppAction.PAUSE == "pause".
+AppAction = _Named("AppAction", {name.upper(): name for name in APP_KEYS})
 
 
 @dataclass(frozen=True)
@@ -110,8 +102,12 @@ def key_problem(text: str) -> str | None:
     if name in _key_names() or name in BUTTON_KEYS or \
             (name.startswith("gamepad.button") and name[len("gamepad.button"):].isdigit()):
         return None
+    from puppet.interface.events import GAMEPAD_BUTTONS
+
+    if name.startswith("gamepad.") and name[len("gamepad."):] in GAMEPAD_BUTTONS:
+        return None
     return (f"unknown key name '{name}'; expected a pygame key name such as a, 1, space, "
-            f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.button0")
+            f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.a / gamepad.button0")
 
 
 def key_chord(name: str, mods: tuple[str, ...] | list[str] = ()) -> str:

@@ -11,15 +11,104 @@ def _fmt(v: float) -> str:
     return f"{v:+.0f}"
 
 
+# What an input is, to a player: its name on the HUD and the words for its two ends.
+_AXES = {"x": ("left-right", "left", "right"), "y": ("up-down", "bottom", "top")}
+_STICKS = {"left_x": ("left stick left-right", "left", "right"),
+           "left_y": ("left stick up-down", "bottom", "top"),
+           "right_x": ("right stick left-right", "left", "right"),
+           "right_y": ("right stick up-down", "bottom", "top"),
+           "left_trigger": ("left trigger", "released", "pulled"),
+           "right_trigger": ("right trigger", "released", "pulled")}
+
+
+def input_words(name: str) -> tuple[str, str, str]:
+    """(what the input is, its low end, its high end) in a player's words:
+    mouse.x -> ("mouse left-right", "left", "right")."""
+    device, _, part = name.partition(".")
+    if device == "mouse" and part in _AXES:
+        what, lo, hi = _AXES[part]
+        return f"mouse {what}", lo, hi
+    if device == "mouse":
+        return f"{part} mouse button", "up", "pressed"
+    if device == "gamepad" and part in _STICKS:
+        return _STICKS[part]
+    if device == "gamepad" and part.startswith("axis"):
+        return f"gamepad axis {part[4:]}", "low", "high"
+    if device == "gamepad":
+        return f"gamepad {part.removeprefix('button')} button", "up", "pressed"
+    return name, "low", "high"
+
+
+def input_label(names) -> str:
+    """The HUD's name for a map's inputs: "mouse" for mouse x and y together."""
+    names = list(names)
+    devices = {n.partition(".")[0] for n in names}
+    if len(names) > 1 and devices == {"mouse"}:
+        return "mouse"
+    if len(names) > 1 and devices == {"gamepad"} and all("_" in n for n in names):
+        sticks = {n.partition(".")[2].rsplit("_", 1)[0] for n in names}
+        if len(sticks) == 1:
+            return f"{sticks.pop()} stick"
+    return ", ".join(input_words(n)[0] for n in names)
+
+
+def joint_words(joints) -> str:
+    """hip_near, knee_near -> "near hip and knee"; ankle -> "ankle"."""
+    joints = list(joints)
+    stems = {j.rpartition("_")[0] for j in joints}
+    if len(joints) > 1 and len(stems) == 1 and "" not in stems:  # hip_near, hip_far
+        return f"{stems.pop().replace('_', ' ')}s (both sides)"
+    sides = {j.rpartition("_")[2] for j in joints if "_" in j}
+    if len(sides) == 1 and all("_" in j for j in joints):
+        side = sides.pop()
+        names = [j.rpartition("_")[0].replace("_", " ") for j in joints]
+        return f"{side} " + _and(names)
+    return _and([j.replace("_", " ") for j in joints])
+
+
+def _and(words: list[str]) -> str:
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
+
+
 def map_line(m) -> tuple[str, str]:
+    """(input, what it does) in plain words, e.g. ("mouse", "near hip and knee: blends 6
+    poses") or ("mouse left-right", "ankle +80 deg at the left .. -80 at the right")."""
     if getattr(m, "grid", None) is not None:
         rows, cols = len(m.grid), len(m.grid[0])
-        extra = "".join(f" {a}-mirrored" for a in m.mirror)
-        if m.joints:
-            extra += " -> " + ", ".join(m.joints)
-        return f"{m.x}, {m.y}", f"pose grid {rows}x{cols}{extra}"
-    joints = ", ".join(m.gains()) if len(m.gains()) > 1 else next(iter(m.gains()))
-    return m.input, f"{joints} {_fmt(m.to[0])}..{_fmt(m.to[1])} deg"
+        who = joint_words(m.joints) if m.joints else "the poses' joints"
+        text = f"{who}: blends {rows * cols} poses"
+        if set(m.mirror) == {"x", "y"}:
+            text += ", half a cycle apart"
+        elif m.mirror:
+            flipped = input_words(m.x if m.mirror == ["x"] else m.y)[0]
+            text += f", {flipped} reversed"
+        return input_label((m.x, m.y)), text
+    what, lo, hi = input_words(m.input)
+    gains = m.gains()
+    who = joint_words(gains) if len(gains) > 1 else next(iter(gains)).replace("_", " ")
+    a, b = m.to
+    if tuple(m.from_) not in ((0.0, 1.0), (-1.0, 1.0)):
+        return what, f"{who} {_fmt(a)} deg at {m.from_[0]:g} .. {_fmt(b)} at {m.from_[1]:g}"
+    return what, f"{who} {_fmt(a)} deg at the {lo} .. {_fmt(b)} at the {hi}"
+
+
+def compact_lines(lines: list[tuple[str, str]], more: str,
+                  limit: int = 6) -> list[tuple[str, str]]:
+    """The HUD's short list: the maps on one input merged into one row ("4 maps"), at
+    most ``limit`` rows; ``more`` says where the full list is (e.g. "f1: all")."""
+    count: dict[str, int] = {}
+    for key, _ in lines:
+        count[key] = count.get(key, 0) + 1
+    out: list[tuple[str, str]] = []
+    for key, text in lines:
+        if count[key] > 1:
+            if all(k != key for k, _ in out):
+                out.append((key, f"{count[key]} maps ({more})"))
+            continue
+        out.append((key, text))
+    if len(out) > limit:
+        out = out[:limit - 1] + [("...", f"{len(out) - limit + 1} more ({more})")]
+    return out
 
 
 def action_text(k) -> str:
@@ -28,13 +117,13 @@ def action_text(k) -> str:
         return k.description
     parts = []
     if k.pose:
-        parts.append(f"pose {k.pose}")
+        parts.append(f"pose: {k.pose.replace('_', ' ')}")
     if k.sequence:
-        parts.append(f"sequence {k.sequence}")
-    parts += [f"{j}={_fmt(v)}" for j, v in k.set.items()]
-    parts += [f"{j}{_fmt(v)}" for j, v in k.adjust.items()]
+        parts.append(f"moves: {k.sequence.replace('_', ' ')}")
+    parts += [f"{j.replace('_', ' ')} to {v:.0f} deg" for j, v in k.set.items()]
+    parts += [f"{j.replace('_', ' ')} {_fmt(v)} deg" for j, v in k.adjust.items()]
     if k.stiffness or k.damping:
-        parts.append("gains" + (" while held" if k.while_held else ""))
+        parts.append("stiffer" + (" while held" if k.while_held else ""))
     for name in ("mode", "goto", "app", "slowdown", "gravity", "friction", "perturb",
                  "release"):
         value = getattr(k, name)
@@ -89,4 +178,5 @@ def where_line(spec: InterfaceSpec, state: str | None, mode: str | None) -> str:
 def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
     """(key, what it does) for the app's keys as this interface binds them."""
     table = spec.app_key_table()
-    return [(table[action], text) for action, (_, text) in APP_KEYS.items()]
+    return [(table[action], text) for action, (_, text) in APP_KEYS.items()] + [
+        ("ctrl+drag", "pull a body with a spring (the mouse maps and the camera wait)")]

@@ -9,7 +9,9 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "push", "link": name, "impulse": [jx, jy], "point": [lx, ly]}  a shove (N*s)
   {"type": "action", "name": "reset"}                 an app action that changes the sim
   {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
-  {"type": "gamepad", "name": "axis0", "value": -0.3}        input gamepad.axis0
+  {"type": "gamepad", "name": "left_x", "value": -0.3}       input gamepad.left_x
+                                 (standard names, see GAMEPAD_*; axisN / buttonN for a
+                                 joystick SDL has no controller mapping for)
   {"type": "channel", "name": "lean", "value": 0.2}          input channel.lean (plugins)
   {"type": "channels", "values": {"hip": 0.3, "knee": -0.1}}  many channels at one step
                                                     (a mocap frame): one log line
@@ -24,6 +26,23 @@ from __future__ import annotations
 from typing import Any
 
 Event = dict[str, Any]
+
+# A game controller's inputs by SDL's standard names (the layout of an Xbox pad: a is
+# the bottom face button). Sticks read -1..1 with y up, triggers 0..1, buttons 0/1.
+GAMEPAD_STICKS = ("left_x", "left_y", "right_x", "right_y")
+GAMEPAD_TRIGGERS = ("left_trigger", "right_trigger")
+GAMEPAD_BUTTONS = ("a", "b", "x", "y", "back", "guide", "start", "left_stick",
+                   "right_stick", "left_shoulder", "right_shoulder", "dpad_up",
+                   "dpad_down", "dpad_left", "dpad_right")
+
+
+def is_analog(name: str) -> bool:
+    """An input that is a position, not a button: mouse x/y, gamepad sticks, triggers
+    and raw axes, plugin channels."""
+    device, _, part = name.partition(".")
+    if device == "gamepad":
+        return part in GAMEPAD_STICKS or part in GAMEPAD_TRIGGERS or part.startswith("axis")
+    return device == "channel" or name in ("mouse.x", "mouse.y")
 
 
 def mouse(x: float, y: float) -> Event:
@@ -68,7 +87,8 @@ def mouse_button(button: str, down: bool = True) -> Event:
 
 
 def gamepad(name: str, value: float) -> Event:
-    """A gamepad axis ("axis0", -1..1) or button ("button1", 0/1): input gamepad.<name>."""
+    """A gamepad input: a stick ("left_x", -1..1), a trigger ("left_trigger", 0..1), a
+    button ("a", 0/1), or a raw joystick's axis ("axis0") or button ("button1")."""
     return {"type": "gamepad", "name": name, "value": float(value)}
 
 

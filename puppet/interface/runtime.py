@@ -45,7 +45,7 @@ from puppet.interface.controllers.perturbation import Perturber
 from puppet.interface.controllers.reach import ReachController
 from puppet.interface.controllers.sequence import SequenceController
 from puppet.interface.controllers.state_machine import StateMachine
-from puppet.interface.events import Event
+from puppet.interface.events import Event, is_analog
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import FEEDBACK, FRAME, JointOwners
 from puppet.interface.poses import apply_pose, compile_poses, frame_target
@@ -449,7 +449,7 @@ class InterfaceRuntime:
             else:
                 self.inputs[name] = value
             self.apply_maps((name,))
-            if kind != "channel" and not name.startswith("gamepad.axis") \
+            if kind != "channel" and not is_analog(name) \
                     and (was > 0.5) != (value > 0.5):  # buttons also act as keys
                 result = self._press(name, value > 0.5, now)
         else:

@@ -20,6 +20,7 @@ checkpoint action only, so a replay takes them at the same steps as the recordin
 
 from __future__ import annotations
 
+import gc
 from collections import deque
 from dataclasses import dataclass, field
 
@@ -35,6 +36,25 @@ class Snapshot:
     sim: bytes
     runtime: dict = field(repr=False)
     event_seq: int = 0  # how many events had been recorded when it was taken
+
+
+@dataclass
+class Branch:
+    """A future that was abandoned (new input after a rewind, or going back to a
+    checkpoint): its events and keyframes from ``fork`` (the step it left the kept
+    history at) to ``head``. Kept, so that it can be taken up again or exported."""
+    fork: int
+    head: int
+    events: list  # (seq, step, event), in order
+    auto: list
+    manual: list
+
+    @property
+    def steps(self) -> int:
+        return self.head - self.fork
+
+
+MAX_BRANCHES = 50  # abandoned futures kept (the oldest go first)
 
 
 class History:
@@ -59,6 +79,7 @@ class History:
         self.next_seq = 0
         self.start: Snapshot | None = None
         self.head = 0  # the furthest step of the current branch
+        self.branches: list[Branch] = []  # abandoned futures, oldest first
 
     # -- when ------------------------------------------------------------------------
     def keyframe_due(self, step: int) -> bool:
@@ -71,6 +92,7 @@ class History:
         self.auto.clear()
         self.manual.clear()
         self.events.clear()
+        self.branches.clear()
         self.auto.append(snap)
         self.head = snap.step
 
@@ -91,14 +113,25 @@ class History:
         self.next_seq += 1
 
     def branch(self, step: int) -> None:
-        """Forget everything after ``step``: keyframes later than it and events at or
-        after it (they belonged to the abandoned future)."""
-        for seq in (self.auto, self.manual):
+        """Leave everything after ``step`` (keyframes later than it, events at or after
+        it: the abandoned future) out of the history, kept as a ``Branch``."""
+        dropped: dict[str, list] = {"auto": [], "manual": [], "events": []}
+        for name, seq in (("auto", self.auto), ("manual", self.manual)):
             while seq and seq[-1].step > step:
-                seq.pop()
+                dropped[name].insert(0, seq.pop())
         while self.events and self.events[-1][1] >= step:
-            self.events.pop()
+            dropped["events"].insert(0, self.events.pop())
+        if self.head > step:
+            self.branches.append(Branch(step, self.head, dropped["events"], dropped["auto"],
+                                        dropped["manual"]))
+            del self.branches[:-MAX_BRANCHES]
         self.head = step
+
+    def branches_near(self, step: int, n: int = 5) -> list[int]:
+        """Indices of the ``n`` branches whose fork is nearest ``step``, nearest first."""
+        order = sorted(range(len(self.branches)),
+                       key=lambda i: (abs(self.branches[i].fork - step), -i))
+        return order[:n]
 
     # -- finding -----------------------------------------------------------------------
     def oldest(self) -> int:
@@ -147,11 +180,15 @@ SCRUB_RATE = 1.0  # s of simulated time per wall s when a scrub starts (it speed
 
 class Scrubber:
     """Holding the rewind key: move through the history (back, or forward with shift),
-    showing each snapshot; on release, commit with a logged "rewind" action so that a
-    replay of the log branches at the same place. Pure logic, no pygame."""
+    showing cached poses of it (``puppet.timeline.preview``: each frame within its
+    budget); on release, commit with a logged "rewind" action, the one exact rewind, so
+    that a replay of the log branches at the same place. Pure logic, no pygame."""
 
     def __init__(self, session):
+        from puppet.timeline.preview import PoseCache
+
         self.session = session
+        self.cache = PoseCache(session)  # the preview: cached poses, budgeted per frame
         self.active = False
         self.forward = False
         self.moved = False
@@ -163,8 +200,13 @@ class Scrubber:
             self.forward = forward
             return
         self.active, self.forward, self.moved = True, forward, False
+        self.origin = self.session.steps  # where the run is (the preview only shows)
         self.pos = float(self.session.steps)
         self.held = 0.0
+        # No full garbage collection in a scrub frame (a pass over the whole heap takes
+        # tens of ms): only the young generation, each frame, until the release.
+        self._gc_was_on = gc.isenabled()
+        gc.disable()
 
     def update(self, wall_dt: float, forward: bool = False) -> None:
         """One frame of scrubbing; ``forward``: a modifier says go the other way."""
@@ -175,6 +217,7 @@ class Scrubber:
         if span is None:
             return
         self.held += wall_dt
+        gc.collect(0)
         rate = SCRUB_RATE * (1.0 + self.held)  # the longer it is held, the faster
         direction = 1.0 if (self.forward or forward) else -1.0
         self.pos += direction * rate * wall_dt / history.dt
@@ -182,19 +225,24 @@ class Scrubber:
         if direction < 0 and not self.moved:  # show the first step back at once
             self.pos = min(self.pos, self.session.steps - 1)
         step = int(self.pos)
-        if step != self.session.steps:
-            self.session.preview(step)
-            self.moved = True
+        if step != self.session.steps:  # a cached pose (the exact rewind comes on commit)
+            if self.cache.show(step, forward=direction > 0) is not None:
+                self.moved = True
 
     def commit(self) -> None:
         """Log the step shown as a rewind action (if the scrub moved), so that input
         handled from here on is logged after it and a replay applies it there too."""
         if self.active and self.moved:
             self.moved = False
-            self.session.handle({"type": "action", "name": "rewind",
-                                 "to_step": self.session.steps})
+            # Logged at the step the run is at, not the one shown: a replay plays on to
+            # there first, as the run did, so the future left is the same branch there.
+            shown, self.session.sim.steps = self.session.steps, self.origin
+            self.session.handle({"type": "action", "name": "rewind", "to_step": shown})
+            self.origin = self.session.steps
 
     def release(self) -> None:
         """Play on from the snapshot shown (a logged rewind action)."""
         self.commit()
+        if self.active and self._gc_was_on:
+            gc.enable()
         self.active = False

@@ -302,6 +302,12 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     path_s = str(path)
     try:
         text = Path(path).read_bytes().decode("utf-8", errors="replace")
+    except IsADirectoryError:
+        raise DataError(path_s, None, None, "is a folder; expected a log (.jsonl) or a log "
+                                            "name") from None
+    except FileNotFoundError:
+        raise DataError(path_s, None, None, "no such file (expected a log (.jsonl) or a log "
+                                            "name)") from None
     except OSError as exc:
         raise DataError(path_s, None, None, f"cannot read log: {exc.strerror or exc}") from None
     lines = text.split("\n")

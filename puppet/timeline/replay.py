@@ -66,7 +66,13 @@ class Trajectory:
 
 
 class Sampler:
-    """An ``on_tick`` callback that records the session's state."""
+    """An ``on_tick`` callback that records the session's state.
+
+    It runs at every sample of every replay (most of a test replay's time went here),
+    so it reads pymunk through its C library directly, with what does not change (the
+    links' centres of gravity, the servos' springs and bodies) looked up once per
+    set of bodies (a restore rebuilds them): the same C calls pymunk's properties make,
+    so the same numbers to the bit (tested against the plain reading)."""
 
     def __init__(self, session: Session):
         c = session.character
@@ -77,6 +83,33 @@ class Sampler:
         self.state_names: dict[str, None] = {}  # ordered sets
         self.mode_names: dict[str, None] = {}
         self._runtime = None
+        self._take = (0, 0)  # the session's last take seen (Session.last_take)
+        self._key = None  # the bodies the plan below was made for
+        from pymunk._chipmunk_cffi import ffi, lib
+
+        self._lib = lib
+        touched = self._touched = [0]
+
+        @ffi.callback("void(cpBody *, cpArbiter *, void *)")
+        def count(body, arbiter, data):  # a link's arbiters: anything outside it
+            touched[0] += 1
+
+        self._count, self._null = count, ffi.NULL
+
+    def _plan(self, c) -> None:
+        """Per link (in ``links`` order): body, its C pointer, centre of gravity, the
+        C pointers of its shapes; the com's bodies in ``Character.com``'s order."""
+        self._key = c.bodies[self.links[0]]
+        self._per_link = [(c.bodies[n], c.bodies[n]._body, tuple(c.bodies[n].center_of_gravity),
+                           [sh._shape for sh in c.shapes[n]]) for n in self.links]
+        at = {n: i for i, n in enumerate(self.links)}
+        self._com_order = [(at[n], b.mass) for n, b in c.bodies.items()]
+        self._mass = c.mass
+        link_of = {id(c.bodies[n]): i for i, n in enumerate(self.links)}
+        # a joint's angle is its child's angle less its parent's: read once per link
+        self._servos = [(link_of[id(c.servos[j].child)], link_of[id(c.servos[j].parent)],
+                         c.servos[j].spring) for j in self.joints]
+        self._root = at[c.spec.root]
 
     def __call__(self, session: Session) -> None:
         step = session.steps
@@ -88,16 +121,31 @@ class Sampler:
         if self.rows and step <= self.rows[-1][0]:  # time went back: a rewind
             while self.rows and self.rows[-1][0] >= step:
                 self.rows.pop()
+        take = getattr(session, "last_take", None)
+        if take is not None and take != self._take:  # a branch taken up: the samples
+            self._take = take  # after its fork belonged to the future left
+            while take[0] and self.rows and self.rows[-1][0] > take[1]:
+                self.rows.pop()
         c = session.character
+        if self._key is not c.bodies[self.links[0]]:  # a restore rebuilds all the bodies
+            self._plan(c)
+        lib, touched, count, null = self._lib, self._touched, self._count, self._null
+        to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeGetBB, lib.cpBodyEachArbiter
         per_link = []
-        for name in self.links:
-            body = c.bodies[name]
-            p = body.local_to_world(body.center_of_gravity)
-            low = min(sh.cache_bb().bottom for sh in c.shapes[name])
-            per_link.append((p[0], p[1], body.angle, low, c.in_contact(name)))
-        servos = [c.servos[j] for j in self.joints]
-        self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
-                          [s.angle for s in servos], [s.target for s in servos],
+        for body, ptr, cog, shapes in self._per_link:
+            p = to_world(ptr, cog)
+            touched[0] = 0
+            each(ptr, count, null)
+            per_link.append((p.x, p.y, body.angle, min(get_bb(sh).b for sh in shapes),
+                             touched[0] > 0))
+        mx = my = 0.0  # Character.com, from the positions just read, in its order
+        for i, mass in self._com_order:
+            mx += mass * per_link[i][0]
+            my += mass * per_link[i][1]
+        self.rows.append((step, session.time, per_link, (mx / self._mass, my / self._mass),
+                          per_link[self._root][2],
+                          [per_link[i][2] - per_link[k][2] for i, k, _ in self._servos],
+                          [spring.rest_angle for _, _, spring in self._servos],
                           rt.state, rt.mode))
 
     def trajectory(self) -> Trajectory:
@@ -420,12 +468,14 @@ def replay_command(args) -> int:
     (--check) or ends in another state than recorded, else 0."""
     import sys
 
+    from puppet.data.errors import UsageError
+
     logs = list(args.logs)
     if not args.headless:
         if len(logs) > 1:
-            raise SystemExit("puppet replay: several logs need --headless")
+            raise UsageError("several logs need --headless")
         if args.check:
-            raise SystemExit("puppet replay: --check needs --headless")
+            raise UsageError("--check needs --headless")
         from puppet.app.window import run_window
 
         log = read_log(find_log(logs[0]), args.allow_truncated)
@@ -435,6 +485,8 @@ def replay_command(args) -> int:
             print(w, file=sys.stderr)
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
         return run_window(setup, slowdown, replay=log, until_step=args.until_step,
+                          slowdown_chosen=args.slowdown is not None,
+                          overlay=getattr(args, "overlay", None) == "com",
                           note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
                                           for w in warnings))
 
@@ -442,7 +494,7 @@ def replay_command(args) -> int:
         res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
                           args.as_recorded)
         if "error" in res:
-            print(res["error"], file=sys.stderr)
+            print(f"puppet replay: {res['error']}", file=sys.stderr)
             return EXIT_DATA_ERROR
         print_one(res, args.check)
         return exit_code([verdict(res)])
@@ -469,7 +521,7 @@ def replay_command(args) -> int:
     ordered = [results[i] for i in range(len(logs))]
     for r in ordered:
         if "error" in r:
-            print(r["error"], file=sys.stderr)
+            print(f"puppet replay: {r['error']}", file=sys.stderr)
     for r in ordered:
         print_notes(r)
         if args.check and "error" not in r:

@@ -1,0 +1,127 @@
+"""The command line as a newcomer meets it: every mistake is one line that begins
+``puppet COMMAND:``, usage errors exit 2, and nothing is half done."""
+
+import os
+import subprocess
+import sys
+
+from puppet.data import catalog
+
+
+def puppet(*args, env=None, cwd=None):
+    return subprocess.run([sys.executable, "-m", "puppet", *args], capture_output=True,
+                          text=True, env=env, cwd=cwd, timeout=60)
+
+
+def _no_display_env():
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    env["PYTHONPATH"] = str(catalog.ROOT)
+    return env
+
+
+def _recordings():
+    folder = catalog.ROOT / "recordings"
+    return set(folder.glob("*.jsonl")) if folder.exists() else set()
+
+
+def test_play_without_a_display_says_so_points_to_headless_and_records_nothing(tmp_path):
+    before = _recordings()
+    proc = puppet("play", "luxo-mouse", env=_no_display_env())
+    assert proc.returncode == 2
+    line = proc.stderr.strip().splitlines()[-1]
+    assert line.startswith("puppet play: no display found") and "--headless" in line
+    assert _recordings() == before
+    log = tmp_path / "x.jsonl"
+    proc = puppet("play", "luxo-mouse", "--record", str(log), env=_no_display_env())
+    assert proc.returncode == 2 and not log.exists()
+
+
+def test_a_window_replay_without_a_display_says_so_too():
+    proc = puppet("replay", "luxo-hop", env=_no_display_env())
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines()[-1].startswith("puppet replay: no display found")
+
+
+def _main_error(capsys, *argv):
+    """Run ``puppet ARGV`` in this process: (exit code, the last stderr line)."""
+    import pytest
+
+    from puppet.cli import main
+
+    try:
+        code = main(list(argv))
+    except SystemExit as exc:  # argparse's usage errors
+        code = exc.code
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    if not lines:
+        pytest.fail(f"no message, exit {code}")
+    return code, lines[-1]
+
+
+def test_output_paths_of_the_wrong_kind_are_refused_before_anything_runs(tmp_path, capsys):
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    cases = [
+        (("--screenshot", str(tmp_path)), f"--screenshot {tmp_path}: is a folder; give a file "
+                                          f"name ending in .png"),
+        (("--screenshot", str(tmp_path / "shot")), "no extension; give a file name ending in"),
+        (("--frames", str(afile)), f"--frames {afile}: is a file; give a folder"),
+    ]
+    for extra, fragment in cases:
+        code, line = _main_error(capsys, "play", "luxo-mouse", "--headless", "--seconds",
+                                 "0.1", *extra)
+        assert code == 2 and line.startswith("puppet play: ") and fragment in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
+def test_a_path_is_called_a_path_and_a_folder_a_folder(tmp_path, capsys):
+    code, line = _main_error(capsys, "replay", "nosuch.jsonl", "--headless")
+    assert code == 2 and line.startswith("puppet replay: nosuch.jsonl: no such file"), line
+    assert "named" not in line
+    code, line = _main_error(capsys, "replay", "nosuch", "--headless")
+    assert code == 2 and "no log named 'nosuch'; known: " in line, line
+    code, line = _main_error(capsys, "play", str(tmp_path), "--headless")
+    assert code == 2 and line == (f"puppet play: {tmp_path}: is a folder; expected an "
+                                  f"interface name or a .yaml file"), line
+    code, line = _main_error(capsys, "replay", str(tmp_path), "--headless")
+    assert code == 2 and line.startswith(f"puppet replay: {tmp_path}: is a folder"), line
+
+
+def test_usage_errors_exit_2_with_the_command_named(capsys, tmp_path):
+    cases = [
+        (("play", "luxo-mouse", "--screenshot", "x.png"), "puppet play: --input, --screenshot "
+                                                          "and --frames need --headless"),
+        (("replay", "luxo-hop", "luxo-backflip"), "puppet replay: several logs need --headless"),
+        (("replay", "luxo-hop", "--check"), "puppet replay: --check needs --headless"),
+        (("play", "luxo-mouse", "--headless", "--seconds", "-1"),
+         "puppet play: error: argument --seconds: '-1' is not a duration from 0"),
+        (("play", "luxo-mouse", "--headless", "--fps", "0"),
+         "puppet play: error: argument --fps: '0' is not a frame rate"),
+        (("replay", "luxo-hop", "--headless", "--jobs", "0"), "puppet replay: error: argument"),
+        (("replay", "luxo-hop", "--headless", "--size", "10"),
+         "puppet replay: error: argument --size: '10' is not WIDTHxHEIGHT"),
+        (("replay", "luxo-hop", "--headless", "--until-step", "-5"),
+         "puppet replay: error: argument --until-step"),
+        (("check", str(tmp_path / "nosuch.yaml")), f"puppet check: {tmp_path}/nosuch.yaml: "),
+        (("bench", "nosuch"), "puppet bench: no character named nosuch"),
+    ]
+    for argv, start in cases:
+        code, line = _main_error(capsys, *argv)
+        assert code == 2 and line.startswith(start), (argv, line)
+
+
+def test_list_and_check_describe_their_arguments(capsys):
+    from puppet.cli import main
+
+    for argv, words in ((["list", "--help"], ["KIND", "only this kind", "recordings/"]),
+                        (["check", "--help"], ["FILE", "YAML data file", "Exit 0"])):
+        try:
+            main(argv)
+        except SystemExit as exc:
+            assert exc.code == 0
+        out = capsys.readouterr().out
+        for word in words:
+            assert word in out, (argv, out)

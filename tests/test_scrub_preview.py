@@ -1,0 +1,81 @@
+"""Scrubbing shows cached poses of the history (puppet.timeline.preview): each the pose
+an exact rewind gives, without restoring the live space each frame; the one exact
+rewind comes on release."""
+
+import random
+
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.interface import events as ev
+from puppet.session import Session
+from puppet.timeline.history import Scrubber
+
+
+def _played(interface, seed=4):
+    """A session played with random mouse and key input for 7 s (two keyframes back)."""
+    session = Session(load_setup(interface))
+    rng = random.Random(seed)
+    keys = [k.key for k in session.setup.interface.keys][:4]
+    for frame in range(420):
+        if frame % 5 == 0:
+            session.handle(ev.mouse(rng.random(), rng.random()))
+        if keys and frame % 37 == 0:
+            k = rng.choice(keys)
+            session.handle(ev.key(k, True))
+            session.handle(ev.key(k, False))
+        session.advance(8)
+    return session
+
+
+def _pose(session):
+    return [(tuple(b.position), b.angle) for b in session.character.bodies.values()]
+
+
+@pytest.mark.parametrize("interface", ["luxo-mouse", "cat-trot", "cat-bound"])
+def test_the_preview_shows_the_exact_past_and_restores_nothing_until_release(interface,
+                                                                            monkeypatch):
+    live = _played(interface)
+    reference = _played(interface)  # the same run, rewound exactly for comparison
+    restores = []
+    real_restore = live.sim.restore
+    monkeypatch.setattr(live.sim, "restore", lambda *a, **k: (restores.append(1),
+                                                              real_restore(*a, **k))[1])
+    scrub = Scrubber(live)
+    scrub.start()
+    shown, checked = set(), 0
+    for frame in range(150):  # 2.5 s of holding the key: back across a keyframe
+        scrub.update(1 / 60)
+        if live.steps not in shown and frame % 9 == 0:
+            shown.add(live.steps)
+            reference.rewind_to(live.steps)
+            assert _pose(live) == _pose(reference), live.steps  # to the bit
+            checked += 1
+    assert not restores  # the live space was never restored while scrubbing
+    assert checked >= 5 and min(shown) < 3360 - 1440  # it crossed into an earlier interval
+    step = live.steps
+    scrub.release()  # the one exact rewind, to the step shown
+    assert len(restores) == 1 and live.steps == step
+    reference.rewind_to(step)
+    assert live.sim.state_hash() == reference.sim.state_hash()
+
+
+def test_the_preview_uses_the_sessions_own_step_and_interval():
+    """A replayed log's session may step at another dt and checkpoint interval than
+    the interface's defaults: the preview re-simulates with the session's own."""
+    def played():
+        session = Session(load_setup("luxo-mouse"), dt=1 / 240, checkpoint_interval=1.0)
+        rng = random.Random(2)
+        for _ in range(240):
+            session.handle(ev.mouse(rng.random(), rng.random()))
+            session.advance(4)
+        return session
+
+    live, reference = played(), played()
+    scrub = Scrubber(live)
+    scrub.start()
+    for _ in range(40):
+        scrub.update(1 / 60)
+    assert live.steps < 960
+    reference.rewind_to(live.steps)
+    assert _pose(live) == _pose(reference)
