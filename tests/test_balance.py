@@ -213,3 +213,46 @@ def test_roles_are_checked_at_load(tmp_path, text, fragment):
     with pytest.raises(DataError) as info:
         load_setup(str(path))
     assert fragment in str(info.value), str(info.value)
+
+
+# -- the feat: a shove, caught by stepping (assets/logs/biped-push-step) ------------------
+def _push_step_expectations():
+    import yaml
+
+    from puppet.data.catalog import ROOT
+
+    side = ROOT / "assets" / "logs" / "biped-push-step.expect.yaml"
+    return yaml.safe_load(side.read_text(encoding="utf-8"))["expect"]
+
+
+def test_the_shove_that_stepping_catches_fells_the_figure_that_holds_still(tmp_path):
+    from puppet.testing import record_script, replay_log
+
+    still = record_script("biped-push-step", tmp_path / "still.jsonl", interface="biped-stand")
+    body = [e for e in _push_step_expectations()  # biped-stand has no states
+            if not {"stayed_in_state", "in_state_at_end"} & set(e)]
+    result = replay_log(still, expect=body)
+    failed = {o.expectation.split()[0] for o in result.failed}
+    assert {"height_at_end", "upright_at_end"} <= failed, \
+        [str(o) for o in result.outcomes]
+
+
+def test_the_push_step_log_fails_with_weak_hips(tmp_path):
+    import yaml
+
+    from puppet.data.catalog import ROOT, find
+    from puppet.testing import replay_log
+    from test_logs import _copy_log
+
+    spec = yaml.safe_load(find("interface", "biped-step").read_text(encoding="utf-8"))
+    spec["gains"] = {j: {"stiffness": 300.0, "max_torque": 75.0}
+                     for j in ("hip_near", "hip_far")}
+    spec["name"] = "biped-step-weak"
+    iface = tmp_path / "biped-step-weak.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    weak = _copy_log(ROOT / "assets" / "logs" / "biped-push-step.jsonl", tmp_path,
+                     interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
+    result = replay_log(weak)
+    failed = {o.expectation.split()[0] for o in result.failed} - {"same"}
+    assert failed & {"height_at_end", "x_at_end", "upright_at_end", "in_state_at_end"}, \
+        [str(o) for o in result.outcomes]

@@ -74,6 +74,22 @@ class XAtEnd(Spec):
         return self
 
 
+class HeightAtEnd(Spec):
+    """The link's centre of mass (m above y = 0) within bounds at the end, and (``held``)
+    over the last ``held`` s: standing, not fallen or crouched."""
+
+    link: str
+    min: float | None = None
+    max: float | None = None
+    held: NonNegativeFloat = Field(0.0, description="s at the end it must stay in bounds")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min' and/or 'max' (m)")
+        return self
+
+
 class ReachedHeight(Spec):
     link: str
     min: float = Field(description="m the link's lowest point must rise above its start")
@@ -138,6 +154,7 @@ AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
 
 class Expectation(Spec):
     x_at_end: XAtEnd | None = None
+    height_at_end: HeightAtEnd | None = None
     upright_at_end: bool | None = None
     never_fell: bool | None = None
     reached_height: ReachedHeight | None = None
@@ -186,6 +203,10 @@ class Expectation(Spec):
             bounds = " ".join(f"{k} {b}" for k, b in (("min", v.min), ("max", v.max))
                               if b is not None)
             return f"x_at_end {what} {bounds}"
+        if isinstance(v, HeightAtEnd):
+            bounds = " ".join(f"{k} {b}" for k, b in (("min", v.min), ("max", v.max))
+                              if b is not None)
+            return f"height_at_end {v.link} {bounds}" + (f" held {v.held} s" if v.held else "")
         if isinstance(v, ReachedHeight):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, Airborne):
@@ -347,6 +368,13 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         x = float(traj.com[-1, 0]) if v.com else float(traj.x[-1, traj.index(v.link)])
         ok = (v.min is None or x >= v.min) and (v.max is None or x <= v.max)
         return Outcome(desc, ok, f"x = {x:.3f} m at t = {traj.t[-1]:.2f} s")
+    if isinstance(v, HeightAtEnd):
+        y = traj.y[:, traj.index(v.link)]
+        window = y[traj.t >= traj.t[-1] - v.held - 1e-9]
+        lo, hi = float(window.min()), float(window.max())
+        ok = (v.min is None or lo >= v.min) and (v.max is None or hi <= v.max)
+        return Outcome(desc, ok, f"y = {lo:.3f}..{hi:.3f} m over the last {v.held:g} s"
+                       if v.held else f"y = {lo:.3f} m at t = {traj.t[-1]:.2f} s")
     if e.kind == "upright_at_end":
         tilt = float(_tilt_deg(traj.root_angle[-1:])[0])
         upright = tilt <= UPRIGHT_DEG
