@@ -93,10 +93,11 @@ def gesture(frames: int, interface_spec) -> list[list[dict]]:
     from puppet.interface import events as ev
     from puppet.interface.app_keys import normalize_key
 
-    # Keys that change the world itself (gravity, friction, random kicks) are left out:
+    # Keys that change the world itself (gravity, friction, random kicks, shoves) are left out:
     # the bare run replays servo changes only, and those are not the control layer's cost.
     keys = [normalize_key(k.key) for k in (interface_spec.keys if interface_spec else [])
-            if k.gravity is None and k.friction is None and k.perturb is None]
+            if k.gravity is None and k.friction is None and k.perturb is None
+            and k.push is None]
     per_tap = max(1, round(0.5 * FRAME_HZ))
     out = []
     for f in range(frames):

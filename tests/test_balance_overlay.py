@@ -11,8 +11,16 @@ from puppet.interface import events as ev
 from puppet.physics.balance import balance, ground_contacts
 from puppet.session import Session
 
-CHARACTERS = sorted({load_setup(n).character.name: n
-                     for n, _ in catalog.list_kind("interface")}.values())
+def _one_interface_per_character() -> list[str]:
+    """Each character's standing interface (NAME-stand) if it has one, else its first."""
+    by_character: dict[str, list[str]] = {}
+    for n, _ in catalog.list_kind("interface"):
+        by_character.setdefault(load_setup(n).character.name, []).append(n)
+    return sorted(f"{c}-stand" if f"{c}-stand" in names else names[0]
+                  for c, names in by_character.items())
+
+
+CHARACTERS = _one_interface_per_character()
 
 
 def _balance(session):

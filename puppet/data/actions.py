@@ -228,6 +228,15 @@ class GraspSpec(Spec):
         return self
 
 
+class ShoveSpec(Spec):
+    """A shove: an impulse (N*s, world x and y) at a point of a link (model frame, m;
+    default the link's centre of mass) - to try how a figure takes a push."""
+
+    link: str
+    impulse: Vec2
+    point: Vec2 | None = None
+
+
 class ActionSpec(Spec):
     """Everything one trigger (key, state entry) can do."""
 
@@ -253,6 +262,7 @@ class ActionSpec(Spec):
     gravity: Vec2 | None = Field(None, description="m/s^2")
     friction: NonNegativeFloat | None = Field(None, description="ground friction")
     perturb: Literal["on", "off", "toggle"] | None = None
+    push: ShoveSpec | None = Field(None, description="shove a link (an impulse)")
     description: str = ""
 
     @field_validator("app")

@@ -293,6 +293,8 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                 "frame", m.frame, ["joint", "world"] + links,
                 " (joint, world or a link)"))
     for loc, a in actions(spec):
+        if a.push is not None:
+            need_link(loc + ("push", "link"), a.push.link)
         for field in ("set", "adjust", "stiffness", "damping"):
             for name in getattr(a, field):
                 need(loc + (field, name), name, True)

@@ -520,6 +520,8 @@ class InterfaceRuntime:
                 meta.set_friction(self.sim, a.friction)
         if a.perturb is not None:
             self.perturber.switch(a.perturb, now)
+        if a.push is not None and self.sim is not None:
+            self.sim.push(self._rename(a.push.link), a.push.impulse, a.push.point)
         if a.mode is not None and a.mode != self.mode:
             self.mode = a.mode
             self._refresh_active_maps()
