@@ -3,7 +3,8 @@
 docs/interfaces.md and docs/scripts.md mark their YAML examples on the first line:
   ``# file: interfaces/NAME.yaml`` / ``# file: assets/scripts/NAME.yaml`` /
   ``# file: assets/scenes/NAME.yaml``  a complete file;
-  ``# snippet for luxo``  part of an interface: valid under a three-line Luxo header.
+  ``# snippet for luxo``  part of an interface: valid under a three-line header naming
+                          that character (luxo, cat, biped...).
 Every marked block must pass ``puppet check``; the worked example's final file
 (the last ``interfaces/luxo-hopper.yaml`` block) is also played headless.
 """
@@ -27,7 +28,11 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
 FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes)/([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
-LUXO_HEADER = "name: snippet\ndescription: a snippet from the docs\ncharacter: luxo\n"
+SNIPPET = re.compile(r"# snippet for ([a-z0-9-]+)\s*$")
+
+
+def snippet_header(character: str) -> str:
+    return f"name: snippet\ndescription: a snippet from the docs\ncharacter: {character}\n"
 WORKED = "luxo-hopper.yaml"
 
 
@@ -53,7 +58,7 @@ def marked_blocks():
     for doc in DOC_FILES:
         for line, text in yaml_blocks(doc):
             first = text.splitlines()[0]
-            if FILE_MARK.match(first) or first.strip() == SNIPPET_MARK:
+            if FILE_MARK.match(first) or SNIPPET.match(first.strip()):
                 out.append(pytest.param(doc.name, line, text, id=f"{doc.name}:{line}"))
     return out
 
@@ -67,7 +72,9 @@ def write_block(tmp_path: Path, line: int, text: str) -> Path:
     if m:  # check_file tells a file's kind by its folder: interfaces/, scripts/, scenes/
         path = tmp_path / m.group(1).split("/")[-1] / m.group(2)
     else:
-        path, text = tmp_path / "interfaces" / f"snippet-{line}.yaml", LUXO_HEADER + text
+        character = SNIPPET.match(first.strip()).group(1)
+        path = tmp_path / "interfaces" / f"snippet-{line}.yaml"
+        text = snippet_header(character) + text
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding="utf-8")
     return path
@@ -151,7 +158,7 @@ def doc_session(tmp_path: Path, contains: str) -> Session:
     """A session of the one marked block of docs/interfaces.md containing ``contains``."""
     found = [(line, t) for line, t in yaml_blocks(DOCS / "interfaces.md")
              if contains in t and (FILE_MARK.match(t.splitlines()[0])
-                                   or t.startswith(SNIPPET_MARK))]
+                                   or SNIPPET.match(t.splitlines()[0].strip()))]
     assert len(found) == 1, f"{len(found)} blocks contain {contains!r}"
     return Session(load_setup(str(write_block(tmp_path, *found[0]))))
 
@@ -262,3 +269,25 @@ def test_guide_cat_paw_reaches_with_three_joints_and_the_spine_stops_at_its_limi
     spine = s.character.servos["spine"]
     assert math.degrees(spine.target) == pytest.approx(35, abs=0.5)  # at its limit
     assert s.character.upright()
+
+
+def test_guide_roles_example_swaps_which_leg_the_mouse_drives(tmp_path):
+    s = doc_session(tmp_path, "name: roles-example")
+    servos = s.character.servos
+    s.handle(ev.mouse(1.0, 0.5))
+    assert math.degrees(servos["hip_far"].target) == pytest.approx(40)  # the swing leg
+    tap(s, "space")
+    s.handle(ev.mouse(0.0, 0.5))
+    assert s.runtime.state == "far_stance"
+    assert math.degrees(servos["hip_near"].target) == pytest.approx(-10)  # now the near leg
+
+
+def test_guide_foot_placement_snippet_adds_to_the_swing_hip(tmp_path):
+    s = doc_session(tmp_path, "c_d = 30 deg per m")
+    s.advance(480)
+    hip = s.character.servos["hip_far"]
+    c = s.character
+    d = c.com()[0] - c.link_position("foot_near")[0]
+    v = c.com_velocity()[0]
+    base = math.radians(c.spec.start.joints["hip_far"])
+    assert hip.target == pytest.approx(base + math.radians(30 * d + 12 * v), abs=1e-3)
