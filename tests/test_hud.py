@@ -116,3 +116,34 @@ def test_gamepad_pose_buttons_get_their_own_strip_labelled_by_name():
     texts = [t for t, _ in seen]
     assert "gamepad buttons" in texts and {"a", "b", "x", "y"} <= set(texts)
     assert "gamepad.a" not in texts and "other" not in texts
+
+
+def test_the_hud_says_what_keys_changed_in_the_world():
+    from puppet.app.hud import world_changes
+    from puppet.data.catalog import load_setup
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    s = Session(load_setup("luxo-designer"))
+    assert world_changes(s) == ""
+    spec = s.setup.interface
+    gravity = next((k for k in spec.keys if k.gravity is not None), None)
+    if gravity is None:  # the layout has no such key: change the world as a key would
+        from puppet.interface import meta
+        meta.set_gravity(s.sim, (0.0, -1.6))
+        meta.set_friction(s.sim, 0.1)
+    else:
+        s.handle(ev.key(gravity.key))
+    s.runtime.perturber.switch("on", s.steps)
+    text = world_changes(s)
+    assert text.startswith("world: gravity") and "(scene 0, -9.81)" in text
+    assert "random kicks on" in text
+
+
+def test_where_line_names_each_machines_state():
+    from puppet.data.catalog import load_setup
+    from puppet.interface.describe import where_line
+
+    spec = load_setup("luxo-keys").interface
+    assert where_line(spec, "upright", None, {"main": "upright", "grasp": "open"}) == \
+        "state upright, grasp open"

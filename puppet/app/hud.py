@@ -129,6 +129,24 @@ def legend_rows(session: Session) -> list[tuple[str, str]]:
             ("N m", "distance along the ground, in metres")]
 
 
+def world_changes(session: Session) -> str:
+    """What the interface's keys changed in the world, against the scene ("" if
+    nothing): gravity, the ground's friction, random kicks switched on."""
+    scene, sim = session.setup.scene, session.sim
+    parts = []
+    gravity = tuple(sim.space.gravity)
+    if gravity != tuple(scene.gravity):
+        parts.append(f"gravity {gravity[0]:g}, {gravity[1]:g} m/s2 "
+                     f"(scene {scene.gravity[0]:g}, {scene.gravity[1]:g})")
+    planned = [g.friction for g in scene.ground for _ in zip(g.points, g.points[1:])]
+    now = [seg.friction for seg in sim.ground]
+    if now != planned:
+        parts.append(f"friction {now[0]:g}" if len(set(now)) == 1 else "friction changed")
+    if session.runtime.perturber.on and not session.setup.interface.perturbation.start_on:
+        parts.append("random kicks on")
+    return "world: " + ", ".join(parts) if parts else ""
+
+
 def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
              font: pygame.font.Font, small: pygame.font.Font) -> None:
     setup = session.setup
@@ -143,6 +161,9 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         lines.append(f"REPLAY  {info.replaying}")
     if info.paused:
         lines.append(f"PAUSED  ({keys['step']} steps, {keys['pause']} resumes)")
+    changed = world_changes(session)
+    if changed:
+        lines.append(changed)
     height = 8 + len(lines) * 22
     left_w = min(surface.get_width() // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
@@ -153,7 +174,7 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
 
     runtime = session.runtime
     controls = interface_lines(setup.interface, runtime.state, runtime.mode)
-    where = where_line(setup.interface, runtime.state, runtime.mode)
+    where = where_line(setup.interface, runtime.state, runtime.mode, runtime.states)
     rows = [(f"controls  ({where})" if where else "controls", "")]
     help_key = keys["help"]
     if info.show_help:

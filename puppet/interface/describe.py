@@ -36,7 +36,24 @@ def input_words(name: str) -> tuple[str, str, str]:
         return f"gamepad axis {part[4:]}", "low", "high"
     if device == "gamepad":
         return f"gamepad {part.removeprefix('button')} button", "up", "pressed"
+    if device == "sensor":
+        return f"(balance) {_sensor_words(part)}", "low", "high"
     return name, "low", "high"
+
+
+def _sensor_words(sensor: str) -> str:
+    """A sensor in a player's words: com.vx -> "body's speed forward"."""
+    fixed = {"com.vx": "body's speed forward", "com.vy": "body's speed up",
+             "com.x": "body's position", "com.y": "body's height", "lean": "body's lean",
+             "root.angle": "tilt", "com.dx.support": "body ahead of the feet"}
+    if sensor in fixed:
+        return fixed[sensor]
+    kind, _, what = sensor.partition(".")
+    if sensor.startswith("com.dx."):
+        return f"body ahead of the {sensor[7:].replace('_', ' ')}"
+    words = {"angle": "tilt of the", "spin": "spin of the", "height": "height of the",
+             "joint": "angle of the", "contact": "touch of the"}
+    return f"{words.get(kind, kind)} {what.replace('_', ' ')}"
 
 
 def input_label(names) -> str:
@@ -72,7 +89,11 @@ def _and(words: list[str]) -> str:
 
 def map_line(m) -> tuple[str, str]:
     """(input, what it does) in plain words, e.g. ("mouse", "near hip and knee: blends 6
-    poses") or ("mouse left-right", "ankle +80 deg at the left .. -80 at the right")."""
+    poses") or ("mouse left-right", "ankle +80 deg at the left .. -80 at the right").
+    A map's own ``description`` is what it does, when the file gives one."""
+    if getattr(m, "description", ""):
+        names = (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
+        return input_label(names), m.description
     if getattr(m, "grid", None) is not None:
         rows, cols = len(m.grid), len(m.grid[0])
         who = joint_words(m.joints) if m.joints else "the poses' joints"
@@ -86,6 +107,11 @@ def map_line(m) -> tuple[str, str]:
     what, lo, hi = input_words(m.input)
     gains = m.gains()
     who = joint_words(gains) if len(gains) > 1 else next(iter(gains)).replace("_", " ")
+    if m.frame != "joint":
+        link = "in the world" if m.frame == "world" else f"from the {m.frame.replace('_', ' ')}"
+        who = f"{who} (its {'upper' if m.hold == 'parent' else 'lower'} link, {link})"
+    if m.combine == "add":
+        who = f"adds to {who}"
     a, b = m.to
     if tuple(m.from_) not in ((0.0, 1.0), (-1.0, 1.0)):
         return what, f"{who} {_fmt(a)} deg at {m.from_[0]:g} .. {_fmt(b)} at {m.from_[1]:g}"
@@ -165,10 +191,14 @@ def interface_lines(spec: InterfaceSpec, state: str | None = None,
     return lines
 
 
-def where_line(spec: InterfaceSpec, state: str | None, mode: str | None) -> str:
-    """"state upright, mode walk": which bindings are live now ("" if neither exists)."""
+def where_line(spec: InterfaceSpec, state: str | None, mode: str | None,
+               states: dict[str, str] | None = None) -> str:
+    """"state upright, mode walk": which bindings are live now ("" if neither exists);
+    with several state machines (``states``: machine -> state), each one's state."""
     parts = []
-    if spec.states:
+    if states and len(states) > 1:
+        parts += [f"{m} {st}" if m != "main" else f"state {st}" for m, st in states.items()]
+    elif spec.states:
         parts.append(f"state {state if state is not None else spec.start_state}")
     if spec.modes:
         parts.append(f"mode {mode if mode is not None else spec.start_mode}")
