@@ -297,7 +297,7 @@ checkpoint_every: 0.5
 maps:
   - {input: mouse.x, joint: ankle, from: [0, 1], to: [80, -80]}
 keys:
-  - {key: g, gravity: [0, 100000000], description: absurd gravity}
+  - {key: g, gravity: [0, 1000], description: "100 g upward, the largest allowed"}
   - {key: n, gravity: [0, -9.81], description: earth gravity}
 """
 BOOM_SCRIPT = """\
@@ -305,7 +305,7 @@ seconds: 1.5
 events:
   - {t: 0.0, mouse: [0.5, 0.5]}
   - {t: 0.6, key: g}
-  - {t: 0.7, key: n}
+  - {t: 0.95, key: n}
 """
 
 

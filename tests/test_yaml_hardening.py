@@ -113,3 +113,87 @@ def test_not_utf8_names_its_line(tmp_path):
 def test_a_directory_is_refused_in_one_line(tmp_path):
     with pytest.raises(DataError, match="is a directory"):
         yamlfile.load_file(tmp_path)
+
+
+# -- numbers: finite, in documented ranges ------------------------------------------
+def test_the_ranges_doc_lists_every_range_as_the_code_has_it():
+    from puppet.data.ranges import RANGES, describe
+
+    text = (ROOT / "docs" / "ranges.md").read_text(encoding="utf-8")
+    table = text.split("<!-- ranges-table -->", 1)[1]
+    rows = {line.split("|")[1].strip(): line.split("|")[2].strip()
+            for line in table.splitlines() if line.startswith("| ") and "---" not in line}
+    rows.pop("range")
+    assert rows == {name: describe(name) for name in RANGES}
+
+
+CHAR = """\
+name: x
+description: y
+links:
+  - name: base
+    mass: {mass}
+    shapes: [{{type: circle, radius: {radius}}}]
+  - name: arm
+    mass: 0.1
+    shapes: [{{type: box, size: [0.1, 0.02], center: [{cx}, 0]}}]
+joints:
+  - {{name: j, parent: base, child: arm, anchor: [0, 0], pd: {{stiffness: {k}, damping: 1, max_torque: 5}}}}
+start: {{angle: {angle}, joints: {{j: 0}}}}
+"""
+GOOD = dict(mass=1, radius=0.1, cx=0.1, k=10, angle=0)
+
+
+@pytest.mark.parametrize("field,value,line,fragment", [
+    ("mass", ".nan", 5, "'links.0.mass': must be a finite number in 0.001..1000 kg (got nan)"),
+    ("mass", "-1", 5, "0.001..1000 kg"),
+    ("mass", "1.0e+308", 5, "0.001..1000 kg"),
+    ("radius", ".inf", 6, "'links.0.shapes.0.radius': must be a finite number in 0.001..10 m"),
+    ("cx", "-.inf", 9, "-10..10 m"),
+    ("k", "1.0e+12", 11, "0..1e6 N*m/rad"),
+    ("angle", ".nan", 12, "-360..360 deg"),
+    ("angle", "true", 12, "expected a number"),
+])
+def test_character_numbers_are_finite_and_in_range(tmp_path, field, value, line, fragment):
+    path = tmp_path / "c.yaml"
+    path.write_text(CHAR.format(**{**GOOD, field: value}))
+    with pytest.raises(DataError) as info:
+        check_file(path)
+    assert info.value.line == line and fragment in info.value.message, str(info.value)
+
+
+def test_the_good_character_of_these_tests_is_accepted(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text(CHAR.format(**GOOD))
+    check_file(path)
+
+
+@pytest.mark.parametrize("text,fragment", [
+    ("name: s\ndescription: d\ngravity: [0, -.inf]\nground: [{points: [[0, 0], [1, 0]]}]\n",
+     "3:14: bad value for 'gravity.1': must be a finite number in -1000..1000 m/s^2"),
+    ("name: s\ndescription: d\nground: [{points: [[0, 0], [1.0e+300, 0]]}]\n",
+     "3:29: bad value for 'ground.0.points.1.0': must be a finite number in -10000..10000 m"),
+    ("name: s\ndescription: d\nground: [{points: [[0, 0], [1, 0]], color: [300, 0, 0]}]\n",
+     "each a whole number 0..255"),
+    ("events:\n  - {t: .inf, key: a}\n", "2:9: bad value for 'events.0.t': must be a finite "
+                                        "number in 0..3600 s (got inf)"),
+    ("events:\n  - {t: 1, mouse: [0.5, 0.5], over: 1.0e+9}\n", "0..600 s"),
+    ("events:\n  - {t: 1, drag: {link: base, to: [.nan, 0]}}\n", "-10000..10000 m"),
+    ("name: i\ndescription: d\ncharacter: luxo\nkeys:\n  - {key: g, gravity: [0, 1.0e+8]}\n",
+     "5:27: bad value for 'keys.0.gravity.1': must be a finite number in -1000..1000"),
+    ("name: i\ndescription: d\ncharacter: luxo\nkeys:\n  - {key: g, adjust: {ankle: .nan}}\n",
+     "-720..720 deg"),
+    ("name: i\ndescription: d\ncharacter: luxo\nperturbation: {every: 0}\n",
+     "0.001..3600 s"),
+    ("name: i\ndescription: d\ncharacter: luxo\ngains: {ankle: {max_torque: .inf}}\n",
+     "0..1e6 N*m, more than 0"),
+])
+def test_scene_script_interface_numbers_are_finite_and_in_range(tmp_path, text, fragment):
+    kind = "script" if text.startswith("events") else "scene" if "ground" in text else "iface"
+    folder = {"script": "assets/scripts", "scene": "assets/scenes", "iface": "interfaces"}[kind]
+    path = tmp_path / folder / "x.yaml"
+    path.parent.mkdir(parents=True)
+    path.write_text(text)
+    with pytest.raises(DataError) as info:
+        check_file(path)  # the folder tells the kind
+    assert fragment in str(info.value) and "\n" not in str(info.value), str(info.value)

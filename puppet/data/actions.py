@@ -11,12 +11,13 @@ from __future__ import annotations
 import re
 from typing import Literal
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
+from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
+                                ModelXY, Num, PositiveDuration, Seed, Stiffness, WorldXY)
 from puppet.data.validate import Spec
 from puppet.interface.app_keys import APP_KEYS
 
-Vec2 = tuple[float, float]
 
 # Continuous inputs a map may read. Mouse position is 0..1 (y up), buttons 0/1,
 # gamepad axes -1..1 and buttons 0/1, plugin channels whatever the plugin sends.
@@ -46,15 +47,15 @@ META_APP_ACTIONS = tuple(a for a in APP_KEYS if a != "quit")
 class PoseSpec(Spec):
     """A full or partial pose: joint targets, optionally with gains for those joints."""
 
-    joints: dict[str, float] = Field(description="joint -> target, degrees")
-    stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
-    damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
+    joints: dict[str, Angle] = Field(description="joint -> target, degrees")
+    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
+    damping: dict[str, Damping] = Field(default_factory=dict)
     description: str = ""
 
 
 class SequenceStepSpec(Spec):
     pose: str
-    hold: PositiveFloat = Field(description="s the pose is held before the next step")
+    hold: PositiveDuration = Field(description="s the pose is held before the next step")
 
 
 class ConditionSpec(Spec):
@@ -67,8 +68,8 @@ class ConditionSpec(Spec):
     """
 
     sensor: str
-    above: float | None = None
-    below: float | None = None
+    above: Num("sensor") | None = None
+    below: Num("sensor") | None = None
     is_: bool | None = Field(None, alias="is")
 
     @model_validator(mode="after")
@@ -94,7 +95,7 @@ class ChainSpec(Spec):
     """Two actuated joints in a row and an end point on the second joint's child link."""
 
     joints: tuple[str, str] = Field(description="[proximal joint, distal joint]")
-    end: Vec2 = Field(description="end effector, model frame, m")
+    end: ModelXY = Field(description="end effector, model frame, m")
     description: str = ""
 
 
@@ -102,14 +103,14 @@ class ReachSpec(Spec):
     """Move a chain's end toward a point along a Hermite-eased path, IK every step."""
 
     chain: str
-    target: Vec2 = Field(description="m; in 'frame' coordinates")
+    target: WorldXY = Field(description="m; in 'frame' coordinates")
     frame: Literal["world", "root"] = Field(
         "root", description="root: relative to the root link at the moment of the key")
-    duration: PositiveFloat = Field(0.5, description="s from start to target")
-    hold: NonNegativeFloat = Field(0.0, description="s to keep re-solving at the target")
+    duration: PositiveDuration = Field(0.5, description="s from start to target")
+    hold: Duration = Field(0.0, description="s to keep re-solving at the target")
     grasp: bool = Field(False, description="grasp the target when the end gets within "
                                            "the chain's grasp tolerance")
-    tolerance: PositiveFloat = Field(0.04, description="m, for grasp")
+    tolerance: Num("tolerance") = Field(0.04, description="m, for grasp")
 
 
 class GraspSpec(Spec):
@@ -117,9 +118,9 @@ class GraspSpec(Spec):
     ``tolerance`` of (a pivot joint to the world)."""
 
     chain: str
-    points: list[Vec2] = Field(min_length=1, description="world points, m")
-    tolerance: PositiveFloat = Field(0.04, description="m")
-    within: PositiveFloat | None = Field(None, description="s the grasp stays armed; "
+    points: list[WorldXY] = Field(min_length=1, description="world points, m")
+    tolerance: Num("tolerance") = Field(0.04, description="m")
+    within: Num("positive_duration") | None = Field(None, description="s the grasp stays armed; "
                                                            "default until released")
 
 
@@ -127,11 +128,11 @@ class ActionSpec(Spec):
     """Everything one trigger (key, state entry) can do."""
 
     pose: str | None = Field(None, description="set a named pose absolutely")
-    set: dict[str, float] = Field(default_factory=dict, description="joint -> deg")
-    adjust: dict[str, float] = Field(default_factory=dict, description="joint -> +deg")
+    set: dict[str, Angle] = Field(default_factory=dict, description="joint -> deg")
+    adjust: dict[str, AngleChange] = Field(default_factory=dict, description="joint -> +deg")
     sequence: str | None = Field(None, description="start a named pose sequence")
-    stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
-    damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
+    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
+    damping: dict[str, Damping] = Field(default_factory=dict)
     while_held: bool = Field(False, description="undo the stiffness/damping changes "
                                                 "when the key is released")
     mode: str | None = Field(None, description="select a control mode (map set)")
@@ -141,8 +142,8 @@ class ActionSpec(Spec):
     release: str | None = Field(None, description="chain name, or 'all'")
     app: str | None = Field(None, description="an app action: " + ", ".join(META_APP_ACTIONS))
     slowdown: float | None = Field(None, ge=1.0, le=100.0)
-    gravity: Vec2 | None = Field(None, description="m/s^2")
-    friction: NonNegativeFloat | None = Field(None, description="ground friction")
+    gravity: Gravity | None = Field(None, description="m/s^2")
+    friction: Friction | None = Field(None, description="ground friction")
     perturb: Literal["on", "off", "toggle"] | None = None
     description: str = ""
 
@@ -167,7 +168,7 @@ class KeyActionSpec(ActionSpec):
 class PerturbSpec(Spec):
     """Small random kicks: every ``every`` s each link gets an angular impulse."""
 
-    impulse: PositiveFloat = Field(0.002, description="N*m*s, standard deviation")
-    every: PositiveFloat = Field(0.1, description="s")
-    seed: int = 0
+    impulse: Num("impulse") = Field(0.002, description="N*m*s, standard deviation")
+    every: Num("period") = Field(0.1, description="s")
+    seed: Seed = 0
     start_on: bool = False

@@ -2,41 +2,42 @@
 
 from __future__ import annotations
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat
+from pydantic import Field
 
+from puppet.data.ranges import Color, Elasticity, Friction, Gravity, Num, WorldXY
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 
-Vec2 = tuple[float, float]
+Vec2 = WorldXY
 
 
 class GroundSpec(Spec):
     points: list[Vec2] = Field(min_length=2, description="polyline, m, left to right")
-    friction: NonNegativeFloat = 0.9
-    elasticity: float = Field(0.0, ge=0.0, le=1.0)
-    thickness: PositiveFloat = Field(0.02, description="m; the collision radius is half")
-    color: tuple[int, int, int] = (92, 84, 74)
+    friction: Friction = 0.9
+    elasticity: Elasticity = 0.0
+    thickness: Num("thickness") = Field(0.02, description="m; the collision radius is half")
+    color: Color = (92, 84, 74)
     name: str = ""
 
 
 class MarkerSpec(Spec):
-    x: float = Field(description="m")
+    x: Num("world_xy") = Field(description="m")
     label: str
 
 
 class StartSpec(Spec):
-    x: float = 0.0
-    y: float = 0.0
+    x: Num("world_xy") = 0.0
+    y: Num("world_xy") = 0.0
 
 
 class SceneSpec(Spec):
     name: str
     description: str
-    gravity: Vec2 = (0.0, -9.81)
+    gravity: Gravity = (0.0, -9.81)
     ground: list[GroundSpec] = Field(min_length=1)
     start: StartSpec = Field(default_factory=StartSpec)
     markers: list[MarkerSpec] = Field(default_factory=list)
-    sky: tuple[int, int, int] = (226, 232, 240)
+    sky: Color = (226, 232, 240)
 
     def ground_height(self, x: float) -> float | None:
         """Highest ground y directly under x, or None off the ends."""
