@@ -47,7 +47,7 @@ def check_file(path: str | Path) -> str:
     else:
         spec = catalog.check_interface(located)[0]
         try:
-            catalog.find("scene", spec.scene)
+            catalog.find("scene", spec.scene, catalog.reference_folders(path))
         except DataError as exc:
             raise located.error(("scene",), exc.message) from None
     return kind

@@ -200,19 +200,20 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
+    within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
     try:
-        where = find("interface", h["interface"])
-    except DataError:
+        where = find("interface", h["interface"], within)
+    except DataError as exc:
         where = None
         if embedded is None:
-            raise DataError(log.path, 1, None, f"header: no interface named "
-                                               f"'{h['interface']}'") from None
+            raise DataError(log.path, 1, None, f"header: {exc.message}") from None
     from_copy = embedded is not None and (as_recorded or where is None)
     try:
         if from_copy:
-            setup = setup_from_text(embedded, where or Path(h["interface"]), h["scene"])
+            setup = setup_from_text(embedded, where or Path(h["interface"]), h["scene"],
+                                    within)
         else:
-            setup = load_setup(str(where), h["scene"])
+            setup = load_setup(str(where), h["scene"], within)
     except DataError as exc:
         if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
@@ -231,8 +232,9 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
         warnings.append(f"{log.path}: note: the session hot-reloaded its interface (first at "
                         f"step {reloads[0]}); from there on the recorded versions play")
     if from_copy and not as_recorded:
-        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found; "
-                        "replaying the copy recorded in the log")
+        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found "
+                        "(in the catalog or the log's folder); replaying the copy recorded "
+                        "in the log")
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
         if kind == "interface" and from_copy:
