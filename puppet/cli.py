@@ -51,7 +51,10 @@ def _play(args: argparse.Namespace) -> int:
         return EXIT_DATA_ERROR
     script = None
     if args.input and args.headless:
-        script = load_script(find("script", args.input))
+        script_path = find("script", args.input)
+        script = load_script(script_path)
+        if script.scene and not args.scene:  # a name in a file: the catalog or beside it
+            script.scene = str(find("scene", script.scene, (script_path.resolve().parent,)))
         if script.interface and Path(script.interface).stem != Path(args.interface).stem:
             print(f"puppet: warning: {args.input} was written for interface "
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)

@@ -97,6 +97,9 @@ class Session:
         if kind == "drag":
             phase = event["phase"]
             if phase == "start":
+                if event["link"] not in self.character.link_order:
+                    raise ValueError(f"drag: unknown link {event['link']!r}; the character "
+                                     f"has: {', '.join(self.character.link_order)}")
                 self.sim.start_drag(event["link"], tuple(event["point"]), tuple(event["target"]))
             elif phase == "move":
                 self.sim.move_drag(tuple(event["target"]))

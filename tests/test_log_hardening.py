@@ -80,3 +80,66 @@ def test_header_nan_is_refused(tmp_path):
     path = write(tmp_path, [header().replace('"dt":', '"dt": NaN, "x":'), MOUSE])
     with pytest.raises(DataError, match=r"bad.jsonl:1: .*NaN is not a number"):
         read_log(path)
+
+
+# -- every malformed line: LOG:N: what is wrong ---------------------------------------
+BAD_LINES = [
+    ('{"step": 0, "event": {"type": {}}}', "unknown event type {}"),
+    ('{"step": 0, "event": {"type": ["mouse"]}}', "unknown event type ['mouse']"),
+    ('{"step": 0, "event": ' + "[" * 100000 + "]" * 100000 + "}", "nested too deeply"),
+    ('{"step": 0, "event": {"type": "key", "key": "' + "k" * 500 + '", "down": true}}',
+     "key event: 'key' must be a name of 1..200 characters"),
+    ('{"step": 0, "event": {"type": "action", "name": "format_disk"}}',
+     "action event: unknown action 'format_disk'"),
+    ('{"step": 0, "event": {"type": "drag", "phase": "start", "link": "nope", '
+     '"point": [0, 0], "target": [0, 0]}}', "drag: unknown link 'nope'; the character has"),
+    ('{"step": 0, "event": {"type": "gamepad", "name": "../x", "value": 0}}',
+     "gamepad event: 'name' must be axisN or buttonN"),
+    ('{"step": 0, "event": {"type": "mouse_button", "button": "nose", "down": true}}',
+     "mouse_button event: 'button' must be left, middle or right"),
+    ('{"step": 0, "event": {"type": "gesture", "key": "h", "path": [[0, 2, 0.5]]}}',
+     "gesture x = 2 is outside 0..1"),
+    ('{"step": 0, "event": {"type": "reload", "text": "a: &x 1\\nb: *x\\n"}}',
+     "anchors (&name) and aliases"),
+    ('{"step": 0, "event": {"type": "mouse", "x": ' + "9" * 5000 + ', "y": 0}}',
+     "not valid JSON"),
+    ("[1, 2, 3]", 'expected {"step": N, "event": {...}}'),
+    ("\x00\x01\x02", "not valid JSON"),
+    ('{"step": 0, "event": {"type": "action", "name": "rewind", "to_step": 99}}',
+     "cannot rewind to step 99"),
+]
+
+
+@pytest.mark.parametrize("line,fragment", BAD_LINES, ids=range(len(BAD_LINES)))
+def test_every_malformed_line_is_one_line_naming_it(tmp_path, line, fragment):
+    from puppet.timeline.replay import replay
+
+    path = write(tmp_path, [header(), MOUSE, line])
+    with pytest.raises(DataError) as info:
+        replay(path)
+    err = info.value
+    assert (err.path, err.line) == (str(path), 3), str(err)
+    assert fragment in err.message and "\n" not in str(err), str(err)
+
+
+def test_cli_malformed_lines_exit_2_without_internal_error(tmp_path):
+    for i, (line, fragment) in enumerate(BAD_LINES[:6]):
+        path = write(tmp_path, [header(), MOUSE, line], name=f"bad{i}.jsonl")
+        proc = subprocess.run([sys.executable, "-m", "puppet", "replay", str(path),
+                               "--headless"], capture_output=True, text=True)
+        assert proc.returncode == 2, proc.stderr
+        assert proc.stderr.startswith(f"{path}:3: ") or f" {path}:3: " in proc.stderr, \
+            proc.stderr
+        assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_an_over_long_line_and_a_device_are_refused(tmp_path, monkeypatch):
+    from puppet.timeline import log as logmod
+
+    monkeypatch.setattr(logmod, "MAX_LINE", 1000)
+    path = write(tmp_path, [header(), MOUSE, '{"step": 0, "event": {"type": "reload", '
+                            '"text": "' + "x" * 2000 + '"}}'])
+    with pytest.raises(DataError, match=r":1: not valid JSON \(line too long"):
+        read_log(path)  # the header itself is over 1000 characters
+    with pytest.raises(DataError, match="not a regular file"):
+        read_log("/dev/null")

@@ -16,7 +16,9 @@ its line and column. The data is built with an explicit stack, never by recursio
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -240,6 +242,8 @@ def read_text(path: str | Path) -> str:
     path = Path(path)
     try:
         with path.open("rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                raise DataError(str(path), None, None, "not a regular file")
             raw = fh.read(MAX_BYTES + 1)
     except FileNotFoundError:
         raise DataError(str(path), None, None, "no such file") from None

@@ -20,7 +20,9 @@ from __future__ import annotations
 import datetime
 import json
 import math
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -202,7 +204,7 @@ class Log:
 
 DT_MIN, DT_MAX = 1.0e-5, 0.05  # s: a log's simulation step (puppet's is 1/480 s)
 MAX_SECONDS = 24 * 3600.0  # s of simulated time a log may reach (its steps are bounded)
-MAX_LOG_BYTES = 1 << 30  # a log file's largest size (30 minutes of mouse are ~10 MB)
+MAX_LOG_BYTES = 256 << 20  # a log file's largest size (30 minutes of mouse are ~10 MB)
 MAX_LINE = 8_000_000  # characters in one line (an embedded interface is at most 2 MB)
 MAX_NAME = 200  # characters in a key, link, action, device or channel name
 MAX_PATH = 4096  # characters in a file name in a header or a reload event
@@ -429,6 +431,8 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     path_s = str(path)
     try:
         with Path(path).open("rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                raise DataError(path_s, None, None, "not a regular file")
             raw = fh.read(MAX_LOG_BYTES + 1)
     except OSError as exc:
         raise DataError(path_s, None, None, f"cannot read log: {exc.strerror or exc}") from None
