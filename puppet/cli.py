@@ -17,6 +17,7 @@ from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN
 from puppet.timeline.log import EXISTS
 
 EXIT_DATA_ERROR = 2
+EXIT_BLOWUP = 3  # a headless run or replay blew up or left the world (each one reported)
 
 
 def _number_in(what: str, lo: float, hi: float, hint: str):
@@ -106,7 +107,7 @@ def _play(args: argparse.Namespace) -> int:
         print(f"wrote {args.screenshot}")
     for note in session.blowup_messages:  # the window shows them; here nothing would
         print(f"puppet play: {note}", file=sys.stderr)
-    return 0
+    return EXIT_BLOWUP if session.blowups else 0
 
 
 def _list(args: argparse.Namespace) -> int:

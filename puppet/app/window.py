@@ -255,6 +255,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 session.say(finished_message(session, replay))
         else:
             session.advance(steps)
+        if session.halted and not clock.paused and not scrub.active:
+            clock.toggle_pause()  # even the start blew up: pause on its one message
         info.follow_messages(session, time.perf_counter())
         if reload_error:
             info.message = reload_error

@@ -315,7 +315,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
 
 
 # -- the ``puppet replay`` command -----------------------------------------------------
-EXIT_FAILED, EXIT_DATA_ERROR = 1, 2
+EXIT_FAILED, EXIT_DATA_ERROR, EXIT_BLOWUP = 1, 2, 3
 
 
 def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
@@ -346,10 +346,13 @@ def verdict(res: dict) -> str:
     return "differs" if res["same_end"] is False else "ok"
 
 
-def exit_code(verdicts: list[str]) -> int:
-    """2 if a log cannot be replayed, 1 if one failed or differs, else 0."""
+def exit_code(verdicts: list[str], blew_up: bool = False) -> int:
+    """2 if a log cannot be replayed, 3 if one blew up (or left the world), 1 if one
+    failed or differs, else 0."""
     if "ERROR" in verdicts:
         return EXIT_DATA_ERROR
+    if blew_up:
+        return EXIT_BLOWUP
     return EXIT_FAILED if {"FAIL", "differs"} & set(verdicts) else 0
 
 
@@ -447,7 +450,7 @@ def replay_command(args) -> int:
             print(res["error"], file=sys.stderr)
             return EXIT_DATA_ERROR
         print_one(res, args.check)
-        return exit_code([verdict(res)])
+        return exit_code([verdict(res)], bool(res.get("blowups")))
 
     from tqdm import tqdm
 
@@ -479,7 +482,7 @@ def replay_command(args) -> int:
                 print(f"{r['log']}: {line}")
     print(_table(ordered, args.check))
     print(summary_line(ordered, args.check))
-    return exit_code([verdict(r) for r in ordered])
+    return exit_code([verdict(r) for r in ordered], any(r.get("blowups") for r in ordered))
 
 
 class LogFeeder:
