@@ -244,7 +244,7 @@ def run_case(kind: str, fn, play_fn=None) -> Result:
                 fn()
             except DataError as exc:
                 text = str(exc)
-                result = (Result("refused", text) if "\n" not in text and text.strip()
+                result = (Result("refused", text) if len(text.splitlines()) == 1
                           else Result("multi-line", text))
             else:
                 result = Result("accepted")
