@@ -8,8 +8,10 @@ long run is ``pytest -m fuzz`` (``PUPPET_FUZZ_LONG`` cases per test, default 7,0
 over 20,000 cases in all). The counts per kind and outcome are printed at the end.
 """
 
+import atexit
 import json
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -22,6 +24,7 @@ from fuzzing import KINDS, NASTY_JSON, data_case, log_case, log_lines, mutate_da
 SHORT = int(os.environ.get("PUPPET_FUZZ_CASES", "150"))
 LONG = int(os.environ.get("PUPPET_FUZZ_LONG", "7000"))
 TMP = Path(tempfile.mkdtemp(prefix="puppet-fuzz-"))
+atexit.register(shutil.rmtree, TMP, ignore_errors=True)
 
 
 def _settings(n):
