@@ -52,7 +52,7 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
 
             warnings += map_conflicts(spec, located)
         try:
-            scene_path = catalog.find("scene", spec.scene)
+            scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
         except DataError as exc:
             raise located.error(("scene",), exc.message) from None
         # props named by reaches and grasps must be in the scene, as play checks

@@ -17,6 +17,7 @@ from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN
 from puppet.timeline.log import EXISTS
 
 EXIT_DATA_ERROR = 2
+EXIT_BLOWUP = 3  # a headless run or replay blew up or left the world (each one reported)
 
 
 def _number_in(what: str, lo: float, hi: float, hint: str):
@@ -115,7 +116,10 @@ def _play(args: argparse.Namespace) -> int:
         output_folder("--frames", args.frames)
     script = None
     if args.input and args.headless:
-        script = load_script(find("script", args.input))
+        script_path = find("script", args.input)
+        script = load_script(script_path)
+        if script.scene and not args.scene:  # a name in a file: the catalog or beside it
+            script.scene = str(find("scene", script.scene, (script_path.resolve().parent,)))
         if script.interface and Path(script.interface).stem != Path(args.interface).stem:
             print(f"puppet play: warning: {args.input} was written for interface "
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
@@ -168,7 +172,7 @@ def _play(args: argparse.Namespace) -> int:
         print(f"wrote {args.screenshot}")
     for note in session.blowup_messages:  # the window shows them; here nothing would
         print(f"puppet play: {note}", file=sys.stderr)
-    return 0
+    return EXIT_BLOWUP if session.blowups else 0
 
 
 def _list(args: argparse.Namespace) -> int:

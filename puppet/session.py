@@ -16,9 +16,22 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, Simulation
+from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation
 from puppet.timeline.history import History, Snapshot
 from puppet.timeline.playback import play
+
+FRAME_SECONDS = 1 / 60  # the cheap leaving-the-world check runs this often (a frame)
+WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends: gone
+MAX_SPEED2 = MAX_SPEED ** 2
+
+
+def world_box(scene) -> tuple[float, float, float, float]:
+    """(x min, x max, y min, y max) the root link must stay inside: the ground's
+    extent widened by WORLD_MARGIN (y max: 10 km above its highest point)."""
+    xs = [x for g in scene.ground for x, _ in g.points]
+    ys = [y for g in scene.ground for _, y in g.points]
+    return (min(xs) - WORLD_MARGIN, max(xs) + WORLD_MARGIN, min(ys) - WORLD_MARGIN,
+            max(ys) + 10000.0)
 
 
 class Session:
@@ -48,6 +61,15 @@ class Session:
         self.last_take: tuple[int, int] = (0, 0)  # (how many takes, the last one's fork)
         self.blowups = 0
         self.blowup_messages: list[str] = []  # what each recovery said (headless runs print them)
+        # Blow-up recovery: (step it happened, step of the checkpoint restored) of the last
+        # one, to go further back when that checkpoint fails again; ``halted``: the message
+        # once even the start failed (the physics stands still until a reset, restore or
+        # rewind; the step count goes on, so a replay ends where the recording did).
+        self._recovery: tuple[int, int] | None = None
+        self.halted: str | None = None
+        self._frame_every = max(1, round(FRAME_SECONDS / dt))
+        self._world = world_box(setup.scene)
+        self._root_name = self.sim.character.link_order[0]
         start = self._snapshot()  # re-seated, like every checkpoint
         self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
@@ -114,6 +136,9 @@ class Session:
         if kind == "drag":
             phase = event["phase"]
             if phase == "start":
+                if event["link"] not in self.character.link_order:
+                    raise ValueError(f"drag: unknown link {event['link']!r}; the character "
+                                     f"has: {', '.join(self.character.link_order)}")
                 self.sim.start_drag(event["link"], tuple(event["point"]), tuple(event["target"]))
             elif phase == "move":
                 self.sim.move_drag(tuple(event["target"]))
@@ -168,6 +193,7 @@ class Session:
         self.sim.restore(self._start)
         self.sim.steps = steps
         self.runtime.reset()
+        self._recovery, self.halted = None, None
 
     # -- hot reload ---------------------------------------------------------------------
     @property
@@ -224,6 +250,7 @@ class Session:
     def _runtime_state(self) -> dict:
         state = self.runtime.get_state()
         state["interface_version"] = self.version
+        state["recovery"] = self._recovery  # so a rewind re-lives the same recoveries
         return state
 
     def advance(self, steps: int = 1) -> None:
@@ -237,7 +264,13 @@ class Session:
         sim, history = self.sim, self.history
         if sim.steps < history.head and not self._rebuilding:
             history.branch(sim.steps)  # playing on from a rewound point
-        every = history.health_every
+        if self.halted:  # time goes on, the physics stands still
+            sim.steps += steps
+            if sim.steps > history.head and not self._rebuilding:
+                history.head = sim.steps
+            return
+        every = self._frame_every  # a frame check at each, the full one at health_every
+        health = history.health_every
         now = sim.steps
         end = now + steps
         while now < end:
@@ -256,7 +289,19 @@ class Session:
             sim.step(stop - now)
             now = stop
             if now == boundary:
-                self._at_boundary()  # a recovery restores the state, not the step count
+                if now % health == 0:
+                    self._at_boundary()  # a recovery restores the state, not the step count
+                else:  # the root alone, each frame: NaN fails every comparison
+                    root = sim.character.bodies[self._root_name]
+                    x, y = root.position
+                    vx, vy = root.velocity
+                    x0, x1, y0, y1 = self._world
+                    if not (x0 < x < x1 and y0 < y < y1 and vx * vx + vy * vy < MAX_SPEED2):
+                        self._recover()
+                if self.halted:
+                    sim.steps = end  # the rest of the call: time only
+                    break
+        now = sim.steps
         if now > history.head and not self._rebuilding:
             history.head = now
 
@@ -282,26 +327,57 @@ class Session:
             self._run_version(index, adopt=False)
         self.sim.restore(snap.sim)
         self.runtime.set_state(snap.runtime)
+        self._recovery = snap.runtime.get("recovery")
+        self.halted = None
         if keep_interface and self.version != current:
             self._run_version(current, adopt=True)
 
+    def left_world(self) -> bool:
+        """The root link is below the lowest ground point by WORLD_MARGIN, or past the
+        ground's ends (or not a finite position)."""
+        x, y = self.sim.character.bodies[self._root_name].position
+        x0, x1, y0, y1 = self._world
+        return not (x0 < x < x1 and y0 < y < y1)
+
     def _at_boundary(self) -> None:
-        if self.sim.blown_up():
+        if self.sim.blown_up() or self.left_world():
             self._recover()
             return
         if not self._rebuilding and self.history.keyframe_due(self.sim.steps):
             self.history.add(self._snapshot())
 
     def _recover(self) -> None:
-        """Back to the last good checkpoint's state; the time line goes on (like reset)."""
+        """Back to the last good checkpoint's state; the time line goes on (like reset).
+        If the checkpoint restored last time fails again before the run has gone as far
+        past it as it had (plus a checkpoint interval), the one before it is tried, and
+        so on back to the start; if the start fails too, the physics halts with one
+        message (``halted``) until a reset, restore or rewind. It never loops."""
         steps = self.sim.steps
-        snap = self.history.last_checkpoint(steps)
+        what = "left the world" if not self.sim.blown_up() and self.left_world() \
+            else "blew up"
+        before = steps
+        last = self._recovery
+        if last is not None and steps - last[0] <= (last[0] - last[1]) \
+                + self.history.checkpoint_every:
+            before = last[1]  # that checkpoint failed again: one further back
+        start = self.history.start
+        if last is not None and before == last[1] and last[1] <= start.step:
+            self.halted = (f"the simulation {what} at t={steps * self.sim.dt:.2f} s again "
+                           f"after going back to the start; stopped (reset, rewind or "
+                           f"change the interface)")
+            if not self._rebuilding:
+                self.blowups += 1
+                self.say(self.halted)
+                self.blowup_messages.append(self.message)
+            return
+        snap = self.history.last_checkpoint(before)
         self._restore(snap, keep_interface=True)
         self.sim.steps = steps
+        self._recovery = (steps, snap.step)
         if self._rebuilding:
             return  # re-simulating history (a rewind): this one was counted when it happened
         self.blowups += 1
-        self.say(f"the simulation blew up at t={steps * self.sim.dt:.2f} s; "
+        self.say(f"the simulation {what} at t={steps * self.sim.dt:.2f} s; "
                  f"restored the checkpoint of t={snap.step * self.sim.dt:.2f} s", error=True)
         self.blowup_messages.append(self.message)
 

@@ -235,4 +235,4 @@ def export_command(args) -> int:
                   file=sys.stderr)
         print(f"wrote {args.video} ({video.frames} frames, {video.size[0]}x{video.size[1]}, "
               f"{video.fps:g} fps)")
-    return exit_code([verdict(res)])
+    return exit_code([verdict(res)], bool(res.get("blowups")))

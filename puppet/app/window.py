@@ -379,6 +379,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 session.say(done, error="DIFFERENT" in done)
         else:
             session.advance(steps)
+        if session.halted and not clock.paused and not scrub.active:
+            clock.toggle_pause()  # even the start blew up: pause on its one message
         info.follow_messages(session, time.perf_counter())
         if reload_error:
             info.message, info.message_error = reload_error, True

@@ -11,14 +11,16 @@ from __future__ import annotations
 import re
 from typing import Annotated, Literal, Union
 
-from pydantic import (Discriminator, Field, NonNegativeFloat, PositiveFloat, Tag,
-                      field_validator, model_validator)
+from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
+from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
+                                ModelXY, Num, PositiveDuration, Seed, Stiffness, WorldXY)
 from puppet.data.validate import Spec
 from puppet.interface.app_keys import APP_KEYS
+
+InputXY = tuple[Num("input"), Num("input")]
 from puppet.interface.events import GAMEPAD_BUTTONS
 
-Vec2 = tuple[float, float]
 
 # Continuous inputs a map may read. Mouse position is 0..1 (y up), buttons 0/1,
 # gamepad axes -1..1 and buttons 0/1, plugin channels whatever the plugin sends.
@@ -59,9 +61,9 @@ class FrameTargetSpec(Spec):
     world through the hip) or its parent (the trunk held upright through the stance
     hip, whose child, the stance thigh, stands on the ground)."""
 
-    world: float | None = Field(None, description="deg from the model's orientation")
+    world: Angle | None = Field(None, description="deg from the model's orientation")
     relative_to: str | None = Field(None, description="a link")
-    angle: float | None = Field(None, description="deg, with relative_to")
+    angle: Angle | None = Field(None, description="deg, with relative_to")
     hold: Literal["child", "parent"] = "child"
 
     @model_validator(mode="after")
@@ -81,7 +83,7 @@ def _target_kind(value) -> str:
     return "<frame>" if isinstance(value, (dict, FrameTargetSpec)) else "<deg>"
 
 
-Target = Annotated[Union[Annotated[float, Tag("<deg>")],
+Target = Annotated[Union[Annotated[Angle, Tag("<deg>")],
                          Annotated[FrameTargetSpec, Tag("<frame>")]], Discriminator(_target_kind)]
 
 
@@ -90,18 +92,18 @@ class PoseSpec(Spec):
     A target is degrees of the joint, or a ``FrameTargetSpec`` ({world: deg} ...)."""
 
     joints: dict[str, Target] = Field(description="joint -> target, degrees")
+    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
+    damping: dict[str, Damping] = Field(default_factory=dict)
 
     def joint_degrees(self) -> dict[str, float]:
         """The targets given as joint angles (degrees); frame targets left out."""
         return {j: v for j, v in self.joints.items() if isinstance(v, (int, float))}
-    stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
-    damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
     description: str = ""
 
 
 class SequenceStepSpec(Spec):
     pose: str
-    hold: PositiveFloat = Field(description="s the pose is held before the next step")
+    hold: PositiveDuration = Field(description="s the pose is held before the next step")
 
 
 class ConditionSpec(Spec):
@@ -114,8 +116,8 @@ class ConditionSpec(Spec):
     """
 
     sensor: str
-    above: float | None = None
-    below: float | None = None
+    above: Num("sensor") | None = None
+    below: Num("sensor") | None = None
     is_: bool | None = Field(None, alias="is")
 
     @model_validator(mode="after")
@@ -141,8 +143,8 @@ class ChainSpec(Spec):
     """Two or more actuated joints in a row (an arm; a leg with hip, knee and ankle) and
     an end point on the last joint's child link."""
 
-    joints: list[str] = Field(min_length=2, description="proximal joint first")
-    end: Vec2 = Field(description="end effector, model frame, m")
+    joints: list[str] = Field(min_length=2, max_length=32, description="proximal joint first")
+    end: ModelXY = Field(description="end effector, model frame, m")
     description: str = ""
 
 
@@ -163,10 +165,10 @@ class SteerSpec(Spec):
 
     x: str = "mouse.x"
     y: str = "mouse.y"
-    x_from: Vec2 = (0.0, 1.0)
-    y_from: Vec2 = (0.0, 1.0)
-    x_to: Vec2 = Field(description="m at x_from[0] and x_from[1]")
-    y_to: Vec2 = Field(description="m at y_from[0] and y_from[1]")
+    x_from: InputXY = (0.0, 1.0)
+    y_from: InputXY = (0.0, 1.0)
+    x_to: WorldXY = Field(description="m at x_from[0] and x_from[1]")
+    y_to: WorldXY = Field(description="m at y_from[0] and y_from[1]")
 
     _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
 
@@ -183,19 +185,18 @@ class ReachSpec(Spec):
     (``point``, followed as the prop moves) or steered by two inputs (``steer``)."""
 
     chain: str
-    target: Vec2 | None = Field(None, description="m; in 'frame' coordinates")
+    target: WorldXY | None = Field(None, description="m; in 'frame' coordinates")
     point: PropPointSpec | None = None
     steer: SteerSpec | None = None
     frame: Literal["world", "root"] = Field(
         "root", description="root: relative to the root link at the moment of the key "
                             "(for steer: as it moves)")
-    duration: PositiveFloat = Field(0.5, description="s from start to target")
-    hold: NonNegativeFloat = Field(0.0, description="s to keep re-solving at the target "
-                                                    "(a steered reach is held until "
-                                                    "preempted)")
+    duration: PositiveDuration = Field(0.5, description="s from start to target")
+    hold: Duration = Field(0.0, description="s to keep re-solving at the target "
+                                            "(a steered reach is held until preempted)")
     grasp: bool = Field(False, description="grasp the target when the end gets within "
                                            "tolerance")
-    tolerance: PositiveFloat = Field(0.04, description="m, for grasp")
+    tolerance: Num("tolerance") = Field(0.04, description="m, for grasp")
 
     @model_validator(mode="after")
     def _check(self):
@@ -214,10 +215,10 @@ class GraspSpec(Spec):
     which may move."""
 
     chain: str
-    points: list[Vec2] | None = Field(None, min_length=1, description="world points, m")
+    points: list[WorldXY] | None = Field(None, min_length=1, description="world points, m")
     prop: str | None = Field(None, description="a scene prop, or 'any'")
-    tolerance: PositiveFloat = Field(0.04, description="m")
-    within: PositiveFloat | None = Field(None, description="s the grasp stays armed; "
+    tolerance: Num("tolerance") = Field(0.04, description="m")
+    within: Num("positive_duration") | None = Field(None, description="s the grasp stays armed; "
                                                            "default until released")
 
     @model_validator(mode="after")
@@ -233,8 +234,8 @@ class ShoveSpec(Spec):
     default the link's centre of mass) - to try how a figure takes a push."""
 
     link: str
-    impulse: Vec2
-    point: Vec2 | None = None
+    impulse: tuple[Num("shove"), Num("shove")]
+    point: ModelXY | None = None
 
 
 class ActionSpec(Spec):
@@ -243,12 +244,12 @@ class ActionSpec(Spec):
     pose: str | None = Field(None, description="set a named pose absolutely")
     set: dict[str, Target] = Field(default_factory=dict, description="joint -> deg, or "
                                                                      "{world: deg} ...")
-    adjust: dict[str, float] = Field(default_factory=dict, description="joint -> +deg")
+    adjust: dict[str, AngleChange] = Field(default_factory=dict, description="joint -> +deg")
     sequence: str | None = Field(None, description="start a named pose sequence")
     repeat: int | Literal["forever"] | None = Field(
         None, description="play the sequence this many times (or until preempted)")
-    stiffness: dict[str, NonNegativeFloat] = Field(default_factory=dict)
-    damping: dict[str, NonNegativeFloat] = Field(default_factory=dict)
+    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
+    damping: dict[str, Damping] = Field(default_factory=dict)
     while_held: bool = Field(False, description="undo the stiffness/damping changes "
                                                 "when the key is released")
     mode: str | None = Field(None, description="select a control mode (map set)")
@@ -259,8 +260,8 @@ class ActionSpec(Spec):
     release: str | None = Field(None, description="chain name, or 'all'")
     app: str | None = Field(None, description="an app action: " + ", ".join(META_APP_ACTIONS))
     slowdown: float | None = Field(None, ge=1.0, le=100.0)
-    gravity: Vec2 | None = Field(None, description="m/s^2")
-    friction: NonNegativeFloat | None = Field(None, description="ground friction")
+    gravity: Gravity | None = Field(None, description="m/s^2")
+    friction: Friction | None = Field(None, description="ground friction")
     perturb: Literal["on", "off", "toggle"] | None = None
     push: ShoveSpec | None = Field(None, description="shove a link (an impulse)")
     description: str = ""
@@ -295,7 +296,7 @@ class KeyActionSpec(ActionSpec):
 class PerturbSpec(Spec):
     """Small random kicks: every ``every`` s each link gets an angular impulse."""
 
-    impulse: PositiveFloat = Field(0.002, description="N*m*s, standard deviation")
-    every: PositiveFloat = Field(0.1, description="s")
-    seed: int = 0
+    impulse: Num("impulse") = Field(0.002, description="N*m*s, standard deviation")
+    every: Num("period") = Field(0.1, description="s")
+    seed: Seed = 0
     start_on: bool = False

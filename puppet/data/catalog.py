@@ -1,13 +1,24 @@
 """Find data files by name: characters, interfaces, scenes, scripts, logs and recordings.
 
-Names resolve to ``<root>/<folder>/<name>.yaml``; a path to an existing file is
-taken as is. The root is the checkout (or ``$PUPPET_HOME``).
+Names resolve to ``<root>/<folder>/<name>.yaml``; the root is the checkout (or
+``$PUPPET_HOME``). What a name may reach depends on who wrote it:
+
+- a name or path the user typed on the command line: any existing file, else a
+  catalog name;
+- a name inside a file (an interface's ``character:`` / ``scene:``, a log header's
+  ``interface`` / ``character`` / ``scene``): a catalog name, or a file of that kind's
+  extension inside one of the folders the user named on the command line (the
+  folders of the files given there: ``puppet play DIR/x.yaml`` trusts ``DIR``,
+  ``puppet replay DIR/x.jsonl`` trusts ``DIR``), after resolving symbolic links.
+  An absolute path into the catalog's own folder is that catalog file. Anything else
+  is refused without being read, so a file someone sends you cannot read yours.
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,23 +44,73 @@ def folder(kind: str) -> Path:
     return ROOT / FOLDERS[kind][0]
 
 
-def find(kind: str, name: str) -> Path:
-    """Path of the ``kind`` file called ``name`` (or ``name`` itself if it is a file)."""
-    as_path = Path(name)
-    if as_path.suffix and as_path.is_file():
-        return as_path
+_PLAIN_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,199}")
+MAX_NAME = 4096
+
+
+def _inside(path: Path, folders) -> bool:
+    for f in folders:
+        try:
+            if path.is_relative_to(Path(f).resolve()):
+                return True
+        except OSError:
+            continue
+    return False
+
+
+def find(kind: str, name: str, within=None) -> Path:
+    """Path of the ``kind`` file called ``name``.
+
+    ``within=None``: ``name`` was typed by the user: an existing file path is taken as
+    is, else it is a catalog name. ``within`` (folders): ``name`` was written in a file:
+    a catalog name, or a file with the kind's extension inside the catalog folder or
+    one of ``within`` (a relative path is relative to each of them). Anything else is
+    a DataError, and is not read."""
     sub, ext = FOLDERS[kind]
-    if as_path.is_dir():
-        raise DataError(str(name), None, None, f"is a folder; expected {_a(kind)} name or a "
-                                               f"{ext} file")
-    if len(as_path.parts) > 1 or as_path.suffix == ext:  # a path, not a name: say so
-        raise DataError(str(name), None, None, f"no such file (expected {_a(kind)} name, "
+    shown = name if len(str(name)) <= 80 else str(name)[:77] + "..."
+    if not isinstance(name, str) or not name or len(name) > MAX_NAME or "\x00" in name:
+        raise DataError(str(shown), None, None, f"not a {kind} name")
+    shown = str(shown)
+    if within is None:
+        as_path = Path(name)
+        try:
+            if as_path.suffix and as_path.is_file():
+                return as_path
+            if as_path.is_dir():
+                raise DataError(shown, None, None, f"is a folder; expected {_a(kind)} name "
+                                                   f"or a {ext} file")
+        except OSError:  # e.g. a name too long for the file system
+            pass
+        if len(as_path.parts) > 1 or as_path.suffix == ext:  # a path, not a name: say so
+            raise DataError(shown, None, None, f"no such file (expected {_a(kind)} name, "
                                                f"e.g. '{_first(kind)}', or a {ext} file)")
-    candidate = ROOT / sub / (name if name.endswith(ext) else name + ext)
-    if candidate.is_file():
-        return candidate
+    catalog = ROOT / sub
+    plain = _PLAIN_NAME.fullmatch(name) is not None
+    if plain:
+        candidate = catalog / (name if name.endswith(ext) else name + ext)
+        if candidate.is_file():
+            return candidate
+    if within is not None:
+        as_path = Path(name + ext if plain and not name.endswith(ext) else name)
+        refused = False
+        for base in [None] if as_path.is_absolute() else within:
+            candidate = as_path if base is None else Path(base) / as_path
+            try:
+                resolved = candidate.resolve()
+                if resolved.suffix != ext or not _inside(resolved, [catalog, *within]):
+                    refused = True
+                elif resolved.is_file():
+                    return resolved
+            except (OSError, RuntimeError):  # too long, a symlink loop...
+                refused = True
+        if refused:
+            places = ", ".join(str(f) for f in within) or "none"
+            raise DataError(shown, None, None,
+                            f"'{shown}' is neither a {kind} of the catalog ({sub}/NAME{ext}) "
+                            f"nor a {ext} file inside a folder named on the command line "
+                            f"({places}); it was not read")
     known = ", ".join(n for n, _ in list_kind(kind)) or "none"
-    raise DataError(str(name), None, None, f"no {kind} named '{name}'; known: {known}")
+    raise DataError(shown, None, None, f"no {kind} named '{shown}'; known: {known}")
 
 
 def _a(word: str) -> str:
@@ -116,20 +177,22 @@ def load_scene_named(name: str) -> tuple[SceneSpec, Path]:
 
 def parse_interface_text(text: str, path: str | Path, character: CharacterSpec | None = None,
                          character_path: str | Path | None = None,
-                         scene: SceneSpec | None = None
+                         scene: SceneSpec | None = None, within=None
                          ) -> tuple[InterfaceSpec, Located, CharacterSpec, Path | None]:
     """Parse and validate an interface's YAML ``text`` as the file ``path`` (error
     messages name it): the checks ``puppet check`` makes, including the references to
     its character. With ``character`` (a running session's, for a hot reload or a
     replayed reload event) the text must name that character, and no file is read;
-    without, the character is found by name and loaded.
+    without, the character is found by name and loaded (``within``: see
+    ``check_interface``).
 
     With ``scene`` (the running session's), the props its reaches and grasps name
     must be in that scene.
 
     Returns (spec, located, character spec, character path or None)."""
     located = load_text(text, str(path))
-    spec, character, character_path = check_interface(located, character, character_path)
+    spec, character, character_path = check_interface(located, character, character_path,
+                                                      within)
     if scene is not None:
         from puppet.data.interface_refs import check_scene_refs
 
@@ -137,16 +200,26 @@ def parse_interface_text(text: str, path: str | Path, character: CharacterSpec |
     return spec, located, character, (Path(character_path) if character_path else None)
 
 
+def reference_folders(interface_path: str | Path, within=None) -> tuple:
+    """The folders an interface's ``character:`` and ``scene:`` may name files in:
+    ``within`` if given (the folders named on the command line), else the interface
+    file's own folder (the user named that file)."""
+    return tuple(within) if within is not None else (Path(interface_path).parent,)
+
+
 def check_interface(located: Located, character: CharacterSpec | None = None,
-                    character_path: str | Path | None = None
+                    character_path: str | Path | None = None, within=None
                     ) -> tuple[InterfaceSpec, CharacterSpec, str | Path | None]:
     """Validate a parsed interface file and its references to its character (found by
     name and loaded, unless a running session's ``character`` is given: then the file
-    must name that one). Returns (spec, character spec, character path)."""
+    must name that one). The character is a catalog name or a file inside
+    ``reference_folders(located.path, within)``. Returns (spec, character spec,
+    character path)."""
     spec = parse_interface(located)
     if character is None:
         try:
-            character_path = find("character", spec.character)
+            character_path = find("character", spec.character,
+                                  reference_folders(located.path, within))
         except DataError as exc:
             raise located.error(("character",), exc.message) from None
         character = parse_character(load_file(character_path))
@@ -160,12 +233,18 @@ def check_interface(located: Located, character: CharacterSpec | None = None,
     return spec, character, character_path
 
 
-def setup_from_text(text: str, interface_path: str | Path, scene: str | None = None) -> Setup:
+def setup_from_text(text: str, interface_path: str | Path, scene: str | None = None,
+                    within=None) -> Setup:
     """A Setup from an interface's text (the file need not hold that text any more:
-    a log that embeds the interface replays it)."""
-    spec, located, character, character_path = parse_interface_text(text, interface_path)
+    a log that embeds the interface replays it). ``within=None``: the interface file
+    and ``scene`` were named by the user; else (folders) ``scene`` and the interface's
+    own names must be catalog names or files inside those folders."""
+    spec, located, character, character_path = parse_interface_text(
+        text, interface_path, within=within)
+    folders = reference_folders(interface_path, within)
     try:
-        scene_path = find("scene", scene or spec.scene)
+        scene_path = find("scene", scene, within) if scene else find("scene", spec.scene,
+                                                                     folders)
     except DataError as exc:
         if scene is not None:
             raise
@@ -180,7 +259,9 @@ def setup_from_text(text: str, interface_path: str | Path, scene: str | None = N
                  tuple(map_conflicts(spec, located)))
 
 
-def load_setup(interface: str, scene: str | None = None) -> Setup:
-    """Load an interface by name or path, its character and a scene (its default if None)."""
-    interface_path = find("interface", interface)
-    return setup_from_text(read_text(interface_path), interface_path, scene)
+def load_setup(interface: str, scene: str | None = None, within=None) -> Setup:
+    """Load an interface by name or path, its character and a scene (its default if None).
+    ``within=None``: ``interface`` and ``scene`` are what the user typed (any path);
+    else (folders) they were written in a file: see ``find``."""
+    interface_path = find("interface", interface, within)
+    return setup_from_text(read_text(interface_path), interface_path, scene, within)

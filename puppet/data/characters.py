@@ -10,25 +10,27 @@ from __future__ import annotations
 from typing import Annotated, Literal, Union
 
 import pydantic
-from pydantic import Field, PositiveFloat, NonNegativeFloat
+from pydantic import Field
 
+from puppet.data.ranges import (Angle, Color, Corner, Damping, Elasticity, Friction, Mass,
+                                ModelXY, Num, Size, Stiffness, Torque)
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 
-Vec2 = tuple[float, float]
+Vec2 = ModelXY
 
 
 class BoxShape(Spec):
     type: Literal["box"]
-    size: tuple[PositiveFloat, PositiveFloat] = Field(description="width, height in m")
+    size: tuple[Size, Size] = Field(description="width, height in m")
     center: Vec2 = (0.0, 0.0)
-    angle: float = Field(0.0, description="degrees")
-    radius: NonNegativeFloat = Field(0.0, description="rounded corners, m")
+    angle: Angle = Field(0.0, description="degrees")
+    radius: Corner = Field(0.0, description="rounded corners, m")
 
 
 class CircleShape(Spec):
     type: Literal["circle"]
-    radius: PositiveFloat
+    radius: Size
     center: Vec2 = (0.0, 0.0)
 
 
@@ -36,13 +38,13 @@ class SegmentShape(Spec):
     type: Literal["segment"]
     a: Vec2
     b: Vec2
-    radius: PositiveFloat = Field(description="half thickness, m")
+    radius: Size = Field(description="half thickness, m")
 
 
 class PolygonShape(Spec):
     type: Literal["polygon"]
-    points: list[Vec2] = Field(min_length=3)
-    radius: NonNegativeFloat = 0.0
+    points: list[Vec2] = Field(min_length=3, max_length=64)
+    radius: Corner = 0.0
 
 
 Shape = Annotated[Union[BoxShape, CircleShape, SegmentShape, PolygonShape],
@@ -51,24 +53,24 @@ Shape = Annotated[Union[BoxShape, CircleShape, SegmentShape, PolygonShape],
 
 class LinkSpec(Spec):
     name: str
-    mass: PositiveFloat = Field(description="kg")
+    mass: Mass = Field(description="kg")
     shapes: list[Shape] = Field(min_length=1)
-    friction: NonNegativeFloat = 0.8
-    elasticity: float = Field(0.0, ge=0.0, le=1.0)
-    color: tuple[int, int, int] = (200, 200, 210)
+    friction: Friction = 0.8
+    elasticity: Elasticity = 0.0
+    color: Color = (200, 200, 210)
     layer: Literal["far", "mid", "near"] = Field(
         "mid", description="drawing order; far links are drawn darker, behind")
     center_of_mass: Vec2 | None = Field(
         None, description="model frame, m; with inertia, replaces the shapes' mass spread")
-    inertia: PositiveFloat | None = Field(
+    inertia: Num("inertia") | None = Field(
         None, description="kg*m^2 about the centre of mass; given with center_of_mass")
     description: str = ""
 
 
 class PDSpec(Spec):
-    stiffness: NonNegativeFloat = Field(description="N*m/rad")
-    damping: NonNegativeFloat = Field(description="N*m*s/rad")
-    max_torque: PositiveFloat = Field(description="N*m")
+    stiffness: Stiffness = Field(description="N*m/rad")
+    damping: Damping = Field(description="N*m*s/rad")
+    max_torque: Torque = Field(description="N*m")
 
 
 class JointSpec(Spec):
@@ -76,15 +78,15 @@ class JointSpec(Spec):
     parent: str
     child: str
     anchor: Vec2 = Field(description="pivot, model frame, m")
-    limits: tuple[float, float] | None = Field(None, description="degrees, child rel. parent")
+    limits: tuple[Angle, Angle] | None = Field(None, description="degrees, child rel. parent")
     pd: PDSpec | None = Field(None, description="absent: a passive hinge")
     description: str = ""
 
 
 class StartSpec(Spec):
-    angle: float = Field(0.0, description="root link angle, degrees")
-    joints: dict[str, float] = Field(default_factory=dict, description="degrees")
-    lift: float = Field(0.0, description="m above the scene's start point")
+    angle: Angle = Field(0.0, description="root link angle, degrees")
+    joints: dict[str, Angle] = Field(default_factory=dict, description="degrees")
+    lift: Num("lift") = Field(0.0, description="m above the scene's start point")
 
 
 class SolverSpec(Spec):
@@ -92,15 +94,15 @@ class SolverSpec(Spec):
     defaults, SOLVER_ITERATIONS and COLLISION_SLOP in puppet/physics/simulation.py)."""
     iterations: int | None = Field(None, ge=1, le=200,
                                    description="constraint solver passes per step")
-    collision_slop: PositiveFloat | None = Field(
-        None, le=0.01, description="m of overlap allowed between shapes in contact")
+    collision_slop: Num("slop") | None = Field(
+        None, description="m of overlap allowed between shapes in contact")
 
 
 class CharacterSpec(Spec):
     name: str
     description: str
     notes: str = ""
-    view_height: PositiveFloat = Field(1.0, description="m of world shown in the window")
+    view_height: Num("view_height") = Field(1.0, description="m of world shown in the window")
     solver: SolverSpec = Field(default_factory=SolverSpec)
     links: list[LinkSpec] = Field(min_length=1)
     joints: list[JointSpec] = Field(default_factory=list)

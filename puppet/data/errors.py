@@ -19,7 +19,18 @@ class DataError(Exception):
             where += f":{self.line}"
             if self.col is not None:
                 where += f":{self.col}"
-        return f"{where}: {self.message}"
+        return one_line(f"{where}: {self.message}")
+
+
+_CONTROL = {i: f"\\x{i:02x}" for i in range(32)} | {10: "\\n", 13: "\\r", 9: "\\t",
+                                                     0x85: "\\x85", 0x2028: "\\u2028",
+                                                     0x2029: "\\u2029", 127: "\\x7f"}
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and control characters written as escapes (a name
+    from a file may hold them; the error must stay one line)."""
+    return text.translate(_CONTROL)
 
 
 class UsageError(Exception):

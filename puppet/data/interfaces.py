@@ -13,13 +13,13 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import (Discriminator, Field, PositiveFloat, NonNegativeFloat, Tag,
-                      field_validator, model_validator)
+from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
 from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
                                  KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
                                  check_input_name)
 from puppet.data.characters import CharacterSpec
+from puppet.data.ranges import AngleChange, Damping, Num, Stiffness, Torque
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface.app_keys import APP_KEYS, key_problem, normalize_key
@@ -31,17 +31,18 @@ __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
 
 CHECKPOINT_EVERY = 3.0  # s of simulated time between automatic checkpoints (keyframes)
 CHECKPOINT_MIN, CHECKPOINT_MAX = 0.5, 600.0  # s; the interval is a multiple of 0.5 s
-MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0  # wall s per simulated s; 0.1: ten times faster
+MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0
+GESTURE_SECONDS = 600.0  # the longest gesture  # wall s per simulated s; 0.1: ten times faster
 
 
 class GainSpec(Spec):
-    stiffness: NonNegativeFloat | None = None
-    damping: NonNegativeFloat | None = None
-    max_torque: PositiveFloat | None = None
+    stiffness: Stiffness | None = None
+    damping: Damping | None = None
+    max_torque: Torque | None = None
 
 
 class PowerCurve(Spec):
-    power: PositiveFloat
+    power: Num("power")
 
 
 Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
@@ -55,10 +56,10 @@ class LinearMapSpec(Spec):
     input: str = Field(description="mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 "
                                    "top), mouse.left, gamepad.axisN, channel.NAME ...")
     joint: str | None = None
-    joints: dict[str, float] = Field(default_factory=dict,
-                                     description="coupling: joint -> gain (sign = mirror)")
-    from_: tuple[float, float] = Field((0.0, 1.0), alias="from")
-    to: tuple[float, float] = Field(description="degrees at from[0] and from[1]")
+    joints: dict[str, Num("coupling")] = Field(
+        default_factory=dict, description="coupling: joint -> gain (sign = mirror)")
+    from_: tuple[Num("input"), Num("input")] = Field((0.0, 1.0), alias="from")
+    to: tuple[AngleChange, AngleChange] = Field(description="degrees at from[0] and from[1]")
     clamp: bool = True
     curve: Curve = "linear"
     frame: str = Field("joint", description="joint: the value is the joint's angle; world: "
@@ -159,7 +160,7 @@ class TransitionSpec(Spec):
     """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
 
     to: str
-    after: NonNegativeFloat | None = Field(None, description="s since entering the state")
+    after: Num("time") | None = Field(None, description="s since entering the state")
     when: ConditionSpec | None = None
 
     @model_validator(mode="after")
@@ -213,7 +214,7 @@ class GestureSpec(Spec):
 
     key: str
     description: str = ""
-    path: list[tuple[float, float, float]] = Field(
+    path: list[tuple[Num("input"), Num("input"), Num("input")]] = Field(
         min_length=1, description="[t, x, y] points: t s since the key press (increasing), "
                                   "x and y the mouse position 0..1 (y up)")
 
@@ -419,6 +420,9 @@ def gesture_problems(spec: InterfaceSpec, gestures=None):
                 yield loc + ("path", j, 0), (f"gesture time {t:g} s must be "
                                               + ("0 or more" if last is None else
                                                  f"after the previous point's {last:g} s"))
+            elif t > GESTURE_SECONDS:
+                yield loc + ("path", j, 0), (f"gesture time {t:g} s is past the longest "
+                                              f"gesture, {GESTURE_SECONDS:g} s")
             for c, v in ((1, x), (2, y)):
                 if not 0.0 <= v <= 1.0:
                     yield loc + ("path", j, c), (f"gesture {'xy'[c - 1]} = {v:g} is outside "

@@ -6,25 +6,26 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
+from pydantic import Field, model_validator
 
+from puppet.data.ranges import Color, Elasticity, Friction, Gravity, Num, WorldXY
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 
-Vec2 = tuple[float, float]
+Vec2 = WorldXY
 
 
 class GroundSpec(Spec):
     points: list[Vec2] = Field(min_length=2, description="polyline, m, left to right")
-    friction: NonNegativeFloat = 0.9
-    elasticity: float = Field(0.0, ge=0.0, le=1.0)
-    thickness: PositiveFloat = Field(0.02, description="m; the collision radius is half")
-    color: tuple[int, int, int] = (92, 84, 74)
+    friction: Friction = 0.9
+    elasticity: Elasticity = 0.0
+    thickness: Num("thickness") = Field(0.02, description="m; the collision radius is half")
+    color: Color = (92, 84, 74)
     name: str = ""
 
 
 class MarkerSpec(Spec):
-    x: float = Field(description="m")
+    x: Num("world_xy") = Field(description="m")
     label: str
     style: Literal["flag", "line"] = Field(
         "flag", description="flag: a pole with a pennant; line: a board across the ground "
@@ -33,13 +34,13 @@ class MarkerSpec(Spec):
 
 class RulerSpec(Spec):
     """Tick marks along the ground: distances from ``zero`` every ``step`` metres."""
-    start: float = Field(alias="from", description="m, first tick")
-    to: float = Field(description="m, last tick")
-    step: PositiveFloat = Field(description="m between ticks")
-    zero: float | None = Field(None, description="m the distances count from "
+    start: Num("world_xy") = Field(alias="from", description="m, first tick")
+    to: Num("world_xy") = Field(description="m, last tick")
+    step: Num("size") = Field(description="m between ticks")
+    zero: Num("world_xy") | None = Field(None, description="m the distances count from "
                                                  "(absent: from)")
     label_every: int = Field(1, ge=0, description="label every n-th tick (0: none)")
-    color: tuple[int, int, int] = (250, 250, 245)
+    color: Color = (250, 250, 245)
 
     @property
     def origin(self) -> float:
@@ -58,8 +59,8 @@ class PropShapeSpec(Spec):
 
     segment: tuple[Vec2, Vec2] | None = None
     circle: Vec2 | None = Field(None, description="centre, m")
-    radius: PositiveFloat = Field(0.02, description="m")
-    friction: NonNegativeFloat = 0.9
+    radius: Num("size") = Field(0.02, description="m")
+    friction: Friction = 0.9
     collide: bool = Field(True, description="the character collides with it (a bar "
                                             "held only by grasps need not)")
 
@@ -79,8 +80,8 @@ class PropSpec(Spec):
 
     body: Literal["static", "dynamic"] = "static"
     position: Vec2 = Field(description="the prop's origin in the world, m")
-    angle: float = Field(0.0, description="deg")
-    mass: PositiveFloat | None = Field(None, description="kg (dynamic props)")
+    angle: Num("angle") = Field(0.0, description="deg")
+    mass: Num("mass") | None = Field(None, description="kg (dynamic props)")
     shapes: list[PropShapeSpec] = Field(default_factory=list)
     grasp_points: dict[str, Vec2] = Field(
         default_factory=dict, description="name -> point in the prop's frame, m; their "
@@ -91,7 +92,7 @@ class PropSpec(Spec):
     pivot: Vec2 | None = Field(None, description="world point the prop hangs from, m")
     pivot_to: str | None = Field(None, description="the prop the pivot pins it to "
                                                    "(default: the world)")
-    color: tuple[int, int, int] = (120, 110, 100)
+    color: Color = (120, 110, 100)
     description: str = ""
 
     @model_validator(mode="after")
@@ -109,21 +110,21 @@ class PropSpec(Spec):
 
 
 class StartSpec(Spec):
-    x: float = 0.0
-    y: float = 0.0
+    x: Num("world_xy") = 0.0
+    y: Num("world_xy") = 0.0
 
 
 class SceneSpec(Spec):
     name: str
     description: str
-    gravity: Vec2 = (0.0, -9.81)
+    gravity: Gravity = (0.0, -9.81)
     ground: list[GroundSpec] = Field(min_length=1)
     start: StartSpec = Field(default_factory=StartSpec)
     markers: list[MarkerSpec] = Field(default_factory=list)
     props: dict[str, PropSpec] = Field(default_factory=dict,
                                        description="name -> a static or dynamic body")
     rulers: list[RulerSpec] = Field(default_factory=list)
-    sky: tuple[int, int, int] = (226, 232, 240)
+    sky: Color = (226, 232, 240)
 
     def ground_height(self, x: float) -> float | None:
         """Highest ground y directly under x, or None off the ends."""

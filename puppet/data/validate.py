@@ -82,6 +82,8 @@ def _data_loc(located: Located, loc: tuple) -> tuple:
     for part in loc:
         if isinstance(part, str) and part.startswith("<") and part != "<key>":
             continue  # a tagged union's branch name, e.g. "<grid>"
+        if isinstance(data, dict) and part not in data and data.get("type") == part:
+            continue  # a discriminated union's branch ("type: circle")
         if isinstance(data, dict) and part in data:
             data = data[part]
             path.append(part)

@@ -49,12 +49,14 @@ from pathlib import Path
 from typing import ClassVar, Literal
 
 import numpy as np
-from pydantic import Field, NonNegativeFloat, PrivateAttr, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from puppet.data.errors import DataError
+from puppet.data.ranges import Num, Time
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 
+Measure = Num("measure")
 UPRIGHT_DEG = 45.0  # upright_at_end tolerance (Character.upright's default)
 FELL_DEG = 90.0  # never_fell: beyond this from upright is a fall
 
@@ -62,8 +64,8 @@ FELL_DEG = 90.0  # never_fell: beyond this from upright is a fall
 class XAtEnd(Spec):
     link: str | None = Field(None, description="link whose centre of mass is measured")
     com: bool = Field(False, description="measure the whole character's centre of mass")
-    min: float | None = None
-    max: float | None = None
+    min: Measure | None = None
+    max: Measure | None = None
 
     @model_validator(mode="after")
     def _check(self):
@@ -79,9 +81,9 @@ class HeightAtEnd(Spec):
     over the last ``held`` s: standing, not fallen or crouched."""
 
     link: str
-    min: float | None = None
-    max: float | None = None
-    held: NonNegativeFloat = Field(0.0, description="s at the end it must stay in bounds")
+    min: Num("measure") | None = None
+    max: Num("measure") | None = None
+    held: Num("duration") = Field(0.0, description="s at the end it must stay in bounds")
 
     @model_validator(mode="after")
     def _bounds(self):
@@ -92,17 +94,17 @@ class HeightAtEnd(Spec):
 
 class ReachedHeight(Spec):
     link: str
-    min: float = Field(description="m the link's lowest point must rise above its start")
+    min: Measure = Field(description="m the link's lowest point must rise above its start")
 
 
 class Airborne(Spec):
     link: str
-    min_seconds: NonNegativeFloat = Field(description="s out of contact in one stretch")
+    min_seconds: Time = Field(description="s out of contact in one stretch")
 
 
 class Turned(Spec):
     link: str
-    min_degrees: NonNegativeFloat = Field(description="deg of accumulated rotation")
+    min_degrees: Num("turn") = Field(description="deg of accumulated rotation")
     direction: Literal["backward", "forward"] = Field(
         "backward", description="backward = counter-clockwise (the model faces +x)")
     in_flight: bool = Field(False, description="count only the turn made in one stretch "
@@ -111,7 +113,7 @@ class Turned(Spec):
 
 class LandedAt(Spec):
     link: str
-    min: float = Field(description="m: x of the link when the longest flight ended")
+    min: Measure = Field(description="m: x of the link when the longest flight ended")
 
 
 class StayedIn(Spec):
@@ -119,9 +121,9 @@ class StayedIn(Spec):
     shorthand ``stayed_in_state: NAME`` is the whole run."""
 
     column: ClassVar[str]  # the Trajectory column and the key naming it: state or mode
-    from_: NonNegativeFloat | None = Field(None, alias="from",
-                                           description="s: window start (default: the start)")
-    until: NonNegativeFloat | None = Field(None, description="s: window end (default: the end)")
+    from_: Time | None = Field(None, alias="from",
+                               description="s: window start (default: the start)")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
 
     @model_validator(mode="before")
     @classmethod

@@ -20,6 +20,9 @@ from __future__ import annotations
 import datetime
 import json
 import math
+import os
+import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,8 +31,12 @@ from puppet import __version__
 from puppet.data.catalog import FOLDERS, ROOT, Setup, file_hash
 from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT_MIN,
                                     MAX_SLOWDOWN, MIN_SLOWDOWN)
+from puppet.data import ranges
 from puppet.data.errors import DataError
-from puppet.interface.events import Event
+from puppet.interface.app_keys import SIM_ACTIONS
+from puppet.interface.events import GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS, Event
+
+GAMEPAD_NAMES = frozenset(GAMEPAD_STICKS + GAMEPAD_TRIGGERS + GAMEPAD_BUTTONS)
 
 FORMAT = "puppet-log"
 VERSION = 1
@@ -199,20 +206,43 @@ class Log:
         return [(e.step, e.event) for e in self.events]
 
 
+DT_MIN, DT_MAX = 1.0e-5, 0.05  # s: a log's simulation step (puppet's is 1/480 s)
+MAX_SECONDS = 24 * 3600.0  # s of simulated time a log may reach (its steps are bounded)
+MAX_LOG_BYTES = 256 << 20  # a log file's largest size (30 minutes of mouse are ~10 MB)
+MAX_LINE = 8_000_000  # characters in one line (an embedded interface is at most 2 MB)
+MAX_NAME = 200  # characters in a key, link, action, device or channel name
+MAX_PATH = 4096  # characters in a file name in a header or a reload event
+MAX_GESTURE_POINTS = 200_000
+MAX_CHANNELS = 4096  # named values in one channels event (a mocap frame has a few hundred)
+MAX_STEP = 10 ** 12  # a rewind's step when no log bounds it (a live source)
+
+
+def max_step(dt: float) -> int:
+    """The last step a log with this ``dt`` may name."""
+    return int(MAX_SECONDS / dt)
+
+
 def _check_header(path: str, header: Any) -> dict:
     if not isinstance(header, dict) or header.get("format") != FORMAT:
         raise DataError(path, 1, None, "not a puppet log: line 1 must be a header with "
                                        f'"format": "{FORMAT}"')
     version = header.get("version")
     if version != VERSION:
-        raise DataError(path, 1, None, f"log format version {version!r} is not supported: "
+        shown = repr(version) if len(repr(version)) <= 40 else repr(version)[:37] + "..."
+        raise DataError(path, 1, None, f"log format version {shown} is not supported: "
                                        f"this puppet ({__version__}) reads version {VERSION}")
     for key, kind in (("interface", str), ("scene", str), ("dt", (int, float))):
         if not isinstance(header.get(key), kind) or isinstance(header.get(key), bool):
             raise DataError(path, 1, None, f"header: '{key}' is missing or not a "
                                            f"{'number' if key == 'dt' else 'string'}")
-    if not header["dt"] > 0:
-        raise DataError(path, 1, None, f"header: 'dt' must be positive, got {header['dt']}")
+    for key in ("interface", "scene", "character"):
+        value = header.get(key)
+        if key in header and not (isinstance(value, str) and 0 < len(value) <= MAX_PATH):
+            raise DataError(path, 1, None, f"header: '{key}' must be a name or path of "
+                                           f"1..{MAX_PATH} characters")
+    if not DT_MIN <= header["dt"] <= DT_MAX:
+        raise DataError(path, 1, None, f"header: 'dt' must be a finite number in "
+                                       f"{ranges.fmt(DT_MIN)}..{ranges.fmt(DT_MAX)} s, got {header['dt']!r}")
     ci = header.setdefault("checkpoint_interval", CHECKPOINT_EVERY)
     if not _is_number(ci) or not CHECKPOINT_MIN <= ci <= CHECKPOINT_MAX:
         raise DataError(path, 1, None, f"header: 'checkpoint_interval' must be a number of "
@@ -226,74 +256,217 @@ def _check_header(path: str, header: Any) -> dict:
         raise DataError(path, 1, None, "header: 'interface_text' must be a string")
     if "expect" in header and not isinstance(header["expect"], list):
         raise DataError(path, 1, None, "header: 'expect' must be a list")
+    for key in ("description", "puppet", "interface_hash", "character_hash", "scene_hash"):
+        if key in header and not isinstance(header[key], str):
+            raise DataError(path, 1, None, f"header: '{key}' must be a string")
     return header
-
-
-def _finite_pair(v) -> bool:
-    return isinstance(v, list) and len(v) == 2 and all(
-        _is_number(x) and math.isfinite(x) for x in v)
 
 
 def _is_number(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def _check_event(obj: Any) -> str | None:
+def _is_name(v) -> bool:
+    return isinstance(v, str) and 0 < len(v) <= MAX_NAME
+
+
+def _number_problem(what: str, v, range_name: str) -> str | None:
+    message = ranges.problem(range_name, v)
+    return None if message is None else f"{what} {message}, got {_short(v)}"
+
+
+def _short(v) -> str:
+    text = repr(v)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _point_problem(what: str, v, range_name: str) -> str | None:
+    if not (isinstance(v, list) and len(v) == 2):
+        return f"{what} must be [x, y], got {_short(v)}"
+    return (_number_problem(what + " x", v[0], range_name)
+            or _number_problem(what + " y", v[1], range_name))
+
+
+def _check_mouse(e):
+    return _number_problem("mouse event: 'x'", e["x"], "mouse") \
+        or _number_problem("mouse event: 'y'", e["y"], "mouse")
+
+
+def _check_key(e):
+    if not (_is_name(e["key"]) and isinstance(e["down"], bool)):
+        return (f"key event: 'key' must be a name of 1..{MAX_NAME} characters and 'down' "
+                "true or false")
+    return None
+
+
+def _check_action(e, last_step):
+    name = e["name"]
+    if name == "rewind":
+        to = e.get("to_step")
+        if not (isinstance(to, int) and not isinstance(to, bool) and 0 <= to <= last_step):
+            return f"rewind action needs a whole-number 'to_step', 0..{last_step}"
+        return None
+    if name == "take":  # an abandoned future taken up again (a kept branch)
+        branch = e.get("branch")
+        if not (isinstance(branch, int) and not isinstance(branch, bool) and 0 <= branch):
+            return "take action needs a whole-number 'branch' >= 0"
+        return None
+    if name not in SIM_ACTIONS:
+        return (f"action event: unknown action {_short(name)}; expected one of: "
+                f"{', '.join(sorted(SIM_ACTIONS | {'rewind', 'take'}))}")
+    return None
+
+
+def _check_drag(e):
+    phase = e["phase"]
+    if phase not in ("start", "move", "end"):
+        return f"drag event: unknown phase {_short(phase)}; expected start, move or end"
+    if phase == "start":
+        if not _is_name(e.get("link")):
+            return f"drag start: 'link' must be a link name of 1..{MAX_NAME} characters"
+        return (_point_problem("drag start: 'point'", e.get("point"), "model_xy")
+                or _point_problem("drag start: 'target'", e.get("target"), "world_xy"))
+    if phase == "move":
+        return _point_problem("drag move: 'target'", e.get("target"), "world_xy")
+    return None
+
+
+def _check_button(e):
+    if e["button"] not in ("left", "middle", "right") or not isinstance(e["down"], bool):
+        return "mouse_button event: 'button' must be left, middle or right and 'down' " \
+               "true or false"
+    return None
+
+
+def _check_device(e):
+    kind = e["type"]
+    name = e["name"]
+    if kind == "gamepad":
+        if not (isinstance(name, str) and (re.fullmatch(r"(axis|button)\d{1,3}", name)
+                                           or name in GAMEPAD_NAMES)):
+            return (f"gamepad event: 'name' must be a standard name (left_x, a, ...), axisN "
+                    f"or buttonN, got {_short(name)}")
+    elif not (_is_name(name) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", name)):
+        return f"channel event: 'name' must be a channel name, got {_short(name)}"
+    return _number_problem(f"{kind} event: 'value'", e["value"], "input")
+
+
+def _check_reload(e):
+    if not (isinstance(e["text"], str) and isinstance(e.get("path", ""), str)
+            and len(e.get("path", "")) <= MAX_PATH):
+        return "reload event: 'text' (and 'path') must be strings"
+    return None
+
+
+def _check_gesture(e):
+    path = e["path"]
+    if not (_is_name(e["key"]) and isinstance(path, list)
+            and 0 < len(path) <= MAX_GESTURE_POINTS
+            and isinstance(e.get("description", ""), str)):
+        return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
+    for p in path:
+        if not (isinstance(p, list) and len(p) == 3):
+            return "gesture event: 'path' must be a list of [t, x, y]"
+        for v in p:
+            problem = _number_problem("gesture event: a path value", v, "input")
+            if problem:
+                return problem
+    return None
+
+
+def _check_channels(e):
+    values = e["values"]
+    if not isinstance(values, dict) or len(values) > MAX_CHANNELS:
+        return f"channels event: 'values' must map at most {MAX_CHANNELS} channel names to numbers"
+    for name, value in values.items():
+        if not (_is_name(name) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", name)):
+            return f"channels event: {_short(name)} is not a channel name"
+        problem = _number_problem(f"channels event: '{name}'", value, "input")
+        if problem:
+            return problem
+    return None
+
+
+def _check_push(e):
+    if not _is_name(e["link"]):
+        return f"push event: 'link' must be a link name of 1..{MAX_NAME} characters"
+    return (_point_problem("push event: 'impulse'", e["impulse"], "shove")
+            or ("point" in e and _point_problem("push event: 'point'", e["point"], "model_xy"))
+            or None)
+
+
+EVENT_CHECKS = {  # event type -> what is wrong with it, or None (required fields present)
+    "mouse": _check_mouse,
+    "key": _check_key,
+    "action": _check_action,
+    "drag": _check_drag,
+    "mouse_button": _check_button,
+    "gamepad": _check_device,
+    "channel": _check_device,
+    "reload": _check_reload,
+    "gesture": _check_gesture,
+    "channels": _check_channels,
+    "push": _check_push,
+}
+
+
+def _check_event(obj: Any, last_step: int) -> str | None:
     """What is wrong with an event line, or None."""
     if not isinstance(obj, dict) or set(obj) != {"step", "event"}:
         return 'expected {"step": N, "event": {...}} or {"end": N, "hash": "..."}'
     step, event = obj["step"], obj["event"]
-    if not isinstance(step, int) or isinstance(step, bool) or step < 0:
-        return f"'step' must be a whole number >= 0, got {step!r}"
-    return event_problem(event)
+    if not isinstance(step, int) or isinstance(step, bool) or not 0 <= step <= last_step:
+        return (f"'step' must be a whole number 0..{last_step} ({MAX_SECONDS / 3600:g} h at "
+                f"this log's dt), got {_short(step)}")
+    return event_problem(event, last_step)
 
 
-def event_problem(event: Any) -> str | None:
-    """What is wrong with an input event (from a log line or a live source), or None."""
+def event_problem(event: Any, last_step: int | None = None) -> str | None:
+    """What is wrong with an input event (from a log line or a live source), or None.
+    ``last_step``: the last step a rewind may name (None: any)."""
     if not isinstance(event, dict):
         return "'event' must be an object"
     kind = event.get("type")
-    if kind not in EVENT_FIELDS:
-        return f"unknown event type {kind!r}; expected one of: {', '.join(EVENT_FIELDS)}"
+    if not isinstance(kind, str) or kind not in EVENT_FIELDS:
+        return f"unknown event type {_short(kind)}; expected one of: {', '.join(EVENT_FIELDS)}"
     missing = [f for f in EVENT_FIELDS[kind] if f not in event]
     if missing:
         return f"{kind} event without {', '.join(repr(m) for m in missing)}"
-    if kind == "mouse" and not (_is_number(event["x"]) and _is_number(event["y"])):
-        return "mouse event: 'x' and 'y' must be numbers"
-    if kind == "key" and not (isinstance(event["key"], str) and isinstance(event["down"], bool)):
-        return "key event: 'key' must be a string and 'down' true or false"
+    check = EVENT_CHECKS[kind]
     if kind == "action":
-        if not isinstance(event["name"], str):
-            return "action event: 'name' must be a string"
-        if event["name"] == "rewind" and not (isinstance(event.get("to_step"), int)
-                                              and event["to_step"] >= 0):
-            return "rewind action needs a whole-number 'to_step' >= 0"
-    if kind == "reload" and not (isinstance(event["text"], str)
-                                 and isinstance(event.get("path", ""), str)):
-        return "reload event: 'text' (and 'path') must be strings"
-    if kind == "gesture" and not (isinstance(event["key"], str) and isinstance(event["path"], list)
-                                  and all(isinstance(p, list) and len(p) == 3
-                                          and all(_is_number(v) for v in p)
-                                          for p in event["path"])):
-        return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
-    if kind == "channels" and not (isinstance(event["values"], dict) and all(
-            isinstance(n, str) and _is_number(v) and math.isfinite(v)
-            for n, v in event["values"].items())):
-        return "channels event: 'values' must map channel names to finite numbers"
-    if kind == "push" and not (
-            isinstance(event["link"], str) and _finite_pair(event["impulse"])
-            and ("point" not in event or _finite_pair(event["point"]))):
-        return "push event: 'link' must be a name, 'impulse' (and 'point') [x, y] numbers"
-    if kind == "drag" and event["phase"] not in ("start", "move", "end"):
-        return f"drag event: unknown phase {event['phase']!r}"
-    return None
+        return check(event, MAX_STEP if last_step is None else last_step)
+    return check(event)
 
 
-def _json_problem(exc: json.JSONDecodeError) -> str:
+def _json_problem(exc: ValueError) -> str:
     """json's message with its column: some messages end in "at" ("Unterminated string
     starting at"), which must not become "starting at at column 5"."""
+    if not isinstance(exc, json.JSONDecodeError):
+        return " ".join(str(exc).split())
     msg = exc.msg[:-3] if exc.msg.endswith(" at") else exc.msg
     return f"{msg} at column {exc.colno}"
+
+
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not a number a log may hold (numbers are finite)")
+
+
+def _finite(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"{text[:20]} is too large a number (numbers are finite)")
+    return value
+
+
+def _loads(line: str):
+    """json.loads, refusing NaN, Infinity and numbers that overflow to them; any
+    problem is a ValueError whose message says what (RecursionError included)."""
+    if len(line) > MAX_LINE:
+        raise ValueError(f"line too long ({len(line)} characters; at most {MAX_LINE})")
+    try:
+        return json.loads(line, parse_constant=_no_constant, parse_float=_finite)
+    except RecursionError:
+        raise ValueError("nested too deeply") from None
 
 
 def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
@@ -301,7 +474,10 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     the valid lines before it are kept (``Log.truncated_at`` says where it stopped)."""
     path_s = str(path)
     try:
-        text = Path(path).read_bytes().decode("utf-8", errors="replace")
+        with Path(path).open("rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                raise DataError(path_s, None, None, "not a regular file")
+            raw = fh.read(MAX_LOG_BYTES + 1)
     except IsADirectoryError:
         raise DataError(path_s, None, None, "is a folder; expected a log (.jsonl) or a log "
                                             "name") from None
@@ -310,6 +486,9 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
                                             "name)") from None
     except OSError as exc:
         raise DataError(path_s, None, None, f"cannot read log: {exc.strerror or exc}") from None
+    if len(raw) > MAX_LOG_BYTES:
+        raise DataError(path_s, None, None, f"log too large (over {MAX_LOG_BYTES} bytes)")
+    text = raw.decode("utf-8", errors="replace")
     lines = text.split("\n")
     if lines and lines[-1] == "":
         lines.pop()
@@ -318,11 +497,12 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
     if not lines or not lines[0].strip():
         raise DataError(path_s, 1, None, "empty log: line 1 must be a header")
     try:
-        header = json.loads(lines[0])
+        header = _loads(lines[0])
     except ValueError as exc:
         raise DataError(path_s, 1, None, f"not valid JSON ({_json_problem(exc)}); line 1 "
                                          "must be the log header") from None
     log = Log(path_s, _check_header(path_s, header))
+    last_step = max_step(log.header["dt"])
     for i, line in enumerate(lines[1:], start=2):
         problem = None
         obj = None
@@ -332,19 +512,20 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
             problem = "empty line"
         else:
             try:
-                obj = json.loads(line)
+                obj = _loads(line)
             except ValueError as exc:
                 problem = f"not valid JSON ({_json_problem(exc)})"
         if problem is None and isinstance(obj, dict) and "end" in obj:
             end = obj.get("end")
             if (set(obj) - {"end", "hash"} or not isinstance(end, int) or isinstance(end, bool)
-                    or end < 0 or not isinstance(obj.get("hash", ""), str)):
-                problem = 'bad end line: expected {"end": N, "hash": "..."}'
+                    or not 0 <= end <= last_step or not isinstance(obj.get("hash", ""), str)):
+                problem = (f'bad end line: expected {{"end": N, "hash": "..."}}, N in '
+                           f'0..{last_step}')
             else:
                 log.end = obj
                 continue
         if problem is None:
-            problem = _check_event(obj)
+            problem = _check_event(obj, last_step)
         if problem is not None:
             if allow_truncated:
                 log.truncated_at = i

@@ -248,19 +248,20 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
+    within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
     try:
-        where = find("interface", h["interface"])
-    except DataError:
+        where = find("interface", h["interface"], within)
+    except DataError as exc:
         where = None
         if embedded is None:
-            raise DataError(log.path, 1, None, f"header: no interface named "
-                                               f"'{h['interface']}'") from None
+            raise DataError(log.path, 1, None, f"header: {exc.message}") from None
     from_copy = embedded is not None and (as_recorded or where is None)
     try:
         if from_copy:
-            setup = setup_from_text(embedded, where or Path(h["interface"]), h["scene"])
+            setup = setup_from_text(embedded, where or Path(h["interface"]), h["scene"],
+                                    within)
         else:
-            setup = load_setup(str(where), h["scene"])
+            setup = load_setup(str(where), h["scene"], within)
     except DataError as exc:
         if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
@@ -279,8 +280,9 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
         warnings.append(f"{log.path}: note: the session hot-reloaded its interface (first at "
                         f"step {reloads[0]}); from there on the recorded versions play")
     if from_copy and not as_recorded:
-        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found; "
-                        "replaying the copy recorded in the log")
+        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found "
+                        "(in the catalog or the log's folder); replaying the copy recorded "
+                        "in the log")
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
         if kind == "interface" and from_copy:
@@ -361,7 +363,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
 
 
 # -- the ``puppet replay`` command -----------------------------------------------------
-EXIT_FAILED, EXIT_DATA_ERROR = 1, 2
+EXIT_FAILED, EXIT_DATA_ERROR, EXIT_BLOWUP = 1, 2, 3
 
 
 def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
@@ -392,10 +394,13 @@ def verdict(res: dict) -> str:
     return "differs" if res["same_end"] is False else "ok"
 
 
-def exit_code(verdicts: list[str]) -> int:
-    """2 if a log cannot be replayed, 1 if one failed or differs, else 0."""
+def exit_code(verdicts: list[str], blew_up: bool = False) -> int:
+    """2 if a log cannot be replayed, 3 if one blew up (or left the world), 1 if one
+    failed or differs, else 0."""
     if "ERROR" in verdicts:
         return EXIT_DATA_ERROR
+    if blew_up:
+        return EXIT_BLOWUP
     return EXIT_FAILED if {"FAIL", "differs"} & set(verdicts) else 0
 
 
@@ -497,7 +502,7 @@ def replay_command(args) -> int:
             print(f"puppet replay: {res['error']}", file=sys.stderr)
             return EXIT_DATA_ERROR
         print_one(res, args.check)
-        return exit_code([verdict(res)])
+        return exit_code([verdict(res)], bool(res.get("blowups")))
 
     from tqdm import tqdm
 
@@ -529,7 +534,7 @@ def replay_command(args) -> int:
                 print(f"{r['log']}: {line}")
     print(_table(ordered, args.check))
     print(summary_line(ordered, args.check))
-    return exit_code([verdict(r) for r in ordered])
+    return exit_code([verdict(r) for r in ordered], any(r.get("blowups") for r in ordered))
 
 
 class LogFeeder:

@@ -15,26 +15,28 @@ recorded log replays from.
 
 from __future__ import annotations
 
-from pydantic import Field, NonNegativeFloat, model_validator
+from pydantic import Field, model_validator
 
+from puppet.data.ranges import Duration, Num, Time, WorldXY
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface import events as ev
 from puppet.interface.app_keys import SIM_ACTIONS, key_problem, normalize_key
 from puppet.interface.events import Event
 
-Vec2 = tuple[float, float]
+Vec2 = WorldXY
 GLIDE_RATE = 240.0  # Hz: how often a gliding mouse reports, like a gaming mouse
 DEFAULT_SECONDS = 5.0  # a scripted run's length when neither the caller nor the script says
 
 
 class DragSpec(Spec):
     link: str
-    point: Vec2 = (0.0, 0.0)
+    point: tuple[Num("model_xy"), Num("model_xy")] = Field(
+        (0.0, 0.0), description="on the link, model frame, m")
     to: Vec2 = Field(description="world target, m")
     start: Vec2 | None = Field(None, description="world target at start; default: 'to'")
-    over: NonNegativeFloat = 0.0
-    hold: NonNegativeFloat = 0.0
+    over: Duration = 0.0
+    hold: Duration = 0.0
 
 
 class PushSpec(Spec):
@@ -47,11 +49,11 @@ class PushSpec(Spec):
 
 
 class ScriptEntry(Spec):
-    t: NonNegativeFloat = Field(description="s of simulated time")
-    mouse: Vec2 | None = None
-    over: NonNegativeFloat = 0.0
+    t: Time = Field(description="s of simulated time")
+    mouse: tuple[Num("mouse"), Num("mouse")] | None = None
+    over: Duration = 0.0
     key: str | None = None
-    hold: NonNegativeFloat = 0.0
+    hold: Duration = 0.0
     action: str | None = None
     drag: DragSpec | None = None
     push: PushSpec | None = None
@@ -79,7 +81,7 @@ class ScriptSpec(Spec):
     description: str = ""
     interface: str | None = None
     scene: str | None = None
-    seconds: NonNegativeFloat | None = Field(None, description="default run length, s")
+    seconds: Time | None = Field(None, description="default run length, s")
     events: list[ScriptEntry]
 
 

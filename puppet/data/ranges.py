@@ -1,0 +1,128 @@
+"""The physical range of every number a data file or a log may hold.
+
+Every number is finite (no ``.nan``, ``.inf``, ``1e308``) and inside a range that a
+real character, scene or performance can use; outside it the file is refused with one
+line naming the range, e.g. ``bad value for 'links.0.mass': must be a finite number
+in 0.001..1000 kg (got nan)``. The ranges are generous (shipped files sit well inside
+them) but bounded, so that nothing accepted can overflow the physics or run for ever.
+The table is in docs/ranges.md (a test keeps the two in step).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+from pydantic import AfterValidator, BeforeValidator
+
+# name -> (low, high, unit, low end open). Units: metres, kilograms, seconds, degrees.
+RANGES: dict[str, tuple[float, float, str, bool]] = {
+    "mass": (0.001, 1000.0, "kg", False),
+    "inertia": (1.0e-7, 1.0e4, "kg*m^2", False),  # a link's moment about its centre
+    "size": (0.001, 10.0, "m", False),  # a shape's width, height or radius
+    "corner": (0.0, 10.0, "m", False),
+    "slop": (0.0, 0.01, "m", True),  # collision slop: overlap allowed in contact  # a rounded corner or polygon radius (>= 0)
+    "model_xy": (-10.0, 10.0, "m", False),  # a point in a character's model frame
+    "world_xy": (-10000.0, 10000.0, "m", False),  # a point in the world (10 km)
+    "lift": (-10.0, 100.0, "m", False),
+    "view_height": (0.05, 1000.0, "m", False),
+    "angle": (-360.0, 360.0, "deg", False),  # joint targets, limits, start angles
+    "angle_change": (-720.0, 720.0, "deg", False),  # adjust by, map ends
+    "coupling": (-100.0, 100.0, "", False),  # a map's joint gain
+    "stiffness": (0.0, 1.0e6, "N*m/rad", False),
+    "damping": (0.0, 1.0e5, "N*m*s/rad", False),
+    "torque": (0.0, 1.0e6, "N*m", True),  # max_torque (> 0)
+    "friction": (0.0, 10.0, "", False),
+    "elasticity": (0.0, 1.0, "", False),
+    "gravity": (-1000.0, 1000.0, "m/s^2", False),  # each component (about 100 g)
+    "thickness": (0.001, 10.0, "m", False),
+    "time": (0.0, 3600.0, "s", False),  # a moment of a performance, a run's length
+    "duration": (0.0, 600.0, "s", False),  # a glide, hold, reach, sequence step
+    "positive_duration": (0.0, 600.0, "s", True),
+    "period": (0.001, 3600.0, "s", False),  # perturbation interval
+    "impulse": (0.0, 10.0, "N*m*s", True),
+    "shove": (-10000.0, 10000.0, "N*s", False),  # a push's impulse, each component
+    "power": (0.01, 100.0, "", False),  # a response curve's exponent
+    "input": (-1.0e6, 1.0e6, "", False),  # a device or channel value, a map's 'from'
+    "sensor": (-1.0e6, 1.0e6, "", False),  # a condition's threshold
+    "tolerance": (0.001, 10.0, "m", False),
+    "mouse": (-10.0, 10.0, "", False),  # a mouse position in a log (0..1 in the window)
+    "measure": (-1.0e6, 1.0e6, "", False),  # an expectation's threshold (m)
+    "turn": (0.0, 1.0e6, "deg", False),  # an expectation's accumulated rotation
+}
+
+
+def fmt(v: float) -> str:
+    """A number as ranges are written: 1e6, 1e-5, 0.05."""
+    return f"{v:g}".replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
+
+
+def describe(name: str) -> str:
+    """The range as the error and docs/ranges.md say it, e.g. ``0.001..1000 kg``."""
+    lo, hi, unit, open_lo = RANGES[name]
+    span = f"{fmt(lo)}..{fmt(hi)}" + (f" {unit}" if unit else "")
+    return span + (f", more than {fmt(lo)}" if open_lo else "")
+
+
+def problem(name: str, value) -> str | None:
+    """What is wrong with ``value`` as a ``name`` number, or None."""
+    lo, hi, _, open_lo = RANGES[name]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return f"must be a number in {describe(name)}"
+    if not (math.isfinite(value) and lo <= value <= hi) or (open_lo and value == lo):
+        return f"must be a finite number in {describe(name)}"
+    return None
+
+
+def _not_bool(value):
+    if isinstance(value, bool):
+        raise ValueError("expected a number, got true/false")
+    return value
+
+
+def Num(name: str):
+    """A float type for pydantic: finite and inside RANGES[name]."""
+    RANGES[name]  # a KeyError here is a programming mistake
+
+    def check(value: float) -> float:
+        message = problem(name, value)
+        if message:
+            raise ValueError(message)
+        return value
+
+    return Annotated[float, BeforeValidator(_not_bool), AfterValidator(check)]
+
+
+Mass = Num("mass")
+Size = Num("size")
+Corner = Num("corner")
+ModelXY = tuple[Num("model_xy"), Num("model_xy")]
+WorldXY = tuple[Num("world_xy"), Num("world_xy")]
+Angle = Num("angle")
+AngleChange = Num("angle_change")
+Stiffness = Num("stiffness")
+Damping = Num("damping")
+Torque = Num("torque")
+Friction = Num("friction")
+Elasticity = Num("elasticity")
+Gravity = tuple[Num("gravity"), Num("gravity")]
+Time = Num("time")
+Duration = Num("duration")
+PositiveDuration = Num("positive_duration")
+
+
+
+
+def _channel(v: int) -> int:
+    if not 0 <= v <= 255:
+        raise ValueError("a colour is [red, green, blue], each a whole number 0..255")
+    return v
+
+
+_Channel = Annotated[int, AfterValidator(_channel)]
+Color = tuple[_Channel, _Channel, _Channel]
+Seed = Annotated[int, AfterValidator(lambda v: v if 0 <= v < 2**32 else _bad_seed(v))]
+
+
+def _bad_seed(v: int):
+    raise ValueError(f"a seed is a whole number 0..{2**32 - 1}")
