@@ -54,6 +54,7 @@ SPEED_TARGET_DEFAULT = 50.0
 OVERHEAD_TARGET_PCT = 25.0
 CHECKPOINT_TARGET_MS = 2.0
 REWIND_TARGET_MS = 100.0
+BVH_READ_TARGET_MS = 200.0  # a 2 MB motion-capture clip
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
         "rewind_repeats": 21, "log_repeats": 3}
@@ -429,6 +430,24 @@ def measure_logs(repeats: int) -> dict:
     return {"status": "ok", "items": items}
 
 
+# -- motion capture ------------------------------------------------------------------
+def measure_mocap(repeats: int) -> dict:
+    """Reading each shipped BVH clip (assets/mocap/) and its forward kinematics."""
+    from puppet.data.catalog import ROOT
+    from puppet.mocap.bvh import read_bvh
+
+    items = []
+    for path in sorted((ROOT / "assets" / "mocap").glob("*.bvh")):
+        clip = read_bvh(path)
+        read_ms = _median_ms(lambda: read_bvh(path), repeats)
+        fk_ms = _median_ms(clip.world_positions, repeats)
+        items.append({"clip": path.name, "bytes": path.stat().st_size, "frames": clip.frames,
+                      "joints": len(clip.joints), "read_ms": read_ms, "fk_ms": fk_ms})
+    return {"items": items,
+            "targets": [_target(f"read {i['clip']}", i["read_ms"], "<", BVH_READ_TARGET_MS,
+                                "ms") for i in items]}
+
+
 # -- the report ----------------------------------------------------------------------
 def _target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
     ok = value >= limit if op == ">=" else value <= limit if op == "<=" else value < limit
@@ -490,7 +509,9 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
             continue
         report["characters"].append(bench_character(character, interfaces, cfg))
     report["logs"] = measure_logs(cfg["log_repeats"])
-    report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"])
+    report["mocap"] = measure_mocap(cfg["repeats"])
+    report["all_pass"] = (all(t["pass"] for c in report["characters"] for t in c["targets"])
+                          and all(t["pass"] for t in report["mocap"]["targets"]))
     return report
 
 
@@ -566,8 +587,15 @@ def format_report(report: dict) -> str:
         elif "wall_s" in item:
             lines.append(f"  {item['log']:<44} {item['wall_s'] * 1e3:>9.0f} ms")
     lines.append("")
+    lines.append("motion capture (assets/mocap/*.bvh)")
+    for item, t in zip(report["mocap"]["items"], report["mocap"]["targets"]):
+        row(f"read {item['clip']} ({_fmt_bytes(item['bytes'])}, {item['frames']} frames)",
+            f"{item['read_ms']:.1f} ms", f"< {t['limit']:g} ms", "PASS" if t["pass"] else "MISS")
+        row(f"  forward kinematics, {item['joints']} joints", f"{item['fk_ms']:.1f} ms")
+    lines.append("")
     misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
               for t in c["targets"] if not t["pass"]]
+    misses += [f"mocap: {t['name']}" for t in report["mocap"]["targets"] if not t["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 
