@@ -144,6 +144,13 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
+    if args.export_motion:  # headless always: a file for animators, no window
+        if args.video or args.plot or args.check:
+            raise SystemExit("puppet replay: --export-motion goes alone (no --video, --plot "
+                             "or --check)")
+        from puppet.timeline.motion import export_motion_command
+
+        return export_motion_command(args)
     if args.video or args.plot:
         from puppet.app.export import export_command
 
@@ -217,6 +224,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="headless: render the replay as the window shows it, HUD "
                              "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")
     replay.add_argument("--fps", type=float, default=30.0, help="frame rate for --video "
+                                                                "and --export-motion "
                                                                 "(default 30)")
     replay.add_argument("--size", default="1280x720", metavar="WxH",
                         help="window size drawn for --video (default 1280x720)")
@@ -225,6 +233,10 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--plot", metavar="PNG",
                         help="headless: plot joint targets against actual angles over "
                              "time, one subplot per actuated joint")
+    replay.add_argument("--export-motion", metavar="OUT",
+                        help="write the performed motion (root position and angle, every "
+                             "joint angle, at --fps) to OUT: .bvh (a planar hierarchy named "
+                             "after the character's links; Blender imports it) or .csv")
     replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs "

@@ -388,7 +388,8 @@ def _is_number(word: str) -> bool:
 @dataclass
 class PlanarJoint:
     """A joint of a planar (x right, y up; rotations about z) hierarchy to write:
-    ``offset`` (x, y) from the parent joint, or ``end`` (x, y), an End Site's offset."""
+    ``offset`` (x, y) from the parent joint; ``end`` (x, y), an End Site's offset (a
+    joint with no children gets one anyway: Blender draws a bone to it)."""
 
     name: str
     parent: str | None
@@ -401,9 +402,13 @@ def write_planar_bvh(path: str | Path, joints: list[PlanarJoint], root_xy: np.nd
     """Write a planar clip: the root moves in the x-y plane (``root_xy``, (frames, 2),
     file units) and every joint turns about z (``angles_deg``, (frames, joints),
     degrees, the root's first: its angle in the world, the others relative to their
-    parent). The root has channels ``Xposition Yposition Zposition Zrotation Xrotation
-    Yrotation`` (the out-of-plane ones are zero, which every reader accepts), the other
-    joints ``Zrotation`` alone. ``joints`` are parents first; the root's offset is 0."""
+    parent). The root has channels ``Xposition Yposition Zposition Zrotation Yrotation
+    Xrotation``, the other joints ``Zrotation Yrotation Xrotation``; the out-of-plane
+    ones are always zero. Three rotation channels, not one: Blender's importer reads
+    all three of a joint that has any (a lone ``Zrotation`` makes it read another
+    joint's number) and it reads each line's place, so ``{``, ``OFFSET`` and
+    ``CHANNELS`` each have their own line. ``joints`` are parents first; the root's
+    offset is 0 (position channels replace the offset, as Blender reads them)."""
     frames = angles_deg.shape[0]
     if angles_deg.shape != (frames, len(joints)) or root_xy.shape != (frames, 2):
         raise ValueError("root_xy must be (frames, 2) and angles_deg (frames, joints)")
@@ -426,8 +431,8 @@ def write_planar_bvh(path: str | Path, joints: list[PlanarJoint], root_xy: np.nd
         out.append(f"{ind}{{")
         off = (0.0, 0.0) if is_root else j.offset
         out.append(f"{ind}\tOFFSET {f(off[0])} {f(off[1])} {f(0.0)}")
-        out.append(f"{ind}\tCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation "
-                   f"Yrotation" if is_root else f"{ind}\tCHANNELS 1 Zrotation")
+        out.append(f"{ind}\tCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation "
+                   f"Xrotation" if is_root else f"{ind}\tCHANNELS 3 Zrotation Yrotation Xrotation")
         order.append(j.name)
         kids = children.get(j.name, [])
         for kid in kids:
@@ -442,11 +447,11 @@ def write_planar_bvh(path: str | Path, joints: list[PlanarJoint], root_xy: np.nd
     if len(order) != len(joints):
         raise ValueError("every joint's parent must be a joint listed before it")
     col = {j.name: i for i, j in enumerate(joints)}
-    table = np.zeros((frames, 6 + len(joints) - 1))
+    table = np.zeros((frames, 6 + 3 * (len(joints) - 1)))
     table[:, 0:2] = root_xy
     table[:, 3] = angles_deg[:, 0]
     for k, name in enumerate(order[1:]):
-        table[:, 6 + k] = angles_deg[:, col[name]]
+        table[:, 6 + 3 * k] = angles_deg[:, col[name]]
     out += ["MOTION", f"Frames: {frames}", f"Frame Time: {frame_time:.7f}"]
     buf = io.StringIO()
     np.savetxt(buf, table, fmt=f"%.{decimals}f", delimiter=" ")
