@@ -69,3 +69,34 @@ def test_shuffle_moves_half_a_metre_without_hopping():
 
 def test_shuffle_fails_on_a_slippery_floor(tmp_path):
     assert "x_at_end" in _failed(_weakened("luxo-shuffle", tmp_path, friction=0.3))
+
+
+# -- back headspring -------------------------------------------------------------------
+def test_back_headspring_touches_down_on_the_shade_alone_upside_down():
+    result = replayed("luxo-back-headspring")
+    assert not result.failed, [str(o) for o in result.failed]
+    # the back flip turns as far but never puts its shade down upside down
+    flip = replayed("luxo-backflip")
+    assert check(flip, [{"stood_on": {"link": "upper_arm", "min_seconds": 0.02,
+                                      "min_tilt": 120}}])
+
+
+def test_back_headspring_fails_with_weaker_servos(tmp_path):
+    failed = _failed(_weakened("luxo-back-headspring", tmp_path, servos=0.6))
+    assert failed & {"turned", "stood_on", "upright_at_end"}, failed
+
+
+# -- kip ---------------------------------------------------------------------------------
+def test_kip_lies_on_its_back_then_gets_up_in_one_motion():
+    result = replayed("luxo-kip")
+    assert not result.failed, [str(o) for o in result.failed]
+    # a hop never lies down; the kip does not get up fast enough for a tighter limit
+    assert check(replayed("luxo-hop"), [{"got_up": {"lay_seconds": 1.0,
+                                                    "within_seconds": 0.8}}])
+    assert check(result, [{"got_up": {"lay_seconds": 1.0, "within_seconds": 0.3}}])
+
+
+@pytest.mark.parametrize("weaker", [{"servos": 0.4}, {"gravity": 1.5}])
+def test_kip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
+    # (at 0.6 of the servos' strength it still gets up: 0.67 s)
+    assert {"got_up", "upright_at_end"} <= _failed(_weakened("luxo-kip", tmp_path, **weaker))
