@@ -100,3 +100,26 @@ def test_kip_lies_on_its_back_then_gets_up_in_one_motion():
 def test_kip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
     # (at 0.6 of the servos' strength it still gets up: 0.67 s)
     assert {"got_up", "upright_at_end"} <= _failed(_weakened("luxo-kip", tmp_path, **weaker))
+
+
+# -- the new expectation kinds are validated ---------------------------------------------
+@pytest.mark.parametrize("entry, message", [
+    ({"airborne": {"link": "base"}}, "give 'min_seconds', 'max_seconds' or both"),
+    ({"stood_on": {"link": "upper_arm"}}, "min_seconds"),
+    ({"stood_on": {"link": "upper_arm", "min_seconds": 1, "min_tilt": 200}}, "min_tilt"),
+    ({"got_up": {"lay_seconds": 1.0}}, "within_seconds"),
+])
+def test_new_expectations_are_validated(entry, message):
+    from puppet.data.errors import DataError
+    from puppet.timeline.expectations import parse_expectations
+
+    with pytest.raises(DataError, match=message):
+        parse_expectations([entry])
+
+
+def test_stood_on_and_got_up_name_what_they_measured():
+    kip = replayed("luxo-kip")
+    (out,) = check(kip, [{"stood_on": {"link": "base", "min_seconds": 0.5, "min_tilt": 80}}])
+    assert "longest stretch on base alone" in out.measured
+    (out,) = check(replayed("luxo-hop"), [{"got_up": {"lay_seconds": 1, "within_seconds": 1}}])
+    assert out.measured.startswith("never lay")
