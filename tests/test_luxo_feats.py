@@ -102,6 +102,21 @@ def test_kip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
     assert {"got_up", "upright_at_end"} <= _failed(_weakened("luxo-kip", tmp_path, **weaker))
 
 
+# -- headstand ---------------------------------------------------------------------------
+def test_headstand_balances_on_the_shade_for_two_seconds_then_stands():
+    result = replayed("luxo-headstand")
+    assert not result.failed, [str(o) for o in result.failed]
+    assert check(result, [{"stood_on": {"link": "upper_arm", "min_seconds": 3.5}}])
+    # the back headspring only touches down on its shade
+    assert check(replayed("luxo-back-headspring"),
+                 [{"stood_on": {"link": "upper_arm", "min_seconds": 2.0}}])
+
+
+@pytest.mark.parametrize("weaker", [{"servos": 0.8}, {"gravity": 1.2}])
+def test_headstand_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
+    assert "stood_on" in _failed(_weakened("luxo-headstand", tmp_path, **weaker))
+
+
 # -- the new expectation kinds are validated ---------------------------------------------
 @pytest.mark.parametrize("entry, message", [
     ({"airborne": {"link": "base"}}, "give 'min_seconds', 'max_seconds' or both"),
