@@ -117,6 +117,23 @@ def test_headstand_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker
     assert "stood_on" in _failed(_weakened("luxo-headstand", tmp_path, **weaker))
 
 
+# -- double back flip ---------------------------------------------------------------------
+def test_double_back_flip_turns_twice_in_one_flight_and_lands_upright():
+    result = replayed("luxo-double-backflip")
+    assert not result.failed, [str(o) for o in result.failed]
+    # the single back flip fails the double's turns; the double is not a triple
+    assert len(check(replayed("luxo-backflip"), [
+        {"turned": {"link": "base", "min_degrees": 690}},
+        {"turned": {"link": "base", "min_degrees": 600, "in_flight": True}}])) == 2
+    assert check(result, [{"turned": {"link": "base", "min_degrees": 1000}}])
+
+
+@pytest.mark.parametrize("weaker", [{"servos": 0.8}, {"gravity": 1.2}])
+def test_double_back_flip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
+    failed = _failed(_weakened("luxo-double-backflip", tmp_path, **weaker))
+    assert {"turned", "upright_at_end", "never_fell"} <= failed, failed
+
+
 # -- the new expectation kinds are validated ---------------------------------------------
 @pytest.mark.parametrize("entry, message", [
     ({"airborne": {"link": "base"}}, "give 'min_seconds', 'max_seconds' or both"),
