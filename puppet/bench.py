@@ -59,6 +59,7 @@ CHECKPOINT_TARGET = {"biped": 1.0, "biped-small": 1.0}
 REWIND_TARGET = {"biped": 30.0, "biped-small": 30.0}
 SCRUB_FRAME_TARGET_MS = 1000.0 / 60.0  # every scrub frame within a 60 Hz frame
 PROCESS_TARGET_MS = 150.0  # a short headless replay or a check, end to end
+BVH_READ_TARGET_MS = 200.0  # a 2 MB motion-capture clip
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
         "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 90.0, "scrub_frames": 600,
@@ -491,6 +492,24 @@ def measure_logs(repeats: int) -> dict:
     return {"status": "ok", "items": items}
 
 
+# -- motion capture ------------------------------------------------------------------
+def measure_mocap(repeats: int) -> dict:
+    """Reading each shipped BVH clip (assets/mocap/) and its forward kinematics."""
+    from puppet.data.catalog import ROOT
+    from puppet.mocap.bvh import read_bvh
+
+    items = []
+    for path in sorted((ROOT / "assets" / "mocap").glob("*.bvh")):
+        clip = read_bvh(path)
+        read_ms = _median_ms(lambda: read_bvh(path), repeats)
+        fk_ms = _median_ms(clip.world_positions, repeats)
+        items.append({"clip": path.name, "bytes": path.stat().st_size, "frames": clip.frames,
+                      "joints": len(clip.joints), "read_ms": read_ms, "fk_ms": fk_ms})
+    return {"items": items,
+            "targets": [_target(f"read {i['clip']}", i["read_ms"], "<", BVH_READ_TARGET_MS,
+                                "ms") for i in items]}
+
+
 # -- the report ----------------------------------------------------------------------
 # -- a channels stream (a mocap frame of many values) ------------------------------------
 CHANNEL_HZ = 120.0
@@ -679,9 +698,11 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
         _target("headless replay process (luxo-hop)", pr["replay_ms"], "<", PROCESS_TARGET_MS,
                 "ms"),
         _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms")]
+    report["mocap"] = measure_mocap(cfg["repeats"])
     report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"]) \
         and all(t["pass"] for t in report["targets"]) \
-        and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"])
+        and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"]) \
+        and all(t["pass"] for t in report["mocap"]["targets"])
     return report
 
 
@@ -789,11 +810,18 @@ def format_report(report: dict) -> str:
     row("check characters/luxo.yaml", f"{pr['check_ms']:.0f} ms", f"< {PROCESS_TARGET_MS:g} ms",
         verdict["check process (one file)"])
     lines.append("")
+    lines.append("motion capture (assets/mocap/*.bvh)")
+    for item, t in zip(report["mocap"]["items"], report["mocap"]["targets"]):
+        row(f"read {item['clip']} ({_fmt_bytes(item['bytes'])}, {item['frames']} frames)",
+            f"{item['read_ms']:.1f} ms", f"< {t['limit']:g} ms", "PASS" if t["pass"] else "MISS")
+        row(f"  forward kinematics, {item['joints']} joints", f"{item['fk_ms']:.1f} ms")
+    lines.append("")
     misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
               for t in c["targets"] if not t["pass"]] + \
         [t["name"] for t in report["targets"] if not t["pass"]]
     misses += [ch["target"]["name"] for ch in report.get("channels", [])
                if ch["target"] and not ch["target"]["pass"]]
+    misses += [f"mocap: {t['name']}" for t in report["mocap"]["targets"] if not t["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 

@@ -216,6 +216,12 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
+    if args.export_motion:  # headless always: a file for animators, no window
+        if args.video or args.plot or args.check:
+            raise UsageError("--export-motion goes alone (no --video, --plot or --check)")
+        from puppet.timeline.motion import export_motion_command
+
+        return export_motion_command(args)
     if args.video:
         from puppet.app.export import GIF_EXTS, VIDEO_EXTS
 
@@ -303,7 +309,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="headless: render the replay as the window shows it, HUD "
                              "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")
     replay.add_argument("--fps", type=_fps, default=30.0,
-                        help="frame rate for --video (1-240, at most 50 for a gif; default 30)")
+                        help="frame rate for --video (1-240, at most 50 for a gif; default 30) "
+                             "and --export-motion")
     replay.add_argument("--size", type=_size, default=(1280, 720), metavar="WxH",
                         help="window size drawn for --video (default 1280x720)")
     replay.add_argument("--scale", type=_scale, default=1.0,
@@ -315,6 +322,10 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--overlay", choices=["com"],
                         help="com: draw the balance overlay (as F4 in the window) in the "
                              "window and in --video")
+    replay.add_argument("--export-motion", metavar="OUT",
+                        help="write the performed motion (root position and angle, every "
+                             "joint angle, at --fps) to OUT: .bvh (a planar hierarchy named "
+                             "after the character's links; Blender imports it) or .csv")
     replay.set_defaults(func=_replay)
 
     lst = sub.add_parser("list", help="list characters, interfaces, scenes, scripts, logs "

@@ -62,6 +62,11 @@ def test_quick_bench_reports_every_character_with_positive_figures():
     assert isinstance(logs["status"], str) and isinstance(logs["items"], list)
     if not list((ROOT / "assets" / "logs").glob("*.jsonl")):
         assert logs["status"] == "no logs"
+    clips = sorted(p.name for p in (ROOT / "assets" / "mocap").glob("*.bvh"))
+    assert [i["clip"] for i in report["mocap"]["items"]] == clips
+    for item in report["mocap"]["items"]:
+        assert item["read_ms"] > 0 and item["fk_ms"] > 0 and item["frames"] > 0
+    assert [t["name"] for t in report["mocap"]["targets"]] == [f"read {c}" for c in clips]
 
 
 def test_bench_table_names_targets_and_verdicts():
@@ -69,4 +74,5 @@ def test_bench_table_names_targets_and_verdicts():
 
     text = format_report(run_bench(quick=True))
     assert "speed with control" in text and "checkpoint" in text
+    assert "read cmu-01_01-jumps.bvh" in text
     assert "PASS" in text or "MISS" in text

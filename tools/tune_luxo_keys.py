@@ -85,7 +85,52 @@ def settled(session: Session) -> None:
     session.advance(round(0.5 / session.sim.dt))
 
 
-START_STATES = {"stand": None, "settled": settled, "on_back": on_back, "sitting": sitting}
+def settled_long(session: Session) -> None:
+    """Start state: the start pose after 2 s on the floor (fully at rest)."""
+    session.advance(round(2.0 / session.sim.dt))
+
+
+def stand_mid(session: Session) -> None:
+    """Start state: standing at the medium height (key 2), at rest."""
+    press(session, "2")
+    session.advance(round(2.0 / session.sim.dt))
+
+
+def after_hop(session: Session) -> None:
+    """Start state: standing where a small hop (key q) lands, 2.5 s after the press."""
+    press(session, "q")
+    session.advance(round(2.4 / session.sim.dt))
+
+
+def after_slow_stand(session: Session) -> None:
+    """Start state: standing where the slow stand (key v, from standing) leaves it."""
+    press(session, "v")
+    session.advance(round(2.9 / session.sim.dt))
+
+
+def on_back_tipped(session: Session) -> None:
+    """Start state 'lying on its back' another way: tipped over backwards from the
+    stand pose (placed at 120 deg and let fall), not dropped upside down."""
+    c = session.character
+    c.place(0.0, 0.15, math.radians(120), c.start_joint_angles())
+    session.advance(round(2.0 / session.sim.dt))
+
+
+def on_back_folded(session: Session) -> None:
+    """Start state: dropped upside down with the lamp folded (the sit pose)."""
+    c = session.character
+    c.place(0.0, 0.6, math.pi, {"ankle": math.radians(-75), "knee": math.radians(160)})
+    session.advance(round(2.0 / session.sim.dt))
+
+
+START_STATES = {"stand": None, "settled": settled, "settled_long": settled_long,
+                "stand_mid": stand_mid, "after_hop": after_hop,
+                "after_slow_stand": after_slow_stand, "on_back": on_back,
+                "on_back_tipped": on_back_tipped, "on_back_folded": on_back_folded,
+                "sitting": sitting}
+# a move from standing must work from every standing pose, not only the fresh start
+STANDING = ("settled", "settled_long", "stand_mid", "after_hop", "after_slow_stand")
+ON_BACK = ("on_back_tipped", "on_back_folded")
 
 
 def press(session: Session, key: str, hold: float = 0.1) -> None:
@@ -98,8 +143,9 @@ def press(session: Session, key: str, hold: float = 0.1) -> None:
 def play_key(session: Session, key: str, seconds: float = 3.0) -> Outcome:
     """Press ``key`` now and measure the next ``seconds``."""
     c = session.character
-    base, shade = c.bodies["base"], c.bodies["upper_arm"]
-    x0, a0 = base.position.x, base.angle
+    # Bodies are looked up each time: a checkpoint (every 3 s) re-seats the run on
+    # restored copies, and a body held from before it would stop moving.
+    x0, a0 = c.bodies["base"].position.x, c.bodies["base"].angle
     floor = 0.0
     out = Outcome(shade_top=c.link_position("upper_arm")[1])
     every = 4
@@ -124,11 +170,12 @@ def play_key(session: Session, key: str, seconds: float = 3.0) -> Outcome:
             session.handle(ev.key(key, False))
         session.advance(every)
         sample()
+    base = c.bodies["base"]
     out.dx = base.position.x - x0
     out.turn = math.degrees(base.angle - a0)
     out.upright = c.upright()
     out.angle = math.degrees(math.remainder(base.angle, 2 * math.pi))
-    out.shade_low = shade.local_to_world(shade.center_of_gravity)[1]
+    out.shade_low = c.link_position("upper_arm")[1]
     return out
 
 
@@ -205,12 +252,18 @@ GOALS = {
                             score=lambda o: _upright_bonus(o) + min(o.turn, 360) / 60),
     "forward_somersault": dict(key="t", start="stand", seconds=3.0,
                                seed=[[-80.4, 165.0, 0.662, 1.6], [-44.2, -36.6, 0.134, 1.6],
-                                     [-69.2, 117.7, 0.42, 1]],
-                               score=lambda o: _upright_bonus(o) + min(-o.turn, 360) / 60),
+                                     [-69.2, 117.7, 0.42, 1], [-15, 55, 0.35, 1]],
+                               also=STANDING,
+                               score=lambda o: _upright_bonus(o) + min(-o.turn, 360) / 60
+                               - abs(o.angle) / 30),
+    # Found from a sweep of single pushes (ankle 40..85, knee -40..120): pressing the
+    # arm into the floor with the ankle opened to +40 and the knee folded to 120 levers
+    # the base over onto its bottom (the earlier seed, fold-and-swing with the ankle
+    # forward, only rocked it).
     "roll_over": dict(key="q", start="on_back", seconds=3.0, presses=1,
-                      seed=[[-85, 100, 0.3, 1.5], [-85, -40, 0.3, 1.5]],
-                      score=lambda o: (5.0 if o.upright else 0.0) - abs(o.angle) / 30
-                      - abs(o.dx)),
+                      seed=[[40, 120, 0.2, 1.5], [40, 120, 0.4, 1.5]], also=ON_BACK,
+                      score=lambda o: (5.0 if o.upright else 0.0)
+                      - abs(o.angle) / 30),
 }
 
 
@@ -254,8 +307,8 @@ def tune(name: str, iters: int, seed: int) -> None:
         candidate_doc = with_sequence(doc, name, seq, poses)
         outs = run(candidate_doc, goal["key"], goal["start"], goal["seconds"],
                    goal.get("presses", 2))
-        if goal["start"] == "stand":
-            outs += run(candidate_doc, goal["key"], "settled", goal["seconds"])
+        for start in goal.get("also", ("settled",) if goal["start"] == "stand" else ()):
+            outs += run(candidate_doc, goal["key"], start, goal["seconds"])
         return min((goal["score"](o), i, o) for i, o in enumerate(outs))[::2]
 
     best = goal["seed"]

@@ -14,6 +14,17 @@ Each entry names one check:
                                   # the link's lowest point rose >= 5 cm above its start
       - airborne: {link: base, min_seconds: 0.1}
                                   # the link out of contact for 0.1 s in one stretch
+      - airborne: {link: base, max_seconds: 0.1}
+                                  # ... and never for more than 0.1 s at a time (a shuffle)
+      - stood_on: {link: upper_arm, min_seconds: 2.0, min_tilt: 135}
+                                  # balanced on that link alone (the only one touching),
+                                  # the root at least 135 deg from upright (upside
+                                  # down: a headstand), for 2 s in one stretch
+      - got_up: {lay_seconds: 1.0, within_seconds: 1.5}
+                                  # lay (root >= min_tilt, 80 deg, from upright while
+                                  # touching) for 1 s, then from the end of the last
+                                  # such stretch stood up (root within upright_tilt,
+                                  # 20 deg) within 1.5 s, and stayed up to the end
       - turned: {link: base, min_degrees: 300, direction: backward}
                                   # the link's accumulated rotation, start to end, at
                                   # least 300 deg backward (counter-clockwise for a
@@ -99,7 +110,34 @@ class ReachedHeight(Spec):
 
 class Airborne(Spec):
     link: str
-    min_seconds: Time = Field(description="s out of contact in one stretch")
+    min_seconds: Time | None = Field(
+        None, description="s out of contact in one stretch, at least")
+    max_seconds: Time | None = Field(
+        None, description="s out of contact in one stretch, at most (every stretch)")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.min_seconds is None and self.max_seconds is None:
+            raise ValueError("give 'min_seconds', 'max_seconds' or both")
+        return self
+
+
+class StoodOn(Spec):
+    link: str = Field(description="the one link touching the ground")
+    min_seconds: Time = Field(description="s in one stretch")
+    min_tilt: float = Field(135.0, ge=0, le=180,
+                            description="deg the root is from upright at least (135: "
+                                        "upside down)")
+
+
+class GotUp(Spec):
+    lay_seconds: Time = Field(description="s lying first, in one stretch")
+    within_seconds: Time = Field(
+        description="s from the end of the last lying stretch to standing up for good")
+    min_tilt: float = Field(80.0, ge=0, le=180,
+                            description="deg from upright, touching the ground: lying")
+    upright_tilt: float = Field(20.0, ge=0, le=180,
+                                description="deg from upright at most: standing")
 
 
 class Turned(Spec):
@@ -163,6 +201,8 @@ class Expectation(Spec):
     airborne: Airborne | None = None
     turned: Turned | None = None
     landed_at: LandedAt | None = None
+    stood_on: StoodOn | None = None
+    got_up: GotUp | None = None
     stayed_in_state: StayedInState | None = None
     stayed_in_mode: StayedInMode | None = None
     in_state_at_end: str | None = None
@@ -212,7 +252,15 @@ class Expectation(Spec):
         if isinstance(v, ReachedHeight):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, Airborne):
-            return f"airborne {v.link} min {v.min_seconds} s"
+            bounds = " ".join(f"{k} {b} s" for k, b in (("min", v.min_seconds),
+                                                        ("max", v.max_seconds)) if b is not None)
+            return f"airborne {v.link} {bounds}"
+        if isinstance(v, StoodOn):
+            return (f"stood_on {v.link} alone, root >= {v.min_tilt:g} deg from upright, "
+                    f"min {v.min_seconds} s")
+        if isinstance(v, GotUp):
+            return (f"got_up: lay (>= {v.min_tilt:g} deg) min {v.lay_seconds} s, up "
+                    f"(<= {v.upright_tilt:g} deg) within {v.within_seconds} s")
         if isinstance(v, Turned):
             return (f"turned {v.link} {v.direction} min {v.min_degrees} deg"
                     + (" in flight" if v.in_flight else ""))
@@ -354,6 +402,30 @@ def _stayed(e: Expectation, v: StayedIn, traj) -> Outcome:
     return Outcome(e.describe(), False, what)
 
 
+def _got_up(desc: str, v: GotUp, traj) -> Outcome:
+    """The last stretch lying (root >= min_tilt from upright while touching), at least
+    lay_seconds long; then standing (root <= upright_tilt) from some sample to the end,
+    reached within within_seconds of the end of lying."""
+    tilt = _tilt_deg(traj.root_angle)
+    lying = (tilt >= v.min_tilt) & traj.contact.any(axis=1)
+    runs = _runs(lying)
+    if not runs:
+        return Outcome(desc, False, f"never lay (root >= {v.min_tilt:g} deg on the ground)")
+    dt = float(np.median(np.diff(traj.t))) if len(traj.t) > 1 else 0.0
+    i, j = runs[-1]
+    lay = float(traj.t[j] - traj.t[i] + dt)
+    up = tilt <= v.upright_tilt
+    after = np.flatnonzero(~up)
+    first_up = (int(after[-1]) + 1) if len(after) else 0  # standing from here to the end
+    if first_up >= len(up) or first_up <= j:
+        return Outcome(desc, False, f"lay {lay:.2f} s until t = {traj.t[j]:.2f} s, "
+                                    f"not standing at the end ({tilt[-1]:.0f} deg)")
+    took = float(traj.t[first_up] - traj.t[j])
+    ok = lay >= v.lay_seconds - 1e-9 and took <= v.within_seconds + 1e-9
+    return Outcome(desc, ok, f"lay {lay:.2f} s (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s), "
+                             f"standing from t = {traj.t[first_up]:.2f} s: up in {took:.2f} s")
+
+
 def _at_end(e: Expectation, column: str, traj) -> Outcome:
     _check_name(e, traj, column, e.value)
     seen = getattr(traj, column)
@@ -396,9 +468,20 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
     if isinstance(v, Airborne):
         free = ~traj.contact[:, traj.index(v.link)]
         length, i, _ = _longest_run(free, traj.t)
-        return Outcome(desc, length >= v.min_seconds - 1e-9,
-                       f"longest time out of contact {length:.3f} s"
+        ok = ((v.min_seconds is None or length >= v.min_seconds - 1e-9)
+              and (v.max_seconds is None or length <= v.max_seconds + 1e-9))
+        return Outcome(desc, ok, f"longest time out of contact {length:.3f} s"
                        + (f" (from t = {traj.t[i]:.2f} s)" if length > 0 else ""))
+    if isinstance(v, StoodOn):
+        k = traj.index(v.link)
+        others = np.delete(traj.contact, k, axis=1).any(axis=1)
+        on = traj.contact[:, k] & ~others & (_tilt_deg(traj.root_angle) >= v.min_tilt)
+        length, i, j = _longest_run(on, traj.t)
+        return Outcome(desc, length >= v.min_seconds - 1e-9 and length > 0,
+                       f"longest stretch on {v.link} alone, upside down: {length:.3f} s"
+                       + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s)" if length > 0 else ""))
+    if isinstance(v, GotUp):
+        return _got_up(desc, v, traj)
     if isinstance(v, Turned):
         sign = 1.0 if v.direction == "backward" else -1.0
         turn = sign * np.degrees(np.unwrap(traj.angle[:, traj.index(v.link)]))

@@ -1,0 +1,1 @@
+"""Motion capture: reading BVH clips (and writing planar ones)."""
