@@ -54,11 +54,11 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
         return _compile_frame(spec, frames, channels, frame_owner)
     if channels is not None and any(n.startswith(CHANNEL) for n in names):
         if all(n.startswith(CHANNEL) for n in names):
-            bare = _renamed(spec, {n: n[len(CHANNEL):] for n in names})
             if isinstance(spec, GridMapSpec):
+                bare = _renamed(spec, {n: n[len(CHANNEL):] for n in names})
                 inner = compile_map(bare, servos, pose_targets)
                 return lambda values: inner(channels)  # noqa: E731
-            return _compile_linear(bare, servos, channels)
+            return _compile_linear(spec, servos, channels)
         inner = compile_map(spec, servos, pose_targets)  # channels and devices mixed
 
         def apply_mixed(values):
@@ -106,52 +106,31 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
     return _compile_linear(spec, servos)
 
 
-def _compile_linear(spec, servos, source=None):
-    """A linear map's applier; it reads its input from ``source`` if given (then the
-    ``values`` it is called with are not looked at), else from ``values``."""
-    (x0, x1), (y0, y1) = spec.from_, spec.to
-    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
-    clamp, curve, name = spec.clamp, spec.curve, spec.input
+def _compile_linear(spec, servos, channels=None):
+    """A linear map's applier (``channels``: where ``channel.NAME`` inputs are read)."""
+    value = _unit(spec, channels)
     outs = [(servos[j], g) for j, g in spec.gains().items()]
     joints = tuple(spec.gains())
-    plain = curve == "linear"
-    if len(outs) == 1 and outs[0][1] == 1.0 and plain:  # the common case, kept lean
-        servo = outs[0][0]
-
-        def apply_one(values):
-            value = (values if source is None else source).get(name)
-            if value is None:
-                return ()
-            u = (value - x0) * inv
-            if clamp:
-                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-            servo.target = 1.0 * (lo + u * span)
-            return joints
-        return apply_one
 
     def apply_linear(values):
-        value = (values if source is None else source).get(name)
-        if value is None:
+        v = value(values)
+        if v is None:
             return ()
-        u = (value - x0) * inv
-        if clamp:
-            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-        v = lo + (u if plain else shape(curve, u)) * span
         for servo, gain in outs:
             servo.target = gain * v
         return joints
     return apply_linear
 
 
-def _unit(spec, source=None):
-    """``value(values) -> the map's output in radians`` (None without its input)."""
+def _unit(spec, channels=None):
+    """``value(values) -> the map's output in radians`` (None without its input); a
+    ``channel.NAME`` input is read from ``channels`` by its bare name when given."""
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
     clamp, curve, name = spec.clamp, spec.curve, spec.input
-    if name.startswith(CHANNEL) and source is not None:
-        name = name[len(CHANNEL):]  # read from the channels dict, by bare name
-    else:
-        source = None
+    source = None
+    if name.startswith(CHANNEL) and channels is not None:
+        name, source = name[len(CHANNEL):], channels  # by bare name
 
     def value(values):
         v = (values if source is None else source).get(name)
@@ -195,7 +174,5 @@ def _compile_frame(spec, frames, channels, owner=None):
 
 
 def _renamed(spec, names: dict[str, str]):
-    """``spec`` reading its inputs under other names."""
-    if isinstance(spec, GridMapSpec):
-        return spec.model_copy(update={"x": names[spec.x], "y": names[spec.y]})
-    return spec.model_copy(update={"input": names[spec.input]})
+    """A grid map reading its inputs under other names."""
+    return spec.model_copy(update={"x": names[spec.x], "y": names[spec.y]})
