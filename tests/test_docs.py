@@ -291,3 +291,17 @@ def test_guide_foot_placement_snippet_adds_to_the_swing_hip(tmp_path):
     v = c.com_velocity()[0]
     base = math.radians(c.spec.start.joints["hip_far"])
     assert hip.target == pytest.approx(base + math.radians(30 * d + 12 * v), abs=1e-3)
+
+
+def test_guide_cat_lunge_reaches_when_the_back_paws_leave_the_ground(tmp_path):
+    s = doc_session(tmp_path, "name: cat-lunge")
+    s.advance(240)
+    tap(s, "x")
+    s.advance(240)
+    tap(s, "space")
+    states = set()
+    for _ in range(180):
+        s.advance(4)
+        states.add(s.runtime.state)
+    assert {"pushing", "flying"} <= states  # the back paws left the ground: reach
+    assert s.runtime.state == "ready"  # landed (or timed out) and ready again
