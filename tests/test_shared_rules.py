@@ -42,7 +42,7 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
     from pathlib import Path
 
     from puppet.data.catalog import load_setup
-    from puppet.interface.app_keys import normalize_key
+    from puppet.data.keys import normalize_key
     from puppet.interface.describe import live_keys
     from puppet.session import Session
 

@@ -19,7 +19,7 @@ import pygame
 
 from puppet.app.render import LAYER_ORDER
 from puppet.data.characters import CharacterSpec
-from puppet.interface.app_keys import MODIFIERS, normalize_key
+from puppet.data.keys import MODIFIERS, normalize_key
 from puppet.interface.describe import live_keys
 
 KEY_ROWS = ("1234567890-=", "qwertyuiop[]", "asdfghjkl;'", "zxcvbnm,./")

@@ -13,9 +13,9 @@ from pathlib import Path
 
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
+from puppet.data.keys import key_chord
 from puppet.app.devices import Gamepads, device_events
 from puppet.interface import events as ev
-from puppet.interface.app_keys import key_chord
 from puppet.session import Session
 
 MIN_SIZE = (1024, 640)
