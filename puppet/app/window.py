@@ -73,7 +73,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     feeder = recorder = None
     slowdown = slowdown or setup.interface.slowdown
     if replay is not None:  # events come from a log; the devices only drive the window
-        from puppet.timeline.replay import LogFeeder, finished_message, new_session
+        from puppet.timeline.replay import LogFeeder, new_session
+        from puppet.timeline.report import finished_message
 
         session = new_session(replay, setup)
     else:
