@@ -221,7 +221,7 @@ def export_command(args) -> int:
     res["outcomes"] = [str(o) for o in result.outcomes]
     print_one(res, args.check)
     if args.plot:
-        from puppet.timeline.plot import joint_limits, save_joint_plot
+        from puppet.app.plot import joint_limits, save_joint_plot
 
         setup = result.session.setup
         title = f"{Path(path).name}: {setup.character.name} joint targets and angles"
