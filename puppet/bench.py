@@ -92,7 +92,7 @@ def characters_and_interfaces() -> list[tuple[str, list[str]]]:
 def gesture(frames: int, interface_spec) -> list[list[dict]]:
     """The input of each frame: a figure-of-eight mouse path, and key taps."""
     from puppet.interface import events as ev
-    from puppet.interface.app_keys import normalize_key
+    from puppet.data.keys import normalize_key
 
     # Keys that change the world itself (gravity, friction, random kicks, shoves) are left out:
     # the bare run replays servo changes only, and those are not the control layer's cost.

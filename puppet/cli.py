@@ -232,7 +232,7 @@ def _replay(args: argparse.Namespace) -> int:
         from puppet.app.export import export_command
 
         return export_command(args)
-    from puppet.timeline.replay import replay_command
+    from puppet.timeline.report import replay_command
 
     return replay_command(args)
 

@@ -15,7 +15,7 @@ from puppet.interface.app_keys import SetSlowdown
 from puppet.testing import record_script, replay_log
 from puppet.timeline.ghost import Ghost
 from puppet.timeline.log import read_log
-from puppet.timeline.plot import plot_joints, save_joint_plot
+from puppet.app.plot import plot_joints, save_joint_plot
 from puppet.timeline.replay import replay
 from puppet.timeline.script import compile_script, load_script
 

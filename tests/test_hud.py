@@ -9,7 +9,7 @@ from puppet.app.headless import FrameRenderer
 from puppet.app.hud import ERROR, NEWS, layout_rows
 from puppet.data import catalog
 from puppet.data.catalog import load_setup
-from puppet.interface.describe import app_lines, compact_lines, interface_lines
+from puppet.app.describe import app_lines, compact_lines, interface_lines
 from puppet.session import Session
 
 INTERFACES = [n for n, _ in catalog.list_kind("interface")]
@@ -142,7 +142,7 @@ def test_the_hud_says_what_keys_changed_in_the_world():
 
 def test_where_line_names_each_machines_state():
     from puppet.data.catalog import load_setup
-    from puppet.interface.describe import where_line
+    from puppet.app.describe import where_line
 
     spec = load_setup("luxo-keys").interface
     assert where_line(spec, "upright", None, {"main": "upright", "grasp": "open"}) == \

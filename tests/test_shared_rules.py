@@ -13,7 +13,7 @@ from puppet.timeline.script import DEFAULT_SECONDS, ScriptSpec, run_seconds
 
 def test_key_map_shows_what_a_key_does_in_the_state():
     from puppet.app.keymap import pose_key_bindings
-    from puppet.interface.describe import interface_lines
+    from puppet.app.describe import interface_lines
 
     spec, _ = load_interface(find("interface", "luxo-keys"))
     assert dict(pose_key_bindings(spec, "upright"))["1"] == "stand_low"
@@ -42,8 +42,8 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
     from pathlib import Path
 
     from puppet.data.catalog import load_setup
-    from puppet.interface.app_keys import normalize_key
-    from puppet.interface.describe import live_keys
+    from puppet.data.keys import normalize_key
+    from puppet.app.describe import live_keys
     from puppet.session import Session
 
     for path in sorted((Path(__file__).resolve().parents[1] / "interfaces").glob("*.yaml")):

@@ -7,7 +7,7 @@ import pytest
 from puppet.checker import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
-from puppet.interface.describe import interface_lines
+from puppet.app.describe import interface_lines
 from puppet.session import Session
 
 INTERFACES = sorted((Path(__file__).parents[1] / "interfaces").glob("*.yaml"))
@@ -40,7 +40,7 @@ def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
 
 def test_key_map_names_the_live_state_and_lists_each_key_once():
     from puppet.data.catalog import load_setup
-    from puppet.interface.describe import interface_lines, where_line
+    from puppet.app.describe import interface_lines, where_line
 
     spec = load_setup("luxo-keys").interface
     assert spec.states, "luxo-keys has a state machine"

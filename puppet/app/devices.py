@@ -6,7 +6,7 @@ them) is opened through SDL's game-controller API (pygame-ce's
 ``pygame._sdl2.controller``), so its inputs have standard names whatever the make:
 ``gamepad.left_x`` .. ``gamepad.right_y`` (sticks, -1..1, y up), ``gamepad.left_trigger``
 / ``right_trigger`` (0..1) and buttons ``gamepad.a`` ... ``gamepad.dpad_up`` (0/1); see
-``puppet.interface.events.GAMEPAD_*``. Any other joystick is the fallback: raw
+``puppet.data.keys.GAMEPAD_*``. Any other joystick is the fallback: raw
 ``gamepad.axisN`` (-1..1, as the device reports) and ``gamepad.buttonN``. All gamepads
 report as one ``gamepad``. Dead zones (the interface's ``gamepad:`` settings) are applied
 here, so the log records what the interface read, and an input that did not change

@@ -19,7 +19,8 @@ from pathlib import Path
 from puppet.app.headless import DEFAULT_SIZE, FrameRenderer
 from puppet.session import Session
 from puppet.timeline.log import Log, read_log
-from puppet.timeline.replay import LogFeeder, finished_message, new_session, setup_for_log
+from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+from puppet.timeline.report import finished_message
 
 VIDEO_EXTS = {".mp4", ".mov", ".mkv", ".avi"}  # through ffmpeg (imageio-ffmpeg)
 GIF_EXTS = {".gif"}  # through pillow
@@ -200,7 +201,8 @@ def export_command(args) -> int:
     """The replay command with --video and/or --plot (one log, headless). The options'
     ranges and the output names are checked by the command line (``puppet.cli``)."""
     from puppet.data.errors import UsageError
-    from puppet.timeline.replay import exit_code, find_log, print_one, replay, verdict
+    from puppet.timeline.replay import find_log, replay
+    from puppet.timeline.report import exit_code, print_one, verdict
 
     if not args.headless:
         raise UsageError("--video and --plot need --headless")
@@ -219,7 +221,7 @@ def export_command(args) -> int:
     res["outcomes"] = [str(o) for o in result.outcomes]
     print_one(res, args.check)
     if args.plot:
-        from puppet.timeline.plot import joint_limits, save_joint_plot
+        from puppet.app.plot import joint_limits, save_joint_plot
 
         setup = result.session.setup
         title = f"{Path(path).name}: {setup.character.name} joint targets and angles"

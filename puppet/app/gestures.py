@@ -11,8 +11,8 @@ and the hot reload then runs the saved file.
 from __future__ import annotations
 
 from puppet.data.interfaces import InterfaceSpec, with_gesture
+from puppet.data.keys import normalize_key
 from puppet.interface import events as ev
-from puppet.interface.app_keys import normalize_key
 
 IDLE, RECORDING, BINDING = "idle", "recording", "binding"
 DIGITS = 4  # decimals kept of times (s) and positions

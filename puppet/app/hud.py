@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import pygame
 
+from puppet.app.describe import app_lines, compact_lines, interface_lines, where_line
 from puppet.app.keymap import draw_keymap
-from puppet.interface.describe import app_lines, compact_lines, interface_lines, where_line
 from puppet.session import Session
 
 TEXT = (40, 44, 52)

@@ -17,10 +17,10 @@ import math
 
 import pygame
 
+from puppet.app.describe import live_keys
 from puppet.app.render import LAYER_ORDER
 from puppet.data.characters import CharacterSpec
-from puppet.interface.app_keys import MODIFIERS, normalize_key
-from puppet.interface.describe import live_keys
+from puppet.data.keys import MODIFIERS, normalize_key
 
 KEY_ROWS = ("1234567890-=", "qwertyuiop[]", "asdfghjkl;'", "zxcvbnm,./")
 ROW_STAGGER = (0.0, 0.5, 0.75, 1.25)  # key widths each row is shifted right

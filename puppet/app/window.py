@@ -13,9 +13,9 @@ from pathlib import Path
 
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
+from puppet.data.keys import key_chord
 from puppet.app.devices import Gamepads, device_events
 from puppet.interface import events as ev
-from puppet.interface.app_keys import key_chord
 from puppet.session import Session
 
 MIN_SIZE = (1024, 640)
@@ -73,7 +73,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     feeder = recorder = None
     slowdown = slowdown or setup.interface.slowdown
     if replay is not None:  # events come from a log; the devices only drive the window
-        from puppet.timeline.replay import LogFeeder, finished_message, new_session
+        from puppet.timeline.replay import LogFeeder, new_session
+        from puppet.timeline.report import finished_message
 
         session = new_session(replay, setup)
     else:

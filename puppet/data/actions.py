@@ -15,11 +15,10 @@ from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
 from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
                                 ModelXY, Num, PositiveDuration, Seed, Stiffness, WorldXY)
+from puppet.data.keys import APP_KEYS, GAMEPAD_BUTTONS
 from puppet.data.validate import Spec
-from puppet.interface.app_keys import APP_KEYS
 
 InputXY = tuple[Num("input"), Num("input")]
-from puppet.interface.events import GAMEPAD_BUTTONS
 
 
 # Continuous inputs a map may read. Mouse position is 0..1 (y up), buttons 0/1,

@@ -19,10 +19,10 @@ from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
                                  KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
                                  check_input_name)
 from puppet.data.characters import CharacterSpec
+from puppet.data.keys import APP_KEYS, key_problem, normalize_key
 from puppet.data.ranges import AngleChange, Damping, Num, Stiffness, Torque
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
-from puppet.interface.app_keys import APP_KEYS, key_problem, normalize_key
 
 __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
            "KeyActionSpec", "StateSpec", "GestureSpec", "load_interface", "parse_interface",

@@ -10,7 +10,7 @@ Events are plain dicts (JSON-ready). Kinds:
   {"type": "action", "name": "reset"}                 an app action that changes the sim
   {"type": "mouse_button", "button": "left", "down": true}   input mouse.left = 1 / 0
   {"type": "gamepad", "name": "left_x", "value": -0.3}       input gamepad.left_x
-                                 (standard names, see GAMEPAD_*; axisN / buttonN for a
+                                 (standard names, see puppet.data.keys.GAMEPAD_*; axisN / buttonN for a
                                  joystick SDL has no controller mapping for)
   {"type": "channel", "name": "lean", "value": 0.2}          input channel.lean (plugins)
   {"type": "channels", "values": {"hip": 0.3, "knee": -0.1}}  many channels at one step
@@ -25,15 +25,9 @@ from __future__ import annotations
 
 from typing import Any
 
-Event = dict[str, Any]
+from puppet.data.keys import GAMEPAD_STICKS, GAMEPAD_TRIGGERS
 
-# A game controller's inputs by SDL's standard names (the layout of an Xbox pad: a is
-# the bottom face button). Sticks read -1..1 with y up, triggers 0..1, buttons 0/1.
-GAMEPAD_STICKS = ("left_x", "left_y", "right_x", "right_y")
-GAMEPAD_TRIGGERS = ("left_trigger", "right_trigger")
-GAMEPAD_BUTTONS = ("a", "b", "x", "y", "back", "guide", "start", "left_stick",
-                   "right_stick", "left_shoulder", "right_shoulder", "dpad_up",
-                   "dpad_down", "dpad_left", "dpad_right")
+Event = dict[str, Any]
 
 
 def is_analog(name: str) -> bool:

@@ -33,9 +33,10 @@ import math
 
 from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
+from puppet.data.keys import normalize_key
 from puppet.interface import maps as mapping
 from puppet.interface import meta
-from puppet.interface.app_keys import AppAction, SetSlowdown, normalize_key
+from puppet.interface.app_keys import AppAction, SetSlowdown
 from puppet.interface.conditions import map_reader
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets

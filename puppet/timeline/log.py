@@ -33,8 +33,9 @@ from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT
                                     MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data import ranges
 from puppet.data.errors import DataError
+from puppet.data.keys import GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS
 from puppet.interface.app_keys import SIM_ACTIONS
-from puppet.interface.events import GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS, Event
+from puppet.interface.events import Event
 
 GAMEPAD_NAMES = frozenset(GAMEPAD_STICKS + GAMEPAD_TRIGGERS + GAMEPAD_BUTTONS)
 

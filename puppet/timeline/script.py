@@ -17,11 +17,12 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
+from puppet.data.keys import key_problem, normalize_key
 from puppet.data.ranges import Duration, Num, Time, WorldXY
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface import events as ev
-from puppet.interface.app_keys import SIM_ACTIONS, key_problem, normalize_key
+from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.interface.events import Event
 
 Vec2 = WorldXY

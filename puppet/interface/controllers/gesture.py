@@ -7,7 +7,7 @@ pose, a moving mouse, a new sequence) and writes only those it still owns.
 
 from __future__ import annotations
 
-from puppet.interface.app_keys import normalize_key
+from puppet.data.keys import normalize_key
 from puppet.interface.ownership import GESTURE, JointOwners, Owner
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
-from puppet.interface.app_keys import APP_KEYS, normalize_key
+from puppet.data.keys import APP_KEYS, normalize_key
 
 
 def _fmt(v: float) -> str:

@@ -1,0 +1,189 @@
+"""The ``puppet replay`` command's report: what it prints and exits with.
+
+The replay itself is ``puppet.timeline.replay`` (the engine); here are the command
+(``replay_command``: one log or many, headless or in the window), each log's state line
+and checks, the many-log table and summary line, the verdict words and the exit codes,
+and the line the window and a video show when a replay ends (``finished_message``).
+"""
+
+from __future__ import annotations
+
+import re
+
+from puppet.data.errors import DataError
+from puppet.session import Session
+from puppet.timeline.log import Log, read_log
+from puppet.timeline.replay import cut_warnings, find_log, replay, setup_for_log
+
+EXIT_FAILED, EXIT_DATA_ERROR, EXIT_BLOWUP = 1, 2, 3
+
+
+def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
+                as_recorded: bool = False) -> dict:
+    """One headless replay, as a plain dict (runs in a worker process). ``path`` may
+    be a log's name (``find_log``)."""
+    try:
+        result = replay(find_log(path), until_step, allow_truncated, check=check, trajectory=check,
+                        as_recorded=as_recorded)
+    except DataError as exc:
+        return {"log": path, "error": str(exc)}
+    except Exception as exc:  # noqa: BLE001 - one bad log must not stop the others
+        return {"log": path, "error": f"{path}: internal error: {type(exc).__name__}: {exc}"}
+    out = result.summary
+    out["outcomes"] = [str(o) for o in result.outcomes]
+    return out
+
+
+def verdict(res: dict) -> str:
+    """A replay's one word, the same in the table, the summary line and the exit code:
+    ERROR (cannot be replayed), FAIL (an expectation failed; with --check the recorded
+    end state is one), "differs" (no --check, and the replay did not end in the recorded
+    state: not ok either), else ok."""
+    if "error" in res:
+        return "ERROR"
+    if res["failed"]:
+        return "FAIL"
+    return "differs" if res["same_end"] is False else "ok"
+
+
+def exit_code(verdicts: list[str], blew_up: bool = False) -> int:
+    """2 if a log cannot be replayed, 3 if one blew up (or left the world), 1 if one
+    failed or differs, else 0."""
+    if "ERROR" in verdicts:
+        return EXIT_DATA_ERROR
+    if blew_up:
+        return EXIT_BLOWUP
+    return EXIT_FAILED if {"FAIL", "differs"} & set(verdicts) else 0
+
+
+def state_line(res: dict) -> str:
+    """``LOG: step N  t=...s  state=HASH (same as recorded)  blow-ups=K``."""
+    same = {None: "", True: " (same as recorded)",
+            False: f" (recorded {res['recorded_hash']}: DIFFERENT)"}[res["same_end"]]
+    blown = f"  blow-ups={len(res['blowups'])}" if res["blowups"] else ""
+    return (f"{res['log']}: step {res['steps']}  t={res['time']:.3f}s  "
+            f"state={res['hash']}{same}{blown}")
+
+
+def print_notes(res: dict) -> None:
+    """A replay's warnings and one line per blow-up, to stderr."""
+    import sys
+
+    for w in res.get("warnings", []):
+        print(w, file=sys.stderr)
+    for note in res.get("blowups", []):
+        print(f"{res['log']}: {note}", file=sys.stderr)
+
+
+def finished_message(session: Session, log: Log) -> str:
+    """What the window and a video say when a replay ends: where, and whether the state
+    is the recorded one."""
+    final, recorded = session.sim.state_hash(), log.end_hash
+    same = ("no recorded end state to compare" if recorded is None
+            else "the same as recorded" if final == recorded
+            else f"recorded {recorded}: DIFFERENT")
+    return f"replay finished at step {session.steps}: state {final} ({same})"
+
+
+def print_one(res: dict, check: bool) -> None:
+    print(state_line(res))
+    if check:
+        for line in res["outcomes"]:
+            print(f"  {line}")
+        if not res["outcomes"]:
+            print("  (no expectations)")
+    print_notes(res)
+
+
+def _table(results: list[dict], check: bool) -> str:
+    rows = [("log", "steps", "state", "checks", "result")]
+    for r in results:
+        if "error" in r:
+            rows.append((r["log"], "-", "-", "-", "ERROR"))
+            continue
+        n, failed = r["checks"], len(r["failed"])
+        rows.append((r["log"], str(r["steps"]), r["hash"],
+                     f"{n - failed}/{n}" if check else "-", verdict(r)))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip()
+                     for row in rows)
+
+
+def summary_line(results: list[dict], check: bool) -> str:
+    """``N logs: A ok, B failed, C errors, D blow-ups`` (without --check, a log that
+    does not end in its recorded state is counted as "differ", not ok)."""
+    words = [verdict(r) for r in results]
+    middle = (f"{words.count('FAIL')} failed" if check else f"{words.count('differs')} differ")
+    blowups = sum(len(r.get("blowups", [])) for r in results)
+    return (f"{len(results)} logs: {words.count('ok')} ok, {middle}, "
+            f"{words.count('ERROR')} errors, {blowups} blow-up{'' if blowups == 1 else 's'}")
+
+
+def replay_command(args) -> int:
+    """``puppet replay LOG... [--headless] [--check] [--until-step N] [--allow-truncated]
+    [--jobs N]``. Exit 2 if a log cannot be replayed, 1 if one fails its expectations
+    (--check) or ends in another state than recorded, else 0."""
+    import sys
+
+    from puppet.data.errors import UsageError
+
+    logs = list(args.logs)
+    if not args.headless:
+        if len(logs) > 1:
+            raise UsageError("several logs need --headless")
+        if args.check:
+            raise UsageError("--check needs --headless")
+        from puppet.app.window import run_window
+
+        log = read_log(find_log(logs[0]), args.allow_truncated)
+        setup, warnings = setup_for_log(log, args.as_recorded)
+        warnings += cut_warnings(log)
+        for w in warnings:
+            print(w, file=sys.stderr)
+        slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
+        return run_window(setup, slowdown, replay=log, until_step=args.until_step,
+                          slowdown_chosen=args.slowdown is not None,
+                          overlay=getattr(args, "overlay", None) == "com",
+                          note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
+                                          for w in warnings))
+
+    if len(logs) == 1 and args.jobs <= 1:
+        res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
+                          args.as_recorded)
+        if "error" in res:
+            print(f"puppet replay: {res['error']}", file=sys.stderr)
+            return EXIT_DATA_ERROR
+        print_one(res, args.check)
+        return exit_code([verdict(res)], bool(res.get("blowups")))
+
+    from tqdm import tqdm
+
+    params = (args.until_step, args.allow_truncated, args.check, args.as_recorded)
+    results: dict[int, dict] = {}
+    # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
+    bar = tqdm(total=len(logs), unit="log", desc="replay", file=sys.stderr, disable=None)
+    if args.jobs > 1:
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+            futures = {pool.submit(_replay_one, p, *params): i for i, p in enumerate(logs)}
+            for fut in as_completed(futures):
+                results[futures[fut]] = fut.result()
+                bar.update(1)
+    else:
+        for i, p in enumerate(logs):
+            results[i] = _replay_one(p, *params)
+            bar.update(1)
+    bar.close()
+    ordered = [results[i] for i in range(len(logs))]
+    for r in ordered:
+        if "error" in r:
+            print(f"puppet replay: {r['error']}", file=sys.stderr)
+    for r in ordered:
+        print_notes(r)
+        if args.check and "error" not in r:
+            for line in r["failed"]:
+                print(f"{r['log']}: {line}")
+    print(_table(ordered, args.check))
+    print(summary_line(ordered, args.check))
+    return exit_code([verdict(r) for r in ordered], any(r.get("blowups") for r in ordered))
