@@ -49,7 +49,8 @@ from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.events import Event, is_analog
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import FEEDBACK, FRAME, JointOwners
-from puppet.interface.poses import apply_pose, compile_poses, frame_target
+from puppet.interface.poses import apply_pose, frame_target
+from puppet.interface.roles import RoleBinding
 from puppet.physics.character import Character
 
 MAX_CHAINED_GOTOS = 16
@@ -66,16 +67,15 @@ class InterfaceRuntime:
         self.dt = dt if dt is not None else (sim.dt if sim is not None else 1.0 / 480.0)
         self.now = 0  # current step when there is no Simulation to ask
         # Roles: names that mean one joint or link in one binding, another in the next
-        # (the stance leg and the swing leg); poses and maps are compiled per binding.
-        self._pose_sets: dict[str | None, dict] = {}
-        self.role_binding: str | None = None
+        # (the stance leg and the swing leg); poses and maps are resolved per binding.
+        self.roles = RoleBinding(spec)
         self._use_binding(spec.start_binding)
         self.bindings = {normalize_key(k.key): k for k in spec.keys}
         machines = spec.state_machines()
         self.machines = {name: StateMachine(name, m, spec, character, self.dt)
                          for name, m in machines.items()}
         for machine in self.machines.values():
-            machine.use_renamer(self.role_binding, self._rename_sensor)
+            machine.use_renamer(self.role_binding, self.roles.sensor)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
         self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
                                for mname, m in machines.items()
@@ -118,40 +118,17 @@ class InterfaceRuntime:
 
     def _use_binding(self, binding: str | None) -> None:
         """Resolve roles as ``binding`` says from now on (poses, maps, sensors)."""
-        self.role_binding = binding
-        self._rename = self.spec.renamer(binding)
-        poses = self._pose_sets.get(binding)
-        if poses is None:
-            poses = self._pose_sets[binding] = compile_poses(self.spec.poses, self._rename)
+        poses = self.roles.use(binding)
         self.poses = poses
         self.pose_targets = {n: p.targets for n, p in poses.items()}
         if "sequences" in self.__dict__:
             self.sequences.poses = poses
         for machine in self.__dict__.get("machines", {}).values():
-            machine.use_renamer(binding, self._rename_sensor)
+            machine.use_renamer(binding, self.roles.sensor)
 
-    def _rename_sensor(self, sensor: str) -> str:
-        """A sensor name with a role in it (angle.swing_thigh) as the binding means it."""
-        for role in self.spec.roles:
-            if sensor.endswith("." + role):
-                return sensor[:-len(role)] + self._rename(role)
-        return sensor
-
-    def _bound_map(self, m):
-        """Map ``m`` with its roles resolved under the current binding."""
-        if not self.spec.roles:
-            return m
-        r, rs = self._rename, self._rename_sensor
-        if getattr(m, "grid", None) is not None:
-            update = {"x": rs(m.x), "y": rs(m.y)}
-            if m.joints is not None:
-                update["joints"] = [r(j) for j in m.joints]
-            return m.model_copy(update=update)
-        update = {"input": rs(m.input), "joints": {r(j): g for j, g in m.joints.items()},
-                  "frame": r(m.frame)}
-        if m.joint is not None:
-            update["joint"] = r(m.joint)
-        return m.model_copy(update=update)
+    @property
+    def role_binding(self) -> str | None:
+        return self.roles.binding
 
     # -- what runs (read by the HUD, replays and tests) -------------------------------
     @property
@@ -291,7 +268,7 @@ class InterfaceRuntime:
         for m in active:
             if not m.feedback:
                 continue
-            for name in self._bound_map(m).inputs:
+            for name in self.roles.map(m).inputs:
                 if name.startswith("sensor.") and name not in readers:
                     read = self._readers.get(name)
                     if read is None:
@@ -304,7 +281,7 @@ class InterfaceRuntime:
         self.feedback.set_maps(list(readers.items()), setters, adders)
 
     def _map_joints(self, m) -> set[str]:
-        m = self._bound_map(m)
+        m = self.roles.map(m)
         if getattr(m, "grid", None) is not None:
             these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
             return these if m.joints is None else these & set(m.joints)
@@ -315,7 +292,7 @@ class InterfaceRuntime:
         key = (id(m), self.role_binding)
         applier = self._map_cache.get(key)
         if applier is None:
-            m = self._bound_map(m)
+            m = self.roles.map(m)
             if getattr(m, "combine", "set") == "add":
                 applier = mapping.compile_contribution(m, self.channels)
             else:
@@ -522,7 +499,7 @@ class InterfaceRuntime:
         if a.perturb is not None:
             self.perturber.switch(a.perturb, now)
         if a.push is not None and self.sim is not None:
-            self.sim.push(self._rename(a.push.link), a.push.impulse, a.push.point)
+            self.sim.push(self.roles.rename(a.push.link), a.push.impulse, a.push.point)
         if a.mode is not None and a.mode != self.mode:
             self.mode = a.mode
             self._refresh_active_maps()
@@ -532,7 +509,7 @@ class InterfaceRuntime:
             if to is not None:
                 self._enter_state(to[0], to[1], now, depth)
         servos = self.character.servos
-        r = self._rename
+        r = self.roles.rename
         if a.stiffness or a.damping:
             if a.while_held and chord is not None:
                 saved = self.gain_holds.setdefault(chord, {})

@@ -1,0 +1,52 @@
+"""Roles: names that mean one joint or link in one binding and another in the next.
+
+A walk swaps its legs every step; rather than every pose and map written twice, the
+interface names roles (``stance_hip`` is ``hip_near`` in the binding ``near`` and
+``hip_far`` in ``far``) and each state selects a binding. This module resolves names
+under the binding in force: joint and link names, the joint or link inside a sensor
+name, a map's joints and frame, and the poses (compiled once per binding).
+"""
+
+from __future__ import annotations
+
+from puppet.interface.poses import compile_poses
+
+
+class RoleBinding:
+    def __init__(self, spec):
+        self.spec = spec
+        self.binding: str | None = None
+        self.rename = spec.renamer(None)
+        self._poses: dict[str | None, dict] = {}
+
+    def use(self, binding: str | None) -> dict:
+        """Resolve as ``binding`` says from now on; the poses compiled for it."""
+        self.binding = binding
+        self.rename = self.spec.renamer(binding)
+        poses = self._poses.get(binding)
+        if poses is None:
+            poses = self._poses[binding] = compile_poses(self.spec.poses, self.rename)
+        return poses
+
+    def sensor(self, sensor: str) -> str:
+        """A sensor name with a role in it (angle.swing_thigh) as the binding means it."""
+        for role in self.spec.roles:
+            if sensor.endswith("." + role):
+                return sensor[:-len(role)] + self.rename(role)
+        return sensor
+
+    def map(self, m):
+        """Map ``m`` with its roles resolved (itself when the interface has none)."""
+        if not self.spec.roles:
+            return m
+        r, rs = self.rename, self.sensor
+        if getattr(m, "grid", None) is not None:
+            update = {"x": rs(m.x), "y": rs(m.y)}
+            if m.joints is not None:
+                update["joints"] = [r(j) for j in m.joints]
+            return m.model_copy(update=update)
+        update = {"input": rs(m.input), "joints": {r(j): g for j, g in m.joints.items()},
+                  "frame": r(m.frame)}
+        if m.joint is not None:
+            update["joint"] = r(m.joint)
+        return m.model_copy(update=update)
