@@ -292,9 +292,7 @@ class Session:
                 if now % health == 0:
                     self._at_boundary()  # a recovery restores the state, not the step count
                 else:  # the root alone, each frame: NaN fails every comparison
-                    root = sim.character.bodies[self._root_name]
-                    x, y = root.position
-                    vx, vy = root.velocity
+                    x, y, vx, vy = sim.character.root_motion()
                     x0, x1, y0, y1 = self._world
                     if not (x0 < x < x1 and y0 < y < y1 and vx * vx + vy * vy < MAX_SPEED2):
                         self._recover()

@@ -256,3 +256,23 @@ def test_the_push_step_log_fails_with_weak_hips(tmp_path):
     failed = {o.expectation.split()[0] for o in result.failed} - {"same"}
     assert failed & {"height_at_end", "x_at_end", "upright_at_end", "in_state_at_end"}, \
         [str(o) for o in result.outcomes]
+
+
+def test_a_world_frame_mouse_map_keeps_its_target_re_solved(tmp_path):
+    """A mouse map with frame: world and nothing else running: its frame target is
+    still re-solved at the control rate (the mouse path schedules it)."""
+    from puppet.interface import events as ev
+
+    path = tmp_path / "lean.yaml"
+    path.write_text("name: lean\ndescription: lean\ncharacter: biped\nscene: biped-track\n"
+                    "maps:\n  - {input: mouse.x, joint: waist, from: [0, 1], to: [20, -20],"
+                    " frame: world}\n")
+    s = Session(load_setup(str(path)))
+    s.handle(ev.mouse(0.5, 0.5))
+    assert "waist" in s.runtime.frames.held and s.runtime.next_wakeup is not None
+    first = s.character.servos["waist"].target
+    s.advance(480)
+    c = s.character
+    pelvis = c.bodies[c.spec.joint("waist").parent].angle
+    assert s.character.servos["waist"].target != first  # re-solved as the pelvis moved
+    assert math.isclose(s.character.servos["waist"].target, 0.0 - pelvis, abs_tol=0.05)

@@ -8,12 +8,12 @@ has none. A joint nobody owns keeps the target it was last given.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 
-@dataclass(frozen=True)
-class Owner:
-    """A controller that can own joints: its kind and, for reaches, the chain."""
+class Owner(NamedTuple):
+    """A controller that can own joints: its kind and, for reaches, the chain. (A named
+    tuple: owners are compared on every tick, and tuples compare in C.)"""
 
     kind: str  # "sequence", "gesture", "reach", "frame" or "feedback"
     name: str = ""

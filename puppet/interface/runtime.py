@@ -105,6 +105,7 @@ class InterfaceRuntime:
         # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
                             self.perturber, self.frames, self.feedback)
+        self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
@@ -407,6 +408,8 @@ class InterfaceRuntime:
                 written = apply(values)
                 if table:
                     self.owners.take(written)
+            if self.frames.held and self.frames not in self._active:
+                self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
             # Maps write targets and take joints; nothing that sets a wake-up changes
             # (an emptied sequence or gesture ends at its own next wake-up).
             return None
@@ -461,6 +464,8 @@ class InterfaceRuntime:
                 written = apply(store)
                 if table:
                     self.owners.take(written)
+        if self.frames.held and self.frames not in self._active:
+            self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
 
     def _press(self, chord: str, down: bool, now: int):
         if not down:
@@ -580,16 +585,28 @@ class InterfaceRuntime:
         self.now = step
         if self._pending:
             self.flush()
-        for controller in self._active:
+        active = self._active
+        for controller in active:
             controller.tick(step)
-        for name, machine in self.machines.items():
+        moved = False
+        for machine in self.machines.values():
             to = machine.due(step)
             for _ in range(MAX_CHAINED_GOTOS):
                 if to is None:
                     break
                 self._enter_state(to[0], to[1], step, 0)
+                moved = True
                 to = machine.due(step)
-        self._reschedule(step + 1)
+        if active or moved:
+            self._reschedule(step + 1)
+        else:  # every controller idle and no state entered: only the machines can be due
+            earliest = step + 1
+            wake = None
+            for machine in self.machines.values():
+                at = machine.next_wakeup(earliest)
+                if at is not None and (wake is None or at < wake):
+                    wake = at
+            self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
     def _reschedule(self, earliest: int) -> None:
         """``next_wakeup``: the first step >= ``earliest`` at which something is due,
@@ -597,11 +614,12 @@ class InterfaceRuntime:
         so it is kept lean."""
         wake = None
         active = []
-        for controller in self.controllers:
-            at = controller.next_wakeup(earliest)
-            if at is not None:
-                active.append(controller)
-                wake = at if wake is None or at < wake else wake
+        for controller, busy in self._watched:
+            if getattr(controller, busy):  # idle controllers are not asked (hot path)
+                at = controller.next_wakeup(earliest)
+                if at is not None:
+                    active.append(controller)
+                    wake = at if wake is None or at < wake else wake
         for machine in self.machines.values():
             at = machine.next_wakeup(earliest)
             if at is not None and (wake is None or at < wake):

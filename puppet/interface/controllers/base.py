@@ -8,6 +8,8 @@ from puppet.interface.ownership import Owner
 
 
 class Controller(Protocol):
+    BUSY: str  # the name of an attribute that is truthy whenever the controller has work
+    # (running sequence, armed grasps...): the arbiter asks ``next_wakeup`` only then
     def tick(self, step: int) -> None:
         """Do what is due at ``step`` (called before stepping from it)."""
 

@@ -22,6 +22,8 @@ from puppet.interface.ownership import FEEDBACK, JointOwners, Owner
 
 
 class Feedback:
+    BUSY = "busy"
+
     def __init__(self, servos, owners: JointOwners, inputs: dict, every: int):
         self.servos = servos
         self.owners_table = owners
@@ -32,10 +34,12 @@ class Feedback:
         self.adders: list = []  # contribution functions
         self.base: dict[str, float] = {}  # joint -> target before the additions
         self.last: dict[str, float] = {}  # joint -> target written (base + additions)
+        self.busy = False  # maps to run, or additions still to take back
 
     def set_maps(self, readers, setters, adders) -> None:
         """The active feedback maps (the runtime's, on every mode or state change)."""
         self.readers, self.setters, self.adders = readers, setters, adders
+        self.busy = bool(setters or adders or self.last)
 
     def claim(self, joints) -> None:
         self.owners_table.claim(joints, FEEDBACK)
@@ -70,6 +74,7 @@ class Feedback:
             b = base[joint] if joint in last and now == last[joint] else now  # rewritten?
             base[joint], last[joint] = b, b + value
             servo.target = b + value
+        self.busy = bool(self.setters or self.adders or last)
 
     def next_wakeup(self, earliest: int) -> int | None:
         if not (self.setters or self.adders or self.last):
@@ -84,10 +89,13 @@ class Feedback:
 
     def set_state(self, state) -> None:
         self.base, self.last = dict(state[0]), dict(state[1])
+        self.busy = bool(self.setters or self.adders or self.last)
 
     def adopt(self, old: Feedback, same, now: int) -> set[Owner]:
         self.base, self.last = dict(old.base), dict(old.last)
+        self.busy = bool(self.setters or self.adders or self.last)
         return {FEEDBACK}
 
     def stop(self) -> None:
         self.base, self.last = {}, {}
+        self.busy = bool(self.setters or self.adders)

@@ -20,6 +20,8 @@ _TURN = 2.0 * math.pi
 
 
 class FrameTargets:
+    BUSY = "held"
+
     def __init__(self, character, owners: JointOwners, every: int):
         self.character = character
         self.owners_table = owners

@@ -12,6 +12,8 @@ from puppet.interface.ownership import GESTURE, JointOwners, Owner
 
 
 class GestureController:
+    BUSY = "running"
+
     def __init__(self, specs, servos, owners: JointOwners, dt: float):
         # key -> [(step offset, x, y)]: recorded mouse paths, replayed in sim time
         self.paths = {normalize_key(g.key): [(round(t / dt), x, y) for t, x, y in g.path]

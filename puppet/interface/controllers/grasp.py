@@ -15,6 +15,8 @@ from puppet.interface.ownership import Owner
 
 
 class GraspController:
+    BUSY = "armed"
+
     def __init__(self, chains, character, sim, dt: float):
         self.chains = chains
         self.character = character

@@ -14,6 +14,8 @@ from puppet.interface.ownership import Owner
 
 
 class Perturber:
+    BUSY = "on"
+
     def __init__(self, spec: PerturbSpec, character, dt: float):
         self.spec = spec
         self.character = character

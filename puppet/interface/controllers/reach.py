@@ -41,6 +41,8 @@ class Reach:
 
 
 class ReachController:
+    BUSY = "reaches"
+
     def __init__(self, chains, character, sim, owners: JointOwners, servos, grasps,
                  read_input, dt: float):
         self.chains = chains

@@ -41,6 +41,8 @@ class RunningSequence:
 
 
 class SequenceController:
+    BUSY = "running"  # the attribute that is truthy while it has work (the arbiter reads it)
+
     def __init__(self, specs, poses: dict[str, Pose], servos, owners: JointOwners, dt: float):
         self.specs = specs
         self.plans = compile_sequences(specs, dt)
