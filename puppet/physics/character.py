@@ -77,6 +77,7 @@ class Character:
 
     def __init__(self, spec: CharacterSpec, group: int = 1):
         self.spec = spec
+        self.root = spec.root  # the root link's name (read every frame)
         self.group = group
         self.bodies: dict[str, pymunk.Body] = {}
         self.shapes: dict[str, list[pymunk.Shape]] = {}
@@ -187,7 +188,7 @@ class Character:
     def root_motion(self) -> tuple[float, float, float, float]:
         """The root link's x, y and velocity (the same C calls as pymunk's ``position``
         and ``velocity``, without their Vec2d: the session reads it every frame)."""
-        body = self.bodies[self.spec.root]._body
+        body = self.bodies[self.root]._body
         p, v = _cp.cpBodyGetPosition(body), _cp.cpBodyGetVelocity(body)
         return p.x, p.y, v.x, v.y
 
