@@ -13,7 +13,6 @@ from puppet.testing import replay_log
 from test_luxo_feats import _failed, _weakened
 
 LOG = ROOT / "assets" / "logs" / "biped-walk.jsonl"
-BODY = {"never_fell", "x_at_end", "upright_at_end", "height_at_end"}
 
 
 def test_the_walk_log_meets_its_expectations():
@@ -35,8 +34,8 @@ def test_the_walk_log_fails_with_weak_hips(tmp_path):
     out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
     side = LOG.parent / "biped-walk.expect.yaml"
     (tmp_path / side.name).write_text(side.read_text(encoding="utf-8"), encoding="utf-8")
-    assert _failed(out) & BODY
+    assert {"never_fell", "x_at_end"} <= _failed(out)
 
 
 def test_the_walk_log_fails_on_a_slippery_track(tmp_path):
-    assert _failed(_weakened("biped-walk", Path(tmp_path), friction=0.3)) & BODY
+    assert {"never_fell", "x_at_end"} <= _failed(_weakened("biped-walk", Path(tmp_path), friction=0.3))
