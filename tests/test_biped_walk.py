@@ -75,3 +75,43 @@ def test_the_log_fails_with_weak_hips(name, tmp_path):
 @pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
 def test_the_log_fails_on_slippery_ground(name, tmp_path):
     assert {"never_fell", "x_at_end"} <= _failed(_weakened(name, Path(tmp_path), friction=0.3))
+
+
+def test_pressing_space_at_each_footfall_walks_on_with_the_mouse_parked():
+    """Not a searched performance: a rule a person can follow - the mouse parked, space
+    pressed 0.05 s after each footfall - keeps the figure walking on the flat track.
+    (The searched logs are open-loop: moving one press by 2 ms fells them.)"""
+    import math
+
+    from puppet.data.catalog import load_setup
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    s = Session(load_setup("biped-walk", "biped-track"))
+    c = s.character
+
+    def press():
+        s.handle(ev.key("space"))
+        s.handle(ev.key("space", False))
+
+    def tilt(name):
+        return abs(math.degrees(math.remainder(c.bodies[name].angle, 2 * math.pi)))
+
+    s.advance(240)
+    s.handle(ev.mouse(0.55, 0.3))
+    s.advance(240)
+    press()
+    landed, presses = None, 1
+    while s.time < 20.0:
+        s.advance(8)
+        assert max(tilt("pelvis"), tilt("chest")) < 45.0, (s.time, c.com())
+        state = s.runtime.state
+        swing = "foot_far" if state.endswith("near") else "foot_near"
+        if state.startswith("down") and c.in_contact(swing):
+            landed = s.time if landed is None else landed
+            if s.time - landed >= 0.05:
+                press()
+                presses, landed = presses + 1, None
+        else:
+            landed = None
+    assert c.com()[0] > 10.0 and presses >= 25, (c.com(), presses)
