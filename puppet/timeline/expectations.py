@@ -103,6 +103,14 @@ class HeightAtEnd(Spec):
         return self
 
 
+class TiltNeverAbove(Spec):
+    """Each of ``links`` stays within ``max`` degrees of its model orientation (upright)
+    at every sample: a trunk that never leans past 45 degrees."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    max: Num("angle") = Field(description="deg from upright")
+
+
 class ReachedHeight(Spec):
     link: str
     min: Measure = Field(description="m the link's lowest point must rise above its start")
@@ -195,6 +203,7 @@ AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
 class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
+    tilt_never_above: TiltNeverAbove | None = None
     upright_at_end: bool | None = None
     never_fell: bool | None = None
     reached_height: ReachedHeight | None = None
@@ -249,6 +258,8 @@ class Expectation(Spec):
             bounds = " ".join(f"{k} {b}" for k, b in (("min", v.min), ("max", v.max))
                               if b is not None)
             return f"height_at_end {v.link} {bounds}" + (f" held {v.held} s" if v.held else "")
+        if isinstance(v, TiltNeverAbove):
+            return f"tilt_never_above {', '.join(v.links)} max {v.max} deg"
         if isinstance(v, ReachedHeight):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, Airborne):
@@ -294,10 +305,11 @@ class Expectations:
     def check_links(self, links: list[str]) -> None:
         """DataError (at the entry) for a link the character does not have."""
         for e in self.items:
-            name = e.link()
-            if name is not None and name not in links:
-                raise e.error(f"unknown link '{name}'; the character has: {', '.join(links)}",
-                              "link")
+            named = getattr(e.value, "links", None) if isinstance(e.value, Spec) else None
+            for i, name in enumerate(named or ([e.link()] if e.link() else [])):
+                if name not in links:
+                    raise e.error(f"unknown link '{name}'; the character has: "
+                                  f"{', '.join(links)}", *(("links", i) if named else ("link",)))
 
 
 def sidecar_path(log_path: str | Path) -> Path:
@@ -449,6 +461,15 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         ok = (v.min is None or lo >= v.min) and (v.max is None or hi <= v.max)
         return Outcome(desc, ok, f"y = {lo:.3f}..{hi:.3f} m over the last {v.held:g} s"
                        if v.held else f"y = {lo:.3f} m at t = {traj.t[-1]:.2f} s")
+    if isinstance(v, TiltNeverAbove):
+        worst, at, which = -1.0, 0, v.links[0]
+        for name in v.links:
+            tilt = _tilt_deg(traj.angle[:, traj.index(name)])
+            i = int(np.argmax(tilt))
+            if tilt[i] > worst:
+                worst, at, which = float(tilt[i]), i, name
+        return Outcome(desc, worst <= v.max, f"{which} {worst:.0f} deg from upright at "
+                                             f"t = {traj.t[at]:.2f} s (the most)")
     if e.kind == "upright_at_end":
         tilt = float(_tilt_deg(traj.root_angle[-1:])[0])
         upright = tilt <= UPRIGHT_DEG

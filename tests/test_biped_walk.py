@@ -1,0 +1,117 @@
+"""The walk and the march (assets/logs/biped-walk, biped-march): the human figure on
+interfaces/biped-walk.yaml goes 10 m and more, on the mouse and the swap key, and with
+the mouse parked on the swap key alone. Their expectations must fail when the physics
+under them breaks."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+
+from puppet.data.catalog import ROOT, find
+from puppet.testing import replay_log
+from test_luxo_feats import _failed, _weakened
+
+LOGS = ROOT / "assets" / "logs"
+
+
+def _events(name: str) -> list[dict]:
+    lines = (LOGS / f"{name}.jsonl").read_text(encoding="utf-8").splitlines()[1:]
+    return [json.loads(line) for line in lines if '"event"' in line]
+
+
+@pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
+def test_the_log_meets_its_expectations(name):
+    result = replay_log(str(LOGS / f"{name}.jsonl"))
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
+def test_the_walk_is_driven_by_the_mouse_and_the_swap_key():
+    events = _events("biped-walk")
+    kinds = {e["event"]["type"] for e in events}
+    assert kinds == {"mouse", "key", "action"}
+    assert {e["event"]["key"] for e in events if e["event"]["type"] == "key"} == {"space"}
+    assert {e["event"]["name"] for e in events if e["event"]["type"] == "action"} \
+        == {"checkpoint"}
+    moved_late = [e for e in events if e["event"]["type"] == "mouse" and e["step"] > 480 * 5]
+    assert len(moved_late) > 100  # the mouse moves all along, not only at the start
+
+
+def test_the_march_parks_the_mouse_after_the_first_second():
+    events = _events("biped-march")
+    mice = [e for e in events if e["event"]["type"] == "mouse"]
+    assert mice and max(e["step"] for e in mice) <= 480  # dt 1/480 s: by t = 1 s
+    late = [e["event"] for e in events if e["step"] > 480 and e["event"]["type"] != "action"]
+    assert late and all(e["type"] == "key" and e["key"] == "space" for e in late)
+    assert sum(e["down"] for e in late) >= 20  # strides
+
+
+def _with_weak_hips(name: str, tmp_path: Path) -> Path:
+    spec = yaml.safe_load(find("interface", "biped-walk").read_text(encoding="utf-8"))
+    spec["gains"] = {j: {"stiffness": 300.0, "max_torque": 75.0}
+                     for j in ("hip_near", "hip_far")}
+    spec["name"] = "biped-walk-weak"
+    iface = tmp_path / "biped-walk-weak.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    log = LOGS / f"{name}.jsonl"
+    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
+    head = json.loads(lines[0])
+    head.update(interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
+    out = tmp_path / log.name
+    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
+    side = LOGS / f"{name}.expect.yaml"
+    (tmp_path / side.name).write_text(side.read_text(encoding="utf-8"), encoding="utf-8")
+    return out
+
+
+@pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
+def test_the_log_fails_with_weak_hips(name, tmp_path):
+    assert {"never_fell", "x_at_end"} <= _failed(_with_weak_hips(name, tmp_path))
+
+
+@pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
+def test_the_log_fails_on_slippery_ground(name, tmp_path):
+    assert {"never_fell", "x_at_end"} <= _failed(_weakened(name, Path(tmp_path), friction=0.3))
+
+
+def test_pressing_space_at_each_footfall_walks_on_with_the_mouse_parked():
+    """Not a searched performance: a rule a person can follow - the mouse parked, space
+    pressed 0.05 s after each footfall - keeps the figure walking on the flat track.
+    (The searched logs are open-loop: moving one press by 2 ms fells them.)"""
+    import math
+
+    from puppet.data.catalog import load_setup
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    s = Session(load_setup("biped-walk", "biped-track"))
+    c = s.character
+
+    def press():
+        s.handle(ev.key("space"))
+        s.handle(ev.key("space", False))
+
+    def tilt(name):
+        return abs(math.degrees(math.remainder(c.bodies[name].angle, 2 * math.pi)))
+
+    s.advance(240)
+    s.handle(ev.mouse(0.55, 0.3))
+    s.advance(240)
+    press()
+    landed, presses = None, 1
+    while s.time < 20.0:
+        s.advance(8)
+        assert max(tilt("pelvis"), tilt("chest")) < 45.0, (s.time, c.com())
+        state = s.runtime.state
+        swing = "foot_far" if state.endswith("near") else "foot_near"
+        if state.startswith("down") and c.in_contact(swing):
+            landed = s.time if landed is None else landed
+            if s.time - landed >= 0.05:
+                press()
+                presses, landed = presses + 1, None
+        else:
+            landed = None
+    assert c.com()[0] > 10.0 and presses >= 25, (c.com(), presses)
