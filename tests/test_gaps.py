@@ -240,3 +240,45 @@ def test_a_luxo_reach_keeps_the_knee_bent_the_way_it_stands(tmp_path):
     for _ in range(12):
         s.advance(25)
         assert knee.target > 0.05, math.degrees(knee.target)
+
+
+# -- found by the mutation run (docs/mutation.md) -------------------------------------------
+def test_a_grasping_reach_uses_its_own_tolerance(tmp_path):
+    """A reach with ``grasp: true`` catches its point once the end is within the reach's
+    tolerance (here 20 cm: at once), not the grasp's default 4 cm."""
+    reach = """
+    chains:
+      shade: {{joints: [ankle, knee], end: [0.0, 0.43]}}
+    keys:
+      - {{key: q, reach: {{chain: shade, target: [{x}, {y}], duration: 0.4, grasp: true,
+                          tolerance: {tol}}}}}
+    """
+    probe = make(tmp_path, reach.format(x=0, y=0, tol=0.2))
+    probe.advance(240)
+    x, y = probe.runtime.chains["shade"].end_world(probe.character)
+    for tol, caught in ((0.2, True), (0.05, False)):
+        s = make(tmp_path, reach.format(x=x + 0.10, y=y, tol=tol))
+        s.advance(240)
+        press(s, "q")
+        s.advance(2)  # the end has hardly moved: 10 cm from the point
+        assert ("shade" in s.sim.grasps) is caught, tol
+
+
+@pytest.mark.parametrize("frame", ["world", "lower_arm"])
+def test_a_frame_map_holds_the_link_at_its_angle_in_that_frame(tmp_path, frame):
+    s = make(tmp_path, f"""
+    maps:
+      - {{input: mouse.x, joint: knee, frame: {frame}, to: [0, 60]}}
+    poses:
+      lean: {{joints: {{ankle: -30}}}}
+    keys:
+      - {{key: l, pose: lean}}
+    """)
+    press(s, "l")  # the lower arm leans: its frame and the world's differ by 30 degrees
+    s.handle(ev.mouse(0.5, 0.5))  # 30 degrees
+    s.advance(960)
+    c = s.character
+    ref = 0.0 if frame == "world" else c.bodies["lower_arm"].angle
+    got = math.degrees(c.bodies["upper_arm"].angle - ref)
+    assert abs(math.degrees(c.bodies["lower_arm"].angle)) > 15
+    assert got == pytest.approx(30, abs=8), got  # the servo sags a little under gravity
