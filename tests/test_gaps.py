@@ -282,3 +282,29 @@ def test_a_frame_map_holds_the_link_at_its_angle_in_that_frame(tmp_path, frame):
     got = math.degrees(c.bodies["upper_arm"].angle - ref)
     assert abs(math.degrees(c.bodies["lower_arm"].angle)) > 15
     assert got == pytest.approx(30, abs=8), got  # the servo sags a little under gravity
+
+
+def test_a_mouse_button_reads_1_while_down_and_0_when_up(tmp_path):
+    s = make(tmp_path, """
+    maps:
+      - {input: mouse.left, joint: knee, to: [0, 40], clamp: false}
+    """)
+    s.handle(ev.mouse_button("left", True))
+    assert s.runtime.read_input("mouse.left") == 1.0
+    assert deg(s)["knee"] == pytest.approx(40)
+    s.handle(ev.mouse_button("left", False))
+    assert s.runtime.read_input("mouse.left") == 0.0
+    assert deg(s)["knee"] == pytest.approx(0)
+
+
+@pytest.mark.parametrize("linear, angular", [(250.0, 0.0), (0.0, 2.0e4), (150.0, 5000.0)])
+def test_a_runaway_linear_or_angular_speed_alone_is_a_blow_up(linear, angular):
+    from puppet.physics.simulation import MAX_SPEED
+
+    s = Session(load_setup("luxo-mouse"))
+    assert not s.sim.blown_up()
+    body = s.character.bodies["upper_arm"]
+    body.velocity = (linear, 0.0)
+    body.angular_velocity = angular
+    runaway = linear > MAX_SPEED or angular > 50 * MAX_SPEED
+    assert s.sim.blown_up() is runaway
