@@ -308,3 +308,28 @@ def test_a_runaway_linear_or_angular_speed_alone_is_a_blow_up(linear, angular):
     body.angular_velocity = angular
     runaway = linear > MAX_SPEED or angular > 50 * MAX_SPEED
     assert s.sim.blown_up() is runaway
+
+
+def test_a_circle_prop_is_a_ball_that_rests_on_the_floor(tmp_path):
+    scene = tmp_path / "ball.yaml"
+    scene.write_text(textwrap.dedent("""\
+        name: ball
+        description: a ball dropped ahead of Luxo
+        ground:
+          - points: [[-10.0, 0.0], [10.0, 0.0]]
+        props:
+          ball:
+            body: dynamic
+            mass: 0.2
+            position: [0.8, 0.5]
+            shapes:
+              - {circle: [0.0, 0.0], radius: 0.05}
+        """))
+    s = Session(load_setup("luxo-mouse", str(scene)))
+    ball = s.sim.props["ball"]
+    assert [type(sh).__name__ for sh in ball.shapes] == ["Circle"]
+    assert ball.shapes[0].radius == 0.05
+    s.advance(960)  # 2 s: fallen and settled
+    # on the floor (whose segments have a little thickness of their own), at rest
+    assert 0.045 < ball.body.position.y < 0.07
+    assert abs(ball.body.velocity.y) < 0.01
