@@ -333,3 +333,32 @@ def test_a_circle_prop_is_a_ball_that_rests_on_the_floor(tmp_path):
     # on the floor (whose segments have a little thickness of their own), at rest
     assert 0.045 < ball.body.position.y < 0.07
     assert abs(ball.body.velocity.y) < 0.01
+
+
+class _Samples:
+    """A trajectory as evaluate() reads it, for one link: angle and contact per sample."""
+
+    def __init__(self, degrees, contact):
+        import numpy as np
+
+        self.t = np.arange(len(degrees)) * 0.1
+        self.angle = np.radians(np.asarray(degrees, dtype=float))[:, None]
+        self.contact = np.asarray(contact, dtype=bool)[:, None]
+
+    def index(self, link):
+        assert link == "base"
+        return 0
+
+
+@pytest.mark.parametrize("least, passed", [(350, True), (400, False)])
+def test_turned_in_flight_counts_only_the_turn_made_in_the_air(least, passed):
+    from puppet.timeline.expectations import evaluate, parse_expectations
+
+    # 90 degrees on the ground, then 360 in one flight, then 45 more on the ground
+    degrees = [0, 45, 90, 150, 240, 330, 420, 450, 480, 495]
+    contact = [True, True, True, False, False, False, False, True, True, True]
+    e, = parse_expectations([{"turned": {"link": "base", "min_degrees": least,
+                                         "in_flight": True}}]).items
+    outcome = evaluate(e, _Samples(degrees, contact), "")
+    assert outcome.passed is passed, str(outcome)
+    assert "360" in outcome.measured and "t = 0.20 s" in outcome.measured, str(outcome)
