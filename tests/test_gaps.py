@@ -362,3 +362,28 @@ def test_turned_in_flight_counts_only_the_turn_made_in_the_air(least, passed):
     outcome = evaluate(e, _Samples(degrees, contact), "")
     assert outcome.passed is passed, str(outcome)
     assert "360" in outcome.measured and "t = 0.20 s" in outcome.measured, str(outcome)
+
+
+def test_a_frame_target_is_re_solved_at_the_control_rate_not_every_step(tmp_path):
+    s = make(tmp_path, """
+    control_rate: 60
+    maps:
+      - {input: mouse.x, joint: knee, frame: world, to: [0, 60]}
+    poses:
+      lean: {joints: {ankle: -30}}
+    keys:
+      - {key: l, pose: lean}
+    """)
+    s.handle(ev.mouse(0.5, 0.5))
+    press(s, "l")  # the lower arm swings over: the knee's target must follow it
+    knee = s.character.servos["knee"]
+    changed = []
+    last = knee.target
+    for _ in range(240):  # 0.5 s: the lamp moves, so the solved target keeps changing
+        s.advance(1)
+        if knee.target != last:
+            changed.append(s.steps)
+            last = knee.target
+    period = round(480 / 60)
+    assert len(changed) > 10
+    assert all((step - 1) % period == 0 for step in changed), changed[:12]
