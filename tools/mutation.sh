@@ -14,6 +14,10 @@ work="${MUTATION_DIR:-/tmp/puppet-mutation}"
 python="${PYTHON:-$here/.venv/bin/python}"
 mutmut="$(dirname "$python")/mutmut"
 [ -x "$mutmut" ] || { echo "mutation.sh: mutmut is not installed: $(dirname "$python")/pip install 'mutmut==3.8.1'" >&2; exit 2; }
+if "$python" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then
+    echo "mutation.sh: note: under Python 3.11.7 mutmut's stats run crashed the interpreter;" \
+         "use a 3.12 venv (PYTHON=..., docs/mutation.md)" >&2
+fi
 rm -rf "$work"
 mkdir -p "$work"
 (cd "$here" && git ls-files -co --exclude-standard -z \
