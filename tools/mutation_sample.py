@@ -1,0 +1,95 @@
+"""The mutation run's driver (started by tools/mutation.sh in a scratch copy of the tree,
+which holds tools/mutation.cfg as setup.cfg): mutmut generates every mutant of the
+configured packages and records which tests reach which function; a seeded sample of
+the mutants is then run, one process at a time, and a report written: the kill rate, by
+package, and every survivor with its diff. See docs/mutation.md."""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import random
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+# mutmut's exit codes (mutmut/stats.py, 3.8): 1 and 3 killed, 0 survived, 5/33 no tests,
+# 36/24/-24/152/255 timeout, 37 caught by a type check; anything else "suspicious".
+KILLED = {1, 3}
+SURVIVED = {0}
+NO_TESTS = {5, 33}
+TIMEOUT = {36, 24, -24, 152, 255}
+
+
+def mutant_codes() -> dict[str, int | None]:
+    codes: dict[str, int | None] = {}
+    for meta in sorted(Path("mutants").rglob("*.py.meta")):
+        codes.update(json.loads(meta.read_text())["exit_code_by_key"])
+    return codes
+
+
+def package_of(name: str) -> str:
+    return ".".join(name.split(".")[:2])  # puppet.physics, puppet.interface, ...
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--mutmut", required=True)
+    ap.add_argument("--sample", type=int, default=250)
+    ap.add_argument("--seed", type=int, default=17)
+    args = ap.parse_args()
+    log = open("mutmut.log", "w")
+    t0 = time.monotonic()
+    # 1. Generate the mutants and collect which tests reach each function. Given a name
+    # that matches no mutant, mutmut does just that and then stops (an assertion).
+    subprocess.run([args.mutmut, "run", "--max-children", "1", "__list_only__"],
+                   stdout=log, stderr=subprocess.STDOUT)
+    codes = mutant_codes()
+    if not codes or not Path("mutants/mutmut-stats.json").exists():
+        print("mutation: mutmut made no mutants or no stats; see "
+              f"{Path('mutmut.log').resolve()}", file=sys.stderr)
+        return 2
+    names = sorted(codes)
+    by_package = collections.Counter(package_of(n) for n in names)
+    sample = sorted(random.Random(args.seed).sample(names, min(args.sample, len(names))))
+    print(f"{len(names)} mutants ({', '.join(f'{p} {n}' for p, n in sorted(by_package.items()))});"
+          f" running a sample of {len(sample)} (seed {args.seed})", flush=True)
+    # 2. Run the sample (mutmut reuses the stats; each mutant runs only the tests that
+    # reach its function, stopping at the first failure).
+    subprocess.run([args.mutmut, "run", "--max-children", "1", *sample],
+                   stdout=log, stderr=subprocess.STDOUT)
+    codes = mutant_codes()
+    result = {n: codes.get(n) for n in sample}
+    kinds = collections.Counter()
+    rows = collections.defaultdict(collections.Counter)
+    for n, code in result.items():
+        kind = ("killed" if code in KILLED else "survived" if code in SURVIVED
+                else "no tests" if code in NO_TESTS else "timeout" if code in TIMEOUT
+                else "not run" if code is None else f"suspicious ({code})")
+        kinds[kind] += 1
+        rows[package_of(n)][kind] += 1
+    killed = kinds["killed"] + kinds["timeout"]  # a mutant that hangs the tests is caught
+    lines = [f"mutation run: {len(sample)} of {len(names)} mutants (seed {args.seed}), "
+             f"{time.monotonic() - t0:.0f} s",
+             f"killed {killed} of {len(sample)} ({100.0 * killed / max(1, len(sample)):.1f} %); "
+             + ", ".join(f"{k} {v}" for k, v in sorted(kinds.items()))]
+    for package, counter in sorted(rows.items()):
+        lines.append(f"  {package}: " + ", ".join(f"{k} {v}" for k, v in sorted(counter.items())))
+    lines.append("")
+    for n, code in result.items():
+        if code in KILLED or code in TIMEOUT:
+            continue
+        shown = subprocess.run([args.mutmut, "show", n], capture_output=True, text=True).stdout
+        lines.append(shown.rstrip())
+        lines.append("")
+    report = "\n".join(lines) + "\n"
+    Path("report.txt").write_text(report)
+    print(report)
+    print(f"report: {Path('report.txt').resolve()}; mutmut's output: {Path('mutmut.log').resolve()}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
