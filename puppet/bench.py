@@ -623,6 +623,58 @@ def measure_channels(seconds: float, repeats: int, character_name: str = "cat",
                               CHANNEL_TARGET_PCT, "%") if targeted else None}
 
 
+# -- feedback maps (sensor inputs, add maps) --------------------------------------------
+FEEDBACK_TARGET_PCT = 10.0
+FEEDBACK_INTERFACES = ("biped-balance", "biped-step")
+
+
+def _without_feedback(spec):
+    """The interface with its feedback maps (sensor inputs, ``add``) taken out, everywhere."""
+    def keep(maps):
+        return [m for m in maps if not m.feedback]
+    states = {n: st.model_copy(update={"maps": keep(st.maps)}) for n, st in spec.states.items()}
+    return spec.model_copy(update={"maps": keep(spec.maps), "states": states,
+                                   "modes": {n: keep(ms) for n, ms in spec.modes.items()}})
+
+
+def measure_feedback(name: str, seconds: float, repeats: int) -> dict:
+    """A Session of ``name`` against the same Session with its feedback maps taken out,
+    fed the same input (the window's mouse and key taps), played in turns. The two
+    runs' motions differ a little (no feedback corrections), so this is the cost of
+    the feedback maps with the physics they cause, not a hash-compared pair."""
+    import dataclasses
+
+    from puppet.data.catalog import load_setup
+    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.session import Session
+
+    setup = load_setup(name)
+    bare = dataclasses.replace(setup, interface=_without_feedback(setup.interface))
+    n = max(1, round(1.0 / (FRAME_HZ * DEFAULT_DT)))
+    frames = max(1, round(seconds * FRAME_HZ))
+    inputs = gesture(frames, setup.interface)
+
+    def run(s):
+        session = Session(s, keyframes=False)
+        it = iter(inputs)
+        k = yield session
+        while True:
+            for _ in range(k):
+                for event in next(it):
+                    session.handle(event)
+                session.advance(n)
+            k = yield session
+
+    ratios = []
+    for _ in range(repeats):
+        wall, _ = in_turns({"with": run(setup), "without": run(bare)}, frames)
+        ratios.append(wall["with"] / wall["without"])
+    pct = (statistics.median(ratios) - 1.0) * 100.0
+    return {"interface": name, "overhead_pct": pct,
+            "overhead_range_pct": [(min(ratios) - 1.0) * 100.0, (max(ratios) - 1.0) * 100.0],
+            "target": _target(f"feedback maps cost: {name}", pct, "<=", FEEDBACK_TARGET_PCT, "%")}
+
+
 def _target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
     ok = value >= limit if op == ">=" else value <= limit if op == "<=" else value < limit
     return {"name": name, "value": value, "op": op, "limit": limit, "unit": unit,
@@ -699,10 +751,15 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
                 "ms"),
         _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms")]
     report["mocap"] = measure_mocap(cfg["repeats"])
+    report["feedback"] = [measure_feedback(n, cfg["seconds"], cfg["repeats"])
+                          for n in FEEDBACK_INTERFACES
+                          if n in {i for _, ifs in subjects for i in ifs}
+                          and (not only or "biped" in only)]
     report["all_pass"] = all(t["pass"] for c in report["characters"] for t in c["targets"]) \
         and all(t["pass"] for t in report["targets"]) \
         and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"]) \
-        and all(t["pass"] for t in report["mocap"]["targets"])
+        and all(t["pass"] for t in report["mocap"]["targets"]) \
+        and all(f["target"]["pass"] for f in report["feedback"])
     return report
 
 
@@ -784,6 +841,14 @@ def format_report(report: dict) -> str:
         row("speed with the stream", f"{ch['speed_x']:.0f}x")
         row("  same trajectory (state hash)",
             "identical" if ch["state_identical"] else "DIFFERENT")
+    for fb in report.get("feedback", []):
+        t = fb["target"]
+        lines.append("")
+        lines.append(f"feedback maps ({fb['interface']}): with them against without, the same "
+                     "input, in turns")
+        lo, hi = fb["overhead_range_pct"]
+        row(f"feedback maps cost ({lo:.1f}..{hi:.1f}%)", f"{fb['overhead_pct']:.1f}%",
+            f"<= {t['limit']:g}%", "PASS" if t["pass"] else "MISS")
     logs = report["logs"]
     lines.append("")
     lines.append(f"log replay (assets/logs/*.jsonl): {logs['status']}")
@@ -822,6 +887,7 @@ def format_report(report: dict) -> str:
     misses += [ch["target"]["name"] for ch in report.get("channels", [])
                if ch["target"] and not ch["target"]["pass"]]
     misses += [f"mocap: {t['name']}" for t in report["mocap"]["targets"] if not t["pass"]]
+    misses += [f["target"]["name"] for f in report.get("feedback", []) if not f["target"]["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 
