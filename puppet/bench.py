@@ -183,13 +183,24 @@ def control_run(subject: Subject, inputs: list[list[dict]], keyframes: bool = Fa
                 next(frames)
                 step(n)
             k = yield obj
-    handle, advance = obj.handle, obj.advance
+    feed = fed(obj, frames, n)
+    next(feed)
+    while True:
+        k = yield feed.send(k)
+
+
+def fed(session, frames, steps_per_frame: int):
+    """A run of ``session``: ``send(k)`` plays the next k frames of ``frames`` (each a
+    batch of events handed to the session, then a frame of steps); yields the session."""
+    frames = iter(frames)
+    handle, advance = session.handle, session.advance
+    k = yield session
     while True:
         for _ in range(k):
             for event in next(frames):
                 handle(event)
-            advance(n)
-        k = yield obj
+            advance(steps_per_frame)
+        k = yield session
 
 
 def _servo_params(spring) -> tuple[float, float, float, float]:
@@ -581,15 +592,7 @@ def measure_channels(seconds: float, repeats: int, character_name: str = "cat",
         probe.advance(n)
 
     def streamed():
-        session = Session(setup, keyframes=False)
-        it = iter(inputs)
-        k = yield session
-        while True:
-            for _ in range(k):
-                for event in next(it):
-                    session.handle(event)
-                session.advance(n)
-            k = yield session
+        return fed(Session(setup, keyframes=False), inputs, n)
 
     def written():
         session = Session(setup, keyframes=False)
@@ -654,20 +657,10 @@ def measure_feedback(name: str, seconds: float, repeats: int) -> dict:
     frames = max(1, round(seconds * FRAME_HZ))
     inputs = gesture(frames, setup.interface)
 
-    def run(s):
-        session = Session(s, keyframes=False)
-        it = iter(inputs)
-        k = yield session
-        while True:
-            for _ in range(k):
-                for event in next(it):
-                    session.handle(event)
-                session.advance(n)
-            k = yield session
-
     ratios = []
     for _ in range(repeats):
-        wall, _ = in_turns({"with": run(setup), "without": run(bare)}, frames)
+        wall, _ = in_turns({"with": fed(Session(setup, keyframes=False), inputs, n),
+                            "without": fed(Session(bare, keyframes=False), inputs, n)}, frames)
         ratios.append(wall["with"] / wall["without"])
     pct = (statistics.median(ratios) - 1.0) * 100.0
     return {"interface": name, "overhead_pct": pct,
