@@ -128,3 +128,15 @@ def test_the_state_column_follows_a_rewind(tmp_path):
     result = replay_log(before, expect=[{"stayed_in_state": "upright"}])
     assert result.ok, [str(o) for o in result.outcomes]
     assert np.all(np.diff(result.trajectory.step) > 0) and result.trajectory.step[-1] == 400
+
+
+def test_an_empty_link_name_in_an_expectation_is_a_clean_error():
+    import pytest as _pytest
+
+    from puppet.data.errors import DataError
+    from puppet.timeline.expectations import parse_expectations
+
+    for item in ({"height_at_end": {"link": "", "min": 0.5}},
+                 {"tilt_never_above": {"links": ["base", ""], "max": 30}}):
+        with _pytest.raises(DataError, match="unknown link ''"):
+            parse_expectations([item]).check_links(["base", "lower_arm"])

@@ -306,7 +306,8 @@ class Expectations:
         """DataError (at the entry) for a link the character does not have."""
         for e in self.items:
             named = getattr(e.value, "links", None) if isinstance(e.value, Spec) else None
-            for i, name in enumerate(named or ([e.link()] if e.link() else [])):
+            for i, name in enumerate(named if named is not None else
+                                     ([e.link()] if e.link() is not None else [])):
                 if name not in links:
                     raise e.error(f"unknown link '{name}'; the character has: "
                                   f"{', '.join(links)}", *(("links", i) if named else ("link",)))
