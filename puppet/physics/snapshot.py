@@ -17,6 +17,7 @@ as indices, ``rebuild`` hands back the new objects under the same names.
 
 from __future__ import annotations
 
+import atexit
 from operator import attrgetter
 
 import pymunk
@@ -185,7 +186,10 @@ class _CachedArbiters:
     their contact arrays it frees itself), so each restore leaked about 0.2 kB per
     cached arbiter. They must outlive the C space: this object is set on the pymunk
     Space after its ``_space`` (an object's attributes are released in the order they
-    were set), so it goes only after ``cpSpaceFree`` has run."""
+    were set), so it goes only after ``cpSpaceFree`` has run. At interpreter exit that
+    order no longer holds (what is left is torn down in any order, and freeing an
+    arbiter before its space aborted the process in malloc): from the ``atexit`` hook on
+    nothing is freed - the process's memory goes with it."""
 
     __slots__ = ("pointers",)
 
@@ -193,6 +197,8 @@ class _CachedArbiters:
         self.pointers = list(arbiters)
 
     def __del__(self):
+        if _EXITING:
+            return
         free = _libc_free()
         for arb in self.pointers:
             free(arb)
@@ -212,6 +218,15 @@ def _libc_free():
 
 
 _FREE = None
+_EXITING = False
+
+
+def _at_exit() -> None:
+    global _EXITING
+    _EXITING = True
+
+
+atexit.register(_at_exit)
 
 
 def _make_arbiter(record, objects: list):
