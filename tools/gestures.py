@@ -63,14 +63,31 @@ def tilt_deg(angle: float) -> float:
     return abs(math.degrees(math.remainder(angle, 2 * math.pi)))
 
 
-class Runner:
+class SessionRunner:
+    """A live Session that searches play into, checkpoint and go back to (the base of
+    every tool's runner)."""
+
     def __init__(self, interface: str, scene: str | None = None):
         self.session = Session(load_setup(interface, scene))
         self.dt = self.session.sim.dt
-        self.mark = None  # the last checkpoint snapshot
+        self.mark = None  # the step of the last checkpoint
 
     def steps(self, t: float) -> int:
         return round(t / self.dt)
+
+    def checkpoint(self) -> None:
+        """Checkpoint now: the script's ``{action: checkpoint}``, through the session."""
+        self.session.handle(ev.action("checkpoint"))
+        self.mark = self.session.steps
+
+    def back(self) -> None:
+        """Back to the last checkpoint (the ``restore`` action), to try another
+        continuation; the restored run gives the same bits as the recorded script."""
+        self.session.handle(ev.action("restore"))
+        assert self.session.steps == self.mark
+
+
+class Runner(SessionRunner):
 
     def run(self, pairs, until_step: int) -> Outcome:
         s = self.session
@@ -110,17 +127,6 @@ class Runner:
         return Outcome(float(x[-1]), float(tilts[-1]), ground_tilt,
                        float(np.degrees(a[-1] - a[0])), best * SAMPLE * self.dt,
                        float(low.max()), s.blowups - blow0, still, flight, motion, x, t)
-
-    def checkpoint(self) -> None:
-        """Checkpoint now: the script's ``{action: checkpoint}``, through the session."""
-        self.session.handle(ev.action("checkpoint"))
-        self.mark = self.session.steps
-
-    def back(self) -> None:
-        """Back to the last checkpoint (the ``restore`` action), to try another
-        continuation; the restored run gives the same bits as the recorded script."""
-        self.session.handle(ev.action("restore"))
-        assert self.session.steps == self.mark
 
 
 def climb(evaluate, score, bounds, best_s, best_p, best_o, budget):

@@ -51,10 +51,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tools.gestures import climb, compile_entries, tilt_deg  # noqa: E402
-from puppet.data.catalog import load_setup  # noqa: E402
-from puppet.interface import events as ev  # noqa: E402
-from puppet.session import Session  # noqa: E402
+from tools.gestures import SessionRunner, climb, compile_entries, tilt_deg  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
 
 INTERFACE = "cat-bound"
@@ -122,24 +119,11 @@ def stand_entries(t0: float) -> list[dict]:
     return [{"t": round(t0, 3), "key": "s"}, {"t": round(t0, 3), "key": "k"}]
 
 
-class Runner:
+class Runner(SessionRunner):
     """A live session of cat-bound on the scene; plays entries, checkpoints, restores."""
 
     def __init__(self, scene: str):
-        self.session = Session(load_setup(INTERFACE, scene))
-        self.dt = self.session.sim.dt
-        self.mark = None
-
-    def steps(self, t: float) -> int:
-        return round(t / self.dt)
-
-    def checkpoint(self) -> None:
-        self.session.handle(ev.action("checkpoint"))
-        self.mark = self.session.steps
-
-    def back(self) -> None:
-        self.session.handle(ev.action("restore"))
-        assert self.session.steps == self.mark
+        super().__init__(INTERFACE, scene)
 
     def run(self, entries: list[dict], until: float) -> dict:
         """Play entries to ``until`` s; what happened (sampled every 4 steps)."""

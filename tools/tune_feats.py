@@ -45,13 +45,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from puppet.data.catalog import ROOT, load_setup  # noqa: E402
-from puppet.interface import events as ev  # noqa: E402
-from puppet.session import Session  # noqa: E402
+from puppet.data.catalog import ROOT  # noqa: E402
 from puppet.timeline.expectations import evaluate_all, parse_expectations  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
-from tools.gestures import climb, compile_entries  # noqa: E402
+from tools.gestures import SessionRunner, climb, compile_entries  # noqa: E402
 
 STAND = (0.656, 0.583)  # the start pose in luxo-mouse coordinates
 
@@ -60,26 +58,14 @@ def tilt(angle: np.ndarray) -> np.ndarray:
     return np.abs(np.degrees(np.remainder(angle + np.pi, 2 * np.pi) - np.pi))
 
 
-class FeatRunner:
+class FeatRunner(SessionRunner):
     """A Session, a Sampler over its whole history, checkpoints to try stages from."""
 
     def __init__(self, interface: str, scene: str):
-        self.session = Session(load_setup(interface, scene))
-        self.dt = self.session.sim.dt
+        super().__init__(interface, scene)
         self.sampler = Sampler(self.session)
         self.sampler(self.session)
         self.mark = 0
-
-    def steps(self, t: float) -> int:
-        return round(t / self.dt)
-
-    def checkpoint(self) -> None:
-        self.session.handle(ev.action("checkpoint"))
-        self.mark = self.session.steps
-
-    def back(self) -> None:
-        self.session.handle(ev.action("restore"))
-        assert self.session.steps == self.mark
 
     def run(self, entries: list[dict], until: float, mouse_from=STAND):
         pairs = compile_entries(entries, self.dt, mouse_from)

@@ -36,10 +36,8 @@ import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from puppet.data.catalog import load_setup  # noqa: E402
-from puppet.interface import events as ev  # noqa: E402
-from puppet.session import Session  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
+from tools.gestures import SessionRunner  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 START = 1.0  # s standing before the first press
@@ -85,10 +83,9 @@ def march_entries(t0: float, p: dict) -> tuple[list[dict], float]:
     return [{"t": round(t0, 3), "key": "space", "hold": 0.05}], round(t0 + p["period"], 3)
 
 
-class Walker:
+class Walker(SessionRunner):
     def __init__(self):
-        self.session = Session(load_setup(IFACE, SCENE))
-        self.dt = self.session.sim.dt
+        super().__init__(IFACE, SCENE)
 
     def pairs(self, entries, mouse_from):
         spec = ScriptSpec.model_validate({"events": [{"t": 0.0, "mouse": list(mouse_from)}]
@@ -110,11 +107,6 @@ class Walker:
               and worst["head"] > HEAD_MIN and s.blowups == 0)
         return {"ok": ok, "x": c.com()[0], **worst}
 
-    def checkpoint(self):
-        self.session.handle(ev.action("checkpoint"))
-
-    def back(self):
-        self.session.handle(ev.action("restore"))
 
 
 def score(o_stride, o_look, x0):

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from puppet.data.actions import ActionSpec
-from puppet.data.interfaces import InterfaceSpec
+from puppet.data.interfaces import MAIN_MACHINE, InterfaceSpec
 from puppet.data.keys import APP_KEYS, normalize_key
 
 
@@ -197,7 +197,7 @@ def where_line(spec: InterfaceSpec, state: str | None, mode: str | None,
     with several state machines (``states``: machine -> state), each one's state."""
     parts = []
     if states and len(states) > 1:
-        parts += [f"{m} {st}" if m != "main" else f"state {st}" for m, st in states.items()]
+        parts += [f"{m} {st}" if m != MAIN_MACHINE else f"state {st}" for m, st in states.items()]
     elif spec.states:
         parts.append(f"state {state if state is not None else spec.start_state}")
     if spec.modes:

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from puppet.data.characters import CharacterSpec, parse_character
 from puppet.data.errors import DataError
+from puppet.data.interface_refs import check_scene_refs, map_conflicts
 from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
 from puppet.data.scenes import SceneSpec, parse_scene
 from puppet.data.yamlfile import Located, load_file, load_text, read_text
@@ -194,8 +195,6 @@ def parse_interface_text(text: str, path: str | Path, character: CharacterSpec |
     spec, character, character_path = check_interface(located, character, character_path,
                                                       within)
     if scene is not None:
-        from puppet.data.interface_refs import check_scene_refs
-
         check_scene_refs(spec, scene, located, scene.name)
     return spec, located, character, (Path(character_path) if character_path else None)
 
@@ -250,11 +249,7 @@ def setup_from_text(text: str, interface_path: str | Path, scene: str | None = N
             raise
         raise located.error(("scene",), exc.message) from None
     scene_spec = parse_scene(load_file(scene_path))
-    from puppet.data.interface_refs import check_scene_refs
-
     check_scene_refs(spec, scene_spec, located, scene_path.stem)
-    from puppet.data.interface_refs import map_conflicts
-
     return Setup(spec, character, scene_spec, Path(interface_path), character_path, scene_path,
                  tuple(map_conflicts(spec, located)))
 

@@ -14,6 +14,7 @@ from collections.abc import Iterator
 
 from puppet.data.actions import ActionSpec
 from puppet.data.characters import CharacterSpec
+from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
 
 FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy")
@@ -33,7 +34,7 @@ def unknown(kind: str, name: str, known, owner: str = "") -> str:
 def machine_locs(spec) -> Iterator[tuple[str, tuple, object]]:
     """(machine name, location of its states' parent, machine spec) for every machine."""
     for name, machine in spec.state_machines().items():
-        yield name, (() if name == "main" else ("machines", name)), machine
+        yield name, (() if name == MAIN_MACHINE else ("machines", name)), machine
 
 
 def actions(spec) -> Iterator[tuple[tuple, ActionSpec]]:
@@ -99,8 +100,8 @@ def check_names(spec, located: Located) -> None:
         for name, state in machine.states.items():
             if state.roles is not None:
                 need(where + ("states", name, "roles"), "role binding", state.roles, bindings)
-    if spec.states and "main" in spec.machines:
-        raise located.error(("machines", "main"), "machine name 'main' is the top-level "
+    if spec.states and MAIN_MACHINE in spec.machines:
+        raise located.error(("machines", MAIN_MACHINE), f"machine name '{MAIN_MACHINE}' is the top-level "
                                                   "'states'; name this machine otherwise",
                             prefer_key=True)
     for mname, machine in spec.machines.items():
@@ -129,7 +130,7 @@ def check_names(spec, located: Located) -> None:
                                             " among the grid poses' joints"))
     def need_state(loc, name, machine):
         if spec.resolve_goto(name, machine) is None:
-            every = [f"{m}.{st}" if m != "main" else st
+            every = [f"{m}.{st}" if m != MAIN_MACHINE else st
                      for m, ms in spec.state_machines().items() for st in ms.states]
             owners = [m for m, ms in spec.state_machines().items() if name in ms.states]
             if len(owners) > 1:
@@ -175,7 +176,6 @@ def _check_reachable(spec, located: Located) -> None:
     """Every state of every machine can be reached from its machine's initial state
     (through gotos from anywhere that lead into the machine, its own states' keys,
     entries and transitions, and its any_state rules)."""
-    machines = spec.state_machines()
     edges: dict[tuple[str, str], set[tuple[str, str]]] = {}
     anywhere: set[tuple[str, str]] = set()  # reachable from any state of any machine
     for machine, loc, a in machine_actions(spec):
@@ -385,7 +385,7 @@ def map_conflicts(spec, located: Located) -> list[str]:
     groups: list[tuple[str, list]] = []
     modes = list(spec.modes.items()) or [(None, [])]
     machines = list(spec.state_machines().items())
-    states = [(f"state '{s}'" if mname == "main" else f"state '{mname}.{s}'", st.maps)
+    states = [(f"state '{s}'" if mname == MAIN_MACHINE else f"state '{mname}.{s}'", st.maps)
               for mname, ms in machines for s, st in ms.states.items()] or [(None, [])]
     for mode, mode_maps in modes:
         for state, state_maps in states:

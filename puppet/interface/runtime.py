@@ -207,7 +207,8 @@ class InterfaceRuntime:
         kept = set()
         for mine, theirs in zip(self.controllers, old.controllers):
             kept |= mine.adopt(theirs, same, now)
-        self.owners.table = {j: o for j, o in old.owners.table.items() if o in kept}
+        self.owners.table = dict(old.owners.table)
+        self.owners.keep_only(kept)
         if spec.gains == was.gains:
             self.gain_holds = _copy_holds(old.gain_holds)
         else:
