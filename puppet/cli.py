@@ -132,6 +132,11 @@ def _play(args: argparse.Namespace) -> int:
 
         setup = dataclasses.replace(setup, interface=setup.interface.model_copy(
             update={"checkpoint_every": args.checkpoint_every}))
+    from puppet.mocap.commands import live_play
+
+    live = live_play(args, setup)  # --mocap: a live take (window or headless)
+    if live is not None:
+        return live
     ghost = None
     if args.ghost:  # a log replaying beside the live character (never touches it)
         from puppet.timeline.ghost import Ghost
@@ -280,6 +285,9 @@ def build_parser() -> argparse.ArgumentParser:
                       help="com: start with the balance overlay on (centre of mass, its "
                            "ground point, the support between the outermost ground "
                            "contacts, the extrapolated centre of mass); F4 toggles it")
+    from puppet.mocap.commands import add_parser as add_mocap_parser, add_play_options
+
+    add_play_options(play)  # --mocap, --mocap-format, --mapping
     play.set_defaults(func=_play)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
@@ -361,6 +369,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
     bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
     bench.set_defaults(func=_bench)
+    add_mocap_parser(sub)  # puppet mocap send / listen
     return parser
 
 

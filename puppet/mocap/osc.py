@@ -14,6 +14,11 @@ Reasons (``DROP_REASONS``):
 * ``out_of_order``: the frame's time is before the last frame's;
 * ``stale``: the frame's time is the last frame's (a repeated frame: nothing new).
 
+The first five judge a datagram (``malformed`` when it does not parse) or one message
+of it (the others of a bundle still count); the last two judge a whole frame. Every
+message is accepted, ignored or dropped: ``messages == accepted + ignored +`` the
+message drops.
+
 Time going back by more than ``RESTART_GAP`` seconds is taken as the sender starting
 again (counted as ``restarts``, not dropped).
 """
@@ -61,6 +66,7 @@ class Counts:
 
     packets: int = 0
     messages: int = 0
+    accepted: int = 0  # messages judged good (each message is accepted, ignored or dropped)
     frames: int = 0
     ignored: int = 0
     restarts: int = 0
@@ -193,6 +199,7 @@ class Decoder:
         frames: list[Frame] = []
         for message in messages:
             counts.messages += 1
+            ignored = counts.ignored
             try:
                 address = message.address
                 if not isinstance(address, str):
@@ -201,6 +208,8 @@ class Decoder:
             except Drop as drop:
                 counts.drop(drop.reason, drop.detail)
                 continue
+            if counts.ignored == ignored:
+                counts.accepted += 1
             if frame is not None:
                 self._accept(frame, frames)
         if bundle:

@@ -1,0 +1,247 @@
+"""``puppet mocap send`` and ``puppet mocap listen``, and the ``--mocap`` option of play.
+
+Only argparse is imported at the top: the command line starts fast; each command
+imports what it needs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from puppet.data.errors import UsageError
+
+FORMATS = ("vmc", "mediapipe", "puppet")  # puppet.mocap.formats.FORMATS, importless
+DEFAULT_BONES = "assets/mocap/cmu-bones.yaml"
+MAX_SPEED = 10.0
+
+
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.05 <= value <= MAX_SPEED:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a speed from 0.05 to {MAX_SPEED:g} "
+                                         f"(1 plays the clip in real time)")
+    return value
+
+
+def _duration(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 < value <= 24 * 3600.0:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a duration in seconds "
+                                         f"(more than 0, at most a day)")
+    return value
+
+
+def _project_file(path: str) -> Path:
+    """A path as given, else relative to the project (so a default works from anywhere)."""
+    p = Path(path)
+    if p.exists() or p.is_absolute():
+        return p
+    root = Path(__file__).resolve().parents[2]
+    return root / p if (root / p).exists() else p
+
+
+def retargeter_for(mapping: str | None):
+    """A Retargeter for ``--mapping FILE`` (None without one)."""
+    if mapping is None:
+        return None
+    from puppet.mocap.retarget import Retargeter, load_mapping
+
+    return Retargeter(load_mapping(str(_project_file(mapping))))
+
+
+def source_for(url: str, fmt: str, mapping: str | None, option: str = "--mocap"):
+    """An (unstarted) OscSource for ``--mocap udp://HOST:PORT``."""
+    from puppet.mocap.formats import decoder, parse_udp
+    from puppet.mocap.source import OscSource
+
+    host, port = parse_udp(option, url, decoder(fmt).default_port)
+    if fmt != "puppet" and mapping is None:
+        raise UsageError(f"{option}: a {fmt} stream sends points; give --mapping FILE to "
+                         f"turn them into the figure's channels (or send --format puppet)")
+    return OscSource(fmt, host, port, retargeter=retargeter_for(mapping))
+
+
+def add_play_options(play: argparse.ArgumentParser) -> None:
+    play.add_argument("--mocap", metavar="udp://HOST:PORT",
+                      help="drive the figure from a live OSC stream (bound to 127.0.0.1 "
+                           "unless HOST says otherwise); recorded as channels events")
+    play.add_argument("--mocap-format", choices=FORMATS, default="vmc",
+                      help="what the stream sends: vmc (default, port 39539), mediapipe "
+                           "(/mediapipe/pose) or puppet (/puppet/channels: no mapping)")
+    play.add_argument("--mapping", metavar="FILE",
+                      help="the mapping that turns the stream's points into channels")
+
+
+def add_parser(sub) -> None:
+    mocap = sub.add_parser("mocap", help="motion capture: stream a clip live, watch a stream",
+                           description="Live motion capture over OSC (UDP): send a BVH "
+                                       "clip as a live source would, or listen and print "
+                                       "what arrives.")
+    msub = mocap.add_subparsers(dest="mocap_command", metavar="COMMAND")
+    send = msub.add_parser("send", help="stream a BVH clip over OSC in real time",
+                           description="Stream a BVH clip over OSC/UDP in real time "
+                                       "(VMC bones, MediaPipe landmarks, or puppet "
+                                       "channels through a mapping).")
+    send.add_argument("clip", metavar="CLIP", help="a BVH file")
+    send.add_argument("--to", default="udp://127.0.0.1:39539", metavar="udp://HOST:PORT",
+                      help="where to send (default udp://127.0.0.1:39539)")
+    send.add_argument("--format", choices=FORMATS, default="vmc",
+                      help="vmc (default), mediapipe, or puppet (needs --mapping)")
+    send.add_argument("--bones", default=DEFAULT_BONES, metavar="FILE",
+                      help="which BVH joint is which humanoid bone / landmark (vmc and "
+                           f"mediapipe; default {DEFAULT_BONES})")
+    send.add_argument("--mapping", metavar="FILE",
+                      help="puppet format: the mapping that makes the clip's channels")
+    send.add_argument("--speed", type=_speed, default=1.0,
+                      help="playback speed (0.05-10; default 1, real time)")
+    send.add_argument("--loop", action="store_true", help="start again at the end, for ever")
+    send.add_argument("--quiet", "-q", action="store_true", help="print nothing while sending")
+    send.set_defaults(func=_send)
+    listen = msub.add_parser("listen", help="print what arrives on an OSC port",
+                             description="Listen for a live OSC stream and print, every "
+                                         "second, what arrives: packets, frames, rate, "
+                                         "drops by reason, the points or channels seen.")
+    listen.add_argument("--port", type=int, metavar="N",
+                        help="UDP port (default: the format's, 39539 for vmc)")
+    listen.add_argument("--host", default="127.0.0.1",
+                        help="address to bind (default 127.0.0.1; 0.0.0.0 for every "
+                             "network)")
+    listen.add_argument("--format", choices=FORMATS, default="vmc",
+                        help="what to expect: vmc (default), mediapipe or puppet")
+    listen.add_argument("--mapping", metavar="FILE",
+                        help="also show the channels this mapping makes of the points")
+    listen.add_argument("--seconds", type=_duration, metavar="S",
+                        help="stop after S seconds (default: until Ctrl+C)")
+    listen.set_defaults(func=_listen)
+    mocap.set_defaults(func=lambda args: _help(mocap))
+
+
+def _help(parser) -> int:
+    parser.print_help()
+    return 0
+
+
+def _send(args: argparse.Namespace) -> int:
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.formats import parse_udp
+    from puppet.mocap.send import encoder, load_bones, stream
+
+    address = parse_udp("--to", args.to, 39539)
+    clip = read_bvh(args.clip)
+    table = retargeter = None
+    if args.format == "puppet":
+        if args.mapping is None:
+            raise UsageError("--format puppet sends the clip's channels: give --mapping FILE")
+        retargeter = retargeter_for(args.mapping)
+    else:
+        table = load_bones(_project_file(args.bones))
+    encode = encoder(clip, args.format, table, retargeter)
+    seconds = clip.frames * clip.frame_time / args.speed
+    if not args.quiet:
+        print(f"sending {Path(args.clip).name} ({clip.frames} frames at {clip.fps:.4g} fps, "
+              f"{seconds:.1f} s{', looping' if args.loop else ''}) as {args.format} to "
+              f"udp://{address[0]}:{address[1]}; Ctrl+C stops", flush=True)
+
+    def progress(sent: int) -> None:
+        if not args.quiet and sent % max(1, round(clip.fps)) == 0:
+            print(f"\r{sent} frames sent", end="", flush=True)
+
+    try:
+        sent = stream(encode, clip.frames, clip.frame_time, address, args.speed, args.loop,
+                      on_sent=progress)
+    except KeyboardInterrupt:
+        print()
+        return 130
+    if not args.quiet:
+        print(f"\r{sent} frames sent")
+    return 0
+
+
+def _listen(args: argparse.Namespace) -> int:
+    from puppet.mocap.formats import decoder
+    from puppet.mocap.source import OscSource
+
+    port = args.port if args.port is not None else decoder(args.format).default_port
+    if not 0 <= port <= 65535:
+        raise UsageError(f"--port {port}: expected a whole number 0..65535")
+    from puppet.mocap.formats import parse_udp
+
+    host, _ = parse_udp("--host", f"{args.host}:{port}", port)
+    source = OscSource(args.format, host, port, retargeter=retargeter_for(args.mapping))
+    source.start()
+    print(f"listening for {args.format} on udp://{source.host}:{source.port}; Ctrl+C stops",
+          flush=True)
+    start = time.perf_counter()
+    names_shown: tuple = ()
+    try:
+        while args.seconds is None or time.perf_counter() - start < args.seconds:
+            time.sleep(min(1.0, args.seconds - (time.perf_counter() - start))
+                       if args.seconds is not None else 1.0)
+            events = source.drain()
+            print(source.status(), flush=True)
+            if source.last_names and source.last_names != names_shown:
+                names_shown = source.last_names
+                print(f"  {len(names_shown)} named: {', '.join(names_shown)}", flush=True)
+            if events:
+                values = events[-1]["values"]
+                shown = ", ".join(f"{n}={v:.3g}" for n, v in list(values.items())[:12])
+                more = f" (+{len(values) - 12})" if len(values) > 12 else ""
+                print(f"  channels: {shown}{more}", flush=True)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        source.close()
+    print(source.status())
+    return 0
+
+
+def live_play(args, setup) -> int | None:
+    """``puppet play ... --mocap URL``: the window or a headless real-time take.
+    None when --mocap is not given."""
+    if not args.mocap:
+        return None
+    if args.input or args.frames or args.ghost:
+        raise UsageError("--mocap goes without --input, --frames and --ghost (a live take "
+                         "is recorded; replay its log for those)")
+    source = source_for(args.mocap, args.mocap_format, args.mapping)
+    source.start()
+    print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
+          flush=True)
+    try:
+        if not args.headless:
+            from puppet.app.window import run_window
+
+            return run_window(setup, args.slowdown, record=args.record,
+                              no_record=args.no_record, overlay=args.overlay == "com",
+                              sources=[source])
+        from puppet.mocap.live import run_live
+
+        seconds = args.seconds if args.seconds is not None else 5.0
+        session = run_live(setup, [source], seconds,
+                           record=None if args.no_record else args.record,
+                           slowdown=args.slowdown,
+                           description=f"a live {args.mocap_format} take from {args.mocap}")
+    finally:
+        source.close()
+    print(source.status())
+    if args.record and not args.no_record:
+        print(f"recorded {args.record}")
+    if args.screenshot:
+        from puppet.app.headless import FrameRenderer
+
+        FrameRenderer(session).save(session, args.screenshot)
+        print(f"wrote {args.screenshot}")
+    c = session.character
+    x, y = c.com()
+    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
+          f"state={session.sim.state_hash()}")
+    return 3 if session.blowups else 0

@@ -1,0 +1,197 @@
+"""A live motion-capture source: an OSC server on its own thread, frames into a LiveQueue.
+
+    source = OscSource("vmc", port=39539, retargeter=rt)   # bound to 127.0.0.1
+    source.start()
+    ...each frame of the window or of a headless loop:
+    for event in source.drain():
+        session.handle(event)                          # recorded at the step it acts
+
+python-osc's UDP server receives on a thread; each datagram is decoded
+(``puppet.mocap.formats``) and every frame becomes the values of one ``channels``
+event: the Retargeter's channels of the frame's points (VMC, MediaPipe), or the
+channels sent (puppet's address). Events go through a ``LiveQueue`` (checked and
+counted there too), and ``drain`` hands what came since the last frame over as one
+event (the frames of one drain act at the same step, the latest value of a channel
+wins, so merging them changes nothing but the log's size).
+
+Tracking lost: each event also sets ``mocap.fresh`` (input ``channel.mocap.fresh``) to
+1. When no fresh sample has arrived for ``LOST_AFTER`` (0.25 s) of wall time, the next
+``drain`` returns an event setting it to 0 (once; the next sample sets it back to 1).
+So the loss is decided in the frame loop and recorded in the log like any input: an
+interface can fall back to the keys on it, and a replay does exactly the same with no
+network and no clock.
+"""
+
+from __future__ import annotations
+
+import collections
+import threading
+import time
+from typing import Callable
+
+from puppet.data.errors import UsageError
+from puppet.input.live import LiveQueue
+from puppet.interface import events as ev
+from puppet.mocap.formats import LOCALHOST, decoder
+from puppet.mocap.osc import Frame
+
+LOST_AFTER = 0.25  # seconds without a fresh sample: tracking is lost
+FRESH = "mocap.fresh"  # the channel that says so (1 tracking, 0 lost)
+RATE_WINDOW = 1.0  # seconds of arrivals the rate is measured over
+
+
+class OscSource:
+    """Receives one format on ``host:port`` (default 127.0.0.1 and the format's port)."""
+
+    def __init__(self, fmt: str, host: str = LOCALHOST, port: int | None = None,
+                 retargeter=None, lost_after: float = LOST_AFTER,
+                 clock: Callable[[], float] = time.perf_counter):
+        self.decoder = decoder(fmt)
+        self.format = fmt
+        self.retargeter = retargeter
+        self.host = host
+        self.port = self.decoder.default_port if port is None else port
+        self.lost_after = lost_after
+        self.clock = clock
+        self.queue = LiveQueue(f"mocap {fmt}")
+        self._lock = threading.Lock()
+        self._server = None
+        self._thread: threading.Thread | None = None
+        self.last_arrival: float | None = None  # clock time of the last sample posted
+        self.last_frame: float | None = None  # ... of the last frame decoded (mapped or not)
+        self.unmapped = 0  # frames that gave no channels (no mapping, or no point it reads)
+        self.last_names: tuple[str, ...] = ()  # the points (or channels) of the last frame
+        self.lost_count = 0
+        self.fresh = False  # what the last event drained said
+        self._arrivals: collections.deque = collections.deque()
+        self.arrival_of_last_drained: float | None = None  # for the latency bench
+
+    # -- the receiving side (the server's thread, or a test calling it directly)
+    def receive(self, dgram: bytes, arrival: float | None = None) -> int:
+        """Decode one datagram; post its frames. Returns how many were posted."""
+        arrival = self.clock() if arrival is None else arrival
+        with self._lock:
+            frames = self.decoder.feed(dgram)
+            posted = 0
+            for frame in frames:
+                self.last_names = tuple(frame.points or frame.channels)
+                self.last_frame = arrival
+                self._arrivals.append(arrival)
+                values = self._channels(frame)
+                if not values:
+                    self.unmapped += 1
+                    continue
+                values[FRESH] = 1.0
+                if self.queue.post(ev.channels(values)):
+                    posted += 1
+                    self.last_arrival = arrival
+            while self._arrivals and self._arrivals[0] < arrival - RATE_WINDOW:
+                self._arrivals.popleft()
+        return posted
+
+    def _channels(self, frame: Frame) -> dict[str, float]:
+        if frame.channels:
+            return dict(frame.channels)
+        if not frame.points or self.retargeter is None:
+            return {}
+        try:
+            return {str(k): float(v) for k, v in self.retargeter.channels(frame.points).items()}
+        except Exception as exc:  # a live stream never takes the frame loop down
+            self.decoder.counts.last_problem = f"mapping failed: {type(exc).__name__}: {exc}"
+            return {}
+
+    # -- the frame loop's side
+    def drain(self, now: float | None = None) -> list[dict]:
+        """What arrived since the last drain as (at most) one ``channels`` event, or
+        the event that says tracking is lost."""
+        now = self.clock() if now is None else now
+        with self._lock:  # the events and the arrival of the last of them, together
+            events = self.queue.drain()
+            last = self.last_arrival
+        values: dict[str, float] = {}
+        for event in events:
+            values.update(event["values"])
+        if events:
+            self.arrival_of_last_drained = last
+        if values:
+            self.fresh = True
+        if self.fresh and last is not None and now - last > self.lost_after:
+            values[FRESH] = 0.0
+            self.fresh = False
+            self.lost_count += 1
+        return [ev.channels(values)] if values else []
+
+    def feed(self, session, now: float | None = None) -> int:
+        events = self.drain(now)
+        for event in events:
+            session.handle(event)
+        return len(events)
+
+    @property
+    def tracking(self) -> bool:
+        return self.fresh
+
+    def status(self, now: float | None = None) -> str:
+        """One line for the HUD and ``puppet mocap listen``."""
+        now = self.clock() if now is None else now
+        with self._lock:
+            c = self.decoder.counts
+            recent = sum(1 for a in self._arrivals if a >= now - RATE_WINDOW)
+            last = self.last_frame
+            text = (f"mocap {self.format} {self.host}:{self.port}: {c.packets} packets, "
+                    f"{c.frames} frames, {recent / RATE_WINDOW:.0f} Hz")
+            text += ", no sample yet" if last is None else f", last {now - last:.2f} s ago"
+            if self.lost_count and not self.fresh:
+                text += ", LOST"
+            text += f", {c.drops_text()}"
+            dropped = self.queue.dropped_bad + self.queue.dropped_overflow
+            if dropped:
+                text += f", {dropped} events refused"
+            if self.unmapped:
+                text += f", {self.unmapped} unmapped"
+        return text
+
+    # -- the server
+    def start(self) -> "OscSource":
+        from pythonosc.dispatcher import Dispatcher
+        from pythonosc.osc_server import BlockingOSCUDPServer
+
+        source = self
+
+        class _Raw(Dispatcher):
+            """Hands each datagram, as bytes, to the decoder (which judges it)."""
+
+            def call_handlers_for_packet(self, data, client_address):
+                source.receive(data)
+                return []
+
+        class _Server(BlockingOSCUDPServer):
+            def verify_request(self, request, client_address) -> bool:
+                return True  # every datagram is judged and counted, garbage too
+
+        try:
+            self._server = _Server((self.host, self.port), _Raw())
+        except OSError as exc:
+            raise UsageError(f"cannot listen on udp://{self.host}:{self.port}: "
+                             f"{exc.strerror or exc}") from None
+        self.port = self._server.server_address[1]  # port 0: the one the system chose
+        self._thread = threading.Thread(target=self._server.serve_forever,
+                                        kwargs={"poll_interval": 0.05},
+                                        name=f"mocap-{self.format}", daemon=True)
+        self._thread.start()
+        return self
+
+    def close(self) -> None:
+        if self._server is not None:
+            self._server.shutdown()
+            self._server.server_close()
+            self._server = None
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+
+    def __enter__(self) -> "OscSource":
+        return self.start()
+
+    def __exit__(self, *exc) -> None:
+        self.close()
