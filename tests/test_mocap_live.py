@@ -1,0 +1,201 @@
+"""The live path over loopback: an OscSource on a thread, frames into channels events,
+tracking lost after 0.25 s, a real-time headless take recorded and replayed to the
+same hash with no network; the command line's errors."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+
+import pytest
+
+from puppet.bench import channel_interface_text
+from puppet.cli import main
+from puppet.data.catalog import load_character_named, load_setup
+from puppet.mocap import puppet_osc
+from puppet.mocap.live import run_live
+from puppet.mocap.source import FRESH, LOST_AFTER, OscSource
+from puppet.timeline.log import read_log
+from puppet.timeline.replay import replay
+
+
+class FakeClock:
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self):
+        return self.now
+
+
+def _cat_channels(tmp_path):
+    cat, _ = load_character_named("cat")
+    path = tmp_path / "cat-channels.yaml"
+    path.write_text(channel_interface_text(cat, "cat-flat", count=4))
+    return str(path)
+
+
+def _sender(port, seconds, rate=120.0, stop=None):
+    """Send /puppet/channels c0..c3 (slow sinusoids) at ``rate`` Hz for ``seconds``."""
+    import math
+
+    def run():
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            start = time.perf_counter()
+            k = 0
+            while time.perf_counter() - start < seconds and not (stop and stop.is_set()):
+                t = k / rate
+                values = {f"c{i}": 0.9 * math.sin(2 * math.pi * 0.7 * t + i) for i in range(4)}
+                sock.sendto(puppet_osc.encode_frame(t, values), ("127.0.0.1", port))
+                k += 1
+                time.sleep(max(0.0, start + k / rate - time.perf_counter()))
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
+
+
+def test_a_source_turns_frames_into_one_channels_event_per_drain_and_counts_drops():
+    clock = FakeClock()
+    source = OscSource("puppet", clock=clock)  # not started: fed directly
+    source.receive(puppet_osc.encode_frame(0.0, {"a": 1.0, "b": 2.0}))
+    source.receive(puppet_osc.encode_frame(0.01, {"a": 3.0}))
+    source.receive(b"not osc")
+    source.receive(puppet_osc.encode_frame(0.005, {"a": 9.0}))  # back in time
+    events = source.drain()
+    assert events == [{"type": "channels", "values": {"a": 3.0, "b": 2.0, FRESH: 1.0}}]
+    assert source.drain() == []
+    status = source.status()
+    assert "4 packets, 2 frames" in status and "2 dropped" in status
+    assert "1 malformed" in status and "1 out_of_order" in status
+
+
+def test_tracking_is_lost_after_a_quarter_second_without_a_sample_and_comes_back():
+    clock = FakeClock()
+    source = OscSource("puppet", clock=clock)
+    source.receive(puppet_osc.encode_frame(0.0, {"a": 1.0}))
+    assert source.drain()[0]["values"][FRESH] == 1.0
+    clock.now += LOST_AFTER - 0.01
+    assert source.drain() == [] and source.tracking
+    clock.now += 0.02
+    assert source.drain() == [{"type": "channels", "values": {FRESH: 0.0}}]
+    assert not source.tracking and "LOST" in source.status()
+    clock.now += 1.0
+    assert source.drain() == []  # said once
+    source.receive(puppet_osc.encode_frame(1.0, {"a": 2.0}))
+    assert source.drain()[0]["values"] == {"a": 2.0, FRESH: 1.0}
+    assert source.tracking and "LOST" not in source.status() and source.lost_count == 1
+
+
+def test_points_go_through_the_retargeter_and_frames_it_cannot_map_are_counted():
+    from puppet.mocap import mediapipe
+
+    class Halves:  # a stand-in mapping: the left hip's height, halved
+        point_names = {"left_hip"}
+
+        def channels(self, points):
+            return {"hip": points["left_hip"][1] / 2} if "left_hip" in points else {}
+
+    source = OscSource("mediapipe", retargeter=Halves())
+    source.receive(mediapipe.encode_frame(None, {"left_hip": (0.0, 0.8, 0.0)}))
+    source.receive(mediapipe.encode_frame(None, {"nose": (0.0, 1.0, 0.0)}))
+    assert source.drain()[0]["values"] == {"hip": pytest.approx(0.4), FRESH: 1.0}
+    assert source.unmapped == 1 and "1 unmapped" in source.status()
+
+
+def test_a_live_take_over_loopback_replays_to_the_recorded_hash(tmp_path):
+    setup = load_setup(_cat_channels(tmp_path))
+    record = tmp_path / "take.jsonl"
+    with OscSource("puppet", port=0) as source:  # the system picks a free port
+        sender = _sender(source.port, seconds=1.6)
+        session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0)
+        sender.join()
+        assert source.decoder.counts.frames > 100  # ~120 Hz for 1.5 s
+        assert source.decoder.counts.total_dropped == 0
+    log = read_log(record)
+    streamed = [e for e in log.events if e.event["type"] == "channels"]
+    assert len(streamed) > 40  # about one event a frame (60 fps) while it streamed
+    assert all(e.event["values"][FRESH] == 1.0 for e in streamed)
+    assert log.end_hash == session.sim.state_hash()
+    result = replay(record)  # headless, no network
+    assert result.final_hash == log.end_hash
+    # the stream moved the joints: the hash could tell a broken path
+    start = session.character.spec.start.joints
+    import math
+    moved = [abs(math.degrees(session.character.servos[j].target) - start.get(j, 0.0))
+             for j in session.character.servos]
+    assert max(moved) > 2.0
+
+
+def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys):
+    interface = _cat_channels(tmp_path)
+    record = tmp_path / "cli.jsonl"
+    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    probe.bind(("127.0.0.1", 0))
+    port = probe.getsockname()[1]
+    probe.close()
+    stop = threading.Event()
+    sender = _sender(port, seconds=3.0, stop=stop)
+    try:
+        code = main(["play", interface, "--headless", "--seconds", "0.8", "--record",
+                     str(record), "--mocap", f"udp://127.0.0.1:{port}",
+                     "--mocap-format", "puppet", "--slowdown", "1"])
+    finally:
+        stop.set()
+        sender.join()
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert f"mocap puppet 127.0.0.1:{port}:" in out and "recorded" in out
+    assert main(["replay", str(record), "--headless", "--check"]) == 0
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--mocap", "udp://127.0.0.1:39599"], "a vmc stream sends points; give --mapping"),
+    (["--mocap", "udp://example.org:1", "--mocap-format", "puppet"], "not an IP address"),
+    (["--mocap", "tcp://127.0.0.1:1", "--mocap-format", "puppet"], "only udp://"),
+    (["--mocap", "udp://127.0.0.1:1", "--mocap-format", "puppet", "--input", "luxo-hop"],
+     "--mocap goes without --input"),
+])
+def test_play_mocap_mistakes_are_one_line_errors(argv, words, capsys):
+    code = main(["play", "luxo-mouse", "--headless", *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and words in err and err.count("\n") == 1
+
+
+def test_a_port_in_use_is_a_one_line_error(capsys):
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as held:
+        held.bind(("127.0.0.1", 0))
+        port = held.getsockname()[1]
+        code = main(["play", "luxo-mouse", "--headless", "--mocap",
+                     f"udp://127.0.0.1:{port}", "--mocap-format", "puppet"])
+    err = capsys.readouterr().err
+    assert code == 2 and f"cannot listen on udp://127.0.0.1:{port}" in err
+
+
+def test_listen_prints_what_arrives(capsys):
+    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    probe.bind(("127.0.0.1", 0))
+    port = probe.getsockname()[1]
+    probe.close()
+    stop = threading.Event()
+    sender = _sender(port, seconds=2.0, stop=stop)
+    try:
+        assert main(["mocap", "listen", "--format", "puppet", "--port", str(port),
+                     "--seconds", "1.2"]) == 0
+    finally:
+        stop.set()
+        sender.join()
+    out = capsys.readouterr().out
+    assert f"listening for puppet on udp://127.0.0.1:{port}" in out
+    assert "4 named: c0, c1, c2, c3" in out and "channels: c0=" in out
+    assert "0 dropped" in out
+
+
+def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):
+    with OscSource("vmc", port=0) as source:
+        code = main(["mocap", "send", "assets/mocap/cmu-131_01-walk.bvh", "--to",
+                     f"udp://127.0.0.1:{source.port}", "--speed", "10", "-q"])
+        time.sleep(0.2)
+        assert code == 0
+        assert source.decoder.counts.frames == 994
+        assert source.decoder.counts.total_dropped == 0
+        assert len(source.last_names) == 22
