@@ -238,7 +238,9 @@ def live_play(args, setup) -> int | None:
     if args.screenshot:
         from puppet.app.headless import FrameRenderer
 
-        FrameRenderer(session).save(session, args.screenshot)
+        renderer = FrameRenderer(session)
+        renderer.info.sources = (source.hud_line(),)
+        renderer.save(session, args.screenshot)
         print(f"wrote {args.screenshot}")
     c = session.character
     x, y = c.com()

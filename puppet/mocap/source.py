@@ -151,6 +151,19 @@ class OscSource:
                 text += f", {self.unmapped} unmapped"
         return text
 
+    def hud_line(self, now: float | None = None) -> str:
+        """The status, short enough for the HUD: rate, sample age, drops."""
+        now = self.clock() if now is None else now
+        with self._lock:
+            c = self.decoder.counts
+            recent = sum(1 for a in self._arrivals if a >= now - RATE_WINDOW)
+            last = self.last_frame
+        age = "waiting" if last is None else f"{now - last:.2f} s ago"
+        text = f"mocap {self.format} :{self.port}  {recent / RATE_WINDOW:.0f} Hz  {age}"
+        if self.lost_count and not self.fresh:
+            text += "  LOST"
+        return f"{text}  {c.drops_text()}"
+
     # -- the server
     def start(self) -> "OscSource":
         from pythonosc.dispatcher import Dispatcher
