@@ -14,8 +14,9 @@ Reasons (``DROP_REASONS``):
 * ``out_of_order``: the frame's time is before the last frame's;
 * ``stale``: the frame's time is the last frame's (a repeated frame: nothing new).
 
-The first five judge a datagram (``malformed`` when it does not parse) or one message
-of it (the others of a bundle still count); the last two judge a whole frame. Every
+The first five judge a datagram (``malformed`` when it does not parse, or one element
+of a bundle that does not) or one message of it (the others of a bundle still count);
+the last two judge a whole frame. Every
 message is accepted, ignored or dropped: ``messages == accepted + ignored +`` the
 message drops.
 
@@ -26,7 +27,9 @@ again (counted as ``restarts``, not dropped).
 from __future__ import annotations
 
 import collections
+import logging
 import math
+import threading
 from dataclasses import dataclass, field
 
 from pythonosc import osc_bundle, osc_message
@@ -70,6 +73,7 @@ class Counts:
     frames: int = 0
     ignored: int = 0
     restarts: int = 0
+    skipped: int = 0  # bundle elements python-osc could not read (each a malformed drop)
     dropped: collections.Counter = field(default_factory=collections.Counter)
     last_problem: str = ""
 
@@ -91,9 +95,58 @@ class Counts:
         return f"{self.total_dropped} dropped ({parts})"
 
 
-def messages_of(dgram: bytes) -> tuple[list[osc_message.OscMessage], bool]:
+class _PythonOscWarnings(logging.Filter):
+    """python-osc logs (on the root logger) and skips what it cannot read: a bundle
+    element that is neither a message nor a bundle, an argument of an unknown type.
+    A stream of garbage would flood the terminal; instead those records are counted,
+    per thread, and the decoder counts them as drops."""
+
+    def __init__(self):
+        super().__init__()
+        self.local = threading.local()
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if "pythonosc" not in (record.pathname or ""):
+            return True
+        message = str(record.msg)
+        if message.startswith("Could not identify content type"):
+            self.local.elements = getattr(self.local, "elements", 0) + 1
+            return False
+        if message.startswith("Unhandled parameter type"):
+            self.local.types = getattr(self.local, "types", 0) + 1
+            return False
+        return True
+
+    def take(self) -> tuple[int, int]:
+        """(skipped bundle elements, skipped arguments) since the last take."""
+        out = (getattr(self.local, "elements", 0), getattr(self.local, "types", 0))
+        self.local.elements = self.local.types = 0
+        return out
+
+
+_WARNINGS = _PythonOscWarnings()
+logging.getLogger().addFilter(_WARNINGS)
+
+
+def messages_of(dgram: bytes, counts: "Counts | None" = None
+                ) -> tuple[list[osc_message.OscMessage], bool]:
     """The messages of a datagram in order (nested bundles flattened) and whether it
-    was a bundle. Raises ``Drop("malformed")`` if python-osc cannot parse it."""
+    was a bundle. Raises ``Drop("malformed")`` if python-osc cannot parse it, or if it
+    skipped an argument of a type it does not know; a bundle element it could not
+    identify (and skipped) is counted in ``counts`` as a ``malformed`` drop."""
+    _WARNINGS.take()
+    messages, bundle = _messages_of(dgram)
+    elements, types = _WARNINGS.take()
+    if types:
+        raise Drop("malformed", f"{types} argument(s) of an unknown OSC type")
+    if elements and counts is not None:
+        counts.skipped += elements
+        for _ in range(elements):
+            counts.drop("malformed", "a bundle element that is not OSC")
+    return messages, bundle
+
+
+def _messages_of(dgram: bytes) -> tuple[list[osc_message.OscMessage], bool]:
     if not isinstance(dgram, (bytes, bytearray)) or not dgram:
         raise Drop("malformed", "an empty datagram")
     dgram = bytes(dgram)
@@ -192,7 +245,7 @@ class Decoder:
         counts = self.counts
         counts.packets += 1
         try:
-            messages, bundle = messages_of(dgram)
+            messages, bundle = messages_of(dgram, counts)
         except Drop as drop:
             counts.drop(drop.reason, drop.detail)
             return []
