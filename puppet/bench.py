@@ -521,6 +521,17 @@ def measure_mocap(repeats: int) -> dict:
                                 "ms") for i in items]}
 
 
+def measure_mocap_latency(seconds: float) -> dict:
+    """A live sample's way from its arrival over loopback to the servo targets, in a
+    60 fps frame loop (``puppet.mocap.latency``): it must act at the next frame."""
+    from puppet.mocap.latency import measure_latency
+
+    res = measure_latency(seconds)
+    res["target"] = _target("mocap-latency: samples acting at the next 60 fps frame",
+                            res["next_frame_pct"], ">=", 100.0, "%")
+    return res
+
+
 # -- the report ----------------------------------------------------------------------
 # -- a channels stream (a mocap frame of many values) ------------------------------------
 CHANNEL_HZ = 120.0
@@ -744,6 +755,7 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
                 "ms"),
         _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms")]
     report["mocap"] = measure_mocap(cfg["repeats"])
+    report["mocap_latency"] = measure_mocap_latency(1.0 if quick else 5.0)
     report["feedback"] = [measure_feedback(n, cfg["seconds"], cfg["repeats"])
                           for n in FEEDBACK_INTERFACES
                           if n in {i for _, ifs in subjects for i in ifs}
@@ -752,6 +764,7 @@ def run_bench(quick: bool = False, only: list[str] | None = None) -> dict:
         and all(t["pass"] for t in report["targets"]) \
         and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"]) \
         and all(t["pass"] for t in report["mocap"]["targets"]) \
+        and report["mocap_latency"]["target"]["pass"] \
         and all(f["target"]["pass"] for f in report["feedback"])
     return report
 
@@ -873,6 +886,15 @@ def format_report(report: dict) -> str:
         row(f"read {item['clip']} ({_fmt_bytes(item['bytes'])}, {item['frames']} frames)",
             f"{item['read_ms']:.1f} ms", f"< {t['limit']:g} ms", "PASS" if t["pass"] else "MISS")
         row(f"  forward kinematics, {item['joints']} joints", f"{item['fk_ms']:.1f} ms")
+    lat = report.get("mocap_latency")
+    if lat:
+        t = lat["target"]
+        row(f"mocap-latency: arrival -> servo targets", f"{lat['median_ms']:.1f} ms")
+        row(f"  99th percentile / worst ({lat['samples']} samples)",
+            f"{lat['p99_ms']:.1f}/{lat['max_ms']:.1f} ms")
+        row("  acting at the next 60 fps frame", f"{lat['next_frame_pct']:.1f}%",
+            f">= {t['limit']:g}%", "PASS" if t["pass"] else "MISS")
+        row("  the frame's handling (drain -> targets)", f"{lat['processing_median_ms']:.2f} ms")
     lines.append("")
     misses = [f"{c['character']}: {t['name']}" for c in report["characters"]
               for t in c["targets"] if not t["pass"]] + \
@@ -880,6 +902,8 @@ def format_report(report: dict) -> str:
     misses += [ch["target"]["name"] for ch in report.get("channels", [])
                if ch["target"] and not ch["target"]["pass"]]
     misses += [f"mocap: {t['name']}" for t in report["mocap"]["targets"] if not t["pass"]]
+    if report.get("mocap_latency") and not report["mocap_latency"]["target"]["pass"]:
+        misses.append(report["mocap_latency"]["target"]["name"])
     misses += [f["target"]["name"] for f in report.get("feedback", []) if not f["target"]["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)

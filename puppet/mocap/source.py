@@ -64,7 +64,8 @@ class OscSource:
         self.lost_count = 0
         self.fresh = False  # what the last event drained said
         self._arrivals: collections.deque = collections.deque()
-        self.arrival_of_last_drained: float | None = None  # for the latency bench
+        self._times: list = []  # (sender's time, arrival) of the frames posted, until drained
+        self.drained_times: list = []  # ... of the frames the last drain handed over
 
     # -- the receiving side (the server's thread, or a test calling it directly)
     def receive(self, dgram: bytes, arrival: float | None = None) -> int:
@@ -85,6 +86,7 @@ class OscSource:
                 if self.queue.post(ev.channels(values)):
                     posted += 1
                     self.last_arrival = arrival
+                    self._times.append((frame.time, arrival))
             while self._arrivals and self._arrivals[0] < arrival - RATE_WINDOW:
                 self._arrivals.popleft()
         return posted
@@ -108,11 +110,10 @@ class OscSource:
         with self._lock:  # the events and the arrival of the last of them, together
             events = self.queue.drain()
             last = self.last_arrival
+            self.drained_times, self._times = self._times, []
         values: dict[str, float] = {}
         for event in events:
             values.update(event["values"])
-        if events:
-            self.arrival_of_last_drained = last
         if values:
             self.fresh = True
         if self.fresh and last is not None and now - last > self.lost_after:
