@@ -145,18 +145,32 @@ def _play(args: argparse.Namespace) -> int:
         ghost = Ghost(find_log(args.ghost))
         for w in ghost.warnings:
             print(w, file=sys.stderr)
+    clip = None
+    if args.mocap:  # a recorded clip plays in sim time, through the interface's mapping
+        from puppet.mocap.clip_source import ClipSource
+        from puppet.mocap.clips import find_mapping, open_clip
+
+        mapping, _ = find_mapping(args.mapping, setup.interface, setup.interface_path)
+        clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem)
+    elif args.mapping:
+        raise UsageError("--mapping goes with --mocap (the clip it retargets)")
     if not args.headless:
         from puppet.app.window import run_window
 
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
                           ghost=ghost, overlay=args.overlay == "com",
-                          note=setup.warnings[0] if setup.warnings else "")
+                          note=setup.warnings[0] if setup.warnings else "",
+                          sources=[clip] if clip is not None else ())
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, run_seconds
 
     events = compile_script(script, DEFAULT_DT) if script is not None else []
     seconds = run_seconds(script, args.seconds)
+    if clip is not None:
+        if args.seconds is None and (script is None or script.seconds is None):
+            seconds = clip.clip.duration  # a clip's run lasts the clip
+        events = sorted(events + clip.events(DEFAULT_DT, seconds), key=lambda e: e[0])
     late = sum(1 for step, _ in events if step * DEFAULT_DT > seconds)
     if late:
         print(f"puppet play: warning: {late} scripted event(s) come after the run ends at "
@@ -281,6 +295,14 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")
+    play.add_argument("--mocap", metavar="CLIP",
+                      help="drive the figure with a motion-capture clip (.bvh, or a name: "
+                           "assets/mocap/NAME.bvh), played in sim time through the "
+                           "interface's mapping; headless runs last the clip's length "
+                           "unless --seconds says otherwise")
+    play.add_argument("--mapping", metavar="MAPPING",
+                      help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
+                           "default: the interface's tracking.mapping")
     play.add_argument("--overlay", choices=["com"],
                       help="com: start with the balance overlay on (centre of mass, its "
                            "ground point, the support between the outermost ground "

@@ -355,8 +355,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         if not clock.paused:
             send_mouse()
             if feeder is None:
-                for source in sources:  # live streams, posted from their own threads
-                    for event_ in source.drain():
+                for source in sources:  # live streams and clips (on the sim clock)
+                    for event_ in source.drain(session.time):
                         handle(event_)
 
         if reloader is not None and not scrub.active:

@@ -263,6 +263,11 @@ class ActionSpec(Spec):
     friction: Friction | None = Field(None, description="ground friction")
     perturb: Literal["on", "off", "toggle"] | None = None
     push: ShoveSpec | None = Field(None, description="shove a link (an impulse)")
+    track: Literal["off", "angles", "kd"] | None = Field(
+        None, description="follow the performer (the interface's 'tracking'): joint "
+                          "angles, KD control, or stop")
+    kinematic: Literal["on", "off", "toggle"] | None = Field(
+        None, description="KD control's Cartesian pulls (off: free fall)")
     description: str = ""
 
     @field_validator("app")

@@ -38,6 +38,8 @@ FOLDERS = {
     "script": ("assets/scripts", ".yaml"),
     "log": ("assets/logs", ".jsonl"),
     "recording": ("recordings", ".jsonl"),  # the window's own logs (not shipped)
+    "mapping": ("assets/mappings", ".yaml"),  # mocap retargeting
+    "clip": ("assets/mocap", ".bvh"),  # motion capture
 }
 
 

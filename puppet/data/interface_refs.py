@@ -292,6 +292,7 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             raise located.error(loc + ("frame",), unknown(
                 "frame", m.frame, ["joint", "world"] + links,
                 " (joint, world or a link)"))
+    _check_tracking(spec, character, located, need, need_link)
     for loc, a in actions(spec):
         if a.push is not None:
             need_link(loc + ("push", "link"), a.push.link)
@@ -315,6 +316,43 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             problem = sensor_problem(t.when.sensor, character, spec.roles)
             if problem:
                 raise located.error(loc + ("when", "sensor"), problem)
+
+
+def _check_tracking(spec, character, located, need, need_link) -> None:
+    """The tracked joints and the pulled links exist; ``track`` needs a ``tracking``
+    section, and ``kd`` its ``root`` on the root link."""
+    tracking = spec.tracking
+    for loc, a in actions(spec):
+        if a.track is None and a.kinematic is None:
+            continue
+        field = "track" if a.track is not None else "kinematic"
+        if tracking is None:
+            raise located.error(loc + (field,), f"'{field}' needs the interface's "
+                                                f"'tracking' section (which channels drive "
+                                                f"which joints)")
+        if a.track == "kd" and tracking.root is None:
+            raise located.error(loc + ("track",), "'track: kd' needs 'tracking.root' (the "
+                                                  "channels that place the performed pose)")
+    if tracking is None:
+        return
+    if tracking.start == "kd" and tracking.root is None:
+        raise located.error(("tracking", "start"), "'start: kd' needs 'tracking.root' (the "
+                                                   "channels that place the performed pose)")
+    if tracking.joints != "all":
+        for i, name in enumerate(tracking.joints):
+            need(("tracking", "joints", i), name)
+    for name in tracking.channels:
+        need(("tracking", "channels", name), name, True)
+    for name in tracking.scale:
+        need_link(("tracking", "scale", name), name)
+    if tracking.root is not None:
+        need(("tracking", "root", "at"), tracking.root.at)
+        parent = character.joint(tracking.root.at).parent
+        if parent != character.root:
+            raise located.error(("tracking", "root", "at"),
+                                f"joint '{tracking.root.at}' hangs from '{parent}'; "
+                                f"expected a joint on the root link '{character.root}' "
+                                f"(the hips: its hinge is the root point)")
 
 
 def _in_limits(located, loc, name, deg, character) -> None:

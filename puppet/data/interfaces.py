@@ -21,6 +21,7 @@ from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
 from puppet.data.characters import CharacterSpec
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
 from puppet.data.ranges import AngleChange, Damping, Num, Stiffness, Torque
+from puppet.data.tracking import TrackingSpec
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 
@@ -259,6 +260,8 @@ class InterfaceSpec(Spec):
         default_factory=dict, description="more state machines, side by side with "
                                           "'states' (the machine 'main')")
     perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
+    tracking: TrackingSpec | None = Field(None, description="how mocap channels drive "
+                                                            "the figure (track actions)")
     roles: dict[str, dict[str, str]] = Field(
         default_factory=dict, description="role -> binding -> joint or link: names that "
                                           "mean one joint or link in one binding and "

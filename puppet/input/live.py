@@ -48,8 +48,9 @@ class LiveQueue:
             self._events.append(event)
         return True
 
-    def drain(self) -> list[Event]:
-        """Every event posted since the last drain (the frame loop's thread)."""
+    def drain(self, now: float | None = None) -> list[Event]:
+        """Every event posted since the last drain (the frame loop's thread). ``now``
+        (the session's time, which a clip source plays by) is not needed here."""
         with self._lock:
             events = list(self._events)
             self._events.clear()

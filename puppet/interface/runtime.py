@@ -22,7 +22,7 @@ per joint (``puppet.interface.ownership``):
     ends when it has none;
   * gains (stiffness/damping) are not owned: the latest write wins.
 An action's parts run in this order, later ones winning on shared joints: app/meta
-(slowdown, gravity, friction, perturb), mode, goto (the new state's maps, then its
+(slowdown, gravity, friction, perturb, push), track/kinematic, mode, goto (the new state's maps, then its
 ``enter`` action), stiffness/damping, pose, set, adjust, sequence, release, grasp,
 reach.
 """
@@ -46,6 +46,7 @@ from puppet.interface.controllers.perturbation import Perturber
 from puppet.interface.controllers.reach import ReachController
 from puppet.interface.controllers.sequence import SequenceController
 from puppet.interface.controllers.state_machine import StateMachine
+from puppet.interface.controllers.tracking import OFF, Tracker
 from puppet.interface.events import Event, is_analog
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import FEEDBACK, FRAME, JointOwners
@@ -100,11 +101,14 @@ class InterfaceRuntime:
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.feedback = Feedback(servos, self.owners, self.inputs, every)
+        self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
+                               self.dt, self.restore_gains,
+                               None if sim is None else sim.ground_surface)
         self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
-                            self.perturber, self.frames, self.feedback)
+                            self.perturber, self.tracker, self.frames, self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
@@ -202,6 +206,8 @@ class InterfaceRuntime:
                                 for p in spec.sequences[name]))
             if kind == "chain":
                 return name in spec.chains and spec.chains[name] == was.chains.get(name)
+            if kind == "tracking":
+                return spec.tracking == was.tracking
             return spec.perturbation == was.perturbation
 
         kept = set()
@@ -234,6 +240,9 @@ class InterfaceRuntime:
         self._refresh_active_maps()
         for applier, joints in self.feedback.setters:  # sensor maps own their joints
             self.feedback.claim(joints)
+        tracking = self.spec.tracking
+        if tracking is not None and tracking.start != OFF:
+            self.tracker.switch(tracking.start, now)
         for name in self.machines:
             self._run_entry(name, now, 0)
         self._reschedule(now)
@@ -356,6 +365,18 @@ class InterfaceRuntime:
                 t = gain.max_torque if gain.max_torque is not None else t
             servo.stiffness, servo.damping, servo.max_torque = k, d, t
 
+    def restore_gains(self, joints) -> None:
+        """The interface's gains (else the character's) back on ``joints``."""
+        servos, gains = self.character.servos, self.spec.gains
+        for name in joints:
+            servo = servos[name]
+            k, d, _ = servo.default_gains
+            gain = gains.get(name)
+            if gain is not None:
+                k = gain.stiffness if gain.stiffness is not None else k
+                d = gain.damping if gain.damping is not None else d
+            servo.stiffness, servo.damping = k, d
+
     def apply_maps(self, inputs=None) -> None:
         """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
         inputs = self.input_names() if inputs is None else inputs
@@ -452,6 +473,8 @@ class InterfaceRuntime:
             appliers = self._channel_maps[names] = tuple(
                 self._compiled(tuple("channel." + n for n in names)))
         self.channels.update(values)
+        if self.tracker.mode != OFF:
+            self.tracker.sampled(self.step_now())
         pending = self._pending
         if appliers and not (pending and pending[-1] is appliers):
             pending.append(appliers)
@@ -506,6 +529,14 @@ class InterfaceRuntime:
             self.perturber.switch(a.perturb, now)
         if a.push is not None and self.sim is not None:
             self.sim.push(self.roles.rename(a.push.link), a.push.impulse, a.push.point)
+        if a.track is not None and self.spec.tracking is not None:
+            if self._pending:
+                self.flush()
+            self.tracker.switch(a.track, now)
+            for joint in self.tracker.joints:
+                self.frames.forget(joint)
+        if a.kinematic is not None:
+            self.tracker.set_kinematic(a.kinematic)
         if a.mode is not None and a.mode != self.mode:
             self.mode = a.mode
             self._refresh_active_maps()

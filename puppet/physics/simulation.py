@@ -99,6 +99,17 @@ class Simulation:
             self.space.remove(self.drag_spring)
             self.drag_spring = None
 
+    def ground_surface(self, x: float) -> float | None:
+        """The height of the ground's top under ``x`` (its line plus half its
+        thickness), None off its ends."""
+        best = None
+        for ground in self.scene_spec.ground:
+            for (x0, y0), (x1, y1) in zip(ground.points, ground.points[1:]):
+                if min(x0, x1) <= x <= max(x0, x1) and x1 != x0:
+                    y = y0 + (y1 - y0) * (x - x0) / (x1 - x0) + ground.thickness / 2
+                    best = y if best is None else max(best, y)
+        return best
+
     def push(self, link: str, impulse: tuple[float, float], point=None) -> None:
         """A shove: ``impulse`` (N*s, world) at ``point`` of ``link`` (model frame, m;
         None: its centre of mass). Unknown links are ignored (a log from elsewhere)."""

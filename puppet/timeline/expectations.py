@@ -10,6 +10,10 @@ Each entry names one check:
       - upright_at_end: true                   # root within 45 deg of upright at the end
       - never_fell: true                       # root never more than 90 deg from upright
                                                # while touching the ground
+      - followed_channels: {joints: [hip_near, knee_near], from: 4.3, until: 6.7,
+                            max_rms: 10}
+                                  # each joint within 10 deg RMS of the input channel of
+                                  # its name (a retargeted mocap angle) over that window
       - reached_height: {link: base, min: 0.05}
                                   # the link's lowest point rose >= 5 cm above its start
       - airborne: {link: base, min_seconds: 0.1}
@@ -111,6 +115,17 @@ class TiltNeverAbove(Spec):
     max: Num("angle") = Field(description="deg from upright")
 
 
+class FollowedChannels(Spec):
+    """Each of ``joints`` moved like the performance: its angle within ``max_rms``
+    degrees RMS of the input channel of its name (the retargeted mocap angle) over the
+    samples from ``from`` to ``until`` s that have a value for it."""
+
+    joints: list[str] = Field(min_length=1, max_length=64)
+    from_: Time = Field(0.0, alias="from")
+    until: Time | None = None
+    max_rms: Num("angle") = Field(description="deg")
+
+
 class ReachedHeight(Spec):
     link: str
     min: Measure = Field(description="m the link's lowest point must rise above its start")
@@ -204,6 +219,7 @@ class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
     tilt_never_above: TiltNeverAbove | None = None
+    followed_channels: FollowedChannels | None = None
     upright_at_end: bool | None = None
     never_fell: bool | None = None
     reached_height: ReachedHeight | None = None
@@ -262,6 +278,10 @@ class Expectation(Spec):
             return f"tilt_never_above {', '.join(v.links)} max {v.max} deg"
         if isinstance(v, ReachedHeight):
             return f"reached_height {v.link} min {v.min} m"
+        if isinstance(v, FollowedChannels):
+            until = "the end" if v.until is None else f"{v.until:g} s"
+            return (f"followed_channels {', '.join(v.joints)} within {v.max_rms:g} deg RMS "
+                    f"from {v.from_:g} s to {until}")
         if isinstance(v, Airborne):
             bounds = " ".join(f"{k} {b} s" for k, b in (("min", v.min_seconds),
                                                         ("max", v.max_seconds)) if b is not None)
@@ -439,6 +459,28 @@ def _got_up(desc: str, v: GotUp, traj) -> Outcome:
                              f"standing from t = {traj.t[first_up]:.2f} s: up in {took:.2f} s")
 
 
+def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
+    window = (traj.t >= v.from_ - 1e-9) & (traj.t <= (np.inf if v.until is None
+                                                     else v.until + 1e-9))
+    worst, which, parts = -1.0, v.joints[0], []
+    for name in v.joints:
+        if name not in traj.joints:
+            raise e.error(f"no joint named '{name}' in this character (joints: "
+                          f"{', '.join(traj.joints)})", "joints")
+        k = traj.joints.index(name)
+        have = window & ~np.isnan(traj.joint_channel[:, k])
+        if not have.any():
+            return Outcome(e.describe(), False, f"no channel '{name}' came in the window")
+        diff = np.degrees(np.remainder(traj.joint_angle[have, k] - traj.joint_channel[have, k]
+                                       + np.pi, 2 * np.pi) - np.pi)
+        rms = float(np.sqrt(np.mean(diff ** 2)))
+        parts.append(f"{name} {rms:.1f}")
+        if rms > worst:
+            worst, which = rms, name
+    return Outcome(e.describe(), worst <= v.max_rms,
+                   f"RMS deg: {', '.join(parts)} (worst {which})")
+
+
 def _at_end(e: Expectation, column: str, traj) -> Outcome:
     _check_name(e, traj, column, e.value)
     seen = getattr(traj, column)
@@ -471,6 +513,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                 worst, at, which = float(tilt[i]), i, name
         return Outcome(desc, worst <= v.max, f"{which} {worst:.0f} deg from upright at "
                                              f"t = {traj.t[at]:.2f} s (the most)")
+    if isinstance(v, FollowedChannels):
+        return _followed(e, v, traj)
     if e.kind == "upright_at_end":
         tilt = float(_tilt_deg(traj.root_angle[-1:])[0])
         upright = tilt <= UPRIGHT_DEG

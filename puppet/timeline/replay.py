@@ -28,6 +28,9 @@ from puppet.timeline.playback import next_move, play
 SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
 
 
+_NAN = float("nan")
+
+
 @dataclass
 class Trajectory:
     """Sampled states of a replay, one row per sample (numpy arrays).
@@ -35,7 +38,9 @@ class Trajectory:
     Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
     (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
     something outside the character). Per joint (``joints`` order): ``joint_angle``,
-    ``joint_target`` (rad). ``com`` is (n, 2). ``state`` and ``mode`` (object arrays
+    ``joint_target`` (rad), ``joint_channel`` (the value of the input channel named like
+the joint - a performance's angle for it - in rad, NaN where none came yet). ``com``
+is (n, 2). ``state`` and ``mode`` (object arrays
     of names, None without states or modes) are the interface's state and mode at each
     sample, for expectations about what the character was doing; ``state_names`` and
     ``mode_names`` are the ones the interface defines (every version, if it was
@@ -56,6 +61,7 @@ class Trajectory:
     root_angle: np.ndarray
     joint_angle: np.ndarray
     joint_target: np.ndarray
+    joint_channel: np.ndarray  # the channel named like each joint (rad; NaN: none yet)
     state: np.ndarray
     mode: np.ndarray
     state_names: list[str]
@@ -82,6 +88,7 @@ class Sampler:
         self.links = list(c.link_order)
         self.joints = list(c.servos)
         self.root = c.spec.root
+        self._no_channels = [_NAN] * len(self.joints)
         self.rows: list[tuple] = []
         self.state_names: dict[str, None] = {}  # ordered sets
         self.mode_names: dict[str, None] = {}
@@ -149,7 +156,8 @@ class Sampler:
                           per_link[self._root][2],
                           [per_link[i][2] - per_link[k][2] for i, k, _ in self._servos],
                           [spring.rest_angle for _, _, spring in self._servos],
-                          rt.state, rt.mode))
+                          [rt.channels.get(j, _NAN) for j in self.joints] if rt.channels
+                          else self._no_channels, rt.state, rt.mode))
 
     def trajectory(self) -> Trajectory:
         rows = self.rows
@@ -165,8 +173,10 @@ class Sampler:
             root_angle=np.array([r[4] for r in rows], dtype=float),
             joint_angle=np.array([r[5] for r in rows], dtype=float).reshape(n, nj),
             joint_target=np.array([r[6] for r in rows], dtype=float).reshape(n, nj),
-            state=np.array([r[7] for r in rows], dtype=object),
-            mode=np.array([r[8] for r in rows], dtype=object),
+            joint_channel=np.radians(np.array([r[7] for r in rows],
+                                              dtype=float).reshape(n, nj)),
+            state=np.array([r[8] for r in rows], dtype=object),
+            mode=np.array([r[9] for r in rows], dtype=object),
             state_names=list(self.state_names), mode_names=list(self.mode_names))
 
 

@@ -1,0 +1,147 @@
+"""Mocap mapping files (``assets/mappings/*.yaml``): how a source skeleton becomes the
+planar figure's channels.
+
+A source (a BVH clip, a VMC or MediaPipe stream) gives named 3-D points: joint
+centres, in its own axes and units. A mapping says which axis is up and how long a
+unit is, which plane the figure lives in (the performer's direction of travel, their
+facing, or a given direction), which point pairs are the figure's segments, and which
+channels to make of them: a joint angle (one segment against another), a segment's
+angle in the world, the root's forward motion and height, and end effectors relative
+to the centre of mass (Ishigaki 2009). A rig with other joint names, units or frame
+rate needs another mapping file, never new code. ``puppet.mocap.retarget`` computes
+the channels.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from puppet.data.ranges import AngleChange, Num
+from puppet.data.validate import Spec, validate
+from puppet.data.yamlfile import Located, load_file
+
+Axis = Literal["x", "y", "z", "-x", "-y", "-z"]
+REST = {"forward": 0.0, "up": 90.0, "back": 180.0, "down": -90.0}
+
+
+class SourceSpec(Spec):
+    up: Axis = Field("y", description="the source axis that points up (BVH and Unity: y)")
+    unit: Num("source_unit") = Field(1.0, description="metres per source length unit "
+                                                      "(CMU BVH: 0.056444, cm: 0.01)")
+    handedness: Literal["right", "left"] = Field(
+        "right", description="the source's axes: right-handed (BVH) or left-handed "
+                             "(Unity, so VMC)")
+
+
+class FacingSpec(Spec):
+    """Two points across the body (the hips), left and right: the performer faces
+    forward of the line between them."""
+
+    left: str
+    right: str
+
+
+class RootSpec(Spec):
+    point: str | list[str] = Field(
+        description="the source point the figure's root follows, or several: their "
+                    "mean (the two hip joints: the figure's hip hinge)")
+
+    @property
+    def points(self) -> list[str]:
+        return [self.point] if isinstance(self.point, str) else list(self.point)
+    floor: Num("world_xy") | Literal["lowest"] = Field(
+        "lowest", description="the floor's height in source units, or 'lowest': the "
+                              "lowest point a clip reaches (a stream: so far)")
+
+
+class SegmentSpec(Spec):
+    """A direction from one source point to another; ``rest`` is its direction when
+    the figure's joints are all 0 (forward, up, back, down, or degrees, counter-
+    clockwise from forward)."""
+
+    start: str = Field(alias="from")
+    to: str
+    rest: Literal["forward", "up", "back", "down"] | AngleChange = "down"
+
+    @property
+    def rest_degrees(self) -> float:
+        return REST[self.rest] if isinstance(self.rest, str) else float(self.rest)
+
+
+class ChannelSpec(Spec):
+    """A planar angle, degrees: ``segment``'s turn from its rest direction, less
+    ``relative_to``'s (a joint angle), or alone (its angle in the world); then
+    ``value = angle * scale + offset``. Positive is counter-clockwise with the figure
+    facing right, as the figure's joint angles are."""
+
+    segment: str
+    relative_to: str | None = None
+    offset: AngleChange = 0.0
+    scale: Num("coupling") = 1.0
+
+
+class MappingSpec(Spec):
+    name: str = ""
+    description: str = ""
+    notes: str = ""
+    source: SourceSpec = SourceSpec()
+    plane: Literal["travel", "facing"] | tuple[Num("input"), Num("input"), Num("input")] = \
+        Field("travel", description="the figure's forward direction: 'travel' (where "
+                                    "the root goes over a clip), 'facing' (each frame, "
+                                    "from the facing points) or [x, y, z] in source axes")
+    facing: FacingSpec | None = None
+    size: Num("ratio") = Field(1.0, description="the figure's size over the performer's "
+                                                "(lengths: root motion, effectors)")
+    root: RootSpec
+    segments: dict[str, SegmentSpec] = Field(min_length=1)
+    channels: dict[str, ChannelSpec] = Field(default_factory=dict)
+    effectors: dict[str, str] = Field(
+        default_factory=dict, description="name -> source point: channels NAME.x and "
+                                          "NAME.y, m from the centre of mass, in the plane")
+    com: dict[str, Num("ratio")] = Field(
+        default_factory=dict, description="source point -> weight: the centre of mass "
+                                          "(absent: the root point)")
+
+    @model_validator(mode="after")
+    def _check(self):
+        for name, channel in self.channels.items():
+            for seg in (channel.segment, channel.relative_to):
+                if seg is not None and seg not in self.segments:
+                    known = ", ".join(self.segments)
+                    raise ValueError(f"channel '{name}' names segment '{seg}', which "
+                                     f"'segments' does not define (known: {known})")
+        if self.plane == "facing" and self.facing is None:
+            raise ValueError("plane: facing needs 'facing: {left: POINT, right: POINT}'")
+        if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
+            raise ValueError("plane: the forward direction [x, y, z] must not be zero")
+        for name in self.effectors:
+            if f"{name}.x" in self.channels or f"{name}.y" in self.channels:
+                raise ValueError(f"effector '{name}' makes channels that 'channels' "
+                                 f"defines too")
+        return self
+
+    def point_names(self) -> set[str]:
+        """Every source point the mapping reads."""
+        names = {*self.root.points, *self.effectors.values(), *self.com}
+        for seg in self.segments.values():
+            names |= {seg.start, seg.to}
+        if self.facing is not None:
+            names |= {self.facing.left, self.facing.right}
+        return names
+
+    def channel_names(self) -> list[str]:
+        """The channels it makes, in order: root, angles, effectors."""
+        names = ["root.x", "root.y", *self.channels]
+        for name in self.effectors:
+            names += [f"{name}.x", f"{name}.y"]
+        return names
+
+
+def parse_mapping(located: Located) -> MappingSpec:
+    return validate(located, MappingSpec)
+
+
+def load_mapping(path) -> MappingSpec:
+    return parse_mapping(load_file(path))

@@ -1,0 +1,86 @@
+"""An interface's ``tracking:`` section: how a performance (mocap channels) drives the
+figure, and the gain presets of KD control (Nguyen et al. 2010).
+
+Two ways to follow a performer, selected by the ``track`` action (a key, a state's
+``enter``, or ``start``):
+
+- ``angles``: joint tracking - each tracked joint's target is its channel's angle;
+- ``kd``: KD control - the same joint targets, with inertia-scaled gains (stiffness
+  ``kq * I``, damping ``dq * I``, I the inertia of everything beyond the joint), plus
+  Cartesian PD pulls of each link toward where the performed pose puts it (``kp``,
+  ``dp``, scaled up toward the ground: feet 125x, shins 25x, thighs 5x), which keep the
+  figure up and walking where the performer walks. ``kinematic: off`` drops the pulls
+  (free fall) and keeps the joint tracking.
+
+A sample older than ``lost_after`` seconds is tracking lost: the tracker lets go of its
+joints (what the keys and maps say holds them) until samples come again.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from puppet.data.ranges import Num
+from puppet.data.validate import Spec
+
+Gain = Num("gain")
+
+
+class GainsSpec(Spec):
+    """KD gains: Cartesian kp (N/m), dp (N*s/m); joint kq (1/s^2), dq (1/s), both
+    multiplied by the inertia beyond the joint."""
+
+    kp: Gain = 160.0
+    dp: Gain = 25.0
+    kq: Gain = 450.0
+    dq: Gain = 10.0
+
+
+# The paper's table (Nguyen et al. 2010, section 6): kp, dp, kq, dq.
+PRESETS: dict[str, GainsSpec] = {
+    "default": GainsSpec(kp=160, dp=25, kq=450, dq=10),
+    "balloon": GainsSpec(kp=0, dp=0, kq=200, dq=2),  # in the air
+    "stapler": GainsSpec(kp=200, dp=25, kq=450, dq=10),
+    "giant": GainsSpec(kp=420, dp=50, kq=1200, dq=15),
+    "glider": GainsSpec(kp=1000, dp=125, kq=450, dq=10),
+}
+
+
+class RootChannelsSpec(Spec):
+    """The channels that place the performed pose in the world, and the joint whose
+    hinge is the root point (the mapping's ``root.point``)."""
+
+    x: str = Field("root.x", description="channel: m travelled forward")
+    y: str = Field("root.y", description="channel: m above the ground")
+    angle: str = Field("root.angle", description="channel: the root link's angle, deg")
+    at: str = Field(description="a joint on the root link whose hinge the root channels "
+                                "place (the hips: hip_near)")
+
+
+class TrackingSpec(Spec):
+    mapping: str | None = Field(None, description="the mocap mapping the channels come "
+                                                  "from (assets/mappings/NAME.yaml)")
+    joints: list[str] | Literal["all"] = Field(
+        "all", description="the joints that follow the channel of their name ('all': "
+                           "every actuated joint with a channel)")
+    channels: dict[str, str] = Field(default_factory=dict,
+                                     description="joint -> channel, where the names differ")
+    root: RootChannelsSpec | None = Field(None, description="for kd: where the performed "
+                                                            "pose stands")
+    gains: Literal["default", "balloon", "stapler", "giant", "glider"] | GainsSpec = "default"
+    scale: dict[str, Num("ratio")] = Field(
+        default_factory=dict, description="link -> Cartesian gain multiplier (Nguyen: "
+                                          "feet 125, shins 25, thighs 5; others 1)")
+    feet: list[str] = Field(
+        default_factory=list, description="links the performed pose never puts under the "
+                                          "ground: it is lifted until they touch it (a "
+                                          "performer's other proportions, a floor offset)")
+    start: Literal["off", "angles", "kd"] = Field("off", description="tracking at the start")
+    lost_after: Num("positive_duration") = Field(0.25, description="s without a sample: "
+                                                                   "tracking lost")
+
+    @property
+    def preset(self) -> GainsSpec:
+        return PRESETS[self.gains] if isinstance(self.gains, str) else self.gains
