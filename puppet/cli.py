@@ -295,11 +295,13 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")
-    play.add_argument("--mocap", metavar="CLIP",
+    play.add_argument("--mocap", metavar="CLIP|udp://HOST:PORT",
                       help="drive the figure with a motion-capture clip (.bvh, or a name: "
                            "assets/mocap/NAME.bvh), played in sim time through the "
                            "interface's mapping; headless runs last the clip's length "
-                           "unless --seconds says otherwise")
+                           "unless --seconds says otherwise. Or a live OSC stream, "
+                           "udp://127.0.0.1:39539 (see --mocap-format), paced in real "
+                           "time and recorded")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")
@@ -309,7 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
                            "contacts, the extrapolated centre of mass); F4 toggles it")
     from puppet.mocap.commands import add_parser as add_mocap_parser, add_play_options
 
-    add_play_options(play)  # --mocap, --mocap-format, --mapping
+    add_play_options(play)  # --mocap-format (--mocap udp://...: a live stream)
     play.set_defaults(func=_play)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",

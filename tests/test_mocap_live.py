@@ -77,7 +77,7 @@ def test_tracking_is_lost_after_a_quarter_second_without_a_sample_and_comes_back
     clock.now += LOST_AFTER - 0.01
     assert source.drain() == [] and source.tracking
     clock.now += 0.02
-    assert source.drain() == [{"type": "channels", "values": {FRESH: 0.0}}]
+    assert source.drain() == [{"type": "channel", "name": FRESH, "value": 0.0}]
     assert not source.tracking and "LOST" in source.status()
     clock.now += 1.0
     assert source.drain() == []  # said once
@@ -126,6 +126,39 @@ def test_a_live_take_over_loopback_replays_to_the_recorded_hash(tmp_path):
     assert max(moved) > 2.0
 
 
+def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp_path):
+    """``puppet mocap send`` (VMC, the CMU walk) -> the shipped vmc-humanoid mapping ->
+    biped-mocap's KD tracking, recorded live and replayed headless to the same hash."""
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.commands import source_for
+    from puppet.mocap.send import encoder, load_bones, stream
+
+    clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")
+    encode = encoder(clip, "vmc", load_bones("assets/mocap/cmu-bones.yaml"))
+    setup = load_setup("biped-mocap")
+    source = source_for("udp://127.0.0.1:0", "vmc", None, setup)
+    record = tmp_path / "vmc-take.jsonl"
+    with source:
+        stop = threading.Event()
+        sender = threading.Thread(target=stream, args=(encode, 300, clip.frame_time,
+                                                       (source.host, source.port)),
+                                  kwargs={"stop": stop}, daemon=True)
+        sender.start()
+        try:
+            session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0)
+        finally:
+            stop.set()
+            sender.join()
+        counts = source.decoder.counts
+    assert counts.frames >= 150 and counts.total_dropped == 0 and source.unmapped == 0
+    log = read_log(record)
+    streamed = [e.event["values"] for e in log.events if e.event["type"] == "channels"]
+    assert len(streamed) > 40
+    assert {"hip_near", "knee_far", "root.x", "root.y", FRESH} <= set(streamed[-1])
+    assert replay(record).final_hash == log.end_hash == session.sim.state_hash()
+    assert session.character.upright()
+
+
 def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys):
     interface = _cat_channels(tmp_path)
     record = tmp_path / "cli.jsonl"
@@ -149,7 +182,11 @@ def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--mocap", "udp://127.0.0.1:39599"], "a vmc stream sends points; give --mapping"),
+    (["--mocap", "udp://127.0.0.1:39599", "--mapping", "cmu-131"],
+     "reads points a vmc stream never sends (Chest2, LeftAnkle, LeftElbow, LeftHip...); "
+     "expected Unity humanoid bone names (e.g. the shipped vmc-humanoid)"),
+    (["--mocap", "udp://127.0.0.1:39599", "--mocap-format", "puppet", "--mapping", "cmu-131"],
+     "a puppet stream sends channels: it needs no --mapping"),
     (["--mocap", "udp://example.org:1", "--mocap-format", "puppet"], "not an IP address"),
     (["--mocap", "tcp://127.0.0.1:1", "--mocap-format", "puppet"], "only udp://"),
     (["--mocap", "udp://127.0.0.1:1", "--mocap-format", "puppet", "--input", "luxo-hop"],
@@ -199,3 +236,61 @@ def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):
         assert source.decoder.counts.frames == 994
         assert source.decoder.counts.total_dropped == 0
         assert len(source.last_names) == 22
+
+
+def test_vmc_frames_through_vmc_humanoid_give_the_clips_channels_through_cmu_131():
+    """The same walk, as BVH joints through cmu-131 and as VMC bones (sent, decoded,
+    forward kinematics) through vmc-humanoid: the same channels, frame by frame, to
+    float32 precision."""
+    from puppet.data.catalog import find
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.retarget import Retargeter, load_mapping
+    from puppet.mocap.send import encoder, load_bones
+    from puppet.mocap.vmc import VmcDecoder
+
+    clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")
+    encode = encoder(clip, "vmc", load_bones("assets/mocap/cmu-bones.yaml"))
+    live = Retargeter(load_mapping(find("mapping", "vmc-humanoid")))
+    bvh = Retargeter(load_mapping(find("mapping", "cmu-131")))
+    _, pos = clip.world_transforms()
+    decoder = VmcDecoder()
+    worst, names = 0.0, set()
+    for k in range(0, 400):
+        got = live.channels(decoder.feed(encode(k, k * clip.frame_time))[0].points)
+        want = bvh.channels({n: pos[k, clip.index(n)] for n in bvh.point_names})
+        assert set(got) == set(want)
+        names |= set(got)
+        worst = max(worst, max(abs(got[n] - want[n]) for n in got))
+    assert worst < 1e-3  # degrees and metres
+    assert {"hip_near", "knee_near", "root.x", "hand_far.y"} <= names
+
+
+def test_the_lost_flag_is_not_a_tracking_sample_the_tracker_lets_go_in_sim_time():
+    """After the stream stops, the source's ``mocap.fresh`` 0 (a lone channel event)
+    does not count as a sample: biped-mocap's tracker still goes LOST lost_after
+    (0.25 s) of simulated time after the last frame."""
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    setup = load_setup("biped-mocap")
+    session = Session(setup)
+    clock = FakeClock()
+    source = OscSource("puppet", clock=clock)  # puppet channels named as the mapping's
+    for k in range(30):  # 0.25 s of 120 Hz frames, drained at 60 fps
+        source.receive(puppet_osc.encode_frame(k / 120, {"hip_near": 10.0, "root.y": 0.93}))
+        if k % 2:
+            clock.now += 1 / 60
+            for event in source.drain(session.time):
+                session.handle(event)
+            session.advance(8)
+    tracker = session.runtime.tracker
+    assert not tracker.lost
+    clock.now += 0.3  # the stream stops: the next drain says so
+    events = source.drain(session.time)
+    assert events == [ev.channel(FRESH, 0.0)]
+    session.handle(events[0])
+    assert session.runtime.channels[FRESH] == 0.0
+    session.advance(round(0.2 / session.sim.dt))
+    assert not tracker.lost  # 0.2 s of sim time since the last frame
+    session.advance(round(0.1 / session.sim.dt))
+    assert tracker.lost and "LOST" in tracker.status

@@ -49,36 +49,68 @@ def _project_file(path: str) -> Path:
     return root / p if (root / p).exists() else p
 
 
+STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose"}  # the defaults
+POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names"}
+
+
+def stream_points(fmt: str) -> set[str]:
+    """The point names a stream of ``fmt`` can send."""
+    if fmt == "vmc":
+        from puppet.mocap.unity import PARENTS
+
+        return set(PARENTS)
+    from puppet.mocap.mediapipe import LANDMARKS
+
+    return set(LANDMARKS)
+
+
 def retargeter_for(mapping: str | None):
-    """A Retargeter for ``--mapping FILE`` (None without one)."""
+    """A Retargeter for ``--mapping NAME`` (a catalog name or a path; None without)."""
     if mapping is None:
         return None
+    from puppet.data.catalog import find
     from puppet.mocap.retarget import Retargeter, load_mapping
 
-    return Retargeter(load_mapping(str(_project_file(mapping))))
+    return Retargeter(load_mapping(find("mapping", mapping)))
 
 
-def source_for(url: str, fmt: str, mapping: str | None, option: str = "--mocap"):
-    """An (unstarted) OscSource for ``--mocap udp://HOST:PORT``."""
+def source_for(url: str, fmt: str, mapping: str | None, setup=None, option: str = "--mocap"):
+    """An (unstarted) OscSource for ``--mocap udp://HOST:PORT``. The points of a vmc or
+    mediapipe stream go through ``mapping`` (a catalog name or a path), by default the
+    format's shipped one (``STREAM_MAPPINGS``): a clip's mapping (the interface's
+    ``tracking.mapping``) names the clip's joints, which a stream does not send."""
     from puppet.mocap.formats import decoder, parse_udp
     from puppet.mocap.source import OscSource
 
-    host, port = parse_udp(option, url, decoder(fmt).default_port)
-    if fmt != "puppet" and mapping is None:
-        raise UsageError(f"{option}: a {fmt} stream sends points; give --mapping FILE to "
-                         f"turn them into the figure's channels (or send --format puppet)")
-    return OscSource(fmt, host, port, retargeter=retargeter_for(mapping))
+    host, port = parse_udp(option, url, decoder(fmt).default_port, listening=True)
+    retargeter = None
+    if fmt != "puppet":
+        retargeter = retargeter_for(mapping or STREAM_MAPPINGS[fmt])
+        vocabulary = stream_points(fmt)
+        foreign = sorted(retargeter.point_names - vocabulary)
+        if foreign:
+            raise UsageError(f"--mapping {mapping}: reads points a {fmt} stream never sends "
+                             f"({', '.join(foreign[:4])}{'...' if len(foreign) > 4 else ''}); "
+                             f"expected {POINT_WORDS[fmt]} (e.g. the shipped "
+                             f"{STREAM_MAPPINGS[fmt]})")
+    elif mapping is not None:
+        raise UsageError(f"{option}: a puppet stream sends channels: it needs no --mapping")
+    return OscSource(fmt, host, port, retargeter=retargeter)
 
 
 def add_play_options(play: argparse.ArgumentParser) -> None:
-    play.add_argument("--mocap", metavar="udp://HOST:PORT",
-                      help="drive the figure from a live OSC stream (bound to 127.0.0.1 "
-                           "unless HOST says otherwise); recorded as channels events")
+    """``--mocap-format`` (``--mocap`` and ``--mapping`` are play's own: a clip or a
+    live udp:// stream, and the mapping either goes through)."""
     play.add_argument("--mocap-format", choices=FORMATS, default="vmc",
-                      help="what the stream sends: vmc (default, port 39539), mediapipe "
-                           "(/mediapipe/pose) or puppet (/puppet/channels: no mapping)")
-    play.add_argument("--mapping", metavar="FILE",
-                      help="the mapping that turns the stream's points into channels")
+                      help="--mocap udp://...: what the stream sends: vmc (default, port "
+                           "39539), mediapipe (/mediapipe/pose) or puppet "
+                           "(/puppet/channels: channels, no mapping)")
+
+
+def is_live(value: str | None) -> bool:
+    """``--mocap`` names a live stream (udp://HOST:PORT; any URL, so that tcp://...
+    is told what is supported), not a clip."""
+    return bool(value) and "://" in value
 
 
 def add_parser(sub) -> None:
@@ -99,7 +131,7 @@ def add_parser(sub) -> None:
     send.add_argument("--bones", default=DEFAULT_BONES, metavar="FILE",
                       help="which BVH joint is which humanoid bone / landmark (vmc and "
                            f"mediapipe; default {DEFAULT_BONES})")
-    send.add_argument("--mapping", metavar="FILE",
+    send.add_argument("--mapping", metavar="NAME",
                       help="puppet format: the mapping that makes the clip's channels")
     send.add_argument("--speed", type=_speed, default=1.0,
                       help="playback speed (0.05-10; default 1, real time)")
@@ -117,7 +149,7 @@ def add_parser(sub) -> None:
                              "network)")
     listen.add_argument("--format", choices=FORMATS, default="vmc",
                         help="what to expect: vmc (default), mediapipe or puppet")
-    listen.add_argument("--mapping", metavar="FILE",
+    listen.add_argument("--mapping", metavar="NAME",
                         help="also show the channels this mapping makes of the points")
     listen.add_argument("--seconds", type=_duration, metavar="S",
                         help="stop after S seconds (default: until Ctrl+C)")
@@ -140,7 +172,7 @@ def _send(args: argparse.Namespace) -> int:
     table = retargeter = None
     if args.format == "puppet":
         if args.mapping is None:
-            raise UsageError("--format puppet sends the clip's channels: give --mapping FILE")
+            raise UsageError("--format puppet sends the clip's channels: give --mapping NAME (e.g. cmu-131)")
         retargeter = retargeter_for(args.mapping)
     else:
         table = load_bones(_project_file(args.bones))
@@ -175,7 +207,7 @@ def _listen(args: argparse.Namespace) -> int:
         raise UsageError(f"--port {port}: expected a whole number 0..65535")
     from puppet.mocap.formats import parse_udp
 
-    host, _ = parse_udp("--host", f"{args.host}:{port}", port)
+    host, _ = parse_udp("--host", f"{args.host}:{port}", port, listening=True)
     source = OscSource(args.format, host, port, retargeter=retargeter_for(args.mapping))
     source.start()
     print(f"listening for {args.format} on udp://{source.host}:{source.port}; Ctrl+C stops",
@@ -207,12 +239,12 @@ def _listen(args: argparse.Namespace) -> int:
 def live_play(args, setup) -> int | None:
     """``puppet play ... --mocap URL``: the window or a headless real-time take.
     None when --mocap is not given."""
-    if not args.mocap:
+    if not is_live(args.mocap):
         return None
     if args.input or args.frames or args.ghost:
         raise UsageError("--mocap goes without --input, --frames and --ghost (a live take "
                          "is recorded; replay its log for those)")
-    source = source_for(args.mocap, args.mocap_format, args.mapping)
+    source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
     source.start()
     print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
           flush=True)

@@ -25,10 +25,10 @@ def decoder(name: str) -> Decoder:
 
 
 def parse_udp(option: str, url: str, default_port: int | None = None,
-              default_host: str = LOCALHOST) -> tuple[str, int]:
+              default_host: str = LOCALHOST, listening: bool = False) -> tuple[str, int]:
     """``udp://HOST:PORT`` (or ``udp://:PORT``, ``HOST:PORT``, ``:PORT``) as (host, port).
     The host is an IP address (names are not looked up); a usage error says what is
-    wrong otherwise."""
+    wrong otherwise. ``listening``: port 0 is allowed (the system picks one)."""
     rest = url[len("udp://"):] if url.startswith("udp://") else url
     if "://" in rest:
         raise UsageError(f"{option} {url}: only udp:// is supported (e.g. "
@@ -46,6 +46,7 @@ def parse_udp(option: str, url: str, default_port: int | None = None,
         if default_port is None:
             raise UsageError(f"{option} {url}: no port; expected udp://HOST:PORT")
         return host, default_port
-    if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
-        raise UsageError(f"{option} {url}: the port must be a whole number 1..65535")
+    low = 0 if listening else 1
+    if not port_text.isdigit() or not low <= int(port_text) <= 65535:
+        raise UsageError(f"{option} {url}: the port must be a whole number {low}..65535")
     return host, int(port_text)

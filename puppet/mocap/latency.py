@@ -81,7 +81,7 @@ def measure_latency(seconds: float = 3.0, rate: float = 120.0) -> dict:
                     time.sleep(wait)
                 before = [s.target for s in servos.values()]
                 drain_at = time.perf_counter()
-                for event in source.drain():
+                for event in source.drain(session.time):
                     session.handle(event)
                 session.runtime.flush()  # what advance() does first: the targets are set
                 done = time.perf_counter()

@@ -42,7 +42,7 @@ def run_live(setup: Setup, sources, seconds: float, record=None, slowdown: float
             if wait > 0:
                 sleep(wait)
             for source in sources:
-                for event in source.drain():
+                for event in source.drain(session.time):
                     session.handle(event)
             due = min(until, int((clock() - start) / (dt * slowdown)))
             session.advance(due - session.steps)

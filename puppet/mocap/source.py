@@ -16,10 +16,14 @@ wins, so merging them changes nothing but the log's size).
 
 Tracking lost: each event also sets ``mocap.fresh`` (input ``channel.mocap.fresh``) to
 1. When no fresh sample has arrived for ``LOST_AFTER`` (0.25 s) of wall time, the next
-``drain`` returns an event setting it to 0 (once; the next sample sets it back to 1).
-So the loss is decided in the frame loop and recorded in the log like any input: an
-interface can fall back to the keys on it, and a replay does exactly the same with no
-network and no clock.
+``drain`` returns a lone ``channel`` event setting it to 0 (once; the next sample sets
+it back to 1). So the loss is decided in the frame loop and recorded in the log like
+any input: a map can read it, and a replay does exactly the same with no network and
+no clock. It is a ``channel`` event, not a ``channels`` one, so it is not a sample for
+the interface's tracking, which judges a lost stream itself, in simulated time
+(``tracking.lost_after``: no ``channels`` sample for that long lets go of the joints),
+so the two agree at slowdown 1 and the tracker's judgement also holds in a replay, a
+rewind or a slowed-down window.
 """
 
 from __future__ import annotations
@@ -103,10 +107,12 @@ class OscSource:
             return {}
 
     # -- the frame loop's side
-    def drain(self, now: float | None = None) -> list[dict]:
+    def drain(self, sim_time: float | None = None, wall: float | None = None) -> list[dict]:
         """What arrived since the last drain as (at most) one ``channels`` event, or
-        the event that says tracking is lost."""
-        now = self.clock() if now is None else now
+        the event that says tracking is lost. ``sim_time`` (what the window passes
+        every source) is not used: a live stream goes by the wall clock (``wall``,
+        default ``clock()``)."""
+        now = self.clock() if wall is None else wall
         with self._lock:  # the events and the arrival of the last of them, together
             events = self.queue.drain()
             last = self.last_arrival
@@ -114,16 +120,17 @@ class OscSource:
         values: dict[str, float] = {}
         for event in events:
             values.update(event["values"])
+        out = [ev.channels(values)] if values else []
         if values:
             self.fresh = True
         if self.fresh and last is not None and now - last > self.lost_after:
-            values[FRESH] = 0.0
+            out.append(ev.channel(FRESH, 0.0))  # a lone channel: not a tracking sample
             self.fresh = False
             self.lost_count += 1
-        return [ev.channels(values)] if values else []
+        return out
 
-    def feed(self, session, now: float | None = None) -> int:
-        events = self.drain(now)
+    def feed(self, session) -> int:
+        events = self.drain(session.time)
         for event in events:
             session.handle(event)
         return len(events)
