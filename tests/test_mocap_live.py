@@ -230,10 +230,12 @@ def test_listen_prints_what_arrives(capsys):
 def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):
     with OscSource("vmc", port=0) as source:
         code = main(["mocap", "send", "assets/mocap/cmu-131_01-walk.bvh", "--to",
-                     f"udp://127.0.0.1:{source.port}", "--speed", "10", "-q"])
+                     f"udp://127.0.0.1:{source.port}", "--speed", "5", "-q"])
         time.sleep(0.2)
         assert code == 0
-        assert source.decoder.counts.frames == 994
+        # UDP: a datagram can be lost if the receiving thread falls far behind (a loaded
+        # machine); none is on an idle one, and none may be dropped as bad
+        assert source.decoder.counts.frames >= 950
         assert source.decoder.counts.total_dropped == 0
         assert len(source.last_names) == 22
 
@@ -294,3 +296,31 @@ def test_the_lost_flag_is_not_a_tracking_sample_the_tracker_lets_go_in_sim_time(
     assert not tracker.lost  # 0.2 s of sim time since the last frame
     session.advance(round(0.1 / session.sim.dt))
     assert tracker.lost and "LOST" in tracker.status
+
+
+def test_mediapipe_landmarks_through_mediapipe_pose_give_cmu_131s_limb_channels():
+    """The walk sent as MediaPipe landmarks: knees and elbows (the same joint centres
+    in both mappings) agree with cmu-131's to float32 precision; the trunk (hip to
+    shoulder: MediaPipe has no spine) agrees on the standing frames, by its offsets."""
+    from puppet.data.catalog import find
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.mediapipe import MediaPipeDecoder
+    from puppet.mocap.retarget import Retargeter, load_mapping
+    from puppet.mocap.send import encoder, load_bones
+
+    clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")
+    encode = encoder(clip, "mediapipe", load_bones("assets/mocap/cmu-bones.yaml"))
+    live = Retargeter(load_mapping(find("mapping", "mediapipe-pose")))
+    bvh = Retargeter(load_mapping(find("mapping", "cmu-131")))
+    _, pos = clip.world_transforms()
+    decoder = MediaPipeDecoder()
+    limbs, trunk = 0.0, []
+    for k in range(0, 300):
+        got = live.channels(decoder.feed(encode(k, k * clip.frame_time))[0].points)
+        want = bvh.channels({n: pos[k, clip.index(n)] for n in bvh.point_names})
+        limbs = max(limbs, *(abs(got[n] - want[n]) for n in
+                             ("knee_near", "knee_far", "elbow_near", "elbow_far")))
+        if k < 100:
+            trunk.append(got["root.angle"] - want["root.angle"])
+    assert limbs < 1e-3
+    assert abs(sum(trunk) / len(trunk)) < 0.5  # degrees, on average while standing

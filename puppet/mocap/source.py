@@ -29,6 +29,7 @@ rewind or a slowed-down window.
 from __future__ import annotations
 
 import collections
+import socket
 import threading
 import time
 from typing import Callable
@@ -42,6 +43,7 @@ from puppet.mocap.osc import Frame
 LOST_AFTER = 0.25  # seconds without a fresh sample: tracking is lost
 FRESH = "mocap.fresh"  # the channel that says so (1 tracking, 0 lost)
 RATE_WINDOW = 1.0  # seconds of arrivals the rate is measured over
+RECEIVE_BUFFER = 4 << 20  # bytes of datagrams the socket holds until the thread reads them
 
 
 class OscSource:
@@ -196,6 +198,11 @@ class OscSource:
             raise UsageError(f"cannot listen on udp://{self.host}:{self.port}: "
                              f"{exc.strerror or exc}") from None
         self.port = self._server.server_address[1]  # port 0: the one the system chose
+        try:  # room for a burst while the frame loop holds the interpreter (the system
+            # may cap it): datagrams beyond the buffer are lost before anyone sees them
+            self._server.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
+        except OSError:
+            pass
         self._thread = threading.Thread(target=self._server.serve_forever,
                                         kwargs={"poll_interval": 0.05},
                                         name=f"mocap-{self.format}", daemon=True)
