@@ -324,3 +324,48 @@ def test_mediapipe_landmarks_through_mediapipe_pose_give_cmu_131s_limb_channels(
             trunk.append(got["root.angle"] - want["root.angle"])
     assert limbs < 1e-3
     assert abs(sum(trunk) / len(trunk)) < 0.5  # degrees, on average while standing
+
+
+def test_the_window_drains_a_live_source_shows_its_status_and_records_it(tmp_path,
+                                                                         monkeypatch):
+    """The window with a live puppet stream (SDL's dummy driver, 90 frames, then
+    QUIT): the take is recorded as channels events and replays to its hash; the HUD
+    draws the source's line."""
+    import pygame
+
+    from puppet.app import hud, window
+
+    frames = {"n": 0}
+    real_get = pygame.event.get
+
+    def fake_get(*args, **kw):
+        real_get()
+        frames["n"] += 1
+        return [pygame.event.Event(pygame.QUIT)] if frames["n"] >= 90 else []
+
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    monkeypatch.setattr(pygame.mouse, "get_focused", lambda: False)
+    monkeypatch.setattr(pygame.mouse, "set_pos", lambda pos: None)
+    drawn = []
+    real_hud = hud.draw_hud
+
+    def spy(surface, session, info, font, small):
+        drawn.append(info.sources)
+        return real_hud(surface, session, info, font, small)
+
+    monkeypatch.setattr(hud, "draw_hud", spy)
+    setup = load_setup(_cat_channels(tmp_path))
+    record = tmp_path / "window.jsonl"
+    with OscSource("puppet", port=0) as source:
+        stop = threading.Event()
+        sender = _sender(source.port, seconds=5.0, stop=stop)
+        try:
+            assert window.run_window(setup, 1.0, record=str(record), sources=[source]) == 0
+        finally:
+            stop.set()
+            sender.join()
+    log = read_log(record)
+    assert sum(1 for e in log.events if e.event["type"] == "channels") > 20
+    assert replay(record).final_hash == log.end_hash
+    assert drawn and drawn[-1][0].startswith(f"mocap puppet :{source.port}  ")
+    assert "0 dropped" in drawn[-1][0]
