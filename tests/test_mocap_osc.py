@@ -71,6 +71,23 @@ def test_vmc_sent_clip_decodes_to_the_clips_forward_kinematics(walk):
     assert np.linalg.norm(hips[-1, [0, 2]] - hips[0, [0, 2]]) > 2.0
 
 
+def test_another_rigs_names_need_only_another_bone_table():
+    clip = read_bvh("assets/mocap/cmu-01_01-jumps.bvh")  # LeftUpLeg, not LeftHip
+    table = load_bones("assets/mocap/cmu-01-bones.yaml")
+    world = vmc_world(clip, table)
+    vmc_enc, mp_enc = encoder(clip, "vmc", table), encoder(clip, "mediapipe", table)
+    d, m = decoder("vmc"), decoder("mediapipe")
+    points = mediapipe_points(clip, table)
+    for k in range(0, clip.frames, 250):
+        for name, p in d.feed(vmc_enc(k, k / 120))[0].points.items():
+            assert np.allclose(p, world[name][k], atol=2e-6)
+        frame = m.feed(mp_enc(k, k / 120))[0]
+        assert len(frame.points) == len(table.mediapipe)
+        for name, p in frame.points.items():
+            assert np.allclose(p, points[name][k], atol=1e-6)
+    assert d.counts.total_dropped == m.counts.total_dropped == 0
+
+
 def test_vmc_frame_is_unity_left_handed_mirror_of_the_clip(walk):
     clip, table = walk
     world = vmc_world(clip, table)
