@@ -157,7 +157,7 @@ class OscSource:
             dropped = self.queue.dropped_bad + self.queue.dropped_overflow
             if dropped:
                 text += f", {dropped} events refused"
-            if self.unmapped:
+            if self.unmapped and self.retargeter is not None:  # listen without a mapping
                 text += f", {self.unmapped} unmapped"
         return text
 
