@@ -7,6 +7,7 @@ argparse (standard library) rather than a CLI framework: it gives sub-commands,
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -189,6 +190,13 @@ def _play(args: argparse.Namespace) -> int:
     return EXIT_BLOWUP if session.blowups else 0
 
 
+def _mocap_info(args: argparse.Namespace) -> int:
+    from puppet.mocap.info import describe
+
+    print(describe(args.clip, args.mapping))
+    return 0
+
+
 def _list(args: argparse.Namespace) -> int:
     from puppet.data.catalog import FOLDERS, list_kind
 
@@ -304,6 +312,16 @@ def build_parser() -> argparse.ArgumentParser:
                            "contacts, the extrapolated centre of mass); F4 toggles it")
     play.set_defaults(func=_play)
 
+    mocap = sub.add_parser("mocap", help="motion capture: what a clip holds",
+                           description="Motion-capture clips and streams.")
+    mocap_sub = mocap.add_subparsers(dest="mocap_command", metavar="WHAT", required=True)
+    info = mocap_sub.add_parser("info", help="a clip's skeleton, frame rate, length and "
+                                             "the planar angles it would give")
+    info.add_argument("clip", help="a BVH file, or a name: assets/mocap/NAME.bvh")
+    info.add_argument("--mapping", help="the mapping (assets/mappings/NAME.yaml or a path); "
+                                        "default: the first that names all its joints")
+    info.set_defaults(func=_mocap_info)
+
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
                             description="Replay recorded input logs. Headless prints the "
                                         "final state hash; --check evaluates the log's "
@@ -402,6 +420,12 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:  # the output went to a pipe that closed (| head): fine
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
 
 
 if __name__ == "__main__":

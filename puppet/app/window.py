@@ -390,6 +390,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.slowdown = clock.slowdown
         info.measured = clock.measured_slowdown()
         info.fps = frames.get_fps() or None
+        info.sources = [source.status() for source in sources]
         info.paused = clock.paused
 
         if not session.sim.blown_up():  # else (until the next health check recovers
