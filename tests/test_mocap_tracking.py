@@ -93,11 +93,11 @@ def test_a_key_takes_its_joints_from_the_performer_and_the_rest_follow_on(walk):
 
 
 def test_the_pulls_off_is_free_fall():
-    """A performed pose held 0.3 m up: the pulls lift the figure off the ground; with
-    them off (the key) it drops back, its joints still tracking."""
+    """A performer in the air (feet 0.3 m off the floor): the pulls lift the figure off
+    the ground; with them off (the key) it drops back, its joints still tracking."""
     s = Session(load_setup("biped-mocap"))
     dt = s.sim.dt
-    pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0}
+    pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0, "clearance": 0.3}
     pose.update({j: 0.0 for j in s.character.servos})
     for k in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
@@ -133,3 +133,25 @@ def test_tracking_mistakes_are_one_line_errors(change, message):
         setup_from_text(text, MOCAP)
     assert message in str(err.value) and "\n" not in str(err.value)
     assert "biped-mocap.yaml:" in str(err.value)
+
+
+@pytest.mark.parametrize("impulse, case", [(8.0, "small"), (30.0, "large"), (200.0, "fall")])
+def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, impulse, case):
+    """Standing (the clip's first second), shoved at the chest: the extrapolated
+    centre of mass against the feet decides the case, the pulls weaken at once and
+    come back to full after the case's hold and recovery."""
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 6.0)
+    run(s, events, round(0.5 / dt))
+    tracker = s.runtime.tracker
+    s.handle({"type": "push", "link": "chest", "impulse": [impulse, 0.0]})
+    start = s.steps
+    run(s, [e for e in events if e[0] >= start], start + 8)
+    assert tracker.reaction is not None and tracker.reaction[0] == case
+    spec = getattr(tracker.spec.reaction, case)
+    assert tracker._weight(s.steps) == pytest.approx(spec.weight)
+    assert f"reacting to a {case} push" in tracker.status
+    end = start + round((spec.hold + spec.recover) / dt) + 16
+    run(s, [e for e in events if e[0] >= s.steps], end)
+    assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
