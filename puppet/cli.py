@@ -147,9 +147,10 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.mocap.clips import find_mapping, open_clip
 
         mapping, _ = find_mapping(args.mapping, setup.interface, setup.interface_path)
-        clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem)
-    elif args.mapping:
-        raise UsageError("--mapping goes with --mocap (the clip it retargets)")
+        clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
+                          loop=args.loop)
+    elif args.mapping or args.loop:
+        raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
     if not args.headless:
         from puppet.app.window import run_window
 
@@ -303,6 +304,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "assets/mocap/NAME.bvh), played in sim time through the "
                            "interface's mapping; headless runs last the clip's length "
                            "unless --seconds says otherwise")
+    play.add_argument("--loop", action="store_true",
+                      help="play the --mocap clip over and over (headless: set --seconds)")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")
