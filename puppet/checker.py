@@ -12,7 +12,7 @@ from puppet.data.yamlfile import Located, load_file
 from puppet.timeline.script import parse_script
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
-                  "scripts": "script"}
+                  "scripts": "script", "mappings": "mapping"}
 
 
 def guess_kind(path: Path, located: Located) -> str:
@@ -28,9 +28,11 @@ def guess_kind(path: Path, located: Located) -> str:
         return "script"
     if "character" in data:
         return "interface"
+    if "segments" in data:
+        return "mapping"
     raise located.error((), "cannot tell what kind of file this is; expected a character "
-                            "(links:), scene (ground:), interface (character:) or script "
-                            "(events:)")
+                            "(links:), scene (ground:), interface (character:), script "
+                            "(events:) or mocap mapping (segments:)")
 
 
 def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
@@ -45,6 +47,10 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         parse_scene(located)
     elif kind == "script":
         parse_script(located)
+    elif kind == "mapping":
+        from puppet.data.mappings import parse_mapping
+
+        parse_mapping(located)
     else:
         spec = catalog.check_interface(located)[0]
         if warnings is not None:
@@ -59,4 +65,12 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         from puppet.data.interface_refs import check_scene_refs
 
         check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
+        if spec.tracking is not None and spec.tracking.mapping is not None:
+            from puppet.data.mappings import load_mapping
+
+            try:
+                load_mapping(catalog.find("mapping", spec.tracking.mapping,
+                                          catalog.reference_folders(path)))
+            except DataError as exc:
+                raise located.error(("tracking", "mapping"), exc.message) from None
     return kind

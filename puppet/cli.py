@@ -7,6 +7,7 @@ argparse (standard library) rather than a CLI framework: it gives sub-commands,
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -151,9 +152,10 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.mocap.clips import find_mapping, open_clip
 
         mapping, _ = find_mapping(args.mapping, setup.interface, setup.interface_path)
-        clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem)
-    elif args.mapping:
-        raise UsageError("--mapping goes with --mocap (the clip it retargets)")
+        clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
+                          loop=args.loop)
+    elif args.mapping or args.loop:
+        raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
     if not args.headless:
         from puppet.app.window import run_window
 
@@ -192,6 +194,13 @@ def _play(args: argparse.Namespace) -> int:
     for note in session.blowup_messages:  # the window shows them; here nothing would
         print(f"puppet play: {note}", file=sys.stderr)
     return EXIT_BLOWUP if session.blowups else 0
+
+
+def _mocap_info(args: argparse.Namespace) -> int:
+    from puppet.mocap.info import describe
+
+    print(describe(args.clip, args.mapping))
+    return 0
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -302,6 +311,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "unless --seconds says otherwise. Or a live OSC stream, "
                            "udp://127.0.0.1:39539 (see --mocap-format), paced in real "
                            "time and recorded")
+    play.add_argument("--loop", action="store_true",
+                      help="play the --mocap clip over and over (headless: set --seconds)")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")
@@ -309,10 +320,25 @@ def build_parser() -> argparse.ArgumentParser:
                       help="com: start with the balance overlay on (centre of mass, its "
                            "ground point, the support between the outermost ground "
                            "contacts, the extrapolated centre of mass); F4 toggles it")
-    from puppet.mocap.commands import add_parser as add_mocap_parser, add_play_options
+    from puppet.mocap.commands import add_play_options, add_subcommands
 
     add_play_options(play)  # --mocap-format (--mocap udp://...: a live stream)
     play.set_defaults(func=_play)
+
+    mocap = sub.add_parser("mocap", help="motion capture: what a clip holds; stream a clip "
+                                         "live, watch a stream",
+                           description="Motion-capture clips and streams: a clip's "
+                                       "skeleton and angles; send a BVH clip over OSC as "
+                                       "a live source would; listen and print what "
+                                       "arrives.")
+    mocap_sub = mocap.add_subparsers(dest="mocap_command", metavar="WHAT", required=True)
+    info = mocap_sub.add_parser("info", help="a clip's skeleton, frame rate, length and "
+                                             "the planar angles it would give")
+    info.add_argument("clip", help="a BVH file, or a name: assets/mocap/NAME.bvh")
+    info.add_argument("--mapping", help="the mapping (assets/mappings/NAME.yaml or a path); "
+                                        "default: the first that names all its joints")
+    info.set_defaults(func=_mocap_info)
+    add_subcommands(mocap_sub)  # puppet mocap send / listen (live OSC)
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
                             description="Replay recorded input logs. Headless prints the "
@@ -393,7 +419,6 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
     bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
     bench.set_defaults(func=_bench)
-    add_mocap_parser(sub)  # puppet mocap send / listen
     return parser
 
 
@@ -413,6 +438,12 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130
+    except BrokenPipeError:  # the output went to a pipe that closed (| head): fine
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
 
 
 if __name__ == "__main__":

@@ -132,6 +132,7 @@ class Session:
             return None
         if kind == "push":
             self.sim.push(event["link"], tuple(event["impulse"]), event.get("point"))
+            self.runtime.tracker.impact(self.steps)  # a performer's figure reacts
             return None
         if kind == "drag":
             phase = event["phase"]
@@ -140,8 +141,10 @@ class Session:
                     raise ValueError(f"drag: unknown link {event['link']!r}; the character "
                                      f"has: {', '.join(self.character.link_order)}")
                 self.sim.start_drag(event["link"], tuple(event["point"]), tuple(event["target"]))
+                self.runtime.tracker.impact(self.steps)
             elif phase == "move":
                 self.sim.move_drag(tuple(event["target"]))
+                self.runtime.tracker.impact(self.steps)  # still pulled: still reacting
             else:
                 self.sim.end_drag()
             return None

@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 from puppet.checker import check_file
@@ -43,9 +44,10 @@ KINDS = {  # kind -> (catalog folder, the shipped files)
     "scene": sorted((ROOT / "assets" / "scenes").glob("*.yaml")),
     "script": sorted((ROOT / "assets" / "scripts").glob("*.yaml")),
     "expect": sorted((ROOT / "assets" / "logs").glob("*.expect.yaml")),
+    "mapping": sorted((ROOT / "assets" / "mappings").glob("*.yaml")),
 }
 FOLDER = {"character": "characters", "interface": "interfaces", "scene": "scenes",
-          "script": "scripts", "expect": "logs"}
+          "script": "scripts", "expect": "logs", "mapping": "mappings"}
 LOGS = [ROOT / "assets" / "logs" / n for n in ("luxo-hop.jsonl", "luxo-keys-hops.jsonl",
                                                "cat-bound.jsonl")]
 LOG_LINES = 40  # a log mutant keeps the header, this many events and the end line
@@ -227,6 +229,20 @@ def _accepted(kind: str, path: Path) -> None:
         scene = parse_scene(load_file(path))
         play_setup(Setup(base.interface, base.character, scene, base.interface_path,
                          base.character_path, path))
+    elif kind == "mapping":  # retarget the walk clip through it
+        from puppet.data.mappings import load_mapping
+        from puppet.mocap.bvh import read_bvh
+        from puppet.mocap.retarget import retarget_clip
+
+        mapping = load_mapping(path)
+        try:
+            clip = retarget_clip(read_bvh(ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"),
+                                 mapping)
+        except DataError as exc:  # valid, but not for this clip: said in one line
+            assert "\n" not in str(exc), str(exc)
+            return
+        for values in clip.channels.values():
+            assert not np.isinf(values).any()
     elif kind == "script":
         spec = parse_script(load_file(path))
         setup = load_setup("luxo-keys")

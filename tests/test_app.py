@@ -31,7 +31,8 @@ SHIPPED = sorted(
     list((catalog.ROOT / "characters").glob("*.yaml"))
     + list((catalog.ROOT / "interfaces").glob("*.yaml"))
     + list((catalog.ROOT / "assets" / "scenes").glob("*.yaml"))
-    + list((catalog.ROOT / "assets" / "scripts").glob("*.yaml")))
+    + list((catalog.ROOT / "assets" / "scripts").glob("*.yaml"))
+    + list((catalog.ROOT / "assets" / "mappings").glob("*.yaml")))
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])

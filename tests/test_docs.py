@@ -26,7 +26,7 @@ from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
-FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes)/([A-Za-z0-9_.-]+\.yaml)\s*$")
+FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
 SNIPPET = re.compile(r"# snippet for ([a-z0-9-]+)\s*$")
 
@@ -91,7 +91,8 @@ def test_docs_have_marked_examples():
 def test_doc_example_is_valid(tmp_path, doc, line, text):
     path = write_block(tmp_path, line, text)
     kind = check_file(path)
-    assert kind == {"scripts": "script", "scenes": "scene"}.get(path.parent.name, "interface")
+    assert kind == {"scripts": "script", "scenes": "scene",
+                    "mappings": "mapping"}.get(path.parent.name, "interface")
 
 
 def worked_example(tmp_path: Path) -> Path:

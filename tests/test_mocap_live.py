@@ -190,7 +190,7 @@ def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys):
     (["--mocap", "udp://example.org:1", "--mocap-format", "puppet"], "not an IP address"),
     (["--mocap", "tcp://127.0.0.1:1", "--mocap-format", "puppet"], "only udp://"),
     (["--mocap", "udp://127.0.0.1:1", "--mocap-format", "puppet", "--input", "luxo-hop"],
-     "--mocap goes without --input"),
+     "--mocap udp://... goes without --input"),
 ])
 def test_play_mocap_mistakes_are_one_line_errors(argv, words, capsys):
     code = main(["play", "luxo-mouse", "--headless", *argv])

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import pygame
 
@@ -31,7 +31,7 @@ class HudInfo:
     replaying: str = ""  # the log a window replay plays (its events, not the devices)
     overlay: bool = False  # the centre-of-mass overlay is on (see render.draw_balance)
     branch: int | None = None  # the branch selected (history.branches index), listed
-    sources: tuple[str, ...] = ()  # live sources' status lines (mocap: rate, drops)
+    sources: list = field(default_factory=list)  # status lines of the input sources
     _seen_serial: int = 0
     _message_until: float = 0.0
 
@@ -165,7 +165,11 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     changed = world_changes(session)
     if changed:
         lines.append(changed)
-    lines.extend(info.sources)
+    tracking = session.runtime.tracker.status  # mocap: following, pulls, lost
+    if tracking:
+        lines.append(tracking)
+    for status in info.sources:  # live streams and clips: what came, what was dropped
+        lines.append(status)
     height = 8 + len(lines) * 22
     left_w = min(surface.get_width() // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped

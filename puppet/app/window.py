@@ -390,8 +390,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         info.slowdown = clock.slowdown
         info.measured = clock.measured_slowdown()
         info.fps = frames.get_fps() or None
+        info.sources = [s.hud_line() if hasattr(s, "hud_line") else s.status()
+                        for s in sources]  # a live stream's line is the short one
         info.paused = clock.paused
-        info.sources = tuple(s.hud_line() for s in sources if hasattr(s, "hud_line"))
 
         if not session.sim.blown_up():  # else (until the next health check recovers
             if not (dragging or ctrl_held()):  # it) the last world drawn stays; the

@@ -56,6 +56,16 @@ class RootSpec(Spec):
                               "lowest point a clip reaches (a stream: so far)")
 
 
+class ClearanceSpec(Spec):
+    """How high the performer's feet are off the floor: the lowest of ``points`` less
+    ``standing`` (m: its height with a foot flat on the floor - a toe joint sits some
+    centimetres up), never below 0. Channel ``clearance``, m: 0 while a foot is down,
+    the height of a jump in flight, so a tracked figure leaves the ground then."""
+
+    points: list[str] = Field(min_length=1)
+    standing: Num("size") = Field(description="m above the floor with the foot down")
+
+
 class SegmentSpec(Spec):
     """A direction from one source point to another; ``rest`` is its direction when
     the figure's joints are all 0 (forward, up, back, down, or degrees, counter-
@@ -100,6 +110,7 @@ class MappingSpec(Spec):
     effectors: dict[str, str] = Field(
         default_factory=dict, description="name -> source point: channels NAME.x and "
                                           "NAME.y, m from the centre of mass, in the plane")
+    clearance: ClearanceSpec | None = None
     com: dict[str, Num("ratio")] = Field(
         default_factory=dict, description="source point -> weight: the centre of mass "
                                           "(absent: the root point)")
@@ -129,11 +140,15 @@ class MappingSpec(Spec):
             names |= {seg.start, seg.to}
         if self.facing is not None:
             names |= {self.facing.left, self.facing.right}
+        if self.clearance is not None:
+            names |= set(self.clearance.points)
         return names
 
     def channel_names(self) -> list[str]:
         """The channels it makes, in order: root, angles, effectors."""
         names = ["root.x", "root.y", *self.channels]
+        if self.clearance is not None:
+            names.append("clearance")
         for name in self.effectors:
             names += [f"{name}.x", f"{name}.y"]
         return names

@@ -52,6 +52,7 @@ RANGES: dict[str, tuple[float, float, str, bool]] = {
     "source_unit": (1.0e-6, 1000.0, "m", True),  # metres per unit of a mocap source
     "ratio": (0.01, 1000.0, "", False),  # a mocap mapping's size, a gain's multiplier
     "gain": (0.0, 1.0e6, "", False),  # a tracking gain (kp, dp, kq, dq)
+    "fraction": (0.0, 1.0, "", False),  # a reaction's weight
 }
 
 

@@ -48,6 +48,33 @@ PRESETS: dict[str, GainsSpec] = {
 }
 
 
+class ReactionCaseSpec(Spec):
+    """How far the pulls give way after a push, and for how long: to ``weight`` at
+    once, held ``hold`` s, then back to full over ``recover`` s."""
+
+    weight: Num("fraction") = 0.3
+    hold: Num("duration") = 0.2
+    recover: Num("positive_duration") = 0.6
+
+
+class ReactionSpec(Spec):
+    """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
+    way so the figure reacts, then come back. The case is judged at the next control
+    step by the extrapolated centre of mass against the support (the feet on the
+    ground): inside it, ``small`` (a dip, then recover); beyond it by up to
+    ``step_margin`` m, ``large`` (the joints keep tracking the steps while the pulls
+    are weak: protective steps, then back); further, ``fall`` (the pulls let go, the
+    figure falls, then they bring it back up: the get-up)."""
+
+    small_margin: Num("corner") = Field(0.05, description="m beyond the support: still "
+                                                          "small")
+    step_margin: Num("size") = Field(0.3, description="m beyond the support: large, "
+                                                      "not a fall")
+    small: ReactionCaseSpec = ReactionCaseSpec(weight=0.3, hold=0.15, recover=0.5)
+    large: ReactionCaseSpec = ReactionCaseSpec(weight=0.1, hold=0.5, recover=1.0)
+    fall: ReactionCaseSpec = ReactionCaseSpec(weight=0, hold=1.5, recover=2.0)
+
+
 class RootChannelsSpec(Spec):
     """The channels that place the performed pose in the world, and the joint whose
     hinge is the root point (the mapping's ``root.point``)."""
@@ -55,6 +82,8 @@ class RootChannelsSpec(Spec):
     x: str = Field("root.x", description="channel: m travelled forward")
     y: str = Field("root.y", description="channel: m above the ground")
     angle: str = Field("root.angle", description="channel: the root link's angle, deg")
+    clearance: str = Field("clearance", description="channel: m the performer's feet are "
+                                                    "off the floor (0: one is down)")
     at: str = Field(description="a joint on the root link whose hinge the root channels "
                                 "place (the hips: hip_near)")
 
@@ -74,9 +103,13 @@ class TrackingSpec(Spec):
         default_factory=dict, description="link -> Cartesian gain multiplier (Nguyen: "
                                           "feet 125, shins 25, thighs 5; others 1)")
     feet: list[str] = Field(
-        default_factory=list, description="links the performed pose never puts under the "
-                                          "ground: it is lifted until they touch it (a "
-                                          "performer's other proportions, a floor offset)")
+        default_factory=list, description="links the performed pose stands on: it is "
+                                          "moved up or down until the lowest of them "
+                                          "touches the ground (the performer's other "
+                                          "proportions, a floor offset)")
+    reaction: ReactionSpec | None = Field(
+        default_factory=ReactionSpec, description="impact reactions of KD control (null: "
+                                                  "none, the pulls hold through a push)")
     start: Literal["off", "angles", "kd"] = Field("off", description="tracking at the start")
     lost_after: Num("positive_duration") = Field(0.25, description="s without a sample: "
                                                                    "tracking lost")

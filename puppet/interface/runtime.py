@@ -529,6 +529,7 @@ class InterfaceRuntime:
             self.perturber.switch(a.perturb, now)
         if a.push is not None and self.sim is not None:
             self.sim.push(self.roles.rename(a.push.link), a.push.impulse, a.push.point)
+            self.tracker.impact(now)
         if a.track is not None and self.spec.tracking is not None:
             if self._pending:
                 self.flush()

@@ -113,12 +113,8 @@ def is_live(value: str | None) -> bool:
     return bool(value) and "://" in value
 
 
-def add_parser(sub) -> None:
-    mocap = sub.add_parser("mocap", help="motion capture: stream a clip live, watch a stream",
-                           description="Live motion capture over OSC (UDP): send a BVH "
-                                       "clip as a live source would, or listen and print "
-                                       "what arrives.")
-    msub = mocap.add_subparsers(dest="mocap_command", metavar="COMMAND")
+def add_subcommands(msub) -> None:
+    """``send`` and ``listen`` under ``puppet mocap`` (``msub``: its sub-parsers)."""
     send = msub.add_parser("send", help="stream a BVH clip over OSC in real time",
                            description="Stream a BVH clip over OSC/UDP in real time "
                                        "(VMC bones, MediaPipe landmarks, or puppet "
@@ -154,12 +150,6 @@ def add_parser(sub) -> None:
     listen.add_argument("--seconds", type=_duration, metavar="S",
                         help="stop after S seconds (default: until Ctrl+C)")
     listen.set_defaults(func=_listen)
-    mocap.set_defaults(func=lambda args: _help(mocap))
-
-
-def _help(parser) -> int:
-    parser.print_help()
-    return 0
 
 
 def _send(args: argparse.Namespace) -> int:
@@ -241,9 +231,9 @@ def live_play(args, setup) -> int | None:
     None when --mocap is not given."""
     if not is_live(args.mocap):
         return None
-    if args.input or args.frames or args.ghost:
-        raise UsageError("--mocap goes without --input, --frames and --ghost (a live take "
-                         "is recorded; replay its log for those)")
+    if args.input or args.frames or args.ghost or getattr(args, "loop", False):
+        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
+                         "--loop (a live take is recorded; replay its log for those)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
     source.start()
     print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",

@@ -224,8 +224,20 @@ class Retargeter:
         for name, (a, ch) in self._joint_values(self._angles(pts, forward)).items():
             channels[name] = _held(_wrap(a)) * ch.scale + ch.offset
         channels.update(self._effectors(pts, forward))
+        clear = self._clearance(pts, floor)
+        if clear is not None:
+            channels["clearance"] = clear
         times = np.arange(frames) * frame_time
         return RetargetedClip(times, channels)
+
+    def _clearance(self, pts, floor: float):
+        """The feet's height off the floor (m, 0 with a foot down), or None."""
+        spec = self.mapping.clearance
+        if spec is None or any(n not in pts for n in spec.points):
+            return None
+        low = np.min(np.stack([pts[n] @ self.up for n in spec.points]), axis=0)
+        unit, size = self.mapping.source.unit, self.mapping.size
+        return np.maximum(0.0, (low - floor) * unit - spec.standing) * size
 
     def _clip_floor(self, pts) -> float:
         floor = self.mapping.root.floor
@@ -266,6 +278,9 @@ class Retargeter:
                 floor = float(m.root.floor)
             out["root.x"] = self._root_x
             out["root.y"] = (float(root @ up) - floor) * self.metres
+            clear = self._clearance(pts, floor)
+            if clear is not None:
+                out["clearance"] = float(clear[0])
         for name, (a, ch) in self._joint_values(self._angles(pts, forward)).items():
             value = float(a[0])
             prev = last.get(name)

@@ -118,12 +118,20 @@ class TiltNeverAbove(Spec):
 class FollowedChannels(Spec):
     """Each of ``joints`` moved like the performance: its angle within ``max_rms``
     degrees RMS of the input channel of its name (the retargeted mocap angle) over the
-    samples from ``from`` to ``until`` s that have a value for it."""
+    samples from ``from`` to ``until`` s that have a value for it. ``min_rms``: at least
+    one of them strayed that far (the figure reacted to something: a push)."""
 
     joints: list[str] = Field(min_length=1, max_length=64)
     from_: Time = Field(0.0, alias="from")
     until: Time | None = None
-    max_rms: Num("angle") = Field(description="deg")
+    max_rms: Num("angle") | None = Field(None, description="deg")
+    min_rms: Num("angle") | None = Field(None, description="deg")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        if self.max_rms is None and self.min_rms is None:
+            raise ValueError("give 'max_rms' and/or 'min_rms' (deg)")
+        return self
 
 
 class ReachedHeight(Spec):
@@ -280,7 +288,10 @@ class Expectation(Spec):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, FollowedChannels):
             until = "the end" if v.until is None else f"{v.until:g} s"
-            return (f"followed_channels {', '.join(v.joints)} within {v.max_rms:g} deg RMS "
+            bounds = " and ".join(b for b in (
+                f"each within {v.max_rms:g}" if v.max_rms is not None else "",
+                f"one at least {v.min_rms:g}" if v.min_rms is not None else "") if b)
+            return (f"followed_channels {', '.join(v.joints)}: {bounds} deg RMS "
                     f"from {v.from_:g} s to {until}")
         if isinstance(v, Airborne):
             bounds = " ".join(f"{k} {b} s" for k, b in (("min", v.min_seconds),
@@ -477,8 +488,9 @@ def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
         parts.append(f"{name} {rms:.1f}")
         if rms > worst:
             worst, which = rms, name
-    return Outcome(e.describe(), worst <= v.max_rms,
-                   f"RMS deg: {', '.join(parts)} (worst {which})")
+    ok = (v.max_rms is None or worst <= v.max_rms) and (v.min_rms is None
+                                                        or worst >= v.min_rms)
+    return Outcome(e.describe(), ok, f"RMS deg: {', '.join(parts)} (worst {which})")
 
 
 def _at_end(e: Expectation, column: str, traj) -> Outcome:

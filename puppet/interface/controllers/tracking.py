@@ -29,6 +29,8 @@ from puppet.physics.kinematics import beyond, joint_order, link_poses
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
+PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the ground, so
+# the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
 class Tracker:
@@ -42,6 +44,7 @@ class Tracker:
         self.channels = channels  # the runtime's channel values, by bare name
         self.every = every
         self.period = every * dt
+        self.dt = dt
         self.restore_gains = restore_gains  # puts the interface's gains back
         self.lost_steps = 0 if spec is None else max(1, round(spec.lost_after / dt))
         cs = character.spec
@@ -88,6 +91,11 @@ class Tracker:
             self.lost = False
             self._take(now)
 
+    def impact(self, now: int) -> None:
+        """A push or a drag has struck the figure: react at the next control step."""
+        if self.mode == KD and self.spec.reaction is not None:
+            self.impact_at = now
+
     @property
     def status(self) -> str:
         """For the HUD: what tracking does now."""
@@ -97,7 +105,51 @@ class Tracker:
             return f"tracking {self.mode}: LOST (no sample for {self.spec.lost_after:g} s)"
         pulls = "" if self.mode == ANGLES else (" with pulls" if self.kinematic else
                                                 " (pulls off: free fall)")
+        if self.reaction is not None and self.mode == KD:
+            pulls += f", reacting to a {self.reaction[0]} push"
         return f"tracking {self.mode}{pulls}"
+
+    def _react(self, step: int, performed_com, performed_vx: float) -> None:
+        """Judge the push just taken and start its reaction. The extrapolated centre
+        of mass (xcom = x + v sqrt(l / g)) is measured against the support - the feet's
+        contacts, widened to the performance's own xcom, since a walking performer's
+        lies ahead of their feet and a step catches it: inside (or within
+        ``small_margin``), small; beyond by up to ``step_margin``, large; further, a
+        fall."""
+        from puppet.physics.balance import balance
+
+        c = self.character
+        space = c.bodies[c.spec.root].space
+        gravity = tuple(space.gravity) if space is not None else (0.0, -9.81)
+        b = balance(c, gravity, self.ground_at or (lambda x: None))
+        r = self.spec.reaction
+        if b.support is None:
+            beyond = r.step_margin  # in the air: not a fall yet
+        else:
+            g = math.hypot(*gravity) or 9.81
+            height = max(1e-3, performed_com[1] - b.ground_y)
+            mine = performed_com[0] + performed_vx * math.sqrt(height / g)
+            lo, hi = min(b.support[0], mine), max(b.support[1], mine)
+            beyond = max(lo - b.xcom, b.xcom - hi, 0.0)
+        case = ("small" if beyond <= r.small_margin else
+                "large" if beyond <= r.step_margin else "fall")
+        self.reaction = (case, step)
+        self.impact_at = None
+
+    def _weight(self, step: int) -> float:
+        """How much of the pulls acts now (1 without a reaction)."""
+        if self.reaction is None:
+            return 1.0
+        case, start = self.reaction
+        spec = getattr(self.spec.reaction, case)
+        t = (step - start) * self.dt
+        if t < spec.hold:
+            return spec.weight
+        t -= spec.hold
+        if t >= spec.recover:
+            self.reaction = None
+            return 1.0
+        return spec.weight + (1.0 - spec.weight) * t / spec.recover
 
     # -- the work ----------------------------------------------------------------------
     def _take(self, now: int) -> None:
@@ -158,11 +210,11 @@ class Tracker:
             return
         self._write_targets()
         if self.mode == KD and self.kinematic and self.spec.root is not None:
-            self._pull()
+            self._pull(step)
 
-    def _pull(self) -> None:
+    def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
-        pose's (implicit PD over one control period)."""
+        pose's (implicit PD over one control period), weaker while reacting to a push."""
         spec, ch, c = self.spec, self.channels, self.character
         root = spec.root
         x, y, a = ch.get(root.x), ch.get(root.y), ch.get(root.angle)
@@ -177,7 +229,7 @@ class Tracker:
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
         q = {j: self._clamped(j, math.radians(ch[n])) for j, n in self.joints.items() if n in ch}
         poses = link_poses(c.spec, self.order, origin, angle, q)
-        lift = self._lift(poses, hx)
+        lift = self._lift(poses, hx, ch.get(root.clearance, 0.0))
         T = self.period
         preset, scale = spec.preset, self.scale
         prev = self.prev
@@ -187,26 +239,61 @@ class Tracker:
             ox, oy, la = poses[name]
             gx, gy = body.center_of_gravity
             cl, sl = math.cos(la), math.sin(la)
-            px, py = ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift
-            targets[name] = (px, py)
+            targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
+        # The performed velocities, from the last two samples (a stream's frames come
+        # at their own rate, not the control rate's): held between samples.
+        sample = self.last_sample
+        for name in self.soles:  # the feet's performed angles ride along
+            targets[name] = targets[name] + (poses[name][2],)
+        if prev is None or sample != self.prev_step:
+            if prev is not None and sample > self.prev_step:
+                h = (sample - self.prev_step) * self.dt
+                self.vel = {n: ((p[0] - prev[n][0]) / h, (p[1] - prev[n][1]) / h)
+                            for n, p in targets.items() if n in prev}
+                self.spin = {n: (targets[n][2] - prev[n][2]) / h for n in self.soles
+                             if n in prev and len(prev[n]) > 2}
+            else:
+                self.vel, self.spin = {}, {}
+            self.prev, self.prev_step = targets, sample
+        vel = self.vel
+        if self.impact_at is not None and step > self.impact_at:
+            mass = c.mass
+            com = (sum(c.bodies[n].mass * p[0] for n, p in targets.items()) / mass,
+                   sum(c.bodies[n].mass * p[1] for n, p in targets.items()) / mass)
+            vx = sum(c.bodies[n].mass * v[0] for n, v in vel.items()) / mass
+            self._react(step, com, vx)
+        weight = self._weight(step)
+        for name in self.pulled:
+            body = c.bodies[name]
+            px, py = targets[name][0], targets[name][1]
             s = scale.get(name, 1.0)
-            k, d = preset.kp * s, preset.dp * math.sqrt(s)  # the same damping ratio
+            k, d = preset.kp * s * weight, preset.dp * math.sqrt(s) * weight  # same ratio
             if k == 0.0 and d == 0.0:
                 continue
-            if prev is not None and name in prev:
-                tvx, tvy = (px - prev[name][0]) / T, (py - prev[name][1]) / T
-            else:
-                tvx = tvy = 0.0
+            tvx, tvy = vel.get(name, (0.0, 0.0))
             m = body.mass
             p = body.local_to_world(body.center_of_gravity)
             vx, vy = body.velocity
             den = m / T + k * T + d
             body.velocity = ((m * vx / T + k * (px - p[0]) + d * tvx) / den,
                              (m * vy / T + k * (py - p[1]) + d * tvy) / den)
-        self.prev = targets
+            if name in self.soles:  # a foot is also turned flat as performed (its sole
+                # stands on the ground; the ankle's inertia-scaled gain alone is weak)
+                inertia = body.moment
+                kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
+                want = poses[name][2]
+                turn = want - body.angle
+                turn -= 2 * math.pi * round(turn / (2 * math.pi))
+                w = body.angular_velocity
+                body.angular_velocity = ((inertia * w / T + kt * turn
+                                          + dt_ * self.spin.get(name, 0.0))
+                                         / (inertia / T + kt * T + dt_))
 
-    def _lift(self, poses, x: float) -> float:
-        """How far up the performed pose must go for no foot to be under the ground."""
+    def _lift(self, poses, x: float, clearance: float) -> float:
+        """How far up (or down) the performed pose must go for its lowest foot to stand
+        on the ground - or to be ``clearance`` above it, in a performer's jump: the
+        performer's proportions differ from the figure's, and a foot held in the air by
+        the pulls would leave the figure hanging on them."""
         if not self.soles or self.ground_at is None:
             return 0.0
         ground = self.ground_at(x)
@@ -220,7 +307,7 @@ class Tracker:
                 y = oy + sl * px + cl * py - r
                 if y < lowest:
                     lowest = y
-        return max(0.0, ground - lowest)
+        return ground + (clearance if clearance > 0.0 else -PRESS) - lowest
 
     def next_wakeup(self, earliest: int) -> int | None:
         if self.mode == OFF:
@@ -231,12 +318,23 @@ class Tracker:
         return {TRACK} if self.mode != OFF else set()
 
     def get_state(self):
-        prev = None if self.prev is None else {n: list(p) for n, p in self.prev.items()}
-        return [self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev]
+        prev = None if self.prev is None else [
+            {n: list(p) for n, p in self.prev.items()}, self.prev_step,
+            {n: list(v) for n, v in self.vel.items()}, dict(self.spin)]
+        reaction = None if self.reaction is None else list(self.reaction)
+        return [self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
+                self.impact_at, reaction]
 
     def set_state(self, state) -> None:
-        self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev = state
-        self.prev = None if prev is None else {n: tuple(p) for n, p in prev.items()}
+        (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
+         self.impact_at, reaction) = state
+        self.reaction = None if reaction is None else tuple(reaction)
+        self.prev, self.prev_step, self.vel, self.spin = None, -1, {}, {}
+        if prev is not None:
+            self.prev = {n: tuple(p) for n, p in prev[0].items()}
+            self.prev_step = prev[1]
+            self.vel = {n: tuple(v) for n, v in prev[2].items()}
+            self.spin = dict(prev[3])
         self.busy = self.mode != OFF
 
     def adopt(self, old: Tracker, same, now: int) -> set[Owner]:
@@ -251,7 +349,12 @@ class Tracker:
         self.lost = False
         self.last_sample = 0
         self.x0 = None
-        self.prev = None
+        self.prev = None  # the performed link positions at the last sample
+        self.prev_step = -1  # ... the step that sample came at
+        self.vel: dict = {}  # ... and their velocities from the two last samples
+        self.spin: dict = {}  # ... and the feet's turning rates
+        self.impact_at: int | None = None  # a push to judge at the next control step
+        self.reaction: tuple[str, int] | None = None  # (case, step it began)
         self.busy = False
 
 

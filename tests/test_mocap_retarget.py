@@ -1,0 +1,200 @@
+"""Retargeting: a mapping file turns a source's named 3-D points into the planar
+figure's channels, for any rig (names, units, frame rate come from data, not code)."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from puppet.data.errors import DataError
+from puppet.data.mappings import parse_mapping
+from puppet.data.yamlfile import load_text
+from puppet.mocap.bvh import parse_bvh, read_bvh
+from puppet.mocap.retarget import Retargeter, clip_points, load_mapping, retarget_clip
+
+WALK = "assets/mocap/cmu-131_01-walk.bvh"
+CMU = "assets/mappings/cmu-131.yaml"
+
+
+def mapping_from(text: str, path: str = "test-mapping.yaml"):
+    return parse_mapping(load_text(text, path))
+
+
+def _emit_bvh(clip, rename, scale: float, every: int) -> str:
+    """The clip as another rig would write it: joints renamed, lengths times
+    ``scale`` (offsets and position channels), every ``every``-th frame."""
+    joints = clip.joints
+    kids: dict[int, list[int]] = {}
+    for i, j in enumerate(joints):
+        kids.setdefault(j.parent, []).append(i)
+    lines = ["HIERARCHY"]
+
+    def emit(i: int, depth: int) -> None:
+        j, ind = joints[i], "  " * depth
+        if j.end_site:
+            lines.extend([f"{ind}End Site", f"{ind}{{",
+                          f"{ind}  OFFSET {' '.join(f'{v * scale:.6f}' for v in j.offset)}",
+                          f"{ind}}}"])
+            return
+        word = "ROOT" if j.parent < 0 else "JOINT"
+        lines.extend([f"{ind}{word} {rename(j.name)}", f"{ind}{{",
+                      f"{ind}  OFFSET {' '.join(f'{v * scale:.6f}' for v in j.offset)}",
+                      f"{ind}  CHANNELS {len(j.channels)} {' '.join(j.channels)}"])
+        for k in kids.get(i, []):
+            emit(k, depth + 1)
+        lines.append(f"{ind}}}")
+
+    emit(0, 0)
+    motion = clip.motion[::every].copy()
+    for j in joints:
+        for c, name in enumerate(j.channels):
+            if name.endswith("position"):
+                motion[:, j.first_channel + c] *= scale
+    lines += ["MOTION", f"Frames: {len(motion)}", f"Frame Time: {clip.frame_time * every:.7f}"]
+    lines += [" ".join(f"{v:.6f}" for v in row) for row in motion]
+    return "\n".join(lines) + "\n"
+
+
+def test_another_rig_needs_only_another_mapping_file():
+    """Other joint names, centimetres instead of CMU units, 60 instead of 120 fps:
+    the same performance through a mapping that names the new joints and unit gives
+    the same channels, at the same moments."""
+    clip = read_bvh(WALK)
+    names = {"Hips": "pelvis_root", "LeftHip": "l_thigh", "RightHip": "r_thigh",
+             "LeftKnee": "l_shin", "RightKnee": "r_shin", "LeftAnkle": "l_foot",
+             "RightAnkle": "r_foot", "LeftToe": "l_toes", "RightToe": "r_toes",
+             "Chest": "spine_1", "Chest2": "spine_2", "Neck": "neck_1", "Head": "head_1",
+             "LeftShoulder": "l_upperarm", "RightShoulder": "r_upperarm",
+             "LeftElbow": "l_forearm", "RightElbow": "r_forearm", "LeftWrist": "l_hand",
+             "RightWrist": "r_hand"}
+    cm_per_unit = 5.6444
+    other = parse_bvh(_emit_bvh(clip, lambda n: names.get(n, "x_" + n), cm_per_unit, 2),
+                      "other.bvh")
+    assert round(other.fps) == 60
+    text = open(CMU, encoding="utf-8").read()
+    for old, new in sorted(names.items(), key=lambda kv: -len(kv[0])):
+        text = re.sub(rf"\b{old}\b", new, text)
+    text = text.replace("unit: 0.056444", "unit: 0.01")
+    # one plane for both (the take's last frame differs by a frame, and so would
+    # 'travel' by a hair, which moves limbs seen nearly end-on)
+    text = text.replace("plane: travel", "plane: [0, 0, 1]")
+    cmu = load_mapping(CMU).model_copy(update={"plane": (0.0, 0.0, 1.0)})
+    mine = retarget_clip(clip, cmu)
+    theirs = retarget_clip(other, mapping_from(text))
+    assert set(theirs.channels) == set(mine.channels)
+    for name, values in theirs.channels.items():
+        diff = values - mine.channels[name][::2]
+        if name.endswith((".x", ".y")):  # metres
+            assert np.nanmax(np.abs(diff)) < 1e-3, name
+        else:  # degrees; where a limb is seen nearly end-on its angle holds from the
+            # last frame that saw it, which the halved frame rate may make an earlier one
+            diff = np.abs((diff + 180.0) % 360.0 - 180.0)
+            assert np.nanpercentile(diff, 95) < 0.01 and np.nanmedian(diff) < 1e-4, name
+
+
+def test_a_stream_frame_by_frame_gives_the_clip_channels():
+    """The live path (one frame at a time, as a network source calls it) and the clip
+    path (vectorised) are one computation."""
+    clip = read_bvh(WALK)
+    mapping = load_mapping(CMU)
+    whole = retarget_clip(clip, mapping)
+    forward = Retargeter(mapping).clip(clip_points(clip, mapping.point_names()),
+                                       clip.frame_time)
+    # a stream cannot know where the whole take goes: give the plane the clip found
+    travel = clip_points(clip, ["LeftHip", "RightHip"])
+    d = (travel["LeftHip"][-1] + travel["RightHip"][-1]
+         - travel["LeftHip"][0] - travel["RightHip"][0])
+    fixed = mapping.model_copy(update={"plane": (float(d[0]), 0.0, float(d[2]))})
+    live = Retargeter(fixed)
+    pts = clip_points(clip, live.point_names)
+    for k in range(clip.frames):
+        got = live.channels({n: p[k] for n, p in pts.items()})
+        for name, value in got.items():
+            assert value == pytest.approx(whole.channels[name][k], abs=1e-6), (name, k)
+    assert forward.channels.keys() == whole.channels.keys()
+
+
+def test_the_signs_are_the_figures():
+    """A performer facing +z in a right-handed, y-up frame, the thigh 30 deg forward,
+    the knee bent 45 deg, the trunk upright: hip +30, knee -45, like the figure's."""
+    mapping = mapping_from("""
+root: {point: hip, floor: 0}
+plane: [0, 0, 1]
+segments:
+  trunk: {from: hip, to: neck, rest: up}
+  thigh: {from: hip, to: knee}
+  shank: {from: knee, to: ankle}
+channels:
+  hip_near: {segment: thigh, relative_to: trunk}
+  knee_near: {segment: shank, relative_to: thigh}
+  root.angle: {segment: trunk}
+""")
+    a, b = math.radians(30), math.radians(30 - 45)
+    hip = np.array([0.1, 0.9, 0.0])
+    knee = hip + 0.4 * np.array([0.0, -math.cos(a), math.sin(a)])
+    ankle = knee + 0.4 * np.array([0.0, -math.cos(b), math.sin(b)])
+    points = {"hip": hip, "neck": hip + [0, 0.5, 0], "knee": knee, "ankle": ankle}
+    got = Retargeter(mapping).channels(points)
+    assert got["hip_near"] == pytest.approx(30.0)
+    assert got["knee_near"] == pytest.approx(-45.0)
+    assert got["root.angle"] == pytest.approx(0.0, abs=1e-9)
+    assert got["root.y"] == pytest.approx(0.9)
+    # the same body in a left-handed frame (Unity's: z mirrored) says the same
+    lefty = mapping.model_copy(update={"source": mapping.source.model_copy(
+        update={"handedness": "left"}), "plane": (0.0, 0.0, -1.0)})
+    mirrored = {n: p * [1, 1, -1] for n, p in points.items()}
+    assert Retargeter(lefty).channels(mirrored)["hip_near"] == pytest.approx(30.0)
+
+
+def test_a_segment_seen_end_on_holds_its_last_angle():
+    mapping = mapping_from("""
+root: {point: shoulder, floor: 0}
+plane: [1, 0, 0]
+segments:
+  arm: {from: shoulder, to: hand}
+channels:
+  shoulder_near: {segment: arm}
+""")
+    rt = Retargeter(mapping)
+    s = np.zeros(3)
+    assert rt.channels({"shoulder": s, "hand": [0.3, -0.3, 0]})["shoulder_near"] \
+        == pytest.approx(45.0)
+    # the arm straight out sideways (along z): no angle in the plane, the last one held
+    assert rt.channels({"shoulder": s, "hand": [0.01, 0.0, 0.5]})["shoulder_near"] \
+        == pytest.approx(45.0)
+
+
+def test_mapping_mistakes_are_one_line_errors_at_their_place():
+    with pytest.raises(DataError) as err:
+        mapping_from("root: {point: Hips}\nsegments:\n  a: {from: Hips, to: Knee}\n"
+                     "channels:\n  hip: {segment: b}\n")
+    assert "test-mapping.yaml:" in str(err.value) and "segment 'b'" in str(err.value)
+    assert "\n" not in str(err.value)
+    with pytest.raises(DataError, match="facing"):
+        mapping_from("root: {point: Hips}\nplane: facing\nsegments:\n"
+                     "  a: {from: Hips, to: Knee}\n")
+    with pytest.raises(DataError, match=r"source_unit|1e-6\.\.1000"):
+        mapping_from("root: {point: Hips}\nsource: {unit: 0}\nsegments:\n"
+                     "  a: {from: Hips, to: Knee}\n")
+
+
+def test_a_clip_without_the_mapped_joints_is_refused_by_name():
+    clip = read_bvh("assets/mocap/cmu-01_01-jumps.bvh")  # LeftUpLeg..., not LeftHip
+    with pytest.raises(DataError, match="no point named .*LeftHip"):
+        retarget_clip(clip, load_mapping(CMU))
+
+
+def test_the_shipped_walk_retargets_to_a_walk():
+    """The CMU walk through cmu-131: about 2.8 m forward, the hips about the figure's
+    height, the knees bending and straightening as steps do."""
+    rc = retarget_clip(read_bvh(WALK), load_mapping(CMU))
+    assert 2.5 < rc.channels["root.x"][-1] < 3.1
+    walk = (rc.times > 4.3) & (rc.times < 6.7)
+    assert 0.8 < np.median(rc.channels["root.y"][walk]) < 0.95
+    for knee in ("knee_near", "knee_far"):
+        k = rc.channels[knee][walk]
+        assert k.max() > -10 and k.min() < -60  # straight in stance, bent in swing
+    assert rc.at(-1.0) == rc.at(0.0) and rc.at(99.0) == rc.at(rc.duration)

@@ -1,0 +1,157 @@
+"""Tracking a performance: joint tracking and KD control through the arbiter, exact
+through checkpoints, lost when the stream stops, preempted per joint by keys."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from puppet.data.catalog import find, load_setup, setup_from_text
+from puppet.data.errors import DataError
+from puppet.interface import events as ev
+from puppet.interface.controllers.tracking import TRACK
+from puppet.mocap.bvh import read_bvh
+from puppet.mocap.clip_source import ClipSource
+from puppet.mocap.retarget import load_mapping, retarget_clip
+from puppet.session import Session
+
+MOCAP = find("interface", "biped-mocap")
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return retarget_clip(read_bvh("assets/mocap/cmu-131_01-walk.bvh"),
+                         load_mapping("assets/mappings/cmu-131.yaml"))
+
+
+def _interface(**changes) -> str:
+    text = MOCAP.read_text(encoding="utf-8")
+    for old, new in changes.items():
+        assert old in text, old
+        text = text.replace(old, new)
+    return text
+
+
+def run(session, events, until_step):
+    i = 0
+    while session.steps < until_step:
+        while i < len(events) and events[i][0] <= session.steps:
+            session.handle(events[i][1])
+            i += 1
+        nxt = events[i][0] if i < len(events) else until_step
+        session.advance(max(1, min(nxt, until_step) - session.steps))
+
+
+def test_kd_control_follows_the_clip_and_a_rewind_replays_it_to_the_bit(walk):
+    s = Session(load_setup("biped-mocap"))
+    events = ClipSource(walk).events(s.sim.dt, 3.0)
+    run(s, events, 960)  # 2 s
+    s.checkpoint()
+    run(s, [e for e in events if e[0] >= 960], 1440)
+    first = s.sim.state_hash()
+    s.restore_checkpoint()
+    run(s, [e for e in events if e[0] >= 960], 1440)
+    assert s.sim.state_hash() == first
+    c = s.character
+    assert c.upright() and c.com()[1] > 0.8
+    assert s.runtime.tracker.status == "tracking kd with pulls"
+
+
+def test_the_stream_lost_lets_go_and_a_new_sample_takes_the_joints_back(walk):
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 0.5)
+    run(s, events, round(0.5 / dt))
+    owners = s.runtime.owners.table
+    assert set(owners.values()) == {TRACK}
+    run(s, [], round(0.7 / dt))  # 0.2 s without a sample: still tracking
+    assert not s.runtime.tracker.lost
+    run(s, [], round(0.8 / dt))  # past 0.25 s: lost, the joints are nobody's
+    assert s.runtime.tracker.lost and "LOST" in s.runtime.tracker.status
+    assert TRACK not in s.runtime.owners.table.values()
+    # the interface's gains are back on the joints (KD had scaled them)
+    assert s.character.servos["knee_near"].stiffness == pytest.approx(1000.0)
+    s.handle(ev.channels(walk.at(0.8)))
+    assert not s.runtime.tracker.lost
+    assert TRACK in s.runtime.owners.table.values()
+
+
+def test_a_key_takes_its_joints_from_the_performer_and_the_rest_follow_on(walk):
+    text = _interface(**{"  - {key: o,": "  - {key: k, set: {knee_near: -90}}\n  - {key: o,"})
+    s = Session(setup_from_text(text, MOCAP))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 1.5)
+    run(s, [e for e in events if e[0] < 480], 480)
+    s.handle(ev.key("k", True))
+    run(s, [e for e in events if e[0] >= 480], round(1.5 / dt))
+    servos = s.character.servos
+    assert servos["knee_near"].target == pytest.approx(math.radians(-90))
+    assert s.runtime.owners.table.get("knee_far") == TRACK
+    assert servos["knee_far"].target == pytest.approx(
+        math.radians(s.runtime.channels["knee_far"]))
+
+
+def test_the_pulls_off_is_free_fall():
+    """A performer in the air (feet 0.3 m off the floor): the pulls lift the figure off
+    the ground; with them off (the key) it drops back, its joints still tracking."""
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0, "clearance": 0.3}
+    pose.update({j: 0.0 for j in s.character.servos})
+    for k in range(0, round(0.6 / dt), 8):
+        s.handle(ev.channels(pose))
+        s.advance(8)
+    lifted = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
+                 for f in ("foot_near", "foot_far"))
+    assert lifted > 0.15
+    s.handle(ev.key("f", True))
+    assert "free fall" in s.runtime.tracker.status
+    for k in range(0, round(0.6 / dt), 8):
+        s.handle(ev.channels(pose))
+        s.advance(8)
+    dropped = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
+                  for f in ("foot_near", "foot_far"))
+    assert dropped < 0.02
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"tracking:\n": "unused:\n"}, "tracking"),  # the section gone: track needs it
+    ({"  root: {at: hip_near}\n": ""}, "tracking.root"),
+    ({"root: {at: hip_near}": "root: {at: knee_near}"}, "root link"),
+    ({"scale: {foot_near: 125": "scale: {toe: 125"}, "toe"),
+])
+def test_tracking_mistakes_are_one_line_errors(change, message):
+    text = _interface(**change)
+    if "unused:" in text:  # drop the whole section (up to the next top-level key)
+        head, _, rest = text.partition("unused:\n")
+        lines = rest.splitlines()
+        while lines and lines[0].startswith(" "):
+            lines.pop(0)
+        text = head + "\n".join(lines) + "\n"
+    with pytest.raises(DataError) as err:
+        setup_from_text(text, MOCAP)
+    assert message in str(err.value) and "\n" not in str(err.value)
+    assert "biped-mocap.yaml:" in str(err.value)
+
+
+@pytest.mark.parametrize("impulse, case", [(8.0, "small"), (30.0, "large"), (200.0, "fall")])
+def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, impulse, case):
+    """Standing (the clip's first second), shoved at the chest: the extrapolated
+    centre of mass against the feet decides the case, the pulls weaken at once and
+    come back to full after the case's hold and recovery."""
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 6.0)
+    run(s, events, round(0.5 / dt))
+    tracker = s.runtime.tracker
+    s.handle({"type": "push", "link": "chest", "impulse": [impulse, 0.0]})
+    start = s.steps
+    run(s, [e for e in events if e[0] >= start], start + 8)
+    assert tracker.reaction is not None and tracker.reaction[0] == case
+    spec = getattr(tracker.spec.reaction, case)
+    assert tracker._weight(s.steps) == pytest.approx(spec.weight)
+    assert f"reacting to a {case} push" in tracker.status
+    end = start + round((spec.hold + spec.recover) / dt) + 16
+    run(s, [e for e in events if e[0] >= s.steps], end)
+    assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
