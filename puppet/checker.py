@@ -30,9 +30,12 @@ def guess_kind(path: Path, located: Located) -> str:
         return "interface"
     if "segments" in data:
         return "mapping"
+    if "vmc" in data or "mediapipe" in data:
+        return "bone table"
     raise located.error((), "cannot tell what kind of file this is; expected a character "
                             "(links:), scene (ground:), interface (character:), script "
-                            "(events:) or mocap mapping (segments:)")
+                            "(events:), mocap mapping (segments:) or bone table (vmc:, "
+                            "mediapipe:)")
 
 
 def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
@@ -51,6 +54,10 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         from puppet.data.mappings import parse_mapping
 
         parse_mapping(located)
+    elif kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
+        from puppet.mocap.send import parse_bones
+
+        parse_bones(located)
     else:
         spec = catalog.check_interface(located)[0]
         if warnings is not None:

@@ -276,3 +276,14 @@ def test_udp_addresses():
                        ("udp://1.2.3.4:99999", "1..65535"), ("udp://1.2.3.4:x", "1..65535")]:
         with pytest.raises(UsageError, match=words):
             parse_udp("--mocap", bad)
+
+
+def test_puppet_check_knows_bone_tables(tmp_path):
+    from puppet.checker import check_file
+
+    assert check_file(BONES) == "bone table"
+    assert check_file("assets/mocap/cmu-01-bones.yaml") == "bone table"
+    bad = tmp_path / "rig.yaml"
+    bad.write_text("unit: 0.01\nmediapipe:\n  left_hip: LHip\n  tail: Tail\n")
+    with pytest.raises(DataError, match=r"rig.yaml:4:3: 'tail' is not a MediaPipe landmark"):
+        check_file(bad)

@@ -56,7 +56,12 @@ class BoneTable:
 
 def load_bones(path: str | Path) -> BoneTable:
     """Read a bone table; a mistake is a one-line ``file:line:col`` DataError."""
-    doc = load_file(path)
+    return parse_bones(load_file(path))
+
+
+def parse_bones(doc) -> BoneTable:
+    """A bone table from a loaded file (``puppet.data.yamlfile.Located``)."""
+    path = doc.path
     data = doc.data
     if not isinstance(data, dict):
         raise doc.error((), "a bone table is a mapping with unit, up, vmc and mediapipe")
