@@ -214,10 +214,10 @@ def test_listen_prints_what_arrives(capsys):
     port = probe.getsockname()[1]
     probe.close()
     stop = threading.Event()
-    sender = _sender(port, seconds=2.0, stop=stop)
+    sender = _sender(port, seconds=0.8, stop=stop)  # stops before listen does: LOST
     try:
         assert main(["mocap", "listen", "--format", "puppet", "--port", str(port),
-                     "--seconds", "1.2"]) == 0
+                     "--seconds", "2.2"]) == 0
     finally:
         stop.set()
         sender.join()
@@ -225,6 +225,7 @@ def test_listen_prints_what_arrives(capsys):
     assert f"listening for puppet on udp://127.0.0.1:{port}" in out
     assert "4 named: c0, c1, c2, c3" in out and "channels: c0=" in out
     assert "0 dropped" in out
+    assert "LOST" in out.splitlines()[-1]  # the stream stopped over a second ago
 
 
 def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):

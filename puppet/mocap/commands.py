@@ -213,8 +213,9 @@ def _listen(args: argparse.Namespace) -> int:
             if source.last_names and source.last_names != names_shown:
                 names_shown = source.last_names
                 print(f"  {len(names_shown)} named: {', '.join(names_shown)}", flush=True)
-            if events:
-                values = events[-1]["values"]
+            values = next((e["values"] for e in reversed(events) if e["type"] == "channels"),
+                          None)  # (a lost stream's event is a lone channel)
+            if values:
                 shown = ", ".join(f"{n}={v:.3g}" for n, v in list(values.items())[:12])
                 more = f" (+{len(values) - 12})" if len(values) > 12 else ""
                 print(f"  channels: {shown}{more}", flush=True)
