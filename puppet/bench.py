@@ -35,6 +35,7 @@ code is 0 unless ``--strict``.
 
 from __future__ import annotations
 
+import dataclasses
 import gc
 import json
 import math
@@ -504,21 +505,62 @@ def measure_logs(repeats: int) -> dict:
 
 
 # -- motion capture ------------------------------------------------------------------
-def measure_mocap(repeats: int) -> dict:
-    """Reading each shipped BVH clip (assets/mocap/) and its forward kinematics."""
-    from puppet.data.catalog import ROOT
+def measure_mocap(repeats: int, seconds: float = 8.0) -> dict:
+    """Reading each shipped BVH clip (assets/mocap/), its forward kinematics and its
+    retargeting (through the first mapping that names its joints); then the figure
+    driven by the walk clip under KD control (biped-mocap), against the same clip's
+    channels with tracking off (what the pulls and the tracker cost)."""
+    from puppet.data.catalog import ROOT, load_setup
     from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.clip_source import ClipSource
+    from puppet.mocap.info import matching_mappings
+    from puppet.mocap.retarget import retarget_clip
+    from puppet.session import Session
 
     items = []
+    walk = None
     for path in sorted((ROOT / "assets" / "mocap").glob("*.bvh")):
         clip = read_bvh(path)
         read_ms = _median_ms(lambda: read_bvh(path), repeats)
         fk_ms = _median_ms(clip.world_positions, repeats)
-        items.append({"clip": path.name, "bytes": path.stat().st_size, "frames": clip.frames,
-                      "joints": len(clip.joints), "read_ms": read_ms, "fk_ms": fk_ms})
-    return {"items": items,
-            "targets": [_target(f"read {i['clip']}", i["read_ms"], "<", BVH_READ_TARGET_MS,
-                                "ms") for i in items]}
+        item = {"clip": path.name, "bytes": path.stat().st_size, "frames": clip.frames,
+                "joints": len(clip.joints), "read_ms": read_ms, "fk_ms": fk_ms}
+        found = matching_mappings(clip)
+        if found:
+            name, mapping = found[0]
+            item["mapping"] = name
+            item["retarget_ms"] = _median_ms(lambda: retarget_clip(clip, mapping), repeats)
+            if "walk" in path.name:
+                walk = retarget_clip(clip, mapping)
+        items.append(item)
+    out = {"items": items,
+           "targets": [_target(f"read {i['clip']}", i["read_ms"], "<", BVH_READ_TARGET_MS,
+                               "ms") for i in items]}
+    if walk is not None:
+        setup = load_setup("biped-mocap")
+        off = setup.interface.model_copy(update={"tracking": setup.interface.tracking.model_copy(
+            update={"start": "off"})})
+        runs = {"kd": setup, "off": dataclasses.replace(setup, interface=off)}
+        walls = {k: [] for k in runs}
+        for _ in range(max(1, repeats)):
+            for kind, s in runs.items():
+                session = Session(s)
+                events = ClipSource(walk).events(session.sim.dt, min(seconds, walk.duration))
+                until = events[-1][0] + 1
+                t0 = time.perf_counter()
+                fed = iter(events)
+                nxt = next(fed, None)
+                while session.steps < until:
+                    while nxt is not None and nxt[0] <= session.steps:
+                        session.handle(nxt[1])
+                        nxt = next(fed, None)
+                    session.advance((nxt[0] if nxt is not None else until) - session.steps)
+                walls[kind].append(time.perf_counter() - t0)
+        sim = until * session.sim.dt
+        kd, bare = statistics.median(walls["kd"]), statistics.median(walls["off"])
+        out["kd_walk"] = {"seconds": sim, "kd_speed_x": sim / kd, "off_speed_x": sim / bare,
+                          "overhead_pct": 100.0 * (kd / bare - 1.0)}
+    return out
 
 
 def measure_mocap_latency(seconds: float) -> dict:
@@ -890,6 +932,13 @@ def format_report(report: dict) -> str:
         row(f"read {item['clip']} ({_fmt_bytes(item['bytes'])}, {item['frames']} frames)",
             f"{item['read_ms']:.1f} ms", f"< {t['limit']:g} ms", "PASS" if t["pass"] else "MISS")
         row(f"  forward kinematics, {item['joints']} joints", f"{item['fk_ms']:.1f} ms")
+        if "retarget_ms" in item:
+            row(f"  retarget ({item['mapping']})", f"{item['retarget_ms']:.1f} ms")
+    kd = report["mocap"].get("kd_walk")
+    if kd:
+        row(f"KD control of the walk clip ({kd['seconds']:.1f} s)",
+            f"{kd['kd_speed_x']:.0f}x real time",
+            f"{kd['overhead_pct']:+.0f} % over its channels alone ({kd['off_speed_x']:.0f}x)")
     for path, lat in report.get("mocap_latency", {}).items():
         t = lat["target"]
         row(f"mocap-latency ({path}): arrival -> targets", f"{lat['median_ms']:.1f} ms")

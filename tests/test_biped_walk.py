@@ -115,3 +115,27 @@ def test_pressing_space_at_each_footfall_walks_on_with_the_mouse_parked():
         else:
             landed = None
     assert c.com()[0] > 10.0 and presses >= 25, (c.com(), presses)
+
+
+def test_at_a_swap_the_mouse_drives_the_new_swing_leg_without_moving():
+    """One 'stepping' mode serves both legs: entering the state whose roles swap puts
+    the mouse's targets on the new swing leg at once, the mouse held still."""
+    import math
+
+    from puppet.data.catalog import load_setup
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    s = Session(load_setup("biped-walk"))
+    servos = s.character.servos
+    s.handle(ev.mouse(0.5, 1.0))  # y at the top: the swing knee bent 90 deg
+    s.handle(ev.key("space", True))
+    s.handle(ev.key("space", False))
+    assert s.runtime.role_binding == "near"
+    assert math.degrees(servos["knee_far"].target) == pytest.approx(-90)
+    before = servos["knee_near"].target
+    s.advance(48)
+    s.handle(ev.key("space", True))  # swap: the near leg swings now
+    assert s.runtime.role_binding == "far" and s.runtime.mode == "stepping"
+    assert math.degrees(servos["knee_near"].target) == pytest.approx(-90)
+    assert servos["knee_near"].target != before

@@ -35,6 +35,18 @@ class RoleBinding:
                 return sensor[:-len(role)] + self.rename(role)
         return sensor
 
+    def names_role(self, m) -> bool:
+        """Whether map ``m`` drives a joint through a role (its joint, joints, frame, or
+        for a grid the poses' joints)."""
+        roles = self.spec.roles
+        if not roles:
+            return False
+        if getattr(m, "grid", None) is not None:
+            poses = self.spec.poses
+            return any(j in roles for row in m.grid for p in row
+                       for j in poses[p].joints) or any(j in roles for j in m.joints or ())
+        return m.joint in roles or m.frame in roles or any(j in roles for j in m.joints)
+
     def map(self, m):
         """Map ``m`` with its roles resolved (itself when the interface has none)."""
         if not self.spec.roles:

@@ -600,9 +600,13 @@ class InterfaceRuntime:
             return
         self.machines[machine].enter(state, now)
         roles = self.machines[machine].spec.states[state].roles
-        if roles is not None and roles != self.role_binding:
+        rebound = roles is not None and roles != self.role_binding
+        if rebound:
             self._use_binding(roles)
         self._refresh_active_maps()
+        if rebound:  # a device map on a role now means another joint: it acts there
+            self._activate([m for m in self.active_maps if not m.feedback
+                            and self.roles.names_role(m)])
         self._activate(self.machines[machine].spec.states[state].maps)
         self._run_entry(machine, now, depth + 1)
 

@@ -195,9 +195,12 @@ class _CachedArbiters:
 
     def __init__(self, arbiters):
         self.pointers = list(arbiters)
+        if self.pointers:
+            _libc_free()  # made now: a finaliser that imports can run mid-import (cffi
+            # half loaded) when the garbage collector picks that moment
 
     def __del__(self):
-        if _EXITING:
+        if _EXITING or not self.pointers:
             return
         free = _libc_free()
         for arb in self.pointers:
