@@ -89,11 +89,13 @@ def test_tracking_is_lost_after_a_quarter_second_without_a_sample_and_comes_back
 def test_points_go_through_the_retargeter_and_frames_it_cannot_map_are_counted():
     from puppet.mocap import mediapipe
 
-    class Halves:  # a stand-in mapping: the left hip's height, halved
+    class Halves:  # a stand-in mapping: the left hip's height, halved (and a NaN)
         point_names = {"left_hip"}
 
         def channels(self, points):
-            return {"hip": points["left_hip"][1] / 2} if "left_hip" in points else {}
+            if "left_hip" not in points:
+                return {}
+            return {"hip": points["left_hip"][1] / 2, "broken": float("nan")}
 
     source = OscSource("mediapipe", retargeter=Halves())
     source.receive(mediapipe.encode_frame(None, {"left_hip": (0.0, 0.8, 0.0)}))

@@ -29,6 +29,7 @@ rewind or a slowed-down window.
 from __future__ import annotations
 
 import collections
+import math
 import socket
 import threading
 import time
@@ -102,8 +103,10 @@ class OscSource:
             return dict(frame.channels)
         if not frame.points or self.retargeter is None:
             return {}
-        try:
-            return {str(k): float(v) for k, v in self.retargeter.channels(frame.points).items()}
+        try:  # a channel the mapping cannot make this frame (not finite) is left out
+            return {str(k): v for k, v in ((k, float(v)) for k, v in
+                                          self.retargeter.channels(frame.points).items())
+                    if math.isfinite(v)}
         except Exception as exc:  # a live stream never takes the frame loop down
             self.decoder.counts.last_problem = f"mapping failed: {type(exc).__name__}: {exc}"
             return {}
