@@ -152,7 +152,7 @@ def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp
             stop.set()
             sender.join()
         counts = source.decoder.counts
-    assert counts.frames >= 150 and counts.total_dropped == 0 and source.unmapped == 0
+    assert counts.frames >= 100 and counts.total_dropped == 0 and source.unmapped == 0
     log = read_log(record)
     streamed = [e.event["values"] for e in log.events if e.event["type"] == "channels"]
     assert len(streamed) > 40
