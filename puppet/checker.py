@@ -59,7 +59,7 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
 
         parse_bones(located)
     else:
-        spec = catalog.check_interface(located)[0]
+        spec, character, _ = catalog.check_interface(located)
         if warnings is not None:
             from puppet.data.interface_refs import map_conflicts
 
@@ -74,10 +74,15 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
         if spec.tracking is not None and spec.tracking.mapping is not None:
             from puppet.data.mappings import load_mapping
+            from puppet.data.tracking import mapping_problem
 
             try:
-                load_mapping(catalog.find("mapping", spec.tracking.mapping,
-                                          catalog.reference_folders(path)))
+                mapping = load_mapping(catalog.find("mapping", spec.tracking.mapping,
+                                                    catalog.reference_folders(path)))
             except DataError as exc:
                 raise located.error(("tracking", "mapping"), exc.message) from None
+            problem = mapping_problem(spec.tracking, mapping,
+                                      [j.name for j in character.actuated])
+            if problem:
+                raise located.error(("tracking", "mapping"), problem)
     return kind

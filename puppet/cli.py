@@ -151,7 +151,15 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.mocap.clip_source import ClipSource
         from puppet.mocap.clips import find_mapping, open_clip
 
-        mapping, _ = find_mapping(args.mapping, setup.interface, setup.interface_path)
+        mapping, mapping_path = find_mapping(args.mapping, setup.interface,
+                                             setup.interface_path)
+        if setup.interface.tracking is not None:
+            from puppet.data.tracking import mapping_problem
+
+            problem = mapping_problem(setup.interface.tracking, mapping,
+                                      [j.name for j in setup.character.actuated])
+            if problem:
+                raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
                           loop=args.loop)
     elif args.mapping or args.loop:
@@ -336,7 +344,8 @@ def build_parser() -> argparse.ArgumentParser:
                                              "the planar angles it would give")
     info.add_argument("clip", help="a BVH file, or a name: assets/mocap/NAME.bvh")
     info.add_argument("--mapping", help="the mapping (assets/mappings/NAME.yaml or a path); "
-                                        "default: the first that names all its joints")
+                                        "default: the first whose points the clip has "
+                                        "(by name)")
     info.set_defaults(func=_mocap_info)
     add_subcommands(mocap_sub)  # puppet mocap send / listen (live OSC)
 

@@ -112,6 +112,8 @@ def test_a_stream_frame_by_frame_gives_the_clip_channels():
     pts = clip_points(clip, live.point_names)
     for k in range(clip.frames):
         got = live.channels({n: p[k] for n, p in pts.items()})
+        seen = {n for n, v in whole.channels.items() if not np.isnan(v[k])}
+        assert set(got) == seen, k  # the same channels, none missing from the stream
         for name, value in got.items():
             assert value == pytest.approx(whole.channels[name][k], abs=1e-6), (name, k)
     assert forward.channels.keys() == whole.channels.keys()
@@ -198,3 +200,36 @@ def test_the_shipped_walk_retargets_to_a_walk():
         k = rc.channels[knee][walk]
         assert k.max() > -10 and k.min() < -60  # straight in stance, bent in swing
     assert rc.at(-1.0) == rc.at(0.0) and rc.at(99.0) == rc.at(rc.duration)
+
+
+def test_a_stream_faces_the_way_the_hips_say():
+    """plane: travel or facing, a stream: forward is where the performer faces (from
+    the hips), so walking toward -x drives the figure forward, hips still positive."""
+    mapping = load_mapping(CMU)
+    rt = Retargeter(mapping)
+    clip = read_bvh(WALK)
+    pts = clip_points(clip, rt.point_names)
+    turned = {n: p * [-1, 1, -1] for n, p in pts.items()}  # the take turned round (z)
+    first = {n: p[600] for n, p in pts.items()}
+    got = rt.channels(first)
+    rt2 = Retargeter(mapping)
+    got2 = rt2.channels({n: p[600] for n, p in turned.items()})
+    assert got2["hip_near"] == pytest.approx(got["hip_near"], abs=1e-6)
+    assert got2["knee_far"] == pytest.approx(got["knee_far"], abs=1e-6)
+
+
+def test_a_clip_with_no_frames_is_a_one_line_error():
+    text = open(WALK, encoding="utf-8").read()
+    head = text[:text.index("MOTION")]
+    empty = parse_bvh(head + "MOTION\nFrames: 0\nFrame Time: 0.008333\n", "empty.bvh")
+    with pytest.raises(DataError, match="no frames") as err:
+        retarget_clip(empty, load_mapping(CMU), "empty.bvh")
+    assert str(err.value).startswith("empty.bvh") and "\n" not in str(err.value)
+
+
+def test_a_mapping_without_facing_points_for_its_plane_is_refused():
+    with pytest.raises(DataError, match="needs 'facing"):
+        mapping_from("root: {point: Hips}\nplane: travel\nsegments:\n"
+                     "  a: {from: Hips, to: Knee}\n")
+    mapping_from("root: {point: Hips}\nplane: [1, 0, 0]\nsegments:\n"
+                 "  a: {from: Hips, to: Knee}\n")  # a given plane needs none

@@ -155,3 +155,82 @@ def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, imp
     end = start + round((spec.hold + spec.recover) / dt) + 16
     run(s, [e for e in events if e[0] >= s.steps], end)
     assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
+
+
+def test_lost_then_off_then_on_tracks_again(walk):
+    """A lost stream, then `o` (off) and `t` (KD): tracking starts afresh, not stuck
+    lost holding the joints at KD's weak gains."""
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    run(s, ClipSource(walk).events(dt, 0.3), round(0.3 / dt))
+    run(s, [], round(0.7 / dt))
+    tracker = s.runtime.tracker
+    assert tracker.lost
+    s.handle(ev.key("o", True))
+    s.handle(ev.key("t", True))
+    assert not tracker.lost and tracker.mode == "kd"
+    events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.2)]
+    run(s, events, round(1.2 / dt))
+    assert not tracker.lost and "LOST" not in tracker.status
+    assert s.character.servos["knee_far"].target == pytest.approx(
+        math.radians(s.runtime.channels["knee_far"]))
+
+
+def test_a_joint_a_key_takes_gets_its_own_gains_and_no_pull(walk):
+    text = _interface(**{"  - {key: o,": "  - {key: k, set: {knee_near: -90}}\n  - {key: o,"})
+    s = Session(setup_from_text(text, MOCAP))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 1.0)
+    run(s, [e for e in events if e[0] < 240], 240)
+    knee = s.character.servos["knee_near"]
+    assert knee.stiffness < 500  # KD's inertia-scaled gain
+    s.handle(ev.key("k", True))
+    run(s, [e for e in events if e[0] >= 240], 480)
+    assert knee.stiffness == pytest.approx(1000.0)  # the interface's (the character's)
+    assert s.character.servos["knee_far"].stiffness < 500  # still the performer's
+
+
+def test_a_checkpoint_in_mid_reaction_replays_to_the_bit(walk):
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 3.0)
+    run(s, events, 480)
+    s.handle({"type": "push", "link": "chest", "impulse": [30.0, 0.0]})
+    run(s, [e for e in events if e[0] >= 480], 500)
+    assert s.runtime.tracker.reaction is not None
+    s.checkpoint()
+    run(s, [e for e in events if e[0] >= 500], 1000)
+    first = s.sim.state_hash()
+    s.restore_checkpoint()
+    assert s.runtime.tracker.reaction is not None
+    run(s, [e for e in events if e[0] >= 500], 1000)
+    assert s.sim.state_hash() == first
+
+
+def test_a_looped_clip_walks_on_and_samples_on_its_grid(walk):
+    loop = ClipSource(walk, loop=True)
+    end = walk.channels["root.x"][-1] - walk.channels["root.x"][0]
+    assert loop.values_at(walk.duration + 1.0)["root.x"] == pytest.approx(
+        walk.at(1.0)["root.x"] + end)
+    src = ClipSource(walk)
+    assert len(src.drain(0.0)) == 1 and src.drain(0.01) == []  # one sample a period
+    assert len(src.drain(1 / 60 + 0.001)) == 1
+    (event,) = src.drain(0.5)  # the frame loop late: the newest grid sample
+    assert event["values"] == ClipSource(walk).values_at(30 / 60)
+    assert len(src.drain(0.2)) == 1  # a rewind: samples again from there
+
+
+def test_a_mapping_that_cannot_feed_the_tracking_is_refused(tmp_path):
+    from puppet.checker import check_file
+
+    folder = tmp_path / "interfaces"
+    folder.mkdir()
+    text = _interface(**{"mapping: cmu-131": "mapping: thin"})  # a file beside it
+    (folder / "m.yaml").write_text(text, encoding="utf-8")
+    (folder / "thin.yaml").write_text(
+        "name: thin\nroot: {point: Hips}\nplane: [0, 0, 1]\nsegments:\n"
+        "  thigh: {from: Hips, to: Knee}\nchannels:\n  hip_near: {segment: thigh}\n",
+        encoding="utf-8")
+    with pytest.raises(DataError, match="root.angle") as err:
+        check_file(folder / "m.yaml")
+    assert "m.yaml:" in str(err.value) and "\n" not in str(err.value)

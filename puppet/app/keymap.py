@@ -21,6 +21,7 @@ from puppet.app.describe import live_keys
 from puppet.app.render import LAYER_ORDER
 from puppet.data.characters import CharacterSpec
 from puppet.data.keys import MODIFIERS, normalize_key
+from puppet.physics.kinematics import joint_order, link_poses
 
 KEY_ROWS = ("1234567890-=", "qwertyuiop[]", "asdfghjkl;'", "zxcvbnm,./")
 ROW_STAGGER = (0.0, 0.5, 0.75, 1.25)  # key widths each row is shifted right
@@ -33,25 +34,9 @@ LABEL = (40, 44, 52)
 
 def link_frames(spec: CharacterSpec, angles: dict[str, float]) -> dict[str, tuple]:
     """Link -> (angle, (tx, ty)): model point p of the link is at R(angle) p + t, with
-    the root link at the identity and joint angles in radians."""
-    frames = {spec.root: (0.0, (0.0, 0.0))}
-    pending = list(spec.joints)
-    while pending:
-        progressed = False
-        for joint in list(pending):
-            if joint.parent not in frames:
-                continue
-            pa, pt = frames[joint.parent]
-            ax, ay = _apply((pa, pt), joint.anchor)
-            a = pa + angles.get(joint.name, 0.0)
-            c, s = math.cos(a), math.sin(a)
-            ox, oy = c * joint.anchor[0] - s * joint.anchor[1], s * joint.anchor[0] + c * joint.anchor[1]
-            frames[joint.child] = (a, (ax - ox, ay - oy))
-            pending.remove(joint)
-            progressed = True
-        if not progressed:
-            break
-    return frames
+    the root link at the identity and joint angles in radians (``link_poses``)."""
+    poses = link_poses(spec, joint_order(spec), (0.0, 0.0), 0.0, angles)
+    return {name: (a, (x, y)) for name, (x, y, a) in poses.items()}
 
 
 def _apply(frame, p):

@@ -47,13 +47,13 @@ class RootSpec(Spec):
     point: str | list[str] = Field(
         description="the source point the figure's root follows, or several: their "
                     "mean (the two hip joints: the figure's hip hinge)")
+    floor: Num("world_xy") | Literal["lowest"] = Field(
+        "lowest", description="the floor's height in source units, or 'lowest': the "
+                              "lowest point a clip reaches (a stream: so far)")
 
     @property
     def points(self) -> list[str]:
         return [self.point] if isinstance(self.point, str) else list(self.point)
-    floor: Num("world_xy") | Literal["lowest"] = Field(
-        "lowest", description="the floor's height in source units, or 'lowest': the "
-                              "lowest point a clip reaches (a stream: so far)")
 
 
 class ClearanceSpec(Spec):
@@ -123,8 +123,10 @@ class MappingSpec(Spec):
                     known = ", ".join(self.segments)
                     raise ValueError(f"channel '{name}' names segment '{seg}', which "
                                      f"'segments' does not define (known: {known})")
-        if self.plane == "facing" and self.facing is None:
-            raise ValueError("plane: facing needs 'facing: {left: POINT, right: POINT}'")
+        if isinstance(self.plane, str) and self.facing is None:
+            raise ValueError(f"plane: {self.plane} needs 'facing: {{left: POINT, right: "
+                             f"POINT}}' (a stream, and a clip that hardly travels, face "
+                             f"the way those points say), or give the plane as [x, y, z]")
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
             raise ValueError("plane: the forward direction [x, y, z] must not be zero")
         for name in self.effectors:

@@ -8,8 +8,8 @@ Two ways to follow a performer, selected by the ``track`` action (a key, a state
 - ``kd``: KD control - the same joint targets, with inertia-scaled gains (stiffness
   ``kq * I``, damping ``dq * I``, I the inertia of everything beyond the joint), plus
   Cartesian PD pulls of each link toward where the performed pose puts it (``kp``,
-  ``dp``, scaled up toward the ground: feet 125x, shins 25x, thighs 5x), which keep the
-  figure up and walking where the performer walks. ``kinematic: off`` drops the pulls
+  ``dp``; ``scale`` multiplies a link's, the paper's feet 125x, shins 25x, thighs 5x
+  keep the figure up and walking where the performer walks). ``kinematic: off`` drops the pulls
   (free fall) and keeps the joint tracking.
 
 A sample older than ``lost_after`` seconds is tracking lost: the tracker lets go of its
@@ -61,10 +61,12 @@ class ReactionSpec(Spec):
     """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
     way so the figure reacts, then come back. The case is judged at the next control
     step by the extrapolated centre of mass against the support (the feet on the
-    ground): inside it, ``small`` (a dip, then recover); beyond it by up to
-    ``step_margin`` m, ``large`` (the joints keep tracking the steps while the pulls
-    are weak: protective steps, then back); further, ``fall`` (the pulls let go, the
-    figure falls, then they bring it back up: the get-up)."""
+    ground, widened to where the performance's own would be): inside it or within
+    ``small_margin`` m of it, ``small`` (a dip, then recover); beyond it by up to
+    ``step_margin`` m, ``large`` (longer and weaker: the joints keep tracking the
+    performance, so the figure takes its steps under its own balance, then the pulls
+    come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
+    it back up: the get-up)."""
 
     small_margin: Num("corner") = Field(0.05, description="m beyond the support: still "
                                                           "small")
@@ -117,3 +119,28 @@ class TrackingSpec(Spec):
     @property
     def preset(self) -> GainsSpec:
         return PRESETS[self.gains] if isinstance(self.gains, str) else self.gains
+
+
+def mapping_problem(tracking: TrackingSpec, mapping, actuated: list[str]) -> str | None:
+    """What in ``tracking`` the channels of ``mapping`` (a MappingSpec) cannot give, or
+    None: a tracked joint with no channel would never move, KD control with no root
+    channels would never pull."""
+    made = set(mapping.channel_names())
+    joints = actuated if tracking.joints == "all" else tracking.joints
+    wanted = [tracking.channels.get(j, j) for j in joints]
+    if not any(c in made for c in wanted):
+        return (f"mapping '{mapping.name}' makes none of the tracked joints' channels "
+                f"({', '.join(wanted)}); expected channels named like the joints, or "
+                f"'channels: {{joint: channel}}'")
+    if tracking.joints != "all":
+        missing = [c for c in wanted if c not in made]
+        if missing:
+            return (f"mapping '{mapping.name}' makes no channel {', '.join(missing)} for "
+                    f"the tracked joints; it makes {', '.join(sorted(made))}")
+    root = tracking.root
+    if root is not None:
+        missing = [c for c in (root.x, root.y, root.angle) if c not in made]
+        if missing:
+            return (f"mapping '{mapping.name}' makes no {', '.join(missing)}, which "
+                    f"tracking.root reads to place the performed pose")
+    return None

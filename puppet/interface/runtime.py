@@ -219,6 +219,8 @@ class InterfaceRuntime:
             self.gain_holds = _copy_holds(old.gain_holds)
         else:
             self.apply_gains()
+            if self.tracker.scaled:  # still tracking under KD: its gains again
+                self.tracker.scale_gains(list(self.tracker.scaled))
         fresh = []
         for name, machine in self.machines.items():
             theirs = old.machines.get(name)
@@ -449,6 +451,8 @@ class InterfaceRuntime:
             was = self.read_input(name, 0.0)
             if kind == "channel":
                 self.channels[event["name"]] = value
+                if self.tracker.mode != OFF:
+                    self.tracker.sampled(now)
             else:
                 self.inputs[name] = value
             self.apply_maps((name,))

@@ -1,17 +1,23 @@
 """A recorded clip as an input source: its retargeted channels, sampled in sim time.
 
 The clip plays on the session's clock, not the wall's, so a slowed-down window plays
-it slowed, a rewind plays it again from the rewound time, and a headless run gives
-the same events as the window. Each ``drain(now)`` gives at most one ``channels``
-event - the clip at ``now`` - and only when ``now`` has moved on by a sample period
-(``rate``, 60 Hz by default: the window's frame rate); the session records it at the
-step it acts, so the log replays with no clip at all.
+it slowed and a rewind plays it again from the rewound time. Samples fall on a grid,
+``start + k / rate`` s (60 Hz by default: the window's frame rate): ``events`` gives
+them all for a headless run, and ``drain(now)`` gives the window the newest grid
+sample ``now`` has reached, once - the session records it at the step it acts, so the
+log replays with no clip at all. Looping carries the distance on: each lap's
+``root.x`` starts where the last one ended, so a tracked figure walks on instead of
+being pulled back to the start.
 """
 
 from __future__ import annotations
 
+import math
+
 from puppet.interface.events import channels as channels_event
 from puppet.mocap.retarget import RetargetedClip
+
+LAP_CHANNEL = "root.x"  # the channel a loop carries on from lap to lap
 
 
 class ClipSource:
@@ -21,36 +27,45 @@ class ClipSource:
         self.period = 1.0 / rate
         self.start = start  # session time at which the clip's first frame plays
         self.speed = speed
-        self.loop = loop
+        self.loop = loop and clip.duration > 0
         self.name = name
         self.posted = 0
-        self._next = start  # session time of the next sample
+        self._last_k: int | None = None  # the grid sample given last
+        self._lap_x = clip.at(clip.duration).get(LAP_CHANNEL, 0.0) - \
+            clip.at(0.0).get(LAP_CHANNEL, 0.0)
 
-    def clip_time(self, now: float) -> float:
+    def values_at(self, now: float) -> dict[str, float]:
+        """The channels at session time ``now``."""
         t = (now - self.start) * self.speed
-        if self.loop and self.clip.duration > 0:
-            t %= self.clip.duration
-        return t
+        laps = 0
+        if self.loop and t > 0:
+            laps = math.floor(t / self.clip.duration)
+            t -= laps * self.clip.duration
+        values = self.clip.at(t)
+        if laps and LAP_CHANNEL in values:
+            values[LAP_CHANNEL] += laps * self._lap_x
+        return values
 
     def drain(self, now: float) -> list:
-        """The sample due at session time ``now`` (none if one was given for it)."""
-        if now + 1e-9 < self._next and now >= self._next - 2 * self.period:
+        """The newest grid sample at or before session time ``now``, if not given yet
+        (a rewind, ``now`` gone back, gives it again from there)."""
+        k = math.floor((now - self.start) / self.period + 1e-9)
+        if k < 0 or k == self._last_k:
             return []
-        self._next = now + self.period  # a rewind (now went back) starts again from now
+        self._last_k = k
         self.posted += 1
-        return [channels_event(self.clip.at(self.clip_time(now)))]
+        return [channels_event(self.values_at(self.start + k * self.period))]
 
     def events(self, dt: float, seconds: float) -> list[tuple[int, dict]]:
         """(step, event) for a headless run of ``seconds`` at step ``dt``: a sample at
-        every period from ``start``."""
+        every grid time from ``start``."""
         out = []
         k = 0
         while True:
             now = self.start + k * self.period
             if now > seconds:
                 break
-            step = round(now / dt)
-            out.append((step, channels_event(self.clip.at(self.clip_time(now)))))
+            out.append((round(now / dt), channels_event(self.values_at(now))))
             k += 1
         return out
 

@@ -29,4 +29,5 @@ def find_mapping(name: str | None, interface, interface_path=None) -> tuple[Mapp
 
 def open_clip(clip: str, mapping: MappingSpec) -> RetargetedClip:
     """A BVH clip (a path or a catalog name, assets/mocap/NAME.bvh) through ``mapping``."""
-    return retarget_clip(read_bvh(find("clip", clip)), mapping)
+    path = find("clip", clip)
+    return retarget_clip(read_bvh(path), mapping, str(path))

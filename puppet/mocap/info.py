@@ -61,7 +61,7 @@ def describe(clip_name: str, mapping_name: str | None = None) -> str:
                        "--mapping NAME)")
             return "\n".join(out)
     name, mapping = chosen[0]
-    rc = retarget_clip(clip, mapping)
+    rc = retarget_clip(clip, mapping, str(path))
     out.append(f"planar channels through mapping '{name}' (degrees; m for .x .y):")
     out.append(f"  {'channel':16s} {'min':>8s} {'mean':>8s} {'max':>8s}")
     for channel, values in rc.channels.items():

@@ -95,8 +95,9 @@ class RetargetedClip:
 class Retargeter:
     """A mapping made ready: ``clip`` for a whole take, ``channels`` for a stream."""
 
-    def __init__(self, mapping: MappingSpec):
+    def __init__(self, mapping: MappingSpec, source_name: str = "<source>"):
         self.mapping = mapping
+        self.source_name = source_name  # for errors: the clip's file
         self.mirror, self.up = _axes(mapping)
         self.point_names = mapping.point_names()
         self.metres = mapping.source.unit * mapping.size
@@ -154,7 +155,8 @@ class Retargeter:
             out[name] = np.where(seen & (length > 0), angle, np.nan)
         return out
 
-    def _joint_values(self, angles) -> dict[str, np.ndarray]:
+    def _joint_values(self, angles) -> dict[str, tuple[np.ndarray, object]]:
+        """channel -> (its angle before scale and offset, its spec)."""
         out = {}
         for name, ch in self.mapping.channels.items():
             if ch.segment not in angles:
@@ -191,19 +193,24 @@ class Retargeter:
     def clip(self, points: Mapping[str, np.ndarray], frame_time: float) -> RetargetedClip:
         """Every channel over a take: ``points`` name -> (frames, 3), source units."""
         pts = self._points(points)
+        where = f"mapping '{self.mapping.name}'" if self.mapping.name else "the mapping"
         missing = sorted(self.point_names - set(pts))
         if missing:
-            raise DataError(self.mapping.name or "<mapping>", None, None,
-                            f"the source has no point named {', '.join(missing)}; "
-                            f"expected the names the mapping reads (the source has "
-                            f"{', '.join(sorted(points)[:12])}...)")
+            names = sorted(points)
+            listed = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
+            raise DataError(self.source_name, None, None,
+                            f"no point named {', '.join(missing)}, which {where} reads; "
+                            f"the source has {listed or 'none'}")
         m, up = self.mapping, self.up
         root = self._root(pts)
         frames = len(root)
+        if frames == 0:
+            raise DataError(self.source_name, None, None,
+                            "the clip has no frames; expected at least one to play")
         if self.fixed_forward is not None:
             forward = np.broadcast_to(self.fixed_forward, (frames, 3))
         elif m.plane == "facing":
-            forward = self._facing(pts)
+            forward = _filled(self._facing(pts))
         else:  # travel: where the root goes, first frame to last
             travel = _horizontal(root[-1] - root[0], up)
             if np.linalg.norm(travel) * m.source.unit >= MIN_TRAVEL:
@@ -214,7 +221,7 @@ class Retargeter:
                     raise DataError(m.name or "<mapping>", None, None,
                                     "plane: travel, but the root hardly moves over the "
                                     "clip; expected 'facing' points or a given plane")
-                forward = np.broadcast_to(face[0], (frames, 3))
+                forward = np.broadcast_to(_filled(face)[0], (frames, 3))
         channels: dict[str, np.ndarray] = {}
         move = np.zeros(frames)
         move[1:] = np.sum((root[1:] - root[:-1]) * forward[1:], axis=-1)
@@ -289,7 +296,7 @@ class Retargeter:
                     continue
                 out[name] = prev * ch.scale + ch.offset
                 continue
-            value = _wrap_scalar(value)
+            value = _wrap(value)
             last[name] = value
             out[name] = value * ch.scale + ch.offset
         for name, v in self._effectors(pts, forward).items():
@@ -297,12 +304,24 @@ class Retargeter:
         return out
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
+def _wrap(a):
+    """Degrees into [-180, 180) (an array or a number)."""
     return (a + 180.0) % 360.0 - 180.0
 
 
-def _wrap_scalar(a: float) -> float:
-    return (a + 180.0) % 360.0 - 180.0
+def _filled(forward: np.ndarray) -> np.ndarray:
+    """(frames, 3) directions with each unusable one (the hips stacked: NaN) taken
+    from the last good frame before it (the first good one for a start without)."""
+    good = np.all(np.isfinite(forward), axis=-1)
+    if good.all():
+        return forward
+    if not good.any():
+        raise DataError("<clip>", None, None, "the facing points never give a "
+                                              "direction; expected hips side by side")
+    index = np.where(good, np.arange(len(forward)), -1)
+    np.maximum.accumulate(index, out=index)
+    index[index < 0] = int(np.argmax(good))
+    return forward[index]
 
 
 def _held(a: np.ndarray) -> np.ndarray:
@@ -323,9 +342,9 @@ def clip_points(clip, names) -> dict[str, np.ndarray]:
     return {n: xyz[:, index[n]] for n in names if n in index}
 
 
-def retarget_clip(clip, mapping: MappingSpec) -> RetargetedClip:
-    """A BVH clip's channels through ``mapping``."""
-    rt = Retargeter(mapping)
+def retarget_clip(clip, mapping: MappingSpec, name: str = "<clip>") -> RetargetedClip:
+    """A BVH clip's channels through ``mapping`` (``name``: the clip's file, for errors)."""
+    rt = Retargeter(mapping, name)
     return rt.clip(clip_points(clip, rt.point_names), clip.frame_time)
 
 

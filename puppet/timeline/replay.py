@@ -38,10 +38,10 @@ class Trajectory:
     Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
     (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
     something outside the character). Per joint (``joints`` order): ``joint_angle``,
-    ``joint_target`` (rad), ``joint_channel`` (the value of the input channel named like
-the joint - a performance's angle for it - in rad, NaN where none came yet). ``com``
-is (n, 2). ``state`` and ``mode`` (object arrays
-    of names, None without states or modes) are the interface's state and mode at each
+    ``joint_target`` (rad), ``joint_channel`` (the value of the input channel named
+    like the joint - a performance's angle for it - in rad, NaN where none came yet).
+    ``com`` is (n, 2). ``state`` and ``mode`` (object arrays of names, None without
+    states or modes) are the interface's state and mode at each
     sample, for expectations about what the character was doing; ``state_names`` and
     ``mode_names`` are the ones the interface defines (every version, if it was
     reloaded), so such an expectation can say a name does not exist. After a rewind the

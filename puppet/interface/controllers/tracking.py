@@ -4,13 +4,17 @@
 limits). ``kd`` (Nguyen et al. 2010): the same targets with inertia-scaled gains, and
 Cartesian PD pulls of each link's centre of mass toward where the performed pose -
 the root channels placing the root joint's hinge, the joint channels bending the rest
-- puts it, scaled by ``scale`` (feet strongest, for balance). Two deliberate changes
+- puts it, scaled by ``scale`` (feet strongest, for balance). Three deliberate changes
 from the paper's ``u = kp (p* - p) - dp v``: the damping acts on the velocity relative
 to the performed one (a walking target is followed without drag), a link's ``scale``
 multiplies kp and its square root dp (the damping ratio stays the paper's; a foot
 damped 125x would lag the performance by a fifth of a second), and the pull is
 integrated implicitly (backward Euler, as a velocity change each control step), so a
 foot's 125x gain stays stable at any control rate.
+
+Tracking is an action like any other: a later action that takes a tracked joint
+takes it whole - its target, its gains back from KD's, and the pull on the link below
+it.
 
 Everything runs on absolute multiples of the control period and reads only the
 channels, the figure's state and its own plain state, so a replay (or a restored
@@ -58,6 +62,7 @@ class Tracker:
             self.joints = {j: spec.channels.get(j, j) for j in names}
         self.inertia = {j: _inertia_beyond(character, j) for j in self.joints}
         self.pulled = [link.name for link in cs.links]
+        self.joint_of = {j.child: j.name for j in cs.joints}  # link -> the joint above it
         self.scale = {} if spec is None else dict(spec.scale)
         self.ground_at = ground_at  # x -> the ground's surface height (None: no lift)
         self.soles = {} if spec is None else {f: _lowest_points(character, f) for f in spec.feet}
@@ -67,9 +72,12 @@ class Tracker:
     def switch(self, mode: str, now: int) -> None:
         """``track: off | angles | kd``: start (taking the tracked joints, as any
         action takes the joints it drives) or stop following the performer."""
-        if self.mode != OFF:
+        if self.mode != OFF and not self.lost:  # (lost: let go already)
             self._let_go()
         self.mode = mode
+        self.lost = False
+        self.impact_at = None
+        self.reaction = None
         self.prev = None
         if mode == OFF:
             self.busy = False
@@ -83,6 +91,8 @@ class Tracker:
         """``kinematic: on | off | toggle``: the Cartesian pulls (off: free fall)."""
         self.kinematic = (not self.kinematic) if how == "toggle" else how == "on"
         self.prev = None
+        if not self.kinematic:
+            self.impact_at = self.reaction = None
 
     def sampled(self, now: int) -> None:
         """A channels frame arrived (the runtime's fast path calls this)."""
@@ -93,7 +103,8 @@ class Tracker:
 
     def impact(self, now: int) -> None:
         """A push or a drag has struck the figure: react at the next control step."""
-        if self.mode == KD and self.spec.reaction is not None:
+        if self.mode == KD and self.kinematic and self.spec.reaction is not None \
+                and not self.lost:
             self.impact_at = now
 
     @property
@@ -156,13 +167,8 @@ class Tracker:
         mine = [j for j in self.joints if self.joints[j] in self.channels] or list(self.joints)
         self.owners_table.take(mine)
         self.owners_table.claim(mine, TRACK)
-        servos = self.character.servos
         if self.mode == KD:
-            preset = self.spec.preset
-            for joint in mine:
-                inertia = self.inertia[joint]
-                servos[joint].stiffness = preset.kq * inertia
-                servos[joint].damping = preset.dq * inertia
+            self.scale_gains(mine)
         root = self.spec.root
         self.x0 = None
         if root is not None:
@@ -171,10 +177,28 @@ class Tracker:
             self.x0 = hinge[0] - (x if x is not None else 0.0)
         self._write_targets()
 
+    def scale_gains(self, joints) -> None:
+        """KD control's inertia-scaled gains on ``joints`` (remembered, to give back)."""
+        preset, servos = self.spec.preset, self.character.servos
+        for joint in joints:
+            inertia = self.inertia[joint]
+            k, d = preset.kq * inertia, preset.dq * inertia
+            servos[joint].stiffness, servos[joint].damping = k, d
+            self.scaled[joint] = (k, d)
+
+    def _give_back(self, joints) -> None:
+        """The interface's gains back on ``joints`` that still have KD's (a key that
+        took one and set its own gains keeps those)."""
+        servos = self.character.servos
+        for joint in joints:
+            k, d = self.scaled.pop(joint)
+            servo = servos[joint]
+            if servo.stiffness == k and servo.damping == d:
+                self.restore_gains([joint])
+
     def _let_go(self) -> None:
         self.owners_table.drop(TRACK)
-        if self.mode == KD:
-            self.restore_gains(list(self.joints))
+        self._give_back(list(self.scaled))
 
     def _hinge_world(self) -> tuple[float, float]:
         joint = self.character.spec.joint(self.spec.root.at)
@@ -206,11 +230,18 @@ class Tracker:
             return
         if self.lost:
             return
+        table = self.owners_table.table
+        taken = [j for j in self.scaled if table.get(j) != TRACK]
+        if taken:  # joints later actions took: their own gains again
+            self._give_back(taken)
         if not self.owners_table.holds_any(TRACK):  # every joint taken by later actions
+            self.impact_at = None
             return
         self._write_targets()
         if self.mode == KD and self.kinematic and self.spec.root is not None:
             self._pull(step)
+        else:
+            self.impact_at = None
 
     def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
@@ -263,7 +294,11 @@ class Tracker:
             vx = sum(c.bodies[n].mass * v[0] for n, v in vel.items()) / mass
             self._react(step, com, vx)
         weight = self._weight(step)
+        table, joint_of = self.owners_table.table, self.joint_of
         for name in self.pulled:
+            joint = joint_of.get(name)
+            if joint is not None and table.get(joint) != TRACK:
+                continue  # a link the performer does not drive (a key took its joint)
             body = c.bodies[name]
             px, py = targets[name][0], targets[name][1]
             s = scale.get(name, 1.0)
@@ -323,11 +358,12 @@ class Tracker:
             {n: list(v) for n, v in self.vel.items()}, dict(self.spin)]
         reaction = None if self.reaction is None else list(self.reaction)
         return [self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
-                self.impact_at, reaction]
+                self.impact_at, reaction, {j: list(g) for j, g in self.scaled.items()}]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
-         self.impact_at, reaction) = state
+         self.impact_at, reaction, scaled) = state
+        self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
         self.prev, self.prev_step, self.vel, self.spin = None, -1, {}, {}
         if prev is not None:
@@ -341,6 +377,8 @@ class Tracker:
         if old.mode != OFF and self.spec is not None and same("tracking", ""):
             self.set_state(old.get_state())
             return {TRACK}
+        if old.scaled:  # tracking ends with the old file: the joints' own gains back
+            self.restore_gains(list(old.scaled))
         return set()
 
     def stop(self) -> None:
@@ -353,6 +391,7 @@ class Tracker:
         self.prev_step = -1  # ... the step that sample came at
         self.vel: dict = {}  # ... and their velocities from the two last samples
         self.spin: dict = {}  # ... and the feet's turning rates
+        self.scaled: dict[str, tuple[float, float]] = {}  # joint -> KD gains it was given
         self.impact_at: int | None = None  # a push to judge at the next control step
         self.reaction: tuple[str, int] | None = None  # (case, step it began)
         self.busy = False
