@@ -4,7 +4,7 @@
 by an interface as ``channel.NAME`` (section 5.6 of the designer's guide). The time
 (seconds, optional) comes first if given. Names are channel names (a letter or ``_``,
 then letters, digits, ``_ . -``); values are numbers within +-1e6; names starting
-``mocap.`` are puppet's own (``mocap.fresh``) and may not be sent.
+``mocap.`` are kept for puppet's own and may not be sent.
 """
 
 from __future__ import annotations

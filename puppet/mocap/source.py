@@ -14,16 +14,13 @@ counted there too), and ``drain`` hands what came since the last frame over as o
 event (the frames of one drain act at the same step, the latest value of a channel
 wins, so merging them changes nothing but the log's size).
 
-Tracking lost: each event also sets ``mocap.fresh`` (input ``channel.mocap.fresh``) to
-1. When no fresh sample has arrived for ``LOST_AFTER`` (0.25 s) of wall time, the next
-``drain`` returns a lone ``channel`` event setting it to 0 (once; the next sample sets
-it back to 1). So the loss is decided in the frame loop and recorded in the log like
-any input: a map can read it, and a replay does exactly the same with no network and
-no clock. It is a ``channel`` event, not a ``channels`` one, so it is not a sample for
-the interface's tracking, which judges a lost stream itself, in simulated time
-(``tracking.lost_after``: no ``channels`` sample for that long lets go of the joints),
-so the two agree at slowdown 1 and the tracker's judgement also holds in a replay, a
-rewind or a slowed-down window.
+Tracking lost (no fresh sample for ``LOST_AFTER``, 0.25 s): judged twice, for two
+purposes. The interface's tracking judges it in simulated time (``tracking.lost_after``:
+no ``channels`` sample for that long and it lets go of the joints, so the keys drive
+them, until samples come again); that needs no event, so it holds the same in a replay,
+a rewind or a slowed-down window. The source judges it in wall time, for the performer:
+``tracking`` goes False and the status line (HUD, ``puppet mocap listen``) says
+``LOST`` when no sample has come for 0.25 s; nothing of it goes into the log.
 """
 
 from __future__ import annotations
@@ -42,7 +39,6 @@ from puppet.mocap.formats import LOCALHOST, decoder
 from puppet.mocap.osc import Frame
 
 LOST_AFTER = 0.25  # seconds without a fresh sample: tracking is lost
-FRESH = "mocap.fresh"  # the channel that says so (1 tracking, 0 lost)
 RATE_WINDOW = 1.0  # seconds of arrivals the rate is measured over
 RECEIVE_BUFFER = 4 << 20  # bytes of datagrams the socket holds until the thread reads them
 
@@ -69,7 +65,7 @@ class OscSource:
         self.unmapped = 0  # frames that gave no channels (no mapping, or no point it reads)
         self.last_names: tuple[str, ...] = ()  # the points (or channels) of the last frame
         self.lost_count = 0
-        self.fresh = False  # what the last event drained said
+        self.fresh = False  # a sample came within lost_after (wall time) of the last drain
         self._arrivals: collections.deque = collections.deque()
         self._times: list = []  # (sender's time, arrival) of the frames posted, until drained
         self.drained_times: list = []  # ... of the frames the last drain handed over
@@ -89,7 +85,6 @@ class OscSource:
                 if not values:
                     self.unmapped += 1
                     continue
-                values[FRESH] = 1.0
                 if self.queue.post(ev.channels(values)):
                     posted += 1
                     self.last_arrival = arrival
@@ -113,10 +108,10 @@ class OscSource:
 
     # -- the frame loop's side
     def drain(self, sim_time: float | None = None, wall: float | None = None) -> list[dict]:
-        """What arrived since the last drain as (at most) one ``channels`` event, or
-        the event that says tracking is lost. ``sim_time`` (what the window passes
-        every source) is not used: a live stream goes by the wall clock (``wall``,
-        default ``clock()``)."""
+        """What arrived since the last drain as (at most) one ``channels`` event.
+        ``sim_time`` (what the window passes every source) is not used: a live stream
+        goes by the wall clock (``wall``, default ``clock()``), which also says whether
+        the stream is lost (``tracking``)."""
         now = self.clock() if wall is None else wall
         with self._lock:  # the events and the arrival of the last of them, together
             events = self.queue.drain()
@@ -129,8 +124,7 @@ class OscSource:
         if values:
             self.fresh = True
         if self.fresh and last is not None and now - last > self.lost_after:
-            out.append(ev.channel(FRESH, 0.0))  # a lone channel: not a tracking sample
-            self.fresh = False
+            self.fresh = False  # the status says LOST; the tracking judges it in sim time
             self.lost_count += 1
         return out
 
