@@ -4,12 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from puppet.data import catalog
-from puppet.data.characters import parse_character
 from puppet.data.errors import DataError
-from puppet.data.scenes import parse_scene
 from puppet.data.yamlfile import Located, load_file
-from puppet.timeline.script import parse_script
+
+# Each kind's models are imported when a file of that kind is checked: a character's
+# check does not build the interface, scene and script models (process start).
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
                   "scripts": "script"}
@@ -40,23 +39,34 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
     located = load_file(path)
     kind = guess_kind(path, located)
     if kind == "character":
+        from puppet.data.characters import parse_character
+
         parse_character(located)
-    elif kind == "scene":
+        return kind
+    if kind == "scene":
+        from puppet.data.scenes import parse_scene
+
         parse_scene(located)
-    elif kind == "script":
+        return kind
+    if kind == "script":
+        from puppet.timeline.script import parse_script
+
         parse_script(located)
-    else:
-        spec = catalog.check_interface(located)[0]
-        if warnings is not None:
-            from puppet.data.interface_refs import map_conflicts
+        return kind
+    from puppet.data import catalog
+    from puppet.data.scenes import parse_scene
 
-            warnings += map_conflicts(spec, located)
-        try:
-            scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
-        except DataError as exc:
-            raise located.error(("scene",), exc.message) from None
-        # props named by reaches and grasps must be in the scene, as play checks
-        from puppet.data.interface_refs import check_scene_refs
+    spec = catalog.check_interface(located)[0]
+    if warnings is not None:
+        from puppet.data.interface_refs import map_conflicts
 
-        check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
+        warnings += map_conflicts(spec, located)
+    try:
+        scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
+    except DataError as exc:
+        raise located.error(("scene",), exc.message) from None
+    # props named by reaches and grasps must be in the scene, as play checks
+    from puppet.data.interface_refs import check_scene_refs
+
+    check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
     return kind

@@ -12,9 +12,7 @@ from pathlib import Path
 
 from puppet import __version__
 from puppet.data.errors import DataError, UsageError
-from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN,
-                                    MIN_SLOWDOWN)
-from puppet.timeline.log import EXISTS
+from puppet.data.bounds import CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN
 
 EXIT_DATA_ERROR = 2
 EXIT_BLOWUP = 3  # a headless run or replay blew up or left the world (each one reported)
@@ -104,6 +102,7 @@ def output_folder(option: str, path: str) -> Path:
 
 def _play(args: argparse.Namespace) -> int:
     from puppet.data.catalog import find, load_setup
+    from puppet.timeline.log import EXISTS
     from puppet.timeline.script import load_script
 
     if not args.headless and (args.input or args.screenshot or args.frames):

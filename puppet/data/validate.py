@@ -22,7 +22,7 @@ M = TypeVar("M", bound=pydantic.BaseModel)
 class Spec(pydantic.BaseModel):
     """Base of every data-file model: unknown keys are errors, values are checked."""
 
-    model_config = pydantic.ConfigDict(extra="forbid", populate_by_name=True, frozen=False)
+    model_config = pydantic.ConfigDict(extra="forbid", populate_by_name=True, frozen=False, defer_build=True)
 
 
 def _submodels(annotation: Any) -> list[type[pydantic.BaseModel]]:
