@@ -592,12 +592,13 @@ class InterfaceRuntime:
         moved = False
         for machine in self.machines.values():
             to = machine.due(step)
-            for _ in range(MAX_CHAINED_GOTOS):
-                if to is None:
-                    break
-                self._enter_state(to[0], to[1], step, 0)
-                moved = True
-                to = machine.due(step)
+            if to is not None:
+                for _ in range(MAX_CHAINED_GOTOS):
+                    self._enter_state(to[0], to[1], step, 0)
+                    moved = True
+                    to = machine.due(step)
+                    if to is None:
+                        break
         if active or moved:
             self._reschedule(step + 1)
         else:  # every controller idle and no state entered: only the machines can be due

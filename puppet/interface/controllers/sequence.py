@@ -91,7 +91,7 @@ class SequenceController:
             else:
                 apply_pose(self.servos, self.poses[pose_name], owners.owned(SEQUENCE),
                            self.frames, SEQUENCE)
-        if seq is not None and not owners.holds_any(SEQUENCE):
+        if seq is not None and SEQUENCE not in owners.table.values():  # (holds_any, inline)
             self.running = None  # every joint taken back: it has ended
 
     def next_wakeup(self, earliest: int) -> int | None:

@@ -36,6 +36,13 @@ class StateMachine:
         if tables is None:
             tables = self._tables[binding] = self._compile(rename)
         self.transitions, self.first_due = tables
+        self._now_in(self.__dict__.get("current", self.initial))
+
+    def _now_in(self, state: str) -> None:
+        """The current state's transitions and first due steps, looked up once per
+        state change rather than at each poll (``due`` runs every control step)."""
+        self._transitions = self.transitions[state]
+        self._polled, self._timer = self.first_due[state]
 
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
@@ -64,10 +71,11 @@ class StateMachine:
 
     def enter(self, state: str, now: int) -> None:
         self.current, self.entered = state, now
+        self._now_in(state)
 
     def next_wakeup(self, earliest: int) -> int | None:
         """The first step >= earliest at which a transition could fire."""
-        polled, timer = self.first_due[self.current]
+        polled, timer = self._polled, self._timer
         best = None
         if polled is not None:
             at = self.entered + polled
@@ -85,8 +93,9 @@ class StateMachine:
         another on the same sensor share one reading."""
         polling = now % self.every == 0
         last = value = None
-        for to, after, read, test in self.transitions[self.current]:
-            if now < self.entered + after:
+        since = now - self.entered
+        for to, after, read, test in self._transitions:
+            if since < after:
                 continue
             if read is None:
                 return to
@@ -105,6 +114,8 @@ class StateMachine:
 
     def set_state(self, state) -> None:
         self.current, self.entered = state
+        self._now_in(self.current)
 
     def stop(self) -> None:
         self.current, self.entered = self.initial, 0
+        self._now_in(self.current)
