@@ -108,9 +108,11 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
 
 def _compile_linear(spec, servos, channels=None):
     """A linear map's applier (``channels``: where ``channel.NAME`` inputs are read)."""
-    value = _unit(spec, channels)
     outs = [(servos[j], g) for j, g in spec.gains().items()]
     joints = tuple(spec.gains())
+    if spec.curve == "linear" and spec.clamp and len(outs) == 1:
+        return _compile_clamped_linear(spec, outs[0], joints, channels)
+    value = _unit(spec, channels)
 
     def apply_linear(values):
         v = value(values)
@@ -120,6 +122,40 @@ def _compile_linear(spec, servos, channels=None):
             servo.target = gain * v
         return joints
     return apply_linear
+
+
+def _compile_clamped_linear(spec, out, joints, channels=None):
+    """The commonest map (one joint, linear, clamped: every mouse and channel map of the
+    shipped files) in one function: ``_unit``'s arithmetic, operation for operation (the
+    same bits), without its call; it runs for each map at every mouse move or stream
+    frame."""
+    (x0, x1), (y0, y1) = spec.from_, spec.to
+    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+    servo, gain = out
+    name = spec.input
+    if name.startswith(CHANNEL) and channels is not None:
+        name = name[len(CHANNEL):]  # read from the channels, by bare name
+        get = channels.get
+
+        def apply_channel(values):
+            v = get(name)
+            if v is None:
+                return ()
+            u = (v - x0) * inv
+            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            servo.target = gain * (lo + u * span)
+            return joints
+        return apply_channel
+
+    def apply_input(values):
+        v = values.get(name)
+        if v is None:
+            return ()
+        u = (v - x0) * inv
+        u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+        servo.target = gain * (lo + u * span)
+        return joints
+    return apply_input
 
 
 def _unit(spec, channels=None):

@@ -109,8 +109,8 @@ class InterfaceRuntime:
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
-        self._channel_maps: dict[tuple, tuple] = {}  # channel names -> maps reading them
-        self._pending: list[tuple] = []  # channel maps not yet applied (see _on_channels)
+        self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
         self.mode = spec.start_mode
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
@@ -189,6 +189,8 @@ class InterfaceRuntime:
         self.now = old.now
         self.inputs.update(old.inputs)
         self.channels.update(old.channels)
+        for _, values in old._pending:  # stored, as old's flush would (its maps are gone)
+            self.channels.update(values)
         self.held = set(old.held)
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
@@ -442,26 +444,33 @@ class InterfaceRuntime:
     def _on_channels(self, values: dict[str, float]) -> None:
         """Many named channels at one step (a mocap frame): like the mouse, a compiled
         path per set of names (their input names and the maps reading any of them).
-        The values are stored at once; the maps run when anything next happens (another
-        event, a tick, a step: ``flush``), so that of several frames arriving at one step
-        - a 120 Hz stream drained once per 60 Hz frame - only the last is written to the
-        servos: the same targets, and the same bits, at a fraction of the cost."""
+        The values and the maps are kept until anything next happens (another event, a
+        tick, a step: ``flush``), which stores the values and then runs the maps, so
+        that of several frames arriving at one step - a 120 Hz stream drained once per
+        60 Hz frame - only the last is written to the servos (the same targets, and the
+        same bits, at a fraction of the cost); a frame of the same channels as the one
+        before it replaces it (its values stand for both)."""
         names = tuple(values)
-        appliers = self._channel_maps.get(names)
-        if appliers is None:
-            appliers = self._channel_maps[names] = tuple(
-                self._compiled(tuple("channel." + n for n in names)))
-        self.channels.update(values)
+        entry = self._channel_maps.get(names)
+        if entry is None:  # (these names, the appliers of the maps reading any of them)
+            entry = self._channel_maps[names] = (names, tuple(
+                self._compiled(tuple("channel." + n for n in names))))
         pending = self._pending
-        if appliers and not (pending and pending[-1] is appliers):
-            pending.append(appliers)
+        if pending and pending[-1][0] is entry:
+            pending[-1][1] = values
+        else:
+            pending.append([entry, values])
 
     def flush(self) -> None:
-        """Run the channel maps still pending, in the order their events came."""
+        """Store the pending channel values, then run their maps in the order their
+        events came."""
         pending, self._pending = self._pending, []
+        channels = self.channels
+        for _, values in pending:
+            channels.update(values)
         store, table = self.inputs, self.owners.table
-        for appliers in pending:
-            for apply in appliers:
+        for entry, _ in pending:
+            for apply in entry[1]:
                 written = apply(store)
                 if table:
                     self.owners.take(written)
