@@ -1,0 +1,74 @@
+"""The hot paths made faster for the bench give what the plain paths give: the channel
+frames kept until the next flush and the inline clamped linear map."""
+
+from __future__ import annotations
+
+import math
+
+from puppet.bench import channel_interface_text
+from puppet.data.catalog import load_character_named, load_setup, setup_from_text
+from puppet.interface import events as ev
+from puppet.interface import maps as mapping
+from puppet.session import Session
+
+
+def _setup(tmp_path):
+    cat, _ = load_character_named("cat")
+    path = tmp_path / "channels.yaml"
+    path.write_text(channel_interface_text(cat, "cat-flat", count=6))
+    return load_setup(str(path))
+
+
+def test_channel_frames_of_other_names_at_one_step_are_stored_in_their_order(tmp_path):
+    session = Session(_setup(tmp_path))
+    frames = [{"c0": 0.5, "c1": -0.5}, {"c2": 0.25}, {"c0": -0.75, "c1": 0.1},
+              {"c0": 0.3, "c1": 0.9}, {"x": 2.0}]
+    for values in frames:
+        session.handle(ev.channels(values))
+    assert session.runtime.channels == {}  # kept until the next flush...
+    session.runtime.flush()
+    want: dict = {}
+    for values in frames:
+        want.update(values)
+    assert session.runtime.channels == want  # ...then the last value of each name
+    servos = session.character.servos
+    alone = Session(_setup(tmp_path))
+    alone.handle(ev.channels(want))
+    alone.runtime.flush()
+    assert [s.target for s in servos.values()] == \
+        [s.target for s in alone.character.servos.values()]
+    session.advance(40)
+    alone.advance(40)
+    assert session.sim.state_hash() == alone.sim.state_hash()
+
+
+def test_a_hot_reload_keeps_the_channel_values_not_yet_flushed(tmp_path):
+    setup = _setup(tmp_path)
+    session = Session(setup)
+    old = session.runtime
+    old._on_channels({"c3": 0.6})  # straight to the runtime: nothing flushes it
+    session.reload((tmp_path / "channels.yaml").read_text())
+    assert session.runtime is not old
+    assert session.runtime.read_input("channel.c3") == 0.6
+
+
+def test_the_inline_clamped_linear_map_gives_the_general_maps_bits():
+    luxo, _ = load_character_named("luxo")
+    text = ("name: t\ndescription: t\ncharacter: luxo\nmaps:\n"
+            "  - {input: mouse.x, joint: ankle, from: [0.1, 0.9], to: [80, -75.3]}\n"
+            "  - {input: channel.k, joint: knee, from: [-1, 1.5], to: [-17, 133]}\n")
+    setup = setup_from_text(text, "t.yaml")
+    session = Session(setup)
+    servos = session.character.servos
+    channels: dict = {}
+    for m in setup.interface.maps:
+        fast = mapping.compile_map(m, servos, {}, channels)
+        general = mapping._unit(m, channels)
+        joint = m.joint
+        for v in (-3.0, -1.0, 0.0, 0.1, 0.37, 0.9, 1.2, 1.5, 1e6, math.nan):
+            values = {m.input: v}
+            channels["k"] = v
+            fast(values)
+            got = servos[joint].target
+            want = 1.0 * general(values)
+            assert got == want or (math.isnan(got) and math.isnan(want)), (m.input, v)
