@@ -74,6 +74,7 @@ class Session:
         self._frame_every = max(1, round(FRAME_SECONDS / dt))
         self._world = world_box(setup.scene)
         self._root_name = self.sim.character.link_order[0]
+        self._advance_constants = (self._frame_every, self._root_name, *self._world)
         start = self._snapshot()  # re-seated, like every checkpoint
         self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
@@ -265,23 +266,23 @@ class Session:
         the steps are split between calls."""
         if steps <= 0:
             return
-        if self.runtime._pending:
-            self.runtime.flush()  # the last channels frame's maps, before stepping
+        runtime = self.runtime
+        if runtime._pending:
+            runtime.flush()  # the last channels frame's maps, before stepping
         sim, history = self.sim, self.history
-        if sim.steps < history.head and not self._rebuilding:
-            history.branch(sim.steps)  # playing on from a rewound point
+        now = sim.steps
+        if now < history.head and not self._rebuilding:
+            history.branch(now)  # playing on from a rewound point
         if self.halted:  # time goes on, the physics stands still
             sim.steps += steps
             if sim.steps > history.head and not self._rebuilding:
                 history.head = sim.steps
             return
-        every = self._frame_every  # a frame check at each, the full one at health_every
-        health = history.health_every
-        now = sim.steps
         end = now + steps
-        runtime = self.runtime
-        root = self._root_name
-        x0, x1, y0, y1 = self._world
+        # a frame check at each ``every`` steps (the full one at ``health``): the root
+        # link (by name) must stay in the box x0..x1, y0..y1
+        every, root, x0, x1, y0, y1 = self._advance_constants
+        health = history.health_every
         while now < end:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics

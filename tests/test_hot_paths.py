@@ -72,3 +72,41 @@ def test_the_inline_clamped_linear_map_gives_the_general_maps_bits():
             got = servos[joint].target
             want = 1.0 * general(values)
             assert got == want or (math.isnan(got) and math.isnan(want)), (m.input, v)
+
+
+def _checked_ticks(session):
+    """Wrap the runtime's tick: after each, the schedule it kept (the WAITED shortcut)
+    must be the one a full reschedule computes."""
+    runtime = session.runtime
+    tick = runtime.tick
+    seen = {"ticks": 0, "kept": 0}
+
+    def checked(step):
+        waiting_before = list(runtime._active)
+        tick(step)
+        kept = (runtime.next_wakeup, list(runtime._active))
+        runtime._reschedule(step + 1)
+        assert (runtime.next_wakeup, runtime._active) == kept, step
+        seen["ticks"] += 1
+        seen["kept"] += bool(waiting_before)
+    runtime.tick = checked
+    return seen
+
+
+def test_a_tick_that_only_waited_keeps_the_schedule_a_full_reschedule_gives():
+    from puppet.bench import gesture
+    from puppet.data.catalog import load_setup
+
+    # luxo-keys: 13 s of key taps, a key a second (sequences, then poses that take a
+    # running sequence's joints), its state machine polled every frame; biped-step:
+    # feedback maps and frame targets at the control rate
+    for name, frames in (("luxo-keys", 800), ("biped-step", 150)):
+        setup = load_setup(name)
+        session = Session(setup, keyframes=False)
+        seen = _checked_ticks(session)
+        for batch in gesture(frames, setup.interface):
+            for event in batch:
+                session.handle(event)
+            for _ in range(8):
+                session.advance(1)
+        assert seen["ticks"] > 100 and seen["kept"] > 10, (name, seen)

@@ -120,12 +120,21 @@ def map_reader(sensor: str, character: Character) -> Reader:
     return read
 
 
+def compile_bounds(spec: ConditionSpec) -> tuple[float, float] | None:
+    """(lo, hi) such that the condition holds when lo < value < hi (``compile_test``'s
+    test, for a state machine to compare without a call); None for an ``is`` test."""
+    if spec.is_ is not None:
+        return None
+    conv = math.radians if _lookup(spec.sensor)[1] else float
+    lo = conv(spec.above) if spec.above is not None else -math.inf
+    hi = conv(spec.below) if spec.below is not None else math.inf
+    return lo, hi
+
+
 def compile_test(spec: ConditionSpec) -> Test:
     """The condition as a test on its sensor's value."""
     if spec.is_ is not None:
         want = spec.is_
         return lambda value: (value > 0.5) == want
-    conv = math.radians if _lookup(spec.sensor)[1] else float
-    lo = conv(spec.above) if spec.above is not None else -math.inf
-    hi = conv(spec.below) if spec.below is not None else math.inf
+    lo, hi = compile_bounds(spec)
     return lambda value: lo < value < hi

@@ -38,6 +38,7 @@ from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
 from puppet.interface.conditions import map_reader
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
@@ -107,6 +108,7 @@ class InterfaceRuntime:
                             self.perturber, self.frames, self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
+        self._controllers_wake: int | None = None  # the earliest of theirs
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
@@ -596,8 +598,10 @@ class InterfaceRuntime:
         if self._pending:
             self.flush()
         active = self._active
+        waited = True  # every controller only waited (see controllers.base.WAITED)
         for controller in active:
-            controller.tick(step)
+            if controller.tick(step) is not WAITED:
+                waited = False
         moved = False
         for machine in self.machines.values():
             to = machine.due(step)
@@ -608,11 +612,11 @@ class InterfaceRuntime:
                     to = machine.due(step)
                     if to is None:
                         break
-        if active or moved:
+        if moved or not waited:
             self._reschedule(step + 1)
-        else:  # every controller idle and no state entered: only the machines can be due
-            earliest = step + 1
-            wake = None
+        else:  # every controller idle or waiting, and no state entered: the controllers'
+            earliest = step + 1  # wake-ups stand, only the machines' move on
+            wake = self._controllers_wake
             for machine in self.machines.values():
                 at = machine.next_wakeup(earliest)
                 if at is not None and (wake is None or at < wake):
@@ -631,6 +635,7 @@ class InterfaceRuntime:
                 if at is not None:
                     active.append(controller)
                     wake = at if wake is None or at < wake else wake
+        self._controllers_wake = wake
         for machine in self.machines.values():
             at = machine.next_wakeup(earliest)
             if at is not None and (wake is None or at < wake):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FRAME, JointOwners, Owner
 from puppet.interface.poses import FrameTarget
 
@@ -53,9 +54,9 @@ class FrameTargets:
         now = child.angle - parent.angle  # the same turn as the joint is in now
         c.servos[joint].target = now + math.remainder(q - now, _TURN)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         if step % self.every:
-            return
+            return WAITED  # between control steps
         table = self.owners_table.table
         for joint, (target, owner) in list(self.held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go

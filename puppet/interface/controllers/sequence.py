@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from puppet.data.actions import SequenceStepSpec
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import SEQUENCE, JointOwners, Owner
 from puppet.interface.poses import Pose, apply_pose
 
@@ -78,11 +79,16 @@ class SequenceController:
         running.until += steps[running.index][1]
         return steps[running.index][0]
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         seq = self.running
         if seq is None:
-            return
+            return None
         owners = self.owners_table
+        if step < seq.until:  # holding a pose
+            if SEQUENCE in owners.table.values():  # (holds_any, inline)
+                return WAITED
+            self.running = None  # every joint taken back: it has ended
+            return None
         while seq is not None and step >= seq.until:
             pose_name = self._next_pose(seq)
             if pose_name is None:
@@ -93,6 +99,7 @@ class SequenceController:
                            self.frames, SEQUENCE)
         if seq is not None and SEQUENCE not in owners.table.values():  # (holds_any, inline)
             self.running = None  # every joint taken back: it has ended
+        return None
 
     def next_wakeup(self, earliest: int) -> int | None:
         return None if self.running is None else self.running.until

@@ -11,7 +11,7 @@ activating its maps) is the runtime's work: ``due`` only says where to go.
 
 from __future__ import annotations
 
-from puppet.interface.conditions import compile_test, reader
+from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
 
@@ -52,11 +52,15 @@ class StateMachine:
                    for t in [*state.transitions, *shared] if t.when is not None}
 
         def compiled(t):
+            bounds = compile_bounds(t.when) if t.when is not None else None
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
                     readers[t.when.sensor] if t.when is not None else None,
-                    compile_test(t.when) if t.when is not None else None)
-        # state -> [((machine, to), min steps in state, sensor reader or None, test)]:
-        # the state's own transitions first, then any_state's that lead elsewhere
+                    compile_test(t.when) if t.when is not None and bounds is None else None,
+                    *(bounds or (None, None)))
+        # state -> [((machine, to), min steps in state, sensor reader or None, test, lo,
+        # hi)]: a sensor's test is lo < value < hi (compared here, not called) or, for
+        # an ``is`` condition, the function ``test``; the state's own transitions first,
+        # then any_state's that lead elsewhere
         transitions = {
             sname: [compiled(t) for t in state.transitions]
             + [compiled(t) for t in shared if interface.resolve_goto(t.to, name) != (name, sname)]
@@ -64,8 +68,8 @@ class StateMachine:
         # state -> (min steps in state before a sensor transition is polled, before a
         # timer-only transition fires): next_wakeup is asked after every tick.
         first_due = {
-            sname: (min((a for _, a, s, _ in ts if s is not None), default=None),
-                    min((a for _, a, s, _ in ts if s is None), default=None))
+            sname: (min((a for _, a, s, *_ in ts if s is not None), default=None),
+                    min((a for _, a, s, *_ in ts if s is None), default=None))
             for sname, ts in transitions.items()}
         return transitions, first_due
 
@@ -94,7 +98,7 @@ class StateMachine:
         polling = now % self.every == 0
         last = value = None
         since = now - self.entered
-        for to, after, read, test in self._transitions:
+        for to, after, read, test, lo, hi in self._transitions:
             if since < after:
                 continue
             if read is None:
@@ -102,7 +106,7 @@ class StateMachine:
             if polling:
                 if read is not last:
                     value, last = read(), read
-                if test(value):
+                if (lo < value < hi) if test is None else test(value):
                     return to
         return None
 
