@@ -52,26 +52,32 @@ def test_a_hot_reload_keeps_the_channel_values_not_yet_flushed(tmp_path):
     assert session.runtime.read_input("channel.c3") == 0.6
 
 
-def test_the_inline_clamped_linear_map_gives_the_general_maps_bits():
-    luxo, _ = load_character_named("luxo")
+def test_the_compiled_maps_give_the_plain_formulas_bits():
     text = ("name: t\ndescription: t\ncharacter: luxo\nmaps:\n"
             "  - {input: mouse.x, joint: ankle, from: [0.1, 0.9], to: [80, -75.3]}\n"
-            "  - {input: channel.k, joint: knee, from: [-1, 1.5], to: [-17, 133]}\n")
+            "  - {input: channel.k, joint: knee, from: [-1, 1.5], to: [-17, 133]}\n"
+            "  - {input: mouse.y, joint: knee, to: [150, 0], curve: {power: 0.66}}\n"
+            "  - {input: channel.s, joint: ankle, from: [0, 2], to: [30, -80],"
+            " curve: smoothstep}\n"
+            "  - {input: mouse.x, joints: {ankle: -0.5}, from: [0.2, 0.7], to: [10, 40],"
+            " clamp: false, curve: {power: 2}}\n")
     setup = setup_from_text(text, "t.yaml")
     session = Session(setup)
     servos = session.character.servos
     channels: dict = {}
     for m in setup.interface.maps:
         fast = mapping.compile_map(m, servos, {}, channels)
-        general = mapping._unit(m, channels)
-        joint = m.joint
+        (x0, x1), (y0, y1) = m.from_, m.to
         for v in (-3.0, -1.0, 0.0, 0.1, 0.37, 0.9, 1.2, 1.5, 1e6, math.nan):
-            values = {m.input: v}
-            channels["k"] = v
-            fast(values)
-            got = servos[joint].target
-            want = 1.0 * general(values)
-            assert got == want or (math.isnan(got) and math.isnan(want)), (m.input, v)
+            channels[m.input.removeprefix("channel.")] = v
+            fast({m.input: v})
+            u = (v - x0) * (1.0 / (x1 - x0))
+            if m.clamp:
+                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            value = math.radians(y0) + mapping.shape(m.curve, u) * math.radians(y1 - y0)
+            for joint, gain in m.gains().items():
+                got, want = servos[joint].target, gain * value
+                assert got == want or (math.isnan(got) and math.isnan(want)), (m, v)
 
 
 def _checked_ticks(session):
