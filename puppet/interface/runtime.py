@@ -77,6 +77,7 @@ class InterfaceRuntime:
                          for name, m in machines.items()}
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
+        self._machine_list = tuple(self.machines.values())  # (tick)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
         self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
                                for mname, m in machines.items()
@@ -603,7 +604,7 @@ class InterfaceRuntime:
             if controller.tick(step) is not WAITED:
                 waited = False
         moved = False
-        for machine in self.machines.values():
+        for machine in self._machine_list:
             to = machine.due(step)
             if to is not None:
                 for _ in range(MAX_CHAINED_GOTOS):
@@ -617,8 +618,8 @@ class InterfaceRuntime:
         else:  # every controller idle or waiting, and no state entered: the controllers'
             earliest = step + 1  # wake-ups stand, only the machines' move on
             wake = self._controllers_wake
-            for machine in self.machines.values():
-                at = machine.next_wakeup(earliest)
+            for machine in self._machine_list:
+                at = machine.wake_after  # next_wakeup(earliest), worked out by due
                 if at is not None and (wake is None or at < wake):
                     wake = at
             self.next_wakeup = wake if wake is None or wake > earliest else earliest

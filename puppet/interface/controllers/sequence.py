@@ -60,11 +60,22 @@ class SequenceController:
         plan = self.plans[name]
         plays = None if repeat == "forever" else (repeat or 1)
         self.running = RunningSequence(name, 0, now + plan[0][1], plays)
-        joints = set()
-        for pose_name, _ in plan:
-            joints |= self.poses[pose_name].joints
-        self.owners_table.claim(joints, SEQUENCE)
+        self.owners_table.claim(self._joints_of(name), SEQUENCE)
         apply_pose(self.servos, self.poses[plan[0][0]], None, self.frames, SEQUENCE)
+
+    def _joints_of(self, name: str) -> set[str]:
+        """Every joint sequence ``name``'s poses set, worked out once per set of poses
+        (the runtime replaces ``poses`` when the roles are bound anew)."""
+        cache = self.__dict__.get("_joints")
+        if cache is None or cache[0] is not self.poses:
+            cache = self._joints = (self.poses, {})
+        joints = cache[1].get(name)
+        if joints is None:
+            joints = set()
+            for pose_name, _ in self.plans[name]:
+                joints |= self.poses[pose_name].joints
+            cache[1][name] = joints
+        return joints
 
     def _next_pose(self, running: RunningSequence) -> str | None:
         """Move on to the next step; its pose name, or None when the sequence is over."""

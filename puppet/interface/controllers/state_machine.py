@@ -41,8 +41,16 @@ class StateMachine:
     def _now_in(self, state: str) -> None:
         """The current state's transitions and first due steps, looked up once per
         state change rather than at each poll (``due`` runs every control step)."""
-        self._transitions = self.transitions[state]
+        ts = self._transitions = self.transitions[state]
         self._polled, self._timer = self.first_due[state]
+        # The commonest state (luxo-keys' upright, a gait's phases): every transition a
+        # range condition on one sensor, from the moment the state is entered. ``due``
+        # then reads that sensor and compares, nothing else: ``_one_sensor`` is the
+        # reader and the (state to go to, lo, hi) in order.
+        self._one_sensor = None
+        if ts and all(after == 0 and read is ts[0][2] and test is None
+                      for _, after, read, test, _, _ in ts):
+            self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
 
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
@@ -94,8 +102,18 @@ class StateMachine:
     def due(self, now: int) -> tuple[str, str] | None:
         """(machine, state) to go to now, if a transition fires (first listed wins).
         Sensors are polled on multiples of ``every``; conditions listed one after
-        another on the same sensor share one reading."""
-        polling = now % self.every == 0
+        another on the same sensor share one reading. When none fires, ``wake_after``
+        is ``next_wakeup(now + 1)`` (the arbiter's next schedule, without a call)."""
+        every = self.every
+        one = self._one_sensor
+        if one is not None and not now % every:  # (see _now_in)
+            value = one[0]()
+            for to, lo, hi in one[1]:
+                if lo < value < hi:
+                    return to
+            self.wake_after = now + every  # the next poll: next_wakeup(now + 1)
+            return None
+        polling = now % every == 0
         last = value = None
         since = now - self.entered
         for to, after, read, test, lo, hi in self._transitions:
@@ -108,6 +126,18 @@ class StateMachine:
                     value, last = read(), read
                 if (lo < value < hi) if test is None else test(value):
                     return to
+        earliest = now + 1  # next_wakeup(earliest), inline: this runs at every poll
+        polled, timer = self._polled, self._timer
+        best = None
+        if polled is not None:
+            at = self.entered + polled
+            at = at if at > earliest else earliest
+            best = -(-at // self.every) * self.every
+        if timer is not None:
+            at = self.entered + timer
+            at = at if at > earliest else earliest
+            best = at if best is None or at < best else best
+        self.wake_after = best
         return None
 
     def owners(self) -> set[Owner]:
