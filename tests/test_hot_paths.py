@@ -116,3 +116,25 @@ def test_a_tick_that_only_waited_keeps_the_schedule_a_full_reschedule_gives():
             for _ in range(8):
                 session.advance(1)
         assert seen["ticks"] > 100 and seen["kept"] > 10, (name, seen)
+
+
+def test_a_one_sensor_state_polls_as_the_general_loop_does():
+    from puppet.data.catalog import load_setup
+
+    session = Session(load_setup("luxo-keys"), keyframes=False)
+    machine = session.runtime.machines["main"]
+    assert machine.current == "upright" and machine._one_sensor is not None
+    root = session.character.bodies[session.character.spec.root]
+    fast = machine._one_sensor
+    for degrees in (-179.0, -100.5, -100.0, -99.0, 0.0, 99.9, 100.0, 100.01, 170.0, 181.0):
+        root.angle = math.radians(degrees)
+        for step in (0, 8, 16, 19):  # polled steps and one between polls
+            machine._one_sensor = fast
+            got = (machine.due(step), getattr(machine, "wake_after", None))
+            machine._one_sensor = None  # the general loop
+            want = machine.due(step)
+            assert got[0] == want, (degrees, step)
+            if want is None and step % machine.every == 0:
+                assert got[1] == machine.next_wakeup(step + 1)
+            machine.wake_after = None
+    machine._one_sensor = fast
