@@ -242,6 +242,8 @@ class Character:
         return self.servos[name].angle
 
     def link_position(self, name: str) -> tuple[float, float]:
-        body = self.bodies[name]
-        p = body.local_to_world(body.center_of_gravity)
-        return (p[0], p[1])
+        """A link's centre of mass in the world (pymunk's ``local_to_world`` of its
+        ``center_of_gravity``, through the same C calls: sensors read it each step)."""
+        cb = self.bodies[name]._body
+        p = _cp.cpBodyLocalToWorld(cb, _cp.cpBodyGetCenterOfGravity(cb))
+        return (p.x, p.y)
