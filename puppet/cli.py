@@ -210,7 +210,7 @@ def _check(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     from puppet.bench import main as bench_main
 
-    return bench_main(quick=args.quick, as_json=args.json, strict=args.strict,
+    return bench_main(quick=args.quick, as_json=args.json, strict=args.strict, cpu=args.cpu,
                       only=args.character or None)
 
 
@@ -359,6 +359,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--json", action="store_true", help="machine-readable output")
     bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
     bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
+    bench.add_argument("--cpu", action="store_true",
+                       help="time by the thread's CPU time, not the wall clock (steadier when "
+                            "other processes load the machine)")
     bench.set_defaults(func=_bench)
     return parser
 
