@@ -305,7 +305,7 @@ class Session:
                     self._at_boundary()  # a recovery restores the state, not the step count
                     runtime = self.runtime  # and may switch interface versions
                 else:  # the root alone, each frame: NaN fails every comparison
-                    body = sim.character.bodies[root]._body  # (Character.root_motion)
+                    body = sim.character.bodies[root]._body
                     p = _position(body)
                     x, y = p.x, p.y
                     if x0 < x < x1 and y0 < y < y1:

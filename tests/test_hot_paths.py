@@ -138,3 +138,32 @@ def test_a_one_sensor_state_polls_as_the_general_loop_does():
                 assert got[1] == machine.next_wakeup(step + 1)
             machine.wake_after = None
     machine._one_sensor = fast
+
+
+def test_a_process_imports_only_what_its_command_needs():
+    """Process start: --version imports no models, a character's check no interface
+    models, a plain replay neither numpy nor the expectations (a fresh interpreter)."""
+    import subprocess
+    import sys
+
+    from puppet.data.catalog import ROOT
+
+    probe = ("import sys, contextlib, io\n"
+             "from puppet.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             "    try:\n"
+             "        main(sys.argv[1:])\n"
+             "    except SystemExit:\n"
+             "        pass\n"
+             "print(' '.join(m for m in ('pydantic', 'numpy', 'pygame', 'puppet.data.interfaces',"
+             " 'puppet.timeline.expectations') if m in sys.modules))\n")
+
+    def loaded(*args):
+        out = subprocess.run([sys.executable, "-c", probe, *args], cwd=ROOT, check=True,
+                             capture_output=True, text=True).stdout.split()
+        return set(out)
+
+    assert loaded("--version") == set()
+    assert loaded("check", "characters/luxo.yaml") == {"pydantic"}
+    assert loaded("replay", "luxo-hop", "--headless") == {"pydantic", "puppet.data.interfaces"}
+    assert "numpy" in loaded("replay", "luxo-hop", "--headless", "--check")

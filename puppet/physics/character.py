@@ -185,13 +185,6 @@ class Character:
                                               for b in bodies.values()])
         return cached[1]
 
-    def root_motion(self) -> tuple[float, float, float, float]:
-        """The root link's x, y and velocity (the same C calls as pymunk's ``position``
-        and ``velocity``, without their Vec2d: the session reads it every frame)."""
-        body = self.bodies[self.root]._body
-        p, v = _cp.cpBodyGetPosition(body), _cp.cpBodyGetVelocity(body)
-        return p.x, p.y, v.x, v.y
-
     def com(self) -> tuple[float, float]:
         """Centre of mass, world m."""
         mx = my = 0.0
