@@ -4,12 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from puppet.data import catalog
-from puppet.data.characters import parse_character
 from puppet.data.errors import DataError
-from puppet.data.scenes import parse_scene
 from puppet.data.yamlfile import Located, load_file
-from puppet.timeline.script import parse_script
+
+# Each kind's models are imported when a file of that kind is checked: a character's
+# check does not build the interface, scene and script models (process start).
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
                   "scripts": "script", "mappings": "mapping"}
@@ -45,44 +44,56 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
     located = load_file(path)
     kind = guess_kind(path, located)
     if kind == "character":
+        from puppet.data.characters import parse_character
+
         parse_character(located)
-    elif kind == "scene":
+        return kind
+    if kind == "scene":
+        from puppet.data.scenes import parse_scene
+
         parse_scene(located)
-    elif kind == "script":
+        return kind
+    if kind == "script":
+        from puppet.timeline.script import parse_script
+
         parse_script(located)
-    elif kind == "mapping":
+        return kind
+    if kind == "mapping":
         from puppet.data.mappings import parse_mapping
 
         parse_mapping(located)
-    elif kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
+        return kind
+    if kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
         from puppet.mocap.send import parse_bones
 
         parse_bones(located)
-    else:
-        spec, character, _ = catalog.check_interface(located)
-        if warnings is not None:
-            from puppet.data.interface_refs import map_conflicts
+        return kind
+    from puppet.data import catalog
+    from puppet.data.scenes import parse_scene
 
-            warnings += map_conflicts(spec, located)
+    spec, character, _ = catalog.check_interface(located)
+    if warnings is not None:
+        from puppet.data.interface_refs import map_conflicts
+
+        warnings += map_conflicts(spec, located)
+    try:
+        scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
+    except DataError as exc:
+        raise located.error(("scene",), exc.message) from None
+    # props named by reaches and grasps must be in the scene, as play checks
+    from puppet.data.interface_refs import check_scene_refs
+
+    check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
+    if spec.tracking is not None and spec.tracking.mapping is not None:
+        from puppet.data.mappings import load_mapping
+        from puppet.data.tracking import mapping_problem
+
         try:
-            scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
+            mapping = load_mapping(catalog.find("mapping", spec.tracking.mapping,
+                                                catalog.reference_folders(path)))
         except DataError as exc:
-            raise located.error(("scene",), exc.message) from None
-        # props named by reaches and grasps must be in the scene, as play checks
-        from puppet.data.interface_refs import check_scene_refs
-
-        check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
-        if spec.tracking is not None and spec.tracking.mapping is not None:
-            from puppet.data.mappings import load_mapping
-            from puppet.data.tracking import mapping_problem
-
-            try:
-                mapping = load_mapping(catalog.find("mapping", spec.tracking.mapping,
-                                                    catalog.reference_folders(path)))
-            except DataError as exc:
-                raise located.error(("tracking", "mapping"), exc.message) from None
-            problem = mapping_problem(spec.tracking, mapping,
-                                      [j.name for j in character.actuated])
-            if problem:
-                raise located.error(("tracking", "mapping"), problem)
+            raise located.error(("tracking", "mapping"), exc.message) from None
+        problem = mapping_problem(spec.tracking, mapping, [j.name for j in character.actuated])
+        if problem:
+            raise located.error(("tracking", "mapping"), problem)
     return kind

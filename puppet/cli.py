@@ -13,9 +13,7 @@ from pathlib import Path
 
 from puppet import __version__
 from puppet.data.errors import DataError, UsageError
-from puppet.data.interfaces import (CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN,
-                                    MIN_SLOWDOWN)
-from puppet.timeline.log import EXISTS
+from puppet.data.bounds import CHECKPOINT_MAX, CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN
 
 EXIT_DATA_ERROR = 2
 EXIT_BLOWUP = 3  # a headless run or replay blew up or left the world (each one reported)
@@ -105,6 +103,7 @@ def output_folder(option: str, path: str) -> Path:
 
 def _play(args: argparse.Namespace) -> int:
     from puppet.data.catalog import find, load_setup
+    from puppet.timeline.log import EXISTS
     from puppet.timeline.script import load_script
 
     if not args.headless and (args.input or args.screenshot or args.frames):
@@ -247,7 +246,7 @@ def _check(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     from puppet.bench import main as bench_main
 
-    return bench_main(quick=args.quick, as_json=args.json, strict=args.strict,
+    return bench_main(quick=args.quick, as_json=args.json, strict=args.strict, cpu=args.cpu,
                       only=args.character or None)
 
 
@@ -427,6 +426,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--json", action="store_true", help="machine-readable output")
     bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
     bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
+    bench.add_argument("--cpu", action="store_true",
+                       help="time by the thread's CPU time, not the wall clock (steadier when "
+                            "other processes load the machine)")
     bench.set_defaults(func=_bench)
     return parser
 

@@ -11,6 +11,8 @@ import dataclasses
 import json
 from collections.abc import Callable
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.catalog import Setup, parse_interface_text
 from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
@@ -23,6 +25,8 @@ from puppet.timeline.playback import play
 FRAME_SECONDS = 1 / 60  # the cheap leaving-the-world check runs this often (a frame)
 WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends: gone
 MAX_SPEED2 = MAX_SPEED ** 2
+# the root's position and velocity each frame: pymunk's own C calls, without its Vec2d
+_position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
 
 
 def world_box(scene) -> tuple[float, float, float, float]:
@@ -70,6 +74,7 @@ class Session:
         self._frame_every = max(1, round(FRAME_SECONDS / dt))
         self._world = world_box(setup.scene)
         self._root_name = self.sim.character.link_order[0]
+        self._advance_constants = (self._frame_every, self._root_name, *self._world)
         start = self._snapshot()  # re-seated, like every checkpoint
         self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
@@ -92,16 +97,20 @@ class Session:
         """Apply an input event at the current step. Returns the app action a key
         stands for when that action is the window's business (pause, quit...)."""
         kind = event["type"]
-        if kind == "channels":  # a stream's frame (mocap): recorded, then the fast path
+        if kind == "channels" or kind == "mouse":  # the frequent events: recorded, then
+            runtime = self.runtime                 # the runtime's fast paths
             if not self._rebuilding:
                 steps = self.sim.steps
                 if self.listener is not None:
-                    self.listener(steps, event)
-                if steps < self.history.head:
-                    self.history.branch(steps)
-                self.history.record(steps, event)
-            self.runtime._on_channels(event["values"])
-            return None
+                    self.listener(steps, event)  # logged
+                history = self.history
+                if steps < history.head:
+                    history.branch(steps)  # new input: the future is rewritten
+                history.record(steps, event)
+            if kind == "channels":  # a stream's frame (mocap)
+                runtime._on_channels(event["values"])
+                return None
+            return runtime.on_event(event)  # (which runs pending channel maps first)
         if self.runtime._pending:
             self.runtime.flush()  # channel maps act before anything after them
         if not self._rebuilding:
@@ -112,8 +121,6 @@ class Session:
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
                 self.history.record(self.sim.steps, event)
-        if kind == "mouse":  # the most frequent event: straight to the interface
-            return self.runtime.on_event(event)
         if kind == "key" and event["down"]:
             app_action = self.app_action_of(event["key"])
             if app_action is not None:
@@ -262,25 +269,27 @@ class Session:
         the steps are split between calls."""
         if steps <= 0:
             return
-        if self.runtime._pending:
-            self.runtime.flush()  # the last channels frame's maps, before stepping
+        runtime = self.runtime
+        if runtime._pending:
+            runtime.flush()  # the last channels frame's maps, before stepping
         sim, history = self.sim, self.history
-        if sim.steps < history.head and not self._rebuilding:
-            history.branch(sim.steps)  # playing on from a rewound point
+        now = sim.steps
+        if now < history.head and not self._rebuilding:
+            history.branch(now)  # playing on from a rewound point
         if self.halted:  # time goes on, the physics stands still
             sim.steps += steps
             if sim.steps > history.head and not self._rebuilding:
                 history.head = sim.steps
             return
-        every = self._frame_every  # a frame check at each, the full one at health_every
-        health = history.health_every
-        now = sim.steps
         end = now + steps
+        # a frame check at each ``every`` steps (the full one at ``health``): the root
+        # link (by name) must stay in the box x0..x1, y0..y1
+        every, root, x0, x1, y0, y1 = self._advance_constants
+        health = history.health_every
         while now < end:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics
             # steps in one tight loop up to the next history boundary.
-            runtime = self.runtime  # a blow-up recovery may switch interface versions
             wake = runtime.next_wakeup
             if wake is not None and wake <= now:
                 runtime.tick(now)
@@ -289,16 +298,26 @@ class Session:
             stop = end if end < boundary else boundary
             if wake is not None and wake < stop:
                 stop = wake
-            sim.step(stop - now)
-            now = stop
+            # Simulation.step, inlined (the hot loop): the space's step, stop - now times
+            space_step, dt = sim.space.step, sim.dt
+            for _ in range(stop - now):
+                space_step(dt)
+            sim.steps = now = stop
             if now == boundary:
                 if now % health == 0:
                     self._at_boundary()  # a recovery restores the state, not the step count
+                    runtime = self.runtime  # and may switch interface versions
                 else:  # the root alone, each frame: NaN fails every comparison
-                    x, y, vx, vy = sim.character.root_motion()
-                    x0, x1, y0, y1 = self._world
-                    if not (x0 < x < x1 and y0 < y < y1 and vx * vx + vy * vy < MAX_SPEED2):
-                        self._recover()
+                    body = sim.character.bodies[root]._body
+                    p = _position(body)
+                    x, y = p.x, p.y
+                    if x0 < x < x1 and y0 < y < y1:
+                        v = _velocity(body)
+                        vx, vy = v.x, v.y
+                        if vx * vx + vy * vy < MAX_SPEED2:
+                            continue  # (not halted: only a recovery halts)
+                    self._recover()
+                    runtime = self.runtime
                 if self.halted:
                     sim.steps = end  # the rest of the call: time only
                     break

@@ -76,3 +76,19 @@ def test_bench_table_names_targets_and_verdicts():
     assert "speed with control" in text and "checkpoint" in text
     assert "read cmu-01_01-jumps.bvh" in text
     assert "PASS" in text or "MISS" in text
+
+
+def test_the_cpu_clock_leaves_out_the_time_spent_waiting():
+    import time
+
+    from puppet import bench
+
+    for name, counts_sleep in (("wall", True), ("cpu", False)):
+        bench._clock[0] = bench._CLOCKS[name]
+        try:
+            t0 = bench.clock()
+            time.sleep(0.05)
+            slept = bench.clock() - t0
+        finally:
+            bench._clock[0] = bench._CLOCKS["wall"]
+        assert (slept >= 0.05) is counts_sleep, (name, slept)

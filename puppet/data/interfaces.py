@@ -18,6 +18,8 @@ from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
                                  KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
                                  check_input_name)
+from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 (re-exported)
+                                CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data.characters import CharacterSpec
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
 from puppet.data.ranges import AngleChange, Damping, Num, Stiffness, Torque
@@ -30,10 +32,7 @@ __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
            "check_against_character", "with_gesture"]
 
 
-CHECKPOINT_EVERY = 3.0  # s of simulated time between automatic checkpoints (keyframes)
-CHECKPOINT_MIN, CHECKPOINT_MAX = 0.5, 600.0  # s; the interval is a multiple of 0.5 s
-MIN_SLOWDOWN, MAX_SLOWDOWN = 0.1, 100.0
-GESTURE_SECONDS = 600.0  # the longest gesture  # wall s per simulated s; 0.1: ten times faster
+GESTURE_SECONDS = 600.0  # the longest gesture
 
 
 class GainSpec(Spec):

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 from typing import Annotated
 
-from pydantic import AfterValidator, BeforeValidator
+from pydantic import AfterValidator
+from pydantic_core import core_schema
 
 # name -> (low, high, unit, low end open). Units: metres, kilograms, seconds, degrees.
 RANGES: dict[str, tuple[float, float, str, bool]] = {
@@ -84,17 +85,38 @@ def _not_bool(value):
     return value
 
 
+class _InRange:
+    """The validation of a ``Num``: not true/false, then pydantic's float, then inside
+    the range, handed to pydantic as a core schema of plain (no-info) validators.
+    (``BeforeValidator`` and ``AfterValidator`` give the same checks, but pydantic
+    inspects their functions' signatures again for every field that uses them: a good
+    part of the time it took to build the data files' models, at every ``puppet``
+    start.)"""
+
+    def __init__(self, name: str):
+        def check(value: float) -> float:
+            message = problem(name, value)
+            if message:
+                raise ValueError(message)
+            return value
+
+        self.name, self.check = name, check
+
+    def __get_pydantic_core_schema__(self, source, handler):
+        return core_schema.no_info_before_validator_function(
+            _not_bool, core_schema.no_info_after_validator_function(self.check, handler(source)))
+
+
+_IN_RANGE: dict[str, _InRange] = {}
+
+
 def Num(name: str):
     """A float type for pydantic: finite and inside RANGES[name]."""
     RANGES[name]  # a KeyError here is a programming mistake
-
-    def check(value: float) -> float:
-        message = problem(name, value)
-        if message:
-            raise ValueError(message)
-        return value
-
-    return Annotated[float, BeforeValidator(_not_bool), AfterValidator(check)]
+    marker = _IN_RANGE.get(name)
+    if marker is None:
+        marker = _IN_RANGE[name] = _InRange(name)
+    return Annotated[float, marker]
 
 
 Mass = Num("mass")

@@ -22,7 +22,10 @@ M = TypeVar("M", bound=pydantic.BaseModel)
 class Spec(pydantic.BaseModel):
     """Base of every data-file model: unknown keys are errors, values are checked."""
 
-    model_config = pydantic.ConfigDict(extra="forbid", populate_by_name=True, frozen=False)
+    # defer_build: a model's validator is built when it first validates, so a command
+    # builds only the models it reads (``puppet check`` of a character, no interface's)
+    model_config = pydantic.ConfigDict(extra="forbid", populate_by_name=True, frozen=False,
+                                       defer_build=True)
 
 
 def _submodels(annotation: Any) -> list[type[pydantic.BaseModel]]:

@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.actions import ConditionSpec
 from puppet.physics.character import Character
 
@@ -28,15 +30,21 @@ def _lean(c: Character) -> Reader:
     return lean
 
 
+# Readers run at every poll of a state machine (each control step): they make pymunk's
+# own C calls (what Body.angle and Body.angular_velocity return), without the property.
+# ``c.bodies`` is looked up on every read: a restore re-binds the bodies.
+_get_angle, _get_spin = _cp.cpBodyGetAngle, _cp.cpBodyGetAngularVelocity
+
+
 def _angle(c: Character, link: str) -> Reader:
     """A link's world angle within one turn."""
     remainder = math.remainder
-    return lambda: remainder(c.bodies[link].angle, _TURN)
+    return lambda: remainder(_get_angle(c.bodies[link]._body), _TURN)
 
 
 def _spin(c: Character, link: str) -> Reader:
     """A link's angular velocity (rad/s, counter-clockwise)."""
-    return lambda: c.bodies[link].angular_velocity
+    return lambda: _get_spin(c.bodies[link]._body)
 
 
 def _com_dx(c: Character, name: str) -> Reader:
@@ -54,8 +62,11 @@ def _com_dx(c: Character, name: str) -> Reader:
 def _joint(c: Character, name: str) -> Reader:
     joint = c.spec.joint(name)
 
+    child, parent = joint.child, joint.parent
+
     def angle() -> float:  # c.bodies looked up on every read: a restore re-binds them
-        return c.bodies[joint.child].angle - c.bodies[joint.parent].angle
+        bodies = c.bodies
+        return _get_angle(bodies[child]._body) - _get_angle(bodies[parent]._body)
     return angle
 
 
@@ -109,12 +120,21 @@ def map_reader(sensor: str, character: Character) -> Reader:
     return read
 
 
+def compile_bounds(spec: ConditionSpec) -> tuple[float, float] | None:
+    """(lo, hi) such that the condition holds when lo < value < hi (``compile_test``'s
+    test, for a state machine to compare without a call); None for an ``is`` test."""
+    if spec.is_ is not None:
+        return None
+    conv = math.radians if _lookup(spec.sensor)[1] else float
+    lo = conv(spec.above) if spec.above is not None else -math.inf
+    hi = conv(spec.below) if spec.below is not None else math.inf
+    return lo, hi
+
+
 def compile_test(spec: ConditionSpec) -> Test:
     """The condition as a test on its sensor's value."""
     if spec.is_ is not None:
         want = spec.is_
         return lambda value: (value > 0.5) == want
-    conv = math.radians if _lookup(spec.sensor)[1] else float
-    lo = conv(spec.above) if spec.above is not None else -math.inf
-    hi = conv(spec.below) if spec.below is not None else math.inf
+    lo, hi = compile_bounds(spec)
     return lambda value: lo < value < hi

@@ -24,6 +24,19 @@ def shape(curve, u: float) -> float:
     return math.copysign(abs(u) ** p, u)
 
 
+def curve_function(curve):
+    """``shape(curve, .)`` decided once, when a map is compiled: None for linear, else a
+    function of u doing ``shape``'s arithmetic (a power curve is a model: comparing it
+    with "linear" at every input would run pydantic's ``__eq__``)."""
+    if curve == "linear":
+        return None
+    if curve == "smoothstep":
+        return hermite
+    p = curve.power
+    copysign = math.copysign
+    return lambda u: copysign(abs(u) ** p, u)
+
+
 def _grid_corners(rows: int, cols: int, mirror, x: float, y: float):
     """The four (row, col, weight) around (x, y) on a rows x cols grid."""
     if mirror:
@@ -108,9 +121,11 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
 
 def _compile_linear(spec, servos, channels=None):
     """A linear map's applier (``channels``: where ``channel.NAME`` inputs are read)."""
-    value = _unit(spec, channels)
     outs = [(servos[j], g) for j, g in spec.gains().items()]
     joints = tuple(spec.gains())
+    if spec.clamp and len(outs) == 1:
+        return _compile_clamped_linear(spec, outs[0], joints, channels)
+    value = _unit(spec, channels)
 
     def apply_linear(values):
         v = value(values)
@@ -122,12 +137,57 @@ def _compile_linear(spec, servos, channels=None):
     return apply_linear
 
 
+def _compile_clamped_linear(spec, out, joints, channels=None):
+    """The commonest map (one joint, clamped: nearly every mouse and channel map of the
+    shipped files) in one function: ``_unit``'s arithmetic, operation for operation (the
+    same bits), without its call; it runs for each map at every mouse move or stream
+    frame."""
+    (x0, x1), (y0, y1) = spec.from_, spec.to
+    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+    servo, gain = out
+    name = spec.input
+    f = curve_function(spec.curve)
+    if f is not None:
+        value = _unit(spec, channels)
+
+        def apply_curved(values):
+            v = value(values)
+            if v is None:
+                return ()
+            servo.target = gain * v
+            return joints
+        return apply_curved
+    if name.startswith(CHANNEL) and channels is not None:
+        name = name[len(CHANNEL):]  # read from the channels, by bare name
+        get = channels.get
+
+        def apply_channel(values):
+            v = get(name)
+            if v is None:
+                return ()
+            u = (v - x0) * inv
+            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            servo.target = gain * (lo + u * span)
+            return joints
+        return apply_channel
+
+    def apply_input(values):
+        v = values.get(name)
+        if v is None:
+            return ()
+        u = (v - x0) * inv
+        u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+        servo.target = gain * (lo + u * span)
+        return joints
+    return apply_input
+
+
 def _unit(spec, channels=None):
     """``value(values) -> the map's output in radians`` (None without its input); a
     ``channel.NAME`` input is read from ``channels`` by its bare name when given."""
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
-    clamp, curve, name = spec.clamp, spec.curve, spec.input
+    clamp, f, name = spec.clamp, curve_function(spec.curve), spec.input
     source = None
     if name.startswith(CHANNEL) and channels is not None:
         name, source = name[len(CHANNEL):], channels  # by bare name
@@ -139,7 +199,7 @@ def _unit(spec, channels=None):
         u = (v - x0) * inv
         if clamp:
             u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-        return lo + (u if curve == "linear" else shape(curve, u)) * span
+        return lo + (u if f is None else f(u)) * span
     return value
 
 

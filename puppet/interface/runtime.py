@@ -38,6 +38,7 @@ from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
 from puppet.interface.conditions import map_reader
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
@@ -77,6 +78,7 @@ class InterfaceRuntime:
                          for name, m in machines.items()}
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
+        self._machine_list = tuple(self.machines.values())  # (tick)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
         self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
                                for mname, m in machines.items()
@@ -111,10 +113,11 @@ class InterfaceRuntime:
                             self.perturber, self.tracker, self.frames, self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
+        self._controllers_wake: int | None = None  # the earliest of theirs
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
-        self._channel_maps: dict[tuple, tuple] = {}  # channel names -> maps reading them
-        self._pending: list[tuple] = []  # channel maps not yet applied (see _on_channels)
+        self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
         self.mode = spec.start_mode
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
@@ -193,6 +196,8 @@ class InterfaceRuntime:
         self.now = old.now
         self.inputs.update(old.inputs)
         self.channels.update(old.channels)
+        for _, values in old._pending:  # stored, as old's flush would (its maps are gone)
+            self.channels.update(values)
         self.held = set(old.held)
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
@@ -467,28 +472,37 @@ class InterfaceRuntime:
     def _on_channels(self, values: dict[str, float]) -> None:
         """Many named channels at one step (a mocap frame): like the mouse, a compiled
         path per set of names (their input names and the maps reading any of them).
-        The values are stored at once; the maps run when anything next happens (another
-        event, a tick, a step: ``flush``), so that of several frames arriving at one step
-        - a 120 Hz stream drained once per 60 Hz frame - only the last is written to the
-        servos: the same targets, and the same bits, at a fraction of the cost."""
+        The values and the maps are kept until anything next happens (another event, a
+        tick, a step: ``flush``), which stores the values and then runs the maps, so
+        that of several frames arriving at one step - a 120 Hz stream drained once per
+        60 Hz frame - only the last is written to the servos (the same targets, and the
+        same bits, at a fraction of the cost); a frame of the same channels as the one
+        before it replaces it (its values stand for both)."""
         names = tuple(values)
-        appliers = self._channel_maps.get(names)
-        if appliers is None:
-            appliers = self._channel_maps[names] = tuple(
-                self._compiled(tuple("channel." + n for n in names)))
-        self.channels.update(values)
+        entry = self._channel_maps.get(names)
+        if entry is None:  # (these names, the appliers of the maps reading any of them)
+            entry = self._channel_maps[names] = (names, tuple(
+                self._compiled(tuple("channel." + n for n in names))))
         if self.tracker.mode != OFF:
+            if self.tracker.lost:  # the stream is back: the tracker takes its joints
+                self.channels.update(values)  # by these values (stored again at flush)
             self.tracker.sampled(self.step_now())
         pending = self._pending
-        if appliers and not (pending and pending[-1] is appliers):
-            pending.append(appliers)
+        if pending and pending[-1][0] is entry:
+            pending[-1][1] = values
+        else:
+            pending.append([entry, values])
 
     def flush(self) -> None:
-        """Run the channel maps still pending, in the order their events came."""
+        """Store the pending channel values, then run their maps in the order their
+        events came."""
         pending, self._pending = self._pending, []
+        channels = self.channels
+        for _, values in pending:
+            channels.update(values)
         store, table = self.inputs, self.owners.table
-        for appliers in pending:
-            for apply in appliers:
+        for entry, _ in pending:
+            for apply in entry[1]:
                 written = apply(store)
                 if table:
                     self.owners.take(written)
@@ -627,24 +641,27 @@ class InterfaceRuntime:
         if self._pending:
             self.flush()
         active = self._active
+        waited = True  # every controller only waited (see controllers.base.WAITED)
         for controller in active:
-            controller.tick(step)
+            if controller.tick(step) is not WAITED:
+                waited = False
         moved = False
-        for machine in self.machines.values():
+        for machine in self._machine_list:
             to = machine.due(step)
-            for _ in range(MAX_CHAINED_GOTOS):
-                if to is None:
-                    break
-                self._enter_state(to[0], to[1], step, 0)
-                moved = True
-                to = machine.due(step)
-        if active or moved:
+            if to is not None:
+                for _ in range(MAX_CHAINED_GOTOS):
+                    self._enter_state(to[0], to[1], step, 0)
+                    moved = True
+                    to = machine.due(step)
+                    if to is None:
+                        break
+        if moved or not waited:
             self._reschedule(step + 1)
-        else:  # every controller idle and no state entered: only the machines can be due
-            earliest = step + 1
-            wake = None
-            for machine in self.machines.values():
-                at = machine.next_wakeup(earliest)
+        else:  # every controller idle or waiting, and no state entered: the controllers'
+            earliest = step + 1  # wake-ups stand, only the machines' move on
+            wake = self._controllers_wake
+            for machine in self._machine_list:
+                at = machine.wake_after  # next_wakeup(earliest), worked out by due
                 if at is not None and (wake is None or at < wake):
                     wake = at
             self.next_wakeup = wake if wake is None or wake > earliest else earliest
@@ -661,6 +678,7 @@ class InterfaceRuntime:
                 if at is not None:
                     active.append(controller)
                     wake = at if wake is None or at < wake else wake
+        self._controllers_wake = wake
         for machine in self.machines.values():
             at = machine.next_wakeup(earliest)
             if at is not None and (wake is None or at < wake):

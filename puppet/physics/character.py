@@ -185,13 +185,6 @@ class Character:
                                               for b in bodies.values()])
         return cached[1]
 
-    def root_motion(self) -> tuple[float, float, float, float]:
-        """The root link's x, y and velocity (the same C calls as pymunk's ``position``
-        and ``velocity``, without their Vec2d: the session reads it every frame)."""
-        body = self.bodies[self.root]._body
-        p, v = _cp.cpBodyGetPosition(body), _cp.cpBodyGetVelocity(body)
-        return p.x, p.y, v.x, v.y
-
     def com(self) -> tuple[float, float]:
         """Centre of mass, world m."""
         mx = my = 0.0
@@ -242,6 +235,8 @@ class Character:
         return self.servos[name].angle
 
     def link_position(self, name: str) -> tuple[float, float]:
-        body = self.bodies[name]
-        p = body.local_to_world(body.center_of_gravity)
-        return (p[0], p[1])
+        """A link's centre of mass in the world (pymunk's ``local_to_world`` of its
+        ``center_of_gravity``, through the same C calls: sensors read it each step)."""
+        cb = self.bodies[name]._body
+        p = _cp.cpBodyLocalToWorld(cb, _cp.cpBodyGetCenterOfGravity(cb))
+        return (p.x, p.y)

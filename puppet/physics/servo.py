@@ -18,6 +18,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 # triple the cost of the hot input-to-target path (maps write a target per joint per
 # event). The value written is the same.
 _SET_REST_ANGLE = _cp.cpDampedRotarySpringSetRestAngle
+_GET_REST_ANGLE = _cp.cpDampedRotarySpringGetRestAngle  # (what spring.rest_angle returns)
 
 
 class PDServo:
@@ -49,7 +50,7 @@ class PDServo:
 
     @property
     def target(self) -> float:
-        return self.spring.rest_angle
+        return _GET_REST_ANGLE(self.spring._constraint)
 
     @target.setter
     def target(self, value: float) -> None:

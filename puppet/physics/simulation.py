@@ -21,6 +21,7 @@ import pickle
 import struct
 
 import pymunk
+from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec
 from puppet.data.scenes import SceneSpec
@@ -74,6 +75,8 @@ class Simulation:
         return self.steps * self.dt
 
     def step(self, n: int = 1) -> None:
+        # Session.advance steps the space itself, the same way (its hot loop): keep the
+        # two alike.
         space_step, dt = self.space.step, self.dt
         for _ in range(n):
             space_step(dt)
@@ -217,12 +220,17 @@ class Simulation:
         return hashlib.sha256(struct.pack(f"<{len(vec)}d", *vec)).hexdigest()[:16]
 
     def blown_up(self) -> bool:
-        """NaN or runaway velocity anywhere (the state can no longer be trusted)."""
+        """NaN or runaway velocity anywhere (the state can no longer be trusted). It runs
+        at every health check (each 0.5 s of a run), so it reads the bodies through
+        pymunk's own C calls (what ``velocity``, ``position`` and ``angle`` return)."""
+        isfinite = math.isfinite
         for b in self.character.bodies.values():
-            vx, vy = b.velocity
-            w = b.angular_velocity
-            x, y = b.position
-            if not all(math.isfinite(v) for v in (vx, vy, w, x, y, b.angle)):
+            cb = b._body
+            v, p = _cp.cpBodyGetVelocity(cb), _cp.cpBodyGetPosition(cb)
+            vx, vy, x, y = v.x, v.y, p.x, p.y
+            w = _cp.cpBodyGetAngularVelocity(cb)
+            if not (isfinite(vx) and isfinite(vy) and isfinite(w) and isfinite(x)
+                    and isfinite(y) and isfinite(_cp.cpBodyGetAngle(cb))):
                 return True
             if vx * vx + vy * vy > MAX_SPEED ** 2 or abs(w) > 50 * MAX_SPEED:
                 return True

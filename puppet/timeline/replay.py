@@ -14,16 +14,19 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from puppet import __version__
 from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
-from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
 from puppet.timeline.log import Log, read_log
 from puppet.timeline.playback import next_move, play
+
+if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
+    import numpy as np
+
+    from puppet.timeline.expectations import Outcome
 
 SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
 
@@ -160,6 +163,8 @@ class Sampler:
                           else self._no_channels, rt.state, rt.mode))
 
     def trajectory(self) -> Trajectory:
+        import numpy as np
+
         rows = self.rows
         n, nl, nj = len(rows), len(self.links), len(self.joints)
         link = np.array([r[2] for r in rows], dtype=float).reshape(n, nl, 5)
@@ -349,7 +354,11 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     path = log.path
     setup, warnings = setup_for_log(log, as_recorded)
     warnings += cut_warnings(log)
-    expectations = load_expectations(path, log.header) if check else None
+    expectations = None
+    if check:  # a plain replay does not import numpy or the expectations (process start)
+        from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
+
+        expectations = load_expectations(path, log.header)
     session = new_session(log, setup)
     if expectations is not None:
         expectations.check_links(list(session.character.link_order))

@@ -6,12 +6,20 @@ from typing import Protocol
 
 from puppet.interface.ownership import Owner
 
+# What ``tick`` may return when, at this step, it only waited: it changed nothing at all
+# and its ``next_wakeup`` stands (a sequence holding its pose, a control-rate controller
+# between its steps). The arbiter then keeps its schedule instead of asking every
+# controller again (the state machines poll each frame: the hot path). Anything else
+# (None) means "something may have changed": the arbiter reschedules.
+WAITED = "waited"
+
 
 class Controller(Protocol):
     BUSY: str  # the name of an attribute that is truthy whenever the controller has work
     # (running sequence, armed grasps...): the arbiter asks ``next_wakeup`` only then
-    def tick(self, step: int) -> None:
-        """Do what is due at ``step`` (called before stepping from it)."""
+    def tick(self, step: int) -> str | None:
+        """Do what is due at ``step`` (called before stepping from it); ``WAITED`` if
+        there was nothing to do."""
 
     def next_wakeup(self, earliest: int) -> int | None:
         """The first step >= ``earliest`` at which ``tick`` must run; None when idle."""

@@ -18,6 +18,7 @@ mode or state is entered) until a later action takes them, like any map.
 
 from __future__ import annotations
 
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FEEDBACK, JointOwners, Owner
 
 
@@ -44,9 +45,9 @@ class Feedback:
     def claim(self, joints) -> None:
         self.owners_table.claim(joints, FEEDBACK)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         if step % self.every:
-            return
+            return WAITED  # between control steps
         values = self.inputs
         for name, read in self.readers:
             values[name] = read()

@@ -13,10 +13,14 @@ from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FRAME, JointOwners, Owner
 from puppet.interface.poses import FrameTarget
 
 _TURN = 2.0 * math.pi
+_angle = _cp.cpBodyGetAngle
 
 
 class FrameTargets:
@@ -42,20 +46,24 @@ class FrameTargets:
         self.held.pop(joint, None)
 
     def _solve(self, joint: str, target: FrameTarget) -> None:
+        # (angles through pymunk's own C call, what Body.angle returns: this runs for
+        # every held joint at every control step)
         c = self.character
+        bodies = c.bodies
         spec = self.joints[joint]
-        parent, child = c.bodies[spec.parent], c.bodies[spec.child]
-        want = target.angle + (0.0 if target.ref is None else c.bodies[target.ref].angle)
+        parent = _angle(bodies[spec.parent]._body)
+        child = _angle(bodies[spec.child]._body)
+        want = target.angle + (0.0 if target.ref is None else _angle(bodies[target.ref]._body))
         if target.hold_parent:  # the parent at ``want``: child - want
-            q = child.angle - want
+            q = child - want
         else:  # the child at ``want``: want - parent
-            q = want - parent.angle
-        now = child.angle - parent.angle  # the same turn as the joint is in now
+            q = want - parent
+        now = child - parent  # the same turn as the joint is in now
         c.servos[joint].target = now + math.remainder(q - now, _TURN)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         if step % self.every:
-            return
+            return WAITED  # between control steps
         table = self.owners_table.table
         for joint, (target, owner) in list(self.held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go

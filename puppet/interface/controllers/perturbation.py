@@ -10,6 +10,7 @@ from __future__ import annotations
 import random
 
 from puppet.data.actions import PerturbSpec
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import Owner
 
 
@@ -32,15 +33,17 @@ class Perturber:
         self.on = (not self.on) if how == "toggle" else how == "on"
         self.next_kick = now if self.on else None
 
-    def tick(self, step: int) -> None:
-        if self.on and self.next_kick is not None and step >= self.next_kick:
-            sigma = self.spec.impulse
-            self.used = True
-            character = self.character
-            for name in character.link_order:
-                body = character.bodies[name]
-                body.angular_velocity += self.rng.gauss(0.0, sigma) / body.moment
-            self.next_kick = step + self.every
+    def tick(self, step: int) -> str | None:
+        if not (self.on and self.next_kick is not None and step >= self.next_kick):
+            return WAITED  # no kick due
+        sigma = self.spec.impulse
+        self.used = True
+        character = self.character
+        for name in character.link_order:
+            body = character.bodies[name]
+            body.angular_velocity += self.rng.gauss(0.0, sigma) / body.moment
+        self.next_kick = step + self.every
+        return None
 
     def next_wakeup(self, earliest: int) -> int | None:
         return self.next_kick if self.on else None

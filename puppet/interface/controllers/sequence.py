@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from puppet.data.actions import SequenceStepSpec
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import SEQUENCE, JointOwners, Owner
 from puppet.interface.poses import Pose, apply_pose
 
@@ -59,11 +60,22 @@ class SequenceController:
         plan = self.plans[name]
         plays = None if repeat == "forever" else (repeat or 1)
         self.running = RunningSequence(name, 0, now + plan[0][1], plays)
-        joints = set()
-        for pose_name, _ in plan:
-            joints |= self.poses[pose_name].joints
-        self.owners_table.claim(joints, SEQUENCE)
+        self.owners_table.claim(self._joints_of(name), SEQUENCE)
         apply_pose(self.servos, self.poses[plan[0][0]], None, self.frames, SEQUENCE)
+
+    def _joints_of(self, name: str) -> set[str]:
+        """Every joint sequence ``name``'s poses set, worked out once per set of poses
+        (the runtime replaces ``poses`` when the roles are bound anew)."""
+        cache = self.__dict__.get("_joints")
+        if cache is None or cache[0] is not self.poses:
+            cache = self._joints = (self.poses, {})
+        joints = cache[1].get(name)
+        if joints is None:
+            joints = set()
+            for pose_name, _ in self.plans[name]:
+                joints |= self.poses[pose_name].joints
+            cache[1][name] = joints
+        return joints
 
     def _next_pose(self, running: RunningSequence) -> str | None:
         """Move on to the next step; its pose name, or None when the sequence is over."""
@@ -78,11 +90,16 @@ class SequenceController:
         running.until += steps[running.index][1]
         return steps[running.index][0]
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         seq = self.running
         if seq is None:
-            return
+            return None
         owners = self.owners_table
+        if step < seq.until:  # holding a pose
+            if SEQUENCE in owners.table.values():  # (holds_any, inline)
+                return WAITED
+            self.running = None  # every joint taken back: it has ended
+            return None
         while seq is not None and step >= seq.until:
             pose_name = self._next_pose(seq)
             if pose_name is None:
@@ -91,8 +108,9 @@ class SequenceController:
             else:
                 apply_pose(self.servos, self.poses[pose_name], owners.owned(SEQUENCE),
                            self.frames, SEQUENCE)
-        if seq is not None and not owners.holds_any(SEQUENCE):
+        if seq is not None and SEQUENCE not in owners.table.values():  # (holds_any, inline)
             self.running = None  # every joint taken back: it has ended
+        return None
 
     def next_wakeup(self, earliest: int) -> int | None:
         return None if self.running is None else self.running.until

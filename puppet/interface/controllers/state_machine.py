@@ -11,7 +11,7 @@ activating its maps) is the runtime's work: ``due`` only says where to go.
 
 from __future__ import annotations
 
-from puppet.interface.conditions import compile_test, reader
+from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
 
@@ -36,6 +36,21 @@ class StateMachine:
         if tables is None:
             tables = self._tables[binding] = self._compile(rename)
         self.transitions, self.first_due = tables
+        self._now_in(self.__dict__.get("current", self.initial))
+
+    def _now_in(self, state: str) -> None:
+        """The current state's transitions and first due steps, looked up once per
+        state change rather than at each poll (``due`` runs every control step)."""
+        ts = self._transitions = self.transitions[state]
+        self._polled, self._timer = self.first_due[state]
+        # The commonest state (luxo-keys' upright, a gait's phases): every transition a
+        # range condition on one sensor, from the moment the state is entered. ``due``
+        # then reads that sensor and compares, nothing else: ``_one_sensor`` is the
+        # reader and the (state to go to, lo, hi) in order.
+        self._one_sensor = None
+        if ts and all(after == 0 and read is ts[0][2] and test is None
+                      for _, after, read, test, _, _ in ts):
+            self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
 
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
@@ -45,11 +60,15 @@ class StateMachine:
                    for t in [*state.transitions, *shared] if t.when is not None}
 
         def compiled(t):
+            bounds = compile_bounds(t.when) if t.when is not None else None
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
                     readers[t.when.sensor] if t.when is not None else None,
-                    compile_test(t.when) if t.when is not None else None)
-        # state -> [((machine, to), min steps in state, sensor reader or None, test)]:
-        # the state's own transitions first, then any_state's that lead elsewhere
+                    compile_test(t.when) if t.when is not None and bounds is None else None,
+                    *(bounds or (None, None)))
+        # state -> [((machine, to), min steps in state, sensor reader or None, test, lo,
+        # hi)]: a sensor's test is lo < value < hi (compared here, not called) or, for
+        # an ``is`` condition, the function ``test``; the state's own transitions first,
+        # then any_state's that lead elsewhere
         transitions = {
             sname: [compiled(t) for t in state.transitions]
             + [compiled(t) for t in shared if interface.resolve_goto(t.to, name) != (name, sname)]
@@ -57,17 +76,18 @@ class StateMachine:
         # state -> (min steps in state before a sensor transition is polled, before a
         # timer-only transition fires): next_wakeup is asked after every tick.
         first_due = {
-            sname: (min((a for _, a, s, _ in ts if s is not None), default=None),
-                    min((a for _, a, s, _ in ts if s is None), default=None))
+            sname: (min((a for _, a, s, *_ in ts if s is not None), default=None),
+                    min((a for _, a, s, *_ in ts if s is None), default=None))
             for sname, ts in transitions.items()}
         return transitions, first_due
 
     def enter(self, state: str, now: int) -> None:
         self.current, self.entered = state, now
+        self._now_in(state)
 
     def next_wakeup(self, earliest: int) -> int | None:
         """The first step >= earliest at which a transition could fire."""
-        polled, timer = self.first_due[self.current]
+        polled, timer = self._polled, self._timer
         best = None
         if polled is not None:
             at = self.entered + polled
@@ -82,19 +102,42 @@ class StateMachine:
     def due(self, now: int) -> tuple[str, str] | None:
         """(machine, state) to go to now, if a transition fires (first listed wins).
         Sensors are polled on multiples of ``every``; conditions listed one after
-        another on the same sensor share one reading."""
-        polling = now % self.every == 0
+        another on the same sensor share one reading. When none fires, ``wake_after``
+        is ``next_wakeup(now + 1)`` (the arbiter's next schedule, without a call)."""
+        every = self.every
+        one = self._one_sensor
+        if one is not None and not now % every:  # (see _now_in)
+            value = one[0]()
+            for to, lo, hi in one[1]:
+                if lo < value < hi:
+                    return to
+            self.wake_after = now + every  # the next poll: next_wakeup(now + 1)
+            return None
+        polling = now % every == 0
         last = value = None
-        for to, after, read, test in self.transitions[self.current]:
-            if now < self.entered + after:
+        since = now - self.entered
+        for to, after, read, test, lo, hi in self._transitions:
+            if since < after:
                 continue
             if read is None:
                 return to
             if polling:
                 if read is not last:
                     value, last = read(), read
-                if test(value):
+                if (lo < value < hi) if test is None else test(value):
                     return to
+        earliest = now + 1  # next_wakeup(earliest), inline: this runs at every poll
+        polled, timer = self._polled, self._timer
+        best = None
+        if polled is not None:
+            at = self.entered + polled
+            at = at if at > earliest else earliest
+            best = -(-at // self.every) * self.every
+        if timer is not None:
+            at = self.entered + timer
+            at = at if at > earliest else earliest
+            best = at if best is None or at < best else best
+        self.wake_after = best
         return None
 
     def owners(self) -> set[Owner]:
@@ -105,6 +148,8 @@ class StateMachine:
 
     def set_state(self, state) -> None:
         self.current, self.entered = state
+        self._now_in(self.current)
 
     def stop(self) -> None:
         self.current, self.entered = self.initial, 0
+        self._now_in(self.current)

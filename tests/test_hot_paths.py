@@ -1,0 +1,169 @@
+"""The hot paths made faster for the bench give what the plain paths give: the channel
+frames kept until the next flush and the inline clamped linear map."""
+
+from __future__ import annotations
+
+import math
+
+from puppet.bench import channel_interface_text
+from puppet.data.catalog import load_character_named, load_setup, setup_from_text
+from puppet.interface import events as ev
+from puppet.interface import maps as mapping
+from puppet.session import Session
+
+
+def _setup(tmp_path):
+    cat, _ = load_character_named("cat")
+    path = tmp_path / "channels.yaml"
+    path.write_text(channel_interface_text(cat, "cat-flat", count=6))
+    return load_setup(str(path))
+
+
+def test_channel_frames_of_other_names_at_one_step_are_stored_in_their_order(tmp_path):
+    session = Session(_setup(tmp_path))
+    frames = [{"c0": 0.5, "c1": -0.5}, {"c2": 0.25}, {"c0": -0.75, "c1": 0.1},
+              {"c0": 0.3, "c1": 0.9}, {"x": 2.0}]
+    for values in frames:
+        session.handle(ev.channels(values))
+    assert session.runtime.channels == {}  # kept until the next flush...
+    session.runtime.flush()
+    want: dict = {}
+    for values in frames:
+        want.update(values)
+    assert session.runtime.channels == want  # ...then the last value of each name
+    servos = session.character.servos
+    alone = Session(_setup(tmp_path))
+    alone.handle(ev.channels(want))
+    alone.runtime.flush()
+    assert [s.target for s in servos.values()] == \
+        [s.target for s in alone.character.servos.values()]
+    session.advance(40)
+    alone.advance(40)
+    assert session.sim.state_hash() == alone.sim.state_hash()
+
+
+def test_a_hot_reload_keeps_the_channel_values_not_yet_flushed(tmp_path):
+    setup = _setup(tmp_path)
+    session = Session(setup)
+    old = session.runtime
+    old._on_channels({"c3": 0.6})  # straight to the runtime: nothing flushes it
+    session.reload((tmp_path / "channels.yaml").read_text())
+    assert session.runtime is not old
+    assert session.runtime.read_input("channel.c3") == 0.6
+
+
+def test_the_compiled_maps_give_the_plain_formulas_bits():
+    text = ("name: t\ndescription: t\ncharacter: luxo\nmaps:\n"
+            "  - {input: mouse.x, joint: ankle, from: [0.1, 0.9], to: [80, -75.3]}\n"
+            "  - {input: channel.k, joint: knee, from: [-1, 1.5], to: [-17, 133]}\n"
+            "  - {input: mouse.y, joint: knee, to: [150, 0], curve: {power: 0.66}}\n"
+            "  - {input: channel.s, joint: ankle, from: [0, 2], to: [30, -80],"
+            " curve: smoothstep}\n"
+            "  - {input: mouse.x, joints: {ankle: -0.5}, from: [0.2, 0.7], to: [10, 40],"
+            " clamp: false, curve: {power: 2}}\n")
+    setup = setup_from_text(text, "t.yaml")
+    session = Session(setup)
+    servos = session.character.servos
+    channels: dict = {}
+    for m in setup.interface.maps:
+        fast = mapping.compile_map(m, servos, {}, channels)
+        (x0, x1), (y0, y1) = m.from_, m.to
+        for v in (-3.0, -1.0, 0.0, 0.1, 0.37, 0.9, 1.2, 1.5, 1e6, math.nan):
+            channels[m.input.removeprefix("channel.")] = v
+            fast({m.input: v})
+            u = (v - x0) * (1.0 / (x1 - x0))
+            if m.clamp:
+                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            value = math.radians(y0) + mapping.shape(m.curve, u) * math.radians(y1 - y0)
+            for joint, gain in m.gains().items():
+                got, want = servos[joint].target, gain * value
+                assert got == want or (math.isnan(got) and math.isnan(want)), (m, v)
+
+
+def _checked_ticks(session):
+    """Wrap the runtime's tick: after each, the schedule it kept (the WAITED shortcut)
+    must be the one a full reschedule computes."""
+    runtime = session.runtime
+    tick = runtime.tick
+    seen = {"ticks": 0, "kept": 0}
+
+    def checked(step):
+        waiting_before = list(runtime._active)
+        tick(step)
+        kept = (runtime.next_wakeup, list(runtime._active))
+        runtime._reschedule(step + 1)
+        assert (runtime.next_wakeup, runtime._active) == kept, step
+        seen["ticks"] += 1
+        seen["kept"] += bool(waiting_before)
+    runtime.tick = checked
+    return seen
+
+
+def test_a_tick_that_only_waited_keeps_the_schedule_a_full_reschedule_gives():
+    from puppet.bench import gesture
+    from puppet.data.catalog import load_setup
+
+    # luxo-keys: 13 s of key taps, a key a second (sequences, then poses that take a
+    # running sequence's joints), its state machine polled every frame; biped-step:
+    # feedback maps and frame targets at the control rate
+    for name, frames in (("luxo-keys", 800), ("biped-step", 150)):
+        setup = load_setup(name)
+        session = Session(setup, keyframes=False)
+        seen = _checked_ticks(session)
+        for batch in gesture(frames, setup.interface):
+            for event in batch:
+                session.handle(event)
+            for _ in range(8):
+                session.advance(1)
+        assert seen["ticks"] > 100 and seen["kept"] > 10, (name, seen)
+
+
+def test_a_one_sensor_state_polls_as_the_general_loop_does():
+    from puppet.data.catalog import load_setup
+
+    session = Session(load_setup("luxo-keys"), keyframes=False)
+    machine = session.runtime.machines["main"]
+    assert machine.current == "upright" and machine._one_sensor is not None
+    root = session.character.bodies[session.character.spec.root]
+    fast = machine._one_sensor
+    for degrees in (-179.0, -100.5, -100.0, -99.0, 0.0, 99.9, 100.0, 100.01, 170.0, 181.0):
+        root.angle = math.radians(degrees)
+        for step in (0, 8, 16, 19):  # polled steps and one between polls
+            machine._one_sensor = fast
+            got = (machine.due(step), getattr(machine, "wake_after", None))
+            machine._one_sensor = None  # the general loop
+            want = machine.due(step)
+            assert got[0] == want, (degrees, step)
+            if want is None and step % machine.every == 0:
+                assert got[1] == machine.next_wakeup(step + 1)
+            machine.wake_after = None
+    machine._one_sensor = fast
+
+
+def test_a_process_imports_only_what_its_command_needs():
+    """Process start: --version imports no models, a character's check no interface
+    models, a plain replay neither numpy nor the expectations (a fresh interpreter)."""
+    import subprocess
+    import sys
+
+    from puppet.data.catalog import ROOT
+
+    probe = ("import sys, contextlib, io\n"
+             "from puppet.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             "    try:\n"
+             "        main(sys.argv[1:])\n"
+             "    except SystemExit:\n"
+             "        pass\n"
+             "print(' '.join(m for m in ('pydantic', 'numpy', 'pygame', 'puppet.data.interfaces',"
+             " 'puppet.timeline.expectations') if m in sys.modules))\n")
+
+    def loaded(*args):
+        out = subprocess.run([sys.executable, "-c", probe, *args], cwd=ROOT, check=True,
+                             capture_output=True, text=True).stdout.split()
+        return set(out)
+
+    assert loaded("--version") == set()
+    assert loaded("check", "characters/luxo.yaml") == {"pydantic"}
+    assert loaded("replay", "luxo-hop", "--headless") == {"pydantic", "puppet.data.interfaces"}
+    assert "numpy" in loaded("replay", "luxo-hop", "--headless", "--check")
