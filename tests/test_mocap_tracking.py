@@ -234,3 +234,26 @@ def test_a_mapping_that_cannot_feed_the_tracking_is_refused(tmp_path):
     with pytest.raises(DataError, match="root.angle") as err:
         check_file(folder / "m.yaml")
     assert "m.yaml:" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_state_changes_on_a_channel_condition():
+    """Conditions read channels like sensors: a performer's jump (clearance) switches
+    the state; before any value the condition never holds."""
+    text = _interface(**{"control_rate: 120\n": """control_rate: 120
+states:
+  grounded:
+    transitions:
+      - {to: airborne, when: {sensor: channel.clearance, above: 0.05}}
+  airborne:
+    transitions:
+      - {to: grounded, when: {sensor: channel.clearance, below: 0.01}}
+"""})
+    s = Session(setup_from_text(text, MOCAP))
+    s.advance(120)
+    assert s.runtime.state == "grounded"  # no value yet
+    s.handle(ev.channels({"clearance": 0.2}))
+    s.advance(8)
+    assert s.runtime.state == "airborne"
+    s.handle(ev.channels({"clearance": 0.0}))
+    s.advance(8)
+    assert s.runtime.state == "grounded"

@@ -111,7 +111,8 @@ class ConditionSpec(Spec):
     Sensors: joint.JOINT (deg), angle.LINK (deg, world, -180..180), root.angle (deg,
     -180..180), lean (deg of
     the root-to-centre-of-mass line from vertical, + toward +x), com.x, com.y (m),
-    com.vx, com.vy (m/s), height.LINK (m, link centre), contact.LINK (true/false).
+    com.vx, com.vy (m/s), height.LINK (m, link centre), contact.LINK (true/false),
+    channel.NAME (an input channel, in the plugin's units: a mocap channel).
     """
 
     sensor: str

@@ -217,6 +217,9 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
     link in it may be a role (``roles``: role -> binding -> name), checked per binding."""
     if sensor in FIXED_SENSORS:
         return None
+    if sensor.startswith("channel."):  # an input channel (a mocap plugin's): any name
+        return None if len(sensor) > len("channel.") else "a channel sensor needs a " \
+            "name: channel.NAME"
     for role, targets in (roles or {}).items():
         if sensor.endswith("." + role):
             for name in targets.values():
@@ -238,7 +241,7 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
         return None if name in links else unknown("link", name, links,
                                                   f" for character '{character.name}'")
     forms = list(FIXED_SENSORS) + [f"{k}.JOINT" for k in JOINT_SENSORS] + \
-        [f"{k}.LINK" for k in LINK_SENSORS]
+        [f"{k}.LINK" for k in LINK_SENSORS] + ["channel.NAME"]
     return unknown("sensor", sensor, forms)
 
 

@@ -104,8 +104,16 @@ def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
     raise ValueError(f"unknown sensor '{sensor}'")
 
 
-def reader(sensor: str, character: Character) -> Reader:
-    """A zero-argument reader of the sensor's current value (SI units)."""
+_NAN = float("nan")
+
+
+def reader(sensor: str, character: Character, channels: dict | None = None) -> Reader:
+    """A zero-argument reader of the sensor's current value (SI units). ``channel.NAME``
+    reads the input channel from ``channels`` (the runtime's), in the plugin's own
+    units; NaN - no condition holds - until its first value comes."""
+    if sensor.startswith("channel."):
+        name, values = sensor[len("channel."):], channels if channels is not None else {}
+        return lambda: values.get(name, _NAN)
     make, _, args = _lookup(sensor)
     return make(character, *args)
 
@@ -125,7 +133,8 @@ def compile_bounds(spec: ConditionSpec) -> tuple[float, float] | None:
     test, for a state machine to compare without a call); None for an ``is`` test."""
     if spec.is_ is not None:
         return None
-    conv = math.radians if _lookup(spec.sensor)[1] else float
+    angle = not spec.sensor.startswith("channel.") and _lookup(spec.sensor)[1]
+    conv = math.radians if angle else float
     lo = conv(spec.above) if spec.above is not None else -math.inf
     hi = conv(spec.below) if spec.below is not None else math.inf
     return lo, hi
