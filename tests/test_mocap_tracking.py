@@ -257,3 +257,27 @@ states:
     s.handle(ev.channels({"clearance": 0.0}))
     s.advance(8)
     assert s.runtime.state == "grounded"
+
+
+def test_a_large_push_makes_a_protective_step(walk):
+    """Shoved forward while standing: judged large, one foot is lifted and put down
+    ahead, past the extrapolated centre of mass, and the figure stays up."""
+    s = Session(load_setup("biped-mocap"))
+    dt = s.sim.dt
+    events = ClipSource(walk).events(dt, 3.0)
+    run(s, events, round(0.5 / dt))
+    c, tracker = s.character, s.runtime.tracker
+    s.handle({"type": "push", "link": "chest", "impulse": [30.0, 0.0]})
+    start = s.steps
+    run(s, [e for e in events if e[0] >= start], start + 8)
+    assert tracker.reaction[0] == "large" and tracker.step is not None
+    foot, _, x0, _, x1, _ = tracker.step
+    assert x1 > x0 + 0.05  # ahead: the way the push went
+    peak = 0.0
+    for _ in range(round(tracker.spec.reaction.step_time / dt / 8)):
+        run(s, [e for e in events if e[0] >= s.steps], s.steps + 8)
+        peak = max(peak, min(sh.cache_bb().bottom for sh in c.shapes[foot]))
+    assert peak > 0.05  # lifted
+    assert c.link_position(foot)[0] > x0 + 0.05 and c.in_contact(foot)  # put down ahead
+    run(s, [e for e in events if e[0] >= s.steps], s.steps + round(1.5 / dt))
+    assert c.upright()

@@ -63,15 +63,21 @@ class ReactionSpec(Spec):
     step by the extrapolated centre of mass against the support (the feet on the
     ground, widened to where the performance's own would be): inside it or within
     ``small_margin`` m of it, ``small`` (a dip, then recover); beyond it by up to
-    ``step_margin`` m, ``large`` (longer and weaker: the joints keep tracking the
-    performance, so the figure takes its steps under its own balance, then the pulls
-    come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
+    ``step_margin`` m, ``large`` (longer and weaker, and one foot of ``feet`` makes a
+    protective step: lifted and put down ``step_past`` beyond the extrapolated centre
+    of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
     it back up: the get-up)."""
 
     small_margin: Num("corner") = Field(0.05, description="m beyond the support: still "
                                                           "small")
     step_margin: Num("size") = Field(0.3, description="m beyond the support: large, "
                                                       "not a fall")
+    step_time: Num("positive_duration") = Field(
+        0.35, description="s a large push's protective step takes (a foot of 'feet' "
+                          "lifted and put down past the extrapolated centre of mass)")
+    step_lift: Num("corner") = Field(0.1, description="m the stepping foot is lifted")
+    step_past: Num("corner") = Field(0.1, description="m past the extrapolated centre "
+                                                      "of mass the foot lands")
     small: ReactionCaseSpec = ReactionCaseSpec(weight=0.3, hold=0.15, recover=0.5)
     large: ReactionCaseSpec = ReactionCaseSpec(weight=0.1, hold=0.5, recover=1.0)
     fall: ReactionCaseSpec = ReactionCaseSpec(weight=0, hold=1.5, recover=2.0)

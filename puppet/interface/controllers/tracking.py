@@ -77,7 +77,7 @@ class Tracker:
         self.mode = mode
         self.lost = False
         self.impact_at = None
-        self.reaction = None
+        self.reaction = self.step = None
         self.prev = None
         if mode == OFF:
             self.busy = False
@@ -92,7 +92,7 @@ class Tracker:
         self.kinematic = (not self.kinematic) if how == "toggle" else how == "on"
         self.prev = None
         if not self.kinematic:
-            self.impact_at = self.reaction = None
+            self.impact_at = self.reaction = self.step = None
 
     def sampled(self, now: int) -> None:
         """A channels frame arrived (the runtime's fast path calls this)."""
@@ -146,6 +146,24 @@ class Tracker:
                 "large" if beyond <= r.step_margin else "fall")
         self.reaction = (case, step)
         self.impact_at = None
+        self.step = None
+        if case == "large" and self.soles and b.support is not None and beyond > 0:
+            self.step = self._protective_step(step, b, 1.0 if b.xcom > b.support[1]
+                                              else -1.0)
+
+    def _protective_step(self, step: int, b, way: float) -> list:
+        """[foot, start step, from x, from y, to x, to y]: the foot off the ground (else
+        the one behind, going ``way``) steps to just past the extrapolated centre of
+        mass (Oshita's protective step), its centre of mass where a flat foot's is."""
+        c, r = self.character, self.spec.reaction
+        feet = list(self.soles)
+        free = [f for f in feet if not c.in_contact(f)]
+        foot = free[0] if free else min(feet, key=lambda f: way * c.link_position(f)[0])
+        x0, y0 = c.link_position(foot)
+        x1 = b.xcom + way * r.step_past
+        ground = self.ground_at(x1) if self.ground_at is not None else None
+        y1 = (ground if ground is not None else b.ground_y) + c.bodies[foot].center_of_gravity[1]
+        return [foot, step, x0, y0, x1, y1]
 
     def _weight(self, step: int) -> float:
         """How much of the pulls acts now (1 without a reaction)."""
@@ -158,7 +176,7 @@ class Tracker:
             return spec.weight
         t -= spec.hold
         if t >= spec.recover:
-            self.reaction = None
+            self.reaction = self.step = None
             return 1.0
         return spec.weight + (1.0 - spec.weight) * t / spec.recover
 
@@ -294,6 +312,7 @@ class Tracker:
             vx = sum(c.bodies[n].mass * v[0] for n, v in vel.items()) / mass
             self._react(step, com, vx)
         weight = self._weight(step)
+        stepping = self.step[0] if self.step is not None else None
         table, joint_of = self.owners_table.table, self.joint_of
         for name in self.pulled:
             joint = joint_of.get(name)
@@ -302,7 +321,11 @@ class Tracker:
             body = c.bodies[name]
             px, py = targets[name][0], targets[name][1]
             s = scale.get(name, 1.0)
-            k, d = preset.kp * s * weight, preset.dp * math.sqrt(s) * weight  # same ratio
+            w = weight
+            if name == stepping:  # the protective step, then back to the performance
+                px, py = self._stepped(step, weight, px, py)
+                w = 1.0
+            k, d = preset.kp * s * w, preset.dp * math.sqrt(s) * w  # same ratio
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, (0.0, 0.0))
@@ -323,6 +346,19 @@ class Tracker:
                 body.angular_velocity = ((inertia * w / T + kt * turn
                                           + dt_ * self.spin.get(name, 0.0))
                                          / (inertia / T + kt * T + dt_))
+
+    def _stepped(self, step: int, weight: float, px: float, py: float):
+        """The stepping foot's target: along the step (lifted in the middle), then held
+        where it landed, and blended back to the performance (``px``, ``py``) as the
+        pulls come back."""
+        foot, start, x0, y0, x1, y1 = self.step
+        r = self.spec.reaction
+        u = min(1.0, (step - start) * self.dt / r.step_time)
+        sx = x0 + (x1 - x0) * u
+        sy = y0 + (y1 - y0) * u + r.step_lift * math.sin(math.pi * u)
+        low = r.large.weight
+        back = 0.0 if weight <= low else (weight - low) / (1.0 - low)
+        return sx + (px - sx) * back, sy + (py - sy) * back
 
     def _lift(self, poses, x: float, clearance: float) -> float:
         """How far up (or down) the performed pose must go for its lowest foot to stand
@@ -358,11 +394,13 @@ class Tracker:
             {n: list(v) for n, v in self.vel.items()}, dict(self.spin)]
         reaction = None if self.reaction is None else list(self.reaction)
         return [self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
-                self.impact_at, reaction, {j: list(g) for j, g in self.scaled.items()}]
+                self.impact_at, reaction, {j: list(g) for j, g in self.scaled.items()},
+                None if self.step is None else list(self.step)]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
-         self.impact_at, reaction, scaled) = state
+         self.impact_at, reaction, scaled, step) = state
+        self.step = None if step is None else list(step)
         self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
         self.prev, self.prev_step, self.vel, self.spin = None, -1, {}, {}
@@ -394,6 +432,7 @@ class Tracker:
         self.scaled: dict[str, tuple[float, float]] = {}  # joint -> KD gains it was given
         self.impact_at: int | None = None  # a push to judge at the next control step
         self.reaction: tuple[str, int] | None = None  # (case, step it began)
+        self.step: list | None = None  # a large push's protective step (_protective_step)
         self.busy = False
 
 
