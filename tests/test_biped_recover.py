@@ -1,9 +1,17 @@
-"""biped-recover: the fall-recovery keys do what their names say (the parts measured
-so far; the whole get-up is not proven by a log yet, see the README)."""
+"""biped-recover: the fall-recovery keys do what their names say, and the logs
+biped-recover-forward / -backward (the figure falls and is brought back to standing
+with the keys) fail when the physics under them breaks."""
 
+import json
 import math
+from pathlib import Path
 
-from puppet.data.catalog import load_setup
+import pytest
+import yaml
+
+from puppet.data.catalog import ROOT, find, load_setup
+from puppet.testing import replay_log
+from test_luxo_feats import _failed, _weakened
 from puppet.interface import events as ev
 from puppet.session import Session
 
@@ -81,3 +89,45 @@ def test_stepping_the_legs_forward_then_shifting_back_brings_the_weight_over_the
         min_ahead = min(min_ahead, behind)
     assert min_ahead < 0.0  # shifted back: the centre of mass over / behind the feet
     assert not session.sim.blown_up()
+
+
+LOGS = ROOT / "assets" / "logs"
+RECOVERIES = ["biped-recover-forward"]
+STANDING = {"tilt_at_end", "height_at_end", "upright_at_end", "got_up"}
+
+
+@pytest.mark.parametrize("name", RECOVERIES)
+def test_the_log_falls_and_stands_up_again(name):
+    result = replay_log(str(LOGS / f"{name}.jsonl"))
+    assert not result.failed, [str(o) for o in result.outcomes]
+    kinds = {o.expectation.split()[0].rstrip(":") for o in result.outcomes}
+    assert {"got_up", "tilt_at_end", "height_at_end", "touching_at_end"} <= kinds
+
+
+def _with_weak_hips(name: str, tmp_path: Path) -> Path:
+    """The log replaying against biped-recover with hip servos at 60% of the figure's."""
+    spec = yaml.safe_load(find("interface", "biped-recover").read_text(encoding="utf-8"))
+    spec["gains"].update({j: {"stiffness": 600.0, "max_torque": 150.0}
+                          for j in ("hip_near", "hip_far")})
+    spec["name"] = "biped-recover-weak"
+    iface = tmp_path / "biped-recover-weak.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    log = LOGS / f"{name}.jsonl"
+    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
+    head = json.loads(lines[0])
+    head.update(interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
+    out = tmp_path / log.name
+    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
+    side = LOGS / f"{name}.expect.yaml"
+    (tmp_path / side.name).write_text(side.read_text(encoding="utf-8"), encoding="utf-8")
+    return out
+
+
+@pytest.mark.parametrize("name", RECOVERIES)
+def test_the_log_fails_with_weak_hips(name, tmp_path):
+    assert _failed(_with_weak_hips(name, tmp_path)) & STANDING
+
+
+@pytest.mark.parametrize("name", RECOVERIES)
+def test_the_log_fails_on_slippery_ground(name, tmp_path):
+    assert _failed(_weakened(name, Path(tmp_path), friction=0.3)) & STANDING
