@@ -131,3 +131,22 @@ def test_the_log_fails_with_weak_hips(name, tmp_path):
 @pytest.mark.parametrize("name", RECOVERIES)
 def test_the_log_fails_on_slippery_ground(name, tmp_path):
     assert _failed(_weakened(name, Path(tmp_path), friction=0.3)) & STANDING
+
+
+@pytest.mark.parametrize("at", [9.9, 10.5])
+def test_the_roll_up_stands_the_figure_up_pressed_earlier_or_later(at):
+    """Not a one-millisecond performance: h anywhere once the feet are in works."""
+    from puppet.timeline.playback import play
+    from puppet.timeline.script import compile_script, load_script
+
+    spec = load_script(find("script", "biped-recover-forward"))
+    session = Session(load_setup("biped-recover"))
+    events = [(round(at / session.sim.dt) if e.get("key") == "h" else step, e)
+              for step, e in compile_script(spec, session.sim.dt)]
+    assert any(e.get("key") == "h" for _, e in events)
+    # (to 14.9 s, not 15: a checkpoint at 15 s re-seats the contacts)
+    play(session, sorted(events, key=lambda se: se[0]), round(14.9 / session.sim.dt))
+    c = session.character
+    assert _tilt(c, "pelvis") < 15 and _tilt(c, "chest") < 15
+    assert _y(c, "head") > 1.476
+    assert c.in_contact("foot_near") and c.in_contact("foot_far")
