@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from puppet.data.catalog import ROOT, find, load_setup
-from puppet.testing import replay_log
+from puppet.testing import check, replay_log
 from test_luxo_feats import _failed, _weakened
 from puppet.interface import events as ev
 from puppet.session import Session
@@ -102,6 +102,16 @@ def test_the_log_falls_and_stands_up_again(name):
     assert not result.failed, [str(o) for o in result.outcomes]
     kinds = {o.expectation.split()[0].rstrip(":") for o in result.outcomes}
     assert {"got_up", "tilt_at_end", "height_at_end", "touching_at_end"} <= kinds
+    # the two end checks can fail: stricter than what was done, or the wrong links
+    assert check(result, [{"tilt_at_end": {"links": ["pelvis", "chest"], "max": 0.5,
+                                           "held": 1.0}}])
+    assert not check(result, [{"tilt_at_end": {"links": ["chest"], "max": 15}}])
+    assert check(result, [{"touching_at_end": {"links": ["forearm_near"], "held": 1.0}}])
+    assert check(result, [{"touching_at_end": {"links": ["foot_near", "foot_far"],
+                                               "held": 1.0, "min_fraction": 1.0}}])
+    # ... and over the whole run (held longer than the run: from the start) it did not
+    # stand straight: it fell first
+    assert check(result, [{"tilt_at_end": {"links": ["pelvis"], "max": 15, "held": 60}}])
 
 
 def _with_weak_hips(name: str, tmp_path: Path) -> Path:
