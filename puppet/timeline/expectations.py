@@ -10,6 +10,12 @@ Each entry names one check:
       - upright_at_end: true                   # root within 45 deg of upright at the end
       - never_fell: true                       # root never more than 90 deg from upright
                                                # while touching the ground
+      - tilt_at_end: {links: [pelvis, chest], max: 15, held: 1.0}
+                                  # each link within 15 deg of upright at every sample of
+                                  # the last 1 s (held 0: the last sample)
+      - touching_at_end: {links: [foot_near, foot_far], held: 1.0, min_fraction: 0.95}
+                                  # each link touching the ground at (at least 95% of) the
+                                  # samples of the last 1 s: both feet down
       - followed_channels: {joints: [hip_near, knee_near], from: 4.3, until: 6.7,
                             max_rms: 10}
                                   # each joint within 10 deg RMS of the input channel of
@@ -113,6 +119,28 @@ class TiltNeverAbove(Spec):
 
     links: list[str] = Field(min_length=1, max_length=64)
     max: Num("angle") = Field(description="deg from upright")
+
+
+class TiltAtEnd(Spec):
+    """Each of ``links`` within ``max`` degrees of its model orientation (upright) at
+    every sample of the last ``held`` s (0: the last sample): standing up straight at
+    the end, not only not having fallen."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    max: Num("angle") = Field(description="deg from upright")
+    held: Num("duration") = Field(0.0, description="s at the end it must stay within")
+
+
+class TouchingAtEnd(Spec):
+    """Each of ``links`` touching the ground at the samples of the last ``held`` s (0:
+    the last sample), at least ``min_fraction`` of them: both feet down at the end. A
+    fraction, because a checkpoint re-seats the space and the sample at that step sees
+    no contacts yet (pymunk rebuilds them in the next step)."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    held: Num("duration") = Field(0.0, description="s at the end")
+    min_fraction: float = Field(1.0, ge=0, le=1,
+                                description="share of those samples touching, at least")
 
 
 class FollowedChannels(Spec):
@@ -227,6 +255,8 @@ class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
     tilt_never_above: TiltNeverAbove | None = None
+    tilt_at_end: TiltAtEnd | None = None
+    touching_at_end: TouchingAtEnd | None = None
     followed_channels: FollowedChannels | None = None
     upright_at_end: bool | None = None
     never_fell: bool | None = None
@@ -284,6 +314,13 @@ class Expectation(Spec):
             return f"height_at_end {v.link} {bounds}" + (f" held {v.held} s" if v.held else "")
         if isinstance(v, TiltNeverAbove):
             return f"tilt_never_above {', '.join(v.links)} max {v.max} deg"
+        if isinstance(v, TiltAtEnd):
+            return (f"tilt_at_end {', '.join(v.links)} max {v.max} deg"
+                    + (f" held {v.held} s" if v.held else ""))
+        if isinstance(v, TouchingAtEnd):
+            share = f" at {v.min_fraction:g} of the samples" if v.min_fraction < 1 else ""
+            return (f"touching_at_end {', '.join(v.links)}"
+                    + (f" held {v.held} s{share}" if v.held else ""))
         if isinstance(v, ReachedHeight):
             return f"reached_height {v.link} min {v.min} m"
         if isinstance(v, FollowedChannels):
@@ -525,6 +562,24 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                 worst, at, which = float(tilt[i]), i, name
         return Outcome(desc, worst <= v.max, f"{which} {worst:.0f} deg from upright at "
                                              f"t = {traj.t[at]:.2f} s (the most)")
+    if isinstance(v, TiltAtEnd):
+        window = traj.t >= traj.t[-1] - v.held - 1e-9
+        worst, which = -1.0, v.links[0]
+        for name in v.links:
+            tilt = float(_tilt_deg(traj.angle[window, traj.index(name)]).max())
+            if tilt > worst:
+                worst, which = tilt, name
+        return Outcome(desc, worst <= v.max, f"{which} at most {worst:.1f} deg from upright "
+                       + (f"over the last {v.held:g} s" if v.held else "at the end"))
+    if isinstance(v, TouchingAtEnd):
+        window = traj.t >= traj.t[-1] - v.held - 1e-9
+        shares = {name: float(traj.contact[window, traj.index(name)].mean())
+                  for name in v.links}
+        least = min(shares, key=shares.get)
+        return Outcome(desc, shares[least] >= v.min_fraction - 1e-9,
+                       f"{least} touching at {shares[least]:.0%} of the samples "
+                       + (f"of the last {v.held:g} s" if v.held else "at the end")
+                       + " (the least)")
     if isinstance(v, FollowedChannels):
         return _followed(e, v, traj)
     if e.kind == "upright_at_end":
