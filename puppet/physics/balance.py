@@ -40,8 +40,14 @@ def ground_contacts(character) -> list[tuple[float, float]]:
         for p in arbiter.contact_point_set.points:
             points.append((p.point_a.x, p.point_a.y))
 
+    from puppet.physics.snapshot import restored_contacts
+
     for body in character.bodies.values():
-        body.each_arbiter(collect)
+        restored = restored_contacts(body)
+        if restored is not None:  # right after a restore: the snapshot's contacts
+            points += restored
+        else:
+            body.each_arbiter(collect)
     return points
 
 

@@ -14,6 +14,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec, LinkSpec
 from puppet.physics.servo import PDServo
+from puppet.physics.snapshot import restored_contacts
 
 
 def _rot(p, angle):
@@ -215,8 +216,12 @@ class Character:
 
     def in_contact(self, name: str) -> bool:
         """True if the link touches anything outside the character (the ground)."""
+        body = self.bodies[name]
+        restored = restored_contacts(body)
+        if restored is not None:  # right after a restore: the snapshot's contacts
+            return bool(restored)
         touching = []
-        self.bodies[name].each_arbiter(lambda arbiter: touching.append(1))
+        body.each_arbiter(lambda arbiter: touching.append(1))
         return bool(touching)
 
     def support_extent(self) -> tuple[float, float] | None:
@@ -228,7 +233,11 @@ class Character:
             for p in arbiter.contact_point_set.points:
                 xs.append(p.point_a.x)
         for body in self.bodies.values():
-            body.each_arbiter(collect)
+            restored = restored_contacts(body)
+            if restored is not None:  # right after a restore: the snapshot's contacts
+                xs += [x for x, _ in restored]
+            else:
+                body.each_arbiter(collect)
         return (min(xs), max(xs)) if xs else None
 
     def joint_angle(self, name: str) -> float:

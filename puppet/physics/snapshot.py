@@ -77,7 +77,41 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
         _cp.cpSpaceAddCachedArbiter(cp_space, arb)
     if made:  # freed after the space itself (pymunk's unpickling leaks them)
         space._puppet_arbiters = _CachedArbiters(made)
+    space._puppet_contacts = (stamp, _touching(made, arbiters, objects, stamp))
     return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+def _touching(made, records, objects, stamp) -> dict:
+    """body -> the world points where it touched something at the captured step.
+
+    A rebuilt space holds the cached arbiters, but Chipmunk lists a body's contacts
+    (``each_arbiter``) only once a step has found them again, so right after a restore
+    - every checkpoint, a rewind - every link would read as touching nothing.
+    ``restored_contacts`` answers from these until the space steps."""
+    out: dict = {}
+    for arb, record in zip(made, records):
+        if arb.stamp != stamp or arb.count <= 0:
+            continue  # not touching at the captured step (kept for warm starts)
+        for shape, side in ((objects[record[0]], 0), (objects[record[1]], 1)):
+            body = shape.body
+            if body is None or body.body_type != pymunk.Body.DYNAMIC:
+                continue
+            cx, cy = body.local_to_world(body.center_of_gravity)
+            points = out.setdefault(body, [])
+            for i in range(arb.count):
+                r = arb.contacts[i].r1 if side == 0 else arb.contacts[i].r2
+                points.append((cx + r.x, cy + r.y))
+    return out
+
+
+def restored_contacts(body) -> list | None:
+    """The world points where ``body`` touched something, as restored with its space,
+    while that space has not stepped since (None once it has: ask the arbiters)."""
+    space = body.space
+    got = getattr(space, "_puppet_contacts", None)
+    if got is None or _cp.cpSpaceGetTimestamp(space._space) != got[0]:
+        return None
+    return got[1].get(body, [])
 
 
 # -- records ---------------------------------------------------------------------------

@@ -145,12 +145,20 @@ class Sampler:
         lib, touched, count, null = self._lib, self._touched, self._count, self._null
         to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeGetBB, lib.cpBodyEachArbiter
         per_link = []
+        space = self._per_link[0][0].space
+        restored = getattr(space, "_puppet_contacts", None)  # just restored: the snapshot's
+        if restored is not None and lib.cpSpaceGetTimestamp(space._space) != restored[0]:
+            restored = None  # contacts (see snapshot.restored_contacts); else the arbiters
         for body, ptr, cog, shapes in self._per_link:
             p = to_world(ptr, cog)
-            touched[0] = 0
-            each(ptr, count, null)
+            if restored is not None:
+                touching = bool(restored[1].get(body))
+            else:
+                touched[0] = 0
+                each(ptr, count, null)
+                touching = touched[0] > 0
             per_link.append((p.x, p.y, body.angle, min(get_bb(sh).b for sh in shapes),
-                             touched[0] > 0))
+                             touching))
         mx = my = 0.0  # Character.com, from the positions just read, in its order
         for i, mass in self._com_order:
             mx += mass * per_link[i][0]

@@ -1,0 +1,53 @@
+"""Contacts right after a restore: every checkpoint re-seats the run on a rebuilt
+space, whose bodies list no contact until it steps; the sensors, the balance overlay
+and the replay's sampler read the snapshot's contacts until then (a standing figure
+never reads as floating at a checkpoint step)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.physics.balance import ground_contacts
+from puppet.session import Session
+
+
+def test_a_standing_figure_touches_the_ground_at_every_checkpoint_step():
+    s = Session(load_setup("biped-stand"))
+    c = s.character
+    every = s.history.checkpoint_every  # steps between automatic checkpoints
+    s.advance(every - 1)
+    before = c.support_extent()
+    s.advance(1)  # the checkpoint's step: a rebuilt space
+    assert c.in_contact("foot_near") and c.in_contact("foot_far")
+    at = c.support_extent()
+    assert at is not None and at == pytest.approx(before, abs=2e-3)
+    assert len(ground_contacts(c)) >= 2
+    s.advance(1)
+    assert c.in_contact("foot_near") and c.support_extent() == pytest.approx(at, abs=2e-3)
+
+
+def test_after_a_rewind_the_contacts_are_there_at_once():
+    s = Session(load_setup("biped-stand"))
+    s.advance(1700)
+    s.rewind_to(1500)
+    assert s.steps == 1500 and s.character.in_contact("foot_near")
+
+
+def test_the_replay_sampler_sees_the_feet_down_at_checkpoints():
+    from puppet.timeline.log import Recorder
+    from puppet.timeline.replay import replay
+
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "stand.jsonl"
+        s = Session(load_setup("biped-stand"))
+        with Recorder(s, path):
+            s.advance(round(7.0 / s.sim.dt))
+        traj = replay(path, trajectory=True).trajectory
+    feet = [traj.index("foot_near"), traj.index("foot_far")]
+    standing = traj.t > 0.5
+    assert np.all(traj.contact[standing][:, feet].any(axis=1))
