@@ -17,7 +17,6 @@ as indices, ``rebuild`` hands back the new objects under the same names.
 
 from __future__ import annotations
 
-import atexit
 from operator import attrgetter
 
 import pymunk
@@ -75,8 +74,12 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
     made = [_make_arbiter(r, objects) for r in arbiters]
     for arb in made:
         _cp.cpSpaceAddCachedArbiter(cp_space, arb)
-    if made:  # freed after the space itself (pymunk's unpickling leaks them)
-        space._puppet_arbiters = _CachedArbiters(made)
+    # The arbiters made here are not freed, as pymunk's own unpickling does not free
+    # them: about 0.2 kB per cached arbiter per restore. Freeing them when their space
+    # went (after cpSpaceFree, or after emptying the space by hand) corrupted the heap:
+    # glibc's malloc check (LD_PRELOAD=libc_malloc_debug.so.0,
+    # GLIBC_TUNABLES=glibc.malloc.check=3) stops in that free() on the first replays of
+    # the shipped logs, and a plain run aborted in malloc about one bench in five.
     space._puppet_contacts = (stamp, _touching(made, arbiters, objects, stamp))
     return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
 
@@ -212,58 +215,6 @@ def _arbiter_record(arb, index: dict) -> tuple:
     return (index[shape(arb.a)], index[shape(arb.b)], arb.e, arb.u,
             (arb.surface_vr.x, arb.surface_vr.y), arb.count, contacts, (arb.n.x, arb.n.y),
             arb.swapped, arb.stamp, arb.state)
-
-
-class _CachedArbiters:
-    """Frees the arbiters that ``_rebuild`` allocates with ``cpArbiterNew`` (as pymunk's
-    unpickling does): Chipmunk never frees them (they end in the space's arbiter pool;
-    their contact arrays it frees itself), so each restore leaked about 0.2 kB per
-    cached arbiter. They must outlive the C space: this object is set on the pymunk
-    Space after its ``_space`` (an object's attributes are released in the order they
-    were set), so it goes only after ``cpSpaceFree`` has run. At interpreter exit that
-    order no longer holds (what is left is torn down in any order, and freeing an
-    arbiter before its space aborted the process in malloc): from the ``atexit`` hook on
-    nothing is freed - the process's memory goes with it."""
-
-    __slots__ = ("pointers",)
-
-    def __init__(self, arbiters):
-        self.pointers = list(arbiters)
-        if self.pointers:
-            _libc_free()  # made now: a finaliser that imports can run mid-import (cffi
-            # half loaded) when the garbage collector picks that moment
-
-    def __del__(self):
-        if _EXITING or not self.pointers:
-            return
-        free = _libc_free()
-        for arb in self.pointers:
-            free(arb)
-        self.pointers = []
-
-
-def _libc_free():
-    global _FREE
-    if _FREE is None:
-        import cffi
-
-        ffi = cffi.FFI()
-        ffi.cdef("void free(void *);")
-        c_free = ffi.dlopen(None).free
-        _FREE = lambda ptr: c_free(ffi.cast("void *", int(pymunk.ffi.cast("uintptr_t", ptr))))
-    return _FREE
-
-
-_FREE = None
-_EXITING = False
-
-
-def _at_exit() -> None:
-    global _EXITING
-    _EXITING = True
-
-
-atexit.register(_at_exit)
 
 
 def _make_arbiter(record, objects: list):
