@@ -276,6 +276,8 @@ def test_errors_name_lines_that_are_there():
     head = SMALL.split("Frame Time:")[0]  # the file ends after its Frames line
     assert _error(head).startswith(f"bad.bvh:{head.count(chr(10)) + 1}:1: '': expected "
                                    "'Frame Time: SECONDS' here")
+    head = SMALL.split("\n0 0 0 0")[0]  # and after its Frame Time, with no line end
+    assert _error(head).startswith(f"bad.bvh:{head.count(chr(10)) + 1}: the file ends after 0")
     # a form feed or U+2028 is no line end: the lines after it keep their numbers
     text = SMALL.replace("OFFSET 0 1 0", "OFFSET 0\x0c1\u20280", 1).replace("Zrot", "Zrox", 1)
     assert _error(text).startswith(f"bad.bvh:{_line_of(SMALL, 'Zrotation')}:")

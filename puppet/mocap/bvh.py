@@ -372,7 +372,7 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
 
 def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int) -> np.ndarray:
     rows = []
-    last = first
+    last = first if lines else first - 1  # (the Frame Time line, if the file ends there)
     for i, line in enumerate(lines):
         words = line.split()
         if not words:
