@@ -367,3 +367,22 @@ def test_a_planar_clip_reads_back_to_its_angles(tmp_path):
     assert pos[:, clip.index("upper_arm"), :2] == pytest.approx(knee, abs=1e-5)
     assert np.abs(pos[:, :, 2]).max() < 1e-9
     assert math.isclose(clip.joint("upper_arm_end").offset[0], 0.05)
+
+
+def test_messages_say_what_was_expected_where_the_file_stops_being_bvh():
+    second_root = SMALL.replace("MOTION", "ROOT again\n{\n  OFFSET 0 0 0\n}\nMOTION")
+    line = _line_of(second_root, "again")
+    assert _error(second_root) == (f"bad.bvh:{line}:1: 'ROOT': expected MOTION after the root "
+                                   "joint's closing '}' (one ROOT per file)")
+    no_site = SMALL.replace("End Site", "End Zone", 1)
+    assert _error(no_site).startswith(f"bad.bvh:{_line_of(no_site, 'Zone')}:11: 'Zone': "
+                                      "expected 'Site' after 'End'")
+    cut = SMALL[:SMALL.index("OFFSET 0 1 0") + len("OFFSET 0 1")]
+    assert _error(cut) == (f"bad.bvh:{cut.count(chr(10)) + 1}: the hierarchy ends here; "
+                           "expected OFFSET z of upper (a BVH file has HIERARCHY, ROOT ... "
+                           "{ }, then MOTION)")
+    assert "'{': expected the joint's name after JOINT" in _error(
+        SMALL.replace("JOINT twist", "JOINT"))
+    assert _error(SMALL.replace("JOINT twist", "JOIN twist")).startswith(
+        f"bad.bvh:{_line_of(SMALL, 'twist')}:3: 'JOIN': expected JOINT, End Site or '}}' to "
+        "close pelvis")

@@ -1,0 +1,96 @@
+"""What ``puppet replay --headless`` prints and exits with, run in-process (fast enough
+for the mutation run's list, docs/mutation.md): each log's state line and checks, the
+many-log table and summary, and the exit codes (0 ok, 1 failed or differs, 2 a log
+that cannot be replayed)."""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+import pytest
+
+from puppet.data.errors import UsageError
+from puppet.timeline.report import replay_command
+
+ROOT = Path(__file__).resolve().parents[1]
+HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"  # 2160 steps, ends in bbc99d5d1990ab30
+
+
+def args(*logs, **options) -> argparse.Namespace:
+    base = dict(headless=True, check=False, until_step=None, allow_truncated=False, jobs=1,
+                as_recorded=False, slowdown=None, overlay=None)
+    return argparse.Namespace(logs=[str(p) for p in logs], **(base | options))
+
+
+def altered(tmp_path, name: str, end_hash: str | None = None, tail: str | None = None) -> Path:
+    """A copy of the hop log (its expectations left behind) with another end line."""
+    lines = HOP.read_text(encoding="utf-8").splitlines()
+    if end_hash is not None:
+        lines[-1] = lines[-1].replace("bbc99d5d1990ab30", end_hash)
+    if tail is not None:
+        lines.append(tail)
+    path = tmp_path / name
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_one_log_replayed_to_its_end_is_the_same_as_recorded(capsys):
+    assert replay_command(args(HOP)) == 0
+    out = capsys.readouterr().out
+    assert out == (f"{HOP}: step 2160  t=4.500s  state=bbc99d5d1990ab30 (same as recorded)\n")
+
+
+def test_one_log_that_ends_elsewhere_says_so_and_exits_1(tmp_path, capsys):
+    log = altered(tmp_path, "other.jsonl", end_hash="0123456789abcdef")
+    assert replay_command(args(log)) == 1
+    out = capsys.readouterr().out
+    assert out.startswith(f"{log}: step 2160  t=4.500s  state=bbc99d5d1990ab30 "
+                          "(recorded 0123456789abcdef: DIFFERENT)")
+
+
+def test_one_log_checked_prints_each_expectation(capsys):
+    assert replay_command(args(HOP, check=True)) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].endswith("(same as recorded)")
+    assert lines[1:] and all(line.startswith("  ok   ") for line in lines[1:]), lines
+    assert lines[-1] == ("  ok   same end as the recording: replayed bbc99d5d1990ab30, "
+                         "recorded bbc99d5d1990ab30")
+
+
+def test_many_logs_a_table_a_summary_and_the_worst_exit_code(tmp_path, capsys):
+    other = altered(tmp_path, "other.jsonl", end_hash="0123456789abcdef")
+    broken = altered(tmp_path, "broken.jsonl", tail="{not json")
+    assert replay_command(args(HOP, other)) == 1  # one differs
+    out = capsys.readouterr().out.splitlines()
+    assert re.split(r"\s+", out[0]) == ["log", "steps", "state", "checks", "result"]
+    assert re.split(r"\s+", out[1]) == [str(HOP), "2160", "bbc99d5d1990ab30", "-", "ok"]
+    assert re.split(r"\s+", out[2]) == [str(other), "2160", "bbc99d5d1990ab30", "-", "differs"]
+    assert out[3] == "2 logs: 1 ok, 1 differ, 0 errors, 0 blow-ups"
+
+    assert replay_command(args(HOP, broken, check=True)) == 2  # one cannot be replayed
+    captured = capsys.readouterr()
+    out = captured.out.splitlines()
+    row = re.split(r"\s+", out[1])
+    assert row[:3] == [str(HOP), "2160", "bbc99d5d1990ab30"] and row[4] == "ok"
+    done, total = map(int, row[3].split("/"))
+    assert done == total > 1, row
+    assert re.split(r"\s+", out[2]) == [str(broken), "-", "-", "-", "ERROR"]
+    assert out[3] == "2 logs: 1 ok, 0 failed, 1 errors, 0 blow-ups"
+    assert captured.err.startswith(f"puppet replay: {broken}:")
+
+
+def test_a_checked_log_that_fails_exits_1_and_names_what_failed(capsys):
+    assert replay_command(args(HOP, HOP, check=True, until_step=300)) == 1  # cut short
+    out = capsys.readouterr().out.splitlines()
+    failed = [line for line in out if line.startswith(f"{HOP}: FAIL ")]
+    assert failed and len(failed) % 2 == 0  # each failure, once per log
+    assert out[-1] == "2 logs: 0 ok, 2 failed, 0 errors, 0 blow-ups"
+
+
+def test_several_logs_or_a_check_need_headless():
+    with pytest.raises(UsageError, match="^several logs need --headless$"):
+        replay_command(args(HOP, HOP, headless=False))
+    with pytest.raises(UsageError, match="^--check needs --headless$"):
+        replay_command(args(HOP, headless=False, check=True))
