@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -292,3 +293,80 @@ def test_a_ghost_plays_its_log_in_step_with_the_live_time_and_back():
     ghost.sync(live)
     assert ghost.session.steps == 300
     assert ghost.session.sim.state_hash() == replay(hop, until_step=300).final_hash
+
+
+# -- expectations: a window's ends, a sidecar's other name -----------------------------
+class _States:
+    """A trajectory as _stayed reads it: a state per sample, every 0.1 s."""
+
+    def __init__(self, states):
+        import numpy as np
+
+        self.t = np.arange(len(states)) * 0.1
+        self.state = np.array(states, dtype=object)
+        self.state_names = dict.fromkeys(states)
+
+
+def test_stayed_in_state_counts_the_samples_at_both_ends_of_its_time_span():
+    from puppet.timeline.expectations import evaluate, parse_expectations
+
+    traj = _States(["sit", "sit", "up", "up", "up", "sit"])  # up from 0.2 s to 0.4 s
+    for window, passed in (({"from": 0.2, "until": 0.4}, True),
+                           ({"from": 0.2, "until": 0.5}, False),  # sits again at 0.5 s
+                           ({"from": 0.1, "until": 0.4}, False)):  # still sat at 0.1 s
+        e, = parse_expectations([{"stayed_in_state": {"state": "up", **window}}]).items
+        outcome = evaluate(e, traj, "")
+        assert outcome.passed is passed, (window, str(outcome))
+    e, = parse_expectations([{"stayed_in_state": {"state": "up", "from": 0.2,
+                                                  "until": 0.5}}]).items
+    assert evaluate(e, traj, "").measured == "left 'up' for 'sit' at t = 0.50 s"
+
+
+def test_a_sidecar_named_after_the_whole_log_file_name_is_read(tmp_path):
+    import shutil
+    from pathlib import Path
+
+    from puppet.timeline.replay import replay
+
+    hop = Path(__file__).resolve().parents[1] / "assets" / "logs" / "luxo-hop.jsonl"
+    log = tmp_path / "hop.jsonl"
+    shutil.copy(hop, log)
+    (tmp_path / "hop.jsonl.expect.yaml").write_text(
+        "expect:\n  - x_at_end: {link: base, min: 100.0}\n")
+    result = replay(log, until_step=240)
+    assert [o.expectation for o in result.failed] == ["x_at_end base min 100.0"], \
+        [str(o) for o in result.outcomes]
+
+
+# -- what a replay samples -----------------------------------------------------------------
+HOP_LOG = Path(__file__).resolve().parents[1] / "assets" / "logs" / "luxo-hop.jsonl"
+
+
+def _hop_at(step: int) -> Session:
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    log = read_log(HOP_LOG)
+    s = new_session(log, setup_for_log(log, False)[0])
+    feeder = LogFeeder(s, log)
+    feeder.advance(step)
+    return s
+
+
+def test_a_replays_joint_angles_are_the_angles_reached_not_the_targets():
+    from puppet.timeline.replay import replay
+
+    traj = replay(HOP_LOG, until_step=600).trajectory
+    s = _hop_at(600)
+    knee = list(s.character.servos).index("knee")
+    assert traj.joint_angle[-1, knee] == s.character.servos["knee"].angle
+    assert abs(traj.joint_angle[:, knee] - traj.joint_target[:, knee]).max() > 0.01
+
+
+def test_motion_sampled_at_less_than_one_frame_a_second():
+    from puppet.timeline.motion import sample_motion
+
+    motion = sample_motion(HOP_LOG, 0.5)  # a frame every 2 s of the 4.5 s hop
+    assert motion.t.tolist() == [0.0, 2.0, 4.0]
+    with pytest.raises(ValueError, match="fps must be positive"):
+        sample_motion(HOP_LOG, 0.0)

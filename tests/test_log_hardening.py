@@ -54,6 +54,11 @@ MOUSE = '{"step": 0, "event": {"type": "mouse", "x": 0.5, "y": 0.5}}'
      "take action needs a whole-number 'branch' >= 0"),
     ('{"step": 0, "event": {"type": "action", "name": "take", "branch": 1.5}}',
      "take action needs a whole-number 'branch' >= 0"),
+    ('{"step": 0, "event": {"type": "drag", "phase": "start", "link": "base", '
+     '"point": [1e9, 0], "target": [0, 0]}}',
+     "drag start: 'point' x must be a finite number in"),
+    ('{"step": 0, "event": {"type": "gesture", "key": "h", "path": [[0, 0.5, 1e9]]}}',
+     "gesture event: a path value must be a finite number in -1e6..1e6"),
     ('{"end": 99999999999, "hash": "x"}', "bad end line"),
     ('{"step": 0, "event": {"type": "gesture", "key": "h", "path": [[0, 0.5, 1e999]]}}',
      "too large a number"),
@@ -74,6 +79,9 @@ def test_log_numbers_are_finite_and_bounded(tmp_path, line, fragment):
     ({"checkpoint_interval": 1e-300}, "header: 'checkpoint_interval'"),
     ({"interface": "x" * 5000}, "header: 'interface' must be a name or path of 1..4096"),
     ({"description": {"a": 1}}, "header: 'description' must be a string"),
+    ({"expect": {"never_fell": True}}, "header: 'expect' must be a list"),
+    ({"scene": 5}, "header: 'scene' is missing or not a string"),
+    ({"dt": "0.002"}, "header: 'dt' is missing or not a number"),
 ])
 def test_header_numbers_are_bounded(tmp_path, changes, fragment):
     path = write(tmp_path, [header(**changes), MOUSE])
@@ -149,3 +157,13 @@ def test_an_over_long_line_and_a_device_are_refused(tmp_path, monkeypatch):
         read_log(path)  # the header itself is over 1000 characters
     with pytest.raises(DataError, match="not a regular file"):
         read_log("/dev/null")
+
+
+def test_a_whole_drag_reads_start_move_and_end(tmp_path):
+    lines = [header(), MOUSE,
+             '{"step": 1, "event": {"type": "drag", "phase": "start", "link": "base", '
+             '"point": [0, 0], "target": [0.1, 0.2]}}',
+             '{"step": 2, "event": {"type": "drag", "phase": "move", "target": [0.2, 0.2]}}',
+             '{"step": 3, "event": {"type": "drag", "phase": "end"}}']
+    log = read_log(write(tmp_path, lines), allow_truncated=True)
+    assert [e.event.get("phase") for e in log.events] == [None, "start", "move", "end"]

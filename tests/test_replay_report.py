@@ -94,3 +94,23 @@ def test_several_logs_or_a_check_need_headless():
         replay_command(args(HOP, HOP, headless=False))
     with pytest.raises(UsageError, match="^--check needs --headless$"):
         replay_command(args(HOP, headless=False, check=True))
+
+
+def test_one_log_replayed_on_screen_uses_the_logs_own_setup_and_speed(monkeypatch):
+    import sys
+    import types
+
+    seen = {}
+
+    def run_window(setup, slowdown, **options):  # the window itself is tested elsewhere
+        seen.update(setup=setup, slowdown=slowdown, **options)
+        return 0
+
+    monkeypatch.setitem(sys.modules, "puppet.app.window",
+                        types.SimpleNamespace(run_window=run_window))
+    assert replay_command(args(HOP, headless=False, until_step=100)) == 0
+    assert seen["setup"].interface.name == "luxo-mouse" and seen["slowdown"] == 1.0
+    assert seen["replay"].end_hash == "bbc99d5d1990ab30" and seen["until_step"] == 100
+    assert seen["slowdown_chosen"] is False and seen["overlay"] is False
+    assert replay_command(args(HOP, headless=False, slowdown=4.0, overlay="com")) == 0
+    assert seen["slowdown"] == 4.0 and seen["slowdown_chosen"] and seen["overlay"]
