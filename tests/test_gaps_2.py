@@ -370,3 +370,255 @@ def test_motion_sampled_at_less_than_one_frame_a_second():
     assert motion.t.tolist() == [0.0, 2.0, 4.0]
     with pytest.raises(ValueError, match="fps must be positive"):
         sample_motion(HOP_LOG, 0.0)
+
+
+# -- what each expectation reports --------------------------------------------------------
+class _Run:
+    """A trajectory of two links (base, head) every 0.1 s, as evaluate() reads it."""
+
+    links = ["base", "head"]
+
+    def __init__(self, degrees, base_contact, head_contact, x=None, y=None):
+        import numpy as np
+
+        n = len(degrees)
+        self.t = np.arange(n) * 0.1
+        self.root_angle = np.radians(np.asarray(degrees, dtype=float))
+        self.contact = np.array(list(zip(base_contact, head_contact)), dtype=bool)
+        self.x = np.array(x if x is not None else [[0.1 * i, 0.1 * i] for i in range(n)],
+                          dtype=float)
+        self.y = np.array(y if y is not None else [[0.0, 0.3]] * n, dtype=float)
+        self.com = np.stack([self.x[:, 0], self.y[:, 0]], axis=1)
+
+    def index(self, link):
+        return self.links.index(link)
+
+
+def _outcome(item, traj):
+    from puppet.timeline.expectations import evaluate, parse_expectations
+
+    e, = parse_expectations([item]).items
+    return evaluate(e, traj, "")
+
+
+HEADSTAND = _Run([0, 90, 180, 180, 180, 90, 0], [1, 0, 0, 0, 0, 0, 1], [0, 0, 1, 1, 1, 0, 0])
+
+
+def test_stood_on_reports_the_longest_stretch_upside_down_on_that_link_alone():
+    got = _outcome({"stood_on": {"link": "head", "min_seconds": 0.3}}, HEADSTAND)
+    assert got.passed and got.measured == ("longest stretch on head alone, upside down: "
+                                           "0.300 s (t = 0.20 to 0.40 s)")
+    never = _outcome({"stood_on": {"link": "base", "min_seconds": 0.1}}, HEADSTAND)
+    assert not never.passed
+    assert never.measured == "longest stretch on base alone, upside down: 0.000 s"
+
+
+def test_landed_at_reports_where_the_longest_flight_touched_down():
+    hop = _Run([0] * 7, [1, 0, 0, 1, 0, 0, 0], [0] * 7)  # the last flight is the longest
+    got = _outcome({"landed_at": {"link": "head", "min": 0.5}}, hop)
+    assert got.passed and got.measured == ("longest flight 0.30 s from t = 0.40 s, touched "
+                                           "down at x = 0.600 m (t = 0.60 s)")
+    ground = _Run([0] * 3, [1, 1, 1], [0, 0, 0])
+    assert _outcome({"landed_at": {"link": "base", "min": 0.0}}, ground).measured == \
+        "never in the air"
+
+
+def test_x_and_height_at_end_report_what_they_measured():
+    run = _Run([0] * 5, [1] * 5, [0] * 5, y=[[0.0, 0.3], [0.0, 0.5], [0.0, 0.4],
+                                             [0.0, 0.35], [0.0, 0.31]])
+    assert _outcome({"x_at_end": {"link": "head", "min": 0.3}}, run).measured == \
+        "x = 0.400 m at t = 0.40 s"
+    assert _outcome({"height_at_end": {"link": "head", "min": 0.3}}, run).measured == \
+        "y = 0.310 m at t = 0.40 s"
+    held = _outcome({"height_at_end": {"link": "head", "max": 0.45, "held": 0.2}}, run)
+    assert held.passed and held.measured == "y = 0.310..0.400 m over the last 0.2 s"
+
+
+def test_got_up_without_ever_lying_says_so():
+    got = _outcome({"got_up": {"lay_seconds": 0.1, "within_seconds": 1.0}},
+                   _Run([0, 10, 0], [1, 1, 1], [0, 0, 0]))
+    assert not got.passed and got.measured == "never lay (root >= 80 deg on the ground)"
+
+
+def test_an_expectation_given_in_code_names_its_unknown_link():
+    from puppet.data.errors import DataError
+    from puppet.timeline.expectations import parse_expectations
+
+    with pytest.raises(DataError) as info:
+        parse_expectations([{"x_at_end": {"link": "tail", "min": 0}}]).check_links(["base"])
+    assert str(info.value) == "expect: unknown link 'tail'; the character has: base"
+
+
+# -- any_state, buttons, props, blow-ups ------------------------------------------------
+def test_an_any_state_transition_does_not_re_enter_the_state_it_leads_to(tmp_path):
+    s = make(tmp_path, """
+    name: t
+    description: two machines with a state of the same name
+    character: luxo
+    keys:
+      - {key: j, goto: watch.busy}
+    initial: idle
+    states:
+      idle: {}
+    machines:
+      watch:
+        initial: idle
+        states:
+          idle: {}
+          busy: {}
+        any_state:
+          transitions:
+            - {to: idle, after: 0.1}
+    """)
+    watch = s.runtime.machines["watch"]
+    s.advance(480)
+    assert (watch.current, watch.entered) == ("idle", 0)  # in idle: nothing to do
+    s.handle(ev.key("j", True))
+    assert watch.current == "busy"
+    s.advance(60)  # 0.125 s: any_state takes it back to idle once
+    assert watch.current == "idle" and 480 < watch.entered <= 540
+    entered = watch.entered
+    s.advance(240)
+    assert watch.entered == entered
+
+
+def test_a_gamepad_button_is_down_above_half_way(tmp_path):
+    s = make(tmp_path, """
+    name: t
+    description: a gamepad button as a key
+    character: luxo
+    poses:
+      fold: {joints: {knee: 100}}
+      open: {joints: {knee: 10}}
+    keys:
+      - {key: gamepad.a, pose: fold}
+      - {key: o, pose: open}
+    """)
+    start = deg(s)["knee"]
+    steps = [("a", 0.5, start), ("a", 0.6, 100), ("o", None, 10), ("a", 0.55, 10),
+             ("a", 0.5, 10), ("a", 0.51, 100)]  # a press each time it passes 0.5 upward
+    for what, value, knee in steps:
+        if value is None:
+            s.handle(ev.key(what, True))
+            s.handle(ev.key(what, False))
+        else:
+            s.handle(ev.gamepad(what, value))
+        s.advance(1)
+        assert deg(s)["knee"] == pytest.approx(knee), (what, value)
+
+
+def test_a_dynamic_prop_of_several_shapes_weighs_its_mass(tmp_path):
+    scene = tmp_path / "dumbbell.yaml"
+    scene.write_text(textwrap.dedent("""\
+        name: dumbbell
+        description: a 0.4 kg dumbbell of two balls and a bar, ahead of Luxo
+        ground:
+          - points: [[-10.0, 0.0], [10.0, 0.0]]
+        props:
+          dumbbell:
+            body: dynamic
+            mass: 0.4
+            position: [0.8, 0.3]
+            shapes:
+              - {circle: [-0.1, 0.0], radius: 0.04}
+              - {circle: [0.1, 0.0], radius: 0.04}
+              - {segment: [[-0.1, 0.0], [0.1, 0.0]], radius: 0.01}
+        """))
+    s = Session(load_setup("luxo-mouse", str(scene)))
+    body = s.sim.props["dumbbell"].body
+    assert body.mass == pytest.approx(0.4)
+    assert body.center_of_gravity.x == pytest.approx(0.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("vy", [250.0, -250.0])
+def test_a_runaway_vertical_speed_alone_is_a_blow_up(vy):
+    s = Session(load_setup("luxo-mouse"))
+    s.character.bodies["upper_arm"].velocity = (0.0, vy)
+    assert s.sim.blown_up()
+
+
+def test_two_add_maps_on_one_joint_add_up(tmp_path):
+    s = make(tmp_path, """
+    name: t
+    description: two contributions to the knee
+    character: luxo
+    maps:
+      - {input: channel.a, joint: knee, from: [0, 1], to: [0, 20], combine: add}
+      - {input: channel.b, joint: knee, from: [0, 1], to: [0, 10], combine: add}
+    """)
+    base = deg(s)["knee"]
+    s.handle(ev.channels({"a": 1.0, "b": 0.5}))
+    s.advance(1)
+    assert deg(s)["knee"] == pytest.approx(base + 25)
+
+
+def test_an_any_state_key_works_in_every_state_and_gotos_that_loop_stop(tmp_path):
+    s = make(tmp_path, """
+    name: t
+    description: an any_state key; two states that go to each other on entry
+    character: luxo
+    keys:
+      - {key: l, goto: ping}
+    initial: rest
+    states:
+      rest: {}
+      ping: {enter: {goto: pong}}
+      pong: {enter: {goto: ping}}
+      other: {}
+    any_state:
+      keys:
+        - {key: t, goto: rest}
+        - {key: o, goto: other}
+    """)
+    main = s.runtime.machines["main"]
+    for key, state in (("o", "other"), ("t", "rest"), ("o", "other"), ("o", "other")):
+        s.handle(ev.key(key, True))
+        s.handle(ev.key(key, False))
+        assert main.current == state, key
+    s.handle(ev.key("l", True))  # ping -> pong -> ping ...: stopped after a few, no hang
+    s.handle(ev.key("l", False))
+    assert main.current in ("ping", "pong")
+    s.advance(10)
+
+
+def test_a_links_position_is_its_centre_of_mass_in_the_world():
+    s = _standing()
+    body = s.character.bodies["upper_arm"]
+    x, y = body.local_to_world(body.center_of_gravity)
+    assert s.character.link_position("upper_arm") == (x, y) and abs(x - y) > 0.01
+
+
+def test_more_of_what_expectations_report():
+    still_lying = _Run([0, 90, 90, 90, 90], [1, 1, 1, 1, 1], [0, 0, 0, 0, 0])
+    got = _outcome({"got_up": {"lay_seconds": 0.1, "within_seconds": 1.0}}, still_lying)
+    assert not got.passed and got.measured == ("lay 0.40 s until t = 0.40 s, not standing "
+                                               "at the end (90 deg)")
+    hop = _Run([0] * 7, [1, 0, 0, 1, 0, 0, 0], [0] * 7)  # flights of 0.2 s and 0.3 s
+    for most, passed in ((0.3, True), (0.29, False)):
+        got = _outcome({"airborne": {"link": "base", "max_seconds": most}}, hop)
+        assert got.passed is passed, (most, str(got))
+    assert got.measured == "longest time out of contact 0.300 s (from t = 0.40 s)"
+    both = _Run([180] * 4, [1, 1, 0, 0], [1, 1, 1, 1])  # upside down; base down at first
+    got = _outcome({"stood_on": {"link": "head", "min_seconds": 0.1}}, both)
+    assert got.measured == ("longest stretch on head alone, upside down: 0.200 s "
+                            "(t = 0.20 to 0.30 s)")
+
+
+@pytest.mark.parametrize("interface", ["luxo-mouse", "cat-trot", "biped-walk"])
+def test_a_limb_without_children_ends_at_its_farthest_point_in_the_hierarchy(interface):
+    from puppet.timeline.motion import planar_hierarchy
+
+    spec = load_setup(interface).character
+    anchors = {j.child: tuple(j.anchor) for j in spec.joints}
+    ends = {j.name: j.end for j in planar_hierarchy(spec) if j.end is not None}
+    assert ends
+    for name, end in ends.items():
+        ax, ay = anchors.get(name, (0.0, 0.0))
+        points = []
+        for s in next(lk for lk in spec.links if lk.name == name).shapes:
+            points += ([tuple(s.center)] if s.type == "circle" else
+                       [tuple(s.a), tuple(s.b)] if s.type == "segment" else
+                       [tuple(p) for p in s.points])
+        reach = max(math.dist(p, (ax, ay)) for p in points)
+        assert math.hypot(*end) == pytest.approx(reach), name
+        assert any(math.dist(p, (ax + end[0], ay + end[1])) < 1e-9 for p in points), name

@@ -199,6 +199,7 @@ def test_an_unknown_channel_name():
     msg = _error(text)
     assert msg.startswith(f"bad.bvh:{_line_of(text, 'Zrot')}:18: 'Zrot': expected a channel "
                           "name, one of Xposition")
+    assert msg.endswith("Yrotation, Zrotation")  # no hint about the count: a misspelling
 
 
 def test_a_channel_count_that_does_not_match_the_names():
@@ -386,3 +387,13 @@ def test_messages_say_what_was_expected_where_the_file_stops_being_bvh():
     assert _error(SMALL.replace("JOINT twist", "JOIN twist")).startswith(
         f"bad.bvh:{_line_of(SMALL, 'twist')}:3: 'JOIN': expected JOINT, End Site or '}}' to "
         "close pelvis")
+
+
+def test_a_repeated_name_and_a_missing_offset_are_told_apart():
+    twice = SMALL.replace("JOINT twist", "JOINT upper")
+    line = _line_of(SMALL, "twist")
+    assert _error(twice) == (f"bad.bvh:{line}:9: 'upper': a second "
+                             "joint with this name; expected unique joint names")
+    no_offset = SMALL.replace("OFFSET 1 0 0\n    CHANNELS 3", "CHANNELS 3")
+    assert _error(no_offset).endswith(": 'CHANNELS': expected 'OFFSET' (the first entry of "
+                                      "twist: OFFSET x y z)")

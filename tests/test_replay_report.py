@@ -114,3 +114,73 @@ def test_one_log_replayed_on_screen_uses_the_logs_own_setup_and_speed(monkeypatc
     assert seen["slowdown_chosen"] is False and seen["overlay"] is False
     assert replay_command(args(HOP, headless=False, slowdown=4.0, overlay="com")) == 0
     assert seen["slowdown"] == 4.0 and seen["slowdown_chosen"] and seen["overlay"]
+
+
+# -- which interface a log replays, and what it says about it ----------------------------
+def _log_with(tmp_path, name="hop.jsonl", **header_changes):
+    import json
+
+    from puppet.timeline.log import read_log
+
+    lines = HOP.read_text(encoding="utf-8").splitlines()
+    header = json.loads(lines[0])
+    for key, value in header_changes.items():
+        if value is None:
+            header.pop(key, None)
+        else:
+            header[key] = value
+    path = tmp_path / name
+    path.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n", encoding="utf-8")
+    return read_log(path)
+
+
+def test_what_a_log_replays_when_its_interface_file_is_gone_changed_or_broken(tmp_path):
+    from puppet.data.errors import DataError
+    from puppet.timeline.replay import setup_for_log
+
+    gone = _log_with(tmp_path, "gone.jsonl", interface="no-such-interface")
+    setup, warnings = setup_for_log(gone)
+    assert setup.interface.name == "luxo-mouse"  # the copy in the log
+    assert f"{gone.path}: note: interface file 'no-such-interface' not found (in the " \
+        "catalog or the log's folder); replaying the copy recorded in the log" in warnings
+
+    changed = _log_with(tmp_path, "changed.jsonl", interface_hash="0" * 16)
+    _, warnings = setup_for_log(changed)
+    assert any(w.startswith(f"{changed.path}: warning: interface 'luxo-mouse' has changed")
+               and w.endswith("(--as-recorded replays the recorded interface)")
+               for w in warnings), warnings
+    no_copy = _log_with(tmp_path, "nocopy.jsonl", interface_hash="0" * 16,
+                        interface_text=None)
+    _, warnings = setup_for_log(no_copy)
+    assert any("has changed" in w and w.endswith("results may differ") for w in warnings)
+    with pytest.raises(DataError) as info:
+        setup_for_log(no_copy, as_recorded=True)
+    assert str(info.value) == (f"{no_copy.path}:1: header: no recorded copy of the interface "
+                               "(interface_text) to replay --as-recorded")
+
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("name: broken\ndescription: x\ncharacter: luxo\nmaps: 5\n")
+    bad = _log_with(tmp_path, "bad.jsonl", interface=str(broken))
+    with pytest.raises(DataError) as info:
+        setup_for_log(bad)
+    assert str(info.value).startswith(f"{broken}:4:")
+    assert str(info.value).endswith("(--as-recorded replays the log's own copy of the "
+                                    "interface)")
+    assert setup_for_log(bad, as_recorded=True)[0].interface.name == "luxo-mouse"
+
+
+def test_a_replays_warnings_go_to_stderr_and_to_the_on_screen_note(tmp_path, capsys,
+                                                                     monkeypatch):
+    import sys
+    import types
+
+    changed = _log_with(tmp_path, "changed.jsonl", interface_hash="0" * 16)
+    assert replay_command(args(changed.path)) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert any(line.startswith(f"{changed.path}: warning: interface 'luxo-mouse' has changed")
+               for line in err), err
+    seen = {}
+    monkeypatch.setitem(sys.modules, "puppet.app.window", types.SimpleNamespace(
+        run_window=lambda setup, slowdown, **options: seen.update(options) or 0))
+    assert replay_command(args(changed.path, headless=False)) == 0
+    assert seen["note"].startswith("interface 'luxo-mouse' has changed since this log")
