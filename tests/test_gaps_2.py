@@ -622,3 +622,59 @@ def test_a_limb_without_children_ends_at_its_farthest_point_in_the_hierarchy(int
         reach = max(math.dist(p, (ax, ay)) for p in points)
         assert math.hypot(*end) == pytest.approx(reach), name
         assert any(math.dist(p, (ax + end[0], ay + end[1])) < 1e-9 for p in points), name
+
+
+def test_tilt_never_above_reports_the_most_tilted_link_also_when_all_stand_upright():
+    import numpy as np
+
+    run = _Run([0, 0, 0], [1, 1, 1], [0, 0, 0])
+    run.angle = np.zeros((3, 2))
+    got = _outcome({"tilt_never_above": {"links": ["base", "head"], "max": 10}}, run)
+    assert got.passed and got.measured == "base 0 deg from upright at t = 0.00 s (the most)"
+    run.angle[1, 1] = math.radians(30)
+    got = _outcome({"tilt_never_above": {"links": ["base", "head"], "max": 10}}, run)
+    assert not got.passed and got.measured == "head 30 deg from upright at t = 0.10 s (the most)"
+
+
+def test_the_nearest_place_on_a_grasp_segment_is_the_foot_of_the_perpendicular(tmp_path):
+    s = make(tmp_path, PENDULUM)
+    swing = s.sim.props["swing"]
+    (a, b), = swing.segments
+    pa, pb = swing.body.local_to_world(a), swing.body.local_to_world(b)  # the bar, slanted
+    mid = ((pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2)
+    ux, uy = (pb[0] - pa[0]) / math.dist(pa, pb), (pb[1] - pa[1]) / math.dist(pa, pb)
+    beside = (mid[0] - 0.02 * uy, mid[1] + 0.02 * ux)  # 2 cm off the bar's middle
+    distance, point, name = swing.nearest(beside)
+    assert distance == pytest.approx(0.02) and point == pytest.approx(mid) and name is None
+
+
+def test_a_motion_export_cut_short_makes_no_claim_about_the_end(tmp_path, capsys):
+    import argparse
+
+    from puppet.timeline.motion import export_motion_command
+
+    out = tmp_path / "hop.csv"
+    common = dict(logs=[str(HOP_LOG)], export_motion=str(out), fps=30.0,
+                  allow_truncated=False, as_recorded=False)
+    assert export_motion_command(argparse.Namespace(until_step=480, **common)) == 0
+    said = capsys.readouterr().out
+    assert said.startswith(f"wrote {out}: 31 frames at 30 fps") and "recorded" not in said
+    assert export_motion_command(argparse.Namespace(until_step=None, **common)) == 0
+    assert "(same end as recorded)" in capsys.readouterr().out
+
+
+def test_a_joint_with_no_start_angle_starts_straight(tmp_path):
+    from puppet.data.catalog import ROOT
+
+    text = (ROOT / "characters" / "luxo.yaml").read_text(encoding="utf-8")
+    assert "joints: {ankle: -25, knee: 55}" in text
+    character = tmp_path / "luxo.yaml"
+    character.write_text(text.replace("joints: {ankle: -25, knee: 55}", "joints: {ankle: -25}"))
+    s = make(tmp_path, f"""
+    name: t
+    description: luxo with no start angle for the knee
+    character: {character}
+    """)
+    knee = s.character.servos["knee"]
+    assert knee.target == 0.0 and knee.angle == pytest.approx(0.0, abs=1e-9)
+    assert math.degrees(s.character.servos["ankle"].target) == pytest.approx(-25)
