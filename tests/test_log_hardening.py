@@ -48,6 +48,23 @@ MOUSE = '{"step": 0, "event": {"type": "mouse", "x": 0.5, "y": 0.5}}'
      '"point": [0, 0], "target": [1e9, 0]}}', "-10000..10000 m"),
     ('{"step": 0, "event": {"type": "action", "name": "rewind", "to_step": 99999999999}}',
      "rewind action needs a whole-number 'to_step', 0..41472000"),
+    ('{"step": 0, "event": {"type": "drag", "phase": "move", "target": [0, -1e9]}}',
+     "drag move: 'target' y must be a finite number in -10000..10000 m"),
+    ('{"step": 0, "event": {"type": "action", "name": "take", "branch": -1}}',
+     "take action needs a whole-number 'branch' >= 0"),
+    ('{"step": 0, "event": {"type": "action", "name": "take", "branch": 1.5}}',
+     "take action needs a whole-number 'branch' >= 0"),
+    ('{"step": 0, "event": {"type": "drag", "phase": "start", "link": "base", '
+     '"point": [1e9, 0], "target": [0, 0]}}',
+     "drag start: 'point' x must be a finite number in"),
+    ('{"step": 0, "event": {"type": "gesture", "key": "h", "path": [[0, 0.5, 1e9]]}}',
+     "gesture event: a path value must be a finite number in -1e6..1e6"),
+    ('{"step": 1.5, "event": {"type": "mouse", "x": 0.5, "y": 0.5}}',
+     "'step' must be a whole number 0..41472000"),
+    ('{"step": true, "event": {"type": "mouse", "x": 0.5, "y": 0.5}}',
+     "'step' must be a whole number 0..41472000"),
+    ('{"step": 0, "event": {"type": "channel", "name": "a b", "value": 1}}',
+     "channel event: 'name' must be a channel name, got 'a b'"),
     ('{"end": 99999999999, "hash": "x"}', "bad end line"),
     ('{"step": 0, "event": {"type": "gesture", "key": "h", "path": [[0, 0.5, 1e999]]}}',
      "too large a number"),
@@ -68,6 +85,11 @@ def test_log_numbers_are_finite_and_bounded(tmp_path, line, fragment):
     ({"checkpoint_interval": 1e-300}, "header: 'checkpoint_interval'"),
     ({"interface": "x" * 5000}, "header: 'interface' must be a name or path of 1..4096"),
     ({"description": {"a": 1}}, "header: 'description' must be a string"),
+    ({"expect": {"never_fell": True}}, "header: 'expect' must be a list"),
+    ({"version": "9" * 100}, "log format version '99999999999999999999999999999999999"
+                             "9... is not supported"),
+    ({"scene": 5}, "header: 'scene' is missing or not a string"),
+    ({"dt": "0.002"}, "header: 'dt' is missing or not a number"),
 ])
 def test_header_numbers_are_bounded(tmp_path, changes, fragment):
     path = write(tmp_path, [header(**changes), MOUSE])
@@ -143,3 +165,40 @@ def test_an_over_long_line_and_a_device_are_refused(tmp_path, monkeypatch):
         read_log(path)  # the header itself is over 1000 characters
     with pytest.raises(DataError, match="not a regular file"):
         read_log("/dev/null")
+
+
+def test_a_whole_drag_reads_start_move_and_end(tmp_path):
+    lines = [header(), MOUSE,
+             '{"step": 1, "event": {"type": "drag", "phase": "start", "link": "base", '
+             '"point": [0, 0], "target": [0.1, 0.2]}}',
+             '{"step": 2, "event": {"type": "drag", "phase": "move", "target": [0.2, 0.2]}}',
+             '{"step": 3, "event": {"type": "drag", "phase": "end"}}']
+    log = read_log(write(tmp_path, lines), allow_truncated=True)
+    assert [e.event.get("phase") for e in log.events] == [None, "start", "move", "end"]
+
+
+def test_a_log_may_end_at_its_last_possible_step(tmp_path):
+    last = 41472000  # 24 h at the hop's dt
+    log = read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last}, "hash": "x"}}']))
+    assert log.end_step == last
+    with pytest.raises(DataError, match="bad end line"):
+        read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last + 1}, "hash": "x"}}']))
+
+
+def test_channel_names_may_have_capitals_digits_dots_and_dashes(tmp_path):
+    line = ('{"step": 0, "event": {"type": "channels", "values": '
+            '{"Lean": 0.5, "Arm_2.x-y": 1}}}')
+    log = read_log(write(tmp_path, [header(), MOUSE, line]), allow_truncated=True)
+    assert log.events[-1].event["values"] == {"Lean": 0.5, "Arm_2.x-y": 1}
+
+
+def test_an_empty_log_and_a_folder_are_one_line_each(tmp_path):
+    empty = write(tmp_path, [""], "empty.jsonl")
+    with pytest.raises(DataError) as info:
+        read_log(empty)
+    assert str(info.value) == f"{empty}:1: empty log: line 1 must be a header"
+    folder = tmp_path / "folder.jsonl"
+    folder.mkdir()
+    with pytest.raises(DataError) as info:
+        read_log(folder)
+    assert str(info.value) == f"{folder}: is a folder; expected a log (.jsonl) or a log name"

@@ -121,6 +121,41 @@ def test_crlf_tabs_and_blank_lines_are_read():
     assert parse_bvh(text).motion.tolist() == parse_bvh(SMALL).motion.tolist()
 
 
+
+def test_old_mac_line_ends_read_like_any_other():
+    clip = parse_bvh(SMALL.replace("\n", "\r"))
+    assert clip.motion.tolist() == parse_bvh(SMALL).motion.tolist()
+    assert clip.names == parse_bvh(SMALL).names
+
+
+def test_a_chain_thousands_of_joints_deep_reads():
+    depth = 3000  # deeper than Python's recursion limit
+    chain = "".join(f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 1 Zrotation\n"
+                    for i in range(depth))
+    text = ("HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\n" + chain + "}\n" * (depth + 1)
+            + f"MOTION\nFrames: 1\nFrame Time: 0.1\n{' '.join(['0.01'] * depth)}\n")
+    clip = parse_bvh(text)
+    assert len(clip.joints) == depth + 1 and clip.joint(f"j{depth - 1}").parent == depth - 1
+    assert clip.motion.shape == (1, depth)
+    # each joint turns 0.01 degrees more than its parent: the chain curls to the left
+    turns = np.radians(0.01 * np.arange(depth))
+    end = [-np.sin(turns).sum(), np.cos(turns).sum(), 0]
+    assert clip.world_positions()[0, -1] == pytest.approx(end, abs=1e-6)
+
+
+def test_end_sites_are_named_uniquely():
+    # two End Sites on one joint, and a joint already named like its End Site
+    text = SMALL.replace("      End Site\n      {\n        OFFSET 0 2 0\n      }\n",
+                         "      End Site\n      {\n        OFFSET 0 2 0\n      }\n"
+                         "      End Site\n      {\n        OFFSET 0 3 0\n      }\n")
+    text = text.replace("JOINT twist", "JOINT lower_end")
+    clip = parse_bvh(text)
+    assert clip.names == ["pelvis", "upper", "lower", "lower_end2", "lower_end3", "lower_end",
+                          "lower_end_end"]
+    assert clip.world_positions()[0, clip.index("lower_end3")] == pytest.approx([0, 5, 0])
+    assert clip.joint("lower_end").channels == ("Xrotation", "Yrotation", "Zrotation")
+
+
 # -- errors: one line, where, what was expected --------------------------------------
 def _error(text: str) -> str:
     with pytest.raises(DataError) as info:
@@ -164,6 +199,7 @@ def test_an_unknown_channel_name():
     msg = _error(text)
     assert msg.startswith(f"bad.bvh:{_line_of(text, 'Zrot')}:18: 'Zrot': expected a channel "
                           "name, one of Xposition")
+    assert msg.endswith("Yrotation, Zrotation")  # no hint about the count: a misspelling
 
 
 def test_a_channel_count_that_does_not_match_the_names():
@@ -192,6 +228,60 @@ def test_a_bad_frame_time_and_duplicate_names():
     assert "Frame Time: '0': expected seconds per frame" in _error(
         SMALL.replace("Frame Time: 0.04", "Frame Time: 0"))
     assert "a second joint with this name" in _error(SMALL.replace("JOINT twist", "JOINT upper"))
+
+
+
+def test_numbers_are_written_as_bvh_writes_them():
+    for word in ("1_000", "0x10", "١"):
+        assert f"'{word}' in frame 2: expected a number" in _error(
+            SMALL.replace("1 2 3 0 0 0 90", f"1 2 {word} 0 0 0 90"))
+        assert f"'{word}': expected OFFSET y of upper, a number" in _error(
+            SMALL.replace("OFFSET 0 1 0", f"OFFSET 0 {word} 0", 1))
+    assert "frame 2 has a value that is not finite" in _error(
+        SMALL.replace("1 2 3 0 0 0 90", "1 2 -inf 0 0 0 90"))
+    assert "frame 3 has a value that is not finite" in _error(
+        SMALL.replace("0 0 0 90 0 0 0 90", "0 0 0 1e999 0 0 0 90"))
+    assert parse_bvh(SMALL.replace("1 2 3 0 0 0 90", "1 +2. .3e1 0 0 0 90")).motion[1, :3] \
+        .tolist() == [1, 2, 3]
+
+
+def test_counts_that_are_no_counts():
+    huge = "9" * 5000  # more digits than Python's int() takes
+    assert f"'{huge}': expected the number of channels, 0 to 6" in _error(
+        SMALL.replace("CHANNELS 1", f"CHANNELS {huge}", 1))
+    assert "'٣': expected the number of channels" in _error(
+        SMALL.replace("CHANNELS 1", "CHANNELS ٣", 1))
+    msg = _error(SMALL.replace("Frames: 3", f"Frames: {huge}"))
+    assert f"Frames: '{'9' * 30}': expected a whole number of frames (at most 12" in msg
+    assert len(msg) < 200
+    assert "the file ends after 3 frames; 'Frames: 999999999999' expected" in _error(
+        SMALL.replace("Frames: 3", "Frames: 999999999999"))
+
+
+def test_a_frame_time_whose_rate_overflows():
+    msg = _error(SMALL.replace("Frame Time: 0.04", "Frame Time: 1e-320"))
+    line = _line_of(SMALL, "Time:")
+    assert msg.startswith(f"bad.bvh:{line}: Frame Time: '1e-320': expected")
+    fast = parse_bvh(SMALL.replace("Frame Time: 0.04", "Frame Time: 1e-300"))
+    assert fast.fps == pytest.approx(1e300)
+
+
+def test_no_frames_at_all(recwarn):
+    clip = parse_bvh(SMALL.split("Frames:")[0] + "Frames: 0\nFrame Time: 0.04\n")
+    assert clip.motion.shape == (0, 11) and clip.world_positions().shape == (0, 6, 3)
+    assert not recwarn.list  # (numpy warns of an empty table if it is asked to read one)
+
+
+def test_errors_name_lines_that_are_there():
+    assert _error("").startswith("bad.bvh:1: the hierarchy ends here; expected 'HIERARCHY'")
+    head = SMALL.split("Frame Time:")[0]  # the file ends after its Frames line
+    assert _error(head).startswith(f"bad.bvh:{head.count(chr(10)) + 1}:1: '': expected "
+                                   "'Frame Time: SECONDS' here")
+    head = SMALL.split("\n0 0 0 0")[0]  # and after its Frame Time, with no line end
+    assert _error(head).startswith(f"bad.bvh:{head.count(chr(10)) + 1}: the file ends after 0")
+    # a form feed or U+2028 is no line end: the lines after it keep their numbers
+    text = SMALL.replace("OFFSET 0 1 0", "OFFSET 0\x0c1\u20280", 1).replace("Zrot", "Zrox", 1)
+    assert _error(text).startswith(f"bad.bvh:{_line_of(SMALL, 'Zrotation')}:")
 
 
 def test_an_unreadable_file(tmp_path):
@@ -278,3 +368,32 @@ def test_a_planar_clip_reads_back_to_its_angles(tmp_path):
     assert pos[:, clip.index("upper_arm"), :2] == pytest.approx(knee, abs=1e-5)
     assert np.abs(pos[:, :, 2]).max() < 1e-9
     assert math.isclose(clip.joint("upper_arm_end").offset[0], 0.05)
+
+
+def test_messages_say_what_was_expected_where_the_file_stops_being_bvh():
+    second_root = SMALL.replace("MOTION", "ROOT again\n{\n  OFFSET 0 0 0\n}\nMOTION")
+    line = _line_of(second_root, "again")
+    assert _error(second_root) == (f"bad.bvh:{line}:1: 'ROOT': expected MOTION after the root "
+                                   "joint's closing '}' (one ROOT per file)")
+    no_site = SMALL.replace("End Site", "End Zone", 1)
+    assert _error(no_site).startswith(f"bad.bvh:{_line_of(no_site, 'Zone')}:11: 'Zone': "
+                                      "expected 'Site' after 'End'")
+    cut = SMALL[:SMALL.index("OFFSET 0 1 0") + len("OFFSET 0 1")]
+    assert _error(cut) == (f"bad.bvh:{cut.count(chr(10)) + 1}: the hierarchy ends here; "
+                           "expected OFFSET z of upper (a BVH file has HIERARCHY, ROOT ... "
+                           "{ }, then MOTION)")
+    assert "'{': expected the joint's name after JOINT" in _error(
+        SMALL.replace("JOINT twist", "JOINT"))
+    assert _error(SMALL.replace("JOINT twist", "JOIN twist")).startswith(
+        f"bad.bvh:{_line_of(SMALL, 'twist')}:3: 'JOIN': expected JOINT, End Site or '}}' to "
+        "close pelvis")
+
+
+def test_a_repeated_name_and_a_missing_offset_are_told_apart():
+    twice = SMALL.replace("JOINT twist", "JOINT upper")
+    line = _line_of(SMALL, "twist")
+    assert _error(twice) == (f"bad.bvh:{line}:9: 'upper': a second "
+                             "joint with this name; expected unique joint names")
+    no_offset = SMALL.replace("OFFSET 1 0 0\n    CHANNELS 3", "CHANNELS 3")
+    assert _error(no_offset).endswith(": 'CHANNELS': expected 'OFFSET' (the first entry of "
+                                      "twist: OFFSET x y z)")

@@ -394,3 +394,21 @@ def test_a_three_joint_arm_reaches_within_1cm_and_keeps_its_limits_out_of_reach(
             assert lo - 1.0 <= math.degrees(s.character.joint_angle(joint)) <= hi + 1.0
     # stretched toward it: the shoulder at its limit, pointing down-forward
     assert math.degrees(s.character.servos["shoulder"].target) == pytest.approx(-80)
+
+
+def test_a_steered_reach_that_grasps_takes_hold_of_the_prop_it_is_steered_to(tmp_path):
+    text = LUXO.replace("""y_to: [0.32, 0.40]}, duration: 0.3}""",
+                        """y_to: [0.32, 0.40]}, duration: 0.3,
+            grasp: true, tolerance: 0.01}""")
+    s = session(tmp_path, text)
+    s.advance(240)
+    base = s.character.bodies["base"]
+    middle = s.sim.props["rail"].point_world("middle")
+    lx, ly = base.world_to_local(middle)  # the rail's middle handhold, in the steer's frame
+    s.handle(ev.channels({"hx": (lx + 0.04) / 0.1, "hy": (ly - 0.32) / 0.08}))
+    press(s, "s")
+    s.advance(20)
+    assert s.runtime.grasped == {}  # on its way: not yet within 1 cm
+    s.advance(400)
+    assert s.sim.grasps["shade"][1] == "rail"  # caught the rail (no point was named)
+    assert math.dist(s.runtime.grasped["shade"], middle) < 0.012

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import argparse
 import collections
+import hashlib
 import json
-import random
 import subprocess
 import sys
 import time
@@ -28,6 +28,18 @@ def mutant_codes() -> dict[str, int | None]:
     for meta in sorted(Path("mutants").rglob("*.py.meta")):
         codes.update(json.loads(meta.read_text())["exit_code_by_key"])
     return codes
+
+
+def draw(names: list[str], n: int, seed: int) -> list[str]:
+    """A seeded sample of ``n`` mutant names: those ranked first by a hash of the seed
+    and the name. Unlike ``random.sample`` over the list, the same seed keeps drawing
+    the same mutants of unchanged functions when mutants are added or removed elsewhere
+    (a new module, an edited function), so a survivor stays in the sample until a test
+    kills it."""
+    def rank(name: str) -> bytes:
+        return hashlib.sha256(f"{seed}:{name}".encode()).digest()
+
+    return sorted(sorted(names, key=rank)[:n])
 
 
 def package_of(name: str) -> str:
@@ -53,7 +65,7 @@ def main() -> int:
         return 2
     names = sorted(codes)
     by_package = collections.Counter(package_of(n) for n in names)
-    sample = sorted(random.Random(args.seed).sample(names, min(args.sample, len(names))))
+    sample = draw(names, args.sample, args.seed)
     print(f"{len(names)} mutants ({', '.join(f'{p} {n}' for p, n in sorted(by_package.items()))});"
           f" running a sample of {len(sample)} (seed {args.seed})", flush=True)
     # 2. Run the sample (mutmut reuses the stats; each mutant runs only the tests that

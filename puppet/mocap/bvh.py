@@ -45,12 +45,17 @@ from puppet.data.errors import DataError
 CHANNEL_NAMES = ("Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation")
 CMU_UNIT_METRES = 0.056444  # one unit of the CMU BVH conversion (Hahne), in metres
 _AXIS = {"X": 0, "Y": 1, "Z": 2}
+# A number as BVH files write it (what numpy's reader takes, not Python's "1_000" or "0x1")
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)  # words float() reads
+_COUNT = re.compile(r"[0-9]{1,12}")  # a count (ASCII digits; 12 of them are plenty)
 
 
 @dataclass
 class Joint:
     """One node of the hierarchy. An End Site is a joint with no channels and
-    ``end_site=True`` (its name is its parent's plus ``_end``)."""
+    ``end_site=True`` (its name is its parent's plus ``_end``, and ``2``, ``3`` ... if
+    that name is taken: by a joint of the file, or by the parent's other End Site)."""
 
     name: str
     parent: int  # index into Clip.joints, -1 for the root
@@ -179,7 +184,7 @@ class _Tokens:
             for m in re.finditer(r"\S+", line):
                 self.items.append((m.group(), n, m.start() + 1))
         self.i = 0
-        self.last_line = len(lines)
+        self.last_line = max(1, len(lines))
 
     def peek(self) -> tuple[str, int, int] | None:
         return self.items[self.i] if self.i < len(self.items) else None
@@ -201,10 +206,7 @@ class _Tokens:
 
     def number(self, what: str) -> float:
         tok = self.next(what)
-        try:
-            value = float(tok[0])
-        except ValueError:
-            value = math.nan
+        value = float(tok[0]) if _NUMBER.fullmatch(tok[0]) else math.nan
         if not math.isfinite(value):
             self.fail(tok, f"expected {what}, a number")
         return value
@@ -224,10 +226,14 @@ def read_bvh(path: str | Path) -> Clip:
 
 
 def parse_bvh(text: str, path: str = "<bvh>") -> Clip:
-    """Parse BVH text (see ``read_bvh``)."""
-    m = re.search(r"^[ \t]*MOTION[ \t]*\r?$", text, re.MULTILINE)
+    """Parse BVH text (see ``read_bvh``). Lines end in LF, CR LF or CR; only those
+    count as line ends (a form feed or U+2028 is a space, as in an editor's count)."""
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    m = re.search(r"^[ \t]*MOTION[ \t]*$", text, re.MULTILINE)
     head = text[:m.start()] if m else text
-    lines = head.splitlines()
+    lines = head.split("\n")
+    if lines[-1] == "":  # what follows the last line end
+        lines.pop()
     toks = _Tokens(path, lines)
     joints = _hierarchy(toks)
     if m is None:
@@ -243,40 +249,69 @@ def _hierarchy(toks: _Tokens) -> list[Joint]:
     toks.expect("HIERARCHY", " (the first word of a BVH file)")
     root = toks.expect("ROOT", " and the root joint's name")
     joints: list[Joint] = []
-    _joint(toks, joints, -1, root, [0])
+    names: set[str] = set()
+    n_channels = 0
+    open_: list[int] = []  # the joints whose closing '}' is still to come, innermost last
+    kw, parent = root, -1
+    while True:  # a loop, not a recursion: any depth of nesting reads
+        if kw is not None:
+            joint = _joint(toks, joints, names, parent, kw, n_channels)
+            n_channels += len(joint.channels)
+            if not joint.end_site:
+                open_.append(len(joints) - 1)
+        if not open_:
+            break
+        name = joints[open_[-1]].name
+        tok = toks.next(f"JOINT, End Site or '}}' to close {name}")
+        if tok[0] == "}":
+            open_.pop()
+            kw = None
+        elif tok[0] in ("JOINT", "End"):
+            kw, parent = tok, open_[-1]
+        else:
+            toks.fail(tok, f"expected JOINT, End Site or '}}' to close {name}")
     tok = toks.peek()
     if tok is not None:
         toks.fail(tok, "expected MOTION after the root joint's closing '}' (one ROOT per file)")
+    for j in joints:  # an End Site is named after its parent; a joint's name wins
+        if j.end_site:
+            j.name = base = joints[j.parent].name + "_end"
+            k = 1
+            while j.name in names:
+                k += 1
+                j.name = f"{base}{k}"
+            names.add(j.name)
     return joints
 
 
-def _joint(toks: _Tokens, joints: list[Joint], parent: int, kw: tuple[str, int, int],
-           n_channels: list[int]) -> None:
+def _joint(toks: _Tokens, joints: list[Joint], names: set[str], parent: int,
+           kw: tuple[str, int, int], first_channel: int) -> Joint:
+    """Read a joint's name, OFFSET and CHANNELS (an End Site's OFFSET and '}'); append it."""
     if kw[0] == "End":
         site = toks.expect("Site", " after 'End'")
-        name = joints[parent].name + "_end"
+        name = joints[parent].name + "_end"  # made unique when the hierarchy is read
         line = site[1]
     else:
         name_tok = toks.next(f"the name of the {kw[0].lower()} after {kw[0]}")
         if name_tok[0] == "{":
             toks.fail(name_tok, f"expected the joint's name after {kw[0]}")
         name, line = name_tok[0], kw[1]
-        if any(j.name == name for j in joints):
+        if name in names:
             toks.fail(name_tok, "a second joint with this name; expected unique joint names")
+        names.add(name)
     toks.expect("{", f" to open {name}")
     toks.expect("OFFSET", f" (the first entry of {name}: OFFSET x y z)")
     offset = np.array([toks.number(f"OFFSET {axis} of {name}") for axis in "xyz"])
-    me = len(joints)
-    joint = Joint(name, parent, offset, (), kw[0] == "End", n_channels[0], line)
+    joint = Joint(name, parent, offset, (), kw[0] == "End", first_channel, line)
     joints.append(joint)
     if joint.end_site:
         toks.expect("}", " to close the End Site (it has only an OFFSET)")
-        return
+        return joint
     tok = toks.peek()
     if tok is not None and tok[0] == "CHANNELS":
         toks.next("CHANNELS")
         count_tok = toks.next("the number of channels")
-        if not re.fullmatch(r"\d+", count_tok[0]) or not 0 <= int(count_tok[0]) <= 6:
+        if not _COUNT.fullmatch(count_tok[0]) or not 0 <= int(count_tok[0]) <= 6:
             toks.fail(count_tok, "expected the number of channels, 0 to 6")
         channels = []
         for k in range(int(count_tok[0])):
@@ -290,14 +325,7 @@ def _joint(toks: _Tokens, joints: list[Joint], parent: int, kw: tuple[str, int, 
                 toks.fail(ch, f"channel listed twice for {name}; expected each at most once")
             channels.append(ch[0])
         joint.channels = tuple(channels)
-        n_channels[0] += len(channels)
-    while True:
-        tok = toks.next(f"JOINT, End Site or '}}' to close {name}")
-        if tok[0] == "}":
-            break
-        if tok[0] not in ("JOINT", "End"):
-            toks.fail(tok, f"expected JOINT, End Site or '}}' to close {name}")
-        _joint(toks, joints, me, tok, n_channels)
+    return joint
 
 
 def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.ndarray, float]:
@@ -308,7 +336,7 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
     for key in ("Frames:", "Frame Time:"):
         while k < len(lines) and not lines[k].strip():
             k += 1
-        where = line0 + k
+        where = line0 + min(k, len(lines) - 1)  # the file's last line if it ends first
         text = lines[k].strip() if k < len(lines) else ""
         if not text.startswith(key):
             raise DataError(path, where, 1, f"'{text[:30]}': expected '{key} "
@@ -316,22 +344,20 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
         header[key] = (text[len(key):].strip(), where)
         k += 1
     frames_text, frames_line = header["Frames:"]
-    if not re.fullmatch(r"\d+", frames_text):
-        raise DataError(path, frames_line, None,
-                        f"Frames: '{frames_text}': expected a whole number of frames")
+    if not _COUNT.fullmatch(frames_text):
+        raise DataError(path, frames_line, None, f"Frames: '{frames_text[:30]}': expected a "
+                        f"whole number of frames (at most 12 digits)")
     frames = int(frames_text)
     ft_text, ft_line = header["Frame Time:"]
-    try:
-        frame_time = float(ft_text)
-    except ValueError:
-        frame_time = math.nan
-    if not (math.isfinite(frame_time) and frame_time > 0):
-        raise DataError(path, ft_line, None,
-                        f"Frame Time: '{ft_text}': expected seconds per frame, a number > 0")
+    frame_time = float(ft_text) if _NUMBER.fullmatch(ft_text) else math.nan
+    if not (math.isfinite(frame_time) and frame_time > 0 and math.isfinite(1 / frame_time)):
+        raise DataError(path, ft_line, None, f"Frame Time: '{ft_text[:30]}': expected seconds "
+                        f"per frame, a number > 0 (and not so small that frames per second "
+                        f"overflow)")
     first = line0 + k  # file line of the first frame
     body = "\n".join(lines[k:])
     motion = None
-    if n_ch > 0:
+    if n_ch > 0 and body.strip():  # (numpy warns about an empty table)
         try:  # the fast path: numpy's C reader
             motion = np.loadtxt(io.StringIO(body), dtype=float, ndmin=2, comments=None)
         except ValueError:
@@ -346,7 +372,7 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
 
 def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int) -> np.ndarray:
     rows = []
-    last = first
+    last = first if lines else first - 1  # (the Frame Time line, if the file ends there)
     for i, line in enumerate(lines):
         words = line.split()
         if not words:
@@ -359,12 +385,11 @@ def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int
             raise DataError(path, last, None,
                             f"frame {len(rows) + 1} has {len(words)} values; expected "
                             f"{n_ch}, one per channel of the hierarchy")
-        try:
-            row = [float(w) for w in words]
-        except ValueError:
-            bad = next(w for w in words if not _is_number(w))
+        bad = next((w for w in words if not _NUMBER.fullmatch(w)), None)
+        if bad is not None and not _NOT_FINITE.fullmatch(bad):
             raise DataError(path, last, line.index(bad) + 1,
-                            f"'{bad}' in frame {len(rows) + 1}: expected a number") from None
+                            f"'{bad[:30]}' in frame {len(rows) + 1}: expected a number")
+        row = [float(w) for w in words]
         if not all(math.isfinite(v) for v in row):
             raise DataError(path, last, None,
                             f"frame {len(rows) + 1} has a value that is not finite; "
@@ -374,14 +399,6 @@ def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int
         raise DataError(path, last, None, f"the file ends after {len(rows)} frames; "
                         f"'Frames: {frames}' expected {frames}")
     return np.array(rows, dtype=float).reshape(frames, n_ch)
-
-
-def _is_number(word: str) -> bool:
-    try:
-        float(word)
-        return True
-    except ValueError:
-        return False
 
 
 # -- writing ----------------------------------------------------------------------------
