@@ -276,3 +276,34 @@ def test_a_world_frame_mouse_map_keeps_its_target_re_solved(tmp_path):
     pelvis = c.bodies[c.spec.joint("waist").parent].angle
     assert s.character.servos["waist"].target != first  # re-solved as the pelvis moved
     assert math.isclose(s.character.servos["waist"].target, 0.0 - pelvis, abs_tol=0.05)
+
+
+def test_the_initial_state_selects_its_roles(tmp_path):
+    """A machine starting in a state with `roles: far` drives the far binding's joints
+    from the start, as entering that state later would."""
+    from puppet.data.catalog import setup_from_text
+    from puppet.interface import events as ev
+    from puppet.session import Session
+
+    text = """name: roles-start
+description: the first state names its roles
+character: biped
+roles:
+  swing_hip: {near: hip_far, far: hip_near}
+maps:
+  - {input: mouse.x, joint: swing_hip, from: [0, 1], to: [-10, 40]}
+states:
+  near_first:
+    roles: far
+    keys:
+      - {key: space, goto: other}
+  other:
+    roles: near
+"""
+    path = tmp_path / "interfaces" / "roles-start.yaml"
+    path.parent.mkdir()
+    path.write_text(text, encoding="utf-8")
+    s = Session(setup_from_text(text, path))
+    assert s.runtime.role_binding == "far"
+    s.handle(ev.mouse(1.0, 0.5))
+    assert math.degrees(s.character.servos["hip_near"].target) == pytest.approx(40)

@@ -244,6 +244,9 @@ class InterfaceRuntime:
         now = self.step_now()
         for machine in self.machines.values():
             machine.enter(machine.initial, now)
+            roles = machine.spec.states[machine.initial].roles
+            if roles is not None and roles != self.role_binding:
+                self._use_binding(roles)  # entering a state selects its roles, the first too
         self._refresh_active_maps()
         for applier, joints in self.feedback.setters:  # sensor maps own their joints
             self.feedback.claim(joints)
