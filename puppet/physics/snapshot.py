@@ -80,7 +80,8 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
     # glibc's malloc check (LD_PRELOAD=libc_malloc_debug.so.0,
     # GLIBC_TUNABLES=glibc.malloc.check=3) stops in that free() on the first replays of
     # the shipped logs, and a plain run aborted in malloc about one bench in five.
-    space._puppet_contacts = (stamp, _touching(made, arbiters, objects, stamp))
+    # the captured step's contacts, worked out when first asked (restored_contacts)
+    space._puppet_contacts = [stamp, None, (made, arbiters, objects)]
     return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
 
 
@@ -114,7 +115,15 @@ def restored_contacts(body) -> list | None:
     got = getattr(space, "_puppet_contacts", None)
     if got is None or _cp.cpSpaceGetTimestamp(space._space) != got[0]:
         return None
-    return got[1].get(body, [])
+    return touching(got).get(body, [])
+
+
+def touching(got: list) -> dict:
+    """body -> points of a space's ``_puppet_contacts`` (worked out once)."""
+    if got[1] is None:
+        made, records, objects = got[2]
+        got[1], got[2] = _touching(made, records, objects, got[0]), None
+    return got[1]
 
 
 # -- records ---------------------------------------------------------------------------

@@ -20,6 +20,7 @@ from puppet import __version__
 from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
+from puppet.physics.snapshot import touching as snapshot_touching
 from puppet.timeline.log import Log, read_log
 from puppet.timeline.playback import next_move, play
 
@@ -149,10 +150,12 @@ class Sampler:
         restored = getattr(space, "_puppet_contacts", None)  # just restored: the snapshot's
         if restored is not None and lib.cpSpaceGetTimestamp(space._space) != restored[0]:
             restored = None  # contacts (see snapshot.restored_contacts); else the arbiters
+        if restored is not None:
+            restored = snapshot_touching(restored)
         for body, ptr, cog, shapes in self._per_link:
             p = to_world(ptr, cog)
             if restored is not None:
-                touching = bool(restored[1].get(body))
+                touching = bool(restored.get(body))
             else:
                 touched[0] = 0
                 each(ptr, count, null)
