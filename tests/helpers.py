@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import json
+import shutil
 from dataclasses import dataclass, field
+from pathlib import Path
 
-from puppet.data.catalog import find, load_setup
+import yaml
+
+from puppet.data.catalog import ROOT, find, load_setup
 from puppet.session import Session
 from puppet.timeline.playback import play
 from puppet.timeline.script import compile_script, load_script, run_seconds
@@ -37,3 +42,29 @@ def run_script(script: str, interface: str, scene: str | None = None, every: int
     until = round(run_seconds(spec) / session.sim.dt)
     play(session, compile_script(spec, session.sim.dt), until, every, sample)
     return run
+
+
+def copy_log(log: Path, dest: Path, **header) -> Path:
+    """A copy of a log (and its sidecar) with header fields replaced."""
+    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
+    head = json.loads(lines[0])
+    head.update(header)
+    out = dest / log.name
+    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
+    side = log.parent / (log.stem + ".expect.yaml")
+    shutil.copy(side, dest / side.name)
+    return out
+
+
+def with_weak_hips(log_name: str, interface: str, dest: Path, stiffness: float,
+                   max_torque: float) -> Path:
+    """A copy of assets/logs/LOG_NAME (and its sidecar) replaying against a copy of
+    ``interface`` whose hip servos have these gains (its other gains kept)."""
+    spec = yaml.safe_load(find("interface", interface).read_text(encoding="utf-8"))
+    spec.setdefault("gains", {}).update(
+        {j: {"stiffness": stiffness, "max_torque": max_torque} for j in ("hip_near", "hip_far")})
+    spec["name"] = f"{interface}-weak"
+    iface = dest / f"{interface}-weak.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    return copy_log(ROOT / "assets" / "logs" / f"{log_name}.jsonl", dest,
+                    interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))

@@ -238,21 +238,10 @@ def test_the_shove_that_stepping_catches_fells_the_figure_that_holds_still(tmp_p
 
 
 def test_the_push_step_log_fails_with_weak_hips(tmp_path):
-    import yaml
-
-    from puppet.data.catalog import ROOT, find
+    from helpers import with_weak_hips
     from puppet.testing import replay_log
-    from test_logs import _copy_log
 
-    spec = yaml.safe_load(find("interface", "biped-step").read_text(encoding="utf-8"))
-    spec["gains"] = {j: {"stiffness": 300.0, "max_torque": 75.0}
-                     for j in ("hip_near", "hip_far")}
-    spec["name"] = "biped-step-weak"
-    iface = tmp_path / "biped-step-weak.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    weak = _copy_log(ROOT / "assets" / "logs" / "biped-push-step.jsonl", tmp_path,
-                     interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
-    result = replay_log(weak)
+    result = replay_log(with_weak_hips("biped-push-step", "biped-step", tmp_path, 300.0, 75.0))
     failed = {o.expectation.split()[0] for o in result.failed} - {"same"}
     assert failed & {"height_at_end", "x_at_end", "upright_at_end", "in_state_at_end"}, \
         [str(o) for o in result.outcomes]

@@ -2,15 +2,14 @@
 biped-recover-forward / -backward (the figure falls and is brought back to standing
 with the keys) fail when the physics under them breaks."""
 
-import json
 import math
 from pathlib import Path
 
 import pytest
-import yaml
 
 from puppet.data.catalog import ROOT, find, load_setup
 from puppet.testing import check, replay_log
+from helpers import with_weak_hips
 from test_luxo_feats import _failed, _weakened
 from puppet.interface import events as ev
 from puppet.session import Session
@@ -118,28 +117,9 @@ def test_the_log_falls_and_stands_up_again(name):
     assert check(result, [{"tilt_at_end": {"links": ["pelvis"], "max": 15, "held": 60}}])
 
 
-def _with_weak_hips(name: str, tmp_path: Path) -> Path:
-    """The log replaying against biped-recover with hip servos at 60% of the figure's."""
-    spec = yaml.safe_load(find("interface", "biped-recover").read_text(encoding="utf-8"))
-    spec["gains"].update({j: {"stiffness": 600.0, "max_torque": 150.0}
-                          for j in ("hip_near", "hip_far")})
-    spec["name"] = "biped-recover-weak"
-    iface = tmp_path / "biped-recover-weak.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    log = LOGS / f"{name}.jsonl"
-    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
-    head = json.loads(lines[0])
-    head.update(interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
-    out = tmp_path / log.name
-    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
-    side = LOGS / f"{name}.expect.yaml"
-    (tmp_path / side.name).write_text(side.read_text(encoding="utf-8"), encoding="utf-8")
-    return out
-
-
 @pytest.mark.parametrize("name", RECOVERIES)
 def test_the_log_fails_with_weak_hips(name, tmp_path):
-    assert _failed(_with_weak_hips(name, tmp_path)) & STANDING
+    assert _failed(with_weak_hips(name, "biped-recover", tmp_path, 600.0, 150.0)) & STANDING
 
 
 @pytest.mark.parametrize("name", RECOVERIES)

@@ -9,10 +9,10 @@ import json
 from pathlib import Path
 
 import pytest
-import yaml
 
-from puppet.data.catalog import ROOT, find
+from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
+from helpers import with_weak_hips
 from test_luxo_feats import _failed, _weakened
 
 LOGS = ROOT / "assets" / "logs"
@@ -49,27 +49,9 @@ def test_the_march_parks_the_mouse_after_the_first_second():
     assert sum(e["down"] for e in late) >= 20  # strides
 
 
-def _with_weak_hips(name: str, tmp_path: Path) -> Path:
-    spec = yaml.safe_load(find("interface", "biped-walk").read_text(encoding="utf-8"))
-    spec["gains"] = {j: {"stiffness": 300.0, "max_torque": 75.0}
-                     for j in ("hip_near", "hip_far")}
-    spec["name"] = "biped-walk-weak"
-    iface = tmp_path / "biped-walk-weak.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    log = LOGS / f"{name}.jsonl"
-    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
-    head = json.loads(lines[0])
-    head.update(interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
-    out = tmp_path / log.name
-    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
-    side = LOGS / f"{name}.expect.yaml"
-    (tmp_path / side.name).write_text(side.read_text(encoding="utf-8"), encoding="utf-8")
-    return out
-
-
 @pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
 def test_the_log_fails_with_weak_hips(name, tmp_path):
-    assert {"never_fell", "x_at_end"} <= _failed(_with_weak_hips(name, tmp_path))
+    assert {"never_fell", "x_at_end"} <= _failed(with_weak_hips(name, "biped-walk", tmp_path, 300.0, 75.0))
 
 
 @pytest.mark.parametrize("name", ["biped-walk", "biped-march"])

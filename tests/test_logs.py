@@ -9,12 +9,9 @@ checks below show that they would.
 
 from __future__ import annotations
 
-import json
-import shutil
 import subprocess
 import sys
 from functools import lru_cache
-from pathlib import Path
 
 import pytest
 import yaml
@@ -22,6 +19,7 @@ import yaml
 from puppet.data.catalog import ROOT, find
 from puppet.testing import check, read_log, replay_log
 from puppet.timeline.expectations import load_expectations, parse_expectations
+from helpers import copy_log
 
 LOGS = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
 
@@ -52,18 +50,6 @@ def test_each_log_expects_more_than_its_end_hash(log):
     assert kinds, f"{log.name}: only the end hash is checked; say what the feat shows"
 
 
-def _copy_log(log: Path, dest: Path, **header) -> Path:
-    """A copy of a log (and its sidecar) with header fields replaced."""
-    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
-    head = json.loads(lines[0])
-    head.update(header)
-    out = dest / log.name
-    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
-    side = log.parent / (log.stem + ".expect.yaml")
-    shutil.copy(side, dest / side.name)
-    return out
-
-
 def test_the_hop_log_fails_with_weakened_servos(tmp_path):
     """Same input, half-strength servos: Luxo no longer hops, and the feat's own
     expectations (not only the end hash) say so."""
@@ -75,7 +61,7 @@ def test_the_hop_log_fails_with_weakened_servos(tmp_path):
     spec["name"] = "luxo-mouse-weak"
     iface = tmp_path / "luxo-mouse-weak.yaml"
     iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    weak = _copy_log(log, tmp_path, interface=str(iface),
+    weak = copy_log(log, tmp_path, interface=str(iface),
                      interface_text=iface.read_text(encoding="utf-8"))
     result = replay_log(weak)
     failed = {o.expectation.split()[0] for o in result.failed} - {"same"}
