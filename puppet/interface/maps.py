@@ -157,22 +157,12 @@ def _compile_clamped_linear(spec, out, joints, channels=None):
             servo.target = gain * v
             return joints
         return apply_curved
+    source = None  # where the input is read: the values handed in, or the channels
     if name.startswith(CHANNEL) and channels is not None:
-        name = name[len(CHANNEL):]  # read from the channels, by bare name
-        get = channels.get
-
-        def apply_channel(values):
-            v = get(name)
-            if v is None:
-                return ()
-            u = (v - x0) * inv
-            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-            servo.target = gain * (lo + u * span)
-            return joints
-        return apply_channel
+        name, source = name[len(CHANNEL):], channels  # by bare name
 
     def apply_input(values):
-        v = values.get(name)
+        v = (values if source is None else source).get(name)
         if v is None:
             return ()
         u = (v - x0) * inv

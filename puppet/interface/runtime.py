@@ -364,28 +364,27 @@ class InterfaceRuntime:
                 servos[joint].target = target
         return (x, y) if best[0] <= math.radians(tolerance_deg) else None
 
+    def _gains_of(self, name: str) -> tuple[float, float, float]:
+        """(stiffness, damping, max torque) the interface gives a joint's servo, each
+        the character's where the interface says nothing."""
+        k, d, t = self.character.servos[name].default_gains
+        gain = self.spec.gains.get(name)
+        if gain is not None:
+            k = gain.stiffness if gain.stiffness is not None else k
+            d = gain.damping if gain.damping is not None else d
+            t = gain.max_torque if gain.max_torque is not None else t
+        return k, d, t
+
     def apply_gains(self) -> None:
         """Interface gains override the character's defaults."""
         for name, servo in self.character.servos.items():
-            k, d, t = servo.default_gains
-            gain = self.spec.gains.get(name)
-            if gain is not None:
-                k = gain.stiffness if gain.stiffness is not None else k
-                d = gain.damping if gain.damping is not None else d
-                t = gain.max_torque if gain.max_torque is not None else t
-            servo.stiffness, servo.damping, servo.max_torque = k, d, t
+            servo.stiffness, servo.damping, servo.max_torque = self._gains_of(name)
 
     def restore_gains(self, joints) -> None:
         """The interface's gains (else the character's) back on ``joints``."""
-        servos, gains = self.character.servos, self.spec.gains
+        servos = self.character.servos
         for name in joints:
-            servo = servos[name]
-            k, d, _ = servo.default_gains
-            gain = gains.get(name)
-            if gain is not None:
-                k = gain.stiffness if gain.stiffness is not None else k
-                d = gain.damping if gain.damping is not None else d
-            servo.stiffness, servo.damping = k, d
+            servos[name].stiffness, servos[name].damping, _ = self._gains_of(name)
 
     def apply_maps(self, inputs=None) -> None:
         """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""

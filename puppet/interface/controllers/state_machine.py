@@ -129,18 +129,7 @@ class StateMachine:
                     value, last = read(), read
                 if (lo < value < hi) if test is None else test(value):
                     return to
-        earliest = now + 1  # next_wakeup(earliest), inline: this runs at every poll
-        polled, timer = self._polled, self._timer
-        best = None
-        if polled is not None:
-            at = self.entered + polled
-            at = at if at > earliest else earliest
-            best = -(-at // self.every) * self.every
-        if timer is not None:
-            at = self.entered + timer
-            at = at if at > earliest else earliest
-            best = at if best is None or at < best else best
-        self.wake_after = best
+        self.wake_after = self.next_wakeup(now + 1)
         return None
 
     def owners(self) -> set[Owner]:
