@@ -33,6 +33,12 @@ def _interface(**changes) -> str:
     return text
 
 
+def _with_knee_key() -> Session:
+    """biped-mocap with a key `k` that sets the near knee (a key that takes a joint)."""
+    text = _interface(**{"  - {key: o,": "  - {key: k, set: {knee_near: -90}}\n  - {key: o,"})
+    return Session(setup_from_text(text, MOCAP))
+
+
 def run(session, events, until_step):
     i = 0
     while session.steps < until_step:
@@ -78,8 +84,7 @@ def test_the_stream_lost_lets_go_and_a_new_sample_takes_the_joints_back(walk):
 
 
 def test_a_key_takes_its_joints_from_the_performer_and_the_rest_follow_on(walk):
-    text = _interface(**{"  - {key: o,": "  - {key: k, set: {knee_near: -90}}\n  - {key: o,"})
-    s = Session(setup_from_text(text, MOCAP))
+    s = _with_knee_key()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 1.5)
     run(s, [e for e in events if e[0] < 480], 480)
@@ -177,8 +182,7 @@ def test_lost_then_off_then_on_tracks_again(walk):
 
 
 def test_a_joint_a_key_takes_gets_its_own_gains_and_no_pull(walk):
-    text = _interface(**{"  - {key: o,": "  - {key: k, set: {knee_near: -90}}\n  - {key: o,"})
-    s = Session(setup_from_text(text, MOCAP))
+    s = _with_knee_key()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 1.0)
     run(s, [e for e in events if e[0] < 240], 240)
