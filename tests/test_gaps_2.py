@@ -593,6 +593,7 @@ def test_more_of_what_expectations_report():
     got = _outcome({"got_up": {"lay_seconds": 0.1, "within_seconds": 1.0}}, still_lying)
     assert not got.passed and got.measured == ("lay 0.40 s until t = 0.40 s, not standing "
                                                "at the end (90 deg)")
+    assert got.expectation.startswith("got_up")  # the failing line names what was expected
     hop = _Run([0] * 7, [1, 0, 0, 1, 0, 0, 0], [0] * 7)  # flights of 0.2 s and 0.3 s
     for most, passed in ((0.3, True), (0.29, False)):
         got = _outcome({"airborne": {"link": "base", "max_seconds": most}}, hop)

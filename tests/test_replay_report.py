@@ -184,3 +184,27 @@ def test_a_replays_warnings_go_to_stderr_and_to_the_on_screen_note(tmp_path, cap
         run_window=lambda setup, slowdown, **options: seen.update(options) or 0))
     assert replay_command(args(changed.path, headless=False)) == 0
     assert seen["note"].startswith("interface 'luxo-mouse' has changed since this log")
+
+
+def test_a_log_that_blows_up_exits_3_alone_and_among_others(tmp_path, capsys):
+    """The doomed run of tests/test_recovery.py (gravity pulling Luxo off its floor's
+    end), recorded in-process: exit code 3 and a blow-up count, also beside an ok log."""
+    from puppet.data.catalog import load_setup
+    from puppet.interface import events as ev
+    from puppet.session import Session
+    from puppet.timeline.log import record_events
+
+    (tmp_path / "tilted.yaml").write_text(
+        "name: tilted\ndescription: gravity pulling toward the floor's end\n"
+        "gravity: [30.0, -9.81]\nground:\n  - points: [[-1.0, 0.0], [2.0, 0.0]]\n")
+    iface = tmp_path / "iface.yaml"
+    iface.write_text((ROOT / "interfaces" / "luxo-mouse.yaml").read_text()
+                     .replace("scene: flat", "scene: tilted"))
+    log = tmp_path / "doomed.jsonl"
+    record_events(Session(load_setup(str(iface))), [(0, ev.mouse(0.5, 0.5))], 4800, log)
+    assert replay_command(args(log)) == 3
+    out = capsys.readouterr().out
+    assert "blow-ups=" in out
+    assert replay_command(args(HOP, log)) == 3
+    last = capsys.readouterr().out.splitlines()[-1]
+    assert re.fullmatch(r"2 logs: 2 ok, 0 differ, 0 errors, \d+ blow-ups?", last), last
