@@ -8,18 +8,21 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def run_quick_bench() -> tuple[int, dict]:
+@pytest.fixture(scope="module")
+def report() -> dict:
+    """One quick bench, as the command line runs it (15 s here): every test reads it."""
     proc = subprocess.run([sys.executable, "-m", "puppet", "bench", "--quick", "--json"],
-                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+                          capture_output=True, text=True, cwd=ROOT, timeout=180)
     assert proc.returncode == 0, proc.stderr
-    return proc.returncode, json.loads(proc.stdout)
+    return json.loads(proc.stdout)
 
 
-def test_quick_bench_reports_every_character_with_positive_figures():
-    _, report = run_quick_bench()
+def test_quick_bench_reports_every_character_with_positive_figures(report):
     shipped = [p.stem for p in sorted((ROOT / "characters").glob("*.yaml"))]
     assert [c["character"] for c in report["characters"]] == shipped
     assert report["quick"] is True
@@ -69,10 +72,10 @@ def test_quick_bench_reports_every_character_with_positive_figures():
     assert [t["name"] for t in report["mocap"]["targets"]] == [f"read {c}" for c in clips]
 
 
-def test_bench_table_names_targets_and_verdicts():
-    from puppet.bench import format_report, run_bench
+def test_bench_table_names_targets_and_verdicts(report):
+    from puppet.bench import format_report
 
-    text = format_report(run_bench(quick=True))
+    text = format_report(report)  # the table of the same figures the JSON holds
     assert "speed with control" in text and "checkpoint" in text
     assert "read cmu-01_01-jumps.bvh" in text
     assert "PASS" in text or "MISS" in text
