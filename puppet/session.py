@@ -18,7 +18,7 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation
+from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
 from puppet.timeline.history import History, Snapshot
 from puppet.timeline.playback import play
 
@@ -298,10 +298,7 @@ class Session:
             stop = end if end < boundary else boundary
             if wake is not None and wake < stop:
                 stop = wake
-            # Simulation.step, inlined (the hot loop): the space's step, stop - now times
-            space_step, dt = sim.space.step, sim.dt
-            for _ in range(stop - now):
-                space_step(dt)
+            step_space(sim.space, sim.dt, stop - now)  # Simulation.step, inlined
             sim.steps = now = stop
             if now == boundary:
                 if now % health == 0:

@@ -167,3 +167,36 @@ def test_a_process_imports_only_what_its_command_needs():
     assert loaded("check", "characters/luxo.yaml") == {"pydantic"}
     assert loaded("replay", "luxo-hop", "--headless") == {"pydantic", "puppet.data.interfaces"}
     assert "numpy" in loaded("replay", "luxo-hop", "--headless", "--check")
+
+
+def test_the_space_stepped_in_c_is_the_space_stepped_by_pymunk():
+    """step_space calls Chipmunk's step itself: the same bits as pymunk's Space.step,
+    also across a body added between steps (which takes pymunk's own step, for its
+    mass check) and a grasp pin added and removed."""
+    import pymunk
+
+    from puppet.physics.simulation import step_space
+
+    def run(stepper):
+        s = Session(load_setup("luxo-mouse"))
+        sim = s.sim
+        s.handle(ev.mouse(0.9, 0.2))
+        stepper(sim.space, sim.dt, 300)
+        ball = pymunk.Body(0.5, pymunk.moment_for_circle(0.5, 0, 0.03))
+        ball.position = (0.2, 0.6)
+        sim.space.add(ball, pymunk.Circle(ball, 0.03))
+        assert sim.space._bodies_to_check
+        stepper(sim.space, sim.dt, 200)
+        pin = pymunk.PivotJoint(sim.space.static_body, sim.character.bodies["base"],
+                                tuple(sim.character.bodies["base"].position))
+        sim.space.add(pin)
+        stepper(sim.space, sim.dt, 100)
+        sim.space.remove(pin)
+        stepper(sim.space, sim.dt, 100)
+        return [(tuple(b.position), b.angle, tuple(b.velocity)) for b in sim.space.bodies]
+
+    def pymunks(space, dt, n):
+        for _ in range(n):
+            space.step(dt)
+
+    assert run(step_space) == run(pymunks)
