@@ -25,4 +25,5 @@ mkdir -p "$work"
 cp "$here/tools/mutation.cfg" "$work/setup.cfg"
 cd "$work"
 export SDL_VIDEODRIVER=dummy SDL_AUDIODRIVER=dummy PYGAME_HIDE_SUPPORT_PROMPT=1
+export PUPPET_FUZZ_CASE_SECONDS=30  # a fuzz case's hang bound, under the trampolines
 exec "$python" "$here/tools/mutation_sample.py" --mutmut "$mutmut" --sample "$sample" --seed "$seed"
