@@ -232,6 +232,7 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
     runtime = session.runtime
     springs = lambda: [s.spring for s in session.character.servos.values()]  # noqa: E731
     last = [_servo_params(sp) for sp in springs()]
+    held = {}
     trace = []
     for batch in inputs:
         for event in batch:
@@ -243,12 +244,31 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
                 runtime.tick(session.steps)
             now = [_servo_params(sp) for sp in springs()]
             changed = [(i, p) for i, (p, q) in enumerate(zip(now, last)) if p != q]
-            if changed:
-                frame.append((k, changed))
+            grasps = _grasp_changes(session.sim, held)
+            if changed or grasps:
+                frame.append((k, changed, grasps))
             last = now
             session.advance(1)
         trace.append(frame)
     return trace
+
+
+def _grasp_changes(sim, held: dict) -> list[tuple]:
+    """The grasps made or let go since ``held`` (updated): ``(name, None)`` for a
+    release, ``(name, (link, local point, world point, prop))`` for a grasp, to make
+    again on a bare Simulation (``Simulation.attach``): a figure holding a bar or a
+    rope swings on its constraints in the baseline too."""
+    if not held and not sim.grasps:
+        return []
+    link_of = {id(b): n for n, b in sim.character.bodies.items()}
+    out = [(name, None) for name in held if name not in sim.grasps]
+    for name, (joint, prop) in sim.grasps.items():
+        if held.get(name) is not joint:  # a new pin (each grasp makes its own)
+            out.append((name, (link_of[id(joint.a)], tuple(joint.anchor_a),
+                               sim.grasp_point(name), prop)))
+    held.clear()
+    held.update({name: joint for name, (joint, _) in sim.grasps.items()})
+    return out
 
 
 def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
@@ -265,10 +285,15 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
         for _ in range(k):
             frame = next(frames) if with_targets else ()
             done = 0
-            for at, changed in frame:
+            for at, changed, grasps in frame:
                 for _ in range(at - done):
                     step(dt)
                 done = at
+                for name, g in grasps:
+                    if g is None:
+                        sim.detach(name)
+                    else:
+                        sim.attach(name, g[0], g[1], g[2], g[3])
                 for i, (angle, stiffness, damping, torque) in changed:
                     servo = servos[i]
                     servo.target = angle
