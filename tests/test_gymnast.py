@@ -134,3 +134,23 @@ def test_held_fails_at_the_first_sample_a_chain_lets_go_or_holds_another_prop():
     late = parse_expectations([{"held": {"chains": ["b"], "from": 0.7}}]).items[0]
     rows[6] = ()
     assert evaluate(late, _traj([(0, 0)] * 10, rows), "").passed
+
+
+def test_the_guides_gymnast_hangs_swings_its_arms_and_falls_when_it_lets_go(tmp_path):
+    from puppet.interface import events as ev
+    from tests.test_docs import doc_session, tap
+
+    s = doc_session(tmp_path, "name: my-gymnast")
+    s.advance(48)
+    assert set(s.sim.grasps) == {"hand_near"}
+    assert s.runtime.states["hands"] == "holding"
+    s.handle(ev.mouse(0.8, 0.2))  # arms closed to 110, body arched
+    s.advance(240)
+    shoulder = s.character.servos["shoulder_near"]
+    assert abs(math.degrees(shoulder.target) - 110) < 1e-6
+    assert s.sim.grasps  # still hanging
+    y = s.character.com()[1]
+    tap(s, "q")  # let go: it drops
+    s.advance(240)
+    assert s.runtime.states["hands"] == "free" and not s.sim.grasps
+    assert s.character.com()[1] < y - 0.5
