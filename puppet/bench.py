@@ -130,7 +130,7 @@ def gesture(frames: int, interface_spec) -> list[list[dict]]:
 class Subject:
     """One character with its interface (or a bare Simulation), ready to build runs."""
 
-    def __init__(self, character: str, interface: str | None):
+    def __init__(self, character: str, interface: str | None, scene: str | None = None):
         from puppet.data.catalog import find, load_character_named, load_scene_named, \
             load_setup
         from puppet.physics.simulation import DEFAULT_DT
@@ -140,7 +140,7 @@ class Subject:
         self.dt = DEFAULT_DT
         self.steps_per_frame = max(1, round(1.0 / (FRAME_HZ * self.dt)))
         if interface is not None:
-            self.setup = load_setup(interface)
+            self.setup = load_setup(interface, scene)
             self.character_spec, self.scene_spec = self.setup.character, self.setup.scene
             self.scene = self.setup.scene_path.stem
             self.interface_spec = self.setup.interface
@@ -812,6 +812,44 @@ def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
     return res
 
 
+# The figure while grasping: hanging by both hands from a static bar, and from a rope
+# of six dynamic links (constraints on dynamic props), swung by the bench's mouse path.
+GRASP_SUBJECTS = (("biped", "biped-gymnast", "highbar"), ("biped", "biped-gymnast", "rope"))
+
+
+def measure_grasping(cfg: dict) -> list[dict]:
+    import pymunk
+
+    """Speed with control and checkpoint time of a figure holding on (its grasps are
+    pivot constraints to the world or to a prop's body): that the holds are there at
+    the start and still at the end, and what they cost."""
+    out = []
+    for character, interface, scene in GRASP_SUBJECTS:
+        subject = Subject(character, interface, scene)
+        session = subject.session(keyframes=False)
+        session.advance(subject.steps_per_frame)  # the first control tick makes the holds
+        held_start = sorted(session.sim.grasps)
+        inputs = gesture(subject.frames(cfg["seconds"]), subject.interface_spec)
+        _play_frames(subject, session, inputs)
+        sp = measure_speed(subject, cfg["seconds"], cfg["repeats"])
+        cp = measure_checkpoint(subject, cfg["checkpoint_repeats"])
+        dynamic = sum(1 for p in session.sim.props.values()
+                      if p.body.body_type == pymunk.Body.DYNAMIC)
+        out.append({"character": character, "interface": interface, "scene": scene,
+                    "held_at_start": held_start, "held_at_end": sorted(session.sim.grasps),
+                    "dynamic_props": dynamic,
+                    "constraints": len(session.sim.space.constraints), "speed": sp,
+                    "checkpoint": cp,
+                    "targets": [
+                        _target(f"speed with control, holding on ({scene})",
+                                sp["control_speed_x"], ">=",
+                                SPEED_TARGET.get(character, SPEED_TARGET_DEFAULT), "x"),
+                        _target(f"checkpoint, holding on ({scene})", cp["checkpoint_ms"], "<",
+                                CHECKPOINT_TARGET.get(character, CHECKPOINT_TARGET_MS),
+                                "ms")]})
+    return out
+
+
 def run_bench(quick: bool = False, only: list[str] | None = None,
               clock_name: str = "wall") -> dict:
     import pymunk
@@ -842,6 +880,7 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
     report["channels"] = [measure_channels(cfg["seconds"], cfg["repeats"], name, scene, targeted)
                           for name, scene, targeted in CHANNEL_SUBJECTS
                           if name in known and (not only or name in only)]
+    report["grasping"] = [] if only and "biped" not in only else measure_grasping(cfg)
     report["logs"] = measure_logs(cfg["log_repeats"])
     report["processes"] = measure_processes(cfg["process_repeats"])
     if hasattr(os, "getloadavg"):  # how busy the machine was (others' processes too)
@@ -862,7 +901,8 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
         and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"]) \
         and all(t["pass"] for t in report["mocap"]["targets"]) \
         and all(r["target"]["pass"] for r in report["mocap_latency"].values()) \
-        and all(f["target"]["pass"] for f in report["feedback"])
+        and all(f["target"]["pass"] for f in report["feedback"]) \
+        and all(t["pass"] for g in report["grasping"] for t in g["targets"])
     return report
 
 
@@ -954,6 +994,20 @@ def format_report(report: dict) -> str:
         lo, hi = fb["overhead_range_pct"]
         row(f"feedback maps cost ({lo:.1f}..{hi:.1f}%)", f"{fb['overhead_pct']:.1f}%",
             f"<= {t['limit']:g}%", "PASS" if t["pass"] else "MISS")
+    for g in report.get("grasping", []):
+        speed, cp = g["speed"], g["checkpoint"]
+        lines.append("")
+        lines.append(f"holding on: {g['character']} ({g['interface']}) on {g['scene']}, "
+                     f"{len(g['held_at_start'])} grasps ({', '.join(g['held_at_start'])}; "
+                     f"{len(g['held_at_end'])} still held after the gesture), "
+                     f"{g['dynamic_props']} dynamic props, {g['constraints']} constraints")
+        t_speed, t_cp = g["targets"]
+        row("speed with control", f"{speed['control_speed_x']:.0f}x",
+            f">= {t_speed['limit']:g}x", "PASS" if t_speed["pass"] else "MISS")
+        row("  bare space.step, same motion", f"{speed['bare_same_motion_speed_x']:.0f}x"
+            + ("" if speed["same_motion_state_identical"] else " (DIFFERENT)"))
+        row("checkpoint: snapshot + re-seat", f"{cp['checkpoint_ms']:.2f} ms",
+            f"< {t_cp['limit']:g} ms", "PASS" if t_cp["pass"] else "MISS")
     logs = report["logs"]
     lines.append("")
     lines.append(f"log replay (assets/logs/*.jsonl): {logs['status']}")
@@ -1018,6 +1072,8 @@ def format_report(report: dict) -> str:
     misses += [r["target"]["name"] for r in report.get("mocap_latency", {}).values()
                if not r["target"]["pass"]]
     misses += [f["target"]["name"] for f in report.get("feedback", []) if not f["target"]["pass"]]
+    misses += [t["name"] for g in report.get("grasping", []) for t in g["targets"]
+               if not t["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 

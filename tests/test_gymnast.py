@@ -154,3 +154,28 @@ def test_the_guides_gymnast_hangs_swings_its_arms_and_falls_when_it_lets_go(tmp_
     s.advance(240)
     assert s.runtime.states["hands"] == "free" and not s.sim.grasps
     assert s.character.com()[1] < y - 0.5
+
+
+def test_on_the_rope_the_hands_hold_its_links_and_the_figure_swings_it():
+    """The rope scene: six dynamic links pinned one to the next. Hanging from it by
+    both hands (the grasps pin them to a link), a shove swings figure and rope
+    together, and the hands stay on."""
+    from puppet.interface import events as ev
+
+    session = Session(load_setup("biped-gymnast", "rope"))
+    session.advance(48)
+    held = {name: prop for name, (_, prop) in session.sim.grasps.items()}
+    assert set(held) == {"hand_near", "hand_far"}
+    assert all(prop.startswith("rope") for prop in held.values())
+    end = session.sim.props["rope6"].body
+    session.advance(480)
+    x0 = end.position.x
+    session.handle(ev.push("pelvis", (60.0, 0.0)))
+    swing = 0.0
+    for _ in range(60):
+        session.advance(16)
+        swing = max(swing, abs(end.position.x - x0))
+    assert swing > 0.2  # the rope's end swings with the figure (0.27 m)
+    assert set(session.sim.grasps) == {"hand_near", "hand_far"}
+    hand = session.runtime.chains["hand_near"].end_world(session.character)
+    assert math.dist(hand, session.sim.grasp_point("hand_near")) < 0.02
