@@ -57,19 +57,21 @@ def test_giant_swings_fail_without_a_grasp(tmp_path):
     assert {"revolutions", "held"} <= _failed(_variant(tmp_path, no_grasp))
 
 
-def test_giant_swings_fail_with_the_characters_own_shoulders(tmp_path):
-    """With a standing figure's shoulders (60 N*m/rad, 40 N*m) the arms cannot hold the
-    body's shape against its swing: it does not go round 3 times."""
+@pytest.mark.parametrize("stiffness, damping, max_torque", [(60, 3, 40), (1500, 10, 150)])
+def test_giant_swings_fail_with_weaker_shoulders(tmp_path, stiffness, damping, max_torque):
+    """With a standing figure's shoulders (60 N*m/rad, 40 N*m), or half the gymnast's
+    torque, the arms cannot shape the body against its swing: it never goes round."""
     def weak(spec):
         for j in ("shoulder_near", "shoulder_far"):
-            spec["gains"][j] = {"stiffness": 60, "damping": 3, "max_torque": 40}
+            spec["gains"][j] = {"stiffness": stiffness, "damping": damping,
+                                "max_torque": max_torque}
 
     assert "revolutions" in _failed(_variant(tmp_path, weak))
 
 
 def test_giant_swings_fail_when_the_mouse_does_nothing(tmp_path):
-    """The swing mode's maps gone: the spotter's lift alone does not take the figure
-    round, so the turns are the mouse's pumping."""
+    """The swing mode's maps gone: the figure just hangs, so the turns are the mouse's
+    pumping."""
     def no_mouse(spec):
         spec["modes"]["swing"] = []
 
