@@ -181,3 +181,20 @@ def test_on_the_rope_the_hands_hold_its_links_and_the_figure_swings_it():
     assert set(session.sim.grasps) == {"hand_near", "hand_far"}
     hand = session.runtime.chains["hand_near"].end_world(session.character)
     assert math.dist(hand, session.sim.grasp_point("hand_near")) < 0.02
+
+
+def test_on_the_ladder_e_puts_both_hands_on_the_rung_at_1_8_m():
+    from tests.test_docs import tap
+
+    session = Session(load_setup("biped-gymnast", "ladder"))
+    tap(session, "q")
+    tap(session, "w")  # hands open (the start's grasps disarmed)
+    tap(session, "e")
+    session.advance(96)
+    assert not session.sim.grasps
+    tap(session, "q")
+    tap(session, "w")  # armed: they close on the rung they reach
+    session.advance(480)
+    held = {name: round(session.sim.grasp_point(name)[1], 3) for name in session.sim.grasps}
+    assert held == {"hand_near": 1.8, "hand_far": 1.8}
+    assert {session.sim.grasps[n][1] for n in held} == {"ladder"}
