@@ -198,3 +198,13 @@ def test_on_the_ladder_e_puts_both_hands_on_the_rung_at_1_8_m():
     held = {name: round(session.sim.grasp_point(name)[1], 3) for name in session.sim.grasps}
     assert held == {"hand_near": 1.8, "hand_far": 1.8}
     assert {session.sim.grasps[n][1] for n in held} == {"ladder"}
+
+
+def test_a_chain_that_never_held_is_named_in_the_outcome():
+    rev = parse_expectations([{"revolutions": {"about": "hand", "min": 1}}]).items[0]
+    com = _circle(1.5)
+    out = evaluate(rev, _traj(com, [()] * len(com)), "")
+    assert not out.passed and "'hand' never held anything" in out.measured
+    held = parse_expectations([{"held": {"chains": ["hnd"]}}]).items[0]
+    out = evaluate(held, _traj(com, [(("hand", None, 0, 0),)] * len(com)), "")
+    assert not out.passed and "hnd never held anything" in out.measured

@@ -592,6 +592,9 @@ def _revolutions(e: Expectation, v: Revolutions, traj) -> Outcome:
     n = len(traj.t)
     if isinstance(v.about, str):
         at = _held_at(traj, v.about)
+        if all(a is None for a in at):
+            return Outcome(e.describe(), False, f"'{v.about}' never held anything (a chain "
+                                                "of the interface that grasps?)")
     else:
         at = [(v.about[0], v.about[1], None)] * n
     best, where = 0.0, ""
@@ -636,6 +639,9 @@ def _held(e: Expectation, v: Held, traj) -> Outcome:
                                             f"{t[-1]:.2f} s)")
     for chain in v.chains:
         at = _held_at(traj, chain)
+        if all(a is None for a in at):
+            return Outcome(e.describe(), False, f"{chain} never held anything (a chain of "
+                                                "the interface that grasps?)")
         for i in idx:
             if at[i] is None or (v.prop is not None and at[i][2] != v.prop):
                 what = "nothing" if at[i] is None else (at[i][2] or "the world")
