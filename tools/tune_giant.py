@@ -23,7 +23,12 @@ arch mouse points, the glide, the phase window, a reaction delay - are searched
 expectations (assets/logs/biped-giant-swings.expect.yaml: revolutions about the hand's
 hold, both hands held throughout) by replaying the script through the same path
 ``puppet play --record`` takes. After ``--turns`` full turns the player stops pumping
-(arms overhead, body straight) and the log runs on 3 s.
+(arms overhead, body straight) and the log runs on 3 s. The shipped log (seeded, so
+the same script again):
+
+    python tools/tune_giant.py --tries 16 --seconds 60 --write assets/scripts/biped-giant-swings.yaml
+    puppet play biped-gymnast --headless --input assets/scripts/biped-giant-swings.yaml \
+        --record assets/logs/biped-giant-swings.jsonl
 """
 
 from __future__ import annotations
