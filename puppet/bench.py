@@ -131,7 +131,7 @@ def gesture(frames: int, interface_spec) -> list[list[dict]]:
 class Subject:
     """One character with its interface (or a bare Simulation), ready to build runs."""
 
-    def __init__(self, character: str, interface: str | None):
+    def __init__(self, character: str, interface: str | None, scene: str | None = None):
         from puppet.data.catalog import find, load_character_named, load_scene_named, \
             load_setup
         from puppet.physics.simulation import DEFAULT_DT
@@ -141,7 +141,7 @@ class Subject:
         self.dt = DEFAULT_DT
         self.steps_per_frame = max(1, round(1.0 / (FRAME_HZ * self.dt)))
         if interface is not None:
-            self.setup = load_setup(interface)
+            self.setup = load_setup(interface, scene)
             self.character_spec, self.scene_spec = self.setup.character, self.setup.scene
             self.scene = self.setup.scene_path.stem
             self.interface_spec = self.setup.interface
@@ -233,6 +233,7 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
     runtime = session.runtime
     springs = lambda: [s.spring for s in session.character.servos.values()]  # noqa: E731
     last = [_servo_params(sp) for sp in springs()]
+    held = {}
     trace = []
     for batch in inputs:
         for event in batch:
@@ -244,12 +245,31 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
                 runtime.tick(session.steps)
             now = [_servo_params(sp) for sp in springs()]
             changed = [(i, p) for i, (p, q) in enumerate(zip(now, last)) if p != q]
-            if changed:
-                frame.append((k, changed))
+            grasps = _grasp_changes(session.sim, held)
+            if changed or grasps:
+                frame.append((k, changed, grasps))
             last = now
             session.advance(1)
         trace.append(frame)
     return trace
+
+
+def _grasp_changes(sim, held: dict) -> list[tuple]:
+    """The grasps made or let go since ``held`` (updated): ``(name, None)`` for a
+    release, ``(name, (link, local point, world point, prop))`` for a grasp, to make
+    again on a bare Simulation (``Simulation.attach``): a figure holding a bar or a
+    rope swings on its constraints in the baseline too."""
+    if not held and not sim.grasps:
+        return []
+    link_of = {id(b): n for n, b in sim.character.bodies.items()}
+    out = [(name, None) for name in held if name not in sim.grasps]
+    for name, (joint, prop) in sim.grasps.items():
+        if held.get(name) is not joint:  # a new pin (each grasp makes its own)
+            out.append((name, (link_of[id(joint.a)], tuple(joint.anchor_a),
+                               sim.grasp_point(name), prop)))
+    held.clear()
+    held.update({name: joint for name, (joint, _) in sim.grasps.items()})
+    return out
 
 
 def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
@@ -269,10 +289,15 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
         for _ in range(k):
             frame = next(frames) if with_targets else ()
             done = 0
-            for at, changed in frame:
+            for at, changed, grasps in frame:
                 for _ in range(at - done):
                     step(dt)
                 done = at
+                for name, g in grasps:
+                    if g is None:
+                        sim.detach(name)
+                    else:
+                        sim.attach(name, g[0], g[1], g[2], g[3])
                 for i, (angle, stiffness, damping, torque) in changed:
                     servo = servos[i]
                     servo.target = angle
@@ -796,6 +821,44 @@ def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
     return res
 
 
+# The figure while grasping: hanging by both hands from a static bar, and from a rope
+# of six dynamic links (constraints on dynamic props), swung by the bench's mouse path.
+GRASP_SUBJECTS = (("biped", "biped-gymnast", "highbar"), ("biped", "biped-gymnast", "rope"))
+
+
+def measure_grasping(cfg: dict) -> list[dict]:
+    import pymunk
+
+    """Speed with control and checkpoint time of a figure holding on (its grasps are
+    pivot constraints to the world or to a prop's body): that the holds are there at
+    the start and still at the end, and what they cost."""
+    out = []
+    for character, interface, scene in GRASP_SUBJECTS:
+        subject = Subject(character, interface, scene)
+        session = subject.session(keyframes=False)
+        session.advance(subject.steps_per_frame)  # the first control tick makes the holds
+        held_start = sorted(session.sim.grasps)
+        inputs = gesture(subject.frames(cfg["seconds"]), subject.interface_spec)
+        _play_frames(subject, session, inputs)
+        sp = measure_speed(subject, cfg["seconds"], cfg["repeats"])
+        cp = measure_checkpoint(subject, cfg["checkpoint_repeats"])
+        dynamic = sum(1 for p in session.sim.props.values()
+                      if p.body.body_type == pymunk.Body.DYNAMIC)
+        out.append({"character": character, "interface": interface, "scene": scene,
+                    "held_at_start": held_start, "held_at_end": sorted(session.sim.grasps),
+                    "dynamic_props": dynamic,
+                    "constraints": len(session.sim.space.constraints), "speed": sp,
+                    "checkpoint": cp,
+                    "targets": [
+                        _target(f"speed with control, holding on ({scene})",
+                                sp["control_speed_x"], ">=",
+                                SPEED_TARGET.get(character, SPEED_TARGET_DEFAULT), "x"),
+                        _target(f"checkpoint, holding on ({scene})", cp["checkpoint_ms"], "<",
+                                CHECKPOINT_TARGET.get(character, CHECKPOINT_TARGET_MS),
+                                "ms")]})
+    return out
+
+
 def run_bench(quick: bool = False, only: list[str] | None = None,
               clock_name: str = "wall") -> dict:
     import pymunk
@@ -826,6 +889,7 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
     report["channels"] = [measure_channels(cfg["seconds"], cfg["repeats"], name, scene, targeted)
                           for name, scene, targeted in CHANNEL_SUBJECTS
                           if name in known and (not only or name in only)]
+    report["grasping"] = [] if only and "biped" not in only else measure_grasping(cfg)
     report["logs"] = measure_logs(cfg["log_repeats"], cfg["log_seconds"])
     report["processes"] = measure_processes(cfg["process_repeats"])
     if hasattr(os, "getloadavg"):  # how busy the machine was (others' processes too)
@@ -846,7 +910,8 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
         and all(ch["target"]["pass"] for ch in report["channels"] if ch["target"]) \
         and all(t["pass"] for t in report["mocap"]["targets"]) \
         and all(r["target"]["pass"] for r in report["mocap_latency"].values()) \
-        and all(f["target"]["pass"] for f in report["feedback"])
+        and all(f["target"]["pass"] for f in report["feedback"]) \
+        and all(t["pass"] for g in report["grasping"] for t in g["targets"])
     return report
 
 
@@ -938,6 +1003,20 @@ def format_report(report: dict) -> str:
         lo, hi = fb["overhead_range_pct"]
         row(f"feedback maps cost ({lo:.1f}..{hi:.1f}%)", f"{fb['overhead_pct']:.1f}%",
             f"<= {t['limit']:g}%", "PASS" if t["pass"] else "MISS")
+    for g in report.get("grasping", []):
+        speed, cp = g["speed"], g["checkpoint"]
+        lines.append("")
+        lines.append(f"holding on: {g['character']} ({g['interface']}) on {g['scene']}, "
+                     f"{len(g['held_at_start'])} grasps ({', '.join(g['held_at_start'])}; "
+                     f"{len(g['held_at_end'])} still held after the gesture), "
+                     f"{g['dynamic_props']} dynamic props, {g['constraints']} constraints")
+        t_speed, t_cp = g["targets"]
+        row("speed with control", f"{speed['control_speed_x']:.0f}x",
+            f">= {t_speed['limit']:g}x", "PASS" if t_speed["pass"] else "MISS")
+        row("  bare space.step, same motion", f"{speed['bare_same_motion_speed_x']:.0f}x"
+            + ("" if speed["same_motion_state_identical"] else " (DIFFERENT)"))
+        row("checkpoint: snapshot + re-seat", f"{cp['checkpoint_ms']:.2f} ms",
+            f"< {t_cp['limit']:g} ms", "PASS" if t_cp["pass"] else "MISS")
     logs = report["logs"]
     lines.append("")
     lines.append(f"log replay (assets/logs/*.jsonl): {logs['status']}")
@@ -1002,6 +1081,8 @@ def format_report(report: dict) -> str:
     misses += [r["target"]["name"] for r in report.get("mocap_latency", {}).values()
                if not r["target"]["pass"]]
     misses += [f["target"]["name"] for f in report.get("feedback", []) if not f["target"]["pass"]]
+    misses += [t["name"] for g in report.get("grasping", []) for t in g["targets"]
+               if not t["pass"]]
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
     return "\n".join(lines)
 

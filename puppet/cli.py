@@ -125,6 +125,10 @@ def _play(args: argparse.Namespace) -> int:
                   f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     # A script made for a scene plays there unless --scene says otherwise.
     setup = load_setup(args.interface, args.scene or (script.scene if script else None))
+    if script is not None:  # a drag or push must name a link of this character
+        from puppet.timeline.script import check_links
+
+        check_links(script_path, script, [link.name for link in setup.character.links])
     for w in setup.warnings:  # valid but probably not meant (two maps on one joint)
         print(w, file=sys.stderr)
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden

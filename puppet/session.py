@@ -48,7 +48,7 @@ class Session:
         if checkpoint_interval is None:
             checkpoint_interval = setup.interface.checkpoint_every
         self.setup = setup
-        self.sim = Simulation(setup.character, setup.scene, dt)
+        self.sim = Simulation(setup.interface.start_character(setup.character), setup.scene, dt)
         self.runtime = InterfaceRuntime(setup.interface, self.sim.character, self.sim)
         self._bind_app_keys(setup.interface)
         # Every interface this session has run (hot reloads): snapshots name theirs by

@@ -33,7 +33,7 @@ from puppet.session import Session
 from puppet.timeline.log import read_log
 from puppet.timeline.playback import play
 from puppet.timeline.replay import replay
-from puppet.timeline.script import compile_script, parse_script
+from puppet.timeline.script import check_links, compile_script, parse_script
 
 # wall clock, one case (the bound); tools/mutation.sh gives more, as mutmut's
 # trampolines on a loaded machine made whole BVH reads take longer than 2 s
@@ -249,6 +249,11 @@ def _accepted(kind: str, path: Path) -> None:
     elif kind == "script":
         spec = parse_script(load_file(path))
         setup = load_setup("luxo-keys")
+        try:
+            check_links(path, spec, [link.name for link in setup.character.links])
+        except DataError as exc:  # valid, but for another character: said in one line
+            assert "\n" not in str(exc), str(exc)
+            return
         dt = 1 / 480
         play_setup(setup, [e for e in compile_script(spec, dt)
                            if e[0] < round(PLAY_SECONDS / dt)])

@@ -33,7 +33,9 @@ class PlainSampler(Sampler):
         self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
                           [s.angle for s in servos], [s.target for s in servos],
                           [rt.channels.get(j, float("nan")) for j in self.joints],
-                          rt.state, rt.mode))
+                          rt.state, rt.mode,
+                          tuple((name, prop, *session.sim.grasp_point(name))
+                                for name, (_, prop) in session.sim.grasps.items())))
 
 
 FIELDS = ("step", "t", "x", "y", "angle", "lowest", "contact", "com", "root_angle",
@@ -42,7 +44,8 @@ FIELDS = ("step", "t", "x", "y", "angle", "lowest", "contact", "com", "root_angl
 NAN_FIELDS = ("joint_channel",)
 
 
-@pytest.mark.parametrize("name", ["luxo-keys-somersaults", "cat-gap", "biped-mocap-walk"])
+@pytest.mark.parametrize("name", ["luxo-keys-somersaults", "cat-gap", "biped-mocap-walk",
+                                  "biped-giant-swings"])
 def test_the_fast_sampler_reads_the_same_numbers_as_the_plain_one(name, monkeypatch):
     fast = replay(find_log(name), trajectory=True)
     monkeypatch.setattr(replay_mod, "Sampler", PlainSampler)
@@ -54,6 +57,10 @@ def test_the_fast_sampler_reads_the_same_numbers_as_the_plain_one(name, monkeypa
     for field in NAN_FIELDS:
         a, b = getattr(fast.trajectory, field), getattr(plain.trajectory, field)
         assert a.shape == b.shape and np.array_equal(a, b, equal_nan=True), field
+    assert fast.trajectory.held == plain.trajectory.held  # the grasps held, per sample
+    if name == "biped-giant-swings":  # both hands on the bar
+        assert {g[:2] for g in fast.trajectory.held[-1]} == {("hand_near", "bar"),
+                                                              ("hand_far", "bar")}
     if name.startswith("biped-mocap"):  # a performance: the joints' channels were read
         assert np.isfinite(fast.trajectory.joint_channel).mean() > 0.9
     assert [str(o) for o in fast.outcomes] == [str(o) for o in plain.outcomes]

@@ -93,6 +93,13 @@ def check_names(spec, located: Located) -> None:
         need(("mode",), "mode", spec.mode, spec.modes)
     if spec.initial is not None:
         need(("initial",), "state", spec.initial, spec.states)
+    if spec.start_pose is not None:
+        need(("start_pose",), "pose", spec.start_pose, spec.poses)
+        for joint, value in spec.poses[spec.start_pose].joints.items():
+            if not isinstance(value, (int, float)):
+                raise located.error(("poses", spec.start_pose, "joints", joint),
+                                    "a start pose's targets are joint angles (degrees), "
+                                    "not frame targets")
     bindings = spec.bindings
     if spec.binding is not None:
         need(("binding",), "role binding", spec.binding, bindings)

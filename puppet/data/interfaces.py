@@ -248,6 +248,9 @@ class InterfaceSpec(Spec):
     modes: dict[str, list[MapSpec]] = Field(default_factory=dict,
                                             description="control modes: name -> maps")
     mode: str | None = Field(None, description="starting mode; default the first")
+    start_pose: str | None = Field(None, description="a pose (plain degrees) the figure is "
+                                   "built in at the start, over the character's start "
+                                   "joints: hanging from a bar, arms up")
     keys: list[KeyActionSpec] = Field(default_factory=list)
     states: dict[str, StateSpec] = Field(default_factory=dict)
     gestures: list[GestureSpec] = Field(default_factory=list,
@@ -288,6 +291,16 @@ class InterfaceSpec(Spec):
         table = {action: key for action, (key, _) in APP_KEYS.items()}
         table.update({a: normalize_key(k) for a, k in self.app_keys.items()})
         return table
+
+    def start_character(self, character):
+        """The character as this interface starts it: its start joints overlaid with the
+        ``start_pose``'s (the character itself when there is none)."""
+        if self.start_pose is None:
+            return character
+        joints = dict(character.start.joints)
+        joints.update(self.poses[self.start_pose].joint_degrees())
+        return character.model_copy(
+            update={"start": character.start.model_copy(update={"joints": joints})})
 
     @property
     def start_mode(self) -> str | None:

@@ -50,6 +50,7 @@ RANGES: dict[str, tuple[float, float, str, bool]] = {
     "mouse": (-10.0, 10.0, "", False),  # a mouse position in a log (0..1 in the window)
     "measure": (-1.0e6, 1.0e6, "", False),  # an expectation's threshold (m)
     "turn": (0.0, 1.0e6, "deg", False),  # an expectation's accumulated rotation
+    "turns": (0.0, 1.0e4, "turns", False),  # full revolutions (an expectation)
     "source_unit": (1.0e-6, 1000.0, "m", True),  # metres per unit of a mocap source
     "ratio": (0.01, 1000.0, "", False),  # a mocap mapping's size, a gain's multiplier
     "gain": (0.0, 1.0e6, "", False),  # a tracking gain (kp, dp, kq, dq)

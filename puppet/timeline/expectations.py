@@ -49,6 +49,12 @@ Each entry names one check:
       - stayed_in_state: {state: sitting, from: 0.6, until: 4.0}
                                   # ... from t = 0.6 s to t = 4.0 s (both optional)
       - stayed_in_mode: {mode: keys, from: 1.0}   # the same for the interface's mode
+      - revolutions: {about: hand_near, min: 3}
+                                  # full turns in a row of the centre of mass about the
+                                  # point the chain holds (or about: [x, y], m), never
+                                  # turning back more than slack (10 deg): giant swings
+      - held: {chains: [hand_near, hand_far], prop: bar, from: 0.0}
+                                  # each chain held the prop at every sample (until: s)
       - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
       - final_hash: 0123456789abcdef           # the exact final state
 
@@ -248,6 +254,27 @@ class StayedInMode(StayedIn):
     mode: str = Field(description="the interface mode it must stay in")
 
 
+class Revolutions(Spec):
+    """Full turns in a row of the centre of mass about a point: giant swings."""
+
+    about: str | tuple[Num("world_xy"), Num("world_xy")] = Field(
+        description="a chain (the point it holds, at each sample) or [x, y] in the scene, m")
+    min: Num("turns") = Field(description="full turns in one stretch, at least")
+    direction: Literal["either", "backward", "forward"] = Field(
+        "either", description="backward = counter-clockwise (the model faces +x)")
+    slack: Num("turn") = Field(
+        10.0, description="deg it may turn back inside the stretch (jitter at the top)")
+
+
+class Held(Spec):
+    """Each of ``chains`` held a grasp (on ``prop``) at every sample of the window."""
+
+    chains: list[str] = Field(min_length=1, max_length=16)
+    prop: str | None = Field(None, description="the prop held (default: any, or the world)")
+    from_: Time | None = Field(None, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+
+
 AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
 
 
@@ -268,6 +295,8 @@ class Expectation(Spec):
     got_up: GotUp | None = None
     stayed_in_state: StayedInState | None = None
     stayed_in_mode: StayedInMode | None = None
+    revolutions: Revolutions | None = None
+    held: Held | None = None
     in_state_at_end: str | None = None
     in_mode_at_end: str | None = None
     final_hash: str | None = None
@@ -345,6 +374,15 @@ class Expectation(Spec):
                     + (" in flight" if v.in_flight else ""))
         if isinstance(v, LandedAt):
             return f"landed_at {v.link} min x {v.min} m"
+        if isinstance(v, Revolutions):
+            about = v.about if isinstance(v.about, str) else f"[{v.about[0]:g}, {v.about[1]:g}]"
+            way = "" if v.direction == "either" else f" {v.direction}"
+            return f"revolutions about {about}{way} min {v.min:g} in a row"
+        if isinstance(v, Held):
+            window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
+                             if b is not None)
+            on = f" on {v.prop}" if v.prop else ""
+            return f"held {', '.join(v.chains)}{on}{window}"
         if isinstance(v, StayedIn):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
@@ -539,6 +577,80 @@ def _at_end(e: Expectation, column: str, traj) -> Outcome:
                    f"in {_named(seen[-1])} at the end (since t = {since:.2f} s)")
 
 
+def _held_at(traj, chain: str) -> list:
+    """Per sample: (x, y, prop) of what ``chain`` held, or None."""
+    out = []
+    for row in traj.held:
+        out.append(next(((x, y, prop) for name, prop, x, y in row if name == chain), None))
+    return out
+
+
+def _revolutions(e: Expectation, v: Revolutions, traj) -> Outcome:
+    """The unwrapped angle of the centre of mass about the point; the longest stretch
+    that never turns back more than ``slack`` degrees from its furthest; its turn /
+    360. About a chain: only samples where it holds count (a release ends a stretch)."""
+    n = len(traj.t)
+    if isinstance(v.about, str):
+        at = _held_at(traj, v.about)
+        if all(a is None for a in at):
+            return Outcome(e.describe(), False, f"'{v.about}' never held anything (a chain "
+                                                "of the interface that grasps?)")
+    else:
+        at = [(v.about[0], v.about[1], None)] * n
+    best, where = 0.0, ""
+    ways = {"backward": (1.0,), "forward": (-1.0,), "either": (1.0, -1.0)}[v.direction]
+    slack = np.radians(v.slack)
+    for sign in ways:
+        prev = start = top = None
+        i0 = 0
+        for i in range(n):
+            if at[i] is None:
+                prev = None
+                continue
+            a = float(np.arctan2(traj.com[i, 1] - at[i][1], traj.com[i, 0] - at[i][0]))
+            if prev is None:
+                u = a
+                start = top = sign * u
+                i0 = i
+            else:
+                u = prev_u + (np.remainder(a - prev + np.pi, 2 * np.pi) - np.pi)
+            prev, prev_u = a, u
+            s = sign * u
+            if s > top:
+                top = s
+            elif s < top - slack:  # turned back: a new stretch from here
+                start = top = s
+                i0 = i
+            turns = (top - start) / (2 * np.pi)
+            if turns > best:
+                best = turns
+                way = "backward" if sign > 0 else "forward"
+                where = f" {way}, from t = {traj.t[i0]:.2f} s to {traj.t[i]:.2f} s"
+    return Outcome(e.describe(), best >= v.min - 1e-9, f"{best:.2f} turns in a row{where}")
+
+
+def _held(e: Expectation, v: Held, traj) -> Outcome:
+    t = traj.t
+    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
+    hi = np.inf if v.until is None else v.until + 1e-9
+    idx = np.flatnonzero((t >= lo) & (t <= hi))
+    if len(idx) == 0:
+        return Outcome(e.describe(), False, f"no samples in the window (the run is "
+                                            f"{t[-1]:.2f} s)")
+    for chain in v.chains:
+        at = _held_at(traj, chain)
+        if all(a is None for a in at):
+            return Outcome(e.describe(), False, f"{chain} never held anything (a chain of "
+                                                "the interface that grasps?)")
+        for i in idx:
+            if at[i] is None or (v.prop is not None and at[i][2] != v.prop):
+                what = "nothing" if at[i] is None else (at[i][2] or "the world")
+                return Outcome(e.describe(), False,
+                               f"{chain} held {what} at t = {t[i]:.2f} s")
+    return Outcome(e.describe(), True, f"all held from t = {t[idx[0]]:.2f} s to "
+                                       f"{t[idx[-1]]:.2f} s")
+
+
 def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
     """Check one expectation against a sampled trajectory (see ``Trajectory``)."""
     v, desc = e.value, e.describe()
@@ -644,6 +756,10 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return Outcome(desc, x >= v.min, f"longest flight {length:.2f} s from t = "
                                          f"{traj.t[first]:.2f} s, "
                                          f"touched down at x = {x:.3f} m (t = {traj.t[i]:.2f} s)")
+    if isinstance(v, Revolutions):
+        return _revolutions(e, v, traj)
+    if isinstance(v, Held):
+        return _held(e, v, traj)
     if isinstance(v, StayedIn):
         return _stayed(e, v, traj)
     if e.kind in AT_END:

@@ -48,7 +48,8 @@ class Trajectory:
     states or modes) are the interface's state and mode at each
     sample, for expectations about what the character was doing; ``state_names`` and
     ``mode_names`` are the ones the interface defines (every version, if it was
-    reloaded), so such an expectation can say a name does not exist. After a rewind the
+    reloaded), so such an expectation can say a name does not exist. ``held`` lists, per
+    sample, the grasps held: (chain, prop or None for the world, x, y of the held point). After a rewind the
     abandoned branch's samples are dropped: the trajectory is the history that was kept.
     """
 
@@ -70,6 +71,8 @@ class Trajectory:
     mode: np.ndarray
     state_names: list[str]
     mode_names: list[str]
+    # per sample: the grasps held, ((chain, prop or None, x, y), ...) at the held points (m)
+    held: list = field(default_factory=list)
 
     def index(self, link: str) -> int:
         return self.links.index(link)
@@ -171,7 +174,9 @@ class Sampler:
                           [per_link[i][2] - per_link[k][2] for i, k, _ in self._servos],
                           [spring.rest_angle for _, _, spring in self._servos],
                           [rt.channels.get(j, _NAN) for j in self.joints] if rt.channels
-                          else self._no_channels, rt.state, rt.mode))
+                          else self._no_channels, rt.state, rt.mode,
+                          tuple((name, prop, *session.sim.grasp_point(name))
+                                for name, (_, prop) in session.sim.grasps.items())))
 
     def trajectory(self) -> Trajectory:
         import numpy as np
@@ -193,7 +198,8 @@ class Sampler:
                                               dtype=float).reshape(n, nj)),
             state=np.array([r[8] for r in rows], dtype=object),
             mode=np.array([r[9] for r in rows], dtype=object),
-            state_names=list(self.state_names), mode_names=list(self.mode_names))
+            state_names=list(self.state_names), mode_names=list(self.mode_names),
+            held=[r[10] for r in rows])
 
 
 @dataclass

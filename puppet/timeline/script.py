@@ -146,3 +146,15 @@ def parse_script(located: Located) -> ScriptSpec:
 
 def load_script(path) -> ScriptSpec:
     return parse_script(load_file(path))
+
+
+def check_links(path, spec: ScriptSpec, links: list[str]) -> None:
+    """DataError at the entry for a drag or push of a link the character played does
+    not have (the script is valid on its own; a link is only known with a character)."""
+    for i, e in enumerate(spec.events):
+        for kind, what in (("drag", e.drag), ("push", e.push)):
+            if what is not None and what.link not in links:
+                from puppet.data.interface_refs import unknown
+
+                raise load_file(path).error(("events", i, kind, "link"),
+                                            unknown("link", what.link, links))
