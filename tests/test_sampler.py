@@ -33,7 +33,8 @@ class PlainSampler(Sampler):
         self.rows.append((step, session.time, per_link, c.com(), c.root_angle(),
                           [s.angle for s in servos], [s.target for s in servos],
                           [rt.channels.get(j, float("nan")) for j in self.joints],
-                          rt.state, rt.mode))
+                          rt.state, rt.mode,
+                          replay_mod._held(session.sim) if session.sim.grasps else ()))
 
 
 FIELDS = ("step", "t", "x", "y", "angle", "lowest", "contact", "com", "root_angle",
