@@ -114,3 +114,23 @@ def test_regrasps_by_turns_count_only_alternating_hands():
         {"always_holding": {"chains": ["hand_far"], "from": 9.5}}])
     assert [o.passed for o in evaluate_all(items.items, traj, "")] == [
         True, False, True, True, False, False, True]
+
+
+def test_the_key_map_draws_the_bar_each_reach_key_goes_for():
+    import pygame
+
+    from puppet.app.keymap import TARGET, draw_keymap, reach_key_bindings
+
+    setup = load_setup("biped-bars")
+    keys = dict(reach_key_bindings(setup.interface, "far_support"))
+    assert {k: r.point.offset for k, r in keys.items()} == {"a": -1, "s": 0, "d": 1, "f": 2}
+    assert {r.chain for r in keys.values()} == {"hand_near"}
+    pygame.font.init()
+    font = pygame.font.SysFont(None, 14)
+    plain, with_scene = pygame.Surface((800, 400)), pygame.Surface((800, 400))
+    draw_keymap(plain, setup.interface, setup.character, font, (0, 0), state="far_support")
+    rect = draw_keymap(with_scene, setup.interface, setup.character, font, (0, 0),
+                       state="far_support", scene=setup.scene)
+    ringed = [(x, y) for x in range(rect.width) for y in range(rect.height)
+              if tuple(with_scene.get_at((x, y)))[:3] == TARGET]
+    assert ringed and not any(tuple(plain.get_at(p))[:3] == TARGET for p in ringed)
