@@ -41,3 +41,10 @@ def test_without_the_legs_push_the_climb_stalls(tmp_path):
     def no_push(spec):
         spec["keys"] = [k for k in spec["keys"] if k["key"] != "h"]
     assert {"regrasps", "held_point"} & _failed(tmp_path, no_push)
+
+
+def test_with_the_figures_own_shoulders_it_does_not_hold_on(tmp_path):
+    def weak(spec):
+        for j in ("shoulder_near", "shoulder_far"):
+            spec["gains"][j] = {"stiffness": 60, "damping": 3, "max_torque": 40}
+    assert {"regrasps", "held_point", "always_holding"} & _failed(tmp_path, weak)
