@@ -306,3 +306,23 @@ def test_guide_cat_lunge_reaches_when_the_back_paws_leave_the_ground(tmp_path):
         states.add(s.runtime.state)
     assert {"pushing", "flying"} <= states  # the back paws left the ground: reach
     assert s.runtime.state == "ready"  # landed (or timed out) and ready again
+
+
+def test_the_climbing_example_catches_the_next_bar(tmp_path):
+    """Section 16: mounted on the first bar, `w` then `d` put the far hand on bar 2."""
+    text = [t for _, t in yaml_blocks(DOCS / "interfaces.md")
+            if t.startswith("# file: interfaces/bars-example.yaml")][-1]
+    path = tmp_path / "interfaces" / "bars-example.yaml"
+    path.parent.mkdir()
+    path.write_text(text, encoding="utf-8")
+    s = Session(load_setup(str(path)))
+    s.advance(round(3.0 / s.sim.dt))
+    assert sorted(s.sim.grasps) == ["hand_far", "hand_near"]  # mounted on bar 1
+    assert s.runtime.states == {"main": "near_support", "legs": "tucked"}
+    for key, wait in (("w", 0.5), ("d", 0.5)):
+        s.handle(ev.key(key, True))
+        s.handle(ev.key(key, False))
+        s.advance(round(wait / s.sim.dt))
+    bars = s.sim.props["bars"]
+    assert math.dist(s.sim.grasp_point("hand_far"), bars.point_world("bar2")) < 1e-6
+    assert math.dist(s.sim.grasp_point("hand_near"), bars.point_world("bar1")) < 1e-6

@@ -116,7 +116,7 @@ def test_revolutions_counts_full_turns_about_a_point_and_fails_short_of_them():
 def test_revolutions_about_a_chain_count_only_while_it_holds():
     e = parse_expectations([{"revolutions": {"about": "hand", "min": 3}}]).items[0]
     com = _circle(3.2)
-    holding = [(("hand", "bar", 0.0, 0.0),)] * len(com)
+    holding = [(("hand", "bar", None, 0.0, 0.0),)] * len(com)
     assert evaluate(e, _traj(com, holding), "").passed
     let_go = list(holding)
     let_go[len(com) // 2] = ()  # let go half way: two stretches of 1.6 turns
@@ -125,13 +125,13 @@ def test_revolutions_about_a_chain_count_only_while_it_holds():
 
 def test_held_fails_at_the_first_sample_a_chain_lets_go_or_holds_another_prop():
     e = parse_expectations([{"held": {"chains": ["a", "b"], "prop": "bar"}}]).items[0]
-    both = (("a", "bar", 0, 0), ("b", "bar", 0, 0))
+    both = (("a", "bar", None, 0, 0), ("b", "bar", None, 0, 0))
     rows = [both] * 10
     assert evaluate(e, _traj([(0, 0)] * 10, rows), "").passed
-    rows[6] = (("a", "bar", 0, 0),)
+    rows[6] = (("a", "bar", None, 0, 0),)
     out = evaluate(e, _traj([(0, 0)] * 10, rows), "")
     assert not out.passed and "b held nothing at t = 0.60 s" in out.measured
-    rows[6] = (("a", "bar", 0, 0), ("b", "rope", 0, 0))
+    rows[6] = (("a", "bar", None, 0, 0), ("b", "rope", None, 0, 0))
     assert not evaluate(e, _traj([(0, 0)] * 10, rows), "").passed
     late = parse_expectations([{"held": {"chains": ["b"], "from": 0.7}}]).items[0]
     rows[6] = ()
@@ -206,5 +206,5 @@ def test_a_chain_that_never_held_is_named_in_the_outcome():
     out = evaluate(rev, _traj(com, [()] * len(com)), "")
     assert not out.passed and "'hand' never held anything" in out.measured
     held = parse_expectations([{"held": {"chains": ["hnd"]}}]).items[0]
-    out = evaluate(held, _traj(com, [(("hand", None, 0, 0),)] * len(com)), "")
+    out = evaluate(held, _traj(com, [(("hand", None, None, 0, 0),)] * len(com)), "")
     assert not out.passed and "hnd never held anything" in out.measured

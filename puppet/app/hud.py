@@ -197,7 +197,7 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
                   surface.get_width() // 2)
     if info.show_help:  # pose keys as pictures, laid out like the keyboard
         draw_keymap(surface, setup.interface, setup.character, small, (8, 16 + height),
-                    state=session.runtime.state)
+                    state=session.runtime.state, scene=setup.scene)
     draw_timeline(surface, session, info, small)
     if info.message:
         msg = font.render(fit(font, info.message, surface.get_width() - 48), True,

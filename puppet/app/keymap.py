@@ -157,13 +157,74 @@ def pose_key_bindings(interface, state: str | None = None) -> list[tuple[str, st
             if k.pose is not None]
 
 
+def reach_key_bindings(interface, state: str | None = None) -> list[tuple[str, object]]:
+    """(key chord, reach) for the keys live in ``state`` that reach for a prop's grasp
+    point (``point: {prop, offset}``) and set no pose: the key map draws their target."""
+    return [(normalize_key(k.key), k.reach) for k in live_keys(interface, state)
+            if k.pose is None and k.reach is not None and k.reach.point is not None]
+
+
+def _pose_joints(interface, pose: str, state: str | None) -> dict[str, float]:
+    """The pose's joint angles (degrees) with its role names read as the joints they
+    mean in ``state`` (its ``roles`` binding, else the interface's starting one)."""
+    binding = interface.start_binding
+    if state is not None and interface.states.get(state) is not None:
+        binding = interface.states[state].roles or binding
+    rename = interface.renamer(binding)
+    return {rename(j): v for j, v in interface.poses[pose].joint_degrees().items()}
+
+
+TARGET = (214, 96, 40)  # the bar or rung a reach key goes for
+HELD = (60, 64, 72)     # the one the hand counts from
+
+
+def draw_reach_icon(surface: pygame.Surface, rect: pygame.Rect, points, offset: int) -> None:
+    """A reach key's picture: the prop's grasp points near the one counted from (dark,
+    the hand's), the target ringed and an arrow to it; a prop whose points run more
+    across than up (monkey bars) is drawn across, a ladder's rungs upward."""
+    show = sorted({-1, 0, 1, 2, offset})
+    n = len(show)
+    across = True
+    if len(points) > 1:
+        xs, ys = [p[0] for p in points], [p[1] for p in points]
+        across = max(xs) - min(xs) >= max(ys) - min(ys)
+    cx, cy = rect.center
+
+    def place(k: int) -> tuple[int, int]:
+        i = show.index(k)
+        if across:
+            step = rect.width / (n + 0.5)
+            return (round(rect.left + step * (i + 0.75)), round(rect.top + rect.height * 0.45))
+        step = rect.height / (n + 0.5)
+        return (round(rect.left + rect.width * 0.55), round(rect.bottom - step * (i + 0.75)))
+
+    a, b = place(show[0]), place(show[-1])
+    pygame.draw.line(surface, CONTEXT, a, b, 1)  # the bar frame / the ladder's rail
+    for k in show:
+        pygame.draw.circle(surface, CONTEXT, place(k), 3)
+    pygame.draw.circle(surface, HELD, place(0), 4)
+    target = place(offset)
+    pygame.draw.circle(surface, TARGET, target, 6, 2)
+    if offset != 0:
+        start = place(0)
+        bend = (round((start[0] + target[0]) / 2), round((start[1] + target[1]) / 2) - 8) \
+            if across else (round((start[0] + target[0]) / 2) - 8,
+                            round((start[1] + target[1]) / 2))
+        pygame.draw.lines(surface, TARGET, False, [start, bend, target], 1)
+
+
 def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
                 font: pygame.font.Font, topleft: tuple[int, int], cap: int = 58,
-                state: str | None = None) -> pygame.Rect | None:
+                state: str | None = None, scene=None) -> pygame.Rect | None:
     """Draw the pose keys as keycaps in their keyboard places, each with its pose's
-    picture; one strip per modifier (none, ctrl, ...). Returns the rect drawn (None
-    if no key sets a pose)."""
+    picture; one strip per modifier (none, ctrl, ...). With the ``scene``, keys that
+    reach for a prop's grasp point are drawn too, as the bar or rung they go for.
+    Returns the rect drawn (None if no key sets a pose)."""
     bindings = pose_key_bindings(interface, state)
+    reaches = dict(reach_key_bindings(interface, state)) if scene is not None else {}
+    reaches = {k: r for k, r in reaches.items() if r.point.prop in scene.props} \
+        if reaches else {}
+    bindings += [(chord, "") for chord in reaches]
     if not bindings:
         return None
     strips: dict[str, list] = {}
@@ -176,8 +237,8 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
         else:
             strips.setdefault(mods, []).append((chord, pose, place))
     # one scale for every picture, so the poses compare
-    by_pose = {p: interface.poses[p].joint_degrees() for _, p in bindings}
-    extent = max(pose_extent(character, j) for j in by_pose.values()) or 1.0
+    by_pose = {p: _pose_joints(interface, p, state) for _, p in bindings if p}
+    extent = max((pose_extent(character, j) for j in by_pose.values()), default=0) or 1.0
     gap, label_h = 4, 16
     x0, y = topleft
     blocks = []  # (label, [(chord, pose, (px, py))]) laid out relative to the block
@@ -205,15 +266,22 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
     surface.blit(panel, rect.topleft)
     y += 6
     for label, placed, nrows in blocks:
-        heading = {"": "pose keys", "gamepad": "gamepad buttons"}.get(label, label)
+        heading = {"": "pose keys" + (" and reach targets" if reaches else ""),
+                   "gamepad": "gamepad buttons"}.get(label, label)
         surface.blit(font.render(heading, True, (20, 60, 120)), (x0 + 8, y))
         y += label_h
         for chord, pose, (px, py) in placed:
             cap_rect = pygame.Rect(x0 + 8 + px, y + py, cap, cap)
             pygame.draw.rect(surface, CAP, cap_rect, border_radius=5)
             pygame.draw.rect(surface, CAP_EDGE, cap_rect, 1, border_radius=5)
-            draw_pose_icon(surface, cap_rect.inflate(-6, -6).move(3, 4), character,
-                           interface.poses[pose].joint_degrees(), extent)
+            if pose:
+                draw_pose_icon(surface, cap_rect.inflate(-6, -6).move(3, 4), character,
+                               by_pose[pose], extent)
+            else:
+                point = reaches[chord].point
+                spots = list(scene.props[point.prop].grasp_points.values())
+                draw_reach_icon(surface, cap_rect.inflate(-8, -14).move(0, 6), spots,
+                                point.offset)
             key = chord.removeprefix("gamepad.") if label == "gamepad" else \
                 _split_chord(chord)[1] if label != "other" else chord
             text = font.render(key, True, LABEL)

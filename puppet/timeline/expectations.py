@@ -56,6 +56,17 @@ Each entry names one check:
       - held: {chains: [hand_near, hand_far], prop: bar, from: 0.0}
                                   # each chain held the prop at every sample (until: s)
       - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
+      - held_point: {prop: bars, point: bar7}  # some chain (or 'chain: NAME') held
+                                               # that grasp point of the prop at a sample
+      - always_holding: {chains: [hand_near, hand_far], from: 3.0}
+                                  # at every sample from t = 3 s (to 'until', default the
+                                  # end) at least one of the chains held something: it
+                                  # never fell off
+      - regrasps: {chains: [hand_near, hand_far], prop: bars, min: 6, alternate: true}
+                                  # at least 6 new grasps, each of a grasp point further
+                                  # along the prop's list than any those chains held
+                                  # before (the next bar, the rung above), in a row by
+                                  # turns (hand over hand) with 'alternate'
       - final_hash: 0123456789abcdef           # the exact final state
 
 "Upright" is the root link's angle from its model orientation, taken modulo full
@@ -278,6 +289,35 @@ class Held(Spec):
 AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
 
 
+class HeldPoint(Spec):
+    """A grasp point of a prop held at some sample (by ``chain``, or by any chain)."""
+
+    prop: str
+    point: str = Field(description="the prop's grasp point (its name in the scene)")
+    chain: str | None = Field(None, description="the chain that held it (default: any)")
+
+
+class AlwaysHolding(Spec):
+    """At every sample of the window at least one of ``chains`` holds something (a grasp
+    point, a segment or a world point): hanging on, never fallen off."""
+
+    chains: list[str] = Field(min_length=1, max_length=64)
+    from_: Time | None = Field(None, alias="from", description="s (default: the start)")
+    until: Time | None = Field(None, description="s (default: the end)")
+
+
+class Regrasps(Spec):
+    """New grasps that make progress along a prop: a chain of ``chains`` taking hold of
+    a grasp point later in the prop's list than any point those chains held before (the
+    next bar, the rung above). ``alternate``: counted only in a row of turns, each by
+    another chain than the one before (hand over hand); the longest such row counts."""
+
+    chains: list[str] = Field(min_length=1, max_length=64)
+    prop: str
+    min: int = Field(ge=1, description="progressing grasps, at least")
+    alternate: bool = False
+
+
 class Expectation(Spec):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
@@ -299,6 +339,9 @@ class Expectation(Spec):
     held: Held | None = None
     in_state_at_end: str | None = None
     in_mode_at_end: str | None = None
+    held_point: HeldPoint | None = None
+    always_holding: AlwaysHolding | None = None
+    regrasps: Regrasps | None = None
     final_hash: str | None = None
     # (Located, data path) of this entry, for errors found only when evaluating
     _where: tuple | None = PrivateAttr(None)
@@ -383,6 +426,15 @@ class Expectation(Spec):
                              if b is not None)
             on = f" on {v.prop}" if v.prop else ""
             return f"held {', '.join(v.chains)}{on}{window}"
+        if isinstance(v, HeldPoint):
+            return f"held_point {v.prop} {v.point}" + (f" by {v.chain}" if v.chain else "")
+        if isinstance(v, AlwaysHolding):
+            window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
+                             if b is not None)
+            return f"always_holding one of {', '.join(v.chains)}{window}"
+        if isinstance(v, Regrasps):
+            return (f"regrasps {', '.join(v.chains)} along {v.prop} min {v.min}"
+                    + (" by turns" if v.alternate else ""))
         if isinstance(v, StayedIn):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
@@ -580,8 +632,8 @@ def _at_end(e: Expectation, column: str, traj) -> Outcome:
 def _held_at(traj, chain: str) -> list:
     """Per sample: (x, y, prop) of what ``chain`` held, or None."""
     out = []
-    for row in traj.held:
-        out.append(next(((x, y, prop) for name, prop, x, y in row if name == chain), None))
+    for row in _holds(traj):
+        out.append(next(((x, y, prop) for name, prop, _, x, y in row if name == chain), None))
     return out
 
 
@@ -764,9 +816,81 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _stayed(e, v, traj)
     if e.kind in AT_END:
         return _at_end(e, AT_END[e.kind], traj)
+    if isinstance(v, HeldPoint):
+        return _held_point(desc, v, traj)
+    if isinstance(v, AlwaysHolding):
+        return _always_holding(desc, v, traj)
+    if isinstance(v, Regrasps):
+        return _regrasps(desc, v, traj)
     if e.kind == "final_hash":
         return Outcome(desc, final_hash == v, f"final hash {final_hash}")
     raise AssertionError(e.kind)
+
+
+def _holds(traj) -> list[tuple]:
+    """What the chains hold at each sample (``Trajectory.held``; () for none)."""
+    return list(traj.held) if traj.held is not None else [()] * len(traj.t)
+
+
+def _held_point(desc: str, v: HeldPoint, traj) -> Outcome:
+    for i, held in enumerate(_holds(traj)):
+        for chain, prop, point, *_ in held:
+            if prop == v.prop and point == v.point and v.chain in (None, chain):
+                return Outcome(desc, True, f"{chain} held it at t = {traj.t[i]:.2f} s")
+    seen = sorted({p for held in _holds(traj) for c, pr, p, *_ in held
+                   if pr == v.prop and p is not None and v.chain in (None, c)})
+    return Outcome(desc, False, "never held; held " + (", ".join(seen) or "none of its points"))
+
+
+def _always_holding(desc: str, v: AlwaysHolding, traj) -> Outcome:
+    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
+    hi = np.inf if v.until is None else v.until + 1e-9
+    chains = set(v.chains)
+    idx = [i for i in np.flatnonzero((traj.t >= lo) & (traj.t <= hi)).tolist()]
+    if not idx:
+        return Outcome(desc, False, f"no samples in the window (the run is {traj.t[-1]:.2f} s)")
+    holds = _holds(traj)
+    for i in idx:
+        if not any(chain in chains for chain, *_ in holds[i]):
+            return Outcome(desc, False, f"none of them held anything at t = {traj.t[i]:.2f} s")
+    return Outcome(desc, True, f"held on from t = {traj.t[idx[0]]:.2f} s to "
+                               f"{traj.t[idx[-1]]:.2f} s")
+
+
+def _regrasps(desc: str, v: Regrasps, traj) -> Outcome:
+    """The progressing grasps (chain, point, t): the first point any of the chains
+    holds is where they start; a new grasp of a point later in the prop's list than
+    any held so far is one. Then the longest row of them (by turns if ``alternate``)."""
+    chains = set(v.chains)
+    names = (traj.prop_points or {}).get(v.prop)
+    if names is None:
+        return Outcome(desc, False, f"no prop '{v.prop}' in the scene")
+    order = {n: k for k, n in enumerate(names)}
+    best = None  # the furthest place held so far
+    moves: list[tuple[str, str, float]] = []
+    before: dict[str, str | None] = {}
+    for i, held in enumerate(_holds(traj)):
+        now = {c: p for c, pr, p, *_ in held if c in chains and pr == v.prop and p in order}
+        for chain, point in sorted(now.items()):
+            k = order[point]
+            if best is None:
+                best = k
+            elif before.get(chain) != point and k > best:
+                moves.append((chain, point, float(traj.t[i])))
+                best = k
+        before = now
+    longest: list = []
+    current: list = []
+    for m in moves:
+        if v.alternate and current and m[0] == current[-1][0]:
+            current = [m]
+        else:
+            current.append(m)
+        if len(current) > len(longest):
+            longest = list(current)
+    what = ", ".join(f"{c} {p} at {t:.2f} s" for c, p, t in longest[:12])
+    return Outcome(desc, len(longest) >= v.min, f"{len(longest)} progressing grasps"
+                   + (" by turns" if v.alternate else "") + (f": {what}" if what else ""))
 
 
 def evaluate_all(items: list[Expectation], traj, final_hash: str) -> list[Outcome]:

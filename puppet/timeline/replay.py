@@ -48,8 +48,8 @@ class Trajectory:
     states or modes) are the interface's state and mode at each
     sample, for expectations about what the character was doing; ``state_names`` and
     ``mode_names`` are the ones the interface defines (every version, if it was
-    reloaded), so such an expectation can say a name does not exist. ``held`` lists, per
-    sample, the grasps held: (chain, prop or None for the world, x, y of the held point). After a rewind the
+    reloaded), so such an expectation can say a name does not exist. ``held`` is what
+    the chains hold (grasps) at each sample. After a rewind the
     abandoned branch's samples are dropped: the trajectory is the history that was kept.
     """
 
@@ -71,8 +71,11 @@ class Trajectory:
     mode: np.ndarray
     state_names: list[str]
     mode_names: list[str]
-    # per sample: the grasps held, ((chain, prop or None, x, y), ...) at the held points (m)
-    held: list = field(default_factory=list)
+    # what the chains hold at each sample: a tuple of (chain, prop or None for the world,
+    # grasp point name or None: a segment or a world point, x, y of the held point in m)
+    # per sample, () when nothing is held
+    held: np.ndarray | None = None
+    prop_points: dict[str, list[str]] | None = None  # prop -> its grasp points, in order
 
     def index(self, link: str) -> int:
         return self.links.index(link)
@@ -100,6 +103,7 @@ class Sampler:
         self.state_names: dict[str, None] = {}  # ordered sets
         self.mode_names: dict[str, None] = {}
         self._runtime = None
+        self.prop_points = {n: list(p.points) for n, p in session.sim.props.items()}
         self._take = (0, 0)  # the session's last take seen (Session.last_take)
         self._key = None  # the bodies the plan below was made for
         from pymunk._chipmunk_cffi import ffi, lib
@@ -175,8 +179,7 @@ class Sampler:
                           [spring.rest_angle for _, _, spring in self._servos],
                           [rt.channels.get(j, _NAN) for j in self.joints] if rt.channels
                           else self._no_channels, rt.state, rt.mode,
-                          tuple((name, prop, *session.sim.grasp_point(name))
-                                for name, (_, prop) in session.sim.grasps.items())))
+                          _held(session.sim) if session.sim.grasps else ()))
 
     def trajectory(self) -> Trajectory:
         import numpy as np
@@ -199,7 +202,30 @@ class Sampler:
             state=np.array([r[8] for r in rows], dtype=object),
             mode=np.array([r[9] for r in rows], dtype=object),
             state_names=list(self.state_names), mode_names=list(self.mode_names),
-            held=[r[10] for r in rows])
+            held=_object_array([r[10] for r in rows]), prop_points=self.prop_points)
+
+
+def _object_array(items: list) -> np.ndarray:
+    import numpy as np
+
+    out = np.empty(len(items), dtype=object)
+    out[:] = items
+    return out
+
+
+def _held(sim) -> tuple:
+    """(chain, prop, grasp point name, x, y) of every grasp held now, sorted by chain;
+    the name is the prop's grasp point at the held place (None: a segment, a world
+    point), x and y where the held point is (m)."""
+    out = []
+    for name, (_, prop) in sorted(sim.grasps.items()):
+        point = None
+        x, y = sim.grasp_point(name)
+        if prop is not None:
+            distance, _, nearest = sim.props[prop].nearest((x, y))
+            point = nearest if distance < 1e-6 else None
+        out.append((name, prop, point, x, y))
+    return tuple(out)
 
 
 @dataclass

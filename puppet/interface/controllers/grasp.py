@@ -43,9 +43,10 @@ class GraspController:
 
     def try_grasp(self, name: str, points=None, prop: str | None = None,
                   tolerance: float = 0.04) -> bool:
-        """Hold the first of ``points`` (pinned to the world), or the nearest graspable
-        place of ``prop`` ("any": of every prop), that the chain's end is within
-        ``tolerance`` m of. True if the chain holds something now."""
+        """Hold the first of ``points`` (pinned to the world, or to ``prop`` if one is
+        named with them: a reach's target point), or else the nearest graspable place of
+        ``prop`` ("any": of every prop), that the chain's end is within ``tolerance`` m
+        of. True if the chain holds something now."""
         if self.sim is None or self.holds(name):
             return self.holds(name)
         chain = self.chains[name]
@@ -53,7 +54,7 @@ class GraspController:
         if points is not None:
             for p in points:
                 if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
-                    self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]))
+                    self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop)
                     return True
             return False
         props = self.sim.props

@@ -138,8 +138,8 @@ class ReachController:
                 kind = reach.target[0]
                 if kind == "point":
                     self.grasps.try_grasp(name, [goal], None, reach.tolerance)
-                elif kind == "prop":
-                    self.grasps.try_grasp(name, None, reach.target[1], reach.tolerance)
+                elif kind == "prop":  # only the point aimed at: not the bar let go of
+                    self.grasps.try_grasp(name, [goal], reach.target[1], reach.tolerance)
                 elif self.sim is not None and self.sim.props:
                     self.grasps.try_grasp(name, None, "any", reach.tolerance)
             if reach.end is not None and step >= reach.end:

@@ -1,0 +1,50 @@
+"""The IK ladder (interfaces/biped-ladder.yaml, log biped-ladder-climb): the log's
+expectations hold, and fail by name with a grasp tolerance too small or the legs'
+push key missing."""
+
+from __future__ import annotations
+
+import yaml
+
+from puppet.data.catalog import ROOT, find
+from puppet.testing import replay_log
+from tests.helpers import copy_log
+
+LOG = ROOT / "assets" / "logs" / "biped-ladder-climb.jsonl"
+
+
+def _failed(tmp_path, change) -> set[str]:
+    spec = yaml.safe_load(find("interface", "biped-ladder").read_text(encoding="utf-8"))
+    change(spec)
+    iface = tmp_path / "biped-ladder-changed.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    log = copy_log(LOG, tmp_path, interface=str(iface),
+                   interface_text=iface.read_text(encoding="utf-8"))
+    return {o.expectation.split(" ")[0] for o in replay_log(log).outcomes if not o.passed}
+
+
+def test_the_ladder_log_climbs_with_every_limb():
+    result = replay_log(LOG)
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
+def test_a_grasp_tolerance_of_5_mm_loses_the_rungs(tmp_path):
+    def tight(spec):
+        for state in spec["states"].values():
+            for key in state.get("keys", []):
+                if "reach" in key:
+                    key["reach"]["tolerance"] = 0.005
+    assert "regrasps" in _failed(tmp_path, tight)
+
+
+def test_without_the_legs_push_the_climb_stalls(tmp_path):
+    def no_push(spec):
+        spec["keys"] = [k for k in spec["keys"] if k["key"] != "h"]
+    assert {"regrasps", "held_point"} & _failed(tmp_path, no_push)
+
+
+def test_with_the_figures_own_shoulders_it_does_not_hold_on(tmp_path):
+    def weak(spec):
+        for j in ("shoulder_near", "shoulder_far"):
+            spec["gains"][j] = {"stiffness": 60, "damping": 3, "max_torque": 40}
+    assert {"regrasps", "held_point", "always_holding"} & _failed(tmp_path, weak)
