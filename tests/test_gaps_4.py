@@ -306,7 +306,7 @@ def test_contacts_read_the_same_right_after_a_checkpoint_as_a_body_leaves_the_gr
 
 
 # -- expectations ----------------------------------------------------------------------------
-def test_a_turn_on_the_ground_reports_no_flight_window():
+def test_a_turn_on_the_ground_reports_no_flight_span():
     from puppet.timeline.expectations import evaluate, parse_expectations
 
     class Run:
