@@ -60,3 +60,27 @@ def test_the_backflip_keeps_the_floor_in_view_by_widening_the_view():
         heights.append(camera.view_height)
     assert max(heights) > 1.2 * heights[0]  # it zoomed out for the flip
     assert heights[-1] == pytest.approx(heights[0], rel=0.02)  # and back in after it
+
+
+def test_a_scene_view_holds_the_apparatus_in_the_frame():
+    """The high bar's view: the figure hanging from the bar 2.8 m up is framed with the
+    bar below the key panel, not at the top edge under it as the character's own view
+    (2.4 m high) put it."""
+    from puppet.app.camera import camera_for
+    from puppet.data.catalog import load_setup
+    from puppet.session import Session
+
+    s = Session(load_setup("biped-gymnast"))
+    s.advance(240)
+    cam = camera_for(s.setup)
+    cam.resize(1280, 720)
+    cam.follow(subject_of(s), None)
+    view = s.setup.scene.view
+    assert (cam.view_height, cam.cx, cam.cy) == (view.height, view.x, view.y)
+    for name in s.sim.grasps:  # the held bar is on screen, under the key panel's strip
+        x, y = cam.to_screen(s.sim.grasp_point(name))
+        assert 0 < x < 1280 and 160 < y < 720 - 36
+    plain = Camera(s.setup.character.view_height)
+    plain.resize(1280, 720)
+    plain.follow(subject_of(s), None)
+    assert plain.to_screen(s.sim.grasp_point("hand_near"))[1] < 160  # under the key panel

@@ -59,8 +59,20 @@ def subject_of(session) -> Subject:
     return Subject(character.com(), box, ground)
 
 
+def camera_for(setup) -> "Camera":
+    """The camera the window and the video export frame a setup with: the character's
+    view height, or what the scene's ``view`` asks for (an apparatus in the frame)."""
+    view = setup.scene.view
+    height = view.height if view is not None and view.height is not None else None
+    return Camera(height or setup.character.view_height,
+                  fixed_x=view.x if view is not None else None,
+                  fixed_y=view.y if view is not None else None)
+
+
 class Camera:
-    def __init__(self, view_height: float, center=(0.0, 0.0)):
+    def __init__(self, view_height: float, center=(0.0, 0.0), fixed_x: float | None = None,
+                 fixed_y: float | None = None):
+        self.fixed_x, self.fixed_y = fixed_x, fixed_y  # the scene's view: the middle stays
         self.base_height = view_height  # metres from top to bottom, before any zoom out
         self.view_height = view_height  # metres of world from top to bottom of the window
         self.cx, self.cy = center
@@ -81,6 +93,8 @@ class Camera:
         """(x, y, view_height) that frame ``subject``: the ground at GROUND_AT, the
         character inside the dead zone, widening the view if both do not fit."""
         x, y = subject.com
+        if self.fixed_x is not None:
+            x = self.fixed_x
         if subject.ground is not None:
             self.ground = subject.ground
         ground = self.ground
@@ -89,7 +103,9 @@ class Camera:
             return x, y + (0.5 - GROUND_AT) * self.base_height, self.base_height
         _, bottom, _, top = box
         vh = self.base_height
-        if ground is not None:  # widen until the ground's place and the top both fit
+        if self.fixed_y is not None:  # the scene's view: held there, as the dead zone lets
+            cy = self.fixed_y
+        elif ground is not None:  # widen until the ground's place and the top both fit
             need = (top - ground) / (1.0 - GROUND_AT - TOP_MARGIN)
             vh = min(self.base_height * MAX_ZOOM_OUT, max(vh, need))
             cy = ground + (0.5 - GROUND_AT) * vh

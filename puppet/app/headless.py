@@ -7,7 +7,7 @@ import contextlib
 import os
 from pathlib import Path
 
-from puppet.app.camera import Camera, subject_of
+from puppet.app.camera import camera_for, subject_of
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.session import Session
@@ -35,7 +35,7 @@ class FrameRenderer:
 
         self.pygame = pygame
         self.surface = pygame.Surface(size)
-        self.camera = Camera(session.setup.character.view_height)
+        self.camera = camera_for(session.setup)
         self.camera.resize(*size)
         self.font = pygame.font.Font(None, 24)
         self.small = pygame.font.Font(None, 20)

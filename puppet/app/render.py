@@ -39,6 +39,7 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     if ghost is not None and not ghost.sim.blown_up():
         draw_character(surface, ghost, camera, GHOST_ALPHA)
     draw_character(surface, session, camera)
+    _draw_grips(surface, session, camera)
     _draw_drag(surface, session, camera)
     if overlay:
         draw_balance(surface, session, camera, font)
@@ -153,6 +154,24 @@ def _draw_props(surface, session: Session, camera: Camera) -> None:
             pin = prop.pin
             pygame.draw.circle(surface, (60, 64, 72),
                                camera.to_screen(pin.a.local_to_world(pin.anchor_a)), r)
+
+
+GRIP_COLOR = (70, 70, 80)  # a hold on the world (no prop)
+
+
+def _draw_grips(surface, session: Session, camera: Camera) -> None:
+    """Each point the character holds, drawn over the hand or foot holding it (a bar
+    seen end-on is smaller than the hand around it): a ring in the prop's colour."""
+    sim = session.sim
+    if not sim.grasps:
+        return
+    specs = session.setup.scene.props
+    r = max(5, int(0.03 * camera.scale))
+    for name, (_, prop) in sim.grasps.items():
+        color = specs[prop].color if prop in specs else GRIP_COLOR
+        c = camera.to_screen(sim.grasp_point(name))
+        pygame.draw.circle(surface, color, c, r)
+        pygame.draw.circle(surface, _shade(color, 0.55), c, r, 2)
 
 
 def _draw_marker(surface, camera: Camera, marker, ground_y: float, font) -> None:

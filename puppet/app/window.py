@@ -41,7 +41,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
-    from puppet.app.camera import Camera, subject_of
+    from puppet.app.camera import camera_for, subject_of
     from puppet.app.clock import SimClock
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
@@ -92,7 +92,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
-    camera = Camera(setup.character.view_height)
+    camera = camera_for(setup)
     camera.resize(*screen.get_size())
     camera.follow(subject_of(session), None)
     info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",

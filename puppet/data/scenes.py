@@ -114,6 +114,19 @@ class StartSpec(Spec):
     y: Num("world_xy") = 0.0
 
 
+class ViewSpec(Spec):
+    """How the window frames this scene, where following the character alone would not
+    show what it holds (an apparatus above it): the view's height, and where its middle
+    stays (the camera then moves only as far as keeps the character in the frame)."""
+    height: Num("view_height") | None = Field(None, description="m of world from the "
+                                              "window's top to its bottom (default: the "
+                                              "character's view_height)")
+    x: Num("world_xy") | None = Field(None, description="m: the view's middle across "
+                                      "(default: it follows the centre of mass)")
+    y: Num("world_xy") | None = Field(None, description="m: the height of the view's "
+                                      "middle (default: the ground's place on screen)")
+
+
 class SceneSpec(Spec):
     name: str
     description: str
@@ -125,6 +138,8 @@ class SceneSpec(Spec):
                                        description="name -> a static or dynamic body")
     rulers: list[RulerSpec] = Field(default_factory=list)
     sky: Color = (226, 232, 240)
+    view: ViewSpec | None = Field(None, description="how the window frames the scene "
+                                                    "(default: it follows the character)")
 
     def ground_height(self, x: float) -> float | None:
         """Highest ground y directly under x, or None off the ends."""

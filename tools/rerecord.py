@@ -1,0 +1,39 @@
+"""Re-record logs after their interface or scene file changed in ways their run does
+not see (a comment, a key the log never presses, how the window frames the scene): the
+same events through today's files, into a fresh log whose header holds today's files
+and hashes. Refuses (and leaves the log alone) unless the new run ends in the same state
+as the recording.
+
+    python tools/rerecord.py assets/logs/NAME.jsonl [...]
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+from puppet.timeline.log import Recorder, read_log
+from puppet.timeline.replay import apply_log, new_session, setup_for_log
+
+
+def rerecord(path: Path) -> str:
+    log = read_log(path)
+    setup, _ = setup_for_log(log)
+    session = new_session(log, setup)
+    h = log.header
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / path.name
+        with Recorder(session, out, slowdown=h.get("slowdown"),
+                      description=h.get("description")):
+            apply_log(session, log)
+        new = read_log(out)
+        if new.end_hash != log.end_hash:
+            return f"{path}: NOT re-recorded: ends in {new.end_hash}, recorded {log.end_hash}"
+        path.write_text(out.read_text(encoding="utf-8"), encoding="utf-8")
+    return f"{path}: re-recorded, same end {log.end_hash}"
+
+
+if __name__ == "__main__":
+    for arg in sys.argv[1:]:
+        print(rerecord(Path(arg)))
