@@ -1,0 +1,59 @@
+"""The long jump's expectation kinds (took_off, first_touch) on hand-made trajectories,
+and the shipped long-jump log (assets/logs/biped-longjump.jsonl)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from puppet.timeline.expectations import evaluate, parse_expectations
+
+
+class _Run:
+    """A sampled run of three links (foot, hand, pelvis) every 0.1 s."""
+
+    links = ["foot", "hand", "pelvis"]
+
+    def __init__(self, contact, x):
+        n = len(contact)
+        self.t = np.arange(n) * 0.1
+        self.contact = np.array(contact, dtype=bool)
+        self.x = np.array(x, dtype=float)
+
+    def index(self, link):
+        return self.links.index(link)
+
+
+def _outcome(item, traj):
+    e, = parse_expectations([item]).items
+    return evaluate(e, traj, "")
+
+
+# on the foot at x -0.2, 0.3 s in the air, down on the foot at x 1.1
+JUMP = _Run([[1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0], [1, 1, 0]],
+            [[-0.4, -0.3, -0.3], [-0.2, 0.0, 0.0], [0.1, 0.3, 0.3], [0.4, 0.6, 0.6],
+             [0.8, 0.9, 0.9], [1.1, 1.0, 1.0], [1.1, 1.0, 1.0]])
+
+
+def test_took_off_names_the_links_on_the_ground_before_the_longest_flight():
+    got = _outcome({"took_off": {"links": ["foot"], "max_x": -0.1, "min_seconds": 0.25}},
+                   JUMP)
+    assert got.passed
+    assert got.measured == ("longest flight 0.30 s from t = 0.20 s; on the ground before "
+                            "it: foot at x = -0.200")
+    assert not _outcome({"took_off": {"links": ["foot"], "max_x": -0.3}}, JUMP).passed
+    assert not _outcome({"took_off": {"links": ["foot"], "min_seconds": 0.4}}, JUMP).passed
+    assert not _outcome({"took_off": {"links": ["hand"]}}, JUMP).passed
+
+
+def test_first_touch_fails_when_a_hand_lands_first_or_short():
+    assert _outcome({"first_touch": {"links": ["foot"], "min_x": 1.0}}, JUMP).passed
+    assert not _outcome({"first_touch": {"links": ["foot"], "min_x": 1.2}}, JUMP).passed
+    hands = _Run([[1, 0, 0], [0, 0, 0], [0, 0, 0], [1, 1, 0]], JUMP.x[:4])
+    got = _outcome({"first_touch": {"links": ["foot"]}}, hands)
+    assert not got.passed
+    assert got.measured.endswith("touching first: foot at x = 0.400, hand at x = 0.600")
+    ground = _Run([[1, 0, 0]] * 3, JUMP.x[:3])
+    assert _outcome({"first_touch": {"links": ["foot"]}}, ground).measured == \
+        "never in the air"
+    still_flying = _Run([[1, 0, 0], [0, 0, 0], [0, 0, 0]], JUMP.x[:3])
+    assert not _outcome({"first_touch": {"links": ["foot"]}}, still_flying).passed
