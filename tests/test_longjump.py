@@ -57,3 +57,51 @@ def test_first_touch_fails_when_a_hand_lands_first_or_short():
         "never in the air"
     still_flying = _Run([[1, 0, 0], [0, 0, 0], [0, 0, 0]], JUMP.x[:3])
     assert not _outcome({"first_touch": {"links": ["foot"]}}, still_flying).passed
+
+
+# -- the shipped log ---------------------------------------------------------------------
+import json  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import yaml  # noqa: E402
+
+from helpers import copy_log, with_weak_hips  # noqa: E402
+from puppet.data.catalog import ROOT, find  # noqa: E402
+from puppet.testing import check, replay_log  # noqa: E402
+
+LOG = ROOT / "assets" / "logs" / "biped-longjump.jsonl"
+JUMP_KINDS = {"took_off", "first_touch", "tilt_at_end", "height_at_end", "tilt_never_above"}
+
+
+def _failed(path: Path) -> set[str]:
+    return {o.expectation.split()[0].rstrip(":") for o in replay_log(path).failed} - {"same"}
+
+
+def test_the_small_figure_walks_up_and_jumps_a_metre_into_the_pit():
+    result = replay_log(LOG)
+    assert not result.failed, [str(o) for o in result.outcomes]
+    assert {o.expectation.split()[0] for o in result.outcomes} - {"same"} == JUMP_KINDS
+    traj = result.trajectory
+    # a walk-up first: strides on alternate feet (each foot off the ground in turn)
+    assert traj.state[0] == "standing" and "on_near" in set(traj.state)
+    assert "on_far" in set(traj.state)
+    # the take-off's link is a foot, and the figure did not take off from a hand
+    assert check(result, [{"took_off": {"links": ["forearm_near"]}}])
+    assert check(result, [{"first_touch": {"links": ["foot_near", "foot_far"],
+                                           "min_x": 1.5}}])  # not a 1.5 m jump
+
+
+def test_weak_hips_do_not_jump_as_far(tmp_path):
+    weak = with_weak_hips("biped-longjump", "biped-longjump", tmp_path, 120.0, 30.0)
+    assert _failed(weak) & {"took_off", "first_touch"}
+
+
+def test_a_slippery_runway_spoils_the_jump(tmp_path):
+    head = json.loads(LOG.read_text(encoding="utf-8").splitlines()[0])
+    scene = yaml.safe_load(find("scene", head["scene"]).read_text(encoding="utf-8"))
+    for ground in scene["ground"]:
+        ground["friction"] = 0.3
+    scene["name"] += "-slippery"
+    path = tmp_path / "slippery.yaml"
+    path.write_text(yaml.safe_dump(scene), encoding="utf-8")
+    assert _failed(copy_log(LOG, tmp_path, scene=str(path))) & {"took_off", "first_touch"}
