@@ -105,3 +105,26 @@ def test_a_slippery_runway_spoils_the_jump(tmp_path):
     path = tmp_path / "slippery.yaml"
     path.write_text(yaml.safe_dump(scene), encoding="utf-8")
     assert _failed(copy_log(LOG, tmp_path, scene=str(path))) & {"took_off", "first_touch"}
+
+
+def test_on_ground_needs_every_link_down_and_the_root_tipped_back():
+    class Sat(_Run):
+        def __init__(self, contact, degrees):
+            super().__init__(contact, [[0.0, 0.0, 0.0]] * len(contact))
+            self.root_angle = np.radians(np.asarray(degrees, dtype=float))
+
+    sat = Sat([[0, 1, 1], [0, 1, 1], [0, 1, 1], [1, 1, 0], [1, 0, 0]], [45, 45, 45, 10, 0])
+    got = _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.3,
+                                  "min_root_angle": 30}}, sat)
+    assert got.passed
+    assert got.measured == "longest stretch: 0.30 s (t = 0.00 to 0.20 s, root 45..45 deg)"
+    assert not _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.4}},
+                        sat).passed
+    assert not _outcome({"on_ground": {"links": ["hand", "foot"], "min_seconds": 0.2}},
+                        sat).passed
+    # tipped forward, not back: the same contacts do not count
+    ahead = Sat(sat.contact, [-45] * 5)
+    assert not _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.1,
+                                       "min_root_angle": 30}}, ahead).passed
+    assert _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.1,
+                                   "max_root_angle": -30}}, ahead).passed

@@ -48,6 +48,11 @@ Each entry names one check:
                                   # the longest flight lasted 0.25 s and began from only
                                   # these links, each (its centre of mass) at x <= -0.08
                                   # at the last sample on the ground: behind a line
+      - on_ground: {links: [thigh_near, thigh_far], min_seconds: 1.0, min_root_angle: 30}
+                                  # all these links touching the ground at every sample of
+                                  # one stretch of 1 s, the root tipped at least 30 deg
+                                  # backward (signed: counter-clockwise, for a character
+                                  # facing +x) all the while: sat down on its seat, back
       - first_touch: {links: [foot_near, foot_far], min_x: 0.3}
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
@@ -240,6 +245,20 @@ class FirstTouch(Spec):
     min_x: Measure | None = Field(None, description="m: x of each touching link, at least")
 
 
+class OnGround(Spec):
+    """All of ``links`` touching the ground at every sample of one stretch of at least
+    ``min_seconds``, the root's signed angle (deg, counter-clockwise positive: tipped
+    backward for a character facing +x) within ``min_root_angle``..``max_root_angle``
+    over it: sat down on the seat and leaning back, not only touching."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    min_seconds: Time = Field(description="s in one stretch")
+    min_root_angle: float | None = Field(None, ge=-180, le=180,
+                                         description="deg, signed (+ = tipped backward)")
+    max_root_angle: float | None = Field(None, ge=-180, le=180,
+                                         description="deg, signed (+ = tipped backward)")
+
+
 class StayedIn(Spec):
     """The common part of stayed_in_state and stayed_in_mode: the time window. The
     shorthand ``stayed_in_state: NAME`` is the whole run."""
@@ -293,6 +312,7 @@ class Expectation(Spec):
     landed_at: LandedAt | None = None
     took_off: TookOff | None = None
     first_touch: FirstTouch | None = None
+    on_ground: OnGround | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     stayed_in_state: StayedInState | None = None
@@ -378,6 +398,12 @@ class Expectation(Spec):
             return (f"took_off from {', '.join(v.links)} only"
                     + (f", each at x <= {v.max_x:g} m" if v.max_x is not None else "")
                     + (f", flight min {v.min_seconds:g} s" if v.min_seconds else ""))
+        if isinstance(v, OnGround):
+            tilt = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min_root_angle),
+                                                           ("at most", v.max_root_angle))
+                                if b is not None)
+            return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
+                    + (f", root {tilt} deg (signed)" if tilt else ""))
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
@@ -709,6 +735,19 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                                          f"touched down at x = {x:.3f} m (t = {traj.t[i]:.2f} s)")
     if isinstance(v, (TookOff, FirstTouch)):
         return _flight_end(desc, v, traj)
+    if isinstance(v, OnGround):
+        angle = np.degrees(np.remainder(traj.root_angle + np.pi, 2 * np.pi) - np.pi)
+        on = traj.contact[:, [traj.index(n) for n in v.links]].all(axis=1)
+        if v.min_root_angle is not None:
+            on &= angle >= v.min_root_angle
+        if v.max_root_angle is not None:
+            on &= angle <= v.max_root_angle
+        length, i, j = _longest_run(on, traj.t)
+        return Outcome(desc, length > 0 and length >= v.min_seconds - 1e-9,
+                       f"longest stretch: {length:.2f} s"
+                       + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s, root "
+                          f"{angle[i:j + 1].min():.0f}..{angle[i:j + 1].max():.0f} deg)"
+                          if length > 0 else ""))
     if isinstance(v, StayedIn):
         return _stayed(e, v, traj)
     if e.kind in AT_END:
