@@ -91,7 +91,7 @@ def test_stepping_the_legs_forward_then_shifting_back_brings_the_weight_over_the
 
 
 LOGS = ROOT / "assets" / "logs"
-RECOVERIES = ["biped-recover-forward"]
+RECOVERIES = ["biped-recover-forward", "biped-recover-backward"]
 STANDING = {"tilt_at_end", "height_at_end", "upright_at_end", "got_up"}
 
 
@@ -144,3 +144,12 @@ def test_the_roll_up_stands_the_figure_up_pressed_earlier_or_later(at):
     assert _tilt(c, "pelvis") < 15 and _tilt(c, "chest") < 15
     assert _y(c, "head") > 1.476
     assert c.in_contact("foot_near") and c.in_contact("foot_far")
+
+
+def test_only_the_backward_log_sat_down_leaning_back():
+    """on_ground tells the backward fall (down on the seat, tipped back) from the forward
+    one, which went down on its hands and knees, tipped forward."""
+    sat = [{"on_ground": {"links": ["thigh_near", "thigh_far"], "min_seconds": 2.0,
+                          "min_root_angle": 30}}]
+    assert not check(replay_log(str(LOGS / "biped-recover-backward.jsonl")), sat)
+    assert check(replay_log(str(LOGS / "biped-recover-forward.jsonl")), sat)

@@ -16,6 +16,19 @@ pelvis and chest within 10 deg of upright (the log asks 15), the head above 1.52
 after 10.5 s, which gives the search a slope before anything stands for good. The
 best try is then recorded as a log in a temporary folder and replayed with the log's
 real expectations (exit 1 if they fail). Seeded: the same arguments find the same poses.
+
+    python tools/tune_recover.py --backward [--tries 300] [--seed 3]
+
+searches the backward get-up instead (assets/scripts/biped-recover-backward.yaml): v
+at 0.6 s (sit down), l at 2.5 s (lean back onto the seat and hands), then o (the
+sequence rock_up: the poses tuck and rock, then crouch) at a searched time, 2 (hands
+and knees) a searched time later, then the forward get-up's presses at the forward
+script's spacing (e, j k four times, h). It searches the tuck and rock poses' waist,
+hip, knee, shoulder (and rock's ankle) angles, their holds and the two press times:
+seeded Gaussian steps around the interface's own (12% of each range, the last third
+4%), each try the whole performance from the start, scored by the backward log's
+criteria over the last 1.5 s (trunk within 10 deg, the head above 1.52 m, both feet
+down), and prints the best as YAML to paste.
 """
 
 from __future__ import annotations
@@ -106,6 +119,100 @@ def worst(text: str, variants, seconds: float) -> tuple[float, str]:
     return max(scored, key=lambda s: s[0])
 
 
+BACKWARD = "biped-recover-backward"
+# name: (low, high); t_o and t_2: when o is pressed, and 2 after it (s)
+BACK_BOUNDS = {"t_waist": (-80, 0), "t_hip": (60, 130), "t_knee": (-150, -60),
+               "t_sh": (-60, 180), "t_hold": (0.2, 1.2), "r_waist": (-80, 0),
+               "r_hip": (60, 130), "r_knee": (-150, -80), "r_ankle": (-20, 30),
+               "r_sh": (-60, 180), "r_hold": (0.1, 0.8), "t_o": (6.0, 8.0), "t_2": (0.3, 2.5)}
+# the forward get-up after 2: e 1 s later, then j k every 0.7 s, h 1.1 s after the last
+FORWARD_AFTER_2 = [(1.0, "e"), (2.0, "j"), (2.7, "k"), (3.4, "j"), (4.1, "k"), (4.8, "j"),
+                   (5.5, "k"), (6.2, "j"), (6.9, "k"), (8.0, "h")]
+
+
+def backward_interface(base: dict, p: dict) -> dict:
+    spec = json.loads(json.dumps(base))
+    for pose, pre, extra in (("tuck", "t", {"neck": 30, "ankle_near": 20, "ankle_far": 20}),
+                             ("rock", "r", {"neck": 20})):
+        joints = spec["poses"][pose]["joints"]
+        joints.update(extra, waist=round(p[f"{pre}_waist"]))
+        for side in ("near", "far"):
+            joints.update({f"hip_{side}": round(p[f"{pre}_hip"]),
+                           f"knee_{side}": round(p[f"{pre}_knee"]),
+                           f"shoulder_{side}": round(p[f"{pre}_sh"]), f"elbow_{side}": 10})
+            if pre == "r":
+                joints[f"ankle_{side}"] = round(p["r_ankle"])
+    spec["sequences"]["rock_up"] = [{"pose": "tuck", "hold": round(p["t_hold"], 3)},
+                                    {"pose": "rock", "hold": round(p["r_hold"], 3)},
+                                    {"pose": "crouch", "hold": 0.5}]
+    return spec
+
+
+def backward_events(p: dict) -> list[dict]:
+    t2 = p["t_o"] + p["t_2"]
+    return ([{"t": 0.6, "key": "v"}, {"t": 2.5, "key": "l"}, {"t": round(p["t_o"], 3), "key": "o"},
+             {"t": round(t2, 3), "key": "2"}]
+            + [{"t": round(t2 + d, 3), "key": k} for d, k in FORWARD_AFTER_2])
+
+
+def backward_score(base: dict, p: dict) -> tuple[float, str, float]:
+    """(value, what, seconds) of one try: higher is better (standing at the end)."""
+    from puppet.timeline.script import ScriptSpec
+
+    text = yaml.safe_dump(backward_interface(base, p))
+    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+    c = session.character
+    seconds = p["t_o"] + p["t_2"] + 8.0 + 5.0
+    rows = []
+
+    def sample(s):
+        b = c.bodies
+        tilt = max(abs(math.degrees(math.remainder(b[n].angle, 2 * math.pi)))
+                   for n in ("pelvis", "chest"))
+        head = b["head"].local_to_world(b["head"].center_of_gravity).y
+        rows.append((s.time, tilt, head, c.in_contact("foot_near") and c.in_contact("foot_far")))
+
+    events = compile_script(ScriptSpec.model_validate({"events": backward_events(p)}),
+                            session.sim.dt)
+    play(session, events, round(seconds / session.sim.dt), SAMPLE, sample)
+    last = [r for r in rows if r[0] >= seconds - 1.5]
+    tilt = max(r[1] for r in last)
+    low = min(r[2] for r in last)
+    feet = sum(r[3] for r in last) / len(last)
+    value = -0.02 * max(0.0, tilt - 10) + 2 * min(low, 1.52) + feet
+    return value, f"trunk {tilt:.1f} deg, head {low:.3f} m, feet {feet:.0%}", seconds
+
+
+def backward(tries: int, seed: int) -> int:
+    base = yaml.safe_load(INTERFACE.read_text(encoding="utf-8"))
+    spec = load_script(find("script", BACKWARD))
+    keys = {e["key"]: e["t"] for e in spec.model_dump()["events"] if e.get("key") in ("o", "2")}
+    tuck, rock = base["poses"]["tuck"]["joints"], base["poses"]["rock"]["joints"]
+    holds = [step["hold"] for step in base["sequences"]["rock_up"]]
+    best_p = {"t_waist": tuck["waist"], "t_hip": tuck["hip_near"], "t_knee": tuck["knee_near"],
+              "t_sh": tuck["shoulder_near"], "t_hold": holds[0], "r_waist": rock["waist"],
+              "r_hip": rock["hip_near"], "r_knee": rock["knee_near"],
+              "r_ankle": rock["ankle_near"], "r_sh": rock["shoulder_near"], "r_hold": holds[1],
+              "t_o": keys["o"], "t_2": round(keys["2"] - keys["o"], 3)}
+    rng = random.Random(seed)
+    best, what, _ = backward_score(base, best_p)
+    print(f"the interface's own: {best:.3f} ({what})", flush=True)
+    for i in range(tries):
+        spread = 0.12 if i < 2 * tries // 3 else 0.04
+        p = {k: min(hi, max(lo, best_p[k] + rng.gauss(0, spread * (hi - lo))))
+             for k, (lo, hi) in BACK_BOUNDS.items()}
+        value, what, _ = backward_score(base, p)
+        if value > best:
+            best, best_p = value, p
+            print(f"try {i}: {value:.3f} ({what})", flush=True)
+    spec_best = backward_interface(base, best_p)
+    print(yaml.safe_dump({"poses": {n: spec_best["poses"][n] for n in ("tuck", "rock")},
+                          "sequences": {"rock_up": spec_best["sequences"]["rock_up"]},
+                          "events": backward_events(best_p)},
+                         sort_keys=False, default_flow_style=None))
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--tries", type=int, default=450)
@@ -115,7 +222,11 @@ def main() -> int:
     ap.add_argument("--shifts", type=float, nargs="*", default=[0.0],
                     help="also play the roll-up key h moved by these seconds; a try "
                          "scores its worst (e.g. --shifts -0.1 0 0.1)")
+    ap.add_argument("--backward", action="store_true",
+                    help="search the backward get-up (the tuck and rock, o and 2)")
     args = ap.parse_args()
+    if args.backward:
+        return backward(args.tries if args.tries != 450 else 300, args.seed)
     base = yaml.safe_load(INTERFACE.read_text(encoding="utf-8"))
     spec = load_script(find("script", SCRIPT))
     seconds = run_seconds(spec, None)

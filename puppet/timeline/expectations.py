@@ -44,6 +44,19 @@ Each entry names one check:
       - landed_at: {link: base, min: 6.0}
                                   # where the longest flight ended (the longest stretch
                                   # with no link touching): the link's x at touchdown, m
+      - took_off: {links: [foot_near, foot_far], max_x: -0.08, min_seconds: 0.25}
+                                  # the longest flight lasted 0.25 s and began from only
+                                  # these links, each (its centre of mass) at x <= -0.08
+                                  # at the last sample on the ground: behind a line
+      - on_ground: {links: [thigh_near, thigh_far], min_seconds: 1.0, min_root_angle: 30}
+                                  # all these links touching the ground at every sample of
+                                  # one stretch of 1 s, the root tipped at least 30 deg
+                                  # backward (signed: counter-clockwise, for a character
+                                  # facing +x) all the while: sat down on its seat, back
+      - first_touch: {links: [foot_near, foot_far], min_x: 0.3}
+                                  # what touched first when the longest flight ended:
+                                  # only these links, each at x >= 0.3 (feet first, in
+                                  # the pit)
       - stayed_in_state: upright               # the interface's state machine was in
                                                # 'upright' at every sample of the run
       - stayed_in_state: {state: sitting, from: 0.6, until: 4.0}
@@ -230,6 +243,39 @@ class LandedAt(Spec):
     min: Measure = Field(description="m: x of the link when the longest flight ended")
 
 
+class TookOff(Spec):
+    """The longest flight (no link of the character touching) began from ``links`` only
+    (those touching at the last sample before it), each with its centre of mass at
+    ``max_x`` or less, and lasted ``min_seconds``: a take-off behind a line."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    max_x: Measure | None = Field(None, description="m: x of each take-off link, at most")
+    min_seconds: Time = Field(0.0, description="s the flight lasted, at least")
+
+
+class FirstTouch(Spec):
+    """When the longest flight ended, only ``links`` touched (at the first sample on
+    the ground again), each with its centre of mass at ``min_x`` or more: feet first,
+    in the pit."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    min_x: Measure | None = Field(None, description="m: x of each touching link, at least")
+
+
+class OnGround(Spec):
+    """All of ``links`` touching the ground at every sample of one stretch of at least
+    ``min_seconds``, the root's signed angle (deg, counter-clockwise positive: tipped
+    backward for a character facing +x) within ``min_root_angle``..``max_root_angle``
+    over it: sat down on the seat and leaning back, not only touching."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    min_seconds: Time = Field(description="s in one stretch")
+    min_root_angle: float | None = Field(None, ge=-180, le=180,
+                                         description="deg, signed (+ = tipped backward)")
+    max_root_angle: float | None = Field(None, ge=-180, le=180,
+                                         description="deg, signed (+ = tipped backward)")
+
+
 class StayedIn(Spec):
     """The common part of stayed_in_state and stayed_in_mode: the time window. The
     shorthand ``stayed_in_state: NAME`` is the whole run."""
@@ -331,6 +377,9 @@ class Expectation(Spec):
     airborne: Airborne | None = None
     turned: Turned | None = None
     landed_at: LandedAt | None = None
+    took_off: TookOff | None = None
+    first_touch: FirstTouch | None = None
+    on_ground: OnGround | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     stayed_in_state: StayedInState | None = None
@@ -435,6 +484,19 @@ class Expectation(Spec):
         if isinstance(v, Regrasps):
             return (f"regrasps {', '.join(v.chains)} along {v.prop} min {v.min}"
                     + (" by turns" if v.alternate else ""))
+        if isinstance(v, TookOff):
+            return (f"took_off from {', '.join(v.links)} only"
+                    + (f", each at x <= {v.max_x:g} m" if v.max_x is not None else "")
+                    + (f", flight min {v.min_seconds:g} s" if v.min_seconds else ""))
+        if isinstance(v, OnGround):
+            tilt = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min_root_angle),
+                                                           ("at most", v.max_root_angle))
+                                if b is not None)
+            return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
+                    + (f", root {tilt} deg (signed)" if tilt else ""))
+        if isinstance(v, FirstTouch):
+            return (f"first_touch {', '.join(v.links)} only"
+                    + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
         if isinstance(v, StayedIn):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
@@ -701,6 +763,31 @@ def _held(e: Expectation, v: Held, traj) -> Outcome:
                                f"{chain} held {what} at t = {t[i]:.2f} s")
     return Outcome(e.describe(), True, f"all held from t = {t[idx[0]]:.2f} s to "
                                        f"{t[idx[-1]]:.2f} s")
+def _flight_end(desc: str, v: TookOff | FirstTouch, traj) -> Outcome:
+    """took_off (the sample before the longest flight) or first_touch (the one after
+    it): which links touched there and where; the flight's length for took_off."""
+    free = ~traj.contact.any(axis=1)
+    length, first, last = _longest_run(free, traj.t)
+    if length <= 0:
+        return Outcome(desc, False, "never in the air")
+    i = first - 1 if isinstance(v, TookOff) else last + 1
+    if i < 0 or i >= len(free):
+        return Outcome(desc, False, f"the longest flight ({length:.2f} s) "
+                                    + ("began" if i < 0 else "had not ended")
+                                    + " within the run")
+    touching = [n for k, n in enumerate(traj.links) if traj.contact[i, k]]
+    where = ", ".join(f"{n} at x = {traj.x[i, traj.index(n)]:.3f}" for n in touching)
+    others = [n for n in touching if n not in v.links]
+    ok = not others
+    if isinstance(v, TookOff):
+        ok = ok and length >= v.min_seconds - 1e-9 and (
+            v.max_x is None or all(traj.x[i, traj.index(n)] <= v.max_x for n in touching))
+        return Outcome(desc, ok, f"longest flight {length:.2f} s from t = "
+                                 f"{traj.t[first]:.2f} s; on the ground before it: {where}")
+    ok = ok and (v.min_x is None
+                 or all(traj.x[i, traj.index(n)] >= v.min_x for n in touching))
+    return Outcome(desc, ok, f"longest flight {length:.2f} s ended at t = {traj.t[i]:.2f} s; "
+                             f"touching first: {where}")
 
 
 def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
@@ -812,6 +899,21 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _revolutions(e, v, traj)
     if isinstance(v, Held):
         return _held(e, v, traj)
+    if isinstance(v, (TookOff, FirstTouch)):
+        return _flight_end(desc, v, traj)
+    if isinstance(v, OnGround):
+        angle = np.degrees(np.remainder(traj.root_angle + np.pi, 2 * np.pi) - np.pi)
+        on = traj.contact[:, [traj.index(n) for n in v.links]].all(axis=1)
+        if v.min_root_angle is not None:
+            on &= angle >= v.min_root_angle
+        if v.max_root_angle is not None:
+            on &= angle <= v.max_root_angle
+        length, i, j = _longest_run(on, traj.t)
+        return Outcome(desc, length > 0 and length >= v.min_seconds - 1e-9,
+                       f"longest stretch: {length:.2f} s"
+                       + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s, root "
+                          f"{angle[i:j + 1].min():.0f}..{angle[i:j + 1].max():.0f} deg)"
+                          if length > 0 else ""))
     if isinstance(v, StayedIn):
         return _stayed(e, v, traj)
     if e.kind in AT_END:

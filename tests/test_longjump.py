@@ -1,0 +1,130 @@
+"""The long jump's expectation kinds (took_off, first_touch) on hand-made trajectories,
+and the shipped long-jump log (assets/logs/biped-longjump.jsonl)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from puppet.timeline.expectations import evaluate, parse_expectations
+
+
+class _Run:
+    """A sampled run of three links (foot, hand, pelvis) every 0.1 s."""
+
+    links = ["foot", "hand", "pelvis"]
+
+    def __init__(self, contact, x):
+        n = len(contact)
+        self.t = np.arange(n) * 0.1
+        self.contact = np.array(contact, dtype=bool)
+        self.x = np.array(x, dtype=float)
+
+    def index(self, link):
+        return self.links.index(link)
+
+
+def _outcome(item, traj):
+    e, = parse_expectations([item]).items
+    return evaluate(e, traj, "")
+
+
+# on the foot at x -0.2, 0.3 s in the air, down on the foot at x 1.1
+JUMP = _Run([[1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0], [1, 1, 0]],
+            [[-0.4, -0.3, -0.3], [-0.2, 0.0, 0.0], [0.1, 0.3, 0.3], [0.4, 0.6, 0.6],
+             [0.8, 0.9, 0.9], [1.1, 1.0, 1.0], [1.1, 1.0, 1.0]])
+
+
+def test_took_off_names_the_links_on_the_ground_before_the_longest_flight():
+    got = _outcome({"took_off": {"links": ["foot"], "max_x": -0.1, "min_seconds": 0.25}},
+                   JUMP)
+    assert got.passed
+    assert got.measured == ("longest flight 0.30 s from t = 0.20 s; on the ground before "
+                            "it: foot at x = -0.200")
+    assert not _outcome({"took_off": {"links": ["foot"], "max_x": -0.3}}, JUMP).passed
+    assert not _outcome({"took_off": {"links": ["foot"], "min_seconds": 0.4}}, JUMP).passed
+    assert not _outcome({"took_off": {"links": ["hand"]}}, JUMP).passed
+
+
+def test_first_touch_fails_when_a_hand_lands_first_or_short():
+    assert _outcome({"first_touch": {"links": ["foot"], "min_x": 1.0}}, JUMP).passed
+    assert not _outcome({"first_touch": {"links": ["foot"], "min_x": 1.2}}, JUMP).passed
+    hands = _Run([[1, 0, 0], [0, 0, 0], [0, 0, 0], [1, 1, 0]], JUMP.x[:4])
+    got = _outcome({"first_touch": {"links": ["foot"]}}, hands)
+    assert not got.passed
+    assert got.measured.endswith("touching first: foot at x = 0.400, hand at x = 0.600")
+    ground = _Run([[1, 0, 0]] * 3, JUMP.x[:3])
+    assert _outcome({"first_touch": {"links": ["foot"]}}, ground).measured == \
+        "never in the air"
+    still_flying = _Run([[1, 0, 0], [0, 0, 0], [0, 0, 0]], JUMP.x[:3])
+    assert not _outcome({"first_touch": {"links": ["foot"]}}, still_flying).passed
+
+
+# -- the shipped log ---------------------------------------------------------------------
+import json  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import yaml  # noqa: E402
+
+from helpers import copy_log, with_weak_hips  # noqa: E402
+from puppet.data.catalog import ROOT, find  # noqa: E402
+from puppet.testing import check, replay_log  # noqa: E402
+
+LOG = ROOT / "assets" / "logs" / "biped-longjump.jsonl"
+JUMP_KINDS = {"took_off", "first_touch", "tilt_at_end", "height_at_end", "tilt_never_above"}
+
+
+def _failed(path: Path) -> set[str]:
+    return {o.expectation.split()[0].rstrip(":") for o in replay_log(path).failed} - {"same"}
+
+
+def test_the_small_figure_walks_up_and_jumps_a_metre_into_the_pit():
+    result = replay_log(LOG)
+    assert not result.failed, [str(o) for o in result.outcomes]
+    assert {o.expectation.split()[0] for o in result.outcomes} - {"same"} == JUMP_KINDS
+    traj = result.trajectory
+    # a walk-up first: strides on alternate feet (each foot off the ground in turn)
+    assert traj.state[0] == "standing" and "on_near" in set(traj.state)
+    assert "on_far" in set(traj.state)
+    # the take-off's link is a foot, and the figure did not take off from a hand
+    assert check(result, [{"took_off": {"links": ["forearm_near"]}}])
+    assert check(result, [{"first_touch": {"links": ["foot_near", "foot_far"],
+                                           "min_x": 1.5}}])  # not a 1.5 m jump
+
+
+def test_weak_hips_do_not_jump_as_far(tmp_path):
+    weak = with_weak_hips("biped-longjump", "biped-longjump", tmp_path, 120.0, 30.0)
+    assert _failed(weak) & {"took_off", "first_touch"}
+
+
+def test_a_slippery_runway_spoils_the_jump(tmp_path):
+    head = json.loads(LOG.read_text(encoding="utf-8").splitlines()[0])
+    scene = yaml.safe_load(find("scene", head["scene"]).read_text(encoding="utf-8"))
+    for ground in scene["ground"]:
+        ground["friction"] = 0.3
+    scene["name"] += "-slippery"
+    path = tmp_path / "slippery.yaml"
+    path.write_text(yaml.safe_dump(scene), encoding="utf-8")
+    assert _failed(copy_log(LOG, tmp_path, scene=str(path))) & {"took_off", "first_touch"}
+
+
+def test_on_ground_needs_every_link_down_and_the_root_tipped_back():
+    class Sat(_Run):
+        def __init__(self, contact, degrees):
+            super().__init__(contact, [[0.0, 0.0, 0.0]] * len(contact))
+            self.root_angle = np.radians(np.asarray(degrees, dtype=float))
+
+    sat = Sat([[0, 1, 1], [0, 1, 1], [0, 1, 1], [1, 1, 0], [1, 0, 0]], [45, 45, 45, 10, 0])
+    got = _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.3,
+                                  "min_root_angle": 30}}, sat)
+    assert got.passed
+    assert got.measured == "longest stretch: 0.30 s (t = 0.00 to 0.20 s, root 45..45 deg)"
+    assert not _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.4}},
+                        sat).passed
+    assert not _outcome({"on_ground": {"links": ["hand", "foot"], "min_seconds": 0.2}},
+                        sat).passed
+    # tipped forward, not back: the same contacts do not count
+    ahead = Sat(sat.contact, [-45] * 5)
+    assert not _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.1,
+                                       "min_root_angle": 30}}, ahead).passed
+    assert _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.1,
+                                   "max_root_angle": -30}}, ahead).passed
