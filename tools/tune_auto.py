@@ -15,7 +15,7 @@ below 1.2 m). The search is random to start, then changes four numbers of one of
 twelve best at a time. It prints the best tries' numbers (as ``path: value``, for a
 person to write into the file, comments kept) and exits 0 if the best met every
 expectation, else 1. The shipped numbers came from a search of this kind run
-from a scratch copy (the same numbers and ranges: random tries, then local changes;
+from a scratch copy (much the same numbers and ranges: random tries, then local changes;
 a few thousand tries of 11-20 s, the mouse spots searched too), scored by the same
 kind of criteria, but at its worst over three glide timings (the glide of 12, 15 and
 20 s) rather than on the one script: a walk is chaotic, and numbers tuned on one
