@@ -57,6 +57,16 @@ Each entry names one check:
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
                                   # the pit)
+      - mean_speed: {from: 0.0, until: 5.0, max: 1.0}
+                                  # the centre of mass's mean forward speed (its x moved
+                                  # over the window's length), m/s, between the samples
+                                  # nearest 'from' and 'until' (default: the start, the end)
+      - flight_phases: {from: 20.0, min_count: 5, min_seconds: 0.04,
+                        links: [foot_near, foot_far]}
+                                  # at least 5 stretches that begin in the window with
+                                  # none of the links touching (default: no link of the
+                                  # character), each lasting 0.04 s or more: a run's
+                                  # flights, not a one-sample bounce
       - stayed_in_state: upright               # the interface's state machine was in
                                                # 'upright' at every sample of the run
       - stayed_in_state: {state: sitting, from: 0.6, until: 4.0}
@@ -274,6 +284,35 @@ class OnGround(Spec):
                                          description="deg, signed (+ = tipped backward)")
     max_root_angle: float | None = Field(None, ge=-180, le=180,
                                          description="deg, signed (+ = tipped backward)")
+class MeanSpeed(Spec):
+    """The centre of mass's mean speed along +x over a window: how far it moved between
+    the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
+
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+    min: Measure | None = None
+    max: Measure | None = None
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min', 'max' or both (m/s)")
+        if self.until is not None and self.until <= self.from_:
+            raise ValueError("'until' must be later than 'from'")
+        return self
+
+
+class FlightPhases(Spec):
+    """At least ``min_count`` flights that begin inside the window: stretches of samples
+    with none of ``links`` touching (default: no link of the character), each at least
+    ``min_seconds`` long (from the first sample off to the first sample down again)."""
+
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+    min_count: int = Field(ge=1, le=100000, description="flights, at least")
+    min_seconds: Time = Field(description="s a flight lasts, at least")
+    links: list[str] | None = Field(None, min_length=1, max_length=64,
+                                    description="the links off the ground (default: all)")
 
 
 class StayedIn(Spec):
@@ -382,6 +421,8 @@ class Expectation(Spec):
     on_ground: OnGround | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
+    mean_speed: MeanSpeed | None = None
+    flight_phases: FlightPhases | None = None
     stayed_in_state: StayedInState | None = None
     stayed_in_mode: StayedInMode | None = None
     revolutions: Revolutions | None = None
@@ -497,6 +538,14 @@ class Expectation(Spec):
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
+        if isinstance(v, MeanSpeed):
+            bounds = " ".join(f"{k} {b}" for k, b in (("min", v.min), ("max", v.max))
+                              if b is not None)
+            return f"mean_speed {bounds} m/s from {v.from_:g} s to {_until(v)}"
+        if isinstance(v, FlightPhases):
+            what = "no link" if v.links is None else f"none of {', '.join(v.links)}"
+            return (f"flight_phases at least {v.min_count} of {v.min_seconds:g} s or more "
+                    f"({what} touching) from {v.from_:g} s to {_until(v)}")
         if isinstance(v, StayedIn):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
@@ -680,6 +729,51 @@ def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
     ok = (v.max_rms is None or worst <= v.max_rms) and (v.min_rms is None
                                                         or worst >= v.min_rms)
     return Outcome(e.describe(), ok, f"RMS deg: {', '.join(parts)} (worst {which})")
+
+
+def _until(v) -> str:
+    return "the end" if v.until is None else f"{v.until:g} s"
+
+
+def _window(v, t: np.ndarray) -> np.ndarray:
+    """Indices of the samples from ``v.from_`` to ``v.until`` (the end if None)."""
+    hi = np.inf if v.until is None else v.until + 1e-9
+    return np.flatnonzero((t >= v.from_ - 1e-9) & (t <= hi))
+
+
+def _mean_speed(desc: str, v: MeanSpeed, traj) -> Outcome:
+    idx = _window(v, traj.t)
+    if len(idx) < 2 or traj.t[idx[-1]] <= traj.t[idx[0]]:
+        return Outcome(desc, False, f"fewer than two samples in the window (the run is "
+                                    f"{traj.t[-1]:.2f} s)")
+    i, j = int(idx[0]), int(idx[-1])
+    speed = float((traj.com[j, 0] - traj.com[i, 0]) / (traj.t[j] - traj.t[i]))
+    ok = (v.min is None or speed >= v.min) and (v.max is None or speed <= v.max)
+    return Outcome(desc, ok, f"{speed:.3f} m/s (x {traj.com[i, 0]:.2f} to "
+                             f"{traj.com[j, 0]:.2f} m, t = {traj.t[i]:.2f} to "
+                             f"{traj.t[j]:.2f} s)")
+
+
+def _flight_phases(e: Expectation, v: FlightPhases, traj) -> Outcome:
+    names = traj.links if v.links is None else v.links
+    for k, name in enumerate(names):
+        if name not in traj.links:
+            raise e.error(f"unknown link '{name}'; the character has: "
+                          f"{', '.join(traj.links)}", "links", k)
+    cols = [traj.index(n) for n in names]
+    free = ~traj.contact[:, cols].any(axis=1)
+    hi = np.inf if v.until is None else v.until + 1e-9
+    lengths = []
+    for i, j in _runs(free):
+        if not (v.from_ - 1e-9 <= traj.t[i] <= hi):
+            continue
+        end = traj.t[j + 1] if j + 1 < len(traj.t) else traj.t[j]  # first sample down
+        lengths.append(float(end - traj.t[i]))
+    long = [d for d in lengths if d >= v.min_seconds - 1e-9]
+    longest = f", the longest {max(lengths):.3f} s" if lengths else ""
+    return Outcome(e.describe(), len(long) >= v.min_count,
+                   f"{len(long)} flights of {v.min_seconds:g} s or more "
+                   f"({len(lengths)} in all{longest})")
 
 
 def _at_end(e: Expectation, column: str, traj) -> Outcome:
@@ -914,6 +1008,10 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s, root "
                           f"{angle[i:j + 1].min():.0f}..{angle[i:j + 1].max():.0f} deg)"
                           if length > 0 else ""))
+    if isinstance(v, MeanSpeed):
+        return _mean_speed(desc, v, traj)
+    if isinstance(v, FlightPhases):
+        return _flight_phases(e, v, traj)
     if isinstance(v, StayedIn):
         return _stayed(e, v, traj)
     if e.kind in AT_END:
