@@ -26,7 +26,7 @@ def _check(traj, expect):
     return [str(o) for o in evaluate_all(items.items, traj, "")]
 
 
-def test_mean_speed_is_distance_over_time_in_the_window():
+def test_mean_speed_is_distance_over_time_in_the_span():
     t = np.arange(0, 10.01, 0.5)
     x = np.where(t < 5, 0.5 * t, 2.5 + 3.0 * (t - 5))  # 0.5 m/s, then 3 m/s
     traj = _traj(t, x, np.ones(len(t), bool), np.ones(len(t), bool))
@@ -48,7 +48,7 @@ def test_mean_speed_is_distance_over_time_in_the_window():
     ]
 
 
-def test_flight_phases_counts_long_enough_flights_that_begin_in_the_window():
+def test_flight_phases_counts_long_enough_flights_that_begin_in_the_span():
     t = np.round(np.arange(0, 2.0, 0.01), 2)
     near = np.ones(len(t), bool)
     far = np.ones(len(t), bool)
