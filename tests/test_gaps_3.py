@@ -370,7 +370,7 @@ def test_the_ik_solver_answers_within_the_limits_even_from_a_start_outside_them(
     assert -1.0 <= q[0] <= 1.0 and -0.5 <= q[1] <= 0.5
 
 
-def test_a_bare_log_name_is_found_among_the_windows_recordings(tmp_path, monkeypatch):
+def test_a_bare_log_name_is_found_among_the_saved_recordings(tmp_path, monkeypatch):
     """assets/logs/ first, then recordings/ (where the window saves its sessions)."""
     from puppet.data import catalog
     from puppet.timeline.replay import find_log
