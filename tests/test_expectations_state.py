@@ -81,7 +81,7 @@ def test_unknown_state_or_mode_is_a_data_error_at_the_entry(somersaults, tmp_pat
     ({"state": "upright", "from": 3, "until": 1}, "'from' must not be later than 'until'"),
     ({"from": 1}, "missing required key 'state' in expect.0.stayed_in_state"),
 ])
-def test_the_window_is_validated_when_loaded(entry, message):
+def test_the_time_span_is_validated_when_loaded(entry, message):
     with pytest.raises(DataError) as info:
         parse_expectations([{"stayed_in_state": entry}])
     assert message in info.value.message and "\n" not in str(info.value)

@@ -27,7 +27,7 @@ def test_reset_key_returns_to_the_start_pose():
     assert session.steps == 480  # time goes on; reset is an event, not a rewind
 
 
-def test_window_keys_come_back_as_app_actions():
+def test_app_keys_come_back_as_app_actions():
     session = Session(load_setup("luxo-mouse"))
     assert session.handle(ev.key("p", True)) == "pause"
     assert session.handle(ev.key("escape", True)) == "quit"

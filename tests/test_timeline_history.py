@@ -211,7 +211,7 @@ def test_log_with_rewind_checkpoint_restore_replays_to_the_same_end(tmp_path):
     assert result.ok, [str(o) for o in result.failed]
 
 
-def test_window_replay_feeder_matches_headless_replay(tmp_path):
+def test_the_viewers_replay_feeder_matches_headless_replay(tmp_path):
     path = tmp_path / "live.jsonl"
     live = _record_interactive(path)
     log = read_log(path)
