@@ -265,8 +265,11 @@ def _grasp_changes(sim, held: dict) -> list[tuple]:
     out = [(name, None) for name in held if name not in sim.grasps]
     for name, (joint, prop) in sim.grasps.items():
         if held.get(name) is not joint:  # a new pin (each grasp makes its own)
+            gear = sim.rigid.get(name)  # a rigid grasp: its angle hold too
             out.append((name, (link_of[id(joint.a)], tuple(joint.anchor_a),
-                               sim.grasp_point(name), prop)))
+                               sim.grasp_point(name), prop, gear is not None,
+                               None if gear is None or gear.max_force == float("inf")
+                               else gear.max_force)))
     held.clear()
     held.update({name: joint for name, (joint, _) in sim.grasps.items()})
     return out
@@ -297,7 +300,7 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
                     if g is None:
                         sim.detach(name)
                     else:
-                        sim.attach(name, g[0], g[1], g[2], g[3])
+                        sim.attach(name, *g)
                 for i, (angle, stiffness, damping, torque) in changed:
                     servo = servos[i]
                     servo.target = angle

@@ -326,3 +326,22 @@ def test_the_climbing_example_catches_the_next_bar(tmp_path):
     bars = s.sim.props["bars"]
     assert math.dist(s.sim.grasp_point("hand_far"), bars.point_world("bar2")) < 1e-6
     assert math.dist(s.sim.grasp_point("hand_near"), bars.point_world("bar1")) < 1e-6
+
+
+def test_guide_rigid_grasp_keeps_the_held_angle(tmp_path):
+    """Section 8.5: the swing caught rigidly; the upper arm keeps its angle to the bar."""
+    s = doc_session(tmp_path, "grasp: true, tolerance: 0.03, rigid: true}")
+    s.advance(240)
+    tap(s, "g")
+    arm, bar = s.character.bodies["upper_arm"], s.sim.props["swing"].body
+    angles, swing = [], []
+    for _ in range(60):
+        s.advance(20)
+        if "shade" in s.sim.rigid:
+            angles.append(arm.angle - bar.angle)
+            swing.append(bar.angle)
+    assert len(angles) > 40 and max(angles) - min(angles) < 0.002
+    assert max(swing) - min(swing) > 0.1  # the bar turns, with the lamp on it
+    tap(s, "u")
+    s.advance(1)
+    assert not s.sim.rigid and not s.sim.grasps

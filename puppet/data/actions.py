@@ -14,7 +14,8 @@ from typing import Annotated, Literal, Union
 from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
 from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
-                                ModelXY, Num, PositiveDuration, Seed, Stiffness, WorldXY)
+                                ModelXY, Num, PositiveDuration, Seed, Stiffness, Torque,
+                                WorldXY)
 from puppet.data.keys import APP_KEYS, GAMEPAD_BUTTONS
 from puppet.data.validate import Spec
 
@@ -197,6 +198,10 @@ class ReachSpec(Spec):
     grasp: bool = Field(False, description="grasp the target when the end gets within "
                                            "tolerance")
     tolerance: Num("tolerance") = Field(0.04, description="m, for grasp")
+    rigid: bool = Field(False, description="with grasp: also hold the end link's angle "
+                                           "to what it grasps (GraspSpec.rigid)")
+    max_torque: Torque | None = Field(None, description="N*m a rigid grasp holds the "
+                                                        "angle with (default: no limit)")
 
     @model_validator(mode="after")
     def _check(self):
@@ -205,7 +210,15 @@ class ReachSpec(Spec):
             raise ValueError("a reach needs exactly one of 'target' (a point), 'point' (a "
                              "prop's grasp point) or 'steer' (two inputs)"
                              + (f"; got {' and '.join(given)}" if given else ""))
+        _check_rigid(self, "a reach with 'grasp: true'" if not self.grasp else None)
         return self
+
+
+def _check_rigid(spec, needs: str | None) -> None:
+    if needs is not None and spec.rigid:
+        raise ValueError(f"'rigid' holds a grasp's angle: it needs {needs}")
+    if spec.max_torque is not None and not spec.rigid:
+        raise ValueError("'max_torque' limits a rigid grasp: add 'rigid: true'")
 
 
 class GraspSpec(Spec):
@@ -220,12 +233,18 @@ class GraspSpec(Spec):
     tolerance: Num("tolerance") = Field(0.04, description="m")
     within: Num("positive_duration") | None = Field(None, description="s the grasp stays armed; "
                                                            "default until released")
+    rigid: bool = Field(False, description="also hold the end link's angle to the prop "
+                                           "(the world) as it is at the catch: a grip "
+                                           "that does not turn about the point")
+    max_torque: Torque | None = Field(None, description="N*m a rigid grasp holds the "
+                                                        "angle with (default: no limit)")
 
     @model_validator(mode="after")
     def _check(self):
         if (self.points is None) == (self.prop is None):
             raise ValueError("a grasp needs exactly one of 'points' (world points) or "
                              "'prop' (a scene prop's grasp points)")
+        _check_rigid(self, None)
         return self
 
 

@@ -72,6 +72,8 @@ class Simulation:
         self.props: dict[str, Prop] = prop_bodies.build_props(scene, self.space)
         # grasps held now: name (a chain) -> (pivot joint, prop name or None for the world)
         self.grasps: dict[str, tuple[pymunk.PivotJoint, str | None]] = {}
+        # rigid grasps' angle holds: name -> the gear joint next to the grasp's pivot
+        self.rigid: dict[str, pymunk.GearJoint] = {}
         self.character = Character(character)
         self.character.add_to(self.space)
         self._place_at_start()
@@ -141,25 +143,40 @@ class Simulation:
 
     # -- grasps: a pivot pinning a point of a link to the world or to a prop ----------
     def attach(self, name: str, link: str, local_point: tuple[float, float],
-               world_point: tuple[float, float], prop: str | None = None) -> None:
+               world_point: tuple[float, float], prop: str | None = None,
+               rigid: bool = False, max_torque: float | None = None) -> None:
         """Pin ``local_point`` of ``link`` to ``world_point`` on ``prop`` (None: the
         static world), as grasp ``name`` (replacing a grasp of that name). A link does
-        not collide with the prop it holds."""
+        not collide with the prop it holds. ``rigid``: also hold the link's angle to the
+        prop (the world) as it is now, with at most ``max_torque`` N*m (None: no limit) -
+        a gear joint of ratio 1 next to the pivot, let go with it."""
         self.detach(name)
         body = self.character.bodies[link]
         if prop is None:
-            joint = pymunk.PivotJoint(body, self.space.static_body, local_point, world_point)
+            other = self.space.static_body
+            joint = pymunk.PivotJoint(body, other, local_point, world_point)
         else:
             other = self.props[prop].body
             joint = pymunk.PivotJoint(body, other, local_point, other.world_to_local(world_point))
             joint.collide_bodies = False
         self.space.add(joint)
         self.grasps[name] = (joint, prop)
+        if rigid:
+            # Chipmunk's gear joint holds b.angle * ratio - a.angle at its phase
+            gear = pymunk.GearJoint(body, other, other.angle - body.angle, 1.0)
+            gear.collide_bodies = joint.collide_bodies
+            if max_torque is not None:
+                gear.max_force = max_torque
+            self.space.add(gear)
+            self.rigid[name] = gear
 
     def detach(self, name: str) -> None:
         held = self.grasps.pop(name, None)
         if held is not None:
             self.space.remove(held[0])
+        gear = self.rigid.pop(name, None)
+        if gear is not None:
+            self.space.remove(gear)
 
     def grasp_point(self, name: str) -> tuple[float, float] | None:
         """World point where grasp ``name`` holds (None if it does not)."""
@@ -204,6 +221,8 @@ class Simulation:
             named["props"] = prop_bodies.objects(self.props)
         if self.grasps:
             named["grasps"] = [joint for joint, _ in self.grasps.values()]
+        for name, gear in self.rigid.items():  # only rigid grasps add names
+            named["rigid " + name] = [gear]
         holders = [(name, prop) for name, (_, prop) in self.grasps.items()]
         return snapshot.capture(self.space, named), holders, self.steps
 
@@ -218,6 +237,8 @@ class Simulation:
             prop_bodies.bind(self.props, named["props"])
         self.grasps = {name: (joint, prop) for (name, prop), joint
                        in zip(holders, named.get("grasps", ()))}
+        self.rigid = {key[6:]: objs[0] for key, objs in named.items()
+                      if key.startswith("rigid ")}
         self.steps = steps
 
     def state_vector(self) -> list[float]:

@@ -22,7 +22,8 @@ class GraspController:
         self.character = character
         self.sim = sim
         self.dt = dt
-        # chain -> [world points or None, prop name ("any") or None, tolerance, until|None]
+        # chain -> [world points or None, prop name ("any") or None, tolerance, until|None,
+        #           rigid, max torque|None]
         self.armed: dict[str, list] = {}
 
     @property
@@ -39,14 +40,17 @@ class GraspController:
     def arm(self, spec, now: int) -> None:
         until = None if spec.within is None else now + round(spec.within / self.dt)
         points = None if spec.points is None else [list(p) for p in spec.points]
-        self.armed[spec.chain] = [points, spec.prop, spec.tolerance, until]
+        self.armed[spec.chain] = [points, spec.prop, spec.tolerance, until, spec.rigid,
+                                  spec.max_torque]
 
     def try_grasp(self, name: str, points=None, prop: str | None = None,
-                  tolerance: float = 0.04) -> bool:
+                  tolerance: float = 0.04, rigid: bool = False,
+                  max_torque: float | None = None) -> bool:
         """Hold the first of ``points`` (pinned to the world, or to ``prop`` if one is
         named with them: a reach's target point), or else the nearest graspable place of
         ``prop`` ("any": of every prop), that the chain's end is within ``tolerance`` m
-        of. True if the chain holds something now."""
+        of; ``rigid``: holding the end link's angle too (``Simulation.attach``). True if
+        the chain holds something now."""
         if self.sim is None or self.holds(name):
             return self.holds(name)
         chain = self.chains[name]
@@ -54,7 +58,8 @@ class GraspController:
         if points is not None:
             for p in points:
                 if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
-                    self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop)
+                    self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop,
+                                    rigid, max_torque)
                     return True
             return False
         props = self.sim.props
@@ -64,7 +69,8 @@ class GraspController:
             return False
         distance, point, which = min(found, key=lambda f: f[0])
         if distance <= tolerance:
-            self.sim.attach(name, chain.end_link, chain.end, point, which)
+            self.sim.attach(name, chain.end_link, chain.end, point, which, rigid,
+                            max_torque)
             return True
         return False
 
@@ -77,8 +83,8 @@ class GraspController:
                 self.sim.detach(name)
 
     def tick(self, step: int) -> None:
-        for name, (points, prop, tolerance, until) in list(self.armed.items()):
-            if self.try_grasp(name, points, prop, tolerance) or \
+        for name, (points, prop, tolerance, until, *rigid) in list(self.armed.items()):
+            if self.try_grasp(name, points, prop, tolerance, *rigid) or \
                     (until is not None and step >= until):
                 del self.armed[name]
 
@@ -108,5 +114,5 @@ class GraspController:
 
 
 def _copy(armed: dict) -> dict:
-    return {n: [None if pts is None else [list(p) for p in pts], prop, tol, until]
-            for n, (pts, prop, tol, until) in armed.items()}
+    return {n: [None if pts is None else [list(p) for p in pts], *rest]
+            for n, (pts, *rest) in armed.items()}

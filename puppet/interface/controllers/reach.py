@@ -30,10 +30,12 @@ class Reach:
     end: int | None
     grasp: bool = False
     tolerance: float = 0.04
+    rigid: bool = False  # the grasp holds the end link's angle too
+    max_torque: float | None = None
 
     def to_state(self) -> list:
         return [self.chain, list(self.p0), list(self.target), self.start, self.steps,
-                self.end, self.grasp, self.tolerance]
+                self.end, self.grasp, self.tolerance, self.rigid, self.max_torque]
 
     @classmethod
     def from_state(cls, s) -> Reach:
@@ -112,7 +114,8 @@ class ReachController:
         steps = max(1, round(r.duration / self.dt))
         end = None if r.steer is not None else now + steps + round(r.hold / self.dt)
         self.reaches[r.chain] = Reach(r.chain, chain.end_world(self.character), target, now,
-                                      steps, end, r.grasp, r.tolerance)
+                                      steps, end, r.grasp, r.tolerance, r.rigid,
+                                      r.max_torque)
         self.owners_table.claim(chain.joints, owner)
 
     def tick(self, step: int) -> None:
@@ -135,13 +138,13 @@ class ReachController:
                 if joint in owned:
                     servos[joint].target = angle
             if reach.grasp:
-                kind = reach.target[0]
+                kind, hold = reach.target[0], (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":
-                    self.grasps.try_grasp(name, [goal], None, reach.tolerance)
+                    self.grasps.try_grasp(name, [goal], None, *hold)
                 elif kind == "prop":  # only the point aimed at: not the bar let go of
-                    self.grasps.try_grasp(name, [goal], reach.target[1], reach.tolerance)
+                    self.grasps.try_grasp(name, [goal], reach.target[1], *hold)
                 elif self.sim is not None and self.sim.props:
-                    self.grasps.try_grasp(name, None, "any", reach.tolerance)
+                    self.grasps.try_grasp(name, None, "any", *hold)
             if reach.end is not None and step >= reach.end:
                 owners.drop(owner)
                 del self.reaches[name]
