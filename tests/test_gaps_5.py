@@ -253,3 +253,66 @@ def test_a_header_text_field_that_is_not_text_is_named(tmp_path, key):
     with pytest.raises(DataError) as info:
         read_log(path)
     assert str(info.value).startswith(f"{path}:1:") and key in str(info.value)
+
+
+# -- more of the fresh sample's survivors -------------------------------------------------------
+def test_a_listen_duration_is_more_than_zero_and_at_most_a_day():
+    import argparse
+
+    from puppet.mocap.commands import _duration
+
+    assert _duration("60") == 60.0 and _duration("86400") == 86400.0
+    for bad in ("0", "-1", "86401", "soon"):
+        with pytest.raises(argparse.ArgumentTypeError):
+            _duration(bad)
+
+
+def test_listen_listens_on_the_port_it_is_given(capsys):
+    import socket
+
+    from puppet.cli import main
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:  # a free port
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    assert main(["mocap", "listen", "--format", "puppet", "--port", str(port),
+                 "--seconds", "0.1"]) == 0
+    assert f"listening for puppet on udp://127.0.0.1:{port}" in capsys.readouterr().out
+
+
+def test_the_latency_measure_reports_transit_and_waiting_times():
+    from puppet.mocap.latency import measure_latency
+
+    got = measure_latency(0.3)
+    assert got["transit_median_ms"] >= 0 and got["transit_p99_ms"] >= got["transit_median_ms"]
+    assert got["frames"] > 0
+
+
+def test_regrasps_exactly_the_minimum_pass():
+    from types import SimpleNamespace
+
+    rows = [(("l", "bars", "b1", 0, 0),), (("l", "bars", "b1", 0, 0), ("r", "bars", "b2", 0, 0)),
+            (("r", "bars", "b2", 0, 0), ("l", "bars", "b3", 0, 0))]
+    traj = SimpleNamespace(t=np.arange(3) * 0.1, held=rows,
+                           prop_points={"bars": ["b1", "b2", "b3"]})
+    got, _ = _evaluate({"regrasps": {"chains": ["l", "r"], "prop": "bars", "min": 2}}, traj)
+    assert got.passed and got.measured.startswith("2 progressing grasps")
+
+
+def test_a_checkpoint_interval_of_zero_means_the_default():
+    from puppet.timeline.history import CHECKPOINT_EVERY, History
+
+    dt = 1 / 480
+    assert History(dt, 0).checkpoint_every == History(dt, CHECKPOINT_EVERY).checkpoint_every
+    assert History(dt, 0).checkpoint_every > 1
+
+
+def test_a_script_pushing_a_link_the_character_lacks_is_named_at_its_line(tmp_path):
+    from puppet.timeline.script import check_links, load_script
+
+    path = tmp_path / "s.yaml"
+    path.write_text("events:\n  - {t: 0.5, push: {link: tail, impulse: [1, 0]}}\n")
+    with pytest.raises(DataError) as info:
+        check_links(path, load_script(path), ["base", "lower_arm", "upper_arm"])
+    msg = str(info.value)
+    assert msg.startswith(f"{path}:2:") and "tail" in msg and "\n" not in msg
