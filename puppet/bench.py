@@ -552,9 +552,9 @@ def measure_logs(repeats: int, seconds: float | None = None) -> dict:
                 result = replay_log(path, until_step=until)
                 walls.append(clock() - t0)
             wall = statistics.median(walls)
-            seconds = result.time
-            item.update({"wall_s": wall, "sim_seconds": seconds,
-                         "speed_x": seconds / wall if seconds and wall > 0 else None})
+            played = result.time
+            item.update({"wall_s": wall, "sim_seconds": played,
+                         "speed_x": played / wall if played and wall > 0 else None})
         except Exception as exc:  # noqa: BLE001 - a report, not a test
             item["error"] = f"{type(exc).__name__}: {exc}"
         items.append(item)

@@ -95,3 +95,11 @@ def test_the_cpu_clock_leaves_out_the_time_spent_waiting():
         finally:
             bench._clock[0] = bench._CLOCKS["wall"]
         assert (slept >= 0.05) is counts_sleep, (name, slept)
+
+
+def test_the_quick_bench_replays_each_log_for_its_first_second_only():
+    from puppet.bench import measure_logs
+
+    got = measure_logs(1, 0.5)
+    assert got["status"] == "ok, the first 0.5 s of each"
+    assert got["items"] and all(abs(i["sim_seconds"] - 0.5) < 0.01 for i in got["items"])
