@@ -68,3 +68,28 @@ def with_weak_hips(log_name: str, interface: str, dest: Path, stiffness: float,
     iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
     return copy_log(ROOT / "assets" / "logs" / f"{log_name}.jsonl", dest,
                     interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
+
+
+# A two-joint BVH file: a root with six channels and one joint with three, two frames.
+TWO_JOINT_BVH = """\
+HIERARCHY
+ROOT body
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT arm
+  {
+    OFFSET 0 1 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    End Site
+    {
+      OFFSET 0 1 0
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: 0.1
+0 0 0 0 0 0 0 0 0
+0 0 0 0 0 0 10 0 0
+"""

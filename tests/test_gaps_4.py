@@ -20,6 +20,8 @@ from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
 
+from helpers import TWO_JOINT_BVH
+
 WALK = "assets/mocap/cmu-131_01-walk.bvh"
 
 
@@ -180,28 +182,7 @@ def test_info_on_a_clip_no_mapping_fits_says_how_to_write_one(tmp_path):
     from puppet.mocap.info import describe
 
     bvh = tmp_path / "odd.bvh"
-    bvh.write_text(textwrap.dedent("""\
-        HIERARCHY
-        ROOT body
-        {
-          OFFSET 0 0 0
-          CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-          JOINT arm
-          {
-            OFFSET 0 1 0
-            CHANNELS 3 Zrotation Xrotation Yrotation
-            End Site
-            {
-              OFFSET 0 1 0
-            }
-          }
-        }
-        MOTION
-        Frames: 2
-        Frame Time: 0.1
-        0 0 0 0 0 0 0 0 0
-        0 0 0 0 0 0 10 0 0
-        """))
+    bvh.write_text(TWO_JOINT_BVH)
     text = describe(str(bvh))
     assert ("planar angles: no mapping of assets/mappings/ names all its joints (write "
             "one, see docs/interfaces.md, 'Motion capture'; then --mapping NAME)") in text

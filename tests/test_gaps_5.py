@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +18,8 @@ from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError, UsageError
 from puppet.interface.conditions import reader
 from puppet.session import Session
+
+from helpers import TWO_JOINT_BVH as BVH
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -55,28 +56,6 @@ def test_after_a_push_the_pulls_come_back_from_their_weight_to_full_over_recover
 
 
 # -- BVH ---------------------------------------------------------------------------------------
-BVH = """\
-HIERARCHY
-ROOT body
-{
-  OFFSET 0 0 0
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT arm
-  {
-    OFFSET 0 1 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 0 1 0
-    }
-  }
-}
-MOTION
-Frames: 2
-Frame Time: 0.1
-0 0 0 0 0 0 0 0 0
-0 0 0 0 0 0 10 0 0
-"""
 
 
 @pytest.mark.parametrize("old, new, want", [

@@ -661,17 +661,26 @@ def _check_name(e: Expectation, traj, column: str, name: str, *sub) -> None:
         raise e.error(f"unknown {column} '{name}'; {have}", *sub)
 
 
+def _samples_in(t: np.ndarray, start: float | None, end: float | None) -> np.ndarray:
+    """The indices of the samples from ``start`` to ``end`` (s, both included; None:
+    the run's start or end)."""
+    lo = -np.inf if start is None else start - 1e-9
+    hi = np.inf if end is None else end + 1e-9
+    return np.flatnonzero((t >= lo) & (t <= hi))
+
+
+def _no_samples(desc: str, t: np.ndarray) -> Outcome:
+    return Outcome(desc, False, f"no samples in the window (the run is {t[-1]:.2f} s)")
+
+
 def _stayed(e: Expectation, v: StayedIn, traj) -> Outcome:
     """In the state (or mode) at every sample of the window; else where it first was
     not: the state it left for, or the one it was in when the window began."""
     _check_name(e, traj, v.column, v.name, v.column)  # at the name (shorthand: the entry)
     t, seen = traj.t, getattr(traj, v.column)
-    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
-    hi = np.inf if v.until is None else v.until + 1e-9
-    idx = np.flatnonzero((t >= lo) & (t <= hi))
+    idx = _samples_in(t, v.from_, v.until)
     if len(idx) == 0:
-        return Outcome(e.describe(), False, f"no samples in the window (the run is "
-                                            f"{t[-1]:.2f} s)")
+        return _no_samples(e.describe(), t)
     off = idx[seen[idx] != v.name]
     if len(off) == 0:
         return Outcome(e.describe(), True, f"in '{v.name}' from t = {t[idx[0]]:.2f} s "
@@ -735,14 +744,8 @@ def _until(v) -> str:
     return "the end" if v.until is None else f"{v.until:g} s"
 
 
-def _window(v, t: np.ndarray) -> np.ndarray:
-    """Indices of the samples from ``v.from_`` to ``v.until`` (the end if None)."""
-    hi = np.inf if v.until is None else v.until + 1e-9
-    return np.flatnonzero((t >= v.from_ - 1e-9) & (t <= hi))
-
-
 def _mean_speed(desc: str, v: MeanSpeed, traj) -> Outcome:
-    idx = _window(v, traj.t)
+    idx = _samples_in(traj.t, v.from_, v.until)
     if len(idx) < 2 or traj.t[idx[-1]] <= traj.t[idx[0]]:
         return Outcome(desc, False, f"fewer than two samples in the window (the run is "
                                     f"{traj.t[-1]:.2f} s)")
@@ -839,12 +842,9 @@ def _revolutions(e: Expectation, v: Revolutions, traj) -> Outcome:
 
 def _held(e: Expectation, v: Held, traj) -> Outcome:
     t = traj.t
-    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
-    hi = np.inf if v.until is None else v.until + 1e-9
-    idx = np.flatnonzero((t >= lo) & (t <= hi))
+    idx = _samples_in(t, v.from_, v.until)
     if len(idx) == 0:
-        return Outcome(e.describe(), False, f"no samples in the window (the run is "
-                                            f"{t[-1]:.2f} s)")
+        return _no_samples(e.describe(), t)
     for chain in v.chains:
         at = _held_at(traj, chain)
         if all(a is None for a in at):
@@ -1043,12 +1043,10 @@ def _held_point(desc: str, v: HeldPoint, traj) -> Outcome:
 
 
 def _always_holding(desc: str, v: AlwaysHolding, traj) -> Outcome:
-    lo = -np.inf if v.from_ is None else v.from_ - 1e-9
-    hi = np.inf if v.until is None else v.until + 1e-9
     chains = set(v.chains)
-    idx = [i for i in np.flatnonzero((traj.t >= lo) & (traj.t <= hi)).tolist()]
+    idx = _samples_in(traj.t, v.from_, v.until).tolist()
     if not idx:
-        return Outcome(desc, False, f"no samples in the window (the run is {traj.t[-1]:.2f} s)")
+        return _no_samples(desc, traj.t)
     holds = _holds(traj)
     for i in idx:
         if not any(chain in chains for chain, *_ in holds[i]):
