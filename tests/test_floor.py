@@ -142,3 +142,36 @@ def test_handstand_fails_when_g_does_not_swing_the_legs_up(tmp_path):
                 k["key"] = "j"
 
     assert "balanced_on" in _variant("biped-handstand", tmp_path, no_key)
+
+
+def test_bound_mode_drives_hips_knees_shoulders_and_elbows_together():
+    """Key 2 (bound) and the mouse up: the targets of both hips, knees, shoulders and
+    elbows go to the gathered end together; key 1 lets the mouse go again."""
+    import math
+
+    from puppet.data.catalog import load_setup
+    from puppet.session import Session
+    from puppet.timeline.playback import play
+    from puppet.timeline.script import ScriptSpec, compile_script
+
+    session = Session(load_setup("biped-floor"))
+    spec = ScriptSpec.model_validate({"events": [
+        {"t": 0.0, "mouse": [0.5, 0.5]}, {"t": 0.1, "key": "2"},
+        {"t": 0.2, "mouse": [0.5, 1.0], "over": 0.1}, {"t": 0.5, "key": "1"},
+        {"t": 0.6, "mouse": [0.5, 0.0], "over": 0.1}]})
+    events = compile_script(spec, session.sim.dt)
+    servos = session.character.servos
+
+    def targets():
+        return {n: round(math.degrees(servos[n].target)) for n in (
+            "hip_near", "hip_far", "knee_near", "knee_far", "shoulder_near",
+            "shoulder_far", "elbow_near", "elbow_far")}
+
+    half = round(0.45 / session.sim.dt)
+    play(session, [e for e in events if e[0] <= half], half)
+    assert session.runtime.mode == "bound"
+    assert targets() == {"hip_near": 110, "hip_far": 110, "knee_near": -120, "knee_far": -120,
+                         "shoulder_near": 90, "shoulder_far": 90, "elbow_near": 90,
+                         "elbow_far": 90}
+    play(session, [e for e in events if e[0] > half], round(0.8 / session.sim.dt))
+    assert session.runtime.mode == "keys" and targets()["hip_near"] == 110  # let go

@@ -19,8 +19,14 @@ fresh random point. Seeded: the same arguments find the same numbers. The best i
 recorded as a log in a temporary folder and replayed with the log's real expectations
 (exit 1 if they fail).
 
-The shipped handstand (numbers from a search run over a first version of this tool, then
-checked here: ``python tools/tune_floor.py handstand --tries 0`` replays them and passes).
+The shipped handstand: ``python tools/tune_floor.py handstand --tries 14 --seed 1``
+started from an earlier draft's numbers (themselves from a cruder search of the same
+poses, 550 tries) and found the shipped ones at try 13 (4.02 s on the hands); with them
+in the files, ``--tries 0`` replays them and passes, and then
+
+    puppet play biped-floor --headless --input biped-handstand --record assets/logs/biped-handstand.jsonl
+
+records the log (the same end hash as the tool's replay).
 """
 
 from __future__ import annotations
@@ -136,9 +142,18 @@ def run(docs: dict, expect: list):
     return evaluate_all(parse_expectations(expect).items, sampler.trajectory(), "")
 
 
-def score(feat: str, docs: dict, expect: list) -> tuple[float, list]:
-    outcomes = run(docs, expect)
-    return 10 * sum(o.passed for o in outcomes) + graded(feat, outcomes), outcomes
+def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, list]:
+    """10 per expectation that holds plus the graded term, at the worst of the script
+    played with its last key moved by each of ``shifts`` s (a person's timing)."""
+    worst = None
+    for by in shifts:
+        moved = json.loads(json.dumps(docs))
+        moved["s"]["events"][-1]["t"] = round(moved["s"]["events"][-1]["t"] + by, 3)
+        outcomes = run(moved, expect)
+        value = 10 * sum(o.passed for o in outcomes) + graded(feat, outcomes)
+        if worst is None or value < worst[0]:
+            worst = (value, outcomes)
+    return worst
 
 
 def main() -> int:
@@ -149,6 +164,9 @@ def main() -> int:
     ap.add_argument("--sigma", type=float, default=0.05)
     ap.add_argument("--random", type=float, default=0.3,
                     help="share of tries drawn fresh within the bounds")
+    ap.add_argument("--shifts", type=float, nargs="*", default=[0.0],
+                    help="also play the script's last key moved by these seconds; a try "
+                         "scores its worst (e.g. --shifts -0.04 0 0.04)")
     args = ap.parse_args()
     params = FEATS[args.feat]["params"]
     script = ROOT / "assets" / "scripts" / f"biped-{args.feat}.yaml"
@@ -157,7 +175,8 @@ def main() -> int:
             "s": yaml.safe_load(script.read_text(encoding="utf-8"))}
     expect = yaml.safe_load(expect_file.read_text(encoding="utf-8"))["expect"]
     best_p = {n: read(docs, places[0]) for n, (_, _, _, places) in params.items()}
-    best, outcomes = score(args.feat, with_params(docs, params, best_p), expect)
+    best, outcomes = score(args.feat, with_params(docs, params, best_p), expect,
+                           args.shifts)
     print(f"the files' own: {best:.2f}", flush=True)
     rng = random.Random(args.seed)
     for i in range(args.tries):
@@ -166,7 +185,7 @@ def main() -> int:
         else:
             p = {n: min(hi, max(lo, best_p[n] + rng.gauss(0, args.sigma * (hi - lo))))
                  for n, (lo, hi, _, _) in params.items()}
-        value, outs = score(args.feat, with_params(docs, params, p), expect)
+        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts)
         if value > best:
             best, best_p, outcomes = value, p, outs
             print(f"try {i}: {value:.2f}", flush=True)
