@@ -30,6 +30,13 @@ Each entry names one check:
                                   # balanced on that link alone (the only one touching),
                                   # the root at least 135 deg from upright (upside
                                   # down: a headstand), for 2 s in one stretch
+      - balanced_on: {links: [forearm_near, forearm_far], min_seconds: 2.0,
+                      above: [foot_near, foot_far], over: head}
+                                  # only these links touch the ground (one or more of
+                                  # them at every sample), the root at least min_tilt
+                                  # (135) deg from upright, each 'above' link's centre of
+                                  # mass higher than the 'over' link's, for 2 s in one
+                                  # stretch: a handstand on both hands, feet over the head
       - got_up: {lay_seconds: 1.0, within_seconds: 1.5}
                                   # lay (root >= min_tilt, 80 deg, from upright while
                                   # touching) for 1 s, then from the end of the last
@@ -229,6 +236,27 @@ class StoodOn(Spec):
                                         "upside down)")
 
 
+class BalancedOn(Spec):
+    """Only ``links`` touch the ground (at least one of them), the root at least
+    ``min_tilt`` from upright and each of ``above`` higher than ``over``, for
+    ``min_seconds`` in one stretch: a handstand, on both hands, feet above the head."""
+
+    links: list[str] = Field(min_length=1, max_length=64,
+                             description="the links that may touch; nothing else does")
+    min_seconds: Time = Field(description="s in one stretch")
+    min_tilt: float = Field(135.0, ge=0, le=180,
+                            description="deg the root is from upright at least")
+    above: list[str] = Field(default_factory=list, max_length=64,
+                             description="links whose centre of mass is above over's")
+    over: str | None = Field(None, description="the link they are above (the head)")
+
+    @model_validator(mode="after")
+    def _pair(self):
+        if bool(self.above) != (self.over is not None):
+            raise ValueError("give 'above' (a list of links) and 'over' (a link) together")
+        return self
+
+
 class GotUp(Spec):
     lay_seconds: Time = Field(description="s lying first, in one stretch")
     within_seconds: Time = Field(
@@ -423,6 +451,7 @@ class Expectation(Spec):
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
     flight_phases: FlightPhases | None = None
+    balanced_on: BalancedOn | None = None
     stayed_in_state: StayedInState | None = None
     stayed_in_mode: StayedInMode | None = None
     revolutions: Revolutions | None = None
@@ -499,6 +528,10 @@ class Expectation(Spec):
         if isinstance(v, StoodOn):
             return (f"stood_on {v.link} alone, root >= {v.min_tilt:g} deg from upright, "
                     f"min {v.min_seconds} s")
+        if isinstance(v, BalancedOn):
+            feet = f", {', '.join(v.above)} above {v.over}" if v.above else ""
+            return (f"balanced_on {', '.join(v.links)} only, root >= {v.min_tilt:g} deg from "
+                    f"upright{feet}, min {v.min_seconds} s")
         if isinstance(v, GotUp):
             return (f"got_up: lay (>= {v.min_tilt:g} deg) min {v.lay_seconds} s, up "
                     f"(<= {v.upright_tilt:g} deg) within {v.within_seconds} s")
@@ -715,6 +748,25 @@ def _got_up(desc: str, v: GotUp, traj) -> Outcome:
     ok = lay >= v.lay_seconds - 1e-9 and took <= v.within_seconds + 1e-9
     return Outcome(desc, ok, f"lay {lay:.2f} s (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s), "
                              f"standing from t = {traj.t[first_up]:.2f} s: up in {took:.2f} s")
+
+
+def _balanced_on(e: Expectation, v: BalancedOn, traj) -> Outcome:
+    """The longest stretch where some of ``links`` touch and nothing else, the root is
+    tilted at least min_tilt and every ``above`` link is higher than ``over``."""
+    for i, name in enumerate(v.above + ([v.over] if v.over else [])):
+        if name not in traj.links:
+            sub = ("above", i) if i < len(v.above) else ("over",)
+            raise e.error(f"unknown link '{name}'; the character has: "
+                          f"{', '.join(traj.links)}", *sub)
+    k = [traj.index(n) for n in v.links]
+    on = (traj.contact[:, k].any(axis=1) & ~np.delete(traj.contact, k, axis=1).any(axis=1)
+          & (_tilt_deg(traj.root_angle) >= v.min_tilt))
+    for name in v.above:
+        on &= traj.y[:, traj.index(name)] > traj.y[:, traj.index(v.over)]
+    length, i, j = _longest_run(on, traj.t)
+    return Outcome(e.describe(), length > 0 and length >= v.min_seconds - 1e-9,
+                   f"longest stretch on {', '.join(v.links)} alone, upside down: {length:.3f} s"
+                   + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s)" if length > 0 else ""))
 
 
 def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
@@ -960,6 +1012,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s)" if length > 0 else ""))
     if isinstance(v, GotUp):
         return _got_up(desc, v, traj)
+    if isinstance(v, BalancedOn):
+        return _balanced_on(e, v, traj)
     if isinstance(v, Turned):
         sign = 1.0 if v.direction == "backward" else -1.0
         turn = sign * np.degrees(np.unwrap(traj.angle[:, traj.index(v.link)]))

@@ -1,0 +1,177 @@
+"""The gymnast on the floor (interfaces/biped-floor.yaml): the balanced_on expectation
+and the floor feats' logs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from puppet.data.errors import DataError
+from puppet.timeline.expectations import evaluate, parse_expectations
+
+
+class _Run:
+    """A tiny trajectory: links hand_a, hand_b, head, foot, sampled every 0.1 s."""
+
+    links = ["hand_a", "hand_b", "head", "foot"]
+
+    def __init__(self, degrees, contact, head_y, foot_y):
+        n = len(degrees)
+        self.t = np.arange(n) * 0.1
+        self.root_angle = np.radians(np.asarray(degrees, dtype=float))
+        self.contact = np.array(contact, dtype=bool)
+        self.y = np.stack([np.zeros(n), np.zeros(n), head_y, foot_y], axis=1).astype(float)
+
+    def index(self, link):
+        return self.links.index(link)
+
+
+def _outcome(item, traj):
+    e, = parse_expectations([item]).items
+    return evaluate(e, traj, "")
+
+
+HANDS = {"links": ["hand_a", "hand_b"], "min_seconds": 0.3, "above": ["foot"], "over": "head"}
+#                  up   tipping      upside down on the hands        feet down   a foot too
+DEG = [0, 90, 180, 180, 180, 180, 180, 180]
+CONTACT = [[0, 0, 0, 1], [1, 1, 0, 1], [1, 0, 0, 0], [1, 1, 0, 0], [0, 1, 0, 0],
+           [1, 1, 0, 0], [1, 1, 0, 1], [1, 1, 0, 0]]
+HEAD = [1.6, 1.0, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3]
+FEET = [0.0, 0.5, 1.5, 1.5, 1.5, 0.2, 1.5, 1.5]
+
+
+def test_balanced_on_measures_the_longest_stretch_on_those_links_alone_feet_up():
+    got = _outcome({"balanced_on": HANDS}, _Run(DEG, CONTACT, HEAD, FEET))
+    # samples 2-4: one hand or both, nothing else, upside down, the foot above the head;
+    # sample 5 has the foot below the head, sample 6 the foot touching
+    assert got.passed and got.measured == ("longest stretch on hand_a, hand_b alone, upside "
+                                           "down: 0.300 s (t = 0.20 to 0.40 s)")
+    longer = _outcome({"balanced_on": {**HANDS, "min_seconds": 0.4}},
+                      _Run(DEG, CONTACT, HEAD, FEET))
+    assert not longer.passed and longer.expectation.startswith("balanced_on hand_a, hand_b")
+
+
+def test_balanced_on_fails_when_another_link_touches_or_the_root_is_not_upside_down():
+    touching = [[1, 1, 1, 0]] * 8  # the head on the ground too: a headstand, not this
+    got = _outcome({"balanced_on": HANDS}, _Run(DEG, touching, HEAD, FEET))
+    assert not got.passed and got.measured.endswith("0.000 s")
+    upright = _outcome({"balanced_on": HANDS}, _Run([0] * 8, CONTACT, HEAD, FEET))
+    assert not upright.passed
+
+
+def test_balanced_on_names_a_misspelt_link_and_wants_above_with_over():
+    with pytest.raises(DataError, match="unknown link 'toe'"):
+        _outcome({"balanced_on": {**HANDS, "above": ["toe"]}}, _Run(DEG, CONTACT, HEAD, FEET))
+    with pytest.raises(DataError, match="'above'.*'over'"):
+        parse_expectations([{"balanced_on": {"links": ["hand_a"], "min_seconds": 1,
+                                             "above": ["foot"]}}])
+
+
+# -- the logs ---------------------------------------------------------------------------
+import json  # noqa: E402
+import shutil  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import yaml  # noqa: E402
+
+from puppet.data.catalog import ROOT, find  # noqa: E402
+from puppet.testing import replay_log  # noqa: E402
+
+LOGS = ROOT / "assets" / "logs"
+
+
+def _variant(name: str, tmp_path: Path, edit=None, friction: float = 1.0) -> set[str]:
+    """The log replayed against a copy of its interface changed by ``edit`` (and its
+    scene's friction times ``friction``); the kinds of the expectations that fail."""
+    log = LOGS / f"{name}.jsonl"
+    lines = log.read_text(encoding="utf-8").splitlines(keepends=True)
+    head = json.loads(lines[0])
+    iface = yaml.safe_load(find("interface", head["interface"]).read_text(encoding="utf-8"))
+    if edit is not None:
+        edit(iface)
+    iface["name"] += "-variant"
+    scene = yaml.safe_load(find("scene", head["scene"]).read_text(encoding="utf-8"))
+    for g in scene["ground"]:
+        g["friction"] = g.get("friction", 0.8) * friction
+    scene["name"] += "-variant"
+    (tmp_path / "scene-variant.yaml").write_text(yaml.safe_dump(scene), encoding="utf-8")
+    iface["scene"] = str(tmp_path / "scene-variant.yaml")
+    ipath = tmp_path / "iface-variant.yaml"
+    ipath.write_text(yaml.safe_dump(iface), encoding="utf-8")
+    head.update(interface=str(ipath), interface_text=ipath.read_text(encoding="utf-8"),
+                scene=str(tmp_path / "scene-variant.yaml"))
+    out = tmp_path / log.name
+    out.write_text(json.dumps(head) + "\n" + "".join(lines[1:]), encoding="utf-8")
+    shutil.copy(LOGS / f"{name}.expect.yaml", tmp_path / f"{name}.expect.yaml")
+    return {o.expectation.split()[0].rstrip(":") for o in replay_log(out).failed} - {"same"}
+
+
+def _character_shoulders(iface: dict) -> None:
+    """The character's own (a standing figure's) shoulders and elbows."""
+    for j in ("shoulder_near", "shoulder_far", "elbow_near", "elbow_far"):
+        iface["gains"].pop(j)
+
+
+def test_handstand_log_holds_on_the_hands_alone_feet_up():
+    result = replay_log(LOGS / "biped-handstand.jsonl")
+    assert not result.failed, [str(o) for o in result.failed]
+
+
+def test_handstand_fails_with_the_characters_own_arms(tmp_path):
+    assert "balanced_on" in _variant("biped-handstand", tmp_path, _character_shoulders)
+
+
+def test_handstand_fails_without_its_balance_maps(tmp_path):
+    """The handstand state's maps gone (the pose alone): the figure topples off its
+    hands, so the balance is the shoulders' feedback, not a lucky pose."""
+    def no_balance(iface):
+        iface["states"]["handstand"]["maps"] = []
+
+    assert "balanced_on" in _variant("biped-handstand", tmp_path, no_balance)
+
+
+def test_handstand_fails_on_a_slippery_floor(tmp_path):
+    assert "balanced_on" in _variant("biped-handstand", tmp_path, friction=0.3)
+
+
+def test_handstand_fails_when_g_does_not_swing_the_legs_up(tmp_path):
+    """The legs-up key moved to j (the script presses g): the press alone stays piked."""
+    def no_key(iface):
+        for k in iface["keys"]:
+            if k["key"] == "g":
+                k["key"] = "j"
+
+    assert "balanced_on" in _variant("biped-handstand", tmp_path, no_key)
+
+
+def test_bound_mode_drives_hips_knees_shoulders_and_elbows_together():
+    """Key 2 (bound) and the mouse up: the targets of both hips, knees, shoulders and
+    elbows go to the gathered end together; key 1 lets the mouse go again."""
+    import math
+
+    from puppet.data.catalog import load_setup
+    from puppet.session import Session
+    from puppet.timeline.playback import play
+    from puppet.timeline.script import ScriptSpec, compile_script
+
+    session = Session(load_setup("biped-floor"))
+    spec = ScriptSpec.model_validate({"events": [
+        {"t": 0.0, "mouse": [0.5, 0.5]}, {"t": 0.1, "key": "2"},
+        {"t": 0.2, "mouse": [0.5, 1.0], "over": 0.1}, {"t": 0.5, "key": "1"},
+        {"t": 0.6, "mouse": [0.5, 0.0], "over": 0.1}]})
+    events = compile_script(spec, session.sim.dt)
+    servos = session.character.servos
+
+    def targets():
+        return {n: round(math.degrees(servos[n].target)) for n in (
+            "hip_near", "hip_far", "knee_near", "knee_far", "shoulder_near",
+            "shoulder_far", "elbow_near", "elbow_far")}
+
+    half = round(0.45 / session.sim.dt)
+    play(session, [e for e in events if e[0] <= half], half)
+    assert session.runtime.mode == "bound"
+    assert targets() == {"hip_near": 110, "hip_far": 110, "knee_near": -120, "knee_far": -120,
+                         "shoulder_near": 90, "shoulder_far": 90, "elbow_near": 90,
+                         "elbow_far": 90}
+    play(session, [e for e in events if e[0] > half], round(0.8 / session.sim.dt))
+    assert session.runtime.mode == "keys" and targets()["hip_near"] == 110  # let go
