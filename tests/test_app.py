@@ -57,9 +57,13 @@ def test_headless_screenshot_shows_the_lamp(tmp_path):
     assert proc.returncode == 0, proc.stderr
     image = pygame.image.load(str(shot))
     assert image.get_size() == (1280, 720)
-    # The lamp's base colour is drawn near the middle of the window, above the floor.
+    # The lamp's base colour is drawn where the camera puts the character (a little left
+    # of the middle: LEAD_X), above the floor.
+    from puppet.app.camera import LEAD_X
+
     w, h = image.get_size()
-    colours = {tuple(image.get_at((x, y)))[:3] for x in range(w // 2 - 80, w // 2 + 80, 2)
+    at = round(w * (0.5 - LEAD_X))
+    colours = {tuple(image.get_at((x, y)))[:3] for x in range(at - 80, at + 80, 2)
                for y in range(h // 2, h - 60, 2)}
     assert (70, 80, 96) in colours
 

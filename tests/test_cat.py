@@ -160,7 +160,7 @@ def test_hud_shows_the_pose_pictures_with_the_key_map():
     s = Session(load_setup("cat-bound"))
     r = FrameRenderer(s, size=(1024, 640))
     leg = tuple(s.setup.character.link("thigh_near").color)
-    panel = pygame.Rect(8, 110, 500, 240)  # under the status panel, left
+    panel = pygame.Rect(8, 110, 300, 240)  # under the status panel, left of the cat
     r.info.show_help = False
     off = _leg_pixels(r.render(s), panel, [leg])
     r.info.show_help = True

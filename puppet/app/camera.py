@@ -22,6 +22,8 @@ TOP_MARGIN = 0.08  # of the view: room kept above the character
 BOTTOM_MARGIN = 0.04  # of the view: room kept between the character and the bar
 SIDE_MARGIN = 0.1  # of the view: room kept left and right of the character
 MAX_ZOOM_OUT = 2.0  # the view may widen to this many times the character's view_height
+LEAD_X = 0.12  # of the view's width: the character sits this much left of the middle,
+# in the gap between the HUD's two top panels, with more room ahead (figures go right)
 EASE_X = 4.0  # 1/s: how fast the camera catches up horizontally
 EASE_Y = 3.0  # 1/s: ... vertically, toward the ground's place
 EASE_ZOOM = 2.5  # 1/s
@@ -95,6 +97,8 @@ class Camera:
         x, y = subject.com
         if self.fixed_x is not None:
             x = self.fixed_x
+        else:
+            x += LEAD_X * self.width / max(self.height, 1) * self.view_height
         if subject.ground is not None:
             self.ground = subject.ground
         ground = self.ground

@@ -54,6 +54,11 @@ ROW = 18  # pixels per row of the small font
 GAP = 14  # pixels between a row's key and its text
 
 
+COMPACT_SHARE = 0.4  # of the window's width: the compact key panel at most (long texts
+# cut with an ellipsis, all of them on the help key), so that the gap between the two top
+# panels, where the camera puts the character (camera.LEAD_X), stays free
+
+
 def _panel(surface, rect) -> None:
     panel = pygame.Surface(rect.size, pygame.SRCALPHA)
     panel.fill(PANEL)
@@ -189,8 +194,10 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         rows += compact_lines(controls, f"{help_key}: all")
         rows += [(help_key, "all keys, pose pictures, what the marks mean")]
     bottom = surface.get_height() - BAR_HEIGHT - 16
-    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom,
-              surface.get_width() - left_w - 32)
+    room = surface.get_width() - left_w - 32
+    if not info.show_help:  # compact: narrow enough to leave the character's place free
+        room = min(room, int(COMPACT_SHARE * surface.get_width()))
+    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room)
     if info.show_help:  # what the marks mean, bottom left, above the bar
         legend = legend_rows(session)
         draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW, bottom,
