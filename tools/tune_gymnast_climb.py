@@ -12,11 +12,12 @@ catches the first rung that comes within 5 cm of it).
 
 The bound pattern: the feet together with the mouse up (legs gather, arms pull the
 body up to the hands), then the hands together with the mouse down (legs push the body
-up on the rigid feet, arms reach up); three rounds and the feet once more. (A trot
+up on the rigid feet, arms reach up); three rounds, and the feet twice more. (A trot
 climb - the diagonal mapping moves one arm with the other side's leg, so the limbs that
 hold would be the pushing leg and the pulling arm - is not searched yet.) A foot aims
-for the rung ``GAP`` under the hands, a hand for the rung above: strokes that land
-there rank first.
+for the rung four under the hands (1.2 m: the stretch that reaches the next rung; three
+for the last stroke, as the hands' fourth rung was out of reach), a hand for the rung
+above: strokes that land there rank first.
 
 Every phase starts with a checkpoint (an ``action: checkpoint`` entry of the script,
 so the recorded log is the searched run bit for bit); each candidate stroke - mouse x
@@ -54,11 +55,13 @@ SETTLE = 0.8  # s after a stroke before the phase is judged (and the next begins
 START = [  # hands to the rung at 1.8 m, gripped rigidly
     {"t": 0.0, "key": "q"}, {"t": 0.0, "key": "w"}, {"t": 0.0, "key": "e"},
     {"t": 0.2, "key": "z"}, {"t": 0.2, "key": "x"}]
-# pattern -> (mode key, mouse y at the start of the rounds, phases: (limbs, y targets))
+# pattern -> (mode key, mouse y at the start of the rounds, phases: (limbs, y targets,
+# rungs from the feet up to the hands a foot aims for))
 PATTERNS = {
-    "bound": ("2", 0.0, [(("foot_near", "foot_far"), (0.8, 0.9, 1.0)),
-                         (("hand_near", "hand_far"), (0.0, 0.2, 0.3, 0.4))] * 3
-              + [(("foot_near", "foot_far"), (0.8, 0.9, 1.0))]),
+    "bound": ("2", 0.0, [(("foot_near", "foot_far"), (0.8, 0.9, 1.0), 4),
+                         (("hand_near", "hand_far"), (0.0, 0.2, 0.3, 0.4), 4)] * 3
+              + [(("foot_near", "foot_far"), (0.8, 0.9, 1.0), 4),
+                 (("foot_near", "foot_far"), (0.8, 0.9, 1.0), 3)]),
 }
 XS = (0.2, 0.4, 0.6, 0.8)  # mouse x: the waist, 20 deg back .. 60 forward
 DURATIONS = (0.6, 1.0, 1.4)  # s the stroke takes
@@ -77,17 +80,14 @@ def rung(sim, name: str) -> int:
     return int(point[4:]) if point else 0
 
 
-GAP = 4  # rungs from the feet up to the hands before the hands move (1.2 m)
-
-
-def goal(limb: str, before: dict) -> int:
+def goal(limb: str, before: dict, gap: int) -> int:
     """The rung a moving limb aims for: a hand one above the highest hand, a foot
-    ``GAP`` rungs under the highest
+    ``gap`` rungs under the highest
     hand."""
     hands = max(before["hand_near"], before["hand_far"])
     if limb.startswith("hand"):
         return hands + 1
-    return hands - GAP
+    return hands - gap
 
 
 def script(entries: list[dict], seconds: float) -> ScriptSpec:
@@ -106,7 +106,7 @@ def stroke(t0: float, limbs, held: dict, x: float, y: float, duration: float,
     return out
 
 
-def ranked(pattern: str, entries: list[dict], t: float, limbs, ys) -> list[tuple]:
+def ranked(pattern: str, entries: list[dict], t: float, limbs, ys, gap: int) -> list[tuple]:
     """The strokes of phase ``limbs`` that work from the end of ``entries`` (at ``t``),
     best first: (value, row, end, rungs held after)."""
     s = Session(load_setup(INTERFACE, SCENE))
@@ -128,7 +128,7 @@ def ranked(pattern: str, entries: list[dict], t: float, limbs, ys) -> list[tuple
         now = {n: rung(s.sim, n) for n in KEY}
         if not all(now[n] > before[n] for n in limbs) or not all(now.values()):
             continue
-        miss = sum(abs(now[n] - goal(n, before)) for n in limbs)
+        miss = sum(abs(now[n] - goal(n, before, gap)) for n in limbs)
         out.append(((-miss, round(s.character.com()[1], 6)), row, end, now))
     out.sort(key=lambda c: c[0], reverse=True)
     return out
@@ -143,8 +143,8 @@ def search(pattern: str) -> tuple[list[dict], float]:
     def go(entries, t, number):
         if number == len(phases):
             return entries, t
-        limbs, ys = phases[number]
-        for value, row, end, now in ranked(pattern, entries, t, limbs, ys)[:KEEP]:
+        limbs, ys, gap = phases[number]
+        for value, row, end, now in ranked(pattern, entries, t, limbs, ys, gap)[:KEEP]:
             print(f"{'  ' * number}phase {number} ({', '.join(limbs)}): "
                   f"{[e for e in row if 'mouse' in e][0]} -> {now}, com y {value[1]:.2f}",
                   flush=True)
@@ -160,7 +160,7 @@ def search(pattern: str) -> tuple[list[dict], float]:
 
 
 def write_script(pattern: str, entries: list[dict], seconds: float, path: Path) -> None:
-    what = "both feet together, then both hands together, three rounds, and the feet once more"
+    what = "both feet together, then both hands together, three rounds, and the feet twice more"
     text = {"description": f"The gymnast climbs the ladder in the {pattern} pattern ({what}): "
                            "hands gripping rigidly (z, x), feet rigid (a, s), each regrasp a "
                            "let-go, one mouse stroke and the key again; found phase by phase "
