@@ -1,6 +1,7 @@
 """The gymnast climbs the ladder (interfaces/biped-gymnast.yaml on the ladder scene, logs
-biped-gymnast-climb-*): the logs' expectations hold, and fail by name without rigid
-grasps, with the figure's own shoulders, or without the mapping's mode key."""
+biped-gymnast-climb-bound): the log's expectations hold, and fail by name without
+rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
+without the mapping's mode key."""
 
 from __future__ import annotations
 
@@ -41,10 +42,14 @@ def test_the_gymnast_climbs_the_ladder(log):
 
 
 @pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
-def test_without_rigid_grasps_the_climb_fails(tmp_path, log):
+@pytest.mark.parametrize("limbs", ["foot", "hand"])
+def test_without_rigid_grasps_the_climb_fails(tmp_path, log, limbs):
+    """Pivots for the feet (the body tips back off them) or for the hands (the arms no
+    longer set how it hangs): either way the climb stalls or falls."""
     def pivots(spec):
         for grasp in _grasps(spec):
-            grasp.pop("rigid", None)
+            if grasp["chain"].startswith(limbs):
+                grasp.pop("rigid", None)
     assert CLIMB & _failed(tmp_path, log, pivots)
 
 
