@@ -22,11 +22,13 @@ above: strokes that land there rank first.
 Every phase starts with a checkpoint (an ``action: checkpoint`` entry of the script,
 so the recorded log is the searched run bit for bit); each candidate stroke - mouse x
 (the waist) and y at the end, its duration, and when the keys come again - is played
-from that checkpoint, and the best is kept: the limbs moved must each hold a rung above
-the one they left and every limb must hold at the end of the phase; among those, the
-highest rungs, then the highest centre of mass. The grid is fixed, so the search is
-deterministic (about 3 minutes on a loaded machine, with the going back). The script is then recorded as a
-log in a temporary folder and replayed with its ``.expect.yaml`` sidecar (exit 1 if an
+from that checkpoint. A stroke counts if the limbs moved each hold a rung above the one
+they left and every limb holds at the end of the phase; they rank by how near the
+moved limbs land to the rungs aimed for, then by the height of the centre of mass.
+Depth first: the best stroke of a phase is kept, and the next (up to ``KEEP``) tried
+if the phases after it find nothing. The grid is fixed, so the search is deterministic
+(about 3 minutes on a loaded machine). The script is then recorded as a log in a
+temporary folder and replayed with its ``.expect.yaml`` sidecar (exit 1 if an
 expectation fails); --write writes the script.
 """
 
