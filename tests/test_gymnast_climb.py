@@ -1,0 +1,71 @@
+"""The gymnast climbs the ladder (interfaces/biped-gymnast.yaml on the ladder scene, logs
+biped-gymnast-climb-bound): the log's expectations hold, and fail by name without
+rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
+without the mapping's mode key."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from puppet.data.catalog import ROOT, find
+from puppet.testing import replay_log
+from tests.helpers import copy_log
+
+LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound",)]
+CLIMB = {"regrasps", "always_holding", "reached_height", "held_point"}
+
+
+def _failed(tmp_path, log, change) -> set[str]:
+    text = find("interface", "biped-gymnast").read_text(encoding="utf-8")
+    spec = yaml.safe_load(text)
+    change(spec)
+    iface = tmp_path / "biped-gymnast-changed.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    copy = copy_log(log, tmp_path, interface=str(iface),
+                    interface_text=iface.read_text(encoding="utf-8"))
+    return {o.expectation.split(" ")[0] for o in replay_log(copy).outcomes if not o.passed}
+
+
+def _grasps(spec):
+    for machine in spec["machines"].values():
+        for state in machine["states"].values():
+            grasp = state.get("enter", {}).get("grasp")
+            if grasp is not None:
+                yield grasp
+
+
+@pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
+def test_the_gymnast_climbs_the_ladder(log):
+    result = replay_log(log)
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
+@pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("limbs", ["foot", "hand"])
+def test_without_rigid_grasps_the_climb_fails(tmp_path, log, limbs):
+    """Pivots for the feet (the body tips back off them) or for the hands (the arms no
+    longer set how it hangs): either way the climb stalls or falls."""
+    def pivots(spec):
+        for grasp in _grasps(spec):
+            if grasp["chain"].startswith(limbs):
+                grasp.pop("rigid", None)
+    assert CLIMB & _failed(tmp_path, log, pivots)
+
+
+@pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
+def test_with_the_figures_own_shoulders_the_climb_fails(tmp_path, log):
+    def weak(spec):
+        for j in ("shoulder_near", "shoulder_far"):
+            spec["gains"][j] = {"stiffness": 60, "damping": 3, "max_torque": 40}
+    assert CLIMB & _failed(tmp_path, log, weak)
+
+
+@pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)
+def test_without_the_mode_key_the_mouse_climbs_nothing(tmp_path, log):
+    mode = "2" if log.stem.endswith("bound") else "3"
+
+    def no_key(spec):
+        spec["keys"] = [k for k in spec["keys"] if str(k["key"]) != mode]
+    failed = _failed(tmp_path, log, no_key)
+    assert "stayed_in_mode" in failed and CLIMB & failed
