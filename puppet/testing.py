@@ -14,6 +14,7 @@ summary and the failed expectations (each with what was measured).
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 from puppet.data.catalog import find, load_setup
@@ -65,3 +66,17 @@ def record_script(script: str, path: str | Path, interface: str | None = None,
     until = round(run_seconds(spec, seconds) / session.sim.dt)
     return record_events(session, events, until, path, expect=expect,
                          description=description or spec.description or None)
+
+
+def replay_script_text(text: str, interface: str | Path, expect: str | Path) -> ReplayResult:
+    """Play a script given as text (a search's candidate) through ``interface``, record
+    it, and replay the log judged by the expectations file ``expect`` (a shipped log's
+    sidecar): a tuning tool scores each try exactly as the tests check the log."""
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "try.yaml"
+        script.write_text(text, encoding="utf-8")
+        log = Path(tmp) / "try.jsonl"
+        record_script(str(script), log, interface=str(interface))
+        (Path(tmp) / "try.expect.yaml").write_text(Path(expect).read_text(encoding="utf-8"),
+                                                   encoding="utf-8")
+        return replay_log(log)

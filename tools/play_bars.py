@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import tempfile
 from pathlib import Path
 
 import yaml
@@ -32,9 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, load_setup  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.testing import replay_log  # noqa: E402
-from puppet.timeline.log import record_events  # noqa: E402
-from puppet.timeline.script import compile_script, load_script  # noqa: E402
+from puppet.testing import replay_script_text  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-bars.yaml"
 SCRIPT = ROOT / "assets" / "scripts" / "biped-monkey-bars.yaml"
@@ -115,16 +112,8 @@ def script_text(presses, seconds: float, lead: float) -> str:
 
 
 def check(text: str):
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "biped-monkey-bars.yaml"
-        path.write_text(text, encoding="utf-8")
-        spec = load_script(path)
-        s = Session(load_setup(str(INTERFACE), None))
-        log = Path(tmp) / "try.jsonl"
-        record_events(s, compile_script(spec, s.sim.dt), round(spec.seconds / s.sim.dt), log)
-        (Path(tmp) / "try.expect.yaml").write_text(EXPECT.read_text(encoding="utf-8"),
-                                                   encoding="utf-8")
-        return replay_log(log)
+    """The script ``text`` played and judged by the shipped log's expectations."""
+    return replay_script_text(text, INTERFACE, EXPECT)
 
 
 def main() -> int:
