@@ -295,3 +295,17 @@ def test_a_script_pushing_a_link_the_character_lacks_is_named_at_its_line(tmp_pa
         check_links(path, load_script(path), ["base", "lower_arm", "upper_arm"])
     msg = str(info.value)
     assert msg.startswith(f"{path}:2:") and "tail" in msg and "\n" not in msg
+
+
+def test_what_the_leap_and_seat_expectations_say_of_themselves():
+    from puppet.timeline.expectations import parse_expectations
+
+    said = [e.describe() for e in parse_expectations([
+        {"on_ground": {"links": ["thigh_near"], "min_seconds": 1, "min_root_angle": 30,
+                       "max_root_angle": 80}},
+        {"first_touch": {"links": ["foot_near", "foot_far"], "min_x": 1.0}},
+        {"first_touch": {"links": ["foot_near"]}},
+    ]).items]
+    assert said == ["on_ground thigh_near min 1 s, root at least 30 and at most 80 deg (signed)",
+                    "first_touch foot_near, foot_far only, each at x >= 1 m",
+                    "first_touch foot_near only"]
