@@ -309,3 +309,29 @@ def test_what_the_leap_and_seat_expectations_say_of_themselves():
     assert said == ["on_ground thigh_near min 1 s, root at least 30 and at most 80 deg (signed)",
                     "first_touch foot_near, foot_far only, each at x >= 1 m",
                     "first_touch foot_near only"]
+
+
+def test_listen_prints_the_channels_that_arrive(capsys):
+    import socket
+    import threading
+    import time
+
+    from puppet.cli import main
+    from puppet.mocap.puppet_osc import encode_frame
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:  # a free port
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    codes = []
+    listener = threading.Thread(target=lambda: codes.append(main(
+        ["mocap", "listen", "--format", "puppet", "--port", str(port), "--seconds", "0.6"])))
+    listener.start()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as send:  # a stream, until it
+        k = 0                                                        # has listened 0.6 s
+        while listener.is_alive() and k < 3000:
+            send.sendto(encode_frame(k / 60, {"hip": 0.125}), ("127.0.0.1", port))
+            k += 1
+            time.sleep(0.01)
+    listener.join(5)
+    assert codes == [0]
+    assert "  channels: hip=0.125" in capsys.readouterr().out
