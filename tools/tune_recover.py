@@ -84,8 +84,9 @@ def interface_with(base: dict, p: dict) -> dict:
     return spec
 
 
-def score(text: str, events, seconds: float) -> tuple[float, str]:
-    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+def _standing_rows(session, events, seconds: float) -> list[tuple]:
+    """Play ``events`` for ``seconds``; every SAMPLE steps (t, the worse of pelvis and
+    chest tilt in degrees, head height in m, both feet touching)."""
     c = session.character
     rows = []
 
@@ -97,6 +98,12 @@ def score(text: str, events, seconds: float) -> tuple[float, str]:
         rows.append((s.time, tilt, head, c.in_contact("foot_near") and c.in_contact("foot_far")))
 
     play(session, events, round(seconds / session.sim.dt), SAMPLE, sample)
+    return rows
+
+
+def score(text: str, events, seconds: float) -> tuple[float, str]:
+    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+    rows = _standing_rows(session, events, seconds)
     last = [r for r in rows if r[0] >= seconds - 1.5]
     tilt = max(r[1] for r in last)
     low, high = min(r[2] for r in last), max(r[2] for r in last)
@@ -161,20 +168,10 @@ def backward_score(base: dict, p: dict) -> tuple[float, str, float]:
 
     text = yaml.safe_dump(backward_interface(base, p))
     session = Session(setup_from_text(text, str(INTERFACE), None, None))
-    c = session.character
     seconds = p["t_o"] + p["t_2"] + 8.0 + 5.0
-    rows = []
-
-    def sample(s):
-        b = c.bodies
-        tilt = max(abs(math.degrees(math.remainder(b[n].angle, 2 * math.pi)))
-                   for n in ("pelvis", "chest"))
-        head = b["head"].local_to_world(b["head"].center_of_gravity).y
-        rows.append((s.time, tilt, head, c.in_contact("foot_near") and c.in_contact("foot_far")))
-
     events = compile_script(ScriptSpec.model_validate({"events": backward_events(p)}),
                             session.sim.dt)
-    play(session, events, round(seconds / session.sim.dt), SAMPLE, sample)
+    rows = _standing_rows(session, events, seconds)
     last = [r for r in rows if r[0] >= seconds - 1.5]
     tilt = max(r[1] for r in last)
     low = min(r[2] for r in last)
