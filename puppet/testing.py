@@ -20,7 +20,7 @@ from pathlib import Path
 from puppet.data.catalog import find, load_setup
 from puppet.session import Session
 from puppet.timeline.expectations import Outcome, evaluate_all, parse_expectations
-from puppet.timeline.log import Recorder, read_log, record_events
+from puppet.timeline.log import Log, Recorder, read_log, record_events
 from puppet.timeline.replay import SAMPLE_EVERY, ReplayResult, Trajectory, replay
 from puppet.timeline.script import compile_script, load_script, run_seconds
 
@@ -28,10 +28,11 @@ __all__ = ["ReplayResult", "Trajectory", "Outcome", "replay_log", "record_script
            "check", "Recorder", "read_log"]
 
 
-def replay_log(path: str | Path, until_step: int | None = None, allow_truncated: bool = False,
+def replay_log(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
                expect: list | None = None, sample_every: int = SAMPLE_EVERY,
                as_recorded: bool = False) -> ReplayResult:
-    """Replay ``path`` headless and check its expectations (header or sidecar file).
+    """Replay ``path`` (or a log already read) headless and check its expectations
+    (header or sidecar file).
 
     ``expect`` (a list of expectation dicts, as in a sidecar file) replaces the log's.
     """

@@ -97,9 +97,12 @@ def test_the_cpu_clock_leaves_out_the_time_spent_waiting():
         assert (slept >= 0.05) is counts_sleep, (name, slept)
 
 
-def test_the_quick_bench_replays_each_log_for_its_first_second_only():
-    from puppet.bench import measure_logs
+def test_the_quick_bench_replays_each_log_for_its_first_second_only(report):
+    from puppet.bench import QUICK
 
-    got = measure_logs(1, 0.5)
-    assert got["status"] == "ok, the first 0.5 s of each"
-    assert got["items"] and all(abs(i["sim_seconds"] - 0.5) < 0.01 for i in got["items"])
+    got, seconds = report["logs"], QUICK["log_seconds"]
+    assert got["status"] == f"ok, the first {seconds:g} s of each"
+    shipped = [p.stem for p in sorted((ROOT / "assets" / "logs").glob("*.jsonl"))]
+    assert [i["log"] for i in got["items"]] == shipped
+    assert all(abs(i["sim_seconds"] - seconds) < 0.01 and i["speed_x"] > 0
+               for i in got["items"]), got["items"]
