@@ -149,20 +149,41 @@ def _setters(cls, names):
 
 
 _SPACE_GET, _SPACE_SET = attrgetter(*SPACE_ATTRS), _setters(pymunk.Space, SPACE_ATTRS)
-_BODY_GET, _BODY_SET = attrgetter(*BODY_ATTRS), _setters(pymunk.Body, BODY_ATTRS)
-_SHAPE_GET, _SHAPE_SET = attrgetter(*SHAPE_ATTRS), _setters(pymunk.Shape, SHAPE_ATTRS)
-_CONSTRAINT_GET = attrgetter(*CONSTRAINT_ATTRS)
-_CONSTRAINT_SET = _setters(pymunk.Constraint, CONSTRAINT_ATTRS)
-_SET_MASS, _SET_DENSITY = pymunk.Shape.mass.fset, pymunk.Shape.density.fset
 _init_getters: dict[type, object] = {}
+
+
+def _xy(v) -> tuple:
+    return (v.x, v.y)
+
+
+# The constructor arguments of the classes a character and its props are made of, read
+# through Chipmunk (the getters behind the properties pymunk's pickle reads); any other
+# class goes through its properties (``_init_args``).
+_FAST_INIT = {
+    pymunk.Circle: lambda h: (_cp.cpCircleShapeGetRadius(h), _xy(_cp.cpCircleShapeGetOffset(h))),
+    pymunk.Segment: lambda h: (_xy(_cp.cpSegmentShapeGetA(h)), _xy(_cp.cpSegmentShapeGetB(h)),
+                               _cp.cpSegmentShapeGetRadius(h)),
+    pymunk.PivotJoint: lambda h: (_xy(_cp.cpPivotJointGetAnchorA(h)),
+                                  _xy(_cp.cpPivotJointGetAnchorB(h))),
+    pymunk.RotaryLimitJoint: lambda h: (_cp.cpRotaryLimitJointGetMin(h),
+                                        _cp.cpRotaryLimitJointGetMax(h)),
+    pymunk.DampedRotarySpring: lambda h: (_cp.cpDampedRotarySpringGetRestAngle(h),
+                                          _cp.cpDampedRotarySpringGetStiffness(h),
+                                          _cp.cpDampedRotarySpringGetDamping(h)),
+    pymunk.GearJoint: lambda h: (_cp.cpGearJointGetPhase(h), _cp.cpGearJointGetRatio(h)),
+    pymunk.Poly: lambda h: (tuple([_xy(_cp.cpPolyShapeGetVert(h, i))
+                                   for i in range(_cp.cpPolyShapeGetCount(h))]),
+                            None, _cp.cpPolyShapeGetRadius(h)),
+}
 
 
 def _init_args(obj, skip: int) -> tuple:
     """The constructor arguments pymunk's pickle would pass (its ``_pickle_attrs_init``,
     after the ``skip`` body arguments)."""
     cls = type(obj)
-    if cls is pymunk.Poly:
-        return (tuple(map(tuple, obj.get_vertices())), None, obj.radius)
+    fast = _FAST_INIT.get(cls)
+    if fast is not None:
+        return fast(obj._shape if skip == 1 else obj._constraint)
     get = _init_getters.get(cls)
     if get is None:
         names = cls._pickle_attrs_init[skip:]
@@ -176,43 +197,76 @@ def _plain(values) -> tuple:
     return tuple([(*v,) if isinstance(v, tuple) else v for v in values])
 
 
+# The records read and write through Chipmunk's own getters and setters (the calls
+# pymunk's properties make, in the order of the attribute lists below): a property adds a
+# Python call and a Vec2d per value, a third of a biped checkpoint's time.
 def _body_record(b: pymunk.Body) -> tuple:
-    return (b.body_type, b.mass, b.moment, _plain(_BODY_GET(b)))
+    h = b._body
+    f, p, c, v = (_cp.cpBodyGetForce(h), _cp.cpBodyGetPosition(h),
+                  _cp.cpBodyGetCenterOfGravity(h), _cp.cpBodyGetVelocity(h))
+    return (_cp.cpBodyGetType(h), _cp.cpBodyGetMass(h), _cp.cpBodyGetMoment(h),
+            ((f.x, f.y), _cp.cpBodyGetAngle(h), (p.x, p.y), (c.x, c.y), (v.x, v.y),
+             _cp.cpBodyGetAngularVelocity(h), _cp.cpBodyGetTorque(h)))
 
 
 def _make_body(record) -> pymunk.Body:
-    body_type, mass, moment, values = record
+    body_type, mass, moment, (force, angle, position, cog, velocity, spin, torque) = record
     body = pymunk.Body(mass, moment, body_type)
-    for setter, value in zip(_BODY_SET, values):
-        setter(body, value)
+    h = body._body  # BODY_ATTRS' order
+    _cp.cpBodySetForce(h, force)
+    _cp.cpBodySetAngle(h, angle)
+    _cp.cpBodySetPosition(h, position)
+    _cp.cpBodySetCenterOfGravity(h, cog)
+    _cp.cpBodySetVelocity(h, velocity)
+    _cp.cpBodySetAngularVelocity(h, spin)
+    _cp.cpBodySetTorque(h, torque)
     return body
 
 
 def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
-    return (type(s), index[s.body], _init_args(s, 1), _plain(_SHAPE_GET(s)), s.mass, s.density)
+    h = s._shape
+    f, sv = _cp.cpShapeGetFilter(h), _cp.cpShapeGetSurfaceVelocity(h)
+    return (type(s), index[s.body], _init_args(s, 1),
+            (bool(_cp.cpShapeGetSensor(h)), _cp.cpShapeGetCollisionType(h),
+             (f.group, f.categories, f.mask), _cp.cpShapeGetElasticity(h),
+             _cp.cpShapeGetFriction(h), (sv.x, sv.y), _cp.cpShapeGetHashID(h)),
+            _cp.cpShapeGetMass(h), _cp.cpShapeGetDensity(h))
 
 
 def _make_shape(record, objects: list) -> pymunk.Shape:
     cls, body, args, values, mass, density = record
     shape = cls(objects[body], *args)
-    for setter, value in zip(_SHAPE_SET, values):
-        setter(shape, value)
+    h = shape._shape  # SHAPE_ATTRS' order, then the mass before the density
+    sensor, collision_type, shape_filter, elasticity, friction, surface_v, hashid = values
+    _cp.cpShapeSetSensor(h, sensor)
+    _cp.cpShapeSetCollisionType(h, collision_type)
+    _cp.cpShapeSetFilter(h, shape_filter)
+    _cp.cpShapeSetElasticity(h, elasticity)
+    _cp.cpShapeSetFriction(h, friction)
+    _cp.cpShapeSetSurfaceVelocity(h, surface_v)
+    _cp.cpShapeSetHashID(h, hashid)
     if mass > 0:
-        _SET_MASS(shape, mass)
+        _cp.cpShapeSetMass(h, mass)
     if density > 0:
-        _SET_DENSITY(shape, density)
+        _cp.cpShapeSetDensity(h, density)
     return shape
 
 
 def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
-    return (type(c), index[c.a], index[c.b], _init_args(c, 2), _CONSTRAINT_GET(c))
+    h = c._constraint
+    return (type(c), index[c.a], index[c.b], _init_args(c, 2),
+            (_cp.cpConstraintGetMaxForce(h), _cp.cpConstraintGetErrorBias(h),
+             _cp.cpConstraintGetMaxBias(h), _cp.cpConstraintGetCollideBodies(h)))
 
 
 def _make_constraint(record, objects: list) -> pymunk.Constraint:
-    cls, a, b, args, values = record
+    cls, a, b, args, (max_force, error_bias, max_bias, collide) = record
     constraint = cls(objects[a], objects[b], *args)
-    for setter, value in zip(_CONSTRAINT_SET, values):
-        setter(constraint, value)
+    h = constraint._constraint  # CONSTRAINT_ATTRS' order
+    _cp.cpConstraintSetMaxForce(h, max_force)
+    _cp.cpConstraintSetErrorBias(h, error_bias)
+    _cp.cpConstraintSetMaxBias(h, max_bias)
+    _cp.cpConstraintSetCollideBodies(h, collide)
     return constraint
 
 
