@@ -170,3 +170,44 @@ def test_a_snapshot_restores_in_another_process(tmp_path):
     out = subprocess.run([sys.executable, "-c", code, str(Path(__file__).parent), str(path)],
                          capture_output=True, text=True, check=True)
     assert out.stdout.strip() == sim.state_hash()
+
+
+def test_the_records_read_what_pymunks_properties_read():
+    """The records go through Chipmunk's getters; pymunk's properties (what its pickle
+    reads) must give the same values, for each class read that way."""
+    a, b = pymunk.Body(2.0, 3.0), pymunk.Body(1.5, 0.5)
+    a.position, a.velocity, a.angle, a.force, a.torque = (1, 2), (0.3, -0.4), 0.7, (5, 6), 0.9
+    a.center_of_gravity, a.angular_velocity = (0.01, -0.02), 1.25
+    shapes = [pymunk.Circle(a, 0.1, (0.2, 0.3)), pymunk.Segment(a, (0, 0), (1, 0.5), 0.02),
+              pymunk.Poly(a, [(0, 0), (1, 0), (0.5, 0.8)], radius=0.01)]
+    shapes[0].friction, shapes[0].elasticity, shapes[0].surface_velocity = 0.8, 0.1, (1, 2)
+    shapes[1].filter, shapes[1].collision_type = pymunk.ShapeFilter(3, 5, 9), 4
+    shapes[2].sensor = True
+    constraints = [pymunk.PivotJoint(a, b, (0.1, 0.2), (0.3, 0.4)),
+                   pymunk.RotaryLimitJoint(a, b, -0.5, 1.5),
+                   pymunk.DampedRotarySpring(a, b, 0.25, 300.0, 12.0),
+                   pymunk.GearJoint(a, b, 0.3, 1.0)]
+    constraints[0].max_force, constraints[1].error_bias, constraints[2].max_bias = 70.0, 0.2, 9.0
+    constraints[3].collide_bodies = False
+    assert set(snapshot._FAST_INIT) == {type(o) for o in shapes + constraints}
+    index = {a: 0, b: 1}
+    values = (getattr(a, n) for n in snapshot.BODY_ATTRS)
+    assert snapshot._body_record(a) == (a.body_type, a.mass, a.moment,
+                                        tuple(tuple(v) if isinstance(v, tuple) else v
+                                              for v in values))
+    for obj, skip in [(s, 1) for s in shapes] + [(c, 2) for c in constraints]:
+        cls = type(obj)
+        names = cls._pickle_attrs_init[skip:]
+        plain = tuple(tuple(map(tuple, v)) if isinstance(v, list) else
+                      tuple(v) if isinstance(v, tuple) else v
+                      for v in (getattr(obj, n) for n in names)) if cls is not pymunk.Poly else (
+            tuple(map(tuple, obj.get_vertices())), None, obj.radius)
+        assert snapshot._init_args(obj, skip) == plain, cls
+    for s in shapes:
+        record = snapshot._shape_record(s, index)
+        assert record[3] == tuple(tuple(v) if isinstance(v, tuple) else v
+                                  for v in (getattr(s, n) for n in snapshot.SHAPE_ATTRS))
+        assert record[4:] == (s.mass, s.density)
+    for c in constraints:
+        assert snapshot._constraint_record(c, index)[4] == tuple(
+            getattr(c, n) for n in snapshot.CONSTRAINT_ATTRS)
