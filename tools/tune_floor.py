@@ -2,7 +2,7 @@
 and print the numbers found (to paste into the interface and the script).
 
     python tools/tune_floor.py FEAT [--tries 300] [--seed 1] [--sigma 0.05] [--random 0.3]
-    FEAT: handstand, backflip
+    FEAT: handstand, backflip, kip
 
 A feat is a script (assets/scripts/biped-FEAT.yaml: the keys a person presses) and the
 numbers of the interface's poses, sequences and state maps it uses. A try is the
@@ -119,6 +119,23 @@ FEATS = {
             "t_up": (2.0, 3.5, 3, [("s", "events", 1, "t")]),
         },
     },
+    "kip": {"interface": "biped-kip", "params": {
+        **_pose("rock", "rock", waist=(-80, 0), hip=(90, 130), knee=(-150, 0),
+                shoulder=(120, 180), elbow=(60, 150)),
+        "rock_damp": (1, 30, 1, [("i", "poses", "rock", "damping", j) for j in (
+            "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
+        **_pose("snap", "snap", waist=(-20, 30), hip=(-30, 60), knee=(-90, 0),
+                shoulder=(90, 180), elbow=(0, 60)),
+        "snap_damp": (1, 30, 1, [("i", "poses", "snap", "damping", j) for j in (
+            "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
+        **_world("land", "kip_land", waist=(-70, 0), hip=(-70, 0), ankle=(-40, 0)),
+        **_pose("land", "kip_land", knee=(-150, -60), shoulder=(0, 120)),
+        "land_damp": (1, 50, 1, [("i", "poses", "kip_land", "damping", j) for j in (
+            "hip_near", "hip_far", "knee_near", "knee_far")]),
+        **{f"t_{n}": (lo, hi, 3, [("i", "sequences", "kip", k, "hold")])
+           for k, (n, lo, hi) in enumerate((("rock", 0.2, 1.2), ("snap", 0.05, 0.5),
+                                            ("land", 0.2, 1.2)))},
+    }},
     "backflip": {"gate": True, "params": {
         **_world("set", "flip_set", waist=(-60, 0), hip=(-60, 0), ankle=(-40, 0)),
         **_pose("set", "flip_set", knee=(-140, -40), shoulder=(-60, 60)),
@@ -139,7 +156,19 @@ FEATS = {
 
 def graded(feat: str, outcomes) -> float:
     """The feat's slope: the handstand's seconds on the hands (what balanced_on
-    measures), a flip's turn in flight (turned ... in flight, per 100 deg)."""
+    measures), a flip's turn in flight (turned ... in flight, per 100 deg), a kip's
+    longest flight (per 0.1 s, to 0.3 s) and its head's lowest height over the last
+    second (to 1.45 m)."""
+    if feat == "kip":
+        value = 0.0
+        for o in outcomes:
+            m = re.search(r"the longest ([0-9.]+) s", o.measured)
+            if o.expectation.startswith("flight_phases") and m:
+                value += min(float(m.group(1)), 0.3) * 10
+            m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
+            if o.expectation.startswith("height_at_end") and m:
+                value += min(float(m.group(1)), 1.45) * 2
+        return value
     for o in outcomes:
         if o.expectation.startswith("balanced_on"):
             m = re.search(r"upside down: ([0-9.]+) s", o.measured)
@@ -221,6 +250,8 @@ def main() -> int:
                     help="also play the script's last key moved by these seconds; a try "
                          "scores its worst (e.g. --shifts -0.04 0 0.04)")
     args = ap.parse_args()
+    global INTERFACE  # the feat's interface (biped-floor unless it names another)
+    INTERFACE = ROOT / "interfaces" / f"{FEATS[args.feat].get('interface', 'biped-floor')}.yaml"
     params = FEATS[args.feat]["params"]
     script = ROOT / "assets" / "scripts" / f"biped-{args.feat}.yaml"
     expect_file = ROOT / "assets" / "logs" / f"biped-{args.feat}.expect.yaml"
@@ -248,7 +279,7 @@ def main() -> int:
     print(yaml.safe_dump({n: read(found, places[0]) for n, (_, _, _, places)
                           in params.items()}, sort_keys=False))
     with tempfile.TemporaryDirectory() as tmp:
-        iface = Path(tmp) / "biped-floor.yaml"
+        iface = Path(tmp) / INTERFACE.name
         iface.write_text(yaml.safe_dump(found["i"], sort_keys=False), encoding="utf-8")
         s = Session(setup_from_text(iface.read_text(encoding="utf-8"), str(iface),
                                     found["s"].get("scene"), None))

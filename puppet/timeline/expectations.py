@@ -60,6 +60,13 @@ Each entry names one check:
                                   # one stretch of 1 s, the root tipped at least 30 deg
                                   # backward (signed: counter-clockwise, for a character
                                   # facing +x) all the while: sat down on its seat, back
+      - angle_within: {link: pelvis, min: 70, until: 0.5}
+                                  # the link's signed angle from upright (deg, -180..180,
+                                  # counter-clockwise +: tipped backward for a character
+                                  # facing +x) within min..max at every sample from
+                                  # 'from' (default the start) to 'until' (the end):
+                                  # lying on its back at the start; min -70 over the
+                                  # whole run: never turned onto its front
       - first_touch: {links: [foot_near, foot_far], min_x: 0.3}
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
@@ -312,6 +319,24 @@ class OnGround(Spec):
                                          description="deg, signed (+ = tipped backward)")
     max_root_angle: float | None = Field(None, ge=-180, le=180,
                                          description="deg, signed (+ = tipped backward)")
+class AngleWithin(Spec):
+    """The link's signed angle from upright (deg, -180..180, counter-clockwise positive:
+    tipped backward for a character facing +x) within ``min``..``max`` at every sample
+    from ``from`` to ``until`` s: on its back at the start, never on its front."""
+
+    link: str
+    min: float | None = Field(None, ge=-180, le=180, description="deg, signed")
+    max: float | None = Field(None, ge=-180, le=180, description="deg, signed")
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min' and/or 'max' (deg)")
+        return self
+
+
 class MeanSpeed(Spec):
     """The centre of mass's mean speed along +x over a window: how far it moved between
     the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
@@ -447,6 +472,7 @@ class Expectation(Spec):
     took_off: TookOff | None = None
     first_touch: FirstTouch | None = None
     on_ground: OnGround | None = None
+    angle_within: AngleWithin | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
@@ -568,6 +594,12 @@ class Expectation(Spec):
                                 if b is not None)
             return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
                     + (f", root {tilt} deg (signed)" if tilt else ""))
+        if isinstance(v, AngleWithin):
+            bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
+                                                             ("at most", v.max))
+                                  if b is not None)
+            return (f"angle_within {v.link} {bounds} deg (signed) from {v.from_:g} s "
+                    f"to {_until(v)}")
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
@@ -794,6 +826,28 @@ def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
 
 def _until(v) -> str:
     return "the end" if v.until is None else f"{v.until:g} s"
+
+
+def _angle_within(desc: str, v: AngleWithin, traj) -> Outcome:
+    """The samples of the window whose signed angle is out of bounds: the first of them
+    and the range the angle took."""
+    idx = _samples_in(traj.t, v.from_, v.until)
+    if len(idx) == 0:
+        return _no_samples(desc, traj.t)
+    a = traj.angle[idx, traj.index(v.link)]
+    angle = np.degrees(np.remainder(a + np.pi, 2 * np.pi) - np.pi)
+    out = np.zeros(len(idx), dtype=bool)
+    if v.min is not None:
+        out |= angle < v.min
+    if v.max is not None:
+        out |= angle > v.max
+    span = (f"{v.link} {angle.min():.0f}..{angle.max():.0f} deg from t = "
+            f"{traj.t[idx[0]]:.2f} to {traj.t[idx[-1]]:.2f} s")
+    if not out.any():
+        return Outcome(desc, True, span)
+    k = int(np.flatnonzero(out)[0])
+    return Outcome(desc, False, f"{span}; out at t = {traj.t[idx[k]]:.2f} s "
+                                f"({angle[k]:.0f} deg)")
 
 
 def _mean_speed(desc: str, v: MeanSpeed, traj) -> Outcome:
@@ -1062,6 +1116,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s, root "
                           f"{angle[i:j + 1].min():.0f}..{angle[i:j + 1].max():.0f} deg)"
                           if length > 0 else ""))
+    if isinstance(v, AngleWithin):
+        return _angle_within(desc, v, traj)
     if isinstance(v, MeanSpeed):
         return _mean_speed(desc, v, traj)
     if isinstance(v, FlightPhases):
