@@ -54,8 +54,27 @@ def test_angle_within_checks_the_signed_angle_in_the_window():
     ]
 
 
+def test_a_max_over_180_takes_the_angle_across_upside_down():
+    """Rocked back past upside down (190 deg: -170 signed) is not on the front (-90)."""
+    t = np.round(np.arange(0, 2.001, 0.5), 1)
+    traj = _traj(t, [90, 150, 190, 60, 0])
+    front = _traj(t, [90, 150, 60, -90, 0])
+    never_front = [{"angle_within": {"link": "pelvis", "min": -70, "max": 200}}]
+    assert _check(traj, never_front) == [
+        "ok   angle_within pelvis at least -70 and at most 200 deg (signed) from 0 s to the "
+        "end: pelvis 0..190 deg from t = 0.00 to 2.00 s"]
+    assert _check(front, never_front) == [
+        "FAIL angle_within pelvis at least -70 and at most 200 deg (signed) from 0 s to the "
+        "end: pelvis -90..150 deg from t = 0.00 to 2.00 s; out at t = 1.50 s (-90 deg)"]
+    assert _check(traj, [{"angle_within": {"link": "pelvis", "min": -70}}])[0].startswith(
+        "FAIL angle_within pelvis at least -70 deg (signed) from 0 s to the end: pelvis "
+        "-170..150 deg")
+
+
 def test_angle_within_needs_a_bound_and_a_known_link():
     with pytest.raises(DataError, match="give 'min' and/or 'max'"):
         parse_expectations([{"angle_within": {"link": "pelvis"}}])
+    with pytest.raises(DataError, match="must be greater than 'min'"):
+        parse_expectations([{"angle_within": {"link": "pelvis", "min": 10, "max": 0}}])
     with pytest.raises(DataError, match="unknown link 'tail'"):
         parse_expectations([{"angle_within": {"link": "tail", "min": 0}}]).check_links(LINKS)

@@ -119,7 +119,9 @@ FEATS = {
             "t_up": (2.0, 3.5, 3, [("s", "events", 1, "t")]),
         },
     },
-    "kip": {"interface": "biped-kip", "params": {
+    "kip": {"interface": "biped-kip", "gate": [2, 3], "params": {
+        "hip_torque": (250, 450, 0, [("i", "gains", j, "max_torque")
+                                     for j in ("hip_near", "hip_far")]),
         **_pose("rock", "rock", waist=(-80, 0), hip=(90, 130), knee=(-150, 0),
                 shoulder=(120, 180), elbow=(60, 150)),
         "rock_damp": (1, 30, 1, [("i", "poses", "rock", "damping", j) for j in (
@@ -157,14 +159,17 @@ FEATS = {
 def graded(feat: str, outcomes) -> float:
     """The feat's slope: the handstand's seconds on the hands (what balanced_on
     measures), a flip's turn in flight (turned ... in flight, per 100 deg), a kip's
-    longest flight (per 0.1 s, to 0.3 s) and its head's lowest height over the last
-    second (to 1.45 m)."""
+    longest flight (per 0.1 s, to 0.3 s), how near upright its trunk ends (per 60 deg)
+    and its head's lowest height over the last second (to 1.45 m)."""
     if feat == "kip":
         value = 0.0
         for o in outcomes:
             m = re.search(r"the longest ([0-9.]+) s", o.measured)
             if o.expectation.startswith("flight_phases") and m:
                 value += min(float(m.group(1)), 0.3) * 10
+            m = re.search(r"at most ([0-9.]+) deg from upright", o.measured)
+            if o.expectation.startswith("tilt_at_end") and m:
+                value += (180 - float(m.group(1))) / 60
             m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
             if o.expectation.startswith("height_at_end") and m:
                 value += min(float(m.group(1)), 1.45) * 2
@@ -230,8 +235,12 @@ def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, li
         moved["s"]["events"][-1]["t"] = round(moved["s"]["events"][-1]["t"] + by, 3)
         outcomes = run(moved, expect)
         passed = sum(o.passed for o in outcomes)
-        if FEATS[feat].get("gate") and not outcomes[0].passed:
-            passed = 0  # a flip: standing still passes the standing ones
+        gate = FEATS[feat].get("gate")
+        gate = [0] if gate is True else gate or []
+        if not all(outcomes[k].passed for k in gate):
+            # a flip: standing still passes the standing ones; a kip: only a flight
+            # that ends on the feet counts
+            passed = sum(outcomes[k].passed for k in gate)
         value = 10 * passed + graded(feat, outcomes)
         if worst is None or value < worst[0]:
             worst = (value, outcomes)

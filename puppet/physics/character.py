@@ -123,10 +123,8 @@ class Character:
         """Put the model origin at (x, y), root at ``angle``; joints at angles (radians)."""
         angles = {self.spec.root: angle}
         root = self.bodies[self.spec.root]
-        # the angle first: pymunk turns a body about its centre of gravity, so turning
-        # it after placing would move the model origin off (x, y)
-        root.angle = angle
         root.position = (x, y)
+        root.angle = angle
         done = {self.spec.root}
         pending = list(self.spec.joints)
         while pending:

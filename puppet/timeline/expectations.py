@@ -65,8 +65,10 @@ Each entry names one check:
                                   # counter-clockwise +: tipped backward for a character
                                   # facing +x) within min..max at every sample from
                                   # 'from' (default the start) to 'until' (the end):
-                                  # lying on its back at the start; min -70 over the
-                                  # whole run: never turned onto its front
+                                  # lying on its back at the start; a max over 180
+                                  # takes the angle in max-360..max (a range across
+                                  # upside down): {min: -70, max: 200} over the whole
+                                  # run: never turned onto its front (-160..-70)
       - first_touch: {links: [foot_near, foot_far], min_x: 0.3}
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
@@ -326,7 +328,9 @@ class AngleWithin(Spec):
 
     link: str
     min: float | None = Field(None, ge=-180, le=180, description="deg, signed")
-    max: float | None = Field(None, ge=-180, le=180, description="deg, signed")
+    max: float | None = Field(None, ge=-180, le=540,
+                              description="deg, signed; over 180 the angle is taken in "
+                                          "max-360..max: a range across upside down")
     from_: Time = Field(0.0, alias="from", description="s: window start")
     until: Time | None = Field(None, description="s: window end (default: the end)")
 
@@ -334,6 +338,8 @@ class AngleWithin(Spec):
     def _bounds(self):
         if self.min is None and self.max is None:
             raise ValueError("give 'min' and/or 'max' (deg)")
+        if self.min is not None and self.max is not None and self.max <= self.min:
+            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
         return self
 
 
@@ -834,8 +840,9 @@ def _angle_within(desc: str, v: AngleWithin, traj) -> Outcome:
     idx = _samples_in(traj.t, v.from_, v.until)
     if len(idx) == 0:
         return _no_samples(desc, traj.t)
-    a = traj.angle[idx, traj.index(v.link)]
-    angle = np.degrees(np.remainder(a + np.pi, 2 * np.pi) - np.pi)
+    # in (top - 360, top]: -180..180, or across upside down when max is over 180
+    top = 180.0 if v.max is None or v.max <= 180 else v.max
+    angle = top - np.remainder(top - np.degrees(traj.angle[idx, traj.index(v.link)]), 360.0)
     out = np.zeros(len(idx), dtype=bool)
     if v.min is not None:
         out |= angle < v.min
