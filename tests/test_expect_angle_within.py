@@ -78,3 +78,21 @@ def test_angle_within_needs_a_bound_and_a_known_link():
         parse_expectations([{"angle_within": {"link": "pelvis", "min": 10, "max": 0}}])
     with pytest.raises(DataError, match="unknown link 'tail'"):
         parse_expectations([{"angle_within": {"link": "tail", "min": 0}}]).check_links(LINKS)
+
+
+def test_swung_needs_the_angle_about_the_point_to_reach_both_sides():
+    """A pendulum 3 m under (0, 4.4) swinging 10 deg, then 25 deg."""
+    t = np.round(np.arange(0, 4.001, 0.05), 2)
+    amp = np.where(t < 2, 10.0, 25.0)
+    theta = np.radians(amp * np.sin(2 * np.pi * t))
+    com = np.column_stack([3 * np.sin(theta), 4.4 - 3 * np.cos(theta)])
+    traj = SimpleNamespace(t=t, com=com, links=LINKS, index=LINKS.index)
+    got = _check(traj, [{"swung": {"about": [0, 4.4], "min": 20, "from": 2}},
+                        {"swung": {"about": [0, 4.4], "min": 20, "until": 1.95}},
+                        {"swung": {"about": [0, 4.4], "min": 5, "until": 1.95}},
+                        {"swung": {"about": [1, 4.4], "min": 20, "from": 2}}])
+    assert got[0] == ("ok   swung min 20 deg each way about [0, 4.4] from 2 s to the end: "
+                      "-25.0..25.0 deg from t = 2.00 to 4.00 s")
+    assert got[1].startswith("FAIL") and "-10.0..10.0 deg" in got[1]
+    assert got[2].startswith("ok")
+    assert got[3].startswith("FAIL")  # about a point off to the side: one way only

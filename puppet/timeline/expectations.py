@@ -92,6 +92,11 @@ Each entry names one check:
                                   # full turns in a row of the centre of mass about the
                                   # point the chain holds (or about: [x, y], m), never
                                   # turning back more than slack (10 deg): giant swings
+      - swung: {about: [0.0, 4.4], min: 20, from: 25.0}
+                                  # the centre of mass's angle about that point (deg from
+                                  # straight below it, + toward +x) reached min on both
+                                  # sides in the window (from, until: s): a swing on a
+                                  # rope, not a still hang
       - held: {chains: [hand_near, hand_far], prop: bar, from: 0.0}
                                   # each chain held the prop at every sample (until: s)
       - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
@@ -343,6 +348,18 @@ class AngleWithin(Spec):
         return self
 
 
+class Swung(Spec):
+    """The centre of mass's angle about ``about`` (deg from straight below it, positive
+    toward +x) reached at least ``min`` on both sides (forward and back) between
+    ``from`` and ``until`` s: the body swings (on a rope, under a bar) that far, not a
+    still hang."""
+
+    about: tuple[Num("world_xy"), Num("world_xy")] = Field(description="m: the point")
+    min: Num("angle") = Field(description="deg each way, at least")
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+
+
 class MeanSpeed(Spec):
     """The centre of mass's mean speed along +x over a window: how far it moved between
     the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
@@ -479,6 +496,7 @@ class Expectation(Spec):
     first_touch: FirstTouch | None = None
     on_ground: OnGround | None = None
     angle_within: AngleWithin | None = None
+    swung: Swung | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
@@ -600,6 +618,9 @@ class Expectation(Spec):
                                 if b is not None)
             return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
                     + (f", root {tilt} deg (signed)" if tilt else ""))
+        if isinstance(v, Swung):
+            return (f"swung min {v.min:g} deg each way about [{v.about[0]:g}, "
+                    f"{v.about[1]:g}] from {v.from_:g} s to {_until(v)}")
         if isinstance(v, AngleWithin):
             bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
                                                              ("at most", v.max))
@@ -832,6 +853,20 @@ def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
 
 def _until(v) -> str:
     return "the end" if v.until is None else f"{v.until:g} s"
+
+
+def _swung(desc: str, v: Swung, traj) -> Outcome:
+    """The centre of mass's angle about the point over the window: both extremes."""
+    idx = _samples_in(traj.t, v.from_, v.until)
+    if len(idx) == 0:
+        return _no_samples(desc, traj.t)
+    dx = traj.com[idx, 0] - v.about[0]
+    dy = traj.com[idx, 1] - v.about[1]
+    angle = np.degrees(np.arctan2(dx, -dy))
+    lo, hi = float(angle.min()), float(angle.max())
+    return Outcome(desc, hi >= v.min - 1e-9 and -lo >= v.min - 1e-9,
+                   f"{lo:.1f}..{hi:.1f} deg from t = {traj.t[idx[0]]:.2f} to "
+                   f"{traj.t[idx[-1]]:.2f} s")
 
 
 def _angle_within(desc: str, v: AngleWithin, traj) -> Outcome:
@@ -1125,6 +1160,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                           if length > 0 else ""))
     if isinstance(v, AngleWithin):
         return _angle_within(desc, v, traj)
+    if isinstance(v, Swung):
+        return _swung(desc, v, traj)
     if isinstance(v, MeanSpeed):
         return _mean_speed(desc, v, traj)
     if isinstance(v, FlightPhases):
