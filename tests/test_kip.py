@@ -63,5 +63,15 @@ def test_kip_fails_without_the_snap(tmp_path):
 def test_kip_fails_without_its_key(tmp_path):
     def no_key(iface):
         iface["keys"] = [k for k in iface["keys"] if k.get("key") != "k"]
+        del iface["states"]["rising"]  # nothing leads there any more
     failed = _variant("biped-kip", tmp_path, no_key)
     assert {"got_up", "height_at_end", "flight_phases"} <= failed, failed
+
+
+def test_kip_falls_back_after_the_landing_without_the_rising_maps(tmp_path):
+    """The ankle maps of the state rising gone: it still lands on its feet first, then
+    falls back."""
+    def no_maps(iface):
+        iface["states"]["rising"]["maps"] = []
+    failed = _variant("biped-kip", tmp_path, no_maps)
+    assert "first_touch" not in failed and {"got_up", "height_at_end"} <= failed, failed
