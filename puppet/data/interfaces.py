@@ -22,7 +22,7 @@ from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 
                                 CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data.characters import CharacterSpec
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
-from puppet.data.ranges import AngleChange, Damping, Num, Stiffness, Torque
+from puppet.data.ranges import Angle, AngleChange, Damping, Num, Stiffness, Torque
 from puppet.data.tracking import TrackingSpec
 from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
@@ -251,6 +251,10 @@ class InterfaceSpec(Spec):
     start_pose: str | None = Field(None, description="a pose (plain degrees) the figure is "
                                    "built in at the start, over the character's start "
                                    "joints: hanging from a bar, arms up")
+    start_angle: Angle | None = Field(None, description="the root link's angle at the start "
+                                      "(deg from upright, counter-clockwise positive), "
+                                      "over the character's: 90 lies a figure facing +x "
+                                      "on its back")
     keys: list[KeyActionSpec] = Field(default_factory=list)
     states: dict[str, StateSpec] = Field(default_factory=dict)
     gestures: list[GestureSpec] = Field(default_factory=list,
@@ -294,13 +298,18 @@ class InterfaceSpec(Spec):
 
     def start_character(self, character):
         """The character as this interface starts it: its start joints overlaid with the
-        ``start_pose``'s (the character itself when there is none)."""
-        if self.start_pose is None:
+        ``start_pose``'s, its root at ``start_angle`` (the character itself when there is
+        neither)."""
+        if self.start_pose is None and self.start_angle is None:
             return character
         joints = dict(character.start.joints)
-        joints.update(self.poses[self.start_pose].joint_degrees())
+        if self.start_pose is not None:
+            joints.update(self.poses[self.start_pose].joint_degrees())
+        update = {"joints": joints}
+        if self.start_angle is not None:
+            update["angle"] = self.start_angle
         return character.model_copy(
-            update={"start": character.start.model_copy(update={"joints": joints})})
+            update={"start": character.start.model_copy(update=update)})
 
     @property
     def start_mode(self) -> str | None:

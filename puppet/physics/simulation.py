@@ -84,6 +84,9 @@ class Simulation:
     def _place_at_start(self) -> None:
         c, start = self.character, self.scene_spec.start
         angle = math.radians(self.character_spec.start.angle)
+        # the root turned first: place() puts the origin, then turns the root, and pymunk
+        # turns a body about its centre of gravity (a start_angle would move it off)
+        c.bodies[c.spec.root].angle = angle
         c.place(start.x, 0.0, angle, c.start_joint_angles())
         ground = self.scene_spec.ground_height(start.x)
         floor = start.y if ground is None else max(ground, start.y)

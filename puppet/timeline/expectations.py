@@ -60,6 +60,15 @@ Each entry names one check:
                                   # one stretch of 1 s, the root tipped at least 30 deg
                                   # backward (signed: counter-clockwise, for a character
                                   # facing +x) all the while: sat down on its seat, back
+      - angle_within: {link: pelvis, min: 70, until: 0.5}
+                                  # the link's signed angle from upright (deg, -180..180,
+                                  # counter-clockwise +: tipped backward for a character
+                                  # facing +x) within min..max at every sample from
+                                  # 'from' (default the start) to 'until' (the end):
+                                  # lying on its back at the start; a max over 180
+                                  # takes the angle in max-360..max (a range across
+                                  # upside down): {min: -70, max: 200} over the whole
+                                  # run: never turned onto its front (-160..-70)
       - first_touch: {links: [foot_near, foot_far], min_x: 0.3}
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
@@ -83,6 +92,11 @@ Each entry names one check:
                                   # full turns in a row of the centre of mass about the
                                   # point the chain holds (or about: [x, y], m), never
                                   # turning back more than slack (10 deg): giant swings
+      - swung: {about: [0.0, 4.4], min: 20, from: 25.0}
+                                  # the centre of mass's angle about that point (deg from
+                                  # straight below it, + toward +x) reached min on both
+                                  # sides in the window (from, until: s): a swing on a
+                                  # rope, not a still hang
       - held: {chains: [hand_near, hand_far], prop: bar, from: 0.0}
                                   # each chain held the prop at every sample (until: s)
       - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
@@ -312,6 +326,40 @@ class OnGround(Spec):
                                          description="deg, signed (+ = tipped backward)")
     max_root_angle: float | None = Field(None, ge=-180, le=180,
                                          description="deg, signed (+ = tipped backward)")
+class AngleWithin(Spec):
+    """The link's signed angle from upright (deg, -180..180, counter-clockwise positive:
+    tipped backward for a character facing +x) within ``min``..``max`` at every sample
+    from ``from`` to ``until`` s: on its back at the start, never on its front."""
+
+    link: str
+    min: float | None = Field(None, ge=-180, le=180, description="deg, signed")
+    max: float | None = Field(None, ge=-180, le=540,
+                              description="deg, signed; over 180 the angle is taken in "
+                                          "max-360..max: a range across upside down")
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min' and/or 'max' (deg)")
+        if self.min is not None and self.max is not None and self.max <= self.min:
+            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+        return self
+
+
+class Swung(Spec):
+    """The centre of mass's angle about ``about`` (deg from straight below it, positive
+    toward +x) reached at least ``min`` on both sides (forward and back) between
+    ``from`` and ``until`` s: the body swings (on a rope, under a bar) that far, not a
+    still hang."""
+
+    about: tuple[Num("world_xy"), Num("world_xy")] = Field(description="m: the point")
+    min: Num("angle") = Field(description="deg each way, at least")
+    from_: Time = Field(0.0, alias="from", description="s: window start")
+    until: Time | None = Field(None, description="s: window end (default: the end)")
+
+
 class MeanSpeed(Spec):
     """The centre of mass's mean speed along +x over a window: how far it moved between
     the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
@@ -447,6 +495,8 @@ class Expectation(Spec):
     took_off: TookOff | None = None
     first_touch: FirstTouch | None = None
     on_ground: OnGround | None = None
+    angle_within: AngleWithin | None = None
+    swung: Swung | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
@@ -568,6 +618,15 @@ class Expectation(Spec):
                                 if b is not None)
             return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
                     + (f", root {tilt} deg (signed)" if tilt else ""))
+        if isinstance(v, Swung):
+            return (f"swung min {v.min:g} deg each way about [{v.about[0]:g}, "
+                    f"{v.about[1]:g}] from {v.from_:g} s to {_until(v)}")
+        if isinstance(v, AngleWithin):
+            bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
+                                                             ("at most", v.max))
+                                  if b is not None)
+            return (f"angle_within {v.link} {bounds} deg (signed) from {v.from_:g} s "
+                    f"to {_until(v)}")
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
@@ -794,6 +853,43 @@ def _followed(e: Expectation, v: FollowedChannels, traj) -> Outcome:
 
 def _until(v) -> str:
     return "the end" if v.until is None else f"{v.until:g} s"
+
+
+def _swung(desc: str, v: Swung, traj) -> Outcome:
+    """The centre of mass's angle about the point over the window: both extremes."""
+    idx = _samples_in(traj.t, v.from_, v.until)
+    if len(idx) == 0:
+        return _no_samples(desc, traj.t)
+    dx = traj.com[idx, 0] - v.about[0]
+    dy = traj.com[idx, 1] - v.about[1]
+    angle = np.degrees(np.arctan2(dx, -dy))
+    lo, hi = float(angle.min()), float(angle.max())
+    return Outcome(desc, hi >= v.min - 1e-9 and -lo >= v.min - 1e-9,
+                   f"{lo:.1f}..{hi:.1f} deg from t = {traj.t[idx[0]]:.2f} to "
+                   f"{traj.t[idx[-1]]:.2f} s")
+
+
+def _angle_within(desc: str, v: AngleWithin, traj) -> Outcome:
+    """The samples of the window whose signed angle is out of bounds: the first of them
+    and the range the angle took."""
+    idx = _samples_in(traj.t, v.from_, v.until)
+    if len(idx) == 0:
+        return _no_samples(desc, traj.t)
+    # in (top - 360, top]: -180..180, or across upside down when max is over 180
+    top = 180.0 if v.max is None or v.max <= 180 else v.max
+    angle = top - np.remainder(top - np.degrees(traj.angle[idx, traj.index(v.link)]), 360.0)
+    out = np.zeros(len(idx), dtype=bool)
+    if v.min is not None:
+        out |= angle < v.min
+    if v.max is not None:
+        out |= angle > v.max
+    span = (f"{v.link} {angle.min():.0f}..{angle.max():.0f} deg from t = "
+            f"{traj.t[idx[0]]:.2f} to {traj.t[idx[-1]]:.2f} s")
+    if not out.any():
+        return Outcome(desc, True, span)
+    k = int(np.flatnonzero(out)[0])
+    return Outcome(desc, False, f"{span}; out at t = {traj.t[idx[k]]:.2f} s "
+                                f"({angle[k]:.0f} deg)")
 
 
 def _mean_speed(desc: str, v: MeanSpeed, traj) -> Outcome:
@@ -1062,6 +1158,10 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
                        + (f" (t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s, root "
                           f"{angle[i:j + 1].min():.0f}..{angle[i:j + 1].max():.0f} deg)"
                           if length > 0 else ""))
+    if isinstance(v, AngleWithin):
+        return _angle_within(desc, v, traj)
+    if isinstance(v, Swung):
+        return _swung(desc, v, traj)
     if isinstance(v, MeanSpeed):
         return _mean_speed(desc, v, traj)
     if isinstance(v, FlightPhases):

@@ -1,0 +1,77 @@
+"""The gymnast's kip (interfaces/biped-kip.yaml): a figure that starts lying on its back."""
+
+from __future__ import annotations
+
+import math
+
+from puppet.data.catalog import load_setup
+from puppet.session import Session
+
+
+def test_start_angle_lays_the_figure_on_its_back_on_the_ground():
+    """start_angle: 90 turns the root counter-clockwise (a figure facing +x on its back),
+    and the figure is put on the ground, not through it (the root is turned before it
+    is placed: pymunk turns a body about its centre of gravity)."""
+    session = Session(load_setup("biped-kip", None))
+    c = session.sim.character
+    assert math.degrees(c.bodies["pelvis"].angle) == 90.0
+    assert abs(c.lowest_point() - 0.002) < 1e-9
+    chest, pelvis = c.bodies["chest"].position, c.bodies["pelvis"].local_to_world((0, 0))
+    assert c.bodies["head"].local_to_world(c.bodies["head"].center_of_gravity).x < pelvis.x
+    assert abs(chest.y - pelvis.y) < 1e-9
+
+
+# -- the log ------------------------------------------------------------------------------
+from tests.test_floor import LOGS, _variant  # noqa: E402
+
+from puppet.testing import replay_log  # noqa: E402
+
+
+def test_kip_log_starts_on_its_back_flies_lands_on_its_feet_and_stands():
+    result = replay_log(LOGS / "biped-kip.jsonl")
+    assert not result.failed, [str(o) for o in result.failed]
+    kinds = {o.expectation.split()[0].rstrip(":") for o in result.outcomes}
+    assert {"angle_within", "flight_phases", "first_touch", "got_up", "tilt_at_end",
+            "height_at_end", "touching_at_end"} <= kinds
+
+
+def _hips(torque):
+    def edit(iface):
+        for j in ("hip_near", "hip_far"):
+            iface["gains"][j] = {"max_torque": torque}
+    return edit
+
+
+def test_kip_fails_with_the_characters_own_hips(tmp_path):
+    """At the character's 250 N*m the snap does not get the feet under the body."""
+    assert "first_touch" in _variant("biped-kip", tmp_path, _hips(250))
+
+
+def test_kip_fails_on_a_slippery_floor(tmp_path):
+    failed = _variant("biped-kip", tmp_path, friction=0.3)
+    assert {"tilt_at_end", "height_at_end"} & failed, failed
+
+
+def test_kip_fails_without_the_snap(tmp_path):
+    """The sequence with its snap pose taken out: the rock alone does not kip."""
+    def no_snap(iface):
+        iface["sequences"]["kip"] = [s for s in iface["sequences"]["kip"]
+                                     if s["pose"] != "snap"]
+    assert "first_touch" in _variant("biped-kip", tmp_path, no_snap)
+
+
+def test_kip_fails_without_its_key(tmp_path):
+    def no_key(iface):
+        iface["keys"] = [k for k in iface["keys"] if k.get("key") != "k"]
+        del iface["states"]["rising"]  # nothing leads there any more
+    failed = _variant("biped-kip", tmp_path, no_key)
+    assert {"got_up", "height_at_end", "flight_phases"} <= failed, failed
+
+
+def test_kip_falls_back_after_the_landing_without_the_rising_maps(tmp_path):
+    """The ankle maps of the state rising gone: it still lands on its feet first, then
+    falls back."""
+    def no_maps(iface):
+        iface["states"]["rising"]["maps"] = []
+    failed = _variant("biped-kip", tmp_path, no_maps)
+    assert "first_touch" not in failed and {"got_up", "height_at_end"} <= failed, failed
