@@ -1,7 +1,7 @@
 """The gymnast climbs the ladder (interfaces/biped-gymnast.yaml on the ladder scene, logs
-biped-gymnast-climb-bound): the log's expectations hold, and fail by name without
-rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
-without the mapping's mode key."""
+biped-gymnast-climb-bound and -trot): the logs' expectations hold, and fail by name
+without rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
+without the mapping's mode key (2 for the bound, 3 for the trot)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from puppet.data.catalog import ROOT, find
 from puppet.testing import replay_log
 from tests.helpers import copy_log
 
-LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound",)]
+LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound", "trot")]
 CLIMB = {"regrasps", "always_holding", "reached_height", "held_point"}
 
 
