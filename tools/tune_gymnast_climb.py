@@ -11,12 +11,14 @@ that move (z / x for a hand, a / s for a foot; a foot still on the floor is only
 one stroke of the mouse and, a moment later, the same keys again (armed: each limb
 catches the first rung that comes within 5 cm of it).
 
-The bound pattern: the feet together with the mouse up (legs gather, arms pull the
-body up to the hands), then the hands together with the mouse down (legs push the body
-up on the rigid feet, arms reach up); three rounds, and the feet twice more. A foot
-aims for the rung above its own (from the floor: four under the hands, the stretch that
-reaches the next rung), a hand for the rung above its own: strokes that land there rank
-first. The hands' fourth rung (rung 10) is out of reach from rung 9.
+The bound pattern: d brings the hands to the rung at 1.5 m (rung 5); then the feet
+together with the mouse up (legs gather, arms pull the body up to the hands), then the
+hands together with the mouse down (legs push the body up on the rigid feet, arms
+reach up); four rounds, and the feet twice more. A foot aims for the rung above its own
+(from the floor: four under the hands, the stretch that reaches the next rung), a hand
+for the rung above its own: strokes that land there rank first. (Started from rung 6
+with e, the hands' fourth rung, rung 10, is out of reach from rung 9: the body falls
+back off the feet as both hands let go.)
 
 The trot pattern: both feet onto rung 2 as in the bound, then 3 (the trot mapping) and
 the diagonal pairs by turns, four rounds - the near hand and the far foot with the
@@ -30,7 +32,7 @@ so the recorded log is the searched run bit for bit); each candidate stroke - mo
 from that checkpoint. A stroke counts if the limbs moved each hold a rung above the one
 they left and every limb holds at the end of the phase; they rank by how near the
 moved limbs land to the rungs aimed for, then by the height of the centre of mass.
-Depth first: the best stroke of a phase is kept, and the next (up to ``KEEP``) tried
+Depth first: the best stroke of a phase is kept, and the next (up to ``KEEP[pattern]``) tried
 if the phases after it find nothing. The grid is fixed, so the search is deterministic
 (about 3 minutes on a loaded machine). The script is then recorded as a log in a
 temporary folder and replayed with its ``.expect.yaml`` sidecar (exit 1 if an
@@ -72,9 +74,9 @@ UP, DOWN = (0.8, 0.9, 1.0), (0.0, 0.2, 0.3, 0.4)  # mouse y targets of a stroke
 # pattern -> (mode key, pose key, mouse y at the start of the rounds, phases: (limbs,
 # y targets, rungs from the feet up to the hands a foot aims for), what it does)
 PATTERNS = {
-    "bound": ("2", "e", 0.0, [(FEET, UP, 4), (HANDS, DOWN, 4)] * 3
+    "bound": ("2", "d", 0.0, [(FEET, UP, 4), (HANDS, DOWN, 4, 0.0)] * 4
               + [(FEET, UP, 4), (FEET, UP, 3)],
-              "both feet together, then both hands together, three rounds, and the feet "
+              "both feet together, then both hands together, four rounds, and the feet "
               "twice more"),
     "trot": ("2", "e", 0.0, [(FEET, UP, 4), "3"]
              + [(("hand_near", "foot_far"), UP, 4, 1.0),
@@ -89,7 +91,7 @@ REARM = (0.15, 0.35)  # s after the let-go the keys come again
 HAND_XS = (0.6, 0.7, 0.8, 0.9, 1.0)  # the waist bent forward: the body leans to the rungs
 HAND_REARM = (0.35, 0.6)  # later: clear of the rung the hands left
 PRELOAD = 0.4  # s the mouse takes to the stroke's far end before a trot let-go
-KEEP = 3  # strokes of a phase tried before going back to the phase before
+KEEP = {"bound": 2, "trot": 3}  # strokes of a phase tried before going back to the phase before
 
 
 def rung(sim, name: str) -> int:
@@ -170,7 +172,7 @@ def ranked(pattern: str, entries: list[dict], t: float, limbs, ys, gap: int,
 
 def search(pattern: str) -> tuple[list[dict], float]:
     """Depth first over the phases: each phase's strokes best first, the next
-    ``KEEP`` tried if the phases after it find nothing."""
+    ``KEEP[pattern]`` tried if the phases after it find nothing."""
     mode, pose, y0, phases, _ = PATTERNS[pattern]
     first = start(pose) + [{"t": 1.2, "key": mode},
                            {"t": 1.2, "mouse": [0.5, y0], "over": 0.5}]
@@ -183,7 +185,7 @@ def search(pattern: str) -> tuple[list[dict], float]:
                       round(t + 0.01, 4), number + 1)
         limbs, ys, gap, *pre = phases[number]
         for value, row, end, now in ranked(pattern, entries, t, limbs, ys, gap,
-                                           *pre)[:KEEP]:
+                                           *pre)[:KEEP[pattern]]:
             print(f"{'  ' * number}phase {number} ({', '.join(limbs)}): "
                   f"{[e for e in row if 'mouse' in e][0]} -> {now}, com y {value[1]:.2f}",
                   flush=True)
