@@ -69,3 +69,14 @@ def test_without_the_mode_key_the_mouse_climbs_nothing(tmp_path, log):
         spec["keys"] = [k for k in spec["keys"] if str(k["key"]) != mode]
     failed = _failed(tmp_path, log, no_key)
     assert "stayed_in_mode" in failed and CLIMB & failed
+
+
+def test_with_the_arms_gathering_with_their_diagonal_legs_the_trot_climbs_nothing(tmp_path):
+    """The trot map before the climb: each arm gathered with its diagonal leg, so the
+    hand that reaches came down as its diagonal foot went up."""
+    def old_trot(spec):
+        for row in spec["modes"]["trot"]:
+            if set(row.get("joints", {})) & {"shoulder_near", "elbow_near", "shoulder_far",
+                                               "elbow_far"}:
+                row["to"] = list(reversed(row["to"]))
+    assert CLIMB & _failed(tmp_path, LOGS[1], old_trot)
