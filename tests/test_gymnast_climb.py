@@ -1,7 +1,7 @@
 """The gymnast climbs the ladder (interfaces/biped-gymnast.yaml on the ladder scene, logs
-biped-gymnast-climb-bound): the log's expectations hold, and fail by name without
-rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
-without the mapping's mode key."""
+biped-gymnast-climb-bound and -trot): the logs' expectations hold, and fail by name
+without rigid grasps (of the feet, or of the hands), with the figure's own shoulders, or
+without the mapping's mode key (2 for the bound, 3 for the trot)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from puppet.data.catalog import ROOT, find
 from puppet.testing import replay_log
 from tests.helpers import copy_log
 
-LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound",)]
+LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound", "trot")]
 CLIMB = {"regrasps", "always_holding", "reached_height", "held_point"}
 
 
@@ -69,3 +69,14 @@ def test_without_the_mode_key_the_mouse_climbs_nothing(tmp_path, log):
         spec["keys"] = [k for k in spec["keys"] if str(k["key"]) != mode]
     failed = _failed(tmp_path, log, no_key)
     assert "stayed_in_mode" in failed and CLIMB & failed
+
+
+def test_with_the_arms_gathering_with_their_diagonal_legs_the_trot_climbs_nothing(tmp_path):
+    """The trot map before the climb: each arm gathered with its diagonal leg, so the
+    hand that reaches came down as its diagonal foot went up."""
+    def old_trot(spec):
+        for row in spec["modes"]["trot"]:
+            if set(row.get("joints", {})) & {"shoulder_near", "elbow_near", "shoulder_far",
+                                               "elbow_far"}:
+                row["to"] = list(reversed(row["to"]))
+    assert CLIMB & _failed(tmp_path, LOGS[1], old_trot)
