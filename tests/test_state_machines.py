@@ -265,3 +265,56 @@ def test_every_controller_running_at_once_comes_back_exactly_from_a_checkpoint(t
     play(s, [e for e in events if e[0] > 500], 1500)
     assert s.sim.state_hash() == want
     assert s.runtime.get_state() == straight.runtime.get_state()
+
+
+MOUSE_GEARS = """
+name: t
+description: the mouse's x as a transition sensor
+character: luxo
+control_rate: 120
+poses:
+  low: {joints: {knee: 40}}
+  high: {joints: {knee: 90}}
+states:
+  slow:
+    enter: {pose: low}
+    transitions:
+      - {to: fast, when: {sensor: input.mouse.x, above: 0.7}}
+  fast:
+    enter: {pose: high}
+    transitions:
+      - {to: slow, when: {sensor: input.mouse.x, below: 0.6}}
+"""
+
+
+def test_a_state_changes_on_a_device_input_and_not_before_it_has_a_value(tmp_path):
+    """input.mouse.x is the mouse's x (0..1) as a sensor: no condition on it holds
+    until the mouse has moved (a below: 0.6 would otherwise fire at once), then the
+    state follows it both ways, with the gap between 0.6 and 0.7 as hysteresis."""
+    s = session(tmp_path, MOUSE_GEARS.replace("to: fast, when: {sensor: input.mouse.x, "
+                                              "above: 0.7}",
+                                              "to: fast, when: {sensor: input.mouse.x, "
+                                              "below: 0.6}"))
+    s.advance(60)
+    assert s.runtime.states["main"] == "slow"  # NaN: below 0.6 does not hold yet
+    s = session(tmp_path, MOUSE_GEARS)
+    seen = []
+    for x in (0.5, 0.65, 0.75, 0.65, 0.55, 0.8):
+        s.handle(ev.mouse(x, 0.5))
+        s.advance(8)
+        seen.append(s.runtime.states["main"])
+    assert seen == ["slow", "slow", "fast", "fast", "slow", "fast"]
+    assert s.character.servos["knee"].target == pytest.approx(math.radians(90))
+
+
+@pytest.mark.parametrize("sensor, message", [
+    ("input.mouse.z", "unknown input 'mouse.z'"),
+    ("input.sensor.com.vx", "is not a device input"),
+])
+def test_a_bad_device_input_sensor_is_a_one_line_error(tmp_path, sensor, message):
+    path = tmp_path / "t.yaml"
+    path.write_text(textwrap.dedent(MOUSE_GEARS).replace("input.mouse.x, above",
+                                                         f"{sensor}, above"))
+    with pytest.raises(DataError, match=message) as info:
+        check_file(path)
+    assert str(info.value).startswith(f"{path}:13:35: ") and "\n" not in str(info.value)
