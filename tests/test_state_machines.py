@@ -318,3 +318,37 @@ def test_a_bad_device_input_sensor_is_a_one_line_error(tmp_path, sensor, message
     with pytest.raises(DataError, match=message) as info:
         check_file(path)
     assert str(info.value).startswith(f"{path}:13:35: ") and "\n" not in str(info.value)
+
+
+def test_a_pose_caps_a_servos_torque_until_another_pose_does(tmp_path):
+    """A pose's max_torque, like its stiffness, is the servo's from then on: Luxo's
+    knee capped at 0.05 N*m gives no more than that and gives way under the arm's
+    weight, where the uncapped knee holds its angle; the next pose lifts the cap."""
+    text = """
+name: t
+description: a pose's torque cap
+character: luxo
+poses:
+  weak: {joints: {knee: 55}, max_torque: {knee: 0.05}}
+  strong: {joints: {knee: 55}, max_torque: {knee: 40}}
+keys:
+  - {key: w, pose: weak}
+  - {key: s, pose: strong}
+"""
+    moved = {}
+    for key in ("w", "s"):
+        s = session(tmp_path, text)
+        s.advance(240)
+        knee = s.character.servos["knee"]
+        before = knee.angle
+        press(s, key)
+        torques = []
+        for _ in range(120):
+            s.advance(1)
+            torques.append(abs(knee.torque(s.sim.dt)))
+        moved[key] = abs(knee.angle - before)
+        if key == "w":
+            assert knee.max_torque == 0.05 and max(torques) <= 0.05 + 1e-9
+            press(s, "s")
+            assert knee.max_torque == 40
+    assert moved["w"] > math.radians(10) and moved["s"] < moved["w"] / 10, moved

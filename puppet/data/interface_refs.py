@@ -290,7 +290,7 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
     for name in spec.gains:
         need(("gains", name), name, True)
     for pose_name, pose in spec.poses.items():
-        for field in ("joints", "stiffness", "damping"):
+        for field in ("joints", "stiffness", "damping", "max_torque"):
             for name in getattr(pose, field):
                 need(("poses", pose_name, field, name), name, True)
         for name, deg in pose.joints.items():
