@@ -265,3 +265,90 @@ def test_every_controller_running_at_once_comes_back_exactly_from_a_checkpoint(t
     play(s, [e for e in events if e[0] > 500], 1500)
     assert s.sim.state_hash() == want
     assert s.runtime.get_state() == straight.runtime.get_state()
+
+
+MOUSE_GEARS = """
+name: t
+description: the mouse's x as a transition sensor
+character: luxo
+control_rate: 120
+poses:
+  low: {joints: {knee: 40}}
+  high: {joints: {knee: 90}}
+states:
+  slow:
+    enter: {pose: low}
+    transitions:
+      - {to: fast, when: {sensor: input.mouse.x, above: 0.7}}
+  fast:
+    enter: {pose: high}
+    transitions:
+      - {to: slow, when: {sensor: input.mouse.x, below: 0.6}}
+"""
+
+
+def test_a_state_changes_on_a_device_input_and_not_before_it_has_a_value(tmp_path):
+    """input.mouse.x is the mouse's x (0..1) as a sensor: no condition on it holds
+    until the mouse has moved (a below: 0.6 would otherwise fire at once), then the
+    state follows it both ways, with the gap between 0.6 and 0.7 as hysteresis."""
+    s = session(tmp_path, MOUSE_GEARS.replace("to: fast, when: {sensor: input.mouse.x, "
+                                              "above: 0.7}",
+                                              "to: fast, when: {sensor: input.mouse.x, "
+                                              "below: 0.6}"))
+    s.advance(60)
+    assert s.runtime.states["main"] == "slow"  # NaN: below 0.6 does not hold yet
+    s = session(tmp_path, MOUSE_GEARS)
+    seen = []
+    for x in (0.5, 0.65, 0.75, 0.65, 0.55, 0.8):
+        s.handle(ev.mouse(x, 0.5))
+        s.advance(8)
+        seen.append(s.runtime.states["main"])
+    assert seen == ["slow", "slow", "fast", "fast", "slow", "fast"]
+    assert s.character.servos["knee"].target == pytest.approx(math.radians(90))
+
+
+@pytest.mark.parametrize("sensor, message", [
+    ("input.mouse.z", "unknown input 'mouse.z'"),
+    ("input.sensor.com.vx", "is not a device input"),
+])
+def test_a_bad_device_input_sensor_is_a_one_line_error(tmp_path, sensor, message):
+    path = tmp_path / "t.yaml"
+    path.write_text(textwrap.dedent(MOUSE_GEARS).replace("input.mouse.x, above",
+                                                         f"{sensor}, above"))
+    with pytest.raises(DataError, match=message) as info:
+        check_file(path)
+    assert str(info.value).startswith(f"{path}:13:35: ") and "\n" not in str(info.value)
+
+
+def test_a_pose_caps_a_servos_torque_until_another_pose_does(tmp_path):
+    """A pose's max_torque, like its stiffness, is the servo's from then on: Luxo's
+    knee capped at 0.05 N*m gives no more than that and gives way under the arm's
+    weight, where the uncapped knee holds its angle; the next pose lifts the cap."""
+    text = """
+name: t
+description: a pose's torque cap
+character: luxo
+poses:
+  weak: {joints: {knee: 55}, max_torque: {knee: 0.05}}
+  strong: {joints: {knee: 55}, max_torque: {knee: 40}}
+keys:
+  - {key: w, pose: weak}
+  - {key: s, pose: strong}
+"""
+    moved = {}
+    for key in ("w", "s"):
+        s = session(tmp_path, text)
+        s.advance(240)
+        knee = s.character.servos["knee"]
+        before = knee.angle
+        press(s, key)
+        torques = []
+        for _ in range(120):
+            s.advance(1)
+            torques.append(abs(knee.torque(s.sim.dt)))
+        moved[key] = abs(knee.angle - before)
+        if key == "w":
+            assert knee.max_torque == 0.05 and max(torques) <= 0.05 + 1e-9
+            press(s, "s")
+            assert knee.max_torque == 40
+    assert moved["w"] > math.radians(10) and moved["s"] < moved["w"] / 10, moved

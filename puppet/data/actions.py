@@ -94,6 +94,8 @@ class PoseSpec(Spec):
     joints: dict[str, Target] = Field(description="joint -> target, degrees")
     stiffness: dict[str, Stiffness] = Field(default_factory=dict)
     damping: dict[str, Damping] = Field(default_factory=dict)
+    max_torque: dict[str, Torque] = Field(default_factory=dict,
+                                          description="joint -> N*m the servo may give")
 
     def joint_degrees(self) -> dict[str, float]:
         """The targets given as joint angles (degrees); frame targets left out."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
-from puppet.data.actions import ActionSpec
+from puppet.data.actions import ActionSpec, check_input_name
 from puppet.data.characters import CharacterSpec
 from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
@@ -227,6 +227,16 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
     if sensor.startswith("channel."):  # an input channel (a mocap plugin's): any name
         return None if len(sensor) > len("channel.") else "a channel sensor needs a " \
             "name: channel.NAME"
+    if sensor.startswith("input."):  # a device input (the mouse, a gamepad's stick)
+        name = sensor[len("input."):]
+        try:
+            if name.startswith(("channel.", "sensor.")):
+                raise ValueError(f"'{name}' is not a device input; write it as a sensor "
+                                 "of its own (channel.NAME, or the sensor's name)")
+            check_input_name(name)
+        except ValueError as exc:
+            return str(exc)
+        return None
     for role, targets in (roles or {}).items():
         if sensor.endswith("." + role):
             for name in targets.values():
@@ -248,7 +258,7 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
         return None if name in links else unknown("link", name, links,
                                                   f" for character '{character.name}'")
     forms = list(FIXED_SENSORS) + [f"{k}.JOINT" for k in JOINT_SENSORS] + \
-        [f"{k}.LINK" for k in LINK_SENSORS] + ["channel.NAME"]
+        [f"{k}.LINK" for k in LINK_SENSORS] + ["channel.NAME", "input.INPUT"]
     return unknown("sensor", sensor, forms)
 
 
@@ -280,7 +290,7 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
     for name in spec.gains:
         need(("gains", name), name, True)
     for pose_name, pose in spec.poses.items():
-        for field in ("joints", "stiffness", "damping"):
+        for field in ("joints", "stiffness", "damping", "max_torque"):
             for name in getattr(pose, field):
                 need(("poses", pose_name, field, name), name, True)
         for name, deg in pose.joints.items():
@@ -290,6 +300,9 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             name = getattr(m, field, None)
             if isinstance(name, str) and name.startswith("sensor."):
                 problem = sensor_problem(name[len("sensor."):], character, spec.roles)
+                if name.startswith("sensor.input."):
+                    problem = (f"a map reads a device input as itself: write "
+                               f"'{name[len('sensor.input.'):]}', not '{name}'")
                 if problem:
                     raise located.error(loc + (field,), problem)
         if getattr(m, "grid", None) is not None:

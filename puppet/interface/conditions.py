@@ -105,14 +105,20 @@ def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
 
 
 _NAN = float("nan")
+INPUT = "input."  # a device input as a sensor: input.mouse.x, input.gamepad.left_x
 
 
-def reader(sensor: str, character: Character, channels: dict | None = None) -> Reader:
+def reader(sensor: str, character: Character, channels: dict | None = None,
+           inputs: dict | None = None) -> Reader:
     """A zero-argument reader of the sensor's current value (SI units). ``channel.NAME``
     reads the input channel from ``channels`` (the runtime's), in the plugin's own
-    units; NaN - no condition holds - until its first value comes."""
+    units; ``input.NAME`` a device input (``input.mouse.x``: 0 .. 1) from ``inputs``
+    (the runtime's); either is NaN - no condition holds - until its first value comes."""
     if sensor.startswith("channel."):
         name, values = sensor[len("channel."):], channels if channels is not None else {}
+        return lambda: values.get(name, _NAN)
+    if sensor.startswith(INPUT):
+        name, values = sensor[len(INPUT):], inputs if inputs is not None else {}
         return lambda: values.get(name, _NAN)
     make, _, args = _lookup(sensor)
     return make(character, *args)
@@ -133,7 +139,7 @@ def compile_bounds(spec: ConditionSpec) -> tuple[float, float] | None:
     test, for a state machine to compare without a call); None for an ``is`` test."""
     if spec.is_ is not None:
         return None
-    angle = not spec.sensor.startswith("channel.") and _lookup(spec.sensor)[1]
+    angle = not spec.sensor.startswith(("channel.", INPUT)) and _lookup(spec.sensor)[1]
     conv = math.radians if angle else float
     lo = conv(spec.above) if spec.above is not None else -math.inf
     hi = conv(spec.below) if spec.below is not None else math.inf

@@ -40,10 +40,12 @@ class Pose:
     stiffness: dict[str, float] = field(default_factory=dict)
     damping: dict[str, float] = field(default_factory=dict)
     frames: dict[str, FrameTarget] = field(default_factory=dict)  # joint -> in another frame
+    max_torque: dict[str, float] = field(default_factory=dict)  # joint -> N*m
 
     @property
     def joints(self) -> set[str]:
-        return set(self.targets) | set(self.stiffness) | set(self.damping) | set(self.frames)
+        return (set(self.targets) | set(self.stiffness) | set(self.damping)
+                | set(self.frames) | set(self.max_torque))
 
 
 def compile_pose(spec: PoseSpec, rename=lambda n: n) -> Pose:
@@ -57,7 +59,8 @@ def compile_pose(spec: PoseSpec, rename=lambda n: n) -> Pose:
         else:
             targets[rename(j)] = math.radians(v)
     return Pose(targets, {rename(j): k for j, k in spec.stiffness.items()},
-                {rename(j): d for j, d in spec.damping.items()}, frames)
+                {rename(j): d for j, d in spec.damping.items()}, frames,
+                {rename(j): t for j, t in spec.max_torque.items()})
 
 
 def compile_poses(specs: dict[str, PoseSpec], rename=lambda n: n) -> dict[str, Pose]:
@@ -79,6 +82,9 @@ def apply_pose(servos, pose: Pose, only: set[str] | None = None, frames=None,
     for joint, d in pose.damping.items():
         if only is None or joint in only:
             servos[joint].damping = d
+    for joint, t in pose.max_torque.items():
+        if only is None or joint in only:
+            servos[joint].max_torque = t
     if pose.frames and frames is not None:
         for joint, target in pose.frames.items():
             if only is None or joint in only:

@@ -75,7 +75,9 @@ class InterfaceRuntime:
         self.bindings = {normalize_key(k.key): k for k in spec.keys}
         machines = spec.state_machines()
         self.channels: dict[str, float] = {}  # channel.NAME inputs, by bare NAME
-        self.machines = {name: StateMachine(name, m, spec, character, self.dt, self.channels)
+        self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
+        self.machines = {name: StateMachine(name, m, spec, character, self.dt, self.channels,
+                                            self.inputs)
                          for name, m in machines.items()}
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
@@ -87,7 +89,6 @@ class InterfaceRuntime:
         self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys}
                              for mname, m in machines.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
-        self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
         self.held: set[str] = set()
         self.owners = JointOwners()
         servos = character.servos

@@ -17,9 +17,10 @@ from puppet.interface.ownership import Owner
 
 class StateMachine:
     def __init__(self, name: str, machine, interface, character, dt: float,
-                 channels: dict | None = None):
+                 channels: dict | None = None, inputs: dict | None = None):
         self.name = name
         self.channels = channels  # the runtime's input channels (``channel.NAME`` sensors)
+        self.inputs = inputs  # the runtime's device inputs (``input.NAME`` sensors)
         self.spec = machine
         # Sensor conditions are polled at the control rate, on steps that are multiples
         # of ``every`` (absolute, so how advance() calls are split does not matter).
@@ -58,7 +59,7 @@ class StateMachine:
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
         shared = list(machine.any_state.transitions)
         readers = {t.when.sensor: reader(rename(t.when.sensor), self.character,
-                                         self.channels)
+                                         self.channels, self.inputs)
                    for state in machine.states.values()
                    for t in [*state.transitions, *shared] if t.when is not None}
 
