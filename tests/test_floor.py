@@ -304,3 +304,22 @@ def test_backflip_fails_without_the_landing_state(tmp_path):
 
 def test_backflip_fails_when_f_is_moved(tmp_path):
     assert "turned" in _variant("biped-backflip", tmp_path, _moved_key("f"))
+
+
+def test_wall_flip_log_pushes_off_the_wall_turns_and_lands_on_the_feet():
+    result = replay_log(LOGS / "biped-wall-flip.jsonl")
+    assert not result.failed, [str(o) for o in result.failed]
+
+
+def test_wall_flip_fails_with_weak_legs(tmp_path):
+    """Hips and knees capped at 150 N*m: the push off the wall does not turn it over."""
+    assert "turned" in _variant("biped-wall-flip", tmp_path, _weak_legs)
+
+
+def test_wall_flip_fails_on_a_slippery_wall(tmp_path):
+    """At 0.3 of the friction (the wall's and the floor's) the push does not turn it over."""
+    assert "turned" in _variant("biped-wall-flip", tmp_path, friction=0.3)
+
+
+def test_wall_flip_fails_when_w_is_moved(tmp_path):
+    assert "touched" in _variant("biped-wall-flip", tmp_path, _moved_key("w"))
