@@ -215,3 +215,111 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet():
     iface = yaml.safe_load(find("interface", "biped-floor").read_text(encoding="utf-8"))
     del iface["poses"]["flip_jump"]["damping"]
     assert not turned(flip(yaml.safe_dump(iface))).passed
+
+
+# -- touched: a foot on the wall ---------------------------------------------------------
+class _Feet:
+    """Links foot and hand sampled every 0.1 s: contact, lowest point and x given."""
+
+    links = ["foot", "hand"]
+
+    def __init__(self, contact, lowest, x):
+        self.t = np.arange(len(contact)) * 0.1
+        self.contact = np.array(contact, dtype=bool)
+        self.lowest = np.array(lowest, dtype=float)
+        self.x = np.array(x, dtype=float)
+
+    def index(self, link):
+        return self.links.index(link)
+
+
+#            on the floor  foot on the wall  in the air   hand up high, in the air   down
+WALL_C = [[1, 0], [1, 0], [1, 0], [0, 0], [0, 0], [0, 0], [0, 0], [1, 0]]
+WALL_LOW = [[0, 1], [0.4, 1], [0.5, 1], [1, 1], [1, 1.2], [1, 1], [1, 1], [0, 1]]
+WALL_X = [[0, 0], [0.55, 0], [0.55, 0], [0.3, 0], [0.1, 0], [0, 0], [-0.3, 0], [-0.6, 0]]
+
+
+def test_touched_finds_a_foot_up_on_the_wall_before_the_flight():
+    got = _outcome({"touched": {"links": ["foot"], "min_height": 0.3, "min_x": 0.5,
+                                "before_flight": True}}, _Feet(WALL_C, WALL_LOW, WALL_X))
+    assert got.passed and got.measured == ("foot touched at t = 0.10 s, lowest point "
+                                           "0.400 m up, x = 0.550 m")
+    higher = _outcome({"touched": {"links": ["foot"], "min_height": 0.6}},
+                      _Feet(WALL_C, WALL_LOW, WALL_X))
+    assert not higher.passed and higher.measured.endswith("(highest touch 0.500 m up)")
+    further = _outcome({"touched": {"links": ["foot"], "min_height": 0.3, "min_x": 0.6}},
+                       _Feet(WALL_C, WALL_LOW, WALL_X))
+    assert not further.passed
+    # the hand never touches; the foot's touch after the flight (on the floor) is low
+    assert not _outcome({"touched": {"links": ["hand"], "min_height": 0.0}},
+                        _Feet(WALL_C, WALL_LOW, WALL_X)).passed
+
+
+def test_touched_before_flight_ignores_a_touch_after_the_longest_flight():
+    late = [[1, 0], [1, 0], [0, 0], [0, 0], [0, 0], [1, 0], [1, 0], [1, 0]]
+    low = [[0, 1], [0, 1], [1, 1], [1, 1], [1, 1], [0.5, 1], [0.5, 1], [0, 1]]
+    item = {"links": ["foot"], "min_height": 0.3}
+    assert _outcome({"touched": item}, _Feet(late, low, WALL_X)).passed
+    got = _outcome({"touched": {**item, "before_flight": True}}, _Feet(late, low, WALL_X))
+    assert not got.passed and got.measured == "never touched that high (highest touch 0.000 m up)"
+
+
+# -- the back flips ----------------------------------------------------------------------
+def _weak_legs(iface: dict) -> None:
+    """Hips and knees at 150 N*m instead of 250 (a weaker figure's legs)."""
+    for j in ("hip_near", "hip_far", "knee_near", "knee_far"):
+        iface["gains"][j] = {"stiffness": 1000, "damping": 50, "max_torque": 150}
+
+
+def _moved_key(name: str):
+    def edit(iface: dict) -> None:
+        for k in iface["keys"]:
+            if k["key"] == name:
+                k["key"] = "j"
+    return edit
+
+
+def test_backflip_log_turns_in_the_air_lands_on_the_feet_and_stands():
+    result = replay_log(LOGS / "biped-backflip.jsonl")
+    assert not result.failed, [str(o) for o in result.failed]
+
+
+def test_backflip_fails_with_weak_legs(tmp_path):
+    """Hips and knees capped at 150 N*m: the take-off is too weak to turn it over."""
+    assert "turned" in _variant("biped-backflip", tmp_path, _weak_legs)
+
+
+def test_backflip_fails_on_a_slippery_floor(tmp_path):
+    assert {"never_fell", "height_at_end"} & _variant("biped-backflip", tmp_path, friction=0.3)
+
+
+def test_backflip_fails_without_the_landing_state(tmp_path):
+    """The state entered at the touch-down does nothing (no crouch, no ankle maps, no
+    stand-up after it within the run): the figure stays in the landing pose."""
+    def no_landing(iface):
+        iface["states"]["flip_landed"] = {"transitions": [{"to": "flip_rise", "after": 30.0}]}
+
+    assert "height_at_end" in _variant("biped-backflip", tmp_path, no_landing)
+
+
+def test_backflip_fails_when_f_is_moved(tmp_path):
+    assert "turned" in _variant("biped-backflip", tmp_path, _moved_key("f"))
+
+
+def test_wall_flip_log_pushes_off_the_wall_turns_and_lands_on_the_feet():
+    result = replay_log(LOGS / "biped-wall-flip.jsonl")
+    assert not result.failed, [str(o) for o in result.failed]
+
+
+def test_wall_flip_fails_with_weak_legs(tmp_path):
+    """Hips and knees capped at 150 N*m: the push off the wall does not turn it over."""
+    assert "turned" in _variant("biped-wall-flip", tmp_path, _weak_legs)
+
+
+def test_wall_flip_fails_on_a_slippery_wall(tmp_path):
+    """At 0.3 of the friction (the wall's and the floor's) the push does not turn it over."""
+    assert "turned" in _variant("biped-wall-flip", tmp_path, friction=0.3)
+
+
+def test_wall_flip_fails_when_w_is_moved(tmp_path):
+    assert "touched" in _variant("biped-wall-flip", tmp_path, _moved_key("w"))

@@ -73,6 +73,12 @@ Each entry names one check:
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
                                   # the pit)
+      - touched: {links: [foot_near, foot_far], min_height: 0.2, min_x: 0.5,
+                  before_flight: true}
+                                  # at some sample one of these links touched with its
+                                  # lowest point at least 0.2 m up (x >= 0.5): a foot on
+                                  # a wall, not on the floor (before_flight: before the
+                                  # longest flight, which it pushed off into)
       - mean_speed: {from: 0.0, until: 5.0, max: 1.0}
                                   # the centre of mass's mean forward speed (its x moved
                                   # over the window's length), m/s, between the samples
@@ -314,6 +320,18 @@ class FirstTouch(Spec):
     min_x: Measure | None = Field(None, description="m: x of each touching link, at least")
 
 
+class Touched(Spec):
+    """At some sample one of ``links`` touched the ground with its lowest point at least
+    ``min_height`` m up and its centre of mass at x >= ``min_x`` (when given): a foot
+    planted on a wall, not on the floor below it."""
+
+    links: list[str] = Field(min_length=1, max_length=64)
+    min_height: Measure = Field(description="m: the link's lowest point above y = 0, at least")
+    min_x: Measure | None = Field(None, description="m: x of the link, at least")
+    before_flight: bool = Field(False, description="only the samples before the longest "
+                                                   "flight count (pushed off it)")
+
+
 class OnGround(Spec):
     """All of ``links`` touching the ground at every sample of one stretch of at least
     ``min_seconds``, the root's signed angle (deg, counter-clockwise positive: tipped
@@ -497,6 +515,7 @@ class Expectation(Spec):
     on_ground: OnGround | None = None
     angle_within: AngleWithin | None = None
     swung: Swung | None = None
+    touched: Touched | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
@@ -627,6 +646,10 @@ class Expectation(Spec):
                                   if b is not None)
             return (f"angle_within {v.link} {bounds} deg (signed) from {v.from_:g} s "
                     f"to {_until(v)}")
+        if isinstance(v, Touched):
+            return (f"touched with {', '.join(v.links)}, lowest point >= {v.min_height:g} m"
+                    + (f", x >= {v.min_x:g} m" if v.min_x is not None else "")
+                    + (", before the longest flight" if v.before_flight else ""))
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
@@ -1162,6 +1185,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _angle_within(desc, v, traj)
     if isinstance(v, Swung):
         return _swung(desc, v, traj)
+    if isinstance(v, Touched):
+        return _touched(desc, v, traj)
     if isinstance(v, MeanSpeed):
         return _mean_speed(desc, v, traj)
     if isinstance(v, FlightPhases):
@@ -1243,6 +1268,29 @@ def _regrasps(desc: str, v: Regrasps, traj) -> Outcome:
     what = ", ".join(f"{c} {p} at {t:.2f} s" for c, p, t in longest[:12])
     return Outcome(desc, len(longest) >= v.min, f"{len(longest)} progressing grasps"
                    + (" by turns" if v.alternate else "") + (f": {what}" if what else ""))
+
+
+def _touched(desc: str, v: Touched, traj) -> Outcome:
+    """The first sample where one of the links touches that high (and that far on)."""
+    window = np.ones(len(traj.t), dtype=bool)
+    if v.before_flight:
+        length, first, _ = _longest_run(~traj.contact.any(axis=1), traj.t)
+        window[first if length > 0 else len(window):] = False
+    for name in v.links:
+        k = traj.index(name)
+        hit = window & traj.contact[:, k] & (traj.lowest[:, k] >= v.min_height - 1e-9)
+        if v.min_x is not None:
+            hit &= traj.x[:, k] >= v.min_x - 1e-9
+        if hit.any():
+            i = int(np.argmax(hit))
+            return Outcome(desc, True, f"{name} touched at t = {traj.t[i]:.2f} s, lowest "
+                                       f"point {traj.lowest[i, k]:.3f} m up, x = "
+                                       f"{traj.x[i, k]:.3f} m")
+    up = [float(traj.lowest[window & traj.contact[:, traj.index(n)], traj.index(n)]
+                .max(initial=-1)) for n in v.links]
+    best = max(up)
+    return Outcome(desc, False, "never touched that high" + (
+        f" (highest touch {best:.3f} m up)" if best > -1 else " (never touched)"))
 
 
 def evaluate_all(items: list[Expectation], traj, final_hash: str) -> list[Outcome]:
