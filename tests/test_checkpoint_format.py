@@ -86,6 +86,15 @@ def test_attributes_are_set_in_pymunks_pickle_order():
     assert list(snapshot.BODY_ATTRS) == pymunk.Body._pickle_attrs_general
     assert list(snapshot.SHAPE_ATTRS) == pymunk.Shape._pickle_attrs_general
     assert list(snapshot.CONSTRAINT_ATTRS) == pymunk.Constraint._pickle_attrs_general
+    # and Chipmunk's setters the rebuild calls are those attributes', in that order
+    for kind, names, setters in (("Body", snapshot.BODY_ATTRS, snapshot._BODY_SET),
+                                 ("Shape", snapshot.SHAPE_ATTRS, snapshot._SHAPE_SET),
+                                 ("Constraint", snapshot.CONSTRAINT_ATTRS,
+                                  snapshot._CONSTRAINT_SET)):
+        want = ["cp" + kind + "Set" + ("HashID" if n == "_hashid" else
+                                       "".join(w.title() for w in n.split("_")))
+                for n in names]
+        assert [f.__name__ for f in setters] == want
 
 
 @pytest.mark.parametrize("setup", SETUPS)

@@ -149,6 +149,15 @@ def _setters(cls, names):
 
 
 _SPACE_GET, _SPACE_SET = attrgetter(*SPACE_ATTRS), _setters(pymunk.Space, SPACE_ATTRS)
+# Chipmunk's setters for the attributes above, in their order (tests check the names)
+_BODY_SET = (_cp.cpBodySetForce, _cp.cpBodySetAngle, _cp.cpBodySetPosition,
+             _cp.cpBodySetCenterOfGravity, _cp.cpBodySetVelocity,
+             _cp.cpBodySetAngularVelocity, _cp.cpBodySetTorque)
+_SHAPE_SET = (_cp.cpShapeSetSensor, _cp.cpShapeSetCollisionType, _cp.cpShapeSetFilter,
+              _cp.cpShapeSetElasticity, _cp.cpShapeSetFriction, _cp.cpShapeSetSurfaceVelocity,
+              _cp.cpShapeSetHashID)
+_CONSTRAINT_SET = (_cp.cpConstraintSetMaxForce, _cp.cpConstraintSetErrorBias,
+                   _cp.cpConstraintSetMaxBias, _cp.cpConstraintSetCollideBodies)
 _init_getters: dict[type, object] = {}
 
 
@@ -210,16 +219,11 @@ def _body_record(b: pymunk.Body) -> tuple:
 
 
 def _make_body(record) -> pymunk.Body:
-    body_type, mass, moment, (force, angle, position, cog, velocity, spin, torque) = record
+    body_type, mass, moment, values = record
     body = pymunk.Body(mass, moment, body_type)
-    h = body._body  # BODY_ATTRS' order
-    _cp.cpBodySetForce(h, force)
-    _cp.cpBodySetAngle(h, angle)
-    _cp.cpBodySetPosition(h, position)
-    _cp.cpBodySetCenterOfGravity(h, cog)
-    _cp.cpBodySetVelocity(h, velocity)
-    _cp.cpBodySetAngularVelocity(h, spin)
-    _cp.cpBodySetTorque(h, torque)
+    h = body._body
+    for setter, value in zip(_BODY_SET, values):
+        setter(h, value)
     return body
 
 
@@ -236,16 +240,10 @@ def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
 def _make_shape(record, objects: list) -> pymunk.Shape:
     cls, body, args, values, mass, density = record
     shape = cls(objects[body], *args)
-    h = shape._shape  # SHAPE_ATTRS' order, then the mass before the density
-    sensor, collision_type, shape_filter, elasticity, friction, surface_v, hashid = values
-    _cp.cpShapeSetSensor(h, sensor)
-    _cp.cpShapeSetCollisionType(h, collision_type)
-    _cp.cpShapeSetFilter(h, shape_filter)
-    _cp.cpShapeSetElasticity(h, elasticity)
-    _cp.cpShapeSetFriction(h, friction)
-    _cp.cpShapeSetSurfaceVelocity(h, surface_v)
-    _cp.cpShapeSetHashID(h, hashid)
-    if mass > 0:
+    h = shape._shape
+    for setter, value in zip(_SHAPE_SET, values):
+        setter(h, value)
+    if mass > 0:  # the mass before the density, as pymunk's pickle
         _cp.cpShapeSetMass(h, mass)
     if density > 0:
         _cp.cpShapeSetDensity(h, density)
@@ -260,13 +258,11 @@ def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
 
 
 def _make_constraint(record, objects: list) -> pymunk.Constraint:
-    cls, a, b, args, (max_force, error_bias, max_bias, collide) = record
+    cls, a, b, args, values = record
     constraint = cls(objects[a], objects[b], *args)
-    h = constraint._constraint  # CONSTRAINT_ATTRS' order
-    _cp.cpConstraintSetMaxForce(h, max_force)
-    _cp.cpConstraintSetErrorBias(h, error_bias)
-    _cp.cpConstraintSetMaxBias(h, max_bias)
-    _cp.cpConstraintSetCollideBodies(h, collide)
+    h = constraint._constraint
+    for setter, value in zip(_CONSTRAINT_SET, values):
+        setter(h, value)
     return constraint
 
 
