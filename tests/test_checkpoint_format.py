@@ -220,3 +220,48 @@ def test_the_records_read_what_pymunks_properties_read():
     for c in constraints:
         assert snapshot._constraint_record(c, index)[4] == tuple(
             getattr(c, n) for n in snapshot.CONSTRAINT_ATTRS)
+
+
+def _typed(values) -> list:
+    """(type, value) of each value as a record holds it: pymunk's named tuples (Vec2d,
+    ShapeFilter) as plain tuples, a list of points as a tuple of tuples."""
+    out = []
+    for v in values:
+        if isinstance(v, list):
+            v = tuple(tuple(p) for p in v)
+        elif isinstance(v, tuple):
+            v = tuple(v)
+        out.append((type(v), v))
+    return out
+
+
+def test_the_records_hold_what_pymunks_own_pickle_state_holds_with_its_types():
+    """Against pymunk's ``__getstate__`` (what its pickle writes), value and type: a
+    getter giving 1 for True, or a Vec2d for a tuple, would change the snapshot bytes."""
+    a, b = pymunk.Body(2.0, 3.0), pymunk.Body(1.5, 0.5)
+    a.position, a.velocity, a.angle, a.angular_velocity = (1, 2), (0.3, -0.4), 0.7, 1.25
+    shapes = [pymunk.Circle(a, 0.1, (0.2, 0.3)), pymunk.Segment(a, (0, 0), (1, 0.5), 0.02),
+              pymunk.Poly(a, [(0, 0), (1, 0), (0.5, 0.8)], radius=0.01)]
+    shapes[0].sensor, shapes[1].filter = True, pymunk.ShapeFilter(3, 5, 9)
+    constraints = [pymunk.PivotJoint(a, b, (0.1, 0.2), (0.3, 0.4)),
+                   pymunk.RotaryLimitJoint(a, b, -0.5, 1.5),
+                   pymunk.DampedRotarySpring(a, b, 0.25, 300.0, 12.0),
+                   pymunk.GearJoint(a, b, 0.3, 1.0)]
+    constraints[3].collide_bodies = False
+    index = {a: 0, b: 1}
+
+    def state(obj, part, skip=0):
+        return [v for _, v in obj.__getstate__()[part]][skip:]
+
+    body = snapshot._body_record(a)
+    mass, moment, body_type = state(a, "init")
+    assert _typed(body[:3]) == _typed([body_type, mass, moment])
+    assert _typed(body[3]) == _typed(state(a, "general"))
+    for s in shapes:
+        record = snapshot._shape_record(s, index)
+        assert _typed(record[2]) == _typed(state(s, "init", 1)), type(s)
+        assert _typed(record[3]) == _typed(state(s, "general")), type(s)
+    for c in constraints:
+        record = snapshot._constraint_record(c, index)
+        assert _typed(record[3]) == _typed(state(c, "init", 2)), type(c)
+        assert _typed(record[4]) == _typed(state(c, "general")), type(c)

@@ -96,3 +96,14 @@ def test_swung_needs_the_angle_about_the_point_to_reach_both_sides():
     assert got[1].startswith("FAIL") and "-10.0..10.0 deg" in got[1]
     assert got[2].startswith("ok")
     assert got[3].startswith("FAIL")  # about a point off to the side: one way only
+
+
+@pytest.mark.parametrize("bounds", [{"max": 200}, {"min": -180}, {"min": -170, "max": 200},
+                                    {"max": 180}])
+def test_a_range_that_holds_every_angle_is_refused(bounds):
+    with pytest.raises(DataError, match="holds every angle"):
+        parse_expectations([{"angle_within": {"link": "pelvis", **bounds}}])
+
+
+def test_the_kips_range_across_upside_down_is_taken():
+    parse_expectations([{"angle_within": {"link": "pelvis", "min": -70, "max": 200}}])

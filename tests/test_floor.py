@@ -323,3 +323,12 @@ def test_wall_flip_fails_on_a_slippery_wall(tmp_path):
 
 def test_wall_flip_fails_when_w_is_moved(tmp_path):
     assert "touched" in _variant("biped-wall-flip", tmp_path, _moved_key("w"))
+
+
+def test_touched_before_flight_fails_when_there_is_no_flight():
+    grounded = [[1, 0]] * 8  # the foot high on the wall, but never a flight
+    high = [[0.5, 1]] * 8
+    item = {"links": ["foot"], "min_height": 0.3}
+    assert _outcome({"touched": item}, _Feet(grounded, high, WALL_X)).passed
+    got = _outcome({"touched": {**item, "before_flight": True}}, _Feet(grounded, high, WALL_X))
+    assert not got.passed and got.measured.startswith("no flight")

@@ -363,6 +363,12 @@ class AngleWithin(Spec):
             raise ValueError("give 'min' and/or 'max' (deg)")
         if self.min is not None and self.max is not None and self.max <= self.min:
             raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+        # a range that holds every angle checks nothing: the angle is taken in
+        # max-360..max (-180..180 without a max)
+        low = -180.0 if self.max is None else max(-180.0, self.max - 360.0)
+        if (self.min is None or self.min <= low) and (self.max is None or self.max >= 180):
+            raise ValueError("this range holds every angle; expected a 'min' above "
+                             f"{low:g} or a 'max' under 180")
         return self
 
 
@@ -1275,7 +1281,9 @@ def _touched(desc: str, v: Touched, traj) -> Outcome:
     window = np.ones(len(traj.t), dtype=bool)
     if v.before_flight:
         length, first, _ = _longest_run(~traj.contact.any(axis=1), traj.t)
-        window[first if length > 0 else len(window):] = False
+        if length <= 0:
+            return Outcome(desc, False, "no flight (nothing touching) to touch before")
+        window[first:] = False
     for name in v.links:
         k = traj.index(name)
         hit = window & traj.contact[:, k] & (traj.lowest[:, k] >= v.min_height - 1e-9)
