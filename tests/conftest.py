@@ -5,12 +5,36 @@ os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 
-def pytest_terminal_summary(terminalreporter):
-    """The fuzz harness's counts (kind, outcome), when fuzz tests ran."""
+import collections
+
+import pytest
+
+# Under pytest-xdist the fuzz tests count in the worker processes: each worker hands its
+# counts back (workeroutput) and the controller adds them up for the summary.
+_FROM_WORKERS: collections.Counter = collections.Counter()
+
+
+def _local_stats():
     import sys
 
-    fuzzing = sys.modules.get("fuzzing")
-    stats = getattr(fuzzing, "STATS", None)
+    return getattr(sys.modules.get("fuzzing"), "STATS", None) or {}
+
+
+def pytest_sessionfinish(session):
+    workeroutput = getattr(session.config, "workeroutput", None)
+    if workeroutput is not None:  # an xdist worker
+        workeroutput["fuzz_stats"] = [[k, o, n] for (k, o), n in _local_stats().items()]
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    for kind, outcome, n in getattr(node, "workeroutput", {}).get("fuzz_stats", ()):
+        _FROM_WORKERS[(kind, outcome)] += n
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The fuzz harness's counts (kind, outcome), when fuzz tests ran."""
+    stats = collections.Counter(_local_stats()) + _FROM_WORKERS
     if not stats:
         return
     terminalreporter.section("fuzz cases")
