@@ -56,18 +56,30 @@ def copy_log(log: Path, dest: Path, **header) -> Path:
     return out
 
 
+def with_changed_interface(log: Path, interface: str, dest: Path, change,
+                           suffix: str = "changed") -> Path:
+    """A copy of ``log`` (and its sidecar) replaying against a copy of ``interface``
+    edited in place by ``change(spec)`` (its YAML as plain data)."""
+    spec = yaml.safe_load(find("interface", interface).read_text(encoding="utf-8"))
+    change(spec)
+    iface = dest / f"{interface}-{suffix}.yaml"
+    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
+    return copy_log(log, dest, interface=str(iface),
+                    interface_text=iface.read_text(encoding="utf-8"))
+
+
 def with_weak_hips(log_name: str, interface: str, dest: Path, stiffness: float,
                    max_torque: float) -> Path:
     """A copy of assets/logs/LOG_NAME (and its sidecar) replaying against a copy of
     ``interface`` whose hip servos have these gains (its other gains kept)."""
-    spec = yaml.safe_load(find("interface", interface).read_text(encoding="utf-8"))
-    spec.setdefault("gains", {}).update(
-        {j: {"stiffness": stiffness, "max_torque": max_torque} for j in ("hip_near", "hip_far")})
-    spec["name"] = f"{interface}-weak"
-    iface = dest / f"{interface}-weak.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    return copy_log(ROOT / "assets" / "logs" / f"{log_name}.jsonl", dest,
-                    interface=str(iface), interface_text=iface.read_text(encoding="utf-8"))
+    def weaken(spec: dict) -> None:
+        spec.setdefault("gains", {}).update(
+            {j: {"stiffness": stiffness, "max_torque": max_torque}
+             for j in ("hip_near", "hip_far")})
+        spec["name"] = f"{interface}-weak"
+
+    return with_changed_interface(ROOT / "assets" / "logs" / f"{log_name}.jsonl", interface,
+                                  dest, weaken, suffix="weak")
 
 
 # A two-joint BVH file: a root with six channels and one joint with three, two frames.

@@ -6,24 +6,17 @@ without the mapping's mode key (2 for the bound, 3 for the trot)."""
 from __future__ import annotations
 
 import pytest
-import yaml
 
-from puppet.data.catalog import ROOT, find
+from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
-from tests.helpers import copy_log
+from tests.helpers import with_changed_interface
 
 LOGS = [ROOT / "assets" / "logs" / f"biped-gymnast-climb-{p}.jsonl" for p in ("bound", "trot")]
 CLIMB = {"regrasps", "always_holding", "reached_height", "held_point"}
 
 
 def _failed(tmp_path, log, change) -> set[str]:
-    text = find("interface", "biped-gymnast").read_text(encoding="utf-8")
-    spec = yaml.safe_load(text)
-    change(spec)
-    iface = tmp_path / "biped-gymnast-changed.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    copy = copy_log(log, tmp_path, interface=str(iface),
-                    interface_text=iface.read_text(encoding="utf-8"))
+    copy = with_changed_interface(log, "biped-gymnast", tmp_path, change)
     return {o.expectation.split(" ")[0] for o in replay_log(copy).outcomes if not o.passed}
 
 

@@ -4,22 +4,15 @@ push key missing."""
 
 from __future__ import annotations
 
-import yaml
-
-from puppet.data.catalog import ROOT, find
+from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
-from tests.helpers import copy_log
+from tests.helpers import with_changed_interface
 
 LOG = ROOT / "assets" / "logs" / "biped-ladder-climb.jsonl"
 
 
 def _failed(tmp_path, change) -> set[str]:
-    spec = yaml.safe_load(find("interface", "biped-ladder").read_text(encoding="utf-8"))
-    change(spec)
-    iface = tmp_path / "biped-ladder-changed.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    log = copy_log(LOG, tmp_path, interface=str(iface),
-                   interface_text=iface.read_text(encoding="utf-8"))
+    log = with_changed_interface(LOG, "biped-ladder", tmp_path, change)
     return {o.expectation.split(" ")[0] for o in replay_log(log).outcomes if not o.passed}
 
 

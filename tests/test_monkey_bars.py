@@ -5,15 +5,13 @@ letting go with both hands drops the figure (no safeguard)."""
 
 from __future__ import annotations
 
-import yaml
-
-from puppet.data.catalog import ROOT, find, load_setup
+from puppet.data.catalog import ROOT, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.testing import replay_log
 from puppet.timeline.expectations import evaluate_all, parse_expectations
 from puppet.timeline.replay import Sampler
-from tests.helpers import copy_log
+from tests.helpers import with_changed_interface
 
 LOG = ROOT / "assets" / "logs" / "biped-monkey-bars.jsonl"
 
@@ -24,13 +22,7 @@ def _outcomes(result) -> dict[str, bool]:
 
 def _variant(tmp_path, change) -> dict[str, bool]:
     """Replay the log against a copy of biped-bars changed by ``change(spec)``."""
-    spec = yaml.safe_load(find("interface", "biped-bars").read_text(encoding="utf-8"))
-    change(spec)
-    iface = tmp_path / "biped-bars-changed.yaml"
-    iface.write_text(yaml.safe_dump(spec), encoding="utf-8")
-    log = copy_log(LOG, tmp_path, interface=str(iface),
-                   interface_text=iface.read_text(encoding="utf-8"))
-    return _outcomes(replay_log(log))
+    return _outcomes(replay_log(with_changed_interface(LOG, "biped-bars", tmp_path, change)))
 
 
 def _regrasps_failed(outcomes: dict[str, bool]) -> bool:
