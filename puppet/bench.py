@@ -110,11 +110,13 @@ def gesture(frames: int, interface_spec) -> list[list[dict]]:
     from puppet.interface import events as ev
     from puppet.data.keys import normalize_key
 
-    # Keys that change the world itself (gravity, friction, random kicks, shoves) are left out:
-    # the bare run replays servo changes only, and those are not the control layer's cost.
+    # Keys that change the world itself (gravity, friction, random kicks, shoves, and the
+    # app's checkpoint / restore / reset a layout may bind) are left out: the bare run
+    # replays servo changes only, and those are not the control layer's cost (a
+    # checkpoint's and a rewind's are measured on their own).
     keys = [normalize_key(k.key) for k in (interface_spec.keys if interface_spec else [])
             if k.gravity is None and k.friction is None and k.perturb is None
-            and k.push is None]
+            and k.push is None and k.app is None]
     per_tap = max(1, round(0.5 * FRAME_HZ))
     out = []
     for f in range(frames):

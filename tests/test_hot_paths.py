@@ -80,6 +80,38 @@ def test_the_compiled_maps_give_the_plain_formulas_bits():
                 assert got == want or (math.isnan(got) and math.isnan(want)), (m, v)
 
 
+def test_fused_channel_maps_write_what_the_maps_one_by_one_write():
+    """maps.fused folds runs of plain maps into one loop: the same targets (bits), the
+    same joints written, in order, around a curved map that breaks the run and with
+    an input missing."""
+    text = ("name: t\ndescription: t\ncharacter: biped\nscene: flat\nmaps:\n"
+            "  - {input: channel.a, joint: hip_near, from: [-1, 1], to: [-30, 40]}\n"
+            "  - {input: channel.b, joint: knee_near, from: [0, 2], to: [-5, 90]}\n"
+            "  - {input: channel.a, joint: hip_far, to: [10, -20], curve: smoothstep}\n"
+            "  - {input: channel.c, joint: knee_far, from: [-1, 1], to: [0, 120]}\n"
+            "  - {input: channel.b, joint: ankle_far, from: [-1, 1], to: [-20, 20]}\n"
+            "  - {input: channel.a, joint: ankle_near, from: [1, -1], to: [-25, 35]}\n")
+    setup = setup_from_text(text, "t.yaml")
+    plain, fast = Session(setup), Session(setup)
+    appliers = {}
+    for session in (plain, fast):
+        rt = session.runtime
+        appliers[session] = [mapping.compile_map(m, session.character.servos, {},
+                                                 rt.channels) for m in setup.interface.maps]
+    folded = mapping.fused(appliers[fast])
+    assert len(folded) == 3  # [a, b] [curved] [c, b, a]
+    for values in ({"a": 0.3, "b": 1.7, "c": -0.2}, {"a": -4.0, "c": 2.5},
+                   {"b": 0.11}, {"a": 0.999, "b": -1e9, "c": 0.5}):
+        got, want = [], []
+        for session, run, out in ((plain, appliers[plain], want), (fast, folded, got)):
+            session.runtime.channels.update(values)
+            for apply in run:
+                out += list(apply(session.runtime.inputs))
+        assert got == want, values
+        assert [s.target for s in fast.character.servos.values()] == \
+            [s.target for s in plain.character.servos.values()], values
+
+
 def _checked_ticks(session):
     """Wrap the runtime's tick: after each, the schedule it kept (the WAITED shortcut)
     must be the one a full reschedule computes."""

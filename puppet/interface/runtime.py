@@ -268,7 +268,7 @@ class InterfaceRuntime:
         for machine in self.machines.values():
             active += machine.spec.states[machine.current].maps
         self.active_maps = active
-        self._mouse_maps = self._compiled(("mouse.x", "mouse.y"))
+        self._mouse_maps = mapping.fused(self._compiled(("mouse.x", "mouse.y")))
         self._channel_maps = {}
         self._push_feedback(active)
         joints: set[str] = set()
@@ -484,8 +484,8 @@ class InterfaceRuntime:
         names = tuple(values)
         entry = self._channel_maps.get(names)
         if entry is None:  # (these names, the appliers of the maps reading any of them)
-            entry = self._channel_maps[names] = (names, tuple(
-                self._compiled(tuple("channel." + n for n in names))))
+            entry = self._channel_maps[names] = (names, tuple(mapping.fused(
+                self._compiled(tuple("channel." + n for n in names)))))
         if self.tracker.mode != OFF:
             if self.tracker.lost:  # the stream is back: the tracker takes its joints
                 self.channels.update(values)  # by these values (stored again at flush)
