@@ -105,3 +105,29 @@ Frame Time: 0.1
 0 0 0 0 0 0 0 0 0
 0 0 0 0 0 0 10 0 0
 """
+
+
+class ListenedPort:
+    """The port a command's live source listens on, when it is given port 0 (the
+    system picks a free one at the bind, so no other test can take a probed number
+    in between): ``wait()`` returns it once the source has started."""
+
+    def __init__(self, monkeypatch):
+        import threading
+
+        from puppet.mocap.source import OscSource
+
+        self.port: int | None = None
+        self._ready = threading.Event()
+        start = OscSource.start
+
+        def started(source):
+            out = start(source)
+            self.port = source.port
+            self._ready.set()
+            return out
+        monkeypatch.setattr(OscSource, "start", started)
+
+    def wait(self, timeout: float = 10.0) -> int:
+        assert self._ready.wait(timeout), "the live source never started"
+        return self.port

@@ -19,6 +19,8 @@ from puppet.mocap.source import LOST_AFTER, OscSource
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
 
+from helpers import ListenedPort
+
 
 class FakeClock:
     def __init__(self):
@@ -36,10 +38,14 @@ def _cat_channels(tmp_path):
 
 
 def _sender(port, seconds, rate=120.0, stop=None):
-    """Send /puppet/channels c0..c3 (slow sinusoids) at ``rate`` Hz for ``seconds``."""
+    """Send /puppet/channels c0..c3 (slow sinusoids) at ``rate`` Hz for ``seconds`` to
+    ``port`` (a number, or a ListenedPort to wait for)."""
     import math
 
     def run():
+        nonlocal port
+        if not isinstance(port, int):
+            port = port.wait()
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
             start = time.perf_counter()
             k = 0
@@ -159,24 +165,22 @@ def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp
     assert session.character.upright()
 
 
-def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys):
+def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys, monkeypatch):
     interface = _cat_channels(tmp_path)
     record = tmp_path / "cli.jsonl"
-    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    probe.bind(("127.0.0.1", 0))
-    port = probe.getsockname()[1]
-    probe.close()
+    listened = ListenedPort(monkeypatch)
     stop = threading.Event()
-    sender = _sender(port, seconds=3.0, stop=stop)
+    sender = _sender(listened, seconds=3.0, stop=stop)
     try:
         code = main(["play", interface, "--headless", "--seconds", "0.8", "--record",
-                     str(record), "--mocap", f"udp://127.0.0.1:{port}",
+                     str(record), "--mocap", "udp://127.0.0.1:0",
                      "--mocap-format", "puppet", "--slowdown", "1"])
     finally:
         stop.set()
         sender.join()
     out = capsys.readouterr().out
     assert code == 0, out
+    port = listened.port
     assert f"mocap puppet 127.0.0.1:{port}:" in out and "recorded" in out
     assert main(["replay", str(record), "--headless", "--check"]) == 0
 
@@ -208,20 +212,18 @@ def test_a_port_in_use_is_a_one_line_error(capsys):
     assert code == 2 and f"cannot listen on udp://127.0.0.1:{port}" in err
 
 
-def test_listen_prints_what_arrives(capsys):
-    probe = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    probe.bind(("127.0.0.1", 0))
-    port = probe.getsockname()[1]
-    probe.close()
+def test_listen_prints_what_arrives(capsys, monkeypatch):
+    listened = ListenedPort(monkeypatch)
     stop = threading.Event()
-    sender = _sender(port, seconds=0.8, stop=stop)  # stops before listen does: LOST
+    sender = _sender(listened, seconds=0.8, stop=stop)  # stops before listen does: LOST
     try:
-        assert main(["mocap", "listen", "--format", "puppet", "--port", str(port),
+        assert main(["mocap", "listen", "--format", "puppet", "--port", "0",
                      "--seconds", "2.2"]) == 0
     finally:
         stop.set()
         sender.join()
     out = capsys.readouterr().out
+    port = listened.port
     assert f"listening for puppet on udp://127.0.0.1:{port}" in out
     assert "4 named: c0, c1, c2, c3" in out and "channels: c0=" in out
     assert "0 dropped" in out
