@@ -265,3 +265,30 @@ def test_the_records_hold_what_pymunks_own_pickle_state_holds_with_its_types():
         record = snapshot._constraint_record(c, index)
         assert _typed(record[3]) == _typed(state(c, "init", 2)), type(c)
         assert _typed(record[4]) == _typed(state(c, "general")), type(c)
+
+
+def test_pymunk_typing_hook_is_gone_only_because_it_only_delegates():
+    """puppet.physics drops pymunk's TypingAttrMixing.__setattr__ (a tenth of a
+    checkpoint) only when it is the one delegating call; a hook that does more stays."""
+    from pymunk._typing_attr import TypingAttrMixing
+
+    from puppet.physics import pymunk_setattr
+
+    assert "__setattr__" not in TypingAttrMixing.__dict__
+    assert pymunk_setattr.removed is not None and pymunk_setattr.only_delegates(
+        pymunk_setattr.removed)
+
+    class Logging:
+        def __setattr__(self, name, value):
+            """Logs."""
+            print(name)
+            super().__setattr__(name, value)
+
+    class Renaming:
+        def __setattr__(self, name, value):
+            """Renames."""
+            super().__setattr__("_" + name, value)
+
+    assert not pymunk_setattr.only_delegates(Logging.__setattr__)
+    assert not pymunk_setattr.only_delegates(Renaming.__setattr__)
+    assert not pymunk_setattr.only_delegates(None)
