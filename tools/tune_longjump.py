@@ -27,6 +27,31 @@ the last foot leaves (both capped), the jump's length, the flight time, feet fir
 and sitting up at the end (the chest within 40 deg of upright, the head above
 0.35 m), the chest never more than 70 deg from upright (no dive, no roll), at its worst over the press and the press 5 ms
 earlier and later; the best is printed as YAML to paste into the interface. Seeded: the same arguments find the same numbers.
+
+The run-up (the log biped-longjump-run, scene biped-longjump-run, judged by its sidecar
+assets/logs/biped-longjump-run.expect.yaml): the mouse parked at (--mouse-x, 0.9) -
+past 0.68 the run states run by themselves - space at 0.5 s, a checkpoint at
+--check-at, l at a press.
+
+    python tools/tune_longjump.py --leap 400 --check-at 4.0 [--values a.json --save b.json]
+                                  [--presses 4.15 4.175 4.32 4.345]
+    python tools/tune_longjump.py --run-up --check-at 4.0 [--write assets/scripts/biped-longjump-run.yaml]
+    python tools/tune_longjump.py --robust [--retry] --check-at 4.0 --press 4.33
+
+``--leap N`` searches the run's take-off and landing (the poses takeoff, rsail, rland,
+rsquat and their holds; Gaussian steps of 8 %, for the last third 3 %, of each range)
+and the press: the run-up is played once to the checkpoint, then every try restores
+it and reloads the interface with the try's numbers (the "reload" event: the run's
+own states are unchanged, so the run-up is the same), presses l and is scored by
+``run_score`` (ten points for run_up, took_off and first_touch each, three for each
+other expectation met, plus how near each is to its bound); with ``--presses`` a try
+scores its mean over l at those times (the press not searched). ``--run-up`` is the
+press search above for the run-up log (every 5 ms of the 0.5 s after its checkpoint),
+``--write`` its script. ``--robust`` plays the whole performance with space moved by
+-0.1 .. +0.1 s (the checkpoint and l with it), l by -20 .. +20 ms more and the mouse's
+x at --mouse-x and 0.03 less, and counts those that pass; with ``--retry``, for each
+run-up every press from its checkpoint (what a person with the checkpoint does).
+``--run N`` searches the run's own numbers too (every try the whole performance; slow).
 """
 
 from __future__ import annotations
@@ -106,8 +131,8 @@ def judge(sampler: Sampler, items) -> tuple[int, float, list]:
     return sum(o.passed for o in outcomes), length, outcomes
 
 
-def search_press(text: str, items, entries=None, last=None,
-                 scene: str = WALK_SCENE) -> tuple[float | None, list, int]:
+def search_press(text: str, items, entries=None, last=None, scene: str = WALK_SCENE,
+                 quiet: bool = False) -> tuple[float | None, list, int]:
     """From the checkpoint at ``last`` (the walk-up's: at the last swap), ``l`` at each
     offset; the press kept."""
     if entries is None:
@@ -132,15 +157,16 @@ def search_press(text: str, items, entries=None, last=None,
         passed, length, outcomes = judge(sampler, items)
         tried.append((off, passed, length, outcomes))
         session.handle(ev.action("restore"))
-        print(f"l at +{off:.3f} s: {passed}/{len(items)} pass, jump {length:.3f} m",
-              flush=True)
+        if not quiet:
+            print(f"l at +{off:.3f} s: {passed}/{len(items)} pass, jump {length:.3f} m",
+                  flush=True)
     ok = [t for t in tried if t[1] == len(items)]
     if not ok:
         best = max(tried, key=lambda t: (t[1], t[2]))
         return None, best[3], best[0]
-    runs, cur = [], [ok[0]]
+    runs, cur, step = [], [ok[0]], OFFSETS[1] - OFFSETS[0]
     for t in ok[1:]:
-        if abs(t[0] - cur[-1][0] - 0.005) < 1e-9:
+        if abs(t[0] - cur[-1][0] - step) < 1e-9:
             cur.append(t)
         else:
             runs.append(cur)
@@ -148,7 +174,8 @@ def search_press(text: str, items, entries=None, last=None,
     runs.append(cur)
     longest = max(runs, key=len)
     mid = longest[len(longest) // 2]
-    print(f"passing offsets: {', '.join(f'{r[0][0]:.3f}..{r[-1][0]:.3f}' for r in runs)}")
+    if not quiet:
+        print(f"passing offsets: {', '.join(f'{r[0][0]:.3f}..{r[-1][0]:.3f}' for r in runs)}")
     return last + mid[0], mid[3], len(longest)
 
 
@@ -365,7 +392,7 @@ def with_run(base: dict, p: dict) -> dict:
     for k, pose in RUN_WAIST.items():
         P[pose]["joints"]["waist"] = r(p[k])
     for side in ("near", "far"):
-        st[f"run_{side}"]["transitions"][1]["after"] = r(p["run_hold"])
+        st[f"run_{side}"]["transitions"][-1]["after"] = r(p["run_hold"])
         st[f"rpush_{side}"]["transitions"][0]["after"] = r(p["rpush_hold"])
         st[f"leap_{side}"]["transitions"][0]["after"] = r(p["to_hold"])
     st["rsail"]["transitions"][0]["after"] = r(p["sail_hold"])
@@ -475,7 +502,7 @@ LEAP_KEYS = [k for k in RUN_BOUNDS if k.startswith(("to_", "sail_", "land_", "sq
 
 def search_leap(base: dict, tries: int, seed: int, mouse_x: float, check_at: float,
                 offset: float, items, values: str = "", save: str = "",
-                lo_off: float = 0.0) -> dict:
+                lo_off: float = 0.0, presses: list[float] = ()) -> dict:
     """--leap: the take-off and the landing (LEAP_KEYS) and the press, the run-up as
     the file has it: played once to a checkpoint at ``check_at`` (as the script takes
     it), then every try restores it, reloads the interface with its numbers (the
@@ -493,16 +520,23 @@ def search_leap(base: dict, tries: int, seed: int, mouse_x: float, check_at: flo
     session.handle(ev.action("checkpoint"))
     bounds = {k: RUN_BOUNDS[k] for k in LEAP_KEYS}
     bounds["offset"] = (lo_off, 0.6)
+    if presses:  # the presses given, not searched
+        del bounds["offset"]
 
-    def score(p: dict) -> tuple[float, str]:
+    def one(p: dict, at: float) -> tuple[float, str]:
         spec = with_run(base, dict(read_run(base, mouse_x, 0.0), **p))
         session.reload(yaml.safe_dump(spec))
-        press = pairs([{"t": round(check_at + p["offset"], 3), "key": "l", "hold": 0.05}], dt)
-        play(session, [(k + 0, e) for k, e in press], round((check_at + p["offset"] + AFTER)
-                                                            / dt), SAMPLE_EVERY, sampler)
+        press = pairs([{"t": round(at, 3), "key": "l", "hold": 0.05}], dt)
+        play(session, press, round((at + AFTER) / dt), SAMPLE_EVERY, sampler)
         got = run_score(sampler.trajectory(), items)
         session.handle(ev.action("restore"))
         return got
+
+    def score(p: dict) -> tuple[float, str]:
+        if not presses:
+            return one(p, check_at + p["offset"])
+        got = [one(p, at) for at in presses]  # their mean, and the worst one's story
+        return sum(g[0] for g in got) / len(got), min(got)[1]
 
     start = read_run(base, mouse_x, 0.0)
     best_p = {k: start[k] for k in LEAP_KEYS}
@@ -511,6 +545,8 @@ def search_leap(base: dict, tries: int, seed: int, mouse_x: float, check_at: flo
         got = json.loads(Path(values).read_text())
         best_p.update({k: got[k] for k in LEAP_KEYS})
         best_p["offset"] = min(max(got["press"] - check_at, lo_off), 0.6)
+    if presses:
+        best_p.pop("offset")
     best, what = score(best_p)
     print(f"the interface's own: {best:.3f} ({what})", flush=True)
     for i in range(tries):
@@ -520,19 +556,71 @@ def search_leap(base: dict, tries: int, seed: int, mouse_x: float, check_at: flo
         value, what = score(p)
         if value > best:
             best, best_p = value, p
-            print(f"try {i}: {value:.3f} ({what}) press {check_at + p['offset']:.3f}",
-                  flush=True)
+            print(f"try {i}: {value:.3f} ({what})", flush=True)
             if save:
-                Path(save).write_text(json.dumps(dict(p, press=check_at + p["offset"])))
+                Path(save).write_text(json.dumps(dict(p, press=check_at + p.get("offset", 0))))
         if i % 50 == 49:
             print(f"({i + 1} tries)", flush=True)
     spec = with_run(base, dict(read_run(base, mouse_x, 0.0), **best_p))
     print(yaml.safe_dump({"poses": {n: spec["poses"][n] for n in (
         "takeoff", "rsail", "rland", "rsquat")},
         "states": {n: spec["states"][n] for n in ("rsail", "leap_near")},
-        "press": round(check_at + best_p["offset"], 3)},
+        "press": round(check_at + best_p.get("offset", 0.0), 3)},
         sort_keys=False, default_flow_style=None))
     return best_p
+
+
+def robustness(text: str, items, mouse_x: float, check_at: float, press: float,
+               starts: list[float], presses: list[float], mice: list[float]) -> int:
+    """--robust: the run-up performance with space moved by each of ``starts`` (the
+    checkpoint and l with it), l moved by each of ``presses`` more, the mouse's x each of
+    ``mice``: each played whole and judged by the log's expectations. Prints each and
+    the count that pass every one; returns that count."""
+    ok = total = 0
+    for mx in mice:
+        for d in starts:
+            row = []
+            for e in presses:
+                entries = [{"t": 0.2, "mouse": [mx, RUN_Y]},
+                           {"t": round(RUN_START + d, 3), "key": "space", "hold": 0.05},
+                           {"t": round(check_at + d, 3), "action": "checkpoint"},
+                           {"t": round(press + d + e, 3), "key": "l", "hold": 0.05}]
+                outcomes = evaluate_all(items, run_traj(text, entries), "")
+                passed = all(o.passed for o in outcomes)
+                ok, total = ok + passed, total + 1
+                row.append("pass" if passed else ",".join(
+                    o.expectation.split()[0] for o in outcomes if not o.passed))
+            print(f"mouse x {mx:g}, space {d:+.3f} s: " + " | ".join(
+                f"l {e:+.3f}: {r}" for e, r in zip(presses, row)), flush=True)
+    print(f"{ok} of {total} pass")
+    return ok
+
+
+def robustness_with_checkpoint(text: str, items, mouse_x: float, check_at: float,
+                               runs: list[tuple[float, float]]) -> int:
+    """--robust --retry: for each (mouse x, space moved by d) run-up, what a person with
+    the checkpoint does: from it (check_at + d) l at every 10 ms of the next 0.6 s, each
+    judged by the log's expectations. Prints the passing presses of each run-up; returns
+    how many run-ups have at least one."""
+    some = 0
+    offsets = OFFSETS[:]
+    OFFSETS[:] = [round(0.01 * i, 3) for i in range(61)]
+    try:
+        for mx, d in runs:
+            lead = [{"t": 0.2, "mouse": [mx, RUN_Y]},
+                    {"t": round(RUN_START + d, 3), "key": "space", "hold": 0.05},
+                    {"t": round(check_at + d, 3), "action": "checkpoint"}]
+            press, _, width = search_press(text, items, lead, check_at + d, RUN_SCENE,
+                                           quiet=True)
+            some += press is not None
+            print(f"mouse x {mx:g}, space {d:+.3f} s: "
+                  + (f"{width} passing presses in a row (10 ms apart), the middle at "
+                     f"{press:.3f} s" if press is not None else "no press passes"),
+                  flush=True)
+    finally:
+        OFFSETS[:] = offsets
+    print(f"{some} of {len(runs)} run-ups have a passing press")
+    return some
 
 
 def main(argv=None) -> int:
@@ -557,6 +645,14 @@ def main(argv=None) -> int:
     ap.add_argument("--save", default="", help="--leap: write the best try here (JSON)")
     ap.add_argument("--min-offset", type=float, default=0.0,
                     help="--leap: the press at least this long after the checkpoint, s")
+    ap.add_argument("--robust", action="store_true",
+                    help="play the run-up log's performance with space, l and the mouse "
+                         "moved around the log's (--mouse-x, --check-at, --press)")
+    ap.add_argument("--presses", type=float, nargs="*", default=[],
+                    help="--leap: score each try by its mean over l at these times (s), "
+                         "the press not searched")
+    ap.add_argument("--retry", action="store_true",
+                    help="--robust: for each run-up, every press from its checkpoint")
     ap.add_argument("--run-up", action="store_true",
                     help="the run-up log's press (biped-longjump-run) from its checkpoint "
                          "at --check-at, not the walk-up's")
@@ -566,10 +662,21 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     text = INTERFACE.read_text(encoding="utf-8")
     SHIFTS[:] = a.shifts
+    if a.robust and a.retry:
+        robustness_with_checkpoint(
+            text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
+            [(a.mouse_x, d) for d in (-0.1, -0.05, -0.02, 0.0, 0.02, 0.05, 0.1)]
+            + [(a.mouse_x - 0.03, d) for d in (-0.05, 0.0, 0.05)])
+        return 0
+    if a.robust:
+        robustness(text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
+                   a.press, [-0.1, -0.05, -0.02, 0.0, 0.02, 0.05, 0.1],
+                   [-0.02, -0.01, 0.0, 0.01, 0.02], [a.mouse_x, a.mouse_x - 0.03])
+        return 0
     if a.leap:
         items = load_expectations(RUN_LOG, {}).items
         search_leap(yaml.safe_load(text), a.leap, a.seed, a.mouse_x, a.check_at,
-                    a.offset, items, a.values, a.save, a.min_offset)
+                    a.offset, items, a.values, a.save, a.min_offset, a.presses)
         return 0
     if a.run:
         items = load_expectations(RUN_LOG, {}).items
