@@ -33,10 +33,17 @@ assets/logs/biped-longjump-run.expect.yaml): the mouse parked at (--mouse-x, 0.9
 past 0.68 the run states run by themselves - space at 0.5 s, a checkpoint at
 --check-at, l at a press.
 
-    python tools/tune_longjump.py --leap 400 --check-at 4.0 [--values a.json --save b.json]
-                                  [--presses 4.15 4.175 4.32 4.345]
-    python tools/tune_longjump.py --run-up --check-at 4.0 [--write assets/scripts/biped-longjump-run.yaml]
-    python tools/tune_longjump.py --robust [--retry] --check-at 4.0 --press 4.33
+    python tools/tune_longjump.py --leap 300 --check-at 6.0 [--values a.json --save b.json]
+                                  [--presses 6.15 6.17 6.19 6.2 6.21 6.22 6.23]
+    python tools/tune_longjump.py --run-up --check-at 6.0 [--write assets/scripts/biped-longjump-run.yaml]
+    python tools/tune_longjump.py --robust --check-at 6.0 --press 6.16
+    python tools/tune_longjump.py --robust --retry --check-at 5.5 --span 1.2
+
+The shipped numbers: --leap 300 from the walk-up's sail, land and squat and a hand-made
+take-off (--check-at 3.5, then 4.0, on a run-up 3 m long before the run had its
+velocity feedback), then on this run-up (5 m, c_v 4) --leap 300 --check-at 6.0, and
+--leap 150 with --presses twice (6.03 6.06 6.15 6.205 6.22 6.36, then the presses
+above), seeds 7, 8, 9; the press by --run-up --check-at 6.0.
 
 ``--leap N`` searches the run's take-off and landing (the poses takeoff, rsail, rland,
 rsquat and their holds; Gaussian steps of 8 %, for the last third 3 %, of each range)
@@ -597,14 +604,14 @@ def robustness(text: str, items, mouse_x: float, check_at: float, press: float,
 
 
 def robustness_with_checkpoint(text: str, items, mouse_x: float, check_at: float,
-                               runs: list[tuple[float, float]]) -> int:
+                               runs: list[tuple[float, float]], span: float = 0.6) -> int:
     """--robust --retry: for each (mouse x, space moved by d) run-up, what a person with
-    the checkpoint does: from it (check_at + d) l at every 10 ms of the next 0.6 s, each
+    the checkpoint does: from it (check_at + d) l at every 10 ms of the next ``span`` s, each
     judged by the log's expectations. Prints the passing presses of each run-up; returns
     how many run-ups have at least one."""
     some = 0
     offsets = OFFSETS[:]
-    OFFSETS[:] = [round(0.01 * i, 3) for i in range(61)]
+    OFFSETS[:] = [round(0.01 * i, 3) for i in range(round(span / 0.01) + 1)]
     try:
         for mx, d in runs:
             lead = [{"t": 0.2, "mouse": [mx, RUN_Y]},
@@ -653,6 +660,8 @@ def main(argv=None) -> int:
                          "the press not searched")
     ap.add_argument("--retry", action="store_true",
                     help="--robust: for each run-up, every press from its checkpoint")
+    ap.add_argument("--span", type=float, default=0.6,
+                    help="--robust --retry: the presses tried after the checkpoint, s")
     ap.add_argument("--run-up", action="store_true",
                     help="the run-up log's press (biped-longjump-run) from its checkpoint "
                          "at --check-at, not the walk-up's")
@@ -666,7 +675,7 @@ def main(argv=None) -> int:
         robustness_with_checkpoint(
             text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
             [(a.mouse_x, d) for d in (-0.1, -0.05, -0.02, 0.0, 0.02, 0.05, 0.1)]
-            + [(a.mouse_x - 0.03, d) for d in (-0.05, 0.0, 0.05)])
+            + [(a.mouse_x - 0.03, d) for d in (-0.05, 0.0, 0.05)], a.span)
         return 0
     if a.robust:
         robustness(text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
