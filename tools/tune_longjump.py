@@ -35,7 +35,8 @@ past 0.68 the run states run by themselves - space at 0.5 s, a checkpoint at
 
     python tools/tune_longjump.py --leap 300 --check-at 6.0 [--values a.json --save b.json]
                                   [--presses 6.15 6.17 6.19 6.2 6.21 6.22 6.23]
-    python tools/tune_longjump.py --run-up --check-at 6.0 [--write assets/scripts/biped-longjump-run.yaml]
+    python tools/tune_longjump.py --run-up --check-at 6.0 \
+                                  [--write assets/scripts/biped-longjump-run.yaml]
     python tools/tune_longjump.py --robust --check-at 6.0 --press 6.16
     python tools/tune_longjump.py --robust --retry --check-at 5.5 --span 1.2
 
