@@ -59,6 +59,51 @@ def test_first_touch_fails_when_a_hand_lands_first_or_short():
     assert not _outcome({"first_touch": {"links": ["foot"]}}, still_flying).passed
 
 
+class _Moving(_Run):
+    """A _Run with the centre of mass moving: ``speed`` m/s along +x."""
+
+    def __init__(self, contact, speed):
+        super().__init__(contact, [[0.0, 0.0, 0.0]] * len(contact))
+        self.com = np.stack([self.t * speed, np.full(len(contact), 0.5)], axis=1)
+
+
+# three strides off the ground (0.1 s each), then the jump (0.3 s), down on the foot
+RUN = [[1, 0, 0], [0, 0, 0], [1, 0, 0], [0, 0, 0], [1, 0, 0], [0, 0, 0], [1, 0, 0],
+       [0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0], [1, 0, 0]]
+RUN_UP = {"links": ["foot"], "min_flights": 3, "flight_seconds": 0.1, "min_speed": 1.5,
+          "over": 0.5}
+
+
+def test_run_up_counts_the_flights_before_the_jump_and_its_speed():
+    got = _outcome({"run_up": RUN_UP}, _Moving(RUN, 2.0))
+    assert got.passed
+    assert got.measured == ("the jump from t = 0.70 s; 3 flights of 0.1 s or more before "
+                            "it; 2.000 m/s over t = 0.20 to 0.70 s")
+    assert not _outcome({"run_up": RUN_UP}, _Moving(RUN, 1.0)).passed  # a walk's speed
+    assert not _outcome({"run_up": dict(RUN_UP, min_flights=4)}, _Moving(RUN, 2.0)).passed
+    # a walk-up: a foot always down until the jump
+    walk = [[1, 0, 0]] * 7 + RUN[7:]
+    got = _outcome({"run_up": RUN_UP}, _Moving(walk, 2.0))
+    assert not got.passed and "0 flights" in got.measured
+    # only the flights begun within 0.35 s of the jump: the one at 0.5 s
+    assert not _outcome({"run_up": dict(RUN_UP, within=0.35)}, _Moving(RUN, 2.0)).passed
+    assert _outcome({"run_up": dict(RUN_UP, within=0.35, min_flights=1)},
+                    _Moving(RUN, 2.0)).passed
+    # the jump too early for the speed's window
+    got = _outcome({"run_up": dict(RUN_UP, over=1.0)}, _Moving(RUN, 2.0))
+    assert not got.passed and "less than 1 s" in got.measured
+    assert _outcome({"run_up": RUN_UP}, _Moving([[1, 0, 0]] * 5, 2.0)).measured == \
+        "never in the air"
+
+
+def test_run_up_needs_flights_or_a_speed():
+    import pytest
+    from puppet.data.errors import DataError
+
+    with pytest.raises(DataError):
+        parse_expectations([{"run_up": {"over": 1.0}}])
+
+
 # -- the shipped log ---------------------------------------------------------------------
 import json  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -128,3 +173,55 @@ def test_on_ground_needs_every_link_down_and_the_root_tipped_back():
                                        "min_root_angle": 30}}, ahead).passed
     assert _outcome({"on_ground": {"links": ["hand", "pelvis"], "min_seconds": 0.1,
                                    "max_root_angle": -30}}, ahead).passed
+
+
+# -- the run-up log (assets/logs/biped-longjump-run.jsonl) --------------------------------
+from helpers import with_changed_interface  # noqa: E402
+
+RUN_LOG = ROOT / "assets" / "logs" / "biped-longjump-run.jsonl"
+
+
+def test_the_small_figure_runs_up_and_jumps_a_metre_into_the_pit():
+    result = replay_log(RUN_LOG)
+    assert not result.failed, [str(o) for o in result.outcomes]
+    assert {o.expectation.split()[0] for o in result.outcomes} - {"same"} == \
+        JUMP_KINDS | {"run_up"}
+    traj = result.trajectory
+    states = list(dict.fromkeys(traj.state))  # in the order first entered
+    # the run's own states from the first step (on_near hands over within a control
+    # tick: no walking stride), then the one-leg take-off
+    assert states[:2] == ["standing", "run_near"]
+    assert {"run_near", "fly_near", "run_far", "fly_far"} <= set(states)
+    assert not {"down_near", "on_far", "gather"} & set(states)
+    assert [s for s in states if s.startswith(("leap_", "rsail", "rland"))] and \
+        states[-1] == "rlanded"
+    # not a hop on the spot: 4 m covered on the runway in the 5.5 s before the jump
+    assert not check(result, [{"mean_speed": {"from": 0.5, "until": 6.0, "min": 0.72}}])
+
+
+def test_weak_hips_spoil_the_run_up_or_the_jump(tmp_path):
+    weak = with_weak_hips("biped-longjump-run", "biped-longjump", tmp_path, 120.0, 30.0)
+    assert _failed(weak) & {"run_up", "took_off", "first_touch"}
+
+
+def test_a_slippery_run_up_spoils_the_jump(tmp_path):
+    head = json.loads(RUN_LOG.read_text(encoding="utf-8").splitlines()[0])
+    scene = yaml.safe_load(find("scene", head["scene"]).read_text(encoding="utf-8"))
+    scene["ground"][0]["friction"] = 0.3  # the runway only, not the pit
+    scene["name"] += "-slippery"
+    path = tmp_path / "slippery.yaml"
+    path.write_text(yaml.safe_dump(scene), encoding="utf-8")
+    assert _failed(copy_log(RUN_LOG, tmp_path, scene=str(path))) & \
+        {"run_up", "took_off", "first_touch"}
+
+
+def test_without_the_take_off_key_there_is_no_jump(tmp_path):
+    def no_leap(spec):  # the run without its take-off: l gone, and what only it reached
+        for name in [n for n in spec["states"] if n.startswith(("leap_", "plant_", "rs", "rl"))]:
+            del spec["states"][name]
+        for name, state in spec["states"].items():
+            if name.startswith(("run_", "rpush_", "fly_")):
+                del state["keys"]
+
+    broken = with_changed_interface(RUN_LOG, "biped-longjump", tmp_path, no_leap, "noleap")
+    assert "took_off" in _failed(broken)  # runs on into the pit: no flight of 0.25 s

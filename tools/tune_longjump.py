@@ -27,6 +27,39 @@ the last foot leaves (both capped), the jump's length, the flight time, feet fir
 and sitting up at the end (the chest within 40 deg of upright, the head above
 0.35 m), the chest never more than 70 deg from upright (no dive, no roll), at its worst over the press and the press 5 ms
 earlier and later; the best is printed as YAML to paste into the interface. Seeded: the same arguments find the same numbers.
+
+The run-up (the log biped-longjump-run, scene biped-longjump-run, judged by its sidecar
+assets/logs/biped-longjump-run.expect.yaml): the mouse parked at (--mouse-x, 0.9) -
+past 0.68 the run states run by themselves - space at 0.5 s, a checkpoint at
+--check-at, l at a press.
+
+    python tools/tune_longjump.py --leap 300 --check-at 6.0 [--values a.json --save b.json]
+                                  [--presses 6.15 6.17 6.19 6.2 6.21 6.22 6.23]
+    python tools/tune_longjump.py --run-up --check-at 6.0 \
+                                  [--write assets/scripts/biped-longjump-run.yaml]
+    python tools/tune_longjump.py --robust --check-at 6.0 --press 6.16
+    python tools/tune_longjump.py --robust --retry --check-at 5.5 --span 1.2
+
+The shipped numbers: --leap 300 from the walk-up's sail, land and squat and a hand-made
+take-off (--check-at 3.5, then 4.0, on a run-up 3 m long before the run had its
+velocity feedback), then on this run-up (5 m, c_v 4) --leap 300 --check-at 6.0, and
+--leap 150 with --presses twice (6.03 6.06 6.15 6.205 6.22 6.36, then the presses
+above), seeds 7, 8, 9; the press by --run-up --check-at 6.0.
+
+``--leap N`` searches the run's take-off and landing (the poses takeoff, rsail, rland,
+rsquat and their holds; Gaussian steps of 8 %, for the last third 3 %, of each range)
+and the press: the run-up is played once to the checkpoint, then every try restores
+it and reloads the interface with the try's numbers (the "reload" event: the run's
+own states are unchanged, so the run-up is the same), presses l and is scored by
+``run_score`` (ten points for run_up, took_off and first_touch each, three for each
+other expectation met, plus how near each is to its bound); with ``--presses`` a try
+scores its mean over l at those times (the press not searched). ``--run-up`` is the
+press search above for the run-up log (every 5 ms of the 0.5 s after its checkpoint),
+``--write`` its script. ``--robust`` plays the whole performance with space moved by
+-0.1 .. +0.1 s (the checkpoint and l with it), l by -20 .. +20 ms more and the mouse's
+x at --mouse-x and 0.03 less, and counts those that pass; with ``--retry``, for each
+run-up every press from its checkpoint (what a person with the checkpoint does).
+``--run N`` searches the run's own numbers too (every try the whole performance; slow).
 """
 
 from __future__ import annotations
@@ -38,6 +71,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -52,6 +86,9 @@ from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-longjump.yaml"
+WALK_SCENE = "biped-longjump"  # the walk-up's (the interface's own is the run-up's)
+RUN_SCENE = "biped-longjump-run"
+RUN_LOG = ROOT / "assets" / "logs" / "biped-longjump-run.jsonl"
 LOG = ROOT / "assets" / "logs" / "biped-longjump.jsonl"
 STRIDE = {"period": 0.38, "lx": 0.65, "ly": 0.65, "lift": 0.09, "reach_at": 0.22,
           "rx": 0.4, "ry": 0.05}  # tune_walk's first stride, 0.76x the period
@@ -102,10 +139,13 @@ def judge(sampler: Sampler, items) -> tuple[int, float, list]:
     return sum(o.passed for o in outcomes), length, outcomes
 
 
-def search_press(text: str, items) -> tuple[float | None, list, int]:
-    """From the checkpoint at the last swap, ``l`` at each offset; the press kept."""
-    entries, last = run_up()
-    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+def search_press(text: str, items, entries=None, last=None, scene: str = WALK_SCENE,
+                 quiet: bool = False) -> tuple[float | None, list, int]:
+    """From the checkpoint at ``last`` (the walk-up's: at the last swap), ``l`` at each
+    offset; the press kept."""
+    if entries is None:
+        entries, last = run_up()
+    session = Session(setup_from_text(text, str(INTERFACE), scene, None))
     dt = session.sim.dt
     sampler = Sampler(session)
     sampler(session)
@@ -125,15 +165,16 @@ def search_press(text: str, items) -> tuple[float | None, list, int]:
         passed, length, outcomes = judge(sampler, items)
         tried.append((off, passed, length, outcomes))
         session.handle(ev.action("restore"))
-        print(f"l at +{off:.3f} s: {passed}/{len(items)} pass, jump {length:.3f} m",
-              flush=True)
+        if not quiet:
+            print(f"l at +{off:.3f} s: {passed}/{len(items)} pass, jump {length:.3f} m",
+                  flush=True)
     ok = [t for t in tried if t[1] == len(items)]
     if not ok:
         best = max(tried, key=lambda t: (t[1], t[2]))
         return None, best[3], best[0]
-    runs, cur = [], [ok[0]]
+    runs, cur, step = [], [ok[0]], OFFSETS[1] - OFFSETS[0]
     for t in ok[1:]:
-        if abs(t[0] - cur[-1][0] - 0.005) < 1e-9:
+        if abs(t[0] - cur[-1][0] - step) < 1e-9:
             cur.append(t)
         else:
             runs.append(cur)
@@ -141,7 +182,8 @@ def search_press(text: str, items) -> tuple[float | None, list, int]:
     runs.append(cur)
     longest = max(runs, key=len)
     mid = longest[len(longest) // 2]
-    print(f"passing offsets: {', '.join(f'{r[0][0]:.3f}..{r[-1][0]:.3f}' for r in runs)}")
+    if not quiet:
+        print(f"passing offsets: {', '.join(f'{r[0][0]:.3f}..{r[-1][0]:.3f}' for r in runs)}")
     return last + mid[0], mid[3], len(longest)
 
 
@@ -222,7 +264,7 @@ def with_poses(base: dict, p: dict) -> dict:
 def shaped(text: str, press_offset: float) -> tuple[float, str]:
     """The --poses score of one whole performance (higher is better)."""
     entries, last = run_up()
-    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+    session = Session(setup_from_text(text, str(INTERFACE), WALK_SCENE, None))
     c = session.character
     rows = []
 
@@ -293,6 +335,302 @@ def search_poses(base: dict, tries: int, seed: int, offset: float) -> dict:
     return spec
 
 
+# -- the run-up (--run) ------------------------------------------------------------------
+# The run-up's performance: the mouse parked at (mouse_x, RUN_Y) - past 0.68 the legs
+# run by themselves (the run states) - space at RUN_START to start, a checkpoint one
+# step (CHECK_BEFORE s) before the leap, l at 'press'.
+RUN_Y = 0.9
+RUN_START = 0.5
+CHECK_BEFORE = 0.25
+RUN_BOUNDS = {
+    "mouse_x": (0.7, 1.0), "press": (3.0, 6.0), "run_hold": (0.04, 0.1),
+    "rpush_hold": (0.03, 0.08), "run_knee_k": (80, 250), "run_push_k": (80, 250),
+    "run_lean": (-20, 20),
+    "to_waist": (-40, 20), "to_hip": (-45, 10), "to_knee": (-20, 0), "to_ankle": (-45, 0),
+    "to_swing_hip": (20, 110), "to_swing_knee": (-130, -20), "to_k": (150, 1500),
+    "to_swing_k": (50, 800), "to_hold": (0.05, 0.25),
+    **{k: BOUNDS[k] for k in ("sail_waist", "sail_hip", "sail_knee", "sail_hold",
+                              "land_waist", "land_hip", "land_knee", "squat_waist",
+                              "squat_hip", "squat_knee")}}
+
+
+def run_entries(p: dict) -> list[dict]:
+    """The run-up performance of ``p`` (mouse_x, press) as script entries."""
+    r = lambda v: round(v, 3)  # noqa: E731
+    return [{"t": 0.2, "mouse": [r(p["mouse_x"]), RUN_Y]},
+            {"t": RUN_START, "key": "space", "hold": 0.05},
+            {"t": r(p["press"] - CHECK_BEFORE), "action": "checkpoint"},
+            {"t": r(p["press"]), "key": "l", "hold": 0.05}]
+
+
+# the run's landing poses and holds: (pose, joint) for the legs (near and far alike)
+RUN_LEGS = {"sail_hip": ("rsail", "hip"), "sail_knee": ("rsail", "knee"),
+            "land_hip": ("rland", "hip"), "land_knee": ("rland", "knee"),
+            "squat_hip": ("rsquat", "hip"), "squat_knee": ("rsquat", "knee")}
+RUN_WAIST = {"sail_waist": "rsail", "land_waist": "rland", "squat_waist": "rsquat"}
+
+
+def read_run(spec: dict, mouse_x: float, press: float) -> dict:
+    P, st = spec["poses"], spec["states"]
+    to, tk = P["takeoff"]["joints"], P["takeoff"]["stiffness"]
+    p = {k: P[pose]["joints"][f"{joint}_near"] for k, (pose, joint) in RUN_LEGS.items()}
+    p.update({k: P[pose]["joints"]["waist"] for k, pose in RUN_WAIST.items()})
+    p.update(mouse_x=mouse_x, press=press,
+             run_hold=st["run_near"]["transitions"][1]["after"],
+             rpush_hold=st["rpush_near"]["transitions"][0]["after"],
+             run_knee_k=P["run_stance"]["stiffness"]["stance_knee"],
+             run_push_k=P["run_push"]["stiffness"]["stance_knee"],
+             run_lean=P["run_stance"]["joints"]["waist"]["world"],
+             to_waist=to["waist"]["world"], to_hip=to["stance_hip"]["world"],
+             to_knee=to["stance_knee"], to_ankle=to["stance_ankle"],
+             to_swing_hip=to["swing_hip"]["world"], to_swing_knee=to["swing_knee"],
+             to_k=tk["stance_hip"], to_swing_k=tk["swing_hip"],
+             to_hold=st["leap_near"]["transitions"][0]["after"],
+             sail_hold=st["rsail"]["transitions"][0]["after"])
+    return p
+
+
+def with_run(base: dict, p: dict) -> dict:
+    spec = json.loads(json.dumps(base))
+    P, st = spec["poses"], spec["states"]
+    r = lambda v: round(v, 3)  # noqa: E731
+    for k, (pose, joint) in RUN_LEGS.items():
+        for side in ("near", "far"):
+            P[pose]["joints"][f"{joint}_{side}"] = r(p[k])
+    for k, pose in RUN_WAIST.items():
+        P[pose]["joints"]["waist"] = r(p[k])
+    for side in ("near", "far"):
+        st[f"run_{side}"]["transitions"][-1]["after"] = r(p["run_hold"])
+        st[f"rpush_{side}"]["transitions"][0]["after"] = r(p["rpush_hold"])
+        st[f"leap_{side}"]["transitions"][0]["after"] = r(p["to_hold"])
+    st["rsail"]["transitions"][0]["after"] = r(p["sail_hold"])
+    P["run_stance"]["stiffness"]["stance_knee"] = r(p["run_knee_k"])
+    P["run_push"]["stiffness"].update(stance_knee=r(p["run_push_k"]),
+                                      stance_ankle=r(p["run_push_k"]))
+    P["run_stance"]["joints"]["waist"] = {"world": r(p["run_lean"])}
+    P["takeoff"]["joints"].update(
+        waist={"world": r(p["to_waist"])}, stance_hip={"world": r(p["to_hip"])},
+        stance_knee=r(p["to_knee"]), stance_ankle=r(p["to_ankle"]),
+        swing_hip={"world": r(p["to_swing_hip"])}, swing_knee=r(p["to_swing_knee"]))
+    P["takeoff"]["stiffness"].update(stance_hip=r(p["to_k"]), stance_knee=r(p["to_k"]),
+                                     swing_hip=r(p["to_swing_k"]))
+    return spec
+
+
+def run_traj(text: str, entries: list[dict]):
+    """The performance played through the real Session and sampled as replay does."""
+    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+    dt = session.sim.dt
+    sampler = Sampler(session)
+    sampler(session)
+    end = max(e["t"] for e in entries) + AFTER
+    play(session, pairs(entries, dt), round(end / dt), SAMPLE_EVERY, sampler)
+    return sampler.trajectory()
+
+
+JUMP = {"run_up", "took_off", "first_touch"}
+
+
+def run_score(traj, items) -> tuple[float, str]:
+    """The --run score of one sampled performance (higher is better): the log's
+    expectations met, ten points each, and how near each is to its bound."""
+    outcomes = evaluate_all(items, traj, "")
+    passed = sum(o.passed for o in outcomes)
+    # the run-up, the take-off and the landing count most: sitting still passes the rest
+    points = sum((10 if o.expectation.split()[0] in JUMP else 3) * o.passed
+                 for o in outcomes)
+    free = ~traj.contact.any(axis=1)
+    best, run, first = 0, 0, 0
+    for i, f in enumerate(free):
+        run = run + 1 if f else 0
+        if run > best:
+            best, first = run, i - run + 1
+    dt = float(traj.t[1] - traj.t[0])
+    flight = best * dt
+    if best < 6 or first == 0 or first + best >= len(free):
+        return points - 10.0 + flight, f"{passed}/{len(items)}, no jump"
+    feet = [traj.index("foot_near"), traj.index("foot_far")]
+    b, a = first - 1, first + best
+    took = max([traj.x[b, k] for k in feet if traj.contact[b, k]] or [traj.x[b].max() + 1])
+    landed = min([traj.x[a, k] for k in feet if traj.contact[a, k]] or [took])
+    touching = set(np.flatnonzero(traj.contact[a]).tolist())
+    feet_first = bool(touching) and touching <= set(feet)
+    chest = traj.index("chest")
+    tilt = np.degrees(np.abs(np.remainder(traj.angle[:, chest] + np.pi, 2 * np.pi) - np.pi))
+    head = traj.y[-60:, traj.index("head")].min()
+    i0 = int(np.searchsorted(traj.t, traj.t[first] - 1.0))
+    speed = float((traj.com[first, 0] - traj.com[i0, 0]) / (traj.t[first] - traj.t[i0]))
+    value = (points + min(landed - 1.0, 0.15) + 2 * min(-0.08 - took, 0.05)
+             + 0.5 * min(landed - took, 1.4) + min(flight, 0.35)
+             + (0.5 if feet_first else 0.0) - 0.05 * max(0.0, tilt[-1] - 40)
+             - 5 * max(0.0, 0.35 - head) - 0.05 * max(0.0, tilt.max() - 70)
+             + 2 * min(speed - 1.5, 0.4))
+    return value, (f"{passed}/{len(items)}: off at x {took:.3f}, down at {landed:.3f}, "
+                   f"flight {flight:.2f} s, {speed:.2f} m/s, chest {tilt[-1]:.0f} deg (at "
+                   f"most {tilt.max():.0f}), head {head:.2f} m")
+
+
+def run_worst(base: dict, p: dict, items) -> tuple[float, str]:
+    """``run_score`` at its worst over the press moved by SHIFTS."""
+    text = yaml.safe_dump(with_run(base, p))
+    return min(run_score(run_traj(text, run_entries(dict(p, press=p["press"] + d))), items)
+               for d in SHIFTS)
+
+
+def search_run(base: dict, tries: int, seed: int, mouse_x: float, press: float,
+               items, uniform: int = 0) -> dict:
+    rng = random.Random(seed)
+    best_p = read_run(base, mouse_x, press)
+    best, what = run_worst(base, best_p, items)
+    print(f"the interface's own: {best:.3f} ({what})", flush=True)
+    for i in range(tries):
+        spread = 0.06 if i < 2 * tries // 3 else 0.02
+        if i < uniform:  # random tries first, over the whole ranges
+            p = {k: rng.uniform(lo, hi) for k, (lo, hi) in RUN_BOUNDS.items()}
+        else:
+            p = {k: min(hi, max(lo, best_p[k] + rng.gauss(0, spread * (hi - lo))))
+                 for k, (lo, hi) in RUN_BOUNDS.items()}
+        value, what = run_worst(base, p, items)
+        if value > best:
+            best, best_p = value, p
+            print(f"try {i}: {value:.3f} ({what}) mouse_x {p['mouse_x']:.3f} "
+                  f"press {p['press']:.3f}", flush=True)
+    spec = with_run(base, best_p)
+    print(yaml.safe_dump({"poses": {n: spec["poses"][n] for n in (
+        "takeoff", "rsail", "rland", "rsquat", "run_stance", "run_push")},
+        "states": {n: spec["states"][n] for n in ("rsail", "run_near", "rpush_near",
+                                                  "leap_near")},
+        "mouse_x": round(best_p["mouse_x"], 3), "press": round(best_p["press"], 3)},
+        sort_keys=False, default_flow_style=None))
+    return best_p
+
+
+LEAP_KEYS = [k for k in RUN_BOUNDS if k.startswith(("to_", "sail_", "land_", "squat_"))]
+
+
+def search_leap(base: dict, tries: int, seed: int, mouse_x: float, check_at: float,
+                offset: float, items, values: str = "", save: str = "",
+                lo_off: float = 0.0, presses: list[float] = ()) -> dict:
+    """--leap: the take-off and the landing (LEAP_KEYS) and the press, the run-up as
+    the file has it: played once to a checkpoint at ``check_at`` (as the script takes
+    it), then every try restores it, reloads the interface with its numbers (the
+    "reload" event: the run's states are the same, so the run-up is too) and presses l
+    ``offset`` s later (searched in 0..0.6 s)."""
+    rng = random.Random(seed)
+    text = yaml.safe_dump(base)
+    session = Session(setup_from_text(text, str(INTERFACE), None, None))
+    dt = session.sim.dt
+    sampler = Sampler(session)
+    sampler(session)
+    lead = run_entries({"mouse_x": mouse_x, "press": check_at + 1.0})[:2]  # mouse, space
+    mark = round(check_at / dt)
+    play(session, pairs(lead, dt), mark, SAMPLE_EVERY, sampler)
+    session.handle(ev.action("checkpoint"))
+    bounds = {k: RUN_BOUNDS[k] for k in LEAP_KEYS}
+    bounds["offset"] = (lo_off, 0.6)
+    if presses:  # the presses given, not searched
+        del bounds["offset"]
+
+    def one(p: dict, at: float) -> tuple[float, str]:
+        spec = with_run(base, dict(read_run(base, mouse_x, 0.0), **p))
+        session.reload(yaml.safe_dump(spec))
+        press = pairs([{"t": round(at, 3), "key": "l", "hold": 0.05}], dt)
+        play(session, press, round((at + AFTER) / dt), SAMPLE_EVERY, sampler)
+        got = run_score(sampler.trajectory(), items)
+        session.handle(ev.action("restore"))
+        return got
+
+    def score(p: dict) -> tuple[float, str]:
+        if not presses:
+            return one(p, check_at + p["offset"])
+        got = [one(p, at) for at in presses]  # their mean, and the worst one's story
+        return sum(g[0] for g in got) / len(got), min(got)[1]
+
+    start = read_run(base, mouse_x, 0.0)
+    best_p = {k: start[k] for k in LEAP_KEYS}
+    best_p["offset"] = offset
+    if values:  # a --save'd try: its numbers, its press
+        got = json.loads(Path(values).read_text())
+        best_p.update({k: got[k] for k in LEAP_KEYS})
+        best_p["offset"] = min(max(got["press"] - check_at, lo_off), 0.6)
+    if presses:
+        best_p.pop("offset")
+    best, what = score(best_p)
+    print(f"the interface's own: {best:.3f} ({what})", flush=True)
+    for i in range(tries):
+        spread = 0.08 if i < 2 * tries // 3 else 0.03
+        p = {k: min(hi, max(lo, best_p[k] + rng.gauss(0, spread * (hi - lo))))
+             for k, (lo, hi) in bounds.items()}
+        value, what = score(p)
+        if value > best:
+            best, best_p = value, p
+            print(f"try {i}: {value:.3f} ({what})", flush=True)
+            if save:
+                Path(save).write_text(json.dumps(dict(p, press=check_at + p.get("offset", 0))))
+        if i % 50 == 49:
+            print(f"({i + 1} tries)", flush=True)
+    spec = with_run(base, dict(read_run(base, mouse_x, 0.0), **best_p))
+    print(yaml.safe_dump({"poses": {n: spec["poses"][n] for n in (
+        "takeoff", "rsail", "rland", "rsquat")},
+        "states": {n: spec["states"][n] for n in ("rsail", "leap_near")},
+        "press": round(check_at + best_p.get("offset", 0.0), 3)},
+        sort_keys=False, default_flow_style=None))
+    return best_p
+
+
+def robustness(text: str, items, mouse_x: float, check_at: float, press: float,
+               starts: list[float], presses: list[float], mice: list[float]) -> int:
+    """--robust: the run-up performance with space moved by each of ``starts`` (the
+    checkpoint and l with it), l moved by each of ``presses`` more, the mouse's x each of
+    ``mice``: each played whole and judged by the log's expectations. Prints each and
+    the count that pass every one; returns that count."""
+    ok = total = 0
+    for mx in mice:
+        for d in starts:
+            row = []
+            for e in presses:
+                entries = [{"t": 0.2, "mouse": [mx, RUN_Y]},
+                           {"t": round(RUN_START + d, 3), "key": "space", "hold": 0.05},
+                           {"t": round(check_at + d, 3), "action": "checkpoint"},
+                           {"t": round(press + d + e, 3), "key": "l", "hold": 0.05}]
+                outcomes = evaluate_all(items, run_traj(text, entries), "")
+                passed = all(o.passed for o in outcomes)
+                ok, total = ok + passed, total + 1
+                row.append("pass" if passed else ",".join(
+                    o.expectation.split()[0] for o in outcomes if not o.passed))
+            print(f"mouse x {mx:g}, space {d:+.3f} s: " + " | ".join(
+                f"l {e:+.3f}: {r}" for e, r in zip(presses, row)), flush=True)
+    print(f"{ok} of {total} pass")
+    return ok
+
+
+def robustness_with_checkpoint(text: str, items, mouse_x: float, check_at: float,
+                               runs: list[tuple[float, float]], span: float = 0.6) -> int:
+    """--robust --retry: for each (mouse x, space moved by d) run-up, what a person with
+    the checkpoint does: from it (check_at + d) l at every 10 ms of the next ``span`` s, each
+    judged by the log's expectations. Prints the passing presses of each run-up; returns
+    how many run-ups have at least one."""
+    some = 0
+    offsets = OFFSETS[:]
+    OFFSETS[:] = [round(0.01 * i, 3) for i in range(round(span / 0.01) + 1)]
+    try:
+        for mx, d in runs:
+            lead = [{"t": 0.2, "mouse": [mx, RUN_Y]},
+                    {"t": round(RUN_START + d, 3), "key": "space", "hold": 0.05},
+                    {"t": round(check_at + d, 3), "action": "checkpoint"}]
+            press, _, width = search_press(text, items, lead, check_at + d, RUN_SCENE,
+                                           quiet=True)
+            some += press is not None
+            print(f"mouse x {mx:g}, space {d:+.3f} s: "
+                  + (f"{width} passing presses in a row (10 ms apart), the middle at "
+                     f"{press:.3f} s" if press is not None else "no press passes"),
+                  flush=True)
+    finally:
+        OFFSETS[:] = offsets
+    print(f"{some} of {len(runs)} run-ups have a passing press")
+    return some
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--poses", type=int, default=0, metavar="N",
@@ -302,22 +640,87 @@ def main(argv=None) -> int:
                     help="--poses: the press after the last swap to start from, s")
     ap.add_argument("--shifts", type=float, nargs="*", default=list(SHIFTS),
                     help="--poses: a try scores its worst over the press moved by these s")
+    ap.add_argument("--run", type=int, default=0, metavar="N",
+                    help="search the run-up and the leap with N tries (prints YAML to paste)")
+    ap.add_argument("--mouse-x", type=float, default=1.0, help="--run: the mouse's x to start from")
+    ap.add_argument("--press", type=float, default=4.8, help="--run: the l press to start from, s")
+    ap.add_argument("--leap", type=int, default=0, metavar="N",
+                    help="search the run's take-off and landing with N tries from a "
+                         "checkpoint at --check-at (prints YAML to paste)")
+    ap.add_argument("--check-at", type=float, default=3.5,
+                    help="--leap: the script's checkpoint, s")
+    ap.add_argument("--values", default="", help="--leap: start from this --save'd JSON")
+    ap.add_argument("--save", default="", help="--leap: write the best try here (JSON)")
+    ap.add_argument("--min-offset", type=float, default=0.0,
+                    help="--leap: the press at least this long after the checkpoint, s")
+    ap.add_argument("--robust", action="store_true",
+                    help="play the run-up log's performance with space, l and the mouse "
+                         "moved around the log's (--mouse-x, --check-at, --press)")
+    ap.add_argument("--presses", type=float, nargs="*", default=[],
+                    help="--leap: score each try by its mean over l at these times (s), "
+                         "the press not searched")
+    ap.add_argument("--retry", action="store_true",
+                    help="--robust: for each run-up, every press from its checkpoint")
+    ap.add_argument("--span", type=float, default=0.6,
+                    help="--robust --retry: the presses tried after the checkpoint, s")
+    ap.add_argument("--run-up", action="store_true",
+                    help="the run-up log's press (biped-longjump-run) from its checkpoint "
+                         "at --check-at, not the walk-up's")
+    ap.add_argument("--random", type=int, default=0, metavar="K",
+                    help="--run: the first K tries at random over the whole ranges")
     ap.add_argument("--write", default="", help="write the script here")
     a = ap.parse_args(argv)
     text = INTERFACE.read_text(encoding="utf-8")
     SHIFTS[:] = a.shifts
+    if a.robust and a.retry:
+        robustness_with_checkpoint(
+            text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
+            [(a.mouse_x, d) for d in (-0.1, -0.05, -0.02, 0.0, 0.02, 0.05, 0.1)]
+            + [(a.mouse_x - 0.03, d) for d in (-0.05, 0.0, 0.05)], a.span)
+        return 0
+    if a.robust:
+        robustness(text, load_expectations(RUN_LOG, {}).items, a.mouse_x, a.check_at,
+                   a.press, [-0.1, -0.05, -0.02, 0.0, 0.02, 0.05, 0.1],
+                   [-0.02, -0.01, 0.0, 0.01, 0.02], [a.mouse_x, a.mouse_x - 0.03])
+        return 0
+    if a.leap:
+        items = load_expectations(RUN_LOG, {}).items
+        search_leap(yaml.safe_load(text), a.leap, a.seed, a.mouse_x, a.check_at,
+                    a.offset, items, a.values, a.save, a.min_offset, a.presses)
+        return 0
+    if a.run:
+        items = load_expectations(RUN_LOG, {}).items
+        search_run(yaml.safe_load(text), a.run, a.seed, a.mouse_x, a.press, items, a.random)
+        return 0
     if a.poses:
         search_poses(yaml.safe_load(text), a.poses, a.seed, a.offset)
         return 0
-    items = load_expectations(LOG, {}).items
-    press, outcomes, width = search_press(text, items)
+    if a.run_up:  # the run-up log's press, from its checkpoint
+        items = load_expectations(RUN_LOG, {}).items
+        lead = run_entries({"mouse_x": a.mouse_x, "press": a.check_at + CHECK_BEFORE})[:3]
+        press, outcomes, width = search_press(text, items, lead, a.check_at, RUN_SCENE)
+    else:
+        items = load_expectations(LOG, {}).items
+        press, outcomes, width = search_press(text, items)
     for o in outcomes:
         print(o)
     if press is None:
         print("no press passes every expectation (the closest above)")
         return 1
     print(f"l at {press:.3f} s ({width} passing offsets in a row, 5 ms apart)")
-    if a.write:
+    if a.write and a.run_up:
+        Path(a.write).write_text(yaml.safe_dump({
+            "description": "The small figure runs up to the take-off line (the mouse parked "
+                           f"at ({a.mouse_x:g}, {RUN_Y:g}), past x 0.68: the run states; "
+                           "space starts it), the script checkpointing one stride before "
+                           "the leap, then takes off from one foot (l) into the sand pit "
+                           "and lands feet first, sitting.",
+            "interface": "biped-longjump", "scene": RUN_SCENE,
+            "seconds": round(press + AFTER, 2),
+            "events": run_entries({"mouse_x": a.mouse_x, "press": a.check_at + CHECK_BEFORE})[:3]
+            + [{"t": round(press, 3), "key": "l", "hold": 0.05}]}, sort_keys=False),
+            encoding="utf-8")
+    elif a.write:
         entries, _ = run_up()
         Path(a.write).write_text(yaml.safe_dump({
             "description": "The small figure walks up to the take-off line in seven strides "

@@ -89,6 +89,14 @@ Each entry names one check:
                                   # none of the links touching (default: no link of the
                                   # character), each lasting 0.04 s or more: a run's
                                   # flights, not a one-sample bounce
+      - run_up: {links: [foot_near, foot_far], min_flights: 3, flight_seconds: 0.04,
+                 min_speed: 1.5, over: 1.0}
+                                  # before the longest flight (the jump): at least 3
+                                  # flights with none of the links touching, 0.04 s or
+                                  # more each, ended before it (within: s, only those
+                                  # begun that long before it), and the centre of mass's
+                                  # mean forward speed over its last 1.0 s on the ground
+                                  # at least 1.5 m/s: a run-up, not a walk-up
       - stayed_in_state: upright               # the interface's state machine was in
                                                # 'upright' at every sample of the run
       - stayed_in_state: {state: sitting, from: 0.6, until: 4.0}
@@ -415,6 +423,30 @@ class FlightPhases(Spec):
                                     description="the links off the ground (default: all)")
 
 
+class RunUp(Spec):
+    """Before the longest flight (no link of the character touching: the jump), at
+    least ``min_flights`` flights with none of ``links`` touching (default: no link),
+    each ``flight_seconds`` or longer and over before the jump began (``within``: only
+    those begun at most that long before it), and the centre of mass's mean speed along
+    +x over the ``over`` s before the jump at least ``min_speed``: a run-up."""
+
+    links: list[str] | None = Field(None, min_length=1, max_length=64,
+                                    description="the links off the ground (default: all)")
+    min_flights: int = Field(0, ge=0, le=100000, description="flights, at least")
+    flight_seconds: Time = Field(0.04, description="s a flight lasts, at least")
+    within: Time | None = Field(None, description="s before the jump a flight begins, at most")
+    min_speed: Measure | None = Field(None, description="m/s over the last 'over' s, at least")
+    over: Time = Field(1.0, description="s before the jump the speed is measured over")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.min_flights == 0 and self.min_speed is None:
+            raise ValueError("give 'min_flights', 'min_speed' or both")
+        if self.over <= 0:
+            raise ValueError("'over' must be more than 0 s")
+        return self
+
+
 class StayedIn(Spec):
     """The common part of stayed_in_state and stayed_in_mode: the time window. The
     shorthand ``stayed_in_state: NAME`` is the whole run."""
@@ -526,6 +558,7 @@ class Expectation(Spec):
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
     flight_phases: FlightPhases | None = None
+    run_up: RunUp | None = None
     balanced_on: BalancedOn | None = None
     stayed_in_state: StayedInState | None = None
     stayed_in_mode: StayedInMode | None = None
@@ -667,6 +700,15 @@ class Expectation(Spec):
             what = "no link" if v.links is None else f"none of {', '.join(v.links)}"
             return (f"flight_phases at least {v.min_count} of {v.min_seconds:g} s or more "
                     f"({what} touching) from {v.from_:g} s to {_until(v)}")
+        if isinstance(v, RunUp):
+            what = "no link" if v.links is None else f"none of {', '.join(v.links)}"
+            parts = ([f"at least {v.min_flights} flights of {v.flight_seconds:g} s or more "
+                      f"({what} touching)"
+                      + (f" begun within {v.within:g} s of it" if v.within is not None
+                         else "")] if v.min_flights else [])
+            if v.min_speed is not None:
+                parts.append(f"mean_speed min {v.min_speed:g} m/s over its last {v.over:g} s")
+            return "run_up before the longest flight: " + ", ".join(parts)
         if isinstance(v, StayedIn):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
@@ -956,6 +998,40 @@ def _flight_phases(e: Expectation, v: FlightPhases, traj) -> Outcome:
                    f"({len(lengths)} in all{longest})")
 
 
+def _run_up(e: Expectation, v: RunUp, traj) -> Outcome:
+    names = traj.links if v.links is None else v.links
+    for k, name in enumerate(names):
+        if name not in traj.links:
+            raise e.error(f"unknown link '{name}'; the character has: "
+                          f"{', '.join(traj.links)}", "links", k)
+    length, jump, _ = _longest_run(~traj.contact.any(axis=1), traj.t)
+    if length <= 0:
+        return Outcome(e.describe(), False, "never in the air")
+    start = float(traj.t[jump])
+    free = ~traj.contact[:, [traj.index(n) for n in names]].any(axis=1)
+    flights = []
+    for i, j in _runs(free[:jump]):
+        if j + 1 >= jump:  # still off the ground when the jump began: part of it
+            continue
+        if v.within is not None and traj.t[i] < start - v.within - 1e-9:
+            continue
+        if traj.t[j + 1] - traj.t[i] >= v.flight_seconds - 1e-9:
+            flights.append(float(traj.t[i]))
+    ok = len(flights) >= v.min_flights
+    said = [f"the jump from t = {start:.2f} s; {len(flights)} flights of "
+            f"{v.flight_seconds:g} s or more before it"]
+    if v.min_speed is not None:
+        idx = _samples_in(traj.t, start - v.over, start)
+        if traj.t[idx[0]] > start - v.over + 1e-6 or len(idx) < 2:
+            return Outcome(e.describe(), False, said[0] + f"; the jump began {start:.2f} s "
+                           f"into the run, less than {v.over:g} s")
+        i, j = int(idx[0]), int(idx[-1])
+        speed = float((traj.com[j, 0] - traj.com[i, 0]) / (traj.t[j] - traj.t[i]))
+        ok = ok and speed >= v.min_speed
+        said.append(f"{speed:.3f} m/s over t = {traj.t[i]:.2f} to {traj.t[j]:.2f} s")
+    return Outcome(e.describe(), ok, "; ".join(said))
+
+
 def _at_end(e: Expectation, column: str, traj) -> Outcome:
     _check_name(e, traj, column, e.value)
     seen = getattr(traj, column)
@@ -1197,6 +1273,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _mean_speed(desc, v, traj)
     if isinstance(v, FlightPhases):
         return _flight_phases(e, v, traj)
+    if isinstance(v, RunUp):
+        return _run_up(e, v, traj)
     if isinstance(v, StayedIn):
         return _stayed(e, v, traj)
     if e.kind in AT_END:
