@@ -36,7 +36,8 @@ def test_broken_file_is_rejected_with_file_and_line(path):
     assert "\n" not in str(err)
     # the words are puppet's, never the validation library's
     assert not re.search(r"Input (should|tag)|found using|validation error|pydantic|"
-                         r"Value error|after validation", str(err)), str(err)
+                         r"Value error|after validation|msgspec|Expected `|Object (contains|"
+                         r"missing)|Invalid (enum )?value|- at `", str(err)), str(err)
 
 
 def test_every_kind_of_file_has_broken_examples():

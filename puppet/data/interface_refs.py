@@ -1,6 +1,6 @@
 """Cross-references in an interface file, checked at load time with file:line:col.
 
-pydantic checks each value on its own; this module checks that names point at
+The types check each value on its own; this module checks that names point at
 things that exist (poses, sequences, modes, states, chains; joints and links of the
 character), that every state can be reached, and that values fit the character
 (pose angles within joint limits). A mistake is reported where it was written, with
