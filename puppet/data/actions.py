@@ -69,9 +69,9 @@ class FrameTargetSpec(Spec, kw_only=True):
     world through the hip) or its parent (the trunk held upright through the stance
     hip, whose child, the stance thigh, stands on the ground)."""
 
-    world: Annotated[Angle | None, Meta(description="deg from the model's orientation")] = None
-    relative_to: Annotated[str | None, Meta(description="a link")] = None
-    angle: Annotated[Angle | None, Meta(description="deg, with relative_to")] = None
+    world: Angle | None = None  # deg from the model's orientation
+    relative_to: str | None = None  # a link
+    angle: Angle | None = None  # deg, with relative_to
     hold: Literal["child", "parent"] = "child"
 
     def __post_init__(self):
@@ -93,11 +93,10 @@ class PoseSpec(Spec, kw_only=True):
     """A full or partial pose: joint targets, optionally with gains for those joints.
     A target is degrees of the joint, or a ``FrameTargetSpec`` ({world: deg} ...)."""
 
-    joints: Annotated[dict[str, Target], Meta(description="joint -> target, degrees")]
+    joints: dict[str, Target]  # joint -> target, degrees
     stiffness: dict[str, Stiffness] = field(default_factory=dict)
     damping: dict[str, Damping] = field(default_factory=dict)
-    max_torque: Annotated[dict[str, Torque], Meta(
-        description="joint -> N*m the servo may give")] = field(default_factory=dict)
+    max_torque: dict[str, Torque] = field(default_factory=dict)  # joint -> N*m the servo may give
 
     def joint_degrees(self) -> dict[str, float]:
         """The targets given as joint angles (degrees); frame targets left out."""
@@ -107,7 +106,7 @@ class PoseSpec(Spec, kw_only=True):
 
 class SequenceStepSpec(Spec, kw_only=True):
     pose: str
-    hold: Annotated[PositiveDuration, Meta(description="s the pose is held before the next step")]
+    hold: PositiveDuration  # s the pose is held before the next step
 
 
 class ConditionSpec(Spec, kw_only=True):
@@ -146,9 +145,8 @@ class ChainSpec(Spec, kw_only=True):
     """Two or more actuated joints in a row (an arm; a leg with hip, knee and ankle) and
     an end point on the last joint's child link."""
 
-    joints: Annotated[list[str], Meta(
-        min_length=2, max_length=32, description="proximal joint first")]
-    end: Annotated[ModelXY, Meta(description="end effector, model frame, m")]
+    joints: Annotated[list[str], Meta(min_length=2, max_length=32)]  # proximal joint first
+    end: ModelXY  # end effector, model frame, m
     description: str = ""
 
 
@@ -159,8 +157,7 @@ class PropPointSpec(Spec, kw_only=True):
 
     prop: str
     offset: Annotated[int, Meta(ge=-20, le=20)] = 0
-    of: Annotated[str | None, Meta(
-        description="the chain whose hold counts from (default: the reaching chain)")] = None
+    of: str | None = None  # the chain whose hold counts from (default: the reaching chain)
 
 
 class SteerSpec(Spec, kw_only=True):
@@ -171,8 +168,8 @@ class SteerSpec(Spec, kw_only=True):
     y: str = "mouse.y"
     x_from: InputXY = (0.0, 1.0)
     y_from: InputXY = (0.0, 1.0)
-    x_to: Annotated[WorldXY, Meta(description="m at x_from[0] and x_from[1]")]
-    y_to: Annotated[WorldXY, Meta(description="m at y_from[0] and y_from[1]")]
+    x_to: WorldXY  # m at x_from[0] and x_from[1]
+    y_to: WorldXY  # m at y_from[0] and y_from[1]
 
     def __post_init__(self):
         check_inputs(self, "x", "y")
@@ -186,24 +183,19 @@ class ReachSpec(Spec, kw_only=True):
     (``point``, followed as the prop moves) or steered by two inputs (``steer``)."""
 
     chain: str
-    target: Annotated[WorldXY | None, Meta(description="m; in 'frame' coordinates")] = None
+    target: WorldXY | None = None  # m; in 'frame' coordinates
     point: PropPointSpec | None = None
     steer: SteerSpec | None = None
-    frame: Annotated[Literal["world", "root"], Meta(
-        description="root: relative to the root link at the moment of the key (for steer: as "
-                    "it moves)")] = "root"
-    duration: Annotated[PositiveDuration, Meta(description="s from start to target")] = 0.5
-    hold: Annotated[Duration, Meta(
-        description="s to keep re-solving at the target (a steered reach is held until "
-                    "preempted)")] = 0.0
-    grasp: Annotated[bool, Meta(
-        description="grasp the target when the end gets within tolerance")] = False
-    tolerance: Annotated[Num("tolerance"), Meta(description="m, for grasp")] = 0.04
-    rigid: Annotated[bool, Meta(
-        description="with grasp: also hold the end link's angle to what it grasps "
-                    "(GraspSpec.rigid)")] = False
-    max_torque: Annotated[Torque | None, Meta(
-        description="N*m a rigid grasp holds the angle with (default: no limit)")] = None
+    # root: relative to the root link at the moment of the key (for steer: as it moves)
+    frame: Literal["world", "root"] = "root"
+    duration: PositiveDuration = 0.5  # s from start to target
+    # s to keep re-solving at the target (a steered reach is held until preempted)
+    hold: Duration = 0.0
+    grasp: bool = False  # grasp the target when the end gets within tolerance
+    tolerance: Num("tolerance") = 0.04  # m, for grasp
+    # with grasp: also hold the end link's angle to what it grasps (GraspSpec.rigid)
+    rigid: bool = False
+    max_torque: Torque | None = None  # N*m a rigid grasp holds the angle with (default: no limit)
 
     def __post_init__(self):
         given = [n for n in ("target", "point", "steer") if getattr(self, n) is not None]
@@ -228,17 +220,15 @@ class GraspSpec(Spec, kw_only=True):
     which may move."""
 
     chain: str
-    points: Annotated[list[WorldXY], Meta(
-        min_length=1, description="world points, m")] | None = None
-    prop: Annotated[str | None, Meta(description="a scene prop, or 'any'")] = None
-    tolerance: Annotated[Num("tolerance"), Meta(description="m")] = 0.04
-    within: Annotated[Num("positive_duration") | None, Meta(
-        description="s the grasp stays armed; default until released")] = None
-    rigid: Annotated[bool, Meta(
-        description="also hold the end link's angle to the prop (the world) as it is at the "
-                    "catch: a grip that does not turn about the point")] = False
-    max_torque: Annotated[Torque | None, Meta(
-        description="N*m a rigid grasp holds the angle with (default: no limit)")] = None
+    points: Annotated[list[WorldXY], Meta(min_length=1)] | None = None  # world points, m
+    prop: str | None = None  # a scene prop, or 'any'
+    tolerance: Num("tolerance") = 0.04  # m
+    # s the grasp stays armed; default until released
+    within: Num("positive_duration") | None = None
+    # also hold the end link's angle to the prop (the world) as it is at the catch: a grip that does
+    # not turn about the point
+    rigid: bool = False
+    max_torque: Torque | None = None  # N*m a rigid grasp holds the angle with (default: no limit)
 
     def __post_init__(self):
         if (self.points is None) == (self.prop is None):
@@ -259,36 +249,30 @@ class ShoveSpec(Spec, kw_only=True):
 class ActionSpec(Spec, kw_only=True):
     """Everything one trigger (key, state entry) can do."""
 
-    pose: Annotated[str | None, Meta(description="set a named pose absolutely")] = None
-    set: Annotated[dict[str, Target], Meta(
-        description="joint -> deg, or {world: deg} ...")] = field(default_factory=dict)
-    adjust: Annotated[dict[str, AngleChange], Meta(
-        description="joint -> +deg")] = field(default_factory=dict)
-    sequence: Annotated[str | None, Meta(description="start a named pose sequence")] = None
-    repeat: Annotated[int | Literal["forever"] | None, Meta(
-        description="play the sequence this many times (or until preempted)")] = None
+    pose: str | None = None  # set a named pose absolutely
+    set: dict[str, Target] = field(default_factory=dict)  # joint -> deg, or {world: deg} ...
+    adjust: dict[str, AngleChange] = field(default_factory=dict)  # joint -> +deg
+    sequence: str | None = None  # start a named pose sequence
+    # play the sequence this many times (or until preempted)
+    repeat: int | Literal["forever"] | None = None
     stiffness: dict[str, Stiffness] = field(default_factory=dict)
     damping: dict[str, Damping] = field(default_factory=dict)
-    while_held: Annotated[bool, Meta(
-        description="undo the stiffness/damping changes when the key is released")] = False
-    mode: Annotated[str | None, Meta(description="select a control mode (map set)")] = None
-    goto: Annotated[str | None, Meta(
-        description="go to a state (MACHINE.STATE for a state of another machine)")] = None
+    while_held: bool = False  # undo the stiffness/damping changes when the key is released
+    mode: str | None = None  # select a control mode (map set)
+    goto: str | None = None  # go to a state (MACHINE.STATE for a state of another machine)
     reach: ReachSpec | None = None
     grasp: GraspSpec | None = None
-    release: Annotated[str | None, Meta(description="chain name, or 'all'")] = None
-    app: Annotated[str | None, Meta(
-        description="an app action: " + ", ".join(META_APP_ACTIONS))] = None
+    release: str | None = None  # chain name, or 'all'
+    app: str | None = None  # an app action: one of META_APP_ACTIONS
     slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] | None = None
-    gravity: Annotated[Gravity | None, Meta(description="m/s^2")] = None
-    friction: Annotated[Friction | None, Meta(description="ground friction")] = None
+    gravity: Gravity | None = None  # m/s^2
+    friction: Friction | None = None  # ground friction
     perturb: Literal["on", "off", "toggle"] | None = None
-    push: Annotated[ShoveSpec | None, Meta(description="shove a link (an impulse)")] = None
-    track: Annotated[Literal["off", "angles", "kd"] | None, Meta(
-        description="follow the performer (the interface's 'tracking'): joint angles, KD "
-                    "control, or stop")] = None
-    kinematic: Annotated[Literal["on", "off", "toggle"] | None, Meta(
-        description="KD control's Cartesian pulls (off: free fall)")] = None
+    push: ShoveSpec | None = None  # shove a link (an impulse)
+    # follow the performer (the interface's 'tracking'): joint angles, KD control, or stop
+    track: Literal["off", "angles", "kd"] | None = None
+    # KD control's Cartesian pulls (off: free fall)
+    kinematic: Literal["on", "off", "toggle"] | None = None
     description: str = ""
 
     def __post_init__(self):
@@ -314,7 +298,7 @@ class KeyActionSpec(ActionSpec, kw_only=True):
 class PerturbSpec(Spec, kw_only=True):
     """Small random kicks: every ``every`` s each link gets an angular impulse."""
 
-    impulse: Annotated[Num("impulse"), Meta(description="N*m*s, standard deviation")] = 0.002
-    every: Annotated[Num("period"), Meta(description="s")] = 0.1
+    impulse: Num("impulse") = 0.002  # N*m*s, standard deviation
+    every: Num("period") = 0.1  # s
     seed: Seed = 0
     start_on: bool = False

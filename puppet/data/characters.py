@@ -19,10 +19,10 @@ Vec2 = ModelXY
 
 class BoxShape(Spec, kw_only=True, tag_field="type", tag="box"):
     type: ClassVar[str] = "box"  # the tag: msgspec reads it as the union's 'type:' key
-    size: Annotated[tuple[Size, Size], Meta(description="width, height in m")]
+    size: tuple[Size, Size]  # width, height in m
     center: Vec2 = (0.0, 0.0)
-    angle: Annotated[Angle, Meta(description="degrees")] = 0.0
-    radius: Annotated[Corner, Meta(description="rounded corners, m")] = 0.0
+    angle: Angle = 0.0  # degrees
+    radius: Corner = 0.0  # rounded corners, m
 
 
 class CircleShape(Spec, kw_only=True, tag_field="type", tag="circle"):
@@ -35,7 +35,7 @@ class SegmentShape(Spec, kw_only=True, tag_field="type", tag="segment"):
     type: ClassVar[str] = "segment"  # the tag: msgspec reads it as the union's 'type:' key
     a: Vec2
     b: Vec2
-    radius: Annotated[Size, Meta(description="half thickness, m")]
+    radius: Size  # half thickness, m
 
 
 class PolygonShape(Spec, kw_only=True, tag_field="type", tag="polygon"):
@@ -49,58 +49,55 @@ Shape = Union[BoxShape, CircleShape, SegmentShape, PolygonShape]  # by their 'ty
 
 class LinkSpec(Spec, kw_only=True):
     name: str
-    mass: Annotated[Mass, Meta(description="kg")]
+    mass: Mass  # kg
     shapes: Annotated[list[Shape], Meta(min_length=1)]
     friction: Friction = 0.8
     elasticity: Elasticity = 0.0
     color: Color = (200, 200, 210)
-    layer: Annotated[Literal["far", "mid", "near"], Meta(
-        description="drawing order; far links are drawn darker, behind")] = "mid"
-    center_of_mass: Annotated[Vec2 | None, Meta(
-        description="model frame, m; with inertia, replaces the shapes' mass spread")] = None
-    inertia: Annotated[Num("inertia") | None, Meta(
-        description="kg*m^2 about the centre of mass; given with center_of_mass")] = None
+    # drawing order; far links are drawn darker, behind
+    layer: Literal["far", "mid", "near"] = "mid"
+    # model frame, m; with inertia, replaces the shapes' mass spread
+    center_of_mass: Vec2 | None = None
+    # kg*m^2 about the centre of mass; given with center_of_mass
+    inertia: Num("inertia") | None = None
     description: str = ""
 
 
 class PDSpec(Spec, kw_only=True):
-    stiffness: Annotated[Stiffness, Meta(description="N*m/rad")]
-    damping: Annotated[Damping, Meta(description="N*m*s/rad")]
-    max_torque: Annotated[Torque, Meta(description="N*m")]
+    stiffness: Stiffness  # N*m/rad
+    damping: Damping  # N*m*s/rad
+    max_torque: Torque  # N*m
 
 
 class JointSpec(Spec, kw_only=True):
     name: str
     parent: str
     child: str
-    anchor: Annotated[Vec2, Meta(description="pivot, model frame, m")]
-    limits: Annotated[tuple[Angle, Angle] | None, Meta(
-        description="degrees, child rel. parent")] = None
-    pd: Annotated[PDSpec | None, Meta(description="absent: a passive hinge")] = None
+    anchor: Vec2  # pivot, model frame, m
+    limits: tuple[Angle, Angle] | None = None  # degrees, child rel. parent
+    pd: PDSpec | None = None  # absent: a passive hinge
     description: str = ""
 
 
 class StartSpec(Spec, kw_only=True):
-    angle: Annotated[Angle, Meta(description="root link angle, degrees")] = 0.0
-    joints: Annotated[dict[str, Angle], Meta(description="degrees")] = field(default_factory=dict)
-    lift: Annotated[Num("lift"), Meta(description="m above the scene's start point")] = 0.0
+    angle: Angle = 0.0  # root link angle, degrees
+    joints: dict[str, Angle] = field(default_factory=dict)  # degrees
+    lift: Num("lift") = 0.0  # m above the scene's start point
 
 
 class SolverSpec(Spec, kw_only=True):
     """The physics solver's settings while this character plays (absent: the engine's
     defaults, SOLVER_ITERATIONS and COLLISION_SLOP in puppet/physics/simulation.py)."""
-    iterations: Annotated[int, Meta(
-        ge=1, le=200, description="constraint solver passes per step")] | None = None
-    collision_slop: Annotated[Num("slop") | None, Meta(
-        description="m of overlap allowed between shapes in contact")] = None
+    # constraint solver passes per step
+    iterations: Annotated[int, Meta(ge=1, le=200)] | None = None
+    collision_slop: Num("slop") | None = None  # m of overlap allowed between shapes in contact
 
 
 class CharacterSpec(Spec, kw_only=True):
     name: str
     description: str
     notes: str = ""
-    view_height: Annotated[Num("view_height"), Meta(
-        description="m of world shown in the window")] = 1.0
+    view_height: Num("view_height") = 1.0  # m of world shown in the window
     solver: SolverSpec = field(default_factory=SolverSpec)
     links: Annotated[list[LinkSpec], Meta(min_length=1)]
     joints: list[JointSpec] = field(default_factory=list)

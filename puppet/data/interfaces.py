@@ -59,26 +59,24 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
     ``curve``; value = to[0] + u * (to[1] - to[0]) degrees; each joint's target is
     gain * value (``joint`` is ``joints: {joint: 1}``)."""
 
-    input: Annotated[str, Meta(
-        description="mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 top), mouse.left, "
-                    "gamepad.axisN, channel.NAME ...")]
+    # mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 top), mouse.left, gamepad.axisN,
+    # channel.NAME ...
+    input: str
     joint: str | None = None
-    joints: Annotated[dict[str, Num("coupling")], Meta(
-        description="coupling: joint -> gain (sign = mirror)")] = field(default_factory=dict)
+    # coupling: joint -> gain (sign = mirror)
+    joints: dict[str, Num("coupling")] = field(default_factory=dict)
     from_: tuple[Num("input"), Num("input")] = field(name="from", default=(0.0, 1.0))
-    to: Annotated[tuple[AngleChange, AngleChange], Meta(
-        description="degrees at from[0] and from[1]")]
+    to: tuple[AngleChange, AngleChange]  # degrees at from[0] and from[1]
     clamp: bool = True
     curve: Curve = "linear"
-    frame: Annotated[str, Meta(
-        description="joint: the value is the joint's angle; world: the angle of the joint's "
-                    "child link in the world; a link's name: relative to that link")] = "joint"
-    hold: Annotated[Literal["child", "parent"], Meta(
-        description="with a frame: the link whose angle the value is")] = "child"
-    combine: Annotated[Literal["set", "add"], Meta(
-        description="set: the map writes the target; add: its value is added to the target "
-                    "whatever else writes (at the control rate)")] = "set"
-    description: Annotated[str, Meta(description="what it does, in the player's words")] = ""
+    # joint: the value is the joint's angle; world: the angle of the joint's child link in the
+    # world; a link's name: relative to that link
+    frame: str = "joint"
+    hold: Literal["child", "parent"] = "child"  # with a frame: the link whose angle the value is
+    # set: the map writes the target; add: its value is added to the target whatever else writes (at
+    # the control rate)
+    combine: Literal["set", "add"] = "set"
+    description: str = ""  # what it does, in the player's words
 
     def __post_init__(self):
         check_inputs(self, "input")
@@ -113,14 +111,13 @@ class GridMapSpec(Spec, MapSpec, kw_only=True):
     grid: Annotated[list[list[str]], Meta(min_length=1)]
     x: str = "mouse.x"
     y: str = "mouse.y"
-    joints: Annotated[list[str] | None, Meta(
-        description="drive only these of the poses' joints (default: all); with several maps "
-                    "over one grid, each limb can have its own map")] = None
-    description: Annotated[str, Meta(description="what it does, in the player's words")] = ""
-    mirror: Annotated[list[Literal["x", "y"]], Meta(
-        description="flip these inputs (u -> 1 - u) before the lookup: [x, y] reflects the "
-                    "input through the grid's centre, half a cycle out of phase for a "
-                    "circling mouse")] = field(default_factory=list)
+    # drive only these of the poses' joints (default: all); with several maps over one grid, each
+    # limb can have its own map
+    joints: list[str] | None = None
+    description: str = ""  # what it does, in the player's words
+    # flip these inputs (u -> 1 - u) before the lookup: [x, y] reflects the input through the grid's
+    # centre, half a cycle out of phase for a circling mouse
+    mirror: list[Literal["x", "y"]] = field(default_factory=list)
 
     def __post_init__(self):
         check_inputs(self, "x", "y")
@@ -159,7 +156,7 @@ class TransitionSpec(Spec, kw_only=True):
     """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
 
     to: str
-    after: Annotated[Num("time") | None, Meta(description="s since entering the state")] = None
+    after: Num("time") | None = None  # s since entering the state
     when: ConditionSpec | None = None
 
     def __post_init__(self):
@@ -175,8 +172,7 @@ class StateSpec(Spec, kw_only=True):
     keys: list[KeyActionSpec] = field(default_factory=list)
     maps: list[MapSpec] = field(default_factory=list)
     transitions: list[TransitionSpec] = field(default_factory=list)
-    roles: Annotated[str | None, Meta(
-        description="the role binding this state selects (which leg is the stance leg...)")] = None
+    roles: str | None = None  # the role binding this state selects (which leg is the stance leg...)
     description: str = ""
 
 
@@ -193,7 +189,7 @@ class MachineSpec(Spec, kw_only=True):
     beside a grasp machine): its own states, start state and ``any_state`` rules."""
 
     states: Annotated[dict[str, StateSpec], Meta(min_length=1)]
-    initial: Annotated[str | None, Meta(description="starting state; default the first")] = None
+    initial: str | None = None  # starting state; default the first
     any_state: AnyStateSpec = field(default_factory=AnyStateSpec)
     description: str = ""
 
@@ -211,9 +207,8 @@ class GestureSpec(Spec, kw_only=True):
 
     key: str
     description: str = ""
-    path: Annotated[list[tuple[Num("input"), Num("input"), Num("input")]], Meta(
-        min_length=1, description="[t, x, y] points: t s since the key press (increasing), x and y the "
-                    "mouse position 0..1 (y up)")]
+    # [t, x, y] points: t s since the key press (increasing), x and y the mouse position 0..1 (y up)
+    path: Annotated[list[tuple[Num("input"), Num("input"), Num("input")]], Meta(min_length=1)]
 
     @property
     def duration(self) -> float:
@@ -225,8 +220,8 @@ class GamepadSpec(Spec, kw_only=True):
     travel. Inside a dead zone an input reads 0; beyond it the rest of the travel is
     stretched back to the full range, so there is no jump at its edge."""
 
-    dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0, description="sticks (-1..1)")] = 0.12
-    trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0, description="triggers (0..1)")] = 0.05
+    dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.12  # sticks (-1..1)
+    trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.05  # triggers (0..1)
 
 
 class InterfaceSpec(Spec, kw_only=True):
@@ -235,46 +230,41 @@ class InterfaceSpec(Spec, kw_only=True):
     character: str
     scene: str = "flat"
     slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] = 1.0
-    app_keys: Annotated[dict[str, str], Meta(
-        description="rebind the app's keys: action -> key")] = field(default_factory=dict)
+    app_keys: dict[str, str] = field(default_factory=dict)  # rebind the app's keys: action -> key
     gains: dict[str, GainSpec] = field(default_factory=dict)
     poses: dict[str, PoseSpec] = field(default_factory=dict)
     sequences: dict[str, list[SequenceStepSpec]] = field(default_factory=dict)
     chains: dict[str, ChainSpec] = field(default_factory=dict)
-    maps: Annotated[list[MapSpec], Meta(description="always active")] = field(default_factory=list)
-    modes: Annotated[dict[str, list[MapSpec]], Meta(
-        description="control modes: name -> maps")] = field(default_factory=dict)
-    mode: Annotated[str | None, Meta(description="starting mode; default the first")] = None
-    start_pose: Annotated[str | None, Meta(
-        description="a pose (plain degrees) the figure is built in at the start, over the "
-                    "character's start joints: hanging from a bar, arms up")] = None
-    start_angle: Annotated[Angle | None, Meta(
-        description="the root link's angle at the start (deg from upright, counter-clockwise "
-                    "positive), over the character's: 90 lies a figure facing +x on its back")] = None
+    maps: list[MapSpec] = field(default_factory=list)  # always active
+    modes: dict[str, list[MapSpec]] = field(default_factory=dict)  # control modes: name -> maps
+    mode: str | None = None  # starting mode; default the first
+    # a pose (plain degrees) the figure is built in at the start, over the character's start joints:
+    # hanging from a bar, arms up
+    start_pose: str | None = None
+    # the root link's angle at the start (deg from upright, counter-clockwise positive), over the
+    # character's: 90 lies a figure facing +x on its back
+    start_angle: Angle | None = None
     keys: list[KeyActionSpec] = field(default_factory=list)
     states: dict[str, StateSpec] = field(default_factory=dict)
-    gestures: Annotated[list[GestureSpec], Meta(
-        description="recorded mouse paths bound to keys")] = field(default_factory=list)
-    initial: Annotated[str | None, Meta(description="starting state; default the first")] = None
-    any_state: Annotated[AnyStateSpec, Meta(
-        description="keys and transitions of every state")] = field(default_factory=AnyStateSpec)
-    machines: Annotated[dict[str, MachineSpec], Meta(
-        description="more state machines, side by side with 'states' (the machine 'main')")] = field(default_factory=dict)
+    gestures: list[GestureSpec] = field(default_factory=list)  # recorded mouse paths bound to keys
+    initial: str | None = None  # starting state; default the first
+    # keys and transitions of every state
+    any_state: AnyStateSpec = field(default_factory=AnyStateSpec)
+    # more state machines, side by side with 'states' (the machine 'main')
+    machines: dict[str, MachineSpec] = field(default_factory=dict)
     perturbation: PerturbSpec = field(default_factory=PerturbSpec)
-    tracking: Annotated[TrackingSpec | None, Meta(
-        description="how mocap channels drive the figure (track actions)")] = None
-    roles: Annotated[dict[str, dict[str, str]], Meta(
-        description="role -> binding -> joint or link: names that mean one joint or link in "
-                    "one binding and another in the next (a state's 'roles')")] = field(default_factory=dict)
-    binding: Annotated[str | None, Meta(
-        description="the starting role binding; default the first")] = None
-    control_rate: Annotated[float, Meta(
-        ge=1.0, le=10000.0, description="Hz at which sensor conditions are checked")] = 60.0
-    gamepad: Annotated[GamepadSpec, Meta(
-        description="dead zones of the gamepad's sticks and triggers")] = field(default_factory=GamepadSpec)
-    checkpoint_every: Annotated[float, Meta(
-        ge=CHECKPOINT_MIN, le=CHECKPOINT_MAX, description="s of simulated time between automatic checkpoints (the rewind's "
-                    "keyframes)")] = CHECKPOINT_EVERY
+    tracking: TrackingSpec | None = None  # how mocap channels drive the figure (track actions)
+    # role -> binding -> joint or link: names that mean one joint or link in one binding and another
+    # in the next (a state's 'roles')
+    roles: dict[str, dict[str, str]] = field(default_factory=dict)
+    binding: str | None = None  # the starting role binding; default the first
+    # Hz at which sensor conditions are checked
+    control_rate: Annotated[float, Meta(ge=1.0, le=10000.0)] = 60.0
+    # dead zones of the gamepad's sticks and triggers
+    gamepad: GamepadSpec = field(default_factory=GamepadSpec)
+    # s of simulated time between automatic checkpoints (the rewind's keyframes)
+    checkpoint_every: Annotated[float, Meta(ge=CHECKPOINT_MIN,
+                                            le=CHECKPOINT_MAX)] = CHECKPOINT_EVERY
 
     def __post_init__(self):
         for name, steps in self.sequences.items():

@@ -26,11 +26,10 @@ REST = {"forward": 0.0, "up": 90.0, "back": 180.0, "down": -90.0}
 
 
 class SourceSpec(Spec, kw_only=True):
-    up: Annotated[Axis, Meta(description="the source axis that points up (BVH and Unity: y)")] = "y"
-    unit: Annotated[Num("source_unit"), Meta(
-        description="metres per source length unit (CMU BVH: 0.056444, cm: 0.01)")] = 1.0
-    handedness: Annotated[Literal["right", "left"], Meta(
-        description="the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)")] = "right"
+    up: Axis = "y"  # the source axis that points up (BVH and Unity: y)
+    unit: Num("source_unit") = 1.0  # metres per source length unit (CMU BVH: 0.056444, cm: 0.01)
+    # the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)
+    handedness: Literal["right", "left"] = "right"
 
 
 class FacingSpec(Spec, kw_only=True):
@@ -42,12 +41,12 @@ class FacingSpec(Spec, kw_only=True):
 
 
 class RootSpec(Spec, kw_only=True):
-    point: Annotated[str | list[str], Meta(
-        description="the source point the figure's root follows, or several: their mean (the "
-                    "two hip joints: the figure's hip hinge)")]
-    floor: Annotated[Num("world_xy") | Literal["lowest"], Meta(
-        description="the floor's height in source units, or 'lowest': the lowest point a clip"
-                    " reaches (a stream: so far)")] = "lowest"
+    # the source point the figure's root follows, or several: their mean (the two hip joints: the
+    # figure's hip hinge)
+    point: str | list[str]
+    # the floor's height in source units, or 'lowest': the lowest point a clip reaches (a stream: so
+    # far)
+    floor: Num("world_xy") | Literal["lowest"] = "lowest"
 
     @property
     def points(self) -> list[str]:
@@ -61,7 +60,7 @@ class ClearanceSpec(Spec, kw_only=True):
     the height of a jump in flight, so a tracked figure leaves the ground then."""
 
     points: Annotated[list[str], Meta(min_length=1)]
-    standing: Annotated[Num("size"), Meta(description="m above the floor with the foot down")]
+    standing: Num("size")  # m above the floor with the foot down
 
 
 class SegmentSpec(Spec, kw_only=True):
@@ -95,22 +94,20 @@ class MappingSpec(Spec, kw_only=True):
     description: str = ""
     notes: str = ""
     source: SourceSpec = field(default_factory=SourceSpec)
-    plane: Annotated[Literal["travel", "facing"] | tuple[Num("input"), Num("input"), Num("input")], Meta(
-        description="the figure's forward direction: 'travel' (where the root goes over a "
-                    "clip), 'facing' (each frame, from the facing points) or [x, y, z] in "
-                    "source axes")] = "travel"
+    # the figure's forward direction: 'travel' (where the root goes over a clip), 'facing' (each
+    # frame, from the facing points) or [x, y, z] in source axes
+    plane: Literal["travel", "facing"] | tuple[Num("input"), Num("input"), Num("input")] = "travel"
     facing: FacingSpec | None = None
-    size: Annotated[Num("ratio"), Meta(
-        description="the figure's size over the performer's (lengths: root motion, effectors)")] = 1.0
+    # the figure's size over the performer's (lengths: root motion, effectors)
+    size: Num("ratio") = 1.0
     root: RootSpec
     segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1)]
     channels: dict[str, ChannelSpec] = field(default_factory=dict)
-    effectors: Annotated[dict[str, str], Meta(
-        description="name -> source point: channels NAME.x and NAME.y, m from the centre of "
-                    "mass, in the plane")] = field(default_factory=dict)
+    # name -> source point: channels NAME.x and NAME.y, m from the centre of mass, in the plane
+    effectors: dict[str, str] = field(default_factory=dict)
     clearance: ClearanceSpec | None = None
-    com: Annotated[dict[str, Num("ratio")], Meta(
-        description="source point -> weight: the centre of mass (absent: the root point)")] = field(default_factory=dict)
+    # source point -> weight: the centre of mass (absent: the root point)
+    com: dict[str, Num("ratio")] = field(default_factory=dict)
 
     def __post_init__(self):
         for name, channel in self.channels.items():

@@ -15,31 +15,28 @@ Vec2 = WorldXY
 
 
 class GroundSpec(Spec, kw_only=True):
-    points: Annotated[list[Vec2], Meta(min_length=2, description="polyline, m, left to right")]
+    points: Annotated[list[Vec2], Meta(min_length=2)]  # polyline, m, left to right
     friction: Friction = 0.9
     elasticity: Elasticity = 0.0
-    thickness: Annotated[Num("thickness"), Meta(
-        description="m; the collision radius is half")] = 0.02
+    thickness: Num("thickness") = 0.02  # m; the collision radius is half
     color: Color = (92, 84, 74)
     name: str = ""
 
 
 class MarkerSpec(Spec, kw_only=True):
-    x: Annotated[Num("world_xy"), Meta(description="m")]
+    x: Num("world_xy")  # m
     label: str
-    style: Annotated[Literal["flag", "line"], Meta(
-        description="flag: a pole with a pennant; line: a board across the ground (a take-off"
-                    " or finish line)")] = "flag"
+    # flag: a pole with a pennant; line: a board across the ground (a take-off or finish line)
+    style: Literal["flag", "line"] = "flag"
 
 
 class RulerSpec(Spec, kw_only=True):
     """Tick marks along the ground: distances from ``zero`` every ``step`` metres."""
-    start: Annotated[Num("world_xy"), Meta(description="m, first tick")] = field(name="from")
-    to: Annotated[Num("world_xy"), Meta(description="m, last tick")]
-    step: Annotated[Num("size"), Meta(description="m between ticks")]
-    zero: Annotated[Num("world_xy") | None, Meta(
-        description="m the distances count from (absent: from)")] = None
-    label_every: Annotated[int, Meta(ge=0, description="label every n-th tick (0: none)")] = 1
+    start: Num("world_xy") = field(name="from")  # m, first tick
+    to: Num("world_xy")  # m, last tick
+    step: Num("size")  # m between ticks
+    zero: Num("world_xy") | None = None  # m the distances count from (absent: from)
+    label_every: Annotated[int, Meta(ge=0)] = 1  # label every n-th tick (0: none)
     color: Color = (250, 250, 245)
 
     @property
@@ -58,11 +55,10 @@ class PropShapeSpec(Spec, kw_only=True):
     rung, a wall's face) with a radius, or a circle."""
 
     segment: tuple[Vec2, Vec2] | None = None
-    circle: Annotated[Vec2 | None, Meta(description="centre, m")] = None
-    radius: Annotated[Num("size"), Meta(description="m")] = 0.02
+    circle: Vec2 | None = None  # centre, m
+    radius: Num("size") = 0.02  # m
     friction: Friction = 0.9
-    collide: Annotated[bool, Meta(
-        description="the character collides with it (a bar held only by grasps need not)")] = True
+    collide: bool = True  # the character collides with it (a bar held only by grasps need not)
 
     def __post_init__(self):
         if (self.segment is None) == (self.circle is None):
@@ -77,18 +73,17 @@ class PropSpec(Spec, kw_only=True):
     world or to another prop: a pendulum bar, a rope made of links)."""
 
     body: Literal["static", "dynamic"] = "static"
-    position: Annotated[Vec2, Meta(description="the prop's origin in the world, m")]
-    angle: Annotated[Num("angle"), Meta(description="deg")] = 0.0
-    mass: Annotated[Num("mass") | None, Meta(description="kg (dynamic props)")] = None
+    position: Vec2  # the prop's origin in the world, m
+    angle: Num("angle") = 0.0  # deg
+    mass: Num("mass") | None = None  # kg (dynamic props)
     shapes: list[PropShapeSpec] = field(default_factory=list)
-    grasp_points: Annotated[dict[str, Vec2], Meta(
-        description="name -> point in the prop's frame, m; their order is the order reaches "
-                    "count in (next, previous)")] = field(default_factory=dict)
-    grasp_segments: Annotated[list[tuple[Vec2, Vec2]], Meta(
-        description="segments any point of which may be held")] = field(default_factory=list)
-    pivot: Annotated[Vec2 | None, Meta(description="world point the prop hangs from, m")] = None
-    pivot_to: Annotated[str | None, Meta(
-        description="the prop the pivot pins it to (default: the world)")] = None
+    # name -> point in the prop's frame, m; their order is the order reaches count in (next,
+    # previous)
+    grasp_points: dict[str, Vec2] = field(default_factory=dict)
+    # segments any point of which may be held
+    grasp_segments: list[tuple[Vec2, Vec2]] = field(default_factory=list)
+    pivot: Vec2 | None = None  # world point the prop hangs from, m
+    pivot_to: str | None = None  # the prop the pivot pins it to (default: the world)
     color: Color = (120, 110, 100)
     description: str = ""
 
@@ -113,14 +108,12 @@ class ViewSpec(Spec, kw_only=True):
     """How the window frames this scene, where following the character alone would not
     show what it holds (an apparatus above it): the view's height, and where its middle
     stays (the camera then moves only as far as keeps the character in the frame)."""
-    height: Annotated[Num("view_height") | None, Meta(
-        description="m of world from the window's top to its bottom (default: the character's"
-                    " view_height)")] = None
-    x: Annotated[Num("world_xy") | None, Meta(
-        description="m: the view's middle across (default: it follows the centre of mass)")] = None
-    y: Annotated[Num("world_xy") | None, Meta(
-        description="m: the height of the view's middle (default: the ground's place on "
-                    "screen)")] = None
+    # m of world from the window's top to its bottom (default: the character's view_height)
+    height: Num("view_height") | None = None
+    # m: the view's middle across (default: it follows the centre of mass)
+    x: Num("world_xy") | None = None
+    # m: the height of the view's middle (default: the ground's place on screen)
+    y: Num("world_xy") | None = None
 
 
 class SceneSpec(Spec, kw_only=True):
@@ -130,12 +123,11 @@ class SceneSpec(Spec, kw_only=True):
     ground: Annotated[list[GroundSpec], Meta(min_length=1)]
     start: StartSpec = field(default_factory=StartSpec)
     markers: list[MarkerSpec] = field(default_factory=list)
-    props: Annotated[dict[str, PropSpec], Meta(
-        description="name -> a static or dynamic body")] = field(default_factory=dict)
+    props: dict[str, PropSpec] = field(default_factory=dict)  # name -> a static or dynamic body
     rulers: list[RulerSpec] = field(default_factory=list)
     sky: Color = (226, 232, 240)
-    view: Annotated[ViewSpec | None, Meta(
-        description="how the window frames the scene (default: it follows the character)")] = None
+    # how the window frames the scene (default: it follows the character)
+    view: ViewSpec | None = None
 
     def ground_height(self, x: float) -> float | None:
         """Highest ground y directly under x, or None off the ends."""

@@ -67,16 +67,13 @@ class ReactionSpec(Spec, kw_only=True):
     of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
     it back up: the get-up)."""
 
-    small_margin: Annotated[Num("corner"), Meta(
-        description="m beyond the support: still small")] = 0.05
-    step_margin: Annotated[Num("size"), Meta(
-        description="m beyond the support: large, not a fall")] = 0.3
-    step_time: Annotated[Num("positive_duration"), Meta(
-        description="s a large push's protective step takes (a foot of 'feet' lifted and put "
-                    "down past the extrapolated centre of mass)")] = 0.35
-    step_lift: Annotated[Num("corner"), Meta(description="m the stepping foot is lifted")] = 0.1
-    step_past: Annotated[Num("corner"), Meta(
-        description="m past the extrapolated centre of mass the foot lands")] = 0.1
+    small_margin: Num("corner") = 0.05  # m beyond the support: still small
+    step_margin: Num("size") = 0.3  # m beyond the support: large, not a fall
+    # s a large push's protective step takes (a foot of 'feet' lifted and put down past the
+    # extrapolated centre of mass)
+    step_time: Num("positive_duration") = 0.35
+    step_lift: Num("corner") = 0.1  # m the stepping foot is lifted
+    step_past: Num("corner") = 0.1  # m past the extrapolated centre of mass the foot lands
     small: ReactionCaseSpec = field(
         default_factory=lambda: ReactionCaseSpec(weight=0.3, hold=0.15, recover=0.5))
     large: ReactionCaseSpec = field(
@@ -89,41 +86,32 @@ class RootChannelsSpec(Spec, kw_only=True):
     """The channels that place the performed pose in the world, and the joint whose
     hinge is the root point (the mapping's ``root.point``)."""
 
-    x: Annotated[str, Meta(description="channel: m travelled forward")] = "root.x"
-    y: Annotated[str, Meta(description="channel: m above the ground")] = "root.y"
-    angle: Annotated[str, Meta(description="channel: the root link's angle, deg")] = "root.angle"
-    clearance: Annotated[str, Meta(
-        description="channel: m the performer's feet are off the floor (0: one is down)")] = "clearance"
-    at: Annotated[str, Meta(
-        description="a joint on the root link whose hinge the root channels place (the hips: "
-                    "hip_near)")]
+    x: str = "root.x"  # channel: m travelled forward
+    y: str = "root.y"  # channel: m above the ground
+    angle: str = "root.angle"  # channel: the root link's angle, deg
+    # channel: m the performer's feet are off the floor (0: one is down)
+    clearance: str = "clearance"
+    at: str  # a joint on the root link whose hinge the root channels place (the hips: hip_near)
 
 
 class TrackingSpec(Spec, kw_only=True):
-    mapping: Annotated[str | None, Meta(
-        description="the mocap mapping the channels come from (assets/mappings/NAME.yaml)")] = None
-    joints: Annotated[list[str] | Literal["all"], Meta(
-        description="the joints that follow the channel of their name ('all': every actuated "
-                    "joint with a channel)")] = "all"
-    channels: Annotated[dict[str, str], Meta(
-        description="joint -> channel, where the names differ")] = field(default_factory=dict)
-    root: Annotated[RootChannelsSpec | None, Meta(
-        description="for kd: where the performed pose stands")] = None
+    # the mocap mapping the channels come from (assets/mappings/NAME.yaml)
+    mapping: str | None = None
+    # the joints that follow the channel of their name ('all': every actuated joint with a channel)
+    joints: list[str] | Literal["all"] = "all"
+    # joint -> channel, where the names differ
+    channels: dict[str, str] = field(default_factory=dict)
+    root: RootChannelsSpec | None = None  # for kd: where the performed pose stands
     gains: Literal["default", "balloon", "stapler", "giant", "glider"] | GainsSpec = "default"
-    scale: Annotated[dict[str, Num("ratio")], Meta(
-        description="link -> Cartesian gain multiplier (Nguyen: feet 125, shins 25, thighs 5;"
-                    " others 1)")] = field(default_factory=dict)
-    feet: Annotated[list[str], Meta(
-        description="links the performed pose stands on: it is moved up or down until the "
-                    "lowest of them touches the ground (the performer's other proportions, a "
-                    "floor offset)")] = field(default_factory=list)
-    reaction: Annotated[ReactionSpec | None, Meta(
-        description="impact reactions of KD control (null: none, the pulls hold through a "
-                    "push)")] = field(default_factory=ReactionSpec)
-    start: Annotated[Literal["off", "angles", "kd"], Meta(
-        description="tracking at the start")] = "off"
-    lost_after: Annotated[Num("positive_duration"), Meta(
-        description="s without a sample: tracking lost")] = 0.25
+    # link -> Cartesian gain multiplier (Nguyen: feet 125, shins 25, thighs 5; others 1)
+    scale: dict[str, Num("ratio")] = field(default_factory=dict)
+    # links the performed pose stands on: it is moved up or down until the lowest of them touches
+    # the ground (the performer's other proportions, a floor offset)
+    feet: list[str] = field(default_factory=list)
+    # impact reactions of KD control (null: none, the pulls hold through a push)
+    reaction: ReactionSpec | None = field(default_factory=ReactionSpec)
+    start: Literal["off", "angles", "kd"] = "off"  # tracking at the start
+    lost_after: Num("positive_duration") = 0.25  # s without a sample: tracking lost
 
     @property
     def preset(self) -> GainsSpec:

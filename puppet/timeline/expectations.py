@@ -149,8 +149,8 @@ FELL_DEG = 90.0  # never_fell: beyond this from upright is a fall
 
 
 class XAtEnd(Spec, kw_only=True):
-    link: Annotated[str | None, Meta(description="link whose centre of mass is measured")] = None
-    com: Annotated[bool, Meta(description="measure the whole character's centre of mass")] = False
+    link: str | None = None  # link whose centre of mass is measured
+    com: bool = False  # measure the whole character's centre of mass
     min: Measure | None = None
     max: Measure | None = None
 
@@ -168,7 +168,7 @@ class HeightAtEnd(Spec, kw_only=True):
     link: str
     min: Num("measure") | None = None
     max: Num("measure") | None = None
-    held: Annotated[Num("duration"), Meta(description="s at the end it must stay in bounds")] = 0.0
+    held: Num("duration") = 0.0  # s at the end it must stay in bounds
 
     def __post_init__(self):
         if self.min is None and self.max is None:
@@ -180,7 +180,7 @@ class TiltNeverAbove(Spec, kw_only=True):
     at every sample: a trunk that never leans past 45 degrees."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    max: Annotated[Num("angle"), Meta(description="deg from upright")]
+    max: Num("angle")  # deg from upright
 
 
 class TiltAtEnd(Spec, kw_only=True):
@@ -189,8 +189,8 @@ class TiltAtEnd(Spec, kw_only=True):
     the end, not only not having fallen."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    max: Annotated[Num("angle"), Meta(description="deg from upright")]
-    held: Annotated[Num("duration"), Meta(description="s at the end it must stay within")] = 0.0
+    max: Num("angle")  # deg from upright
+    held: Num("duration") = 0.0  # s at the end it must stay within
 
 
 class TouchingAtEnd(Spec, kw_only=True):
@@ -200,9 +200,9 @@ class TouchingAtEnd(Spec, kw_only=True):
     no contacts yet (pymunk rebuilds them in the next step)."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    held: Annotated[Num("duration"), Meta(description="s at the end")] = 0.0
-    min_fraction: Annotated[float, Meta(
-        ge=0, le=1, description="share of those samples touching, at least")] = 1.0
+    held: Num("duration") = 0.0  # s at the end
+    # share of those samples touching, at least
+    min_fraction: Annotated[float, Meta(ge=0, le=1)] = 1.0
 
 
 class FollowedChannels(Spec, kw_only=True):
@@ -214,8 +214,8 @@ class FollowedChannels(Spec, kw_only=True):
     joints: Annotated[list[str], Meta(min_length=1, max_length=64)]
     from_: Time = field(name="from", default=0.0)
     until: Time | None = None
-    max_rms: Annotated[Num("angle") | None, Meta(description="deg")] = None
-    min_rms: Annotated[Num("angle") | None, Meta(description="deg")] = None
+    max_rms: Num("angle") | None = None  # deg
+    min_rms: Num("angle") | None = None  # deg
 
     def __post_init__(self):
         if self.max_rms is None and self.min_rms is None:
@@ -224,15 +224,13 @@ class FollowedChannels(Spec, kw_only=True):
 
 class ReachedHeight(Spec, kw_only=True):
     link: str
-    min: Annotated[Measure, Meta(description="m the link's lowest point must rise above its start")]
+    min: Measure  # m the link's lowest point must rise above its start
 
 
 class Airborne(Spec, kw_only=True):
     link: str
-    min_seconds: Annotated[Time | None, Meta(
-        description="s out of contact in one stretch, at least")] = None
-    max_seconds: Annotated[Time | None, Meta(
-        description="s out of contact in one stretch, at most (every stretch)")] = None
+    min_seconds: Time | None = None  # s out of contact in one stretch, at least
+    max_seconds: Time | None = None  # s out of contact in one stretch, at most (every stretch)
 
     def __post_init__(self):
         if self.min_seconds is None and self.max_seconds is None:
@@ -240,10 +238,10 @@ class Airborne(Spec, kw_only=True):
 
 
 class StoodOn(Spec, kw_only=True):
-    link: Annotated[str, Meta(description="the one link touching the ground")]
-    min_seconds: Annotated[Time, Meta(description="s in one stretch")]
-    min_tilt: Annotated[float, Meta(
-        ge=0, le=180, description="deg the root is from upright at least (135: upside down)")] = 135.0
+    link: str  # the one link touching the ground
+    min_seconds: Time  # s in one stretch
+    # deg the root is from upright at least (135: upside down)
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 135.0
 
 
 class BalancedOn(Spec, kw_only=True):
@@ -251,14 +249,13 @@ class BalancedOn(Spec, kw_only=True):
     ``min_tilt`` from upright and each of ``above`` higher than ``over``, for
     ``min_seconds`` in one stretch: a handstand, on both hands, feet above the head."""
 
-    links: Annotated[list[str], Meta(
-        min_length=1, max_length=64, description="the links that may touch; nothing else does")]
-    min_seconds: Annotated[Time, Meta(description="s in one stretch")]
-    min_tilt: Annotated[float, Meta(
-        ge=0, le=180, description="deg the root is from upright at least")] = 135.0
-    above: Annotated[list[str], Meta(
-        max_length=64, description="links whose centre of mass is above over's")] = field(default_factory=list)
-    over: Annotated[str | None, Meta(description="the link they are above (the head)")] = None
+    # the links that may touch; nothing else does
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    min_seconds: Time  # s in one stretch
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 135.0  # deg the root is from upright at least
+    # links whose centre of mass is above over's
+    above: Annotated[list[str], Meta(max_length=64)] = field(default_factory=list)
+    over: str | None = None  # the link they are above (the head)
 
     def __post_init__(self):
         if bool(self.above) != (self.over is not None):
@@ -266,28 +263,25 @@ class BalancedOn(Spec, kw_only=True):
 
 
 class GotUp(Spec, kw_only=True):
-    lay_seconds: Annotated[Time, Meta(description="s lying first, in one stretch")]
-    within_seconds: Annotated[Time, Meta(
-        description="s from the end of the last lying stretch to standing up for good")]
-    min_tilt: Annotated[float, Meta(
-        ge=0, le=180, description="deg from upright, touching the ground: lying")] = 80.0
-    upright_tilt: Annotated[float, Meta(
-        ge=0, le=180, description="deg from upright at most: standing")] = 20.0
+    lay_seconds: Time  # s lying first, in one stretch
+    within_seconds: Time  # s from the end of the last lying stretch to standing up for good
+    # deg from upright, touching the ground: lying
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 80.0
+    upright_tilt: Annotated[float, Meta(ge=0, le=180)] = 20.0  # deg from upright at most: standing
 
 
 class Turned(Spec, kw_only=True):
     link: str
-    min_degrees: Annotated[Num("turn"), Meta(description="deg of accumulated rotation")]
-    direction: Annotated[Literal["backward", "forward"], Meta(
-        description="backward = counter-clockwise (the model faces +x)")] = "backward"
-    in_flight: Annotated[bool, Meta(
-        description="count only the turn made in one stretch with no link of the character "
-                    "touching")] = False
+    min_degrees: Num("turn")  # deg of accumulated rotation
+    # backward = counter-clockwise (the model faces +x)
+    direction: Literal["backward", "forward"] = "backward"
+    # count only the turn made in one stretch with no link of the character touching
+    in_flight: bool = False
 
 
 class LandedAt(Spec, kw_only=True):
     link: str
-    min: Annotated[Measure, Meta(description="m: x of the link when the longest flight ended")]
+    min: Measure  # m: x of the link when the longest flight ended
 
 
 class TookOff(Spec, kw_only=True):
@@ -296,8 +290,8 @@ class TookOff(Spec, kw_only=True):
     ``max_x`` or less, and lasted ``min_seconds``: a take-off behind a line."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    max_x: Annotated[Measure | None, Meta(description="m: x of each take-off link, at most")] = None
-    min_seconds: Annotated[Time, Meta(description="s the flight lasted, at least")] = 0.0
+    max_x: Measure | None = None  # m: x of each take-off link, at most
+    min_seconds: Time = 0.0  # s the flight lasted, at least
 
 
 class FirstTouch(Spec, kw_only=True):
@@ -306,8 +300,7 @@ class FirstTouch(Spec, kw_only=True):
     in the pit."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    min_x: Annotated[Measure | None, Meta(
-        description="m: x of each touching link, at least")] = None
+    min_x: Measure | None = None  # m: x of each touching link, at least
 
 
 class Touched(Spec, kw_only=True):
@@ -316,11 +309,9 @@ class Touched(Spec, kw_only=True):
     planted on a wall, not on the floor below it."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    min_height: Annotated[Measure, Meta(
-        description="m: the link's lowest point above y = 0, at least")]
-    min_x: Annotated[Measure | None, Meta(description="m: x of the link, at least")] = None
-    before_flight: Annotated[bool, Meta(
-        description="only the samples before the longest flight count (pushed off it)")] = False
+    min_height: Measure  # m: the link's lowest point above y = 0, at least
+    min_x: Measure | None = None  # m: x of the link, at least
+    before_flight: bool = False  # only the samples before the longest flight count (pushed off it)
 
 
 class OnGround(Spec, kw_only=True):
@@ -330,23 +321,22 @@ class OnGround(Spec, kw_only=True):
     over it: sat down on the seat and leaning back, not only touching."""
 
     links: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    min_seconds: Annotated[Time, Meta(description="s in one stretch")]
-    min_root_angle: Annotated[float, Meta(
-        ge=-180, le=180, description="deg, signed (+ = tipped backward)")] | None = None
-    max_root_angle: Annotated[float, Meta(
-        ge=-180, le=180, description="deg, signed (+ = tipped backward)")] | None = None
+    min_seconds: Time  # s in one stretch
+    # deg, signed (+ = tipped backward)
+    min_root_angle: Annotated[float, Meta(ge=-180, le=180)] | None = None
+    # deg, signed (+ = tipped backward)
+    max_root_angle: Annotated[float, Meta(ge=-180, le=180)] | None = None
 class AngleWithin(Spec, kw_only=True):
     """The link's signed angle from upright (deg, -180..180, counter-clockwise positive:
     tipped backward for a character facing +x) within ``min``..``max`` at every sample
     from ``from`` to ``until`` s: on its back at the start, never on its front."""
 
     link: str
-    min: Annotated[float, Meta(ge=-180, le=180, description="deg, signed")] | None = None
-    max: Annotated[float, Meta(
-        ge=-180, le=540, description="deg, signed; over 180 the angle is taken in max-360..max: a range across"
-                    " upside down")] | None = None
-    from_: Annotated[Time, Meta(description="s: window start")] = field(name="from", default=0.0)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
+    min: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, signed
+    # deg, signed; over 180 the angle is taken in max-360..max: a range across upside down
+    max: Annotated[float, Meta(ge=-180, le=540)] | None = None
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
     def __post_init__(self):
         if self.min is None and self.max is None:
@@ -367,18 +357,18 @@ class Swung(Spec, kw_only=True):
     ``from`` and ``until`` s: the body swings (on a rope, under a bar) that far, not a
     still hang."""
 
-    about: Annotated[tuple[Num("world_xy"), Num("world_xy")], Meta(description="m: the point")]
-    min: Annotated[Num("angle"), Meta(description="deg each way, at least")]
-    from_: Annotated[Time, Meta(description="s: window start")] = field(name="from", default=0.0)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
+    about: tuple[Num("world_xy"), Num("world_xy")]  # m: the point
+    min: Num("angle")  # deg each way, at least
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
 
 class MeanSpeed(Spec, kw_only=True):
     """The centre of mass's mean speed along +x over a window: how far it moved between
     the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
 
-    from_: Annotated[Time, Meta(description="s: window start")] = field(name="from", default=0.0)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
     min: Measure | None = None
     max: Measure | None = None
 
@@ -394,12 +384,12 @@ class FlightPhases(Spec, kw_only=True):
     with none of ``links`` touching (default: no link of the character), each at least
     ``min_seconds`` long (from the first sample off to the first sample down again)."""
 
-    from_: Annotated[Time, Meta(description="s: window start")] = field(name="from", default=0.0)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
-    min_count: Annotated[int, Meta(ge=1, le=100000, description="flights, at least")]
-    min_seconds: Annotated[Time, Meta(description="s a flight lasts, at least")]
-    links: Annotated[list[str], Meta(
-        min_length=1, max_length=64, description="the links off the ground (default: all)")] | None = None
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
+    min_count: Annotated[int, Meta(ge=1, le=100000)]  # flights, at least
+    min_seconds: Time  # s a flight lasts, at least
+    # the links off the ground (default: all)
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)] | None = None
 
 
 class StayedIn(Spec, kw_only=True):
@@ -407,9 +397,8 @@ class StayedIn(Spec, kw_only=True):
     shorthand ``stayed_in_state: NAME`` is the whole run."""
 
     column: ClassVar[str]  # the Trajectory column and the key naming it: state or mode
-    from_: Annotated[Time | None, Meta(
-        description="s: window start (default: the start)")] = field(name="from", default=None)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
+    from_: Time | None = field(name="from", default=None)  # s: window start (default: the start)
+    until: Time | None = None  # s: window end (default: the end)
 
     def __post_init__(self):
         if self.from_ is not None and self.until is not None and self.from_ > self.until:
@@ -422,35 +411,32 @@ class StayedIn(Spec, kw_only=True):
 
 class StayedInState(StayedIn, kw_only=True):
     column: ClassVar[str] = "state"
-    state: Annotated[str, Meta(description="the interface state it must stay in")]
+    state: str  # the interface state it must stay in
 
 
 class StayedInMode(StayedIn, kw_only=True):
     column: ClassVar[str] = "mode"
-    mode: Annotated[str, Meta(description="the interface mode it must stay in")]
+    mode: str  # the interface mode it must stay in
 
 
 class Revolutions(Spec, kw_only=True):
     """Full turns in a row of the centre of mass about a point: giant swings."""
 
-    about: Annotated[str | tuple[Num("world_xy"), Num("world_xy")], Meta(
-        description="a chain (the point it holds, at each sample) or [x, y] in the scene, m")]
-    min: Annotated[Num("turns"), Meta(description="full turns in one stretch, at least")]
-    direction: Annotated[Literal["either", "backward", "forward"], Meta(
-        description="backward = counter-clockwise (the model faces +x)")] = "either"
-    slack: Annotated[Num("turn"), Meta(
-        description="deg it may turn back inside the stretch (jitter at the top)")] = 10.0
+    # a chain (the point it holds, at each sample) or [x, y] in the scene, m
+    about: str | tuple[Num("world_xy"), Num("world_xy")]
+    min: Num("turns")  # full turns in one stretch, at least
+    # backward = counter-clockwise (the model faces +x)
+    direction: Literal["either", "backward", "forward"] = "either"
+    slack: Num("turn") = 10.0  # deg it may turn back inside the stretch (jitter at the top)
 
 
 class Held(Spec, kw_only=True):
     """Each of ``chains`` held a grasp (on ``prop``) at every sample of the window."""
 
     chains: Annotated[list[str], Meta(min_length=1, max_length=16)]
-    prop: Annotated[str | None, Meta(
-        description="the prop held (default: any, or the world)")] = None
-    from_: Annotated[Time | None, Meta(
-        description="s: window start")] = field(name="from", default=None)
-    until: Annotated[Time | None, Meta(description="s: window end (default: the end)")] = None
+    prop: str | None = None  # the prop held (default: any, or the world)
+    from_: Time | None = field(name="from", default=None)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
 
 AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
@@ -460,8 +446,8 @@ class HeldPoint(Spec, kw_only=True):
     """A grasp point of a prop held at some sample (by ``chain``, or by any chain)."""
 
     prop: str
-    point: Annotated[str, Meta(description="the prop's grasp point (its name in the scene)")]
-    chain: Annotated[str | None, Meta(description="the chain that held it (default: any)")] = None
+    point: str  # the prop's grasp point (its name in the scene)
+    chain: str | None = None  # the chain that held it (default: any)
 
 
 class AlwaysHolding(Spec, kw_only=True):
@@ -469,9 +455,8 @@ class AlwaysHolding(Spec, kw_only=True):
     point, a segment or a world point): hanging on, never fallen off."""
 
     chains: Annotated[list[str], Meta(min_length=1, max_length=64)]
-    from_: Annotated[Time | None, Meta(
-        description="s (default: the start)")] = field(name="from", default=None)
-    until: Annotated[Time | None, Meta(description="s (default: the end)")] = None
+    from_: Time | None = field(name="from", default=None)  # s (default: the start)
+    until: Time | None = None  # s (default: the end)
 
 
 class Regrasps(Spec, kw_only=True):
@@ -482,7 +467,7 @@ class Regrasps(Spec, kw_only=True):
 
     chains: Annotated[list[str], Meta(min_length=1, max_length=64)]
     prop: str
-    min: Annotated[int, Meta(ge=1, description="progressing grasps, at least")]
+    min: Annotated[int, Meta(ge=1)]  # progressing grasps, at least
     alternate: bool = False
 
 

@@ -33,10 +33,9 @@ DEFAULT_SECONDS = 5.0  # a scripted run's length when neither the caller nor the
 
 class DragSpec(Spec, kw_only=True):
     link: str
-    point: Annotated[tuple[Num("model_xy"), Num("model_xy")], Meta(
-        description="on the link, model frame, m")] = (0.0, 0.0)
-    to: Annotated[Vec2, Meta(description="world target, m")]
-    start: Annotated[Vec2 | None, Meta(description="world target at start; default: 'to'")] = None
+    point: tuple[Num("model_xy"), Num("model_xy")] = (0.0, 0.0)  # on the link, model frame, m
+    to: Vec2  # world target, m
+    start: Vec2 | None = None  # world target at start; default: 'to'
     over: Duration = 0.0
     hold: Duration = 0.0
 
@@ -45,13 +44,12 @@ class PushSpec(Spec, kw_only=True):
     """A shove: an impulse (N*s) at a point of a link (the character file's coordinates)."""
 
     link: str
-    impulse: Annotated[Vec2, Meta(description="N*s, world x and y")]
-    point: Annotated[Vec2 | None, Meta(
-        description="model frame, m; default the link's centre of mass")] = None
+    impulse: Vec2  # N*s, world x and y
+    point: Vec2 | None = None  # model frame, m; default the link's centre of mass
 
 
 class ScriptEntry(Spec, kw_only=True):
-    t: Annotated[Time, Meta(description="s of simulated time")]
+    t: Time  # s of simulated time
     mouse: tuple[Num("mouse"), Num("mouse")] | None = None
     over: Duration = 0.0
     key: str | None = None
@@ -81,7 +79,7 @@ class ScriptSpec(Spec, kw_only=True):
     description: str = ""
     interface: str | None = None
     scene: str | None = None
-    seconds: Annotated[Time | None, Meta(description="default run length, s")] = None
+    seconds: Time | None = None  # default run length, s
     events: list[ScriptEntry]
 
 
