@@ -410,8 +410,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)",
                            description="Validate data files as the app loads them: "
-                                       "characters, interfaces, scenes and scripts, "
-                                       "each told by its folder or keys. A valid "
+                                       "characters, interfaces, scenes, scripts, mocap "
+                                       "mappings and logs' expectations (NAME.expect."
+                                       "yaml), each told by its folder, name or keys. A valid "
                                        "file prints 'FILE: ok (KIND)'; an invalid one a "
                                        "line 'puppet check: FILE:LINE:COL: what is wrong, "
                                        "what was expected'. Exit 0 if all are valid, "

@@ -9,7 +9,6 @@ a did-you-mean when a known name is close.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 
 from puppet.data.actions import ActionSpec, check_input_name
@@ -24,6 +23,8 @@ LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 
 def unknown(kind: str, name: str, known, owner: str = "") -> str:
     """Message for a name that is not one of ``known``, with a did-you-mean."""
+    import difflib  # only for a mistake (process start)
+
     known = list(known)
     close = difflib.get_close_matches(str(name), known, n=1)
     hint = f"; did you mean '{close[0]}'? " if close else "; "
