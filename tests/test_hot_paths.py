@@ -156,8 +156,9 @@ def test_a_process_imports_only_what_its_command_needs():
              "        main(sys.argv[1:])\n"
              "    except SystemExit:\n"
              "        pass\n"
-             "print(' '.join(m for m in ('pydantic', 'msgspec', 'numpy', 'pygame', 'puppet.data.interfaces',"
-             " 'puppet.timeline.expectations') if m in sys.modules))\n")
+             "print(' '.join(m for m in ('pydantic', 'msgspec', 'numpy', 'pygame',"
+             " 'puppet.data.interfaces', 'puppet.timeline.expectations')"
+             " if m in sys.modules))\n")
 
     def loaded(*args):
         out = subprocess.run([sys.executable, "-c", probe, *args], cwd=ROOT, check=True,

@@ -75,3 +75,20 @@ def test_yaml_never_runs_code(tmp_path):
     with pytest.raises(DataError):
         check_file(bad)
     assert not marker.exists()
+
+
+def test_a_bad_recorded_gesture_is_refused_in_puppets_words():
+    """with_gesture (F2 records, F3 saves) validates the path as a file's would be."""
+    from puppet.data.interfaces import load_interface, with_gesture
+
+    spec, _ = load_interface(Path(__file__).parent.parent / "interfaces" / "luxo-mouse.yaml")
+    cases = {(): "bad value for 'path': expected at least 1 item(s)",
+             ((0.0, 0.5, float("nan")),): "bad value for 'path.0.2': must be a finite number",
+             ((0.0, 0.5),): "bad value for 'path.0': expected 3 items, got 2"}
+    for path, fragment in cases.items():
+        with pytest.raises(ValueError) as info:
+            with_gesture(spec, "g", list(path))
+        assert str(info.value).startswith("bad gesture: ") and fragment in str(info.value)
+    ok = with_gesture(spec, "g", [(0, 0.2, 0.3), (0.1, 0.4, 0.5)])
+    assert ok.gestures[-1].path == [(0.0, 0.2, 0.3), (0.1, 0.4, 0.5)]
+    assert all(type(v) is float for v in ok.gestures[-1].path[0])
