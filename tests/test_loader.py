@@ -92,3 +92,23 @@ def test_a_bad_recorded_gesture_is_refused_in_puppets_words():
     ok = with_gesture(spec, "g", [(0, 0.2, 0.3), (0.1, 0.4, 0.5)])
     assert ok.gestures[-1].path == [(0.0, 0.2, 0.3), (0.1, 0.4, 0.5)]
     assert all(type(v) is float for v in ok.gestures[-1].path[0])
+
+
+def test_what_was_accepted_before_still_is(tmp_path):
+    """Conversion is lax as pydantic's was: 20.0 for a whole number, a number written as
+    text, 1 for true; the values come out of the types the fields say."""
+    import re as _re
+
+    from puppet.data.characters import load_character
+
+    text = (Path(__file__).parent.parent / "characters" / "luxo.yaml").read_text()
+    text = _re.sub(r"mass: ([0-9.]+)", r"mass: '\1'", text, count=1)
+    path = tmp_path / "characters" / "lax.yaml"
+    path.parent.mkdir()
+    path.write_text(text.replace("\nlinks:", "\nsolver: {iterations: 20.0}\nlinks:", 1))
+    spec = load_character(path)
+    assert spec.solver.iterations == 20 and type(spec.solver.iterations) is int
+    assert type(spec.links[0].mass) is float and spec.links[0].mass > 0
+    path.write_text(text.replace("\nlinks:", "\nsolver: {iterations: true}\nlinks:", 1))
+    with pytest.raises(DataError, match="expected a whole number"):
+        load_character(path)

@@ -8,6 +8,11 @@ which range, which keys were allowed) and says it as puppet does: ``bad value fo
 'links.0.mass': must be a finite number in 0.001..1000 kg (got -1.0)``. None of
 msgspec's own wording reaches the user.
 
+Conversion is not strict (``strict=False``), so a file pydantic accepted is accepted as
+it was: a whole number for a decimal one (``2`` -> ``2.0``, as in strict mode), ``2.0``
+for a whole number, a number written as text (``'0.5'``), 1 and 0 for true and false;
+true/false is never a number, a number never text.
+
 Two things msgspec leaves to us, done here:
 
 - a union of several mapping types told apart by a callable rather than a ``type:``
@@ -53,7 +58,7 @@ class Spec(msgspec.Struct, forbid_unknown_fields=True):
     @classmethod
     def model_validate(cls, data):
         """``data`` (plain Python) converted to this struct; msgspec.ValidationError."""
-        return msgspec.convert(data, cls, dec_hook=_dec_hook)
+        return msgspec.convert(data, cls, dec_hook=_dec_hook, strict=False)
 
 
 _DISPATCH: dict[type, Callable[[Any], type]] = {}
@@ -69,7 +74,7 @@ def _dec_hook(kind: type, obj: Any) -> Any:
     if choose is None:
         raise NotImplementedError(kind)
     try:
-        return msgspec.convert(obj, choose(obj), dec_hook=_dec_hook)
+        return msgspec.convert(obj, choose(obj), dec_hook=_dec_hook, strict=False)
     except msgspec.ValidationError as exc:
         raise ValueError(str(exc)) from None  # msgspec adds where the field is
 
@@ -85,7 +90,7 @@ def validate(located: Located, model: type[M]) -> M:
         raise located.error((), f"expected a mapping of settings for a {model.__name__}, "
                                 f"got {type(located.data).__name__}")
     try:
-        return msgspec.convert(located.data, model, dec_hook=_dec_hook)
+        return msgspec.convert(located.data, model, dec_hook=_dec_hook, strict=False)
     except msgspec.ValidationError as exc:
         from puppet.data.validate_errors import to_data_error  # only when there is one
 

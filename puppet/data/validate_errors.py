@@ -127,7 +127,7 @@ def _tagged_union(t: Any) -> tuple[str, list[str]] | None:
 
 def _converts(value: Any, t: Any) -> bool:
     try:
-        msgspec.convert(value, t, dec_hook=_dec_hook)
+        msgspec.convert(value, t, dec_hook=_dec_hook, strict=False)
         return True
     except msgspec.ValidationError:
         return False
@@ -318,6 +318,8 @@ def _value_message(text: str, place: _Place) -> str:
         if op == "<=":
             return f"expected at most {n} item(s)"
         return f"expected {n} items, got {got}"
+    if text == "Number out of range":  # text such as '1e400' read as a number
+        return "expected a finite number"
     if text.startswith("Invalid enum value"):
         return "expected one of: " + ", ".join(str(v) for v in _literals(t))
     if wrong:
