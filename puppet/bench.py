@@ -901,11 +901,14 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
     if hasattr(os, "getloadavg"):  # how busy the machine was (others' processes too)
         report["load_average"] = ", ".join(f"{v:.2f}" for v in os.getloadavg())
     pr = report["processes"]
+    # --cpu judges the processes by their CPU ms too: on a loaded machine a process's
+    # wall time is mostly its wait for a core
+    ms = "_cpu_ms" if clock_name == "cpu" else "_ms"
     report["targets"] = [
-        _target("headless replay process (luxo-hop)", pr["replay_ms"], "<", PROCESS_TARGET_MS,
-                "ms"),
-        _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms"),
-        _target("check process (an interface)", pr["check_interface_ms"], "<",
+        _target("headless replay process (luxo-hop)", pr["replay" + ms], "<",
+                PROCESS_TARGET_MS, "ms"),
+        _target("check process (one file)", pr["check" + ms], "<", PROCESS_TARGET_MS, "ms"),
+        _target("check process (an interface)", pr["check_interface" + ms], "<",
                 PROCESS_TARGET_MS, "ms")]
     report["mocap"] = measure_mocap(cfg["repeats"])
     report["mocap_latency"] = measure_mocap_latency(1.0 if quick else 5.0)

@@ -438,8 +438,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--quick", action="store_true", help="a short run (for tests)")
     bench.add_argument("--strict", action="store_true", help="exit 1 if a target is missed")
     bench.add_argument("--cpu", action="store_true",
-                       help="time by the thread's CPU time, not the wall clock (steadier when "
-                            "other processes load the machine)")
+                       help="time by the thread's CPU time (a whole process's: its CPU ms), "
+                            "not the wall clock (steadier when other processes load the "
+                            "machine)")
     bench.set_defaults(func=_bench)
     return parser
 
