@@ -170,7 +170,8 @@ def _walk(model: type, data: Any, tokens: list) -> _Place:
         base, _ = _strip(t)
         parent = t
         if token == "<key>":  # a key of this mapping is of the wrong type
-            key_type = typing.get_args(base)[0] if typing.get_args(base) else Any
+            key_type = str if _is_struct(base) else (
+                typing.get_args(base)[0] if typing.get_args(base) else Any)
             bad = next((k for k in data if not _converts(k, key_type)), _NOTHING) \
                 if isinstance(data, dict) else _NOTHING
             return _Place(tuple(loc) + ((bad,) if bad is not _NOTHING else ()), bad,
@@ -257,7 +258,7 @@ _WHAT = {"float": "a number", "int": "a whole number", "bool": "true or false",
          "str": "text", "array": "a list", "null": "nothing (null)"}
 _BOUND = re.compile(r"Expected `(\w+)` (>=|>|<=|<) (\S+)$")
 _LENGTH = re.compile(r"Expected `(\w+)` of length (>=|<=)? ?(\d+)(?:, got (\d+))?$")
-_TYPE = re.compile(r"Expected `([^`]+)`, got `([^`]+)`$")
+_TYPE = re.compile(r"Expected `([^`]+)`(?:, got `([^`]+)`)?$")
 _WORDS = {">=": "at least", ">": "more than", "<=": "at most", "<": "less than"}
 
 
@@ -351,9 +352,10 @@ def to_data_error(located: Located, model: type, message: str) -> DataError:
     place = _walk(model, located.data, tokens)
     loc = place.loc
     unknown, missing = _UNKNOWN.match(text), _MISSING.match(text)
-    if unknown:
-        key = unknown.group(1)
-        loc = loc + (key,)
+    struct_key = tokens[-1:] == ["<key>"] and _is_struct(_strip(place.parent)[0])
+    if unknown or struct_key:  # (a number as a key of settings: no such key either)
+        key = unknown.group(1) if unknown else loc[-1] if loc else "?"
+        loc = loc + (key,) if unknown else loc
         allowed = _allowed_keys(model, loc[:-1])
         close = difflib.get_close_matches(str(key), allowed, n=1)
         hint = f"; did you mean '{close[0]}'?" if close else ";"
