@@ -903,10 +903,15 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
     if hasattr(os, "getloadavg"):  # how busy the machine was (others' processes too)
         report["load_average"] = ", ".join(f"{v:.2f}" for v in os.getloadavg())
     pr = report["processes"]
+    # --cpu judges the processes by their CPU ms too: on a loaded machine a process's
+    # wall time is mostly its wait for a core
+    ms = "_cpu_ms" if clock_name == "cpu" else "_ms"
     report["targets"] = [
-        _target("headless replay process (luxo-hop)", pr["replay_ms"], "<", PROCESS_TARGET_MS,
-                "ms"),
-        _target("check process (one file)", pr["check_ms"], "<", PROCESS_TARGET_MS, "ms")]
+        _target("headless replay process (luxo-hop)", pr["replay" + ms], "<",
+                PROCESS_TARGET_MS, "ms"),
+        _target("check process (one file)", pr["check" + ms], "<", PROCESS_TARGET_MS, "ms"),
+        _target("check process (an interface)", pr["check_interface" + ms], "<",
+                PROCESS_TARGET_MS, "ms")]
     report["mocap"] = measure_mocap(cfg["repeats"])
     report["mocap_latency"] = measure_mocap_latency(1.0 if quick else 5.0)
     report["feedback"] = [measure_feedback(n, cfg["seconds"], cfg["repeats"])
@@ -1057,7 +1062,8 @@ def format_report(report: dict) -> str:
         f"< {PROCESS_TARGET_MS:g} ms", verdict["check process (one file)"])
     if "check_interface_ms" in pr:
         row("check interfaces/luxo-keys.yaml",
-            f"{pr['check_interface_ms']:.0f} ms{cpu('check_interface')}")
+            f"{pr['check_interface_ms']:.0f} ms{cpu('check_interface')}",
+            f"< {PROCESS_TARGET_MS:g} ms", verdict.get("check process (an interface)", ""))
     lines.append("")
     lines.append("motion capture (assets/mocap/*.bvh)")
     for item, t in zip(report["mocap"]["items"], report["mocap"]["targets"]):

@@ -15,6 +15,8 @@ KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes"
 
 
 def guess_kind(path: Path, located: Located) -> str:
+    if path.name.endswith(".expect.yaml"):  # a log's sidecar (puppet replay --check)
+        return "expectations"
     kind = KIND_BY_FOLDER.get(path.parent.name)
     if kind:
         return kind
@@ -31,10 +33,12 @@ def guess_kind(path: Path, located: Located) -> str:
         return "mapping"
     if "vmc" in data or "mediapipe" in data:
         return "bone table"
+    if "expect" in data:
+        return "expectations"
     raise located.error((), "cannot tell what kind of file this is; expected a character "
                             "(links:), scene (ground:), interface (character:), script "
-                            "(events:), mocap mapping (segments:) or bone table (vmc:, "
-                            "mediapipe:)")
+                            "(events:), mocap mapping (segments:), bone table (vmc:, "
+                            "mediapipe:) or a log's expectations (expect:)")
 
 
 def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
@@ -62,6 +66,12 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         from puppet.data.mappings import parse_mapping
 
         parse_mapping(located)
+        return kind
+    if kind == "expectations":  # their states and modes are checked when a log replays
+        from puppet.data.validate import validate
+        from puppet.timeline.expectations import ExpectFile
+
+        validate(located, ExpectFile)
         return kind
     if kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
         from puppet.mocap.send import parse_bones

@@ -32,12 +32,14 @@ SHIPPED = sorted(
     + list((catalog.ROOT / "interfaces").glob("*.yaml"))
     + list((catalog.ROOT / "assets" / "scenes").glob("*.yaml"))
     + list((catalog.ROOT / "assets" / "scripts").glob("*.yaml"))
-    + list((catalog.ROOT / "assets" / "mappings").glob("*.yaml")))
+    + list((catalog.ROOT / "assets" / "mappings").glob("*.yaml"))
+    + list((catalog.ROOT / "assets" / "logs").glob("*.expect.yaml")))
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_every_shipped_file_is_valid(path):
-    check_file(path)
+    kind = check_file(path)
+    assert (kind == "expectations") == path.name.endswith(".expect.yaml"), kind
 
 
 @pytest.mark.parametrize("scene", [n for n, _ in catalog.list_kind("scene")])

@@ -60,7 +60,8 @@ def test_quick_bench_reports_every_character_with_positive_figures(report):
     pr = report["processes"]  # whole puppet processes: startup, a replay, a check
     assert pr["startup_ms"] > 0 and pr["replay_ms"] > 0 and pr["check_ms"] > 0
     assert {t["name"] for t in report["targets"]} == {"headless replay process (luxo-hop)",
-                                                      "check process (one file)"}
+                                                      "check process (one file)",
+                                                      "check process (an interface)"}
     logs = report["logs"]
     assert isinstance(logs["status"], str) and isinstance(logs["items"], list)
     if not list((ROOT / "assets" / "logs").glob("*.jsonl")):

@@ -174,7 +174,8 @@ def test_a_one_sensor_state_polls_as_the_general_loop_does():
 
 def test_a_process_imports_only_what_its_command_needs():
     """Process start: --version imports no models, a character's check no interface
-    models, a plain replay neither numpy nor the expectations (a fresh interpreter)."""
+    models, a plain replay neither numpy nor the expectations (a fresh interpreter);
+    pydantic never (msgspec validates)."""
     import subprocess
     import sys
 
@@ -187,8 +188,9 @@ def test_a_process_imports_only_what_its_command_needs():
              "        main(sys.argv[1:])\n"
              "    except SystemExit:\n"
              "        pass\n"
-             "print(' '.join(m for m in ('pydantic', 'numpy', 'pygame', 'puppet.data.interfaces',"
-             " 'puppet.timeline.expectations') if m in sys.modules))\n")
+             "print(' '.join(m for m in ('pydantic', 'msgspec', 'numpy', 'pygame',"
+             " 'puppet.data.interfaces', 'puppet.timeline.expectations')"
+             " if m in sys.modules))\n")
 
     def loaded(*args):
         out = subprocess.run([sys.executable, "-c", probe, *args], cwd=ROOT, check=True,
@@ -196,9 +198,10 @@ def test_a_process_imports_only_what_its_command_needs():
         return set(out)
 
     assert loaded("--version") == set()
-    assert loaded("check", "characters/luxo.yaml") == {"pydantic"}
-    assert loaded("replay", "luxo-hop", "--headless") == {"pydantic", "puppet.data.interfaces"}
-    assert "numpy" in loaded("replay", "luxo-hop", "--headless", "--check")
+    assert loaded("check", "characters/luxo.yaml") == {"msgspec"}
+    assert loaded("replay", "luxo-hop", "--headless") == {"msgspec", "puppet.data.interfaces"}
+    checked = loaded("replay", "luxo-hop", "--headless", "--check")
+    assert "numpy" in checked and "pydantic" not in checked
 
 
 def test_the_space_stepped_in_c_is_the_space_stepped_by_pymunk():

@@ -36,7 +36,8 @@ def test_broken_file_is_rejected_with_file_and_line(path):
     assert "\n" not in str(err)
     # the words are puppet's, never the validation library's
     assert not re.search(r"Input (should|tag)|found using|validation error|pydantic|"
-                         r"Value error|after validation", str(err)), str(err)
+                         r"Value error|after validation|msgspec|Expected `|Object (contains|"
+                         r"missing)|Invalid (enum )?value|- at `", str(err)), str(err)
 
 
 def test_every_kind_of_file_has_broken_examples():
@@ -74,3 +75,40 @@ def test_yaml_never_runs_code(tmp_path):
     with pytest.raises(DataError):
         check_file(bad)
     assert not marker.exists()
+
+
+def test_a_bad_recorded_gesture_is_refused_in_puppets_words():
+    """with_gesture (F2 records, F3 saves) validates the path as a file's would be."""
+    from puppet.data.interfaces import load_interface, with_gesture
+
+    spec, _ = load_interface(Path(__file__).parent.parent / "interfaces" / "luxo-mouse.yaml")
+    cases = {(): "bad value for 'path': expected at least 1 item(s)",
+             ((0.0, 0.5, float("nan")),): "bad value for 'path.0.2': must be a finite number",
+             ((0.0, 0.5),): "bad value for 'path.0': expected 3 items, got 2"}
+    for path, fragment in cases.items():
+        with pytest.raises(ValueError) as info:
+            with_gesture(spec, "g", list(path))
+        assert str(info.value).startswith("bad gesture: ") and fragment in str(info.value)
+    ok = with_gesture(spec, "g", [(0, 0.2, 0.3), (0.1, 0.4, 0.5)])
+    assert ok.gestures[-1].path == [(0.0, 0.2, 0.3), (0.1, 0.4, 0.5)]
+    assert all(type(v) is float for v in ok.gestures[-1].path[0])
+
+
+def test_what_was_accepted_before_still_is(tmp_path):
+    """Conversion is lax as pydantic's was: 20.0 for a whole number, a number written as
+    text, 1 for true; the values come out of the types the fields say."""
+    import re as _re
+
+    from puppet.data.characters import load_character
+
+    text = (Path(__file__).parent.parent / "characters" / "luxo.yaml").read_text()
+    text = _re.sub(r"mass: ([0-9.]+)", r"mass: '\1'", text, count=1)
+    path = tmp_path / "characters" / "lax.yaml"
+    path.parent.mkdir()
+    path.write_text(text.replace("\nlinks:", "\nsolver: {iterations: 20.0}\nlinks:", 1))
+    spec = load_character(path)
+    assert spec.solver.iterations == 20 and type(spec.solver.iterations) is int
+    assert type(spec.links[0].mass) is float and spec.links[0].mass > 0
+    path.write_text(text.replace("\nlinks:", "\nsolver: {iterations: true}\nlinks:", 1))
+    with pytest.raises(DataError, match="expected a whole number"):
+        load_character(path)

@@ -11,13 +11,11 @@ from __future__ import annotations
 import re
 from typing import Annotated, Literal, Union
 
-from pydantic import Discriminator, Field, Tag, field_validator, model_validator
-
 from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
                                 ModelXY, Num, PositiveDuration, Seed, Stiffness, Torque,
                                 WorldXY)
 from puppet.data.keys import APP_KEYS, GAMEPAD_BUTTONS
-from puppet.data.validate import Spec
+from puppet.data.validate import Meta, Spec, at, field
 
 InputXY = tuple[Num("input"), Num("input")]
 
@@ -40,6 +38,16 @@ INPUT_PATTERNS = (
 )
 
 
+def check_inputs(spec, *fields: str) -> None:
+    """The inputs ``spec`` names in ``fields``, checked in its ``__post_init__``: an
+    unknown one is an error at that field."""
+    for name in fields:
+        try:
+            check_input_name(getattr(spec, name))
+        except ValueError as exc:
+            raise at(name, str(exc)) from None
+
+
 def check_input_name(name: str) -> str:
     for _, pattern in INPUT_PATTERNS:
         if re.fullmatch(pattern, name):
@@ -53,7 +61,7 @@ def check_input_name(name: str) -> str:
 META_APP_ACTIONS = tuple(a for a in APP_KEYS if a != "quit")
 
 
-class FrameTargetSpec(Spec):
+class FrameTargetSpec(Spec, kw_only=True):
     """A joint's target given as the angle of one of its two links in the world
     (``world``) or relative to another link (``relative_to`` and ``angle``), degrees,
     re-solved from the figure's state at the control rate. ``hold`` says which of the
@@ -61,13 +69,12 @@ class FrameTargetSpec(Spec):
     world through the hip) or its parent (the trunk held upright through the stance
     hip, whose child, the stance thigh, stands on the ground)."""
 
-    world: Angle | None = Field(None, description="deg from the model's orientation")
-    relative_to: str | None = Field(None, description="a link")
-    angle: Angle | None = Field(None, description="deg, with relative_to")
+    world: Angle | None = None  # deg from the model's orientation
+    relative_to: str | None = None  # a link
+    angle: Angle | None = None  # deg, with relative_to
     hold: Literal["child", "parent"] = "child"
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if (self.world is None) == (self.relative_to is None):
             raise ValueError("a frame target needs exactly one of 'world' (deg) or "
                              "'relative_to' (a link, with 'angle')")
@@ -76,26 +83,20 @@ class FrameTargetSpec(Spec):
         if self.world is not None and self.angle is not None:
             raise ValueError("'angle' goes with 'relative_to'; with 'world' the angle is "
                              "the value of 'world'")
-        return self
 
 
-def _target_kind(value) -> str:
-    return "<frame>" if isinstance(value, (dict, FrameTargetSpec)) else "<deg>"
+# degrees (a number) or a frame target (a mapping): msgspec tells them apart by type
+Target = Union[Angle, FrameTargetSpec]
 
 
-Target = Annotated[Union[Annotated[Angle, Tag("<deg>")],
-                         Annotated[FrameTargetSpec, Tag("<frame>")]], Discriminator(_target_kind)]
-
-
-class PoseSpec(Spec):
+class PoseSpec(Spec, kw_only=True):
     """A full or partial pose: joint targets, optionally with gains for those joints.
     A target is degrees of the joint, or a ``FrameTargetSpec`` ({world: deg} ...)."""
 
-    joints: dict[str, Target] = Field(description="joint -> target, degrees")
-    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
-    damping: dict[str, Damping] = Field(default_factory=dict)
-    max_torque: dict[str, Torque] = Field(default_factory=dict,
-                                          description="joint -> N*m the servo may give")
+    joints: dict[str, Target]  # joint -> target, degrees
+    stiffness: dict[str, Stiffness] = field(default_factory=dict)
+    damping: dict[str, Damping] = field(default_factory=dict)
+    max_torque: dict[str, Torque] = field(default_factory=dict)  # joint -> N*m the servo may give
 
     def joint_degrees(self) -> dict[str, float]:
         """The targets given as joint angles (degrees); frame targets left out."""
@@ -103,12 +104,12 @@ class PoseSpec(Spec):
     description: str = ""
 
 
-class SequenceStepSpec(Spec):
+class SequenceStepSpec(Spec, kw_only=True):
     pose: str
-    hold: PositiveDuration = Field(description="s the pose is held before the next step")
+    hold: PositiveDuration  # s the pose is held before the next step
 
 
-class ConditionSpec(Spec):
+class ConditionSpec(Spec, kw_only=True):
     """A test on one named sensor: ``above``/``below`` a threshold, or ``is`` for contact.
 
     Sensors: joint.JOINT (deg), angle.LINK (deg, world, -180..180), root.angle (deg,
@@ -121,10 +122,9 @@ class ConditionSpec(Spec):
     sensor: str
     above: Num("sensor") | None = None
     below: Num("sensor") | None = None
-    is_: bool | None = Field(None, alias="is")
+    is_: bool | None = field(name="is", default=None)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         contact = self.sensor.startswith("contact.")
         if contact:
             if self.is_ is None or self.above is not None or self.below is not None:
@@ -139,30 +139,28 @@ class ConditionSpec(Spec):
             if self.above is not None and self.below is not None and self.above >= self.below:
                 raise ValueError(f"'above' ({self.above}) must be less than 'below' "
                                  f"({self.below})")
-        return self
 
 
-class ChainSpec(Spec):
+class ChainSpec(Spec, kw_only=True):
     """Two or more actuated joints in a row (an arm; a leg with hip, knee and ankle) and
     an end point on the last joint's child link."""
 
-    joints: list[str] = Field(min_length=2, max_length=32, description="proximal joint first")
-    end: ModelXY = Field(description="end effector, model frame, m")
+    joints: Annotated[list[str], Meta(min_length=2, max_length=32)]  # proximal joint first
+    end: ModelXY  # end effector, model frame, m
     description: str = ""
 
 
-class PropPointSpec(Spec):
+class PropPointSpec(Spec, kw_only=True):
     """A grasp point of a scene prop, picked relative to what a chain holds: ``offset``
     0 is the point nearest the chain's end (the one it holds, if it holds one), 1 the
     next in the prop's order, -1 the previous, 2 the one after next."""
 
     prop: str
-    offset: int = Field(0, ge=-20, le=20)
-    of: str | None = Field(None, description="the chain whose hold counts from (default: "
-                                             "the reaching chain)")
+    offset: Annotated[int, Meta(ge=-20, le=20)] = 0
+    of: str | None = None  # the chain whose hold counts from (default: the reaching chain)
 
 
-class SteerSpec(Spec):
+class SteerSpec(Spec, kw_only=True):
     """A target steered by two continuous inputs: x and y map linearly (clamped) from
     their input ranges onto ``x_to`` / ``y_to`` metres in the reach's frame."""
 
@@ -170,50 +168,42 @@ class SteerSpec(Spec):
     y: str = "mouse.y"
     x_from: InputXY = (0.0, 1.0)
     y_from: InputXY = (0.0, 1.0)
-    x_to: WorldXY = Field(description="m at x_from[0] and x_from[1]")
-    y_to: WorldXY = Field(description="m at y_from[0] and y_from[1]")
+    x_to: WorldXY  # m at x_from[0] and x_from[1]
+    y_to: WorldXY  # m at y_from[0] and y_from[1]
 
-    _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
-
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
+        check_inputs(self, "x", "y")
         if self.x_from[0] == self.x_from[1] or self.y_from[0] == self.y_from[1]:
             raise ValueError("'x_from' and 'y_from' must each be two different input values")
-        return self
 
 
-class ReachSpec(Spec):
+class ReachSpec(Spec, kw_only=True):
     """Move a chain's end toward a target along a Hermite-eased path, IK every step. The
     target is a fixed point (``target``, in ``frame``), a scene prop's grasp point
     (``point``, followed as the prop moves) or steered by two inputs (``steer``)."""
 
     chain: str
-    target: WorldXY | None = Field(None, description="m; in 'frame' coordinates")
+    target: WorldXY | None = None  # m; in 'frame' coordinates
     point: PropPointSpec | None = None
     steer: SteerSpec | None = None
-    frame: Literal["world", "root"] = Field(
-        "root", description="root: relative to the root link at the moment of the key "
-                            "(for steer: as it moves)")
-    duration: PositiveDuration = Field(0.5, description="s from start to target")
-    hold: Duration = Field(0.0, description="s to keep re-solving at the target "
-                                            "(a steered reach is held until preempted)")
-    grasp: bool = Field(False, description="grasp the target when the end gets within "
-                                           "tolerance")
-    tolerance: Num("tolerance") = Field(0.04, description="m, for grasp")
-    rigid: bool = Field(False, description="with grasp: also hold the end link's angle "
-                                           "to what it grasps (GraspSpec.rigid)")
-    max_torque: Torque | None = Field(None, description="N*m a rigid grasp holds the "
-                                                        "angle with (default: no limit)")
+    # root: relative to the root link at the moment of the key (for steer: as it moves)
+    frame: Literal["world", "root"] = "root"
+    duration: PositiveDuration = 0.5  # s from start to target
+    # s to keep re-solving at the target (a steered reach is held until preempted)
+    hold: Duration = 0.0
+    grasp: bool = False  # grasp the target when the end gets within tolerance
+    tolerance: Num("tolerance") = 0.04  # m, for grasp
+    # with grasp: also hold the end link's angle to what it grasps (GraspSpec.rigid)
+    rigid: bool = False
+    max_torque: Torque | None = None  # N*m a rigid grasp holds the angle with (default: no limit)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         given = [n for n in ("target", "point", "steer") if getattr(self, n) is not None]
         if len(given) != 1:
             raise ValueError("a reach needs exactly one of 'target' (a point), 'point' (a "
                              "prop's grasp point) or 'steer' (two inputs)"
                              + (f"; got {' and '.join(given)}" if given else ""))
         _check_rigid(self, "a reach with 'grasp: true'" if not self.grasp else None)
-        return self
 
 
 def _check_rigid(spec, needs: str | None) -> None:
@@ -223,34 +213,31 @@ def _check_rigid(spec, needs: str | None) -> None:
         raise ValueError("'max_torque' limits a rigid grasp: add 'rigid: true'")
 
 
-class GraspSpec(Spec):
+class GraspSpec(Spec, kw_only=True):
     """Arm a grasp: the chain's end holds the first of ``points`` (world) it comes within
     ``tolerance`` of, pinned to the world; or the nearest grasp point or segment of
     ``prop`` (a scene prop's name, or ``any``) within ``tolerance``, pinned to the prop,
     which may move."""
 
     chain: str
-    points: list[WorldXY] | None = Field(None, min_length=1, description="world points, m")
-    prop: str | None = Field(None, description="a scene prop, or 'any'")
-    tolerance: Num("tolerance") = Field(0.04, description="m")
-    within: Num("positive_duration") | None = Field(None, description="s the grasp stays armed; "
-                                                           "default until released")
-    rigid: bool = Field(False, description="also hold the end link's angle to the prop "
-                                           "(the world) as it is at the catch: a grip "
-                                           "that does not turn about the point")
-    max_torque: Torque | None = Field(None, description="N*m a rigid grasp holds the "
-                                                        "angle with (default: no limit)")
+    points: Annotated[list[WorldXY], Meta(min_length=1)] | None = None  # world points, m
+    prop: str | None = None  # a scene prop, or 'any'
+    tolerance: Num("tolerance") = 0.04  # m
+    # s the grasp stays armed; default until released
+    within: Num("positive_duration") | None = None
+    # also hold the end link's angle to the prop (the world) as it is at the catch: a grip that does
+    # not turn about the point
+    rigid: bool = False
+    max_torque: Torque | None = None  # N*m a rigid grasp holds the angle with (default: no limit)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if (self.points is None) == (self.prop is None):
             raise ValueError("a grasp needs exactly one of 'points' (world points) or "
                              "'prop' (a scene prop's grasp points)")
         _check_rigid(self, None)
-        return self
 
 
-class ShoveSpec(Spec):
+class ShoveSpec(Spec, kw_only=True):
     """A shove: an impulse (N*s, world x and y) at a point of a link (model frame, m;
     default the link's centre of mass) - to try how a figure takes a push."""
 
@@ -259,70 +246,59 @@ class ShoveSpec(Spec):
     point: ModelXY | None = None
 
 
-class ActionSpec(Spec):
+class ActionSpec(Spec, kw_only=True):
     """Everything one trigger (key, state entry) can do."""
 
-    pose: str | None = Field(None, description="set a named pose absolutely")
-    set: dict[str, Target] = Field(default_factory=dict, description="joint -> deg, or "
-                                                                     "{world: deg} ...")
-    adjust: dict[str, AngleChange] = Field(default_factory=dict, description="joint -> +deg")
-    sequence: str | None = Field(None, description="start a named pose sequence")
-    repeat: int | Literal["forever"] | None = Field(
-        None, description="play the sequence this many times (or until preempted)")
-    stiffness: dict[str, Stiffness] = Field(default_factory=dict)
-    damping: dict[str, Damping] = Field(default_factory=dict)
-    while_held: bool = Field(False, description="undo the stiffness/damping changes "
-                                                "when the key is released")
-    mode: str | None = Field(None, description="select a control mode (map set)")
-    goto: str | None = Field(None, description="go to a state (MACHINE.STATE for a state "
-                                               "of another machine)")
+    pose: str | None = None  # set a named pose absolutely
+    set: dict[str, Target] = field(default_factory=dict)  # joint -> deg, or {world: deg} ...
+    adjust: dict[str, AngleChange] = field(default_factory=dict)  # joint -> +deg
+    sequence: str | None = None  # start a named pose sequence
+    # play the sequence this many times (or until preempted)
+    repeat: int | Literal["forever"] | None = None
+    stiffness: dict[str, Stiffness] = field(default_factory=dict)
+    damping: dict[str, Damping] = field(default_factory=dict)
+    while_held: bool = False  # undo the stiffness/damping changes when the key is released
+    mode: str | None = None  # select a control mode (map set)
+    goto: str | None = None  # go to a state (MACHINE.STATE for a state of another machine)
     reach: ReachSpec | None = None
     grasp: GraspSpec | None = None
-    release: str | None = Field(None, description="chain name, or 'all'")
-    app: str | None = Field(None, description="an app action: " + ", ".join(META_APP_ACTIONS))
-    slowdown: float | None = Field(None, ge=1.0, le=100.0)
-    gravity: Gravity | None = Field(None, description="m/s^2")
-    friction: Friction | None = Field(None, description="ground friction")
+    release: str | None = None  # chain name, or 'all'
+    app: str | None = None  # an app action: one of META_APP_ACTIONS
+    slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] | None = None
+    gravity: Gravity | None = None  # m/s^2
+    friction: Friction | None = None  # ground friction
     perturb: Literal["on", "off", "toggle"] | None = None
-    push: ShoveSpec | None = Field(None, description="shove a link (an impulse)")
-    track: Literal["off", "angles", "kd"] | None = Field(
-        None, description="follow the performer (the interface's 'tracking'): joint "
-                          "angles, KD control, or stop")
-    kinematic: Literal["on", "off", "toggle"] | None = Field(
-        None, description="KD control's Cartesian pulls (off: free fall)")
+    push: ShoveSpec | None = None  # shove a link (an impulse)
+    # follow the performer (the interface's 'tracking'): joint angles, KD control, or stop
+    track: Literal["off", "angles", "kd"] | None = None
+    # KD control's Cartesian pulls (off: free fall)
+    kinematic: Literal["on", "off", "toggle"] | None = None
     description: str = ""
 
-    @field_validator("app")
-    @classmethod
-    def _app(cls, value):
-        if value is not None and value not in META_APP_ACTIONS:
-            raise ValueError(f"unknown app action '{value}'; expected one of: "
-                             f"{', '.join(META_APP_ACTIONS)}")
-        return value
-
-    @model_validator(mode="after")
-    def _check_repeat(self):
+    def __post_init__(self):
+        if self.app is not None and self.app not in META_APP_ACTIONS:
+            raise at("app", f"unknown app action '{self.app}'; expected one of: "
+                            f"{', '.join(META_APP_ACTIONS)}")
         if self.repeat is not None:
             if self.sequence is None:
                 raise ValueError("'repeat' repeats a sequence, but this action starts none")
             if isinstance(self.repeat, int) and not 1 <= self.repeat <= 10000:
                 raise ValueError(f"'repeat' {self.repeat} must be 1..10000 or 'forever'")
-        return self
 
     def touched_joints(self) -> set[str]:
         return set(self.set) | set(self.adjust)
 
 
-class KeyActionSpec(ActionSpec):
+class KeyActionSpec(ActionSpec, kw_only=True):
     """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed."""
 
     key: str
 
 
-class PerturbSpec(Spec):
+class PerturbSpec(Spec, kw_only=True):
     """Small random kicks: every ``every`` s each link gets an angular impulse."""
 
-    impulse: Num("impulse") = Field(0.002, description="N*m*s, standard deviation")
-    every: Num("period") = Field(0.1, description="s")
+    impulse: Num("impulse") = 0.002  # N*m*s, standard deviation
+    every: Num("period") = 0.1  # s
     seed: Seed = 0
     start_on: bool = False

@@ -16,7 +16,6 @@ Names resolve to ``<root>/<folder>/<name>.yaml``; the root is the checkout (or
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 from dataclasses import dataclass
@@ -152,6 +151,8 @@ def describe(path: Path) -> str:
 
 
 def file_hash(path: Path) -> str:
+    import hashlib  # here: OpenSSL's start-up is ~5 ms that a check does not need
+
     return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
 
 

@@ -7,106 +7,101 @@ degrees); everything inside puppet is radians.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
-
-import pydantic
-from pydantic import Field
+from typing import Annotated, ClassVar, Literal, Union
 
 from puppet.data.ranges import (Angle, Color, Corner, Damping, Elasticity, Friction, Mass,
                                 ModelXY, Num, Size, Stiffness, Torque)
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Vec2 = ModelXY
 
 
-class BoxShape(Spec):
-    type: Literal["box"]
-    size: tuple[Size, Size] = Field(description="width, height in m")
+class BoxShape(Spec, kw_only=True, tag_field="type", tag="box"):
+    type: ClassVar[str] = "box"  # the tag: msgspec reads it as the union's 'type:' key
+    size: tuple[Size, Size]  # width, height in m
     center: Vec2 = (0.0, 0.0)
-    angle: Angle = Field(0.0, description="degrees")
-    radius: Corner = Field(0.0, description="rounded corners, m")
+    angle: Angle = 0.0  # degrees
+    radius: Corner = 0.0  # rounded corners, m
 
 
-class CircleShape(Spec):
-    type: Literal["circle"]
+class CircleShape(Spec, kw_only=True, tag_field="type", tag="circle"):
+    type: ClassVar[str] = "circle"  # the tag: msgspec reads it as the union's 'type:' key
     radius: Size
     center: Vec2 = (0.0, 0.0)
 
 
-class SegmentShape(Spec):
-    type: Literal["segment"]
+class SegmentShape(Spec, kw_only=True, tag_field="type", tag="segment"):
+    type: ClassVar[str] = "segment"  # the tag: msgspec reads it as the union's 'type:' key
     a: Vec2
     b: Vec2
-    radius: Size = Field(description="half thickness, m")
+    radius: Size  # half thickness, m
 
 
-class PolygonShape(Spec):
-    type: Literal["polygon"]
-    points: list[Vec2] = Field(min_length=3, max_length=64)
+class PolygonShape(Spec, kw_only=True, tag_field="type", tag="polygon"):
+    type: ClassVar[str] = "polygon"  # the tag: msgspec reads it as the union's 'type:' key
+    points: Annotated[list[Vec2], Meta(min_length=3, max_length=64)]
     radius: Corner = 0.0
 
 
-Shape = Annotated[Union[BoxShape, CircleShape, SegmentShape, PolygonShape],
-                  Field(discriminator="type")]
+Shape = Union[BoxShape, CircleShape, SegmentShape, PolygonShape]  # by their 'type:' key
 
 
-class LinkSpec(Spec):
+class LinkSpec(Spec, kw_only=True):
     name: str
-    mass: Mass = Field(description="kg")
-    shapes: list[Shape] = Field(min_length=1)
+    mass: Mass  # kg
+    shapes: Annotated[list[Shape], Meta(min_length=1)]
     friction: Friction = 0.8
     elasticity: Elasticity = 0.0
     color: Color = (200, 200, 210)
-    layer: Literal["far", "mid", "near"] = Field(
-        "mid", description="drawing order; far links are drawn darker, behind")
-    center_of_mass: Vec2 | None = Field(
-        None, description="model frame, m; with inertia, replaces the shapes' mass spread")
-    inertia: Num("inertia") | None = Field(
-        None, description="kg*m^2 about the centre of mass; given with center_of_mass")
+    # drawing order; far links are drawn darker, behind
+    layer: Literal["far", "mid", "near"] = "mid"
+    # model frame, m; with inertia, replaces the shapes' mass spread
+    center_of_mass: Vec2 | None = None
+    # kg*m^2 about the centre of mass; given with center_of_mass
+    inertia: Num("inertia") | None = None
     description: str = ""
 
 
-class PDSpec(Spec):
-    stiffness: Stiffness = Field(description="N*m/rad")
-    damping: Damping = Field(description="N*m*s/rad")
-    max_torque: Torque = Field(description="N*m")
+class PDSpec(Spec, kw_only=True):
+    stiffness: Stiffness  # N*m/rad
+    damping: Damping  # N*m*s/rad
+    max_torque: Torque  # N*m
 
 
-class JointSpec(Spec):
+class JointSpec(Spec, kw_only=True):
     name: str
     parent: str
     child: str
-    anchor: Vec2 = Field(description="pivot, model frame, m")
-    limits: tuple[Angle, Angle] | None = Field(None, description="degrees, child rel. parent")
-    pd: PDSpec | None = Field(None, description="absent: a passive hinge")
+    anchor: Vec2  # pivot, model frame, m
+    limits: tuple[Angle, Angle] | None = None  # degrees, child rel. parent
+    pd: PDSpec | None = None  # absent: a passive hinge
     description: str = ""
 
 
-class StartSpec(Spec):
-    angle: Angle = Field(0.0, description="root link angle, degrees")
-    joints: dict[str, Angle] = Field(default_factory=dict, description="degrees")
-    lift: Num("lift") = Field(0.0, description="m above the scene's start point")
+class StartSpec(Spec, kw_only=True):
+    angle: Angle = 0.0  # root link angle, degrees
+    joints: dict[str, Angle] = field(default_factory=dict)  # degrees
+    lift: Num("lift") = 0.0  # m above the scene's start point
 
 
-class SolverSpec(Spec):
+class SolverSpec(Spec, kw_only=True):
     """The physics solver's settings while this character plays (absent: the engine's
     defaults, SOLVER_ITERATIONS and COLLISION_SLOP in puppet/physics/simulation.py)."""
-    iterations: int | None = Field(None, ge=1, le=200,
-                                   description="constraint solver passes per step")
-    collision_slop: Num("slop") | None = Field(
-        None, description="m of overlap allowed between shapes in contact")
+    # constraint solver passes per step
+    iterations: Annotated[int, Meta(ge=1, le=200)] | None = None
+    collision_slop: Num("slop") | None = None  # m of overlap allowed between shapes in contact
 
 
-class CharacterSpec(Spec):
+class CharacterSpec(Spec, kw_only=True):
     name: str
     description: str
     notes: str = ""
-    view_height: Num("view_height") = Field(1.0, description="m of world shown in the window")
-    solver: SolverSpec = Field(default_factory=SolverSpec)
-    links: list[LinkSpec] = Field(min_length=1)
-    joints: list[JointSpec] = Field(default_factory=list)
-    start: StartSpec = Field(default_factory=StartSpec)
+    view_height: Num("view_height") = 1.0  # m of world shown in the window
+    solver: SolverSpec = field(default_factory=SolverSpec)
+    links: Annotated[list[LinkSpec], Meta(min_length=1)]
+    joints: list[JointSpec] = field(default_factory=list)
+    start: StartSpec = field(default_factory=StartSpec)
 
     @property
     def root(self) -> str:
@@ -124,7 +119,7 @@ class CharacterSpec(Spec):
 
 
 def _check_structure(spec: CharacterSpec, located: Located) -> None:
-    """Cross-references pydantic cannot see: names, tree shape, limits, start pose."""
+    """Cross-references the types cannot see: names, tree shape, limits, start pose."""
     names: dict[str, int] = {}
     for i, link in enumerate(spec.links):
         if link.name in names:
@@ -200,4 +195,4 @@ def load_character(path) -> CharacterSpec:
 
 
 __all__ = ["CharacterSpec", "LinkSpec", "JointSpec", "PDSpec", "SolverSpec", "load_character",
-           "parse_character", "pydantic"]
+           "parse_character"]

@@ -23,7 +23,8 @@ def gestures_block(gestures) -> str:
     """The YAML text of a ``gestures:`` block (``GestureSpec``s or dicts)."""
     lines = ["gestures:  # recorded mouse paths: [t (s), x, y]; F2 records, F3 saves"]
     for g in gestures:
-        g = g if isinstance(g, dict) else g.model_dump()
+        g = g if isinstance(g, dict) else {"key": g.key, "description": g.description,
+                                           "path": g.path}
         lines.append(f"  - key: {json.dumps(g['key'])}")
         if g.get("description"):
             lines.append(f"    description: {json.dumps(g['description'])}")

@@ -1,6 +1,6 @@
 """Cross-references in an interface file, checked at load time with file:line:col.
 
-pydantic checks each value on its own; this module checks that names point at
+The types check each value on its own; this module checks that names point at
 things that exist (poses, sequences, modes, states, chains; joints and links of the
 character), that every state can be reached, and that values fit the character
 (pose angles within joint limits). A mistake is reported where it was written, with
@@ -9,7 +9,6 @@ a did-you-mean when a known name is close.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 
 from puppet.data.actions import ActionSpec, check_input_name
@@ -24,6 +23,8 @@ LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 
 def unknown(kind: str, name: str, known, owner: str = "") -> str:
     """Message for a name that is not one of ``known``, with a did-you-mean."""
+    import difflib  # only for a mistake (process start)
+
     known = list(known)
     close = difflib.get_close_matches(str(name), known, n=1)
     hint = f"; did you mean '{close[0]}'? " if close else "; "

@@ -13,18 +13,17 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import Discriminator, Field, Tag, field_validator, model_validator
-
 from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
                                  KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
-                                 check_input_name)
+                                 check_inputs)
 from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 (re-exported)
                                 CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data.characters import CharacterSpec
+from puppet.data.errors import DataError
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
 from puppet.data.ranges import Angle, AngleChange, Damping, Num, Stiffness, Torque
 from puppet.data.tracking import TrackingSpec
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, at, dispatch, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
@@ -35,47 +34,52 @@ __all__ = ["InterfaceSpec", "LinearMapSpec", "GridMapSpec",
 GESTURE_SECONDS = 600.0  # the longest gesture
 
 
-class GainSpec(Spec):
+class GainSpec(Spec, kw_only=True):
     stiffness: Stiffness | None = None
     damping: Damping | None = None
     max_torque: Torque | None = None
 
 
-class PowerCurve(Spec):
+class PowerCurve(Spec, kw_only=True):
     power: Num("power")
 
 
 Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
 
 
-class LinearMapSpec(Spec):
+class MapSpec:
+    """A map: a ``LinearMapSpec`` or a ``GridMapSpec`` (one with ``grid``). Annotated
+    with this class, a field holds the one ``_map_kind`` picks (see ``dispatch``)."""
+
+    __slots__ = ()
+
+
+class LinearMapSpec(Spec, MapSpec, kw_only=True):
     """u = (input - from[0]) / (from[1] - from[0]), clamped to 0..1 (clamp), shaped by
     ``curve``; value = to[0] + u * (to[1] - to[0]) degrees; each joint's target is
     gain * value (``joint`` is ``joints: {joint: 1}``)."""
 
-    input: str = Field(description="mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 "
-                                   "top), mouse.left, gamepad.axisN, channel.NAME ...")
+    # mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 top), mouse.left, gamepad.axisN,
+    # channel.NAME ...
+    input: str
     joint: str | None = None
-    joints: dict[str, Num("coupling")] = Field(
-        default_factory=dict, description="coupling: joint -> gain (sign = mirror)")
-    from_: tuple[Num("input"), Num("input")] = Field((0.0, 1.0), alias="from")
-    to: tuple[AngleChange, AngleChange] = Field(description="degrees at from[0] and from[1]")
+    # coupling: joint -> gain (sign = mirror)
+    joints: dict[str, Num("coupling")] = field(default_factory=dict)
+    from_: tuple[Num("input"), Num("input")] = field(name="from", default=(0.0, 1.0))
+    to: tuple[AngleChange, AngleChange]  # degrees at from[0] and from[1]
     clamp: bool = True
     curve: Curve = "linear"
-    frame: str = Field("joint", description="joint: the value is the joint's angle; world: "
-                                            "the angle of the joint's child link in the "
-                                            "world; a link's name: relative to that link")
-    hold: Literal["child", "parent"] = Field(
-        "child", description="with a frame: the link whose angle the value is")
-    combine: Literal["set", "add"] = Field(
-        "set", description="set: the map writes the target; add: its value is added to "
-                           "the target whatever else writes (at the control rate)")
-    description: str = Field("", description="what it does, in the player's words")
+    # joint: the value is the joint's angle; world: the angle of the joint's child link in the
+    # world; a link's name: relative to that link
+    frame: str = "joint"
+    hold: Literal["child", "parent"] = "child"  # with a frame: the link whose angle the value is
+    # set: the map writes the target; add: its value is added to the target whatever else writes (at
+    # the control rate)
+    combine: Literal["set", "add"] = "set"
+    description: str = ""  # what it does, in the player's words
 
-    _check_input = field_validator("input")(lambda cls, v: check_input_name(v))
-
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
+        check_inputs(self, "input")
         if self.from_[0] == self.from_[1]:
             raise ValueError("'from' must be two different input values")
         if (self.joint is None) == (not self.joints):
@@ -84,7 +88,6 @@ class LinearMapSpec(Spec):
         if self.combine == "add" and self.frame != "joint":
             raise ValueError("an 'add' map adds degrees of the joint to its target; "
                              "'frame' goes with 'set' maps")
-        return self
 
     @property
     def feedback(self) -> bool:
@@ -99,29 +102,25 @@ class LinearMapSpec(Spec):
         return (self.input,)
 
 
-class GridMapSpec(Spec):
+class GridMapSpec(Spec, MapSpec, kw_only=True):
     """Bilinear interpolation over a grid of named poses (the paper's cat trot).
 
     ``grid`` rows go top (y = 1) to bottom (y = 0), columns left (x = 0) to right
     (x = 1); the pose targets of the four nearest poses are blended."""
 
-    grid: list[list[str]] = Field(min_length=1)
+    grid: Annotated[list[list[str]], Meta(min_length=1)]
     x: str = "mouse.x"
     y: str = "mouse.y"
-    joints: list[str] | None = Field(
-        None, description="drive only these of the poses' joints (default: all); with "
-                          "several maps over one grid, each limb can have its own map")
-    description: str = Field("", description="what it does, in the player's words")
-    mirror: list[Literal["x", "y"]] = Field(
-        default_factory=list, description="flip these inputs (u -> 1 - u) before the "
-                                          "lookup: [x, y] reflects the input through the "
-                                          "grid's centre, half a cycle out of phase for "
-                                          "a circling mouse")
+    # drive only these of the poses' joints (default: all); with several maps over one grid, each
+    # limb can have its own map
+    joints: list[str] | None = None
+    description: str = ""  # what it does, in the player's words
+    # flip these inputs (u -> 1 - u) before the lookup: [x, y] reflects the input through the grid's
+    # centre, half a cycle out of phase for a circling mouse
+    mirror: list[Literal["x", "y"]] = field(default_factory=list)
 
-    _check_inputs = field_validator("x", "y")(lambda cls, v: check_input_name(v))
-
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
+        check_inputs(self, "x", "y")
         widths = {len(row) for row in self.grid}
         if len(widths) != 1 or 0 in widths:
             raise ValueError("grid rows must all have the same, non-zero number of poses")
@@ -135,7 +134,6 @@ class GridMapSpec(Spec):
                                  "poses' joints")
             if len(set(self.joints)) != len(self.joints):
                 raise ValueError(f"'joints' names a joint twice: {self.joints}")
-        return self
 
     @property
     def inputs(self) -> tuple[str, ...]:
@@ -146,58 +144,53 @@ class GridMapSpec(Spec):
         return self.x.startswith("sensor.") or self.y.startswith("sensor.")
 
 
-def _map_kind(value) -> str:
-    if isinstance(value, dict):
-        return "<grid>" if "grid" in value else "<linear>"
-    return "<grid>" if isinstance(value, GridMapSpec) else "<linear>"
+def _map_kind(value) -> type:
+    return GridMapSpec if isinstance(value, dict) and "grid" in value else LinearMapSpec
 
 
-MapSpec = Annotated[Union[Annotated[LinearMapSpec, Tag("<linear>")],
-                          Annotated[GridMapSpec, Tag("<grid>")]], Discriminator(_map_kind)]
+MapSpec.choices = (LinearMapSpec, GridMapSpec)
+dispatch(MapSpec, _map_kind)
 
 
-class TransitionSpec(Spec):
+class TransitionSpec(Spec, kw_only=True):
     """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
 
     to: str
-    after: Num("time") | None = Field(None, description="s since entering the state")
+    after: Num("time") | None = None  # s since entering the state
     when: ConditionSpec | None = None
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if self.after is None and self.when is None:
             raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
                              "key transitions are keys with 'goto'")
-        return self
 
 
-class StateSpec(Spec):
+class StateSpec(Spec, kw_only=True):
     """A control state: its own keys (override the interface's) and maps (added)."""
 
     enter: ActionSpec | None = None
-    keys: list[KeyActionSpec] = Field(default_factory=list)
-    maps: list[MapSpec] = Field(default_factory=list)
-    transitions: list[TransitionSpec] = Field(default_factory=list)
-    roles: str | None = Field(None, description="the role binding this state selects "
-                                                "(which leg is the stance leg...)")
+    keys: list[KeyActionSpec] = field(default_factory=list)
+    maps: list[MapSpec] = field(default_factory=list)
+    transitions: list[TransitionSpec] = field(default_factory=list)
+    roles: str | None = None  # the role binding this state selects (which leg is the stance leg...)
     description: str = ""
 
 
-class AnyStateSpec(Spec):
+class AnyStateSpec(Spec, kw_only=True):
     """Keys and transitions of a machine that hold in every one of its states (a
     transition never fires from the state it leads to); a state's own keys win."""
 
-    keys: list[KeyActionSpec] = Field(default_factory=list)
-    transitions: list[TransitionSpec] = Field(default_factory=list)
+    keys: list[KeyActionSpec] = field(default_factory=list)
+    transitions: list[TransitionSpec] = field(default_factory=list)
 
 
-class MachineSpec(Spec):
+class MachineSpec(Spec, kw_only=True):
     """A named state machine running beside the others (one per limb, a gait machine
     beside a grasp machine): its own states, start state and ``any_state`` rules."""
 
-    states: dict[str, StateSpec] = Field(min_length=1)
-    initial: str | None = Field(None, description="starting state; default the first")
-    any_state: AnyStateSpec = Field(default_factory=AnyStateSpec)
+    states: Annotated[dict[str, StateSpec], Meta(min_length=1)]
+    initial: str | None = None  # starting state; default the first
+    any_state: AnyStateSpec = field(default_factory=AnyStateSpec)
     description: str = ""
 
     @property
@@ -208,87 +201,75 @@ class MachineSpec(Spec):
 MAIN_MACHINE = "main"  # the name of the machine of the top-level ``states:``
 
 
-class GestureSpec(Spec):
+class GestureSpec(Spec, kw_only=True):
     """A recorded mouse performance bound to a key: pressing the key plays ``path``
     back through the active mouse maps, in sim time, as a sequence plays its poses."""
 
     key: str
     description: str = ""
-    path: list[tuple[Num("input"), Num("input"), Num("input")]] = Field(
-        min_length=1, description="[t, x, y] points: t s since the key press (increasing), "
-                                  "x and y the mouse position 0..1 (y up)")
+    # [t, x, y] points: t s since the key press (increasing), x and y the mouse position 0..1 (y up)
+    path: Annotated[list[tuple[Num("input"), Num("input"), Num("input")]], Meta(min_length=1)]
 
     @property
     def duration(self) -> float:
         return self.path[-1][0]
 
 
-class GamepadSpec(Spec):
+class GamepadSpec(Spec, kw_only=True):
     """How a gamepad's sticks and triggers read: dead zones, as a fraction of the
     travel. Inside a dead zone an input reads 0; beyond it the rest of the travel is
     stretched back to the full range, so there is no jump at its edge."""
 
-    dead_zone: float = Field(0.12, ge=0.0, lt=1.0, description="sticks (-1..1)")
-    trigger_dead_zone: float = Field(0.05, ge=0.0, lt=1.0, description="triggers (0..1)")
+    dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.12  # sticks (-1..1)
+    trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.05  # triggers (0..1)
 
 
-class InterfaceSpec(Spec):
+class InterfaceSpec(Spec, kw_only=True):
     name: str
     description: str
     character: str
     scene: str = "flat"
-    slowdown: float = Field(1.0, ge=1.0, le=100.0)
-    app_keys: dict[str, str] = Field(default_factory=dict,
-                                     description="rebind the app's keys: action -> key")
-    gains: dict[str, GainSpec] = Field(default_factory=dict)
-    poses: dict[str, PoseSpec] = Field(default_factory=dict)
-    sequences: dict[str, list[SequenceStepSpec]] = Field(default_factory=dict)
-    chains: dict[str, ChainSpec] = Field(default_factory=dict)
-    maps: list[MapSpec] = Field(default_factory=list, description="always active")
-    modes: dict[str, list[MapSpec]] = Field(default_factory=dict,
-                                            description="control modes: name -> maps")
-    mode: str | None = Field(None, description="starting mode; default the first")
-    start_pose: str | None = Field(None, description="a pose (plain degrees) the figure is "
-                                   "built in at the start, over the character's start "
-                                   "joints: hanging from a bar, arms up")
-    start_angle: Angle | None = Field(None, description="the root link's angle at the start "
-                                      "(deg from upright, counter-clockwise positive), "
-                                      "over the character's: 90 lies a figure facing +x "
-                                      "on its back")
-    keys: list[KeyActionSpec] = Field(default_factory=list)
-    states: dict[str, StateSpec] = Field(default_factory=dict)
-    gestures: list[GestureSpec] = Field(default_factory=list,
-                                        description="recorded mouse paths bound to keys")
-    initial: str | None = Field(None, description="starting state; default the first")
-    any_state: AnyStateSpec = Field(default_factory=AnyStateSpec,
-                                    description="keys and transitions of every state")
-    machines: dict[str, MachineSpec] = Field(
-        default_factory=dict, description="more state machines, side by side with "
-                                          "'states' (the machine 'main')")
-    perturbation: PerturbSpec = Field(default_factory=PerturbSpec)
-    tracking: TrackingSpec | None = Field(None, description="how mocap channels drive "
-                                                            "the figure (track actions)")
-    roles: dict[str, dict[str, str]] = Field(
-        default_factory=dict, description="role -> binding -> joint or link: names that "
-                                          "mean one joint or link in one binding and "
-                                          "another in the next (a state's 'roles')")
-    binding: str | None = Field(None, description="the starting role binding; default "
-                                                  "the first")
-    control_rate: float = Field(60.0, ge=1.0, le=10000.0,
-                                description="Hz at which sensor conditions are checked")
-    gamepad: GamepadSpec = Field(default_factory=GamepadSpec,
-                                 description="dead zones of the gamepad's sticks and triggers")
-    checkpoint_every: float = Field(CHECKPOINT_EVERY, ge=CHECKPOINT_MIN, le=CHECKPOINT_MAX,
-                                    description="s of simulated time between automatic "
-                                                "checkpoints (the rewind's keyframes)")
+    slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] = 1.0
+    app_keys: dict[str, str] = field(default_factory=dict)  # rebind the app's keys: action -> key
+    gains: dict[str, GainSpec] = field(default_factory=dict)
+    poses: dict[str, PoseSpec] = field(default_factory=dict)
+    sequences: dict[str, list[SequenceStepSpec]] = field(default_factory=dict)
+    chains: dict[str, ChainSpec] = field(default_factory=dict)
+    maps: list[MapSpec] = field(default_factory=list)  # always active
+    modes: dict[str, list[MapSpec]] = field(default_factory=dict)  # control modes: name -> maps
+    mode: str | None = None  # starting mode; default the first
+    # a pose (plain degrees) the figure is built in at the start, over the character's start joints:
+    # hanging from a bar, arms up
+    start_pose: str | None = None
+    # the root link's angle at the start (deg from upright, counter-clockwise positive), over the
+    # character's: 90 lies a figure facing +x on its back
+    start_angle: Angle | None = None
+    keys: list[KeyActionSpec] = field(default_factory=list)
+    states: dict[str, StateSpec] = field(default_factory=dict)
+    gestures: list[GestureSpec] = field(default_factory=list)  # recorded mouse paths bound to keys
+    initial: str | None = None  # starting state; default the first
+    # keys and transitions of every state
+    any_state: AnyStateSpec = field(default_factory=AnyStateSpec)
+    # more state machines, side by side with 'states' (the machine 'main')
+    machines: dict[str, MachineSpec] = field(default_factory=dict)
+    perturbation: PerturbSpec = field(default_factory=PerturbSpec)
+    tracking: TrackingSpec | None = None  # how mocap channels drive the figure (track actions)
+    # role -> binding -> joint or link: names that mean one joint or link in one binding and another
+    # in the next (a state's 'roles')
+    roles: dict[str, dict[str, str]] = field(default_factory=dict)
+    binding: str | None = None  # the starting role binding; default the first
+    # Hz at which sensor conditions are checked
+    control_rate: Annotated[float, Meta(ge=1.0, le=10000.0)] = 60.0
+    # dead zones of the gamepad's sticks and triggers
+    gamepad: GamepadSpec = field(default_factory=GamepadSpec)
+    # s of simulated time between automatic checkpoints (the rewind's keyframes)
+    checkpoint_every: Annotated[float, Meta(ge=CHECKPOINT_MIN,
+                                            le=CHECKPOINT_MAX)] = CHECKPOINT_EVERY
 
-    @field_validator("sequences")
-    @classmethod
-    def _non_empty(cls, value):
-        for name, steps in value.items():
+    def __post_init__(self):
+        for name, steps in self.sequences.items():
             if not steps:
-                raise ValueError(f"sequence '{name}' has no steps")
-        return value
+                raise at("sequences", f"sequence '{name}' has no steps")
 
     def app_key_table(self) -> dict[str, str]:
         """App action -> key, after this interface's rebinding."""
@@ -342,7 +323,7 @@ class InterfaceSpec(Spec):
         (as machine 'main') first, then ``machines``."""
         out: dict[str, MachineSpec] = {}
         if self.states:
-            out[MAIN_MACHINE] = MachineSpec.model_construct(
+            out[MAIN_MACHINE] = MachineSpec(
                 states=self.states, initial=self.initial, any_state=self.any_state,
                 description="")
         out.update(self.machines)
@@ -356,7 +337,7 @@ class InterfaceSpec(Spec):
         head, dot, tail = name.partition(".")
         if dot and head in machines and tail in machines[head].states:
             return head, tail
-        if machine is not None and name in machines.get(machine, MachineSpec.model_construct(
+        if machine is not None and name in machines.get(machine, MachineSpec(
                 states={})).states:
             return machine, name
         found = [m for m, spec in machines.items() if name in spec.states]
@@ -466,13 +447,15 @@ def _check_gestures(spec: InterfaceSpec, located: Located) -> None:
 def with_gesture(spec: InterfaceSpec, key: str, path, description: str = "") -> InterfaceSpec:
     """``spec`` with a gesture bound to ``key`` (replacing a gesture already there).
     ValueError (one line) if the gesture is invalid or the key is taken."""
-    import pydantic
+    from puppet.data.validate import located_data
 
     key = normalize_key(key)
     try:
-        gesture = GestureSpec(key=key, path=[tuple(p) for p in path], description=description)
-    except pydantic.ValidationError as exc:
-        raise ValueError(f"bad gesture: {exc.errors()[0]['msg']}") from None
+        gesture = validate(located_data({"key": key, "path": [list(p) for p in path],
+                                         "description": description}, "gesture"),
+                           GestureSpec)
+    except DataError as exc:
+        raise ValueError(f"bad gesture: {exc.message}") from None
     gestures = [g for g in spec.gestures if normalize_key(g.key) != key] + [gesture]
     for _, message in gesture_problems(spec, gestures):
         raise ValueError(message)

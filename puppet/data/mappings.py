@@ -14,28 +14,25 @@ the channels.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
 
 from puppet.data.ranges import AngleChange, Num
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Axis = Literal["x", "y", "z", "-x", "-y", "-z"]
 REST = {"forward": 0.0, "up": 90.0, "back": 180.0, "down": -90.0}
 
 
-class SourceSpec(Spec):
-    up: Axis = Field("y", description="the source axis that points up (BVH and Unity: y)")
-    unit: Num("source_unit") = Field(1.0, description="metres per source length unit "
-                                                      "(CMU BVH: 0.056444, cm: 0.01)")
-    handedness: Literal["right", "left"] = Field(
-        "right", description="the source's axes: right-handed (BVH) or left-handed "
-                             "(Unity, so VMC)")
+class SourceSpec(Spec, kw_only=True):
+    up: Axis = "y"  # the source axis that points up (BVH and Unity: y)
+    unit: Num("source_unit") = 1.0  # metres per source length unit (CMU BVH: 0.056444, cm: 0.01)
+    # the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)
+    handedness: Literal["right", "left"] = "right"
 
 
-class FacingSpec(Spec):
+class FacingSpec(Spec, kw_only=True):
     """Two points across the body (the hips), left and right: the performer faces
     forward of the line between them."""
 
@@ -43,35 +40,35 @@ class FacingSpec(Spec):
     right: str
 
 
-class RootSpec(Spec):
-    point: str | list[str] = Field(
-        description="the source point the figure's root follows, or several: their "
-                    "mean (the two hip joints: the figure's hip hinge)")
-    floor: Num("world_xy") | Literal["lowest"] = Field(
-        "lowest", description="the floor's height in source units, or 'lowest': the "
-                              "lowest point a clip reaches (a stream: so far)")
+class RootSpec(Spec, kw_only=True):
+    # the source point the figure's root follows, or several: their mean (the two hip joints: the
+    # figure's hip hinge)
+    point: str | list[str]
+    # the floor's height in source units, or 'lowest': the lowest point a clip reaches (a stream: so
+    # far)
+    floor: Num("world_xy") | Literal["lowest"] = "lowest"
 
     @property
     def points(self) -> list[str]:
         return [self.point] if isinstance(self.point, str) else list(self.point)
 
 
-class ClearanceSpec(Spec):
+class ClearanceSpec(Spec, kw_only=True):
     """How high the performer's feet are off the floor: the lowest of ``points`` less
     ``standing`` (m: its height with a foot flat on the floor - a toe joint sits some
     centimetres up), never below 0. Channel ``clearance``, m: 0 while a foot is down,
     the height of a jump in flight, so a tracked figure leaves the ground then."""
 
-    points: list[str] = Field(min_length=1)
-    standing: Num("size") = Field(description="m above the floor with the foot down")
+    points: Annotated[list[str], Meta(min_length=1)]
+    standing: Num("size")  # m above the floor with the foot down
 
 
-class SegmentSpec(Spec):
+class SegmentSpec(Spec, kw_only=True):
     """A direction from one source point to another; ``rest`` is its direction when
     the figure's joints are all 0 (forward, up, back, down, or degrees, counter-
     clockwise from forward)."""
 
-    start: str = Field(alias="from")
+    start: str = field(name="from")
     to: str
     rest: Literal["forward", "up", "back", "down"] | AngleChange = "down"
 
@@ -80,7 +77,7 @@ class SegmentSpec(Spec):
         return REST[self.rest] if isinstance(self.rest, str) else float(self.rest)
 
 
-class ChannelSpec(Spec):
+class ChannelSpec(Spec, kw_only=True):
     """A planar angle, degrees: ``segment``'s turn from its rest direction, less
     ``relative_to``'s (a joint angle), or alone (its angle in the world); then
     ``value = angle * scale + offset``. Positive is counter-clockwise with the figure
@@ -92,31 +89,27 @@ class ChannelSpec(Spec):
     scale: Num("coupling") = 1.0
 
 
-class MappingSpec(Spec):
+class MappingSpec(Spec, kw_only=True):
     name: str = ""
     description: str = ""
     notes: str = ""
-    source: SourceSpec = SourceSpec()
-    plane: Literal["travel", "facing"] | tuple[Num("input"), Num("input"), Num("input")] = \
-        Field("travel", description="the figure's forward direction: 'travel' (where "
-                                    "the root goes over a clip), 'facing' (each frame, "
-                                    "from the facing points) or [x, y, z] in source axes")
+    source: SourceSpec = field(default_factory=SourceSpec)
+    # the figure's forward direction: 'travel' (where the root goes over a clip), 'facing' (each
+    # frame, from the facing points) or [x, y, z] in source axes
+    plane: Literal["travel", "facing"] | tuple[Num("input"), Num("input"), Num("input")] = "travel"
     facing: FacingSpec | None = None
-    size: Num("ratio") = Field(1.0, description="the figure's size over the performer's "
-                                                "(lengths: root motion, effectors)")
+    # the figure's size over the performer's (lengths: root motion, effectors)
+    size: Num("ratio") = 1.0
     root: RootSpec
-    segments: dict[str, SegmentSpec] = Field(min_length=1)
-    channels: dict[str, ChannelSpec] = Field(default_factory=dict)
-    effectors: dict[str, str] = Field(
-        default_factory=dict, description="name -> source point: channels NAME.x and "
-                                          "NAME.y, m from the centre of mass, in the plane")
+    segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1)]
+    channels: dict[str, ChannelSpec] = field(default_factory=dict)
+    # name -> source point: channels NAME.x and NAME.y, m from the centre of mass, in the plane
+    effectors: dict[str, str] = field(default_factory=dict)
     clearance: ClearanceSpec | None = None
-    com: dict[str, Num("ratio")] = Field(
-        default_factory=dict, description="source point -> weight: the centre of mass "
-                                          "(absent: the root point)")
+    # source point -> weight: the centre of mass (absent: the root point)
+    com: dict[str, Num("ratio")] = field(default_factory=dict)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         for name, channel in self.channels.items():
             for seg in (channel.segment, channel.relative_to):
                 if seg is not None and seg not in self.segments:
@@ -133,7 +126,6 @@ class MappingSpec(Spec):
             if f"{name}.x" in self.channels or f"{name}.y" in self.channels:
                 raise ValueError(f"effector '{name}' makes channels that 'channels' "
                                  f"defines too")
-        return self
 
     def point_names(self) -> set[str]:
         """Every source point the mapping reads."""

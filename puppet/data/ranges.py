@@ -13,8 +13,7 @@ from __future__ import annotations
 import math
 from typing import Annotated
 
-from pydantic import AfterValidator
-from pydantic_core import core_schema
+from msgspec import Meta
 
 # name -> (low, high, unit, low end open). Units: metres, kilograms, seconds, degrees.
 RANGES: dict[str, tuple[float, float, str, bool]] = {
@@ -80,44 +79,19 @@ def problem(name: str, value) -> str | None:
     return None
 
 
-def _not_bool(value):
-    if isinstance(value, bool):
-        raise ValueError("expected a number, got true/false")
-    return value
-
-
-class _InRange:
-    """The validation of a ``Num``: not true/false, then pydantic's float, then inside
-    the range, handed to pydantic as a core schema of plain (no-info) validators.
-    (``BeforeValidator`` and ``AfterValidator`` give the same checks, but pydantic
-    inspects their functions' signatures again for every field that uses them: a good
-    part of the time it took to build the data files' models, at every ``puppet``
-    start.)"""
-
-    def __init__(self, name: str):
-        def check(value: float) -> float:
-            message = problem(name, value)
-            if message:
-                raise ValueError(message)
-            return value
-
-        self.name, self.check = name, check
-
-    def __get_pydantic_core_schema__(self, source, handler):
-        return core_schema.no_info_before_validator_function(
-            _not_bool, core_schema.no_info_after_validator_function(self.check, handler(source)))
-
-
-_IN_RANGE: dict[str, _InRange] = {}
+_NUMS: dict[str, object] = {}
 
 
 def Num(name: str):
-    """A float type for pydantic: finite and inside RANGES[name]."""
-    RANGES[name]  # a KeyError here is a programming mistake
-    marker = _IN_RANGE.get(name)
-    if marker is None:
-        marker = _IN_RANGE[name] = _InRange(name)
-    return Annotated[float, marker]
+    """A float type for msgspec: finite and inside RANGES[name] (NaN fails every bound;
+    true/false is not a number to msgspec). The range's name rides in the Meta's
+    ``extra``, for the error message (``puppet.data.validate``)."""
+    num = _NUMS.get(name)
+    if num is None:
+        lo, hi, _, open_lo = RANGES[name]  # a KeyError here is a programming mistake
+        low = {"gt": lo} if open_lo else {"ge": lo}
+        num = _NUMS[name] = Annotated[float, Meta(le=hi, extra={"range": name}, **low)]
+    return num
 
 
 Mass = Num("mass")
@@ -140,16 +114,8 @@ PositiveDuration = Num("positive_duration")
 
 
 
-def _channel(v: int) -> int:
-    if not 0 <= v <= 255:
-        raise ValueError("a colour is [red, green, blue], each a whole number 0..255")
-    return v
-
-
-_Channel = Annotated[int, AfterValidator(_channel)]
+_Channel = Annotated[int, Meta(ge=0, le=255, extra={
+    "message": "a colour is [red, green, blue], each a whole number 0..255"})]
 Color = tuple[_Channel, _Channel, _Channel]
-Seed = Annotated[int, AfterValidator(lambda v: v if 0 <= v < 2**32 else _bad_seed(v))]
-
-
-def _bad_seed(v: int):
-    raise ValueError(f"a seed is a whole number 0..{2**32 - 1}")
+Seed = Annotated[int, Meta(ge=0, lt=2**32, extra={
+    "message": f"a seed is a whole number 0..{2**32 - 1}"})]

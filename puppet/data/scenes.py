@@ -4,42 +4,39 @@ named grasp points and grasp segments that a hand or foot can hold."""
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
 
 from puppet.data.ranges import Color, Elasticity, Friction, Gravity, Num, WorldXY
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Vec2 = WorldXY
 
 
-class GroundSpec(Spec):
-    points: list[Vec2] = Field(min_length=2, description="polyline, m, left to right")
+class GroundSpec(Spec, kw_only=True):
+    points: Annotated[list[Vec2], Meta(min_length=2)]  # polyline, m, left to right
     friction: Friction = 0.9
     elasticity: Elasticity = 0.0
-    thickness: Num("thickness") = Field(0.02, description="m; the collision radius is half")
+    thickness: Num("thickness") = 0.02  # m; the collision radius is half
     color: Color = (92, 84, 74)
     name: str = ""
 
 
-class MarkerSpec(Spec):
-    x: Num("world_xy") = Field(description="m")
+class MarkerSpec(Spec, kw_only=True):
+    x: Num("world_xy")  # m
     label: str
-    style: Literal["flag", "line"] = Field(
-        "flag", description="flag: a pole with a pennant; line: a board across the ground "
-                            "(a take-off or finish line)")
+    # flag: a pole with a pennant; line: a board across the ground (a take-off or finish line)
+    style: Literal["flag", "line"] = "flag"
 
 
-class RulerSpec(Spec):
+class RulerSpec(Spec, kw_only=True):
     """Tick marks along the ground: distances from ``zero`` every ``step`` metres."""
-    start: Num("world_xy") = Field(alias="from", description="m, first tick")
-    to: Num("world_xy") = Field(description="m, last tick")
-    step: Num("size") = Field(description="m between ticks")
-    zero: Num("world_xy") | None = Field(None, description="m the distances count from "
-                                                 "(absent: from)")
-    label_every: int = Field(1, ge=0, description="label every n-th tick (0: none)")
+    start: Num("world_xy") = field(name="from")  # m, first tick
+    to: Num("world_xy")  # m, last tick
+    step: Num("size")  # m between ticks
+    zero: Num("world_xy") | None = None  # m the distances count from (absent: from)
+    label_every: Annotated[int, Meta(ge=0)] = 1  # label every n-th tick (0: none)
     color: Color = (250, 250, 245)
 
     @property
@@ -53,50 +50,44 @@ class RulerSpec(Spec):
                  self.label_every > 0 and k % self.label_every == 0) for k in range(n + 1)]
 
 
-class PropShapeSpec(Spec):
+class PropShapeSpec(Spec, kw_only=True):
     """One collision shape of a prop, in the prop's own frame (m): a segment (a bar, a
     rung, a wall's face) with a radius, or a circle."""
 
     segment: tuple[Vec2, Vec2] | None = None
-    circle: Vec2 | None = Field(None, description="centre, m")
-    radius: Num("size") = Field(0.02, description="m")
+    circle: Vec2 | None = None  # centre, m
+    radius: Num("size") = 0.02  # m
     friction: Friction = 0.9
-    collide: bool = Field(True, description="the character collides with it (a bar "
-                                            "held only by grasps need not)")
+    collide: bool = True  # the character collides with it (a bar held only by grasps need not)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if (self.segment is None) == (self.circle is None):
             raise ValueError("a prop shape needs exactly one of 'segment' or 'circle'")
         if self.segment is not None and self.segment[0] == self.segment[1]:
             raise ValueError("a segment needs two distinct ends")
-        return self
 
 
-class PropSpec(Spec):
+class PropSpec(Spec, kw_only=True):
     """A named body in the scene that characters may touch and grasp. ``static`` props
     never move; ``dynamic`` ones have a mass and may hang from a ``pivot`` (a pin to the
     world or to another prop: a pendulum bar, a rope made of links)."""
 
     body: Literal["static", "dynamic"] = "static"
-    position: Vec2 = Field(description="the prop's origin in the world, m")
-    angle: Num("angle") = Field(0.0, description="deg")
-    mass: Num("mass") | None = Field(None, description="kg (dynamic props)")
-    shapes: list[PropShapeSpec] = Field(default_factory=list)
-    grasp_points: dict[str, Vec2] = Field(
-        default_factory=dict, description="name -> point in the prop's frame, m; their "
-                                          "order is the order reaches count in (next, "
-                                          "previous)")
-    grasp_segments: list[tuple[Vec2, Vec2]] = Field(
-        default_factory=list, description="segments any point of which may be held")
-    pivot: Vec2 | None = Field(None, description="world point the prop hangs from, m")
-    pivot_to: str | None = Field(None, description="the prop the pivot pins it to "
-                                                   "(default: the world)")
+    position: Vec2  # the prop's origin in the world, m
+    angle: Num("angle") = 0.0  # deg
+    mass: Num("mass") | None = None  # kg (dynamic props)
+    shapes: list[PropShapeSpec] = field(default_factory=list)
+    # name -> point in the prop's frame, m; their order is the order reaches count in (next,
+    # previous)
+    grasp_points: dict[str, Vec2] = field(default_factory=dict)
+    # segments any point of which may be held
+    grasp_segments: list[tuple[Vec2, Vec2]] = field(default_factory=list)
+    pivot: Vec2 | None = None  # world point the prop hangs from, m
+    pivot_to: str | None = None  # the prop the pivot pins it to (default: the world)
     color: Color = (120, 110, 100)
     description: str = ""
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if self.body == "dynamic" and self.mass is None:
             raise ValueError("a dynamic prop needs a 'mass' (kg)")
         if self.body == "static" and (self.mass is not None or self.pivot is not None):
@@ -106,40 +97,37 @@ class PropSpec(Spec):
             raise ValueError("'pivot_to' needs a 'pivot' point")
         if self.body == "dynamic" and not self.shapes:
             raise ValueError("a dynamic prop needs at least one shape (for its inertia)")
-        return self
 
 
-class StartSpec(Spec):
+class StartSpec(Spec, kw_only=True):
     x: Num("world_xy") = 0.0
     y: Num("world_xy") = 0.0
 
 
-class ViewSpec(Spec):
+class ViewSpec(Spec, kw_only=True):
     """How the window frames this scene, where following the character alone would not
     show what it holds (an apparatus above it): the view's height, and where its middle
     stays (the camera then moves only as far as keeps the character in the frame)."""
-    height: Num("view_height") | None = Field(None, description="m of world from the "
-                                              "window's top to its bottom (default: the "
-                                              "character's view_height)")
-    x: Num("world_xy") | None = Field(None, description="m: the view's middle across "
-                                      "(default: it follows the centre of mass)")
-    y: Num("world_xy") | None = Field(None, description="m: the height of the view's "
-                                      "middle (default: the ground's place on screen)")
+    # m of world from the window's top to its bottom (default: the character's view_height)
+    height: Num("view_height") | None = None
+    # m: the view's middle across (default: it follows the centre of mass)
+    x: Num("world_xy") | None = None
+    # m: the height of the view's middle (default: the ground's place on screen)
+    y: Num("world_xy") | None = None
 
 
-class SceneSpec(Spec):
+class SceneSpec(Spec, kw_only=True):
     name: str
     description: str
     gravity: Gravity = (0.0, -9.81)
-    ground: list[GroundSpec] = Field(min_length=1)
-    start: StartSpec = Field(default_factory=StartSpec)
-    markers: list[MarkerSpec] = Field(default_factory=list)
-    props: dict[str, PropSpec] = Field(default_factory=dict,
-                                       description="name -> a static or dynamic body")
-    rulers: list[RulerSpec] = Field(default_factory=list)
+    ground: Annotated[list[GroundSpec], Meta(min_length=1)]
+    start: StartSpec = field(default_factory=StartSpec)
+    markers: list[MarkerSpec] = field(default_factory=list)
+    props: dict[str, PropSpec] = field(default_factory=dict)  # name -> a static or dynamic body
+    rulers: list[RulerSpec] = field(default_factory=list)
     sky: Color = (226, 232, 240)
-    view: ViewSpec | None = Field(None, description="how the window frames the scene "
-                                                    "(default: it follows the character)")
+    # how the window frames the scene (default: it follows the character)
+    view: ViewSpec | None = None
 
     def ground_height(self, x: float) -> float | None:
         """Highest ground y directly under x, or None off the ends."""

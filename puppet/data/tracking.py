@@ -18,17 +18,16 @@ joints (what the keys and maps say holds them) until samples come again.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field
 
 from puppet.data.ranges import Num
-from puppet.data.validate import Spec
+from puppet.data.validate import Meta, Spec, field
 
 Gain = Num("gain")
 
 
-class GainsSpec(Spec):
+class GainsSpec(Spec, kw_only=True):
     """KD gains: Cartesian kp (N/m), dp (N*s/m); joint kq (1/s^2), dq (1/s), both
     multiplied by the inertia beyond the joint."""
 
@@ -40,15 +39,15 @@ class GainsSpec(Spec):
 
 # The paper's table (Nguyen et al. 2010, section 6): kp, dp, kq, dq.
 PRESETS: dict[str, GainsSpec] = {
-    "default": GainsSpec(kp=160, dp=25, kq=450, dq=10),
-    "balloon": GainsSpec(kp=0, dp=0, kq=200, dq=2),  # in the air
-    "stapler": GainsSpec(kp=200, dp=25, kq=450, dq=10),
-    "giant": GainsSpec(kp=420, dp=50, kq=1200, dq=15),
-    "glider": GainsSpec(kp=1000, dp=125, kq=450, dq=10),
+    "default": GainsSpec(kp=160.0, dp=25.0, kq=450.0, dq=10.0),
+    "balloon": GainsSpec(kp=0.0, dp=0.0, kq=200.0, dq=2.0),  # in the air
+    "stapler": GainsSpec(kp=200.0, dp=25.0, kq=450.0, dq=10.0),
+    "giant": GainsSpec(kp=420.0, dp=50.0, kq=1200.0, dq=15.0),
+    "glider": GainsSpec(kp=1000.0, dp=125.0, kq=450.0, dq=10.0),
 }
 
 
-class ReactionCaseSpec(Spec):
+class ReactionCaseSpec(Spec, kw_only=True):
     """How far the pulls give way after a push, and for how long: to ``weight`` at
     once, held ``hold`` s, then back to full over ``recover`` s."""
 
@@ -57,7 +56,7 @@ class ReactionCaseSpec(Spec):
     recover: Num("positive_duration") = 0.6
 
 
-class ReactionSpec(Spec):
+class ReactionSpec(Spec, kw_only=True):
     """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
     way so the figure reacts, then come back. The case is judged at the next control
     step by the extrapolated centre of mass against the support (the feet on the
@@ -68,59 +67,51 @@ class ReactionSpec(Spec):
     of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
     it back up: the get-up)."""
 
-    small_margin: Num("corner") = Field(0.05, description="m beyond the support: still "
-                                                          "small")
-    step_margin: Num("size") = Field(0.3, description="m beyond the support: large, "
-                                                      "not a fall")
-    step_time: Num("positive_duration") = Field(
-        0.35, description="s a large push's protective step takes (a foot of 'feet' "
-                          "lifted and put down past the extrapolated centre of mass)")
-    step_lift: Num("corner") = Field(0.1, description="m the stepping foot is lifted")
-    step_past: Num("corner") = Field(0.1, description="m past the extrapolated centre "
-                                                      "of mass the foot lands")
-    small: ReactionCaseSpec = ReactionCaseSpec(weight=0.3, hold=0.15, recover=0.5)
-    large: ReactionCaseSpec = ReactionCaseSpec(weight=0.1, hold=0.5, recover=1.0)
-    fall: ReactionCaseSpec = ReactionCaseSpec(weight=0, hold=1.5, recover=2.0)
+    small_margin: Num("corner") = 0.05  # m beyond the support: still small
+    step_margin: Num("size") = 0.3  # m beyond the support: large, not a fall
+    # s a large push's protective step takes (a foot of 'feet' lifted and put down past the
+    # extrapolated centre of mass)
+    step_time: Num("positive_duration") = 0.35
+    step_lift: Num("corner") = 0.1  # m the stepping foot is lifted
+    step_past: Num("corner") = 0.1  # m past the extrapolated centre of mass the foot lands
+    small: ReactionCaseSpec = field(
+        default_factory=lambda: ReactionCaseSpec(weight=0.3, hold=0.15, recover=0.5))
+    large: ReactionCaseSpec = field(
+        default_factory=lambda: ReactionCaseSpec(weight=0.1, hold=0.5, recover=1.0))
+    fall: ReactionCaseSpec = field(
+        default_factory=lambda: ReactionCaseSpec(weight=0.0, hold=1.5, recover=2.0))
 
 
-class RootChannelsSpec(Spec):
+class RootChannelsSpec(Spec, kw_only=True):
     """The channels that place the performed pose in the world, and the joint whose
     hinge is the root point (the mapping's ``root.point``)."""
 
-    x: str = Field("root.x", description="channel: m travelled forward")
-    y: str = Field("root.y", description="channel: m above the ground")
-    angle: str = Field("root.angle", description="channel: the root link's angle, deg")
-    clearance: str = Field("clearance", description="channel: m the performer's feet are "
-                                                    "off the floor (0: one is down)")
-    at: str = Field(description="a joint on the root link whose hinge the root channels "
-                                "place (the hips: hip_near)")
+    x: str = "root.x"  # channel: m travelled forward
+    y: str = "root.y"  # channel: m above the ground
+    angle: str = "root.angle"  # channel: the root link's angle, deg
+    # channel: m the performer's feet are off the floor (0: one is down)
+    clearance: str = "clearance"
+    at: str  # a joint on the root link whose hinge the root channels place (the hips: hip_near)
 
 
-class TrackingSpec(Spec):
-    mapping: str | None = Field(None, description="the mocap mapping the channels come "
-                                                  "from (assets/mappings/NAME.yaml)")
-    joints: list[str] | Literal["all"] = Field(
-        "all", description="the joints that follow the channel of their name ('all': "
-                           "every actuated joint with a channel)")
-    channels: dict[str, str] = Field(default_factory=dict,
-                                     description="joint -> channel, where the names differ")
-    root: RootChannelsSpec | None = Field(None, description="for kd: where the performed "
-                                                            "pose stands")
+class TrackingSpec(Spec, kw_only=True):
+    # the mocap mapping the channels come from (assets/mappings/NAME.yaml)
+    mapping: str | None = None
+    # the joints that follow the channel of their name ('all': every actuated joint with a channel)
+    joints: list[str] | Literal["all"] = "all"
+    # joint -> channel, where the names differ
+    channels: dict[str, str] = field(default_factory=dict)
+    root: RootChannelsSpec | None = None  # for kd: where the performed pose stands
     gains: Literal["default", "balloon", "stapler", "giant", "glider"] | GainsSpec = "default"
-    scale: dict[str, Num("ratio")] = Field(
-        default_factory=dict, description="link -> Cartesian gain multiplier (Nguyen: "
-                                          "feet 125, shins 25, thighs 5; others 1)")
-    feet: list[str] = Field(
-        default_factory=list, description="links the performed pose stands on: it is "
-                                          "moved up or down until the lowest of them "
-                                          "touches the ground (the performer's other "
-                                          "proportions, a floor offset)")
-    reaction: ReactionSpec | None = Field(
-        default_factory=ReactionSpec, description="impact reactions of KD control (null: "
-                                                  "none, the pulls hold through a push)")
-    start: Literal["off", "angles", "kd"] = Field("off", description="tracking at the start")
-    lost_after: Num("positive_duration") = Field(0.25, description="s without a sample: "
-                                                                   "tracking lost")
+    # link -> Cartesian gain multiplier (Nguyen: feet 125, shins 25, thighs 5; others 1)
+    scale: dict[str, Num("ratio")] = field(default_factory=dict)
+    # links the performed pose stands on: it is moved up or down until the lowest of them touches
+    # the ground (the performer's other proportions, a floor offset)
+    feet: list[str] = field(default_factory=list)
+    # impact reactions of KD control (null: none, the pulls hold through a push)
+    reaction: ReactionSpec | None = field(default_factory=ReactionSpec)
+    start: Literal["off", "angles", "kd"] = "off"  # tracking at the start
+    lost_after: Num("positive_duration") = 0.25  # s without a sample: tracking lost
 
     @property
     def preset(self) -> GainsSpec:

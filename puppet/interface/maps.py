@@ -28,7 +28,7 @@ def shape(curve, u: float) -> float:
 def curve_function(curve):
     """``shape(curve, .)`` decided once, when a map is compiled: None for linear, else a
     function of u doing ``shape``'s arithmetic (a power curve is a model: comparing it
-    with "linear" at every input would run pydantic's ``__eq__``)."""
+    with "linear" at every input would run the struct's ``__eq__``)."""
     if curve == "linear":
         return None
     if curve == "smoothstep":

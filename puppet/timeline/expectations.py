@@ -142,14 +142,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
-from pydantic import Field, PrivateAttr, model_validator
 
 from puppet.data.errors import DataError
 from puppet.data.ranges import Num, Time
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Measure = Num("measure")
@@ -157,216 +156,197 @@ UPRIGHT_DEG = 45.0  # upright_at_end tolerance (Character.upright's default)
 FELL_DEG = 90.0  # never_fell: beyond this from upright is a fall
 
 
-class XAtEnd(Spec):
-    link: str | None = Field(None, description="link whose centre of mass is measured")
-    com: bool = Field(False, description="measure the whole character's centre of mass")
+class XAtEnd(Spec, kw_only=True):
+    link: str | None = None  # link whose centre of mass is measured
+    com: bool = False  # measure the whole character's centre of mass
     min: Measure | None = None
     max: Measure | None = None
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if (self.link is None) == (not self.com):
             raise ValueError("give either 'link: NAME' or 'com: true'")
         if self.min is None and self.max is None:
             raise ValueError("give 'min', 'max' or both")
-        return self
 
 
-class HeightAtEnd(Spec):
+class HeightAtEnd(Spec, kw_only=True):
     """The link's centre of mass (m above y = 0) within bounds at the end, and (``held``)
     over the last ``held`` s: standing, not fallen or crouched."""
 
     link: str
     min: Num("measure") | None = None
     max: Num("measure") | None = None
-    held: Num("duration") = Field(0.0, description="s at the end it must stay in bounds")
+    held: Num("duration") = 0.0  # s at the end it must stay in bounds
 
-    @model_validator(mode="after")
-    def _bounds(self):
+    def __post_init__(self):
         if self.min is None and self.max is None:
             raise ValueError("give 'min' and/or 'max' (m)")
-        return self
 
 
-class TiltNeverAbove(Spec):
+class TiltNeverAbove(Spec, kw_only=True):
     """Each of ``links`` stays within ``max`` degrees of its model orientation (upright)
     at every sample: a trunk that never leans past 45 degrees."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    max: Num("angle") = Field(description="deg from upright")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    max: Num("angle")  # deg from upright
 
 
-class TiltAtEnd(Spec):
+class TiltAtEnd(Spec, kw_only=True):
     """Each of ``links`` within ``max`` degrees of its model orientation (upright) at
     every sample of the last ``held`` s (0: the last sample): standing up straight at
     the end, not only not having fallen."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    max: Num("angle") = Field(description="deg from upright")
-    held: Num("duration") = Field(0.0, description="s at the end it must stay within")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    max: Num("angle")  # deg from upright
+    held: Num("duration") = 0.0  # s at the end it must stay within
 
 
-class TouchingAtEnd(Spec):
+class TouchingAtEnd(Spec, kw_only=True):
     """Each of ``links`` touching the ground at the samples of the last ``held`` s (0:
     the last sample), at least ``min_fraction`` of them: both feet down at the end. A
     fraction, because a checkpoint re-seats the space and the sample at that step sees
     no contacts yet (pymunk rebuilds them in the next step)."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    held: Num("duration") = Field(0.0, description="s at the end")
-    min_fraction: float = Field(1.0, ge=0, le=1,
-                                description="share of those samples touching, at least")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    held: Num("duration") = 0.0  # s at the end
+    # share of those samples touching, at least
+    min_fraction: Annotated[float, Meta(ge=0, le=1)] = 1.0
 
 
-class FollowedChannels(Spec):
+class FollowedChannels(Spec, kw_only=True):
     """Each of ``joints`` moved like the performance: its angle within ``max_rms``
     degrees RMS of the input channel of its name (the retargeted mocap angle) over the
     samples from ``from`` to ``until`` s that have a value for it. ``min_rms``: at least
     one of them strayed that far (the figure reacted to something: a push)."""
 
-    joints: list[str] = Field(min_length=1, max_length=64)
-    from_: Time = Field(0.0, alias="from")
+    joints: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    from_: Time = field(name="from", default=0.0)
     until: Time | None = None
-    max_rms: Num("angle") | None = Field(None, description="deg")
-    min_rms: Num("angle") | None = Field(None, description="deg")
+    max_rms: Num("angle") | None = None  # deg
+    min_rms: Num("angle") | None = None  # deg
 
-    @model_validator(mode="after")
-    def _bounds(self):
+    def __post_init__(self):
         if self.max_rms is None and self.min_rms is None:
             raise ValueError("give 'max_rms' and/or 'min_rms' (deg)")
-        return self
 
 
-class ReachedHeight(Spec):
+class ReachedHeight(Spec, kw_only=True):
     link: str
-    min: Measure = Field(description="m the link's lowest point must rise above its start")
+    min: Measure  # m the link's lowest point must rise above its start
 
 
-class Airborne(Spec):
+class Airborne(Spec, kw_only=True):
     link: str
-    min_seconds: Time | None = Field(
-        None, description="s out of contact in one stretch, at least")
-    max_seconds: Time | None = Field(
-        None, description="s out of contact in one stretch, at most (every stretch)")
+    min_seconds: Time | None = None  # s out of contact in one stretch, at least
+    max_seconds: Time | None = None  # s out of contact in one stretch, at most (every stretch)
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if self.min_seconds is None and self.max_seconds is None:
             raise ValueError("give 'min_seconds', 'max_seconds' or both")
-        return self
 
 
-class StoodOn(Spec):
-    link: str = Field(description="the one link touching the ground")
-    min_seconds: Time = Field(description="s in one stretch")
-    min_tilt: float = Field(135.0, ge=0, le=180,
-                            description="deg the root is from upright at least (135: "
-                                        "upside down)")
+class StoodOn(Spec, kw_only=True):
+    link: str  # the one link touching the ground
+    min_seconds: Time  # s in one stretch
+    # deg the root is from upright at least (135: upside down)
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 135.0
 
 
-class BalancedOn(Spec):
+class BalancedOn(Spec, kw_only=True):
     """Only ``links`` touch the ground (at least one of them), the root at least
     ``min_tilt`` from upright and each of ``above`` higher than ``over``, for
     ``min_seconds`` in one stretch: a handstand, on both hands, feet above the head."""
 
-    links: list[str] = Field(min_length=1, max_length=64,
-                             description="the links that may touch; nothing else does")
-    min_seconds: Time = Field(description="s in one stretch")
-    min_tilt: float = Field(135.0, ge=0, le=180,
-                            description="deg the root is from upright at least")
-    above: list[str] = Field(default_factory=list, max_length=64,
-                             description="links whose centre of mass is above over's")
-    over: str | None = Field(None, description="the link they are above (the head)")
+    # the links that may touch; nothing else does
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    min_seconds: Time  # s in one stretch
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 135.0  # deg the root is from upright at least
+    # links whose centre of mass is above over's
+    above: Annotated[list[str], Meta(max_length=64)] = field(default_factory=list)
+    over: str | None = None  # the link they are above (the head)
 
-    @model_validator(mode="after")
-    def _pair(self):
+    def __post_init__(self):
         if bool(self.above) != (self.over is not None):
             raise ValueError("give 'above' (a list of links) and 'over' (a link) together")
-        return self
 
 
-class GotUp(Spec):
-    lay_seconds: Time = Field(description="s lying first, in one stretch")
-    within_seconds: Time = Field(
-        description="s from the end of the last lying stretch to standing up for good")
-    min_tilt: float = Field(80.0, ge=0, le=180,
-                            description="deg from upright, touching the ground: lying")
-    upright_tilt: float = Field(20.0, ge=0, le=180,
-                                description="deg from upright at most: standing")
+class GotUp(Spec, kw_only=True):
+    lay_seconds: Time  # s lying first, in one stretch
+    within_seconds: Time  # s from the end of the last lying stretch to standing up for good
+    # deg from upright, touching the ground: lying
+    min_tilt: Annotated[float, Meta(ge=0, le=180)] = 80.0
+    upright_tilt: Annotated[float, Meta(ge=0, le=180)] = 20.0  # deg from upright at most: standing
 
 
-class Turned(Spec):
+class Turned(Spec, kw_only=True):
     link: str
-    min_degrees: Num("turn") = Field(description="deg of accumulated rotation")
-    direction: Literal["backward", "forward"] = Field(
-        "backward", description="backward = counter-clockwise (the model faces +x)")
-    in_flight: bool = Field(False, description="count only the turn made in one stretch "
-                                               "with no link of the character touching")
+    min_degrees: Num("turn")  # deg of accumulated rotation
+    # backward = counter-clockwise (the model faces +x)
+    direction: Literal["backward", "forward"] = "backward"
+    # count only the turn made in one stretch with no link of the character touching
+    in_flight: bool = False
 
 
-class LandedAt(Spec):
+class LandedAt(Spec, kw_only=True):
     link: str
-    min: Measure = Field(description="m: x of the link when the longest flight ended")
+    min: Measure  # m: x of the link when the longest flight ended
 
 
-class TookOff(Spec):
+class TookOff(Spec, kw_only=True):
     """The longest flight (no link of the character touching) began from ``links`` only
     (those touching at the last sample before it), each with its centre of mass at
     ``max_x`` or less, and lasted ``min_seconds``: a take-off behind a line."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    max_x: Measure | None = Field(None, description="m: x of each take-off link, at most")
-    min_seconds: Time = Field(0.0, description="s the flight lasted, at least")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    max_x: Measure | None = None  # m: x of each take-off link, at most
+    min_seconds: Time = 0.0  # s the flight lasted, at least
 
 
-class FirstTouch(Spec):
+class FirstTouch(Spec, kw_only=True):
     """When the longest flight ended, only ``links`` touched (at the first sample on
     the ground again), each with its centre of mass at ``min_x`` or more: feet first,
     in the pit."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    min_x: Measure | None = Field(None, description="m: x of each touching link, at least")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    min_x: Measure | None = None  # m: x of each touching link, at least
 
 
-class Touched(Spec):
+class Touched(Spec, kw_only=True):
     """At some sample one of ``links`` touched the ground with its lowest point at least
     ``min_height`` m up and its centre of mass at x >= ``min_x`` (when given): a foot
     planted on a wall, not on the floor below it."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    min_height: Measure = Field(description="m: the link's lowest point above y = 0, at least")
-    min_x: Measure | None = Field(None, description="m: x of the link, at least")
-    before_flight: bool = Field(False, description="only the samples before the longest "
-                                                   "flight count (pushed off it)")
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    min_height: Measure  # m: the link's lowest point above y = 0, at least
+    min_x: Measure | None = None  # m: x of the link, at least
+    before_flight: bool = False  # only the samples before the longest flight count (pushed off it)
 
 
-class OnGround(Spec):
+class OnGround(Spec, kw_only=True):
     """All of ``links`` touching the ground at every sample of one stretch of at least
     ``min_seconds``, the root's signed angle (deg, counter-clockwise positive: tipped
     backward for a character facing +x) within ``min_root_angle``..``max_root_angle``
     over it: sat down on the seat and leaning back, not only touching."""
 
-    links: list[str] = Field(min_length=1, max_length=64)
-    min_seconds: Time = Field(description="s in one stretch")
-    min_root_angle: float | None = Field(None, ge=-180, le=180,
-                                         description="deg, signed (+ = tipped backward)")
-    max_root_angle: float | None = Field(None, ge=-180, le=180,
-                                         description="deg, signed (+ = tipped backward)")
-class AngleWithin(Spec):
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    min_seconds: Time  # s in one stretch
+    # deg, signed (+ = tipped backward)
+    min_root_angle: Annotated[float, Meta(ge=-180, le=180)] | None = None
+    # deg, signed (+ = tipped backward)
+    max_root_angle: Annotated[float, Meta(ge=-180, le=180)] | None = None
+class AngleWithin(Spec, kw_only=True):
     """The link's signed angle from upright (deg, -180..180, counter-clockwise positive:
     tipped backward for a character facing +x) within ``min``..``max`` at every sample
     from ``from`` to ``until`` s: on its back at the start, never on its front."""
 
     link: str
-    min: float | None = Field(None, ge=-180, le=180, description="deg, signed")
-    max: float | None = Field(None, ge=-180, le=540,
-                              description="deg, signed; over 180 the angle is taken in "
-                                          "max-360..max: a range across upside down")
-    from_: Time = Field(0.0, alias="from", description="s: window start")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
+    min: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, signed
+    # deg, signed; over 180 the angle is taken in max-360..max: a range across upside down
+    max: Annotated[float, Meta(ge=-180, le=540)] | None = None
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
-    @model_validator(mode="after")
-    def _bounds(self):
+    def __post_init__(self):
         if self.min is None and self.max is None:
             raise ValueError("give 'min' and/or 'max' (deg)")
         if self.min is not None and self.max is not None and self.max <= self.min:
@@ -377,165 +357,151 @@ class AngleWithin(Spec):
         if (self.min is None or self.min <= low) and (self.max is None or self.max >= 180):
             raise ValueError("this range holds every angle; expected a 'min' above "
                              f"{low:g} or a 'max' under 180")
-        return self
 
 
-class Swung(Spec):
+class Swung(Spec, kw_only=True):
     """The centre of mass's angle about ``about`` (deg from straight below it, positive
     toward +x) reached at least ``min`` on both sides (forward and back) between
     ``from`` and ``until`` s: the body swings (on a rope, under a bar) that far, not a
     still hang."""
 
-    about: tuple[Num("world_xy"), Num("world_xy")] = Field(description="m: the point")
-    min: Num("angle") = Field(description="deg each way, at least")
-    from_: Time = Field(0.0, alias="from", description="s: window start")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
+    about: tuple[Num("world_xy"), Num("world_xy")]  # m: the point
+    min: Num("angle")  # deg each way, at least
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
 
-class MeanSpeed(Spec):
+class MeanSpeed(Spec, kw_only=True):
     """The centre of mass's mean speed along +x over a window: how far it moved between
     the samples nearest ``from`` and ``until`` divided by the time between them (m/s)."""
 
-    from_: Time = Field(0.0, alias="from", description="s: window start")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
     min: Measure | None = None
     max: Measure | None = None
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if self.min is None and self.max is None:
             raise ValueError("give 'min', 'max' or both (m/s)")
         if self.until is not None and self.until <= self.from_:
             raise ValueError("'until' must be later than 'from'")
-        return self
 
 
-class FlightPhases(Spec):
+class FlightPhases(Spec, kw_only=True):
     """At least ``min_count`` flights that begin inside the window: stretches of samples
     with none of ``links`` touching (default: no link of the character), each at least
     ``min_seconds`` long (from the first sample off to the first sample down again)."""
 
-    from_: Time = Field(0.0, alias="from", description="s: window start")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
-    min_count: int = Field(ge=1, le=100000, description="flights, at least")
-    min_seconds: Time = Field(description="s a flight lasts, at least")
-    links: list[str] | None = Field(None, min_length=1, max_length=64,
-                                    description="the links off the ground (default: all)")
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
+    min_count: Annotated[int, Meta(ge=1, le=100000)]  # flights, at least
+    min_seconds: Time  # s a flight lasts, at least
+    # the links off the ground (default: all)
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)] | None = None
 
 
-class RunUp(Spec):
+class RunUp(Spec, kw_only=True):
     """Before the longest flight (no link of the character touching: the jump), at
     least ``min_flights`` flights with none of ``links`` touching (default: no link),
     each ``flight_seconds`` or longer and over before the jump began (``within``: only
     those begun at most that long before it), and the centre of mass's mean speed along
     +x over the ``over`` s before the jump at least ``min_speed``: a run-up."""
 
-    links: list[str] | None = Field(None, min_length=1, max_length=64,
-                                    description="the links off the ground (default: all)")
-    min_flights: int = Field(0, ge=0, le=100000, description="flights, at least")
-    flight_seconds: Time = Field(0.04, description="s a flight lasts, at least")
-    within: Time | None = Field(None, description="s before the jump a flight begins, at most")
-    min_speed: Measure | None = Field(None, description="m/s over the last 'over' s, at least")
-    over: Time = Field(1.0, description="s before the jump the speed is measured over")
+    # the links off the ground (default: all)
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)] | None = None
+    min_flights: Annotated[int, Meta(ge=0, le=100000)] = 0  # flights, at least
+    flight_seconds: Time = 0.04  # s a flight lasts, at least
+    within: Time | None = None  # s before the jump a flight begins, at most
+    min_speed: Measure | None = None  # m/s over the last 'over' s, at least
+    over: Time = 1.0  # s before the jump the speed is measured over
 
-    @model_validator(mode="after")
-    def _check(self):
+    def __post_init__(self):
         if self.min_flights == 0 and self.min_speed is None:
             raise ValueError("give 'min_flights', 'min_speed' or both")
         if self.over <= 0:
             raise ValueError("'over' must be more than 0 s")
-        return self
 
 
-class StayedIn(Spec):
+class StayedIn(Spec, kw_only=True):
     """The common part of stayed_in_state and stayed_in_mode: the time window. The
     shorthand ``stayed_in_state: NAME`` is the whole run."""
 
     column: ClassVar[str]  # the Trajectory column and the key naming it: state or mode
-    from_: Time | None = Field(None, alias="from",
-                               description="s: window start (default: the start)")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
+    from_: Time | None = field(name="from", default=None)  # s: window start (default: the start)
+    until: Time | None = None  # s: window end (default: the end)
 
-    @model_validator(mode="before")
-    @classmethod
-    def _shorthand(cls, data):
-        return {cls.column: data} if isinstance(data, str) else data
-
-    @model_validator(mode="after")
-    def _window(self):
+    def __post_init__(self):
         if self.from_ is not None and self.until is not None and self.from_ > self.until:
             raise ValueError("'from' must not be later than 'until'")
-        return self
 
     @property
     def name(self) -> str:
         return getattr(self, self.column)
 
 
-class StayedInState(StayedIn):
+class StayedInState(StayedIn, kw_only=True):
     column: ClassVar[str] = "state"
-    state: str = Field(description="the interface state it must stay in")
+    state: str  # the interface state it must stay in
 
 
-class StayedInMode(StayedIn):
+class StayedInMode(StayedIn, kw_only=True):
     column: ClassVar[str] = "mode"
-    mode: str = Field(description="the interface mode it must stay in")
+    mode: str  # the interface mode it must stay in
 
 
-class Revolutions(Spec):
+class Revolutions(Spec, kw_only=True):
     """Full turns in a row of the centre of mass about a point: giant swings."""
 
-    about: str | tuple[Num("world_xy"), Num("world_xy")] = Field(
-        description="a chain (the point it holds, at each sample) or [x, y] in the scene, m")
-    min: Num("turns") = Field(description="full turns in one stretch, at least")
-    direction: Literal["either", "backward", "forward"] = Field(
-        "either", description="backward = counter-clockwise (the model faces +x)")
-    slack: Num("turn") = Field(
-        10.0, description="deg it may turn back inside the stretch (jitter at the top)")
+    # a chain (the point it holds, at each sample) or [x, y] in the scene, m
+    about: str | tuple[Num("world_xy"), Num("world_xy")]
+    min: Num("turns")  # full turns in one stretch, at least
+    # backward = counter-clockwise (the model faces +x)
+    direction: Literal["either", "backward", "forward"] = "either"
+    slack: Num("turn") = 10.0  # deg it may turn back inside the stretch (jitter at the top)
 
 
-class Held(Spec):
+class Held(Spec, kw_only=True):
     """Each of ``chains`` held a grasp (on ``prop``) at every sample of the window."""
 
-    chains: list[str] = Field(min_length=1, max_length=16)
-    prop: str | None = Field(None, description="the prop held (default: any, or the world)")
-    from_: Time | None = Field(None, alias="from", description="s: window start")
-    until: Time | None = Field(None, description="s: window end (default: the end)")
+    chains: Annotated[list[str], Meta(min_length=1, max_length=16)]
+    prop: str | None = None  # the prop held (default: any, or the world)
+    from_: Time | None = field(name="from", default=None)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
 
 
 AT_END = {"in_state_at_end": "state", "in_mode_at_end": "mode"}  # key -> column
 
 
-class HeldPoint(Spec):
+class HeldPoint(Spec, kw_only=True):
     """A grasp point of a prop held at some sample (by ``chain``, or by any chain)."""
 
     prop: str
-    point: str = Field(description="the prop's grasp point (its name in the scene)")
-    chain: str | None = Field(None, description="the chain that held it (default: any)")
+    point: str  # the prop's grasp point (its name in the scene)
+    chain: str | None = None  # the chain that held it (default: any)
 
 
-class AlwaysHolding(Spec):
+class AlwaysHolding(Spec, kw_only=True):
     """At every sample of the window at least one of ``chains`` holds something (a grasp
     point, a segment or a world point): hanging on, never fallen off."""
 
-    chains: list[str] = Field(min_length=1, max_length=64)
-    from_: Time | None = Field(None, alias="from", description="s (default: the start)")
-    until: Time | None = Field(None, description="s (default: the end)")
+    chains: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    from_: Time | None = field(name="from", default=None)  # s (default: the start)
+    until: Time | None = None  # s (default: the end)
 
 
-class Regrasps(Spec):
+class Regrasps(Spec, kw_only=True):
     """New grasps that make progress along a prop: a chain of ``chains`` taking hold of
     a grasp point later in the prop's list than any point those chains held before (the
     next bar, the rung above). ``alternate``: counted only in a row of turns, each by
     another chain than the one before (hand over hand); the longest such row counts."""
 
-    chains: list[str] = Field(min_length=1, max_length=64)
+    chains: Annotated[list[str], Meta(min_length=1, max_length=64)]
     prop: str
-    min: int = Field(ge=1, description="progressing grasps, at least")
+    min: Annotated[int, Meta(ge=1)]  # progressing grasps, at least
     alternate: bool = False
 
 
-class Expectation(Spec):
+class Expectation(Spec, kw_only=True, dict=True):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
     tilt_never_above: TiltNeverAbove | None = None
@@ -560,8 +526,8 @@ class Expectation(Spec):
     flight_phases: FlightPhases | None = None
     run_up: RunUp | None = None
     balanced_on: BalancedOn | None = None
-    stayed_in_state: StayedInState | None = None
-    stayed_in_mode: StayedInMode | None = None
+    stayed_in_state: StayedInState | str | None = None  # a name: the whole run
+    stayed_in_mode: StayedInMode | str | None = None
     revolutions: Revolutions | None = None
     held: Held | None = None
     in_state_at_end: str | None = None
@@ -570,20 +536,22 @@ class Expectation(Spec):
     always_holding: AlwaysHolding | None = None
     regrasps: Regrasps | None = None
     final_hash: str | None = None
-    # (Located, data path) of this entry, for errors found only when evaluating
-    _where: tuple | None = PrivateAttr(None)
+    # (Located, data path) of this entry, for errors found only when evaluating, is
+    # set as ``_where`` (not a field: ``dict=True`` lets the struct hold it)
 
-    @model_validator(mode="after")
-    def _one(self):
-        given = [n for n in type(self).model_fields if getattr(self, n) is not None]
+    def __post_init__(self):
+        if isinstance(self.stayed_in_state, str):  # the shorthand stayed_in_state: NAME
+            self.stayed_in_state = StayedInState(state=self.stayed_in_state)
+        if isinstance(self.stayed_in_mode, str):
+            self.stayed_in_mode = StayedInMode(mode=self.stayed_in_mode)
+        given = [n for n in self.__struct_fields__ if getattr(self, n) is not None]
         if len(given) != 1:
             raise ValueError("each expectation names exactly one check; got "
                              f"{', '.join(given) or 'none'}")
-        return self
 
     @property
     def kind(self) -> str:
-        return next(n for n in type(self).model_fields if getattr(self, n) is not None)
+        return next(n for n in self.__struct_fields__ if getattr(self, n) is not None)
 
     @property
     def value(self):
@@ -591,9 +559,10 @@ class Expectation(Spec):
 
     def error(self, message: str, *sub) -> DataError:
         """A DataError at this entry (``sub``: a key inside it) if it came from a file."""
-        if self._where is None:
+        where = getattr(self, "_where", None)
+        if where is None:
             return DataError("expect", None, None, message)
-        located, loc = self._where
+        located, loc = where
         return located.error(loc + sub, message)
 
     def link(self) -> str | None:
@@ -716,7 +685,7 @@ class Expectation(Spec):
         return f"{self.kind} {v}".replace("True", "true").replace("False", "false")
 
 
-class ExpectFile(Spec):
+class ExpectFile(Spec, kw_only=True):
     description: str = ""
     expect: list[Expectation]
 

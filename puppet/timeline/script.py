@@ -15,11 +15,12 @@ recorded log replays from.
 
 from __future__ import annotations
 
-from pydantic import Field, model_validator
+from typing import Annotated
+
 
 from puppet.data.keys import key_problem, normalize_key
 from puppet.data.ranges import Duration, Num, Time, WorldXY
-from puppet.data.validate import Spec, validate
+from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface import events as ev
 from puppet.interface.app_keys import SIM_ACTIONS
@@ -30,27 +31,25 @@ GLIDE_RATE = 240.0  # Hz: how often a gliding mouse reports, like a gaming mouse
 DEFAULT_SECONDS = 5.0  # a scripted run's length when neither the caller nor the script says
 
 
-class DragSpec(Spec):
+class DragSpec(Spec, kw_only=True):
     link: str
-    point: tuple[Num("model_xy"), Num("model_xy")] = Field(
-        (0.0, 0.0), description="on the link, model frame, m")
-    to: Vec2 = Field(description="world target, m")
-    start: Vec2 | None = Field(None, description="world target at start; default: 'to'")
+    point: tuple[Num("model_xy"), Num("model_xy")] = (0.0, 0.0)  # on the link, model frame, m
+    to: Vec2  # world target, m
+    start: Vec2 | None = None  # world target at start; default: 'to'
     over: Duration = 0.0
     hold: Duration = 0.0
 
 
-class PushSpec(Spec):
+class PushSpec(Spec, kw_only=True):
     """A shove: an impulse (N*s) at a point of a link (the character file's coordinates)."""
 
     link: str
-    impulse: Vec2 = Field(description="N*s, world x and y")
-    point: Vec2 | None = Field(None, description="model frame, m; default the link's "
-                                                 "centre of mass")
+    impulse: Vec2  # N*s, world x and y
+    point: Vec2 | None = None  # model frame, m; default the link's centre of mass
 
 
-class ScriptEntry(Spec):
-    t: Time = Field(description="s of simulated time")
+class ScriptEntry(Spec, kw_only=True):
+    t: Time  # s of simulated time
     mouse: tuple[Num("mouse"), Num("mouse")] | None = None
     over: Duration = 0.0
     key: str | None = None
@@ -59,8 +58,7 @@ class ScriptEntry(Spec):
     drag: DragSpec | None = None
     push: PushSpec | None = None
 
-    @model_validator(mode="after")
-    def _one_thing(self):
+    def __post_init__(self):
         given = [n for n in ("mouse", "key", "action", "drag", "push")
                  if getattr(self, n) is not None]
         if len(given) != 1:
@@ -75,14 +73,13 @@ class ScriptEntry(Spec):
         if self.mouse is not None and not all(0.0 <= v <= 1.0 for v in self.mouse):
             raise ValueError(f"mouse position must be within [0, 1] x [0, 1], got "
                              f"{list(self.mouse)}")
-        return self
 
 
-class ScriptSpec(Spec):
+class ScriptSpec(Spec, kw_only=True):
     description: str = ""
     interface: str | None = None
     scene: str | None = None
-    seconds: Time | None = Field(None, description="default run length, s")
+    seconds: Time | None = None  # default run length, s
     events: list[ScriptEntry]
 
 

@@ -1,0 +1,388 @@
+"""msgspec's validation error, said in puppet's words at its file:line:col (see
+``puppet.data.validate``): parse its text and path, walk the data and the types along
+the path, and say what was wrong and what was expected."""
+
+from __future__ import annotations
+
+import difflib
+import re
+import types
+import typing
+from typing import Any
+
+import msgspec
+
+from puppet.data.errors import DataError
+from puppet.data.validate import _DISPATCH, _dec_hook
+from puppet.data.yamlfile import Located
+
+# --- the types along a path ----------------------------------------------------------
+
+_NOTHING = object()
+_FIELDS: dict[type, dict[str, Any]] = {}
+
+
+def _fields(cls: type) -> dict[str, Any]:
+    """encode name -> annotation of a struct's fields."""
+    found = _FIELDS.get(cls)
+    if found is None:
+        found = _FIELDS[cls] = {f.encode_name: f.type for f in msgspec.structs.fields(cls)}
+    return found
+
+
+def _is_struct(t: Any) -> bool:
+    return isinstance(t, type) and issubclass(t, msgspec.Struct)
+
+
+def _strip(t: Any) -> tuple[Any, list]:
+    """(the type under Annotated, its metadata)."""
+    metas: list = []
+    while typing.get_origin(t) is typing.Annotated:
+        args = typing.get_args(t)
+        t, metas = args[0], metas + list(args[1:])
+    return t, metas
+
+
+def _members(t: Any) -> list:
+    base, _ = _strip(t)
+    if typing.get_origin(base) in (typing.Union, types.UnionType):
+        return list(typing.get_args(base))
+    return [t]
+
+
+def _kind(t: Any) -> str:
+    """What a (stripped) type holds: struct, dict, list, tuple, float, int, bool, str,
+    literal, none, dispatch."""
+    base, _ = _strip(t)
+    if base in _DISPATCH:
+        return "dispatch"
+    if _is_struct(base):
+        return "struct"
+    if base is type(None) or base is None:
+        return "none"
+    origin = typing.get_origin(base)
+    if origin is typing.Literal:
+        return "literal"
+    if origin is dict or base is dict:
+        return "dict"
+    if origin is list or base is list:
+        return "list"
+    if origin is tuple or base is tuple:
+        return "tuple"
+    return {float: "float", int: "int", bool: "bool", str: "str"}.get(base, "other")
+
+
+def _choose(t: Any, data: Any) -> Any:
+    """The member of a union (or the dispatched struct) that ``data`` is meant as."""
+    members = _members(t)
+    if len(members) > 1:
+        kinds = [_kind(m) for m in members]
+        if data is None and "none" in kinds:
+            wanted = ("none",)
+        elif isinstance(data, dict):
+            wanted = ("struct", "dispatch", "dict")
+        elif isinstance(data, (list, tuple)):
+            wanted = ("list", "tuple")
+        elif isinstance(data, bool):
+            wanted = ("bool", "float", "int")
+        elif isinstance(data, (int, float)):
+            wanted = ("float", "int")
+        elif isinstance(data, str):
+            wanted = ("literal", "str")
+        else:
+            wanted = ()
+        tagged = [m for m, k in zip(members, kinds) if k == "struct"
+                  and _strip(m)[0].__struct_config__.tag_field is not None]
+        if isinstance(data, dict) and len(tagged) > 1:
+            tag_field = _strip(tagged[0])[0].__struct_config__.tag_field
+            for m in tagged:
+                if _strip(m)[0].__struct_config__.tag == data.get(tag_field):
+                    return m
+            return t  # no member has that tag: the union itself
+        for want in wanted:
+            for m, k in zip(members, kinds):
+                if k == want:
+                    t = m
+                    break
+            else:
+                continue
+            break
+        else:
+            t = next((m for m, k in zip(members, kinds) if k != "none"), members[0])
+    base, _ = _strip(t)
+    if base in _DISPATCH:
+        return _DISPATCH[base](data)
+    return t
+
+
+def _tagged_union(t: Any) -> tuple[str, list[str]] | None:
+    """(tag field, tags) if ``t`` is a union of structs told apart by a tag field."""
+    members = [_strip(m)[0] for m in _members(t)]
+    structs = [m for m in members if _is_struct(m) and m.__struct_config__.tag_field]
+    if len(structs) > 1:
+        return structs[0].__struct_config__.tag_field, [s.__struct_config__.tag
+                                                        for s in structs]
+    return None
+
+
+def _converts(value: Any, t: Any) -> bool:
+    try:
+        msgspec.convert(value, t, dec_hook=_dec_hook, strict=False)
+        return True
+    except msgspec.ValidationError:
+        return False
+
+
+_TOKEN = re.compile(r"\.([^.\[\]]+)|\[(\d+)\]|\[(\.\.\.)\]")
+_AT = re.compile(r" - at `(?:(key)` in `)?(\$[^`]*)`$")
+
+
+def _split(text: str) -> tuple[str, list]:
+    """msgspec's message and the path it gives, outermost segment first."""
+    segments = []
+    while True:
+        match = _AT.search(text)
+        if not match:
+            break
+        segments.append((match.group(2), bool(match.group(1))))
+        text = text[:match.start()]
+    tokens: list = []
+    for path, is_key in segments:  # outermost first
+        tokens += [m.group(1) if m.group(1) is not None else
+                   int(m.group(2)) if m.group(2) is not None else ...
+                   for m in _TOKEN.finditer(path[1:])]
+        if is_key:
+            tokens.append("<key>")
+    return text, tokens
+
+
+class _Place:
+    """Where an error is: the data path, the value there, its type and its parent's."""
+
+    def __init__(self, loc: tuple, value: Any, kind: Any, parent: Any):
+        self.loc, self.value, self.kind, self.parent = loc, value, kind, parent
+
+
+def _walk(model: type, data: Any, tokens: list) -> _Place:
+    t, loc, parent = model, [], None
+    for token in tokens:
+        t = _choose(t, data)
+        base, _ = _strip(t)
+        parent = t
+        if token == "<key>":  # a key of this mapping is of the wrong type
+            key_type = str if _is_struct(base) else (
+                typing.get_args(base)[0] if typing.get_args(base) else Any)
+            bad = next((k for k in data if not _converts(k, key_type)), _NOTHING) \
+                if isinstance(data, dict) else _NOTHING
+            return _Place(tuple(loc) + ((bad,) if bad is not _NOTHING else ()), bad,
+                          key_type, parent)
+        if isinstance(token, str):
+            tag = _tagged_union(base)
+            if (tag and token == tag[0]) or (
+                    _is_struct(base) and token == base.__struct_config__.tag_field):
+                t = "<tag>"
+            else:
+                t = _fields(base).get(token, Any) if _is_struct(base) else Any
+            if isinstance(data, dict) and token in data:
+                data = data[token]
+                loc.append(token)
+            else:
+                data = _NOTHING
+                loc.append(token)
+        elif isinstance(token, int):
+            args = typing.get_args(base)
+            if _kind(base) == "tuple" and args and args[-1] is not Ellipsis:
+                t = args[token] if token < len(args) else Any
+            else:
+                t = args[0] if args else Any
+            if isinstance(data, (list, tuple)) and 0 <= token < len(data):
+                data = data[token]
+            else:
+                data = _NOTHING
+            loc.append(token)
+        else:  # [...]: a value of a mapping; the first in order that does not convert
+            args = typing.get_args(base)
+            t = args[1] if len(args) == 2 else Any
+            key = next((k for k, v in data.items() if not _converts(v, t)), _NOTHING) \
+                if isinstance(data, dict) else _NOTHING
+            if key is _NOTHING:
+                break
+            data = data[key]
+            loc.append(key)
+    return _Place(tuple(loc), data, t, parent)
+
+
+def _submodels(annotation: Any) -> list[type]:
+    """The structs an annotation may hold (through Optional, list, dict, Union)."""
+    annotation, _ = _strip(annotation)
+    if annotation in _DISPATCH:
+        return list(getattr(annotation, "choices", ()))
+    if _is_struct(annotation):
+        return [annotation]
+    origin = typing.get_origin(annotation)
+    if origin in (typing.Union, types.UnionType, list, tuple, dict):
+        found: list = []
+        for arg in typing.get_args(annotation):
+            found += _submodels(arg)
+        return found
+    return []
+
+
+def _allowed_keys(model: type, loc: tuple) -> list[str]:
+    """Field names accepted at ``loc`` (a path of keys), walking the struct tree (every
+    member of a union: a misspelt ``grid`` still finds its key)."""
+    candidates = [model]
+    for part in loc:
+        if not isinstance(part, str):
+            continue
+        nxt = []
+        for cand in candidates:
+            if part in _fields(cand):
+                nxt += _submodels(_fields(cand)[part])
+        if nxt:
+            candidates = nxt
+    keys: list[str] = []
+    for cand in candidates:
+        keys += list(_fields(cand))
+    return sorted(set(keys))
+
+
+# --- the message ---------------------------------------------------------------------
+
+def _describe(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+_WHAT = {"float": "a number", "int": "a whole number", "bool": "true or false",
+         "str": "text", "array": "a list", "null": "nothing (null)"}
+_BOUND = re.compile(r"Expected `(\w+)` (>=|>|<=|<) (\S+)$")
+_LENGTH = re.compile(r"Expected `(\w+)` of length (>=|<=)? ?(\d+)(?:, got (\d+))?$")
+_TYPE = re.compile(r"Expected `([^`]+)`(?:, got `([^`]+)`)?$")
+_WORDS = {">=": "at least", ">": "more than", "<=": "at most", "<": "less than"}
+
+
+def _num(text: str) -> str:
+    try:
+        return f"{float(text):g}"
+    except ValueError:
+        return text
+
+
+def _what(name: str, t: Any) -> str:
+    if name == "object":
+        kind = _kind(t) if t is not None else "struct"
+        return "a mapping" if kind == "dict" else "a mapping of settings"
+    return _WHAT.get(name, name)
+
+
+def _range_of(metas: list) -> dict:
+    for meta in metas:
+        if isinstance(meta, msgspec.Meta) and meta.extra:
+            return meta.extra
+    return {}
+
+
+def _literals(t: Any) -> list:
+    values: list = []
+    for member in _members(t):
+        base, _ = _strip(member)
+        if typing.get_origin(base) is typing.Literal:
+            values += list(typing.get_args(base))
+    return values
+
+
+def _value_message(text: str, place: _Place) -> str:
+    """What a value's error means, in puppet's words."""
+    value, t = place.value, place.kind
+    member = _choose(t, value) if value is not _NOTHING else t
+    base, metas = _strip(member)
+    extra = _range_of(metas)
+    bound, length, wrong = _BOUND.match(text), _LENGTH.match(text), _TYPE.match(text)
+    if extra.get("range"):  # a Num: not true/false, a number, inside its range
+        from puppet.data.ranges import problem
+
+        if isinstance(value, bool):
+            return "expected a number, got true/false"
+        if wrong:
+            return "expected a number"
+        return problem(extra["range"], value) or text
+    if extra.get("message") and (bound or wrong and _kind(base) == "int"
+                                 and isinstance(value, int) and not isinstance(value, bool)):
+        return extra["message"]
+    if bound:
+        return f"must be {_WORDS[bound.group(2)]} {_num(bound.group(3))}"
+    if length:
+        op, n, got = length.group(2), length.group(3), length.group(4)
+        if op == ">=":
+            return f"expected at least {n} item(s)"
+        if op == "<=":
+            return f"expected at most {n} item(s)"
+        return f"expected {n} items, got {got}"
+    if text == "Number out of range":  # text such as '1e400' read as a number
+        return "expected a finite number"
+    if text.startswith("Invalid enum value"):
+        return "expected one of: " + ", ".join(str(v) for v in _literals(t))
+    if wrong:
+        names = [n.strip() for n in wrong.group(1).split("|")]
+        literals = _literals(t)
+        words = []
+        for name in names:
+            if name == "str" and literals:
+                words.append(", ".join(f"'{v}'" for v in literals))
+            elif name != "null":
+                words.append(_what(name, next((m for m in _members(t)
+                                               if _kind(m) in ("struct", "dispatch", "dict")),
+                                              None) if name == "object" else None))
+        if not words:
+            words = ["nothing (null)"]
+        return "expected " + (words[0] if len(words) == 1 else
+                              ", ".join(words[:-1]) + " or " + words[-1])
+    return text  # a check of ours (a __post_init__'s ValueError): already puppet's words
+
+
+_UNKNOWN = re.compile(r"Object contains unknown field `(.*)`$", re.S)
+_MISSING = re.compile(r"Object missing required field `(.*)`$", re.S)
+
+
+def to_data_error(located: Located, model: type, message: str) -> DataError:
+    """The DataError of msgspec's error ``message`` for ``located`` validated as
+    ``model``."""
+    text, tokens = _split(message)
+    place = _walk(model, located.data, tokens)
+    loc = place.loc
+    unknown, missing = _UNKNOWN.match(text), _MISSING.match(text)
+    struct_key = tokens[-1:] == ["<key>"] and _is_struct(_strip(place.parent)[0])
+    if unknown or struct_key:  # (a number as a key of settings: no such key either)
+        key = unknown.group(1) if unknown else loc[-1] if loc else "?"
+        loc = loc + (key,) if unknown else loc
+        allowed = _allowed_keys(model, loc[:-1])
+        close = difflib.get_close_matches(str(key), allowed, n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ";"
+        return located.error(loc, f"unknown key '{key}'{hint} expected one of: "
+                                  f"{', '.join(allowed)}", prefer_key=True)
+    name = ".".join(str(p) for p in loc) or "(top level)"
+    got = f" (got {_describe(place.value)})" if place.value is not _NOTHING else ""
+    if missing:
+        key = missing.group(1)
+        tag = _tagged_union(place.kind)
+        if tag and tag[0] == key:
+            return located.error(loc, f"bad value for '{name}': missing '{key}', which "
+                                      f"says what it is{got}")
+        return located.error(loc, f"missing required key '{key}' in "
+                                  f"{'.'.join(str(p) for p in loc) or 'the file'}")
+    if place.kind == "<tag>":  # a tagged struct's tag: an unknown kind of thing
+        return _tag_error(located, model, tokens, loc)
+    return located.error(loc, f"bad value for '{name}': {_value_message(text, place)}{got}")
+
+
+def _tag_error(located: Located, model: type, tokens: list, loc: tuple) -> DataError:
+    """An unknown (or not text) ``type:`` of a tagged union's member, at the member."""
+    parent = _walk(model, located.data, tokens[:-1])
+    tag = _tagged_union(parent.kind)
+    tag_field, tags = tag if tag else (str(loc[-1]), [])
+    value = parent.value.get(tag_field) if isinstance(parent.value, dict) else None
+    name = ".".join(str(p) for p in parent.loc) or "(top level)"
+    return located.error(parent.loc, f"bad value for '{name}': unknown {tag_field} "
+                                     f"'{value}'; expected one of: {', '.join(tags)} "
+                                     f"(got {_describe(parent.value)})")
