@@ -177,24 +177,32 @@ FEATS = {
             "t_up": (2.0, 3.5, 3, [("s", "events", 1, "t")]),
         },
     },
-    "kip": {"interface": ROOT / "interfaces" / "biped-kip.yaml", "gate": [2, 3], "params": {
+    "kip": {"interface": ROOT / "interfaces" / "biped-kip.yaml", "gate": [2, 3, 4, 5, 6],
+            "landing_slope": True, "turn_gate": 7,
+            "params": {
         "hip_torque": (250, 450, 0, [("i", "gains", j, "max_torque")
                                      for j in ("hip_near", "hip_far")]),
-        **_pose("rock", "rock", waist=(-80, 0), hip=(90, 130), knee=(-150, 0),
-                shoulder=(120, 180), elbow=(60, 150)),
+        **_pose("rock", "rock", waist=(-80, 0), neck=(-50, 50), hip=(90, 130),
+                knee=(-150, -40), shoulder=(120, 180), elbow=(40, 150)),
         "rock_damp": (1, 30, 1, [("i", "poses", "rock", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
-        **_pose("snap", "snap", waist=(-20, 30), hip=(-30, 60), knee=(-90, 0),
-                shoulder=(90, 180), elbow=(0, 60)),
+        **_pose("snap", "snap", waist=(-30, 30), neck=(-50, 50), hip=(-30, 60),
+                knee=(-130, 0), shoulder=(90, 180), elbow=(0, 90)),
         "snap_damp": (1, 30, 1, [("i", "poses", "snap", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
-        **_world("land", "kip_land", waist=(-70, 0), hip=(-70, 0), ankle=(-40, 0)),
-        **_pose("land", "kip_land", knee=(-150, -60), shoulder=(0, 120)),
+        **_pose("land", "kip_land", waist=(-40, 30), hip=(20, 130), knee=(-150, -40),
+                ankle=(-30, 30), shoulder=(-40, 150)),
         "land_damp": (1, 50, 1, [("i", "poses", "kip_land", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far")]),
         **{f"t_{n}": (lo, hi, 3, [("i", "sequences", "kip", k, "hold")])
            for k, (n, lo, hi) in enumerate((("rock", 0.2, 1.2), ("snap", 0.05, 0.5),
-                                            ("land", 0.2, 1.2)))},
+                                            ("land", 0.1, 1.2)))},
+        # the stand after the landing: the rising state's ankle maps' gains
+        "rise_dx": (0, 60, 2, [("i", "states", "rising", "maps", k, "to", "+-")
+                               for k in (0, 1)]),
+        "rise_vx": (0, 50, 2, [("i", "states", "rising", "maps", 2, "to", "+-")]),
+        **_pose("stand", "standing", knee=(-30, 0)),
+        **_world("stand", "standing", ankle=(-15, 10)),
     }},
     "backflip": {"gate": 3, "landing_slope": True, "params": {
         **_world("set", "flip_set", waist=(-60, 0), hip=(-60, 0), ankle=(-40, 0)),
@@ -280,6 +288,9 @@ def graded(feat: str, outcomes) -> float:
     if feat == "kip":
         value = 0.0
         for o in outcomes:
+            m = re.search(r"chest (-?[0-9]+)\.\.", o.measured)
+            if o.expectation.startswith("angle_within chest") and m:
+                value += (min(float(m.group(1)), -45) + 180) / 45  # less face-down
             m = re.search(r"the longest ([0-9.]+) s", o.measured)
             if o.expectation.startswith("flight_phases") and m:
                 value += min(float(m.group(1)), 0.3) * 10
@@ -289,6 +300,9 @@ def graded(feat: str, outcomes) -> float:
             m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
             if o.expectation.startswith("height_at_end") and m:
                 value += min(float(m.group(1)), 1.45) * 2
+            m = re.search(r"touching at ([0-9]+)%", o.measured)
+            if o.expectation.startswith("touching_at_end") and m:
+                value += float(m.group(1)) / 20  # both feet down
         return value
     for o in outcomes:
         if o.expectation.startswith("balanced_on"):
@@ -373,10 +387,12 @@ def run(docs: dict, expect: list, traj: bool = False, interface: Path = INTERFAC
     return (outcomes, tr) if traj else outcomes
 
 
-def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, list]:
+def score(feat: str, docs: dict, expect: list, shifts=(0.0,),
+          mean: bool = False) -> tuple[float, list]:
     """10 per expectation that holds plus the graded term, at the worst of the script
-    played with its last key moved by each of ``shifts`` s (a person's timing)."""
-    worst = None
+    played with its last key moved by each of ``shifts`` s (a person's timing; ``mean``:
+    their mean, with the worst one's outcomes)."""
+    worst, total = None, 0.0
     for by in shifts:
         moved = json.loads(json.dumps(docs))
         moved["s"]["events"][-1]["t"] = round(moved["s"]["events"][-1]["t"] + by, 3)
@@ -393,9 +409,30 @@ def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, li
         turn = FEATS[feat].get("turn_gate", 1)  # the leading ones that make it a flip
         if FEATS[feat].get("landing_slope") and all(o.passed for o in outcomes[:turn]):
             value += 20 * on_feet_after_flight(tr)
+        total += value
         if worst is None or value < worst[0]:
             worst = (value, outcomes)
-    return worst
+    return (total / len(shifts), worst[1]) if mean else worst
+
+
+def sweep(feat: str, docs: dict, expect: list, start: float, stop: float,
+          step: float) -> int:
+    """Play the feat with its last key at each moment start..stop; print the moments
+    that pass every expectation and, for the others, the first expectation that fails."""
+    stood = []
+    count = int(round((stop - start) / step)) + 1
+    for k in range(count):
+        at = round(start + k * step, 3)
+        moved = json.loads(json.dumps(docs))
+        moved["s"]["events"][-1]["t"] = at
+        outcomes = run(moved, expect, interface=FEATS[feat].get("interface", INTERFACE))
+        failed = [o.expectation.split(":")[0] for o in outcomes if not o.passed]
+        print(f"{at:.3f} s: " + ("passes" if not failed else "fails " + "; ".join(failed)),
+              flush=True)
+        if not failed:
+            stood.append(at)
+    print(f"{len(stood)} of {count} pass: {', '.join(f'{t:g}' for t in stood)}")
+    return 0
 
 
 def main() -> int:
@@ -417,6 +454,13 @@ def main() -> int:
     ap.add_argument("--start", default=None,
                     help="a JSON object of numbers to start from instead of the files' "
                          "(what --verbose printed)")
+    ap.add_argument("--mean", action="store_true",
+                    help="with --shifts: score the mean over the shifts, not the worst")
+    ap.add_argument("--sweep", type=float, nargs=3, default=None,
+                    metavar=("FROM", "TO", "STEP"),
+                    help="instead of a search: play the files' numbers (or --start) with "
+                         "the script's last key at each moment FROM..TO s, STEP apart, and "
+                         "print which pass every expectation (a person's timing)")
     args = ap.parse_args()
     params = FEATS[args.feat]["params"]
     if args.only is not None:
@@ -433,9 +477,11 @@ def main() -> int:
         docs = with_params(docs, FEATS[args.feat]["params"], {
             **{n: read(docs, pl[0]) for n, (_, _, _, pl) in FEATS[args.feat]["params"].items()},
             **json.loads(args.start)})
+    if args.sweep:
+        return sweep(args.feat, docs, expect, *args.sweep)
     best_p = {n: read(docs, places[0]) for n, (_, _, _, places) in params.items()}
     best, outcomes = score(args.feat, with_params(docs, params, best_p), expect,
-                           args.shifts)
+                           args.shifts, args.mean)
     print(f"the files' own: {best:.2f}", flush=True)
     rng = random.Random(args.seed)
     for i in range(args.tries):
@@ -444,7 +490,8 @@ def main() -> int:
         else:
             p = {n: min(hi, max(lo, best_p[n] + rng.gauss(0, args.sigma * (hi - lo))))
                  for n, (lo, hi, _, _) in params.items()}
-        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts)
+        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts,
+                            args.mean)
         if value > best:
             best, best_p, outcomes = value, p, outs
             print(f"try {i}: {value:.2f}", flush=True)
