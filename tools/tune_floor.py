@@ -65,29 +65,43 @@ flight from the wall foot, feet first, never on its back. None of about 600 more
 stood it up after the landing (it folds forward onto hands and knees).
 
 The kip (interfaces/biped-kip.yaml, its own interface: the figure starts lying on its
-back) searches the rock, snap and landing poses, their damping, the three holds and the
-hips' torque cap; only a flight that ends on the feet counts (a gate on flight_phases
-and first_touch), and the graded term is the flight (to 0.3 s), how near upright the
-trunk ends and the head's height at the end. ``--seed 3 --tries 1500 --random 0.4
---sigma 0.08`` from a hand-made start (rock -60/130/-100, snap arched, 0.4 and 0.3 s)
-stood at try 974 (its expectations then had the front check without a max and
-lay_seconds 0.5, which the rock past upside down and its short last lie failed);
-``--seed 4 --tries 800 --random 0.1 --sigma 0.04`` from there, on the log's
-expectations, passed all at try 112: the shipped numbers
-(``--tries 0`` replays them; the interface's state rising, biped-recover's ankle
-maps, came after: with them 14 of 40 press times 50 ms apart stand, 3 without, so the
-script presses k at 1.3 s, in the longest run that stands), recorded with
+back) searches the rock, snap and landing poses (joint targets), their damping, the
+three holds, the hips' torque, the rising state's ankle-map gains and the standing
+pose's knees and ankles. Only a flight that looks like a kip counts (a gate on
+flight_phases, first_touch, the chest's angle_within, took_off and turned: feet first,
+off the hands, the trunk never face down, turning forward), the landing slope counts
+once the first seven hold, and the graded term is the flight (to 0.3 s), the chest's
+most forward angle (to -45 deg), how near upright the trunk ends, the head's height
+and both feet's share of the last second on the floor. ``--sweep FROM TO STEP`` plays
+the files' numbers with k at each moment and counts the ones that pass every
+expectation; ``--shifts ... --mean`` scores a try's mean over shifted presses.
+
+How the shipped numbers were found, each run started from the best before it (the
+first from the kip that took off from the head, earlier shipped): ``--seed 11`` and
+``--seed 12`` found backward rolls and hops that passed a gate without ``turned``
+(it was added), ``--seed 13 --tries 3000 --random 0.4 --sigma 0.08`` a push from the
+hands that landed with the feet 0.7 m ahead of the body (the landing pose then held
+the pelvis in the world: in the air that throws the legs forward, so it became joint
+targets); ``--seed 14 --random 0.2 --sigma 0.06`` (try 115) a kip that stood 1 s and
+fell back; ``--seed 16 --random 0.1 --sigma 0.05 --only land t_land rise`` one that
+stood on one foot; ``--seed 17 --random 0.1 --sigma 0.05 --only land t_land rise
+stand`` (try 222, with the feet's graded term) passed every expectation, but only at
+3 of 40 press times (``--sweep 0.5 2.45 0.05``). From it ``--seed 19 --random 0
+--sigma 0.02 --shifts -0.6 -0.3 0 0.3 0.6 --mean`` (try 286: the mean over k at 0.7,
+1.0, 1.3, 1.6 and 1.9 s); with got_up's lay_seconds lowered to 0.1 (the rock passes
+through lying: the last stretch on the back before the kick is 0.15 s; the first
+angle_within already proves the start on the back) it passed at 22 of 40, standing
+with a foot not flat at most of the others; ``--seed 20 --sigma 0.015`` (the same
+shifts, 450 tries) found nothing better, and a hand grid over the standing pose's
+ankles (world -8..0) and the rising dx gain (40, 45.18, 50) at 20 press times gave
+-6 and 45.18: 32 of 40. Those are the shipped numbers (``--tries 0`` replays them),
+recorded with
 
     puppet play biped-kip --headless --input biped-kip --record assets/logs/biped-kip.jsonl
 
-It takes off from the head. A push from the hands was tried with a copy of this feat
-whose rock and snap held the upper arms in the world ({world: 120..260}) and whose
-expectations added took_off from the forearms and upper arms alone (gated with the
-flight and the feet first): --seed 5 --tries 2000 --random 0.5 and --seed 6 --tries
-2000 --random 0.2 from its best found 0.31 s flights from the hands that land on the
-feet, but every one falls back (ends lying, 143 deg); 1500 tries around the shipped
-numbers (--random 0.1 --sigma 0.05) rewarding the forearms touching at the take-off
-found none.
+The runs before ``--seed 17`` used earlier versions of this feat (fewer parameters,
+gates and graded terms), and ``--seed 19`` scored got_up with lay_seconds 0.2, so
+those do not replay exactly from this file.
 """
 
 from __future__ import annotations
