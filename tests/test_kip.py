@@ -89,3 +89,19 @@ def test_kip_falls_back_after_the_landing_without_the_rising_maps(tmp_path):
         iface["states"]["rising"]["maps"] = []
     failed = _variant("biped-kip", tmp_path, no_maps)
     assert "first_touch" not in failed and {"got_up", "height_at_end"} <= failed, failed
+
+
+def test_kip_stands_when_k_comes_at_other_moments():
+    """Not only at the log's press time: k at 0.8 s and at 2.0 s (of 40 moments 50 ms
+    apart from 0.5 to 2.45 s, 32 pass; tools/tune_floor.py kip --sweep 0.5 2.45 0.05)
+    kips and stands too, judged by the log's own expectations."""
+    import yaml
+
+    from puppet.data.catalog import ROOT
+    from puppet.testing import replay_script_text
+    script = yaml.safe_load((ROOT / "assets" / "scripts" / "biped-kip.yaml").read_text())
+    for at in (0.8, 2.0):
+        script["events"][-1]["t"] = at
+        result = replay_script_text(yaml.safe_dump(script), "biped-kip",
+                                    LOGS / "biped-kip.expect.yaml")
+        assert not result.failed, (at, [str(o) for o in result.failed])
