@@ -65,29 +65,46 @@ flight from the wall foot, feet first, never on its back. None of about 600 more
 stood it up after the landing (it folds forward onto hands and knees).
 
 The kip (interfaces/biped-kip.yaml, its own interface: the figure starts lying on its
-back) searches the rock, snap and landing poses, their damping, the three holds and the
-hips' torque cap; only a flight that ends on the feet counts (a gate on flight_phases
-and first_touch), and the graded term is the flight (to 0.3 s), how near upright the
-trunk ends and the head's height at the end. ``--seed 3 --tries 1500 --random 0.4
---sigma 0.08`` from a hand-made start (rock -60/130/-100, snap arched, 0.4 and 0.3 s)
-stood at try 974 (its expectations then had the front check without a max and
-lay_seconds 0.5, which the rock past upside down and its short last lie failed);
-``--seed 4 --tries 800 --random 0.1 --sigma 0.04`` from there, on the log's
-expectations, passed all at try 112: the shipped numbers
-(``--tries 0`` replays them; the interface's state rising, biped-recover's ankle
-maps, came after: with them 14 of 40 press times 50 ms apart stand, 3 without, so the
-script presses k at 1.3 s, in the longest run that stands), recorded with
+back) searches the rock, snap and landing poses (joint targets), their damping, the
+three holds, the hips' torque, the rising state's ankle-map gains and the standing
+pose's knees and ankles. Only a flight that looks like a kip counts (a gate on
+flight_phases, first_touch, the chest's angle_within, took_off and turned: feet first,
+off the hands, the trunk never face down, turning forward), the landing slope counts
+once the first seven hold, and the graded term is the flight (to 0.3 s), the chest's
+most forward angle (to -45 deg), how near upright the trunk ends, the head's height
+and both feet's share of the last second on the floor. ``--sweep FROM TO STEP`` plays
+the files' numbers with k at each moment and counts the ones that pass every
+expectation; ``--shifts ... --mean`` scores a try's mean over shifted presses.
+
+How the shipped numbers were found, each run started from the best before it (the
+first from the kip that took off from the head, earlier shipped): ``--seed 11`` and
+``--seed 12`` found backward rolls and hops that passed a gate without ``turned``
+(it was added), ``--seed 13 --tries 3000 --random 0.4 --sigma 0.08`` a push from the
+hands that landed with the feet 0.7 m ahead of the body (the landing pose then held
+the pelvis in the world: in the air that throws the legs forward, so it became joint
+targets); ``--seed 14 --random 0.2 --sigma 0.06`` (try 115) a kip that stood 1 s and
+fell back; ``--seed 16 --random 0.1 --sigma 0.05 --only land t_land rise`` one that
+stood on one foot; ``--seed 17 --random 0.1 --sigma 0.05 --only land t_land rise
+stand`` (try 222, with the feet's graded term) passed every expectation, but only at
+3 of 40 press times (``--sweep 0.5 2.45 0.05``). From it ``--seed 19 --random 0
+--sigma 0.02 --shifts -0.6 -0.3 0 0.3 0.6 --mean`` (try 286: the mean over k at 0.7,
+1.0, 1.3, 1.6 and 1.9 s); with got_up's lay_seconds lowered to 0.1 (the rock passes
+through lying: the last stretch on the back before the kick is 0.15 s; the first
+angle_within already proves the start on the back) it passed at 22 of 40, standing
+with a foot not flat at most of the others; ``--seed 20 --sigma 0.015`` (the same
+shifts, 450 tries) found nothing better, and a hand grid over the standing pose's
+ankles (world -8..0) and the rising dx gain (40, 45.18, 50) at 20 press times gave
+-6 and 45.18: 32 of 40. Those are the shipped numbers (``--tries 0`` replays them).
+The 50 ms grid flatters them (its moments behave alike; why is not measured): at 10 ms (``--sweep 0.7 2.45 0.01``) 42 of 176 pass, and
+``--seed 21 --sigma 0.02 --shifts 0 0.002 0.006 0.011 0.302 -0.296 0.607 -0.493
+--mean`` (150 tries, mixed phases) raised its own mean but not that count (38). They
+were recorded with
 
     puppet play biped-kip --headless --input biped-kip --record assets/logs/biped-kip.jsonl
 
-It takes off from the head. A push from the hands was tried with a copy of this feat
-whose rock and snap held the upper arms in the world ({world: 120..260}) and whose
-expectations added took_off from the forearms and upper arms alone (gated with the
-flight and the feet first): --seed 5 --tries 2000 --random 0.5 and --seed 6 --tries
-2000 --random 0.2 from its best found 0.31 s flights from the hands that land on the
-feet, but every one falls back (ends lying, 143 deg); 1500 tries around the shipped
-numbers (--random 0.1 --sigma 0.05) rewarding the forearms touching at the take-off
-found none.
+The runs before ``--seed 17`` used earlier versions of this feat (fewer parameters,
+gates and graded terms), and ``--seed 19`` scored got_up with lay_seconds 0.2, so
+those do not replay exactly from this file.
 """
 
 from __future__ import annotations
@@ -177,24 +194,32 @@ FEATS = {
             "t_up": (2.0, 3.5, 3, [("s", "events", 1, "t")]),
         },
     },
-    "kip": {"interface": ROOT / "interfaces" / "biped-kip.yaml", "gate": [2, 3], "params": {
+    "kip": {"interface": ROOT / "interfaces" / "biped-kip.yaml", "gate": [2, 3, 4, 5, 6],
+            "landing_slope": True, "turn_gate": 7,
+            "params": {
         "hip_torque": (250, 450, 0, [("i", "gains", j, "max_torque")
                                      for j in ("hip_near", "hip_far")]),
-        **_pose("rock", "rock", waist=(-80, 0), hip=(90, 130), knee=(-150, 0),
-                shoulder=(120, 180), elbow=(60, 150)),
+        **_pose("rock", "rock", waist=(-80, 0), neck=(-50, 50), hip=(90, 130),
+                knee=(-150, -40), shoulder=(120, 180), elbow=(40, 150)),
         "rock_damp": (1, 30, 1, [("i", "poses", "rock", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
-        **_pose("snap", "snap", waist=(-20, 30), hip=(-30, 60), knee=(-90, 0),
-                shoulder=(90, 180), elbow=(0, 60)),
+        **_pose("snap", "snap", waist=(-30, 30), neck=(-50, 50), hip=(-30, 60),
+                knee=(-130, 0), shoulder=(90, 180), elbow=(0, 90)),
         "snap_damp": (1, 30, 1, [("i", "poses", "snap", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far", "waist")]),
-        **_world("land", "kip_land", waist=(-70, 0), hip=(-70, 0), ankle=(-40, 0)),
-        **_pose("land", "kip_land", knee=(-150, -60), shoulder=(0, 120)),
+        **_pose("land", "kip_land", waist=(-40, 30), hip=(20, 130), knee=(-150, -40),
+                ankle=(-30, 30), shoulder=(-40, 150)),
         "land_damp": (1, 50, 1, [("i", "poses", "kip_land", "damping", j) for j in (
             "hip_near", "hip_far", "knee_near", "knee_far")]),
         **{f"t_{n}": (lo, hi, 3, [("i", "sequences", "kip", k, "hold")])
            for k, (n, lo, hi) in enumerate((("rock", 0.2, 1.2), ("snap", 0.05, 0.5),
-                                            ("land", 0.2, 1.2)))},
+                                            ("land", 0.1, 1.2)))},
+        # the stand after the landing: the rising state's ankle maps' gains
+        "rise_dx": (0, 60, 2, [("i", "states", "rising", "maps", k, "to", "+-")
+                               for k in (0, 1)]),
+        "rise_vx": (0, 50, 2, [("i", "states", "rising", "maps", 2, "to", "+-")]),
+        **_pose("stand", "standing", knee=(-30, 0)),
+        **_world("stand", "standing", ankle=(-15, 10)),
     }},
     "backflip": {"gate": 3, "landing_slope": True, "params": {
         **_world("set", "flip_set", waist=(-60, 0), hip=(-60, 0), ankle=(-40, 0)),
@@ -280,6 +305,9 @@ def graded(feat: str, outcomes) -> float:
     if feat == "kip":
         value = 0.0
         for o in outcomes:
+            m = re.search(r"chest (-?[0-9]+)\.\.", o.measured)
+            if o.expectation.startswith("angle_within chest") and m:
+                value += (min(float(m.group(1)), -45) + 180) / 45  # less face-down
             m = re.search(r"the longest ([0-9.]+) s", o.measured)
             if o.expectation.startswith("flight_phases") and m:
                 value += min(float(m.group(1)), 0.3) * 10
@@ -289,6 +317,9 @@ def graded(feat: str, outcomes) -> float:
             m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
             if o.expectation.startswith("height_at_end") and m:
                 value += min(float(m.group(1)), 1.45) * 2
+            m = re.search(r"touching at ([0-9]+)%", o.measured)
+            if o.expectation.startswith("touching_at_end") and m:
+                value += float(m.group(1)) / 20  # both feet down
         return value
     for o in outcomes:
         if o.expectation.startswith("balanced_on"):
@@ -373,10 +404,12 @@ def run(docs: dict, expect: list, traj: bool = False, interface: Path = INTERFAC
     return (outcomes, tr) if traj else outcomes
 
 
-def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, list]:
+def score(feat: str, docs: dict, expect: list, shifts=(0.0,),
+          mean: bool = False) -> tuple[float, list]:
     """10 per expectation that holds plus the graded term, at the worst of the script
-    played with its last key moved by each of ``shifts`` s (a person's timing)."""
-    worst = None
+    played with its last key moved by each of ``shifts`` s (a person's timing; ``mean``:
+    their mean, with the worst one's outcomes)."""
+    worst, total = None, 0.0
     for by in shifts:
         moved = json.loads(json.dumps(docs))
         moved["s"]["events"][-1]["t"] = round(moved["s"]["events"][-1]["t"] + by, 3)
@@ -393,9 +426,30 @@ def score(feat: str, docs: dict, expect: list, shifts=(0.0,)) -> tuple[float, li
         turn = FEATS[feat].get("turn_gate", 1)  # the leading ones that make it a flip
         if FEATS[feat].get("landing_slope") and all(o.passed for o in outcomes[:turn]):
             value += 20 * on_feet_after_flight(tr)
+        total += value
         if worst is None or value < worst[0]:
             worst = (value, outcomes)
-    return worst
+    return (total / len(shifts), worst[1]) if mean else worst
+
+
+def sweep(feat: str, docs: dict, expect: list, start: float, stop: float,
+          step: float) -> int:
+    """Play the feat with its last key at each moment start..stop; print the moments
+    that pass every expectation and, for the others, the first expectation that fails."""
+    stood = []
+    count = int(round((stop - start) / step)) + 1
+    for k in range(count):
+        at = round(start + k * step, 3)
+        moved = json.loads(json.dumps(docs))
+        moved["s"]["events"][-1]["t"] = at
+        outcomes = run(moved, expect, interface=FEATS[feat].get("interface", INTERFACE))
+        failed = [o.expectation.split(":")[0] for o in outcomes if not o.passed]
+        print(f"{at:.3f} s: " + ("passes" if not failed else "fails " + "; ".join(failed)),
+              flush=True)
+        if not failed:
+            stood.append(at)
+    print(f"{len(stood)} of {count} pass: {', '.join(f'{t:g}' for t in stood)}")
+    return 0
 
 
 def main() -> int:
@@ -417,6 +471,13 @@ def main() -> int:
     ap.add_argument("--start", default=None,
                     help="a JSON object of numbers to start from instead of the files' "
                          "(what --verbose printed)")
+    ap.add_argument("--mean", action="store_true",
+                    help="with --shifts: score the mean over the shifts, not the worst")
+    ap.add_argument("--sweep", type=float, nargs=3, default=None,
+                    metavar=("FROM", "TO", "STEP"),
+                    help="instead of a search: play the files' numbers (or --start) with "
+                         "the script's last key at each moment FROM..TO s, STEP apart, and "
+                         "print which pass every expectation (a person's timing)")
     args = ap.parse_args()
     params = FEATS[args.feat]["params"]
     if args.only is not None:
@@ -433,9 +494,11 @@ def main() -> int:
         docs = with_params(docs, FEATS[args.feat]["params"], {
             **{n: read(docs, pl[0]) for n, (_, _, _, pl) in FEATS[args.feat]["params"].items()},
             **json.loads(args.start)})
+    if args.sweep:
+        return sweep(args.feat, docs, expect, *args.sweep)
     best_p = {n: read(docs, places[0]) for n, (_, _, _, places) in params.items()}
     best, outcomes = score(args.feat, with_params(docs, params, best_p), expect,
-                           args.shifts)
+                           args.shifts, args.mean)
     print(f"the files' own: {best:.2f}", flush=True)
     rng = random.Random(args.seed)
     for i in range(args.tries):
@@ -444,7 +507,8 @@ def main() -> int:
         else:
             p = {n: min(hi, max(lo, best_p[n] + rng.gauss(0, args.sigma * (hi - lo))))
                  for n, (lo, hi, _, _) in params.items()}
-        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts)
+        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts,
+                            args.mean)
         if value > best:
             best, best_p, outcomes = value, p, outs
             print(f"try {i}: {value:.2f}", flush=True)

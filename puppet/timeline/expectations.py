@@ -73,6 +73,13 @@ Each entry names one check:
                                   # what touched first when the longest flight ended:
                                   # only these links, each at x >= 0.3 (feet first, in
                                   # the pit)
+      - bent_after_flight: {links: [thigh_near, thigh_far], from_link: chest,
+                            min: -30, max: 100, within: 0.1}
+                                  # at some sample from the end of the longest flight
+                                  # to 0.1 s later, each link's angle minus from_link's
+                                  # (deg, -180..180, counter-clockwise +) in min..max:
+                                  # thighs from the chest, the hips and waist not
+                                  # folded over the legs at the landing
       - touched: {links: [foot_near, foot_far], min_height: 0.2, min_x: 0.5,
                   before_flight: true}
                                   # at some sample one of these links touched with its
@@ -311,6 +318,27 @@ class FirstTouch(Spec, kw_only=True):
     min_x: Measure | None = None  # m: x of each touching link, at least
 
 
+class BentAfterFlight(Spec, kw_only=True):
+    """At some sample from the end of the longest flight (the first sample down again)
+    to ``within`` s later, each of ``links`` was turned from ``from_link`` by at most
+    ``max`` (and at least ``min``) deg: the link's angle minus ``from_link``'s, in
+    -180..180, counter-clockwise positive. For a figure facing +x, thighs from the
+    chest: how far the hips and waist together are folded (+ forward), a landing with
+    the trunk up, not folded over the legs."""
+
+    links: Annotated[list[str], Meta(min_length=1, max_length=64)]
+    from_link: str
+    min: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, at least
+    max: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, at most
+    within: Time  # s after the touch-down, at most
+
+    def __post_init__(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min' and/or 'max' (deg)")
+        if self.min is not None and self.max is not None and self.max <= self.min:
+            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+
+
 class Touched(Spec, kw_only=True):
     """At some sample one of ``links`` touched the ground with its lowest point at least
     ``min_height`` m up and its centre of mass at x >= ``min_x`` (when given): a foot
@@ -520,6 +548,7 @@ class Expectation(Spec, kw_only=True, dict=True):
     angle_within: AngleWithin | None = None
     swung: Swung | None = None
     touched: Touched | None = None
+    bent_after_flight: BentAfterFlight | None = None
     stood_on: StoodOn | None = None
     got_up: GotUp | None = None
     mean_speed: MeanSpeed | None = None
@@ -658,6 +687,12 @@ class Expectation(Spec, kw_only=True, dict=True):
             return (f"touched with {', '.join(v.links)}, lowest point >= {v.min_height:g} m"
                     + (f", x >= {v.min_x:g} m" if v.min_x is not None else "")
                     + (", before the longest flight" if v.before_flight else ""))
+        if isinstance(v, BentAfterFlight):
+            bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
+                                                             ("at most", v.max))
+                                  if b is not None)
+            return (f"bent_after_flight {', '.join(v.links)} from {v.from_link} {bounds} "
+                    f"deg within {v.within:g} s of the landing")
         if isinstance(v, FirstTouch):
             return (f"first_touch {', '.join(v.links)} only"
                     + (f", each at x >= {v.min_x:g} m" if v.min_x is not None else ""))
@@ -1240,6 +1275,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _touched(desc, v, traj)
     if isinstance(v, MeanSpeed):
         return _mean_speed(desc, v, traj)
+    if isinstance(v, BentAfterFlight):
+        return _bent_after_flight(e, v, traj)
     if isinstance(v, FlightPhases):
         return _flight_phases(e, v, traj)
     if isinstance(v, RunUp):
@@ -1346,6 +1383,43 @@ def _touched(desc: str, v: Touched, traj) -> Outcome:
     best = max(up)
     return Outcome(desc, False, "never touched that high" + (
         f" (highest touch {best:.3f} m up)" if best > -1 else " (never touched)"))
+
+
+
+def _bent_after_flight(e: Expectation, v: BentAfterFlight, traj) -> Outcome:
+    """The first sample after the longest flight, within ``within`` s of its end, with
+    every link in range; else each link's range over that window."""
+    for name, sub in [(n, ("links", k)) for k, n in enumerate(v.links)] + [
+            (v.from_link, ("from_link",))]:
+        if name not in traj.links:
+            raise e.error(f"unknown link '{name}'; the character has: "
+                          f"{', '.join(traj.links)}", *sub)
+    desc = e.describe()
+    length, first, last = _longest_run(~traj.contact.any(axis=1), traj.t)
+    if length <= 0:
+        return Outcome(desc, False, "never in the air")
+    i = last + 1
+    if i >= len(traj.t):
+        return Outcome(desc, False, f"the longest flight ({length:.2f} s) had not ended "
+                                    "within the run")
+    window = np.arange(i, len(traj.t))[traj.t[i:] <= traj.t[i] + v.within + 1e-9]
+    base = traj.angle[window, traj.index(v.from_link)]
+    bend = np.stack([np.degrees(np.remainder(traj.angle[window, traj.index(n)] - base
+                                             + np.pi, 2 * np.pi) - np.pi)
+                     for n in v.links], axis=1)
+    ok = np.ones(len(window), dtype=bool)
+    if v.min is not None:
+        ok &= (bend >= v.min - 1e-9).all(axis=1)
+    if v.max is not None:
+        ok &= (bend <= v.max + 1e-9).all(axis=1)
+    spans = ", ".join(f"{n} {bend[:, k].min():.0f}..{bend[:, k].max():.0f}"
+                      for k, n in enumerate(v.links))
+    where = (f"the flight ended at t = {traj.t[i]:.2f} s; from {v.from_link}: {spans} deg "
+             f"to t = {traj.t[window[-1]]:.2f} s")
+    if ok.any():
+        return Outcome(desc, True, f"{where}; in range at t = "
+                                   f"{traj.t[window[int(np.argmax(ok))]]:.2f} s")
+    return Outcome(desc, False, where)
 
 
 def evaluate_all(items: list[Expectation], traj, final_hash: str) -> list[Outcome]:
