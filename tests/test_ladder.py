@@ -62,3 +62,15 @@ def test_with_the_arms_holding_the_angles_of_their_catch_it_hangs_back(tmp_path)
         for key in _reaches(spec, "hand"):
             key["reach"]["hold"] = 1.0
     assert {"regrasps", "held_point", "mostly_within"} & _failed(tmp_path, frozen)
+
+
+def test_the_guides_posture_expectations_are_the_logs():
+    import re
+
+    import yaml
+
+    guide = (ROOT / "docs" / "interfaces.md").read_text(encoding="utf-8")
+    shown = [yaml.safe_load(line[2:]) for line in re.findall(r"^- mostly_within: .*$", guide,
+                                                             re.M)]
+    sidecar = yaml.safe_load(LOG.with_name("biped-ladder-climb.expect.yaml").read_text())
+    assert len(shown) == 3 and all(e in sidecar["expect"] for e in shown)
