@@ -1,6 +1,8 @@
 """The IK ladder (interfaces/biped-ladder.yaml, log biped-ladder-climb): the log's
-expectations hold, and fail by name with a grasp tolerance too small or the legs'
-push key missing."""
+expectations hold - the climb and the posture, standing up to the ladder - and fail by
+name with a grasp tolerance too small, without the legs' push key, with the figure's
+own shoulders, with pivot feet, and with the arms holding the angles they caught their
+rungs with (the reach ending a second after the catch, as it first did)."""
 
 from __future__ import annotations
 
@@ -16,6 +18,13 @@ def _failed(tmp_path, change) -> set[str]:
     return {o.expectation.split(" ")[0] for o in replay_log(log).outcomes if not o.passed}
 
 
+def _reaches(spec, limb: str):
+    for state in spec["states"].values():
+        for key in state.get("keys", []):
+            if "reach" in key and key["reach"]["chain"].startswith(limb):
+                yield key
+
+
 def test_the_ladder_log_climbs_with_every_limb():
     result = replay_log(LOG)
     assert not result.failed, [str(o) for o in result.outcomes]
@@ -23,10 +32,8 @@ def test_the_ladder_log_climbs_with_every_limb():
 
 def test_a_grasp_tolerance_of_5_mm_loses_the_rungs(tmp_path):
     def tight(spec):
-        for state in spec["states"].values():
-            for key in state.get("keys", []):
-                if "reach" in key:
-                    key["reach"]["tolerance"] = 0.005
+        for key in _reaches(spec, ""):
+            key["reach"]["tolerance"] = 0.005
     assert "regrasps" in _failed(tmp_path, tight)
 
 
@@ -41,3 +48,29 @@ def test_with_the_figures_own_shoulders_it_does_not_hold_on(tmp_path):
         for j in ("shoulder_near", "shoulder_far"):
             spec["gains"][j] = {"stiffness": 60, "damping": 3, "max_torque": 40}
     assert {"regrasps", "held_point", "always_holding"} & _failed(tmp_path, weak)
+
+
+def test_on_pivot_feet_it_does_not_stand_on_the_ladder(tmp_path):
+    def pivots(spec):
+        for key in _reaches(spec, "foot"):
+            del key["reach"]["rigid"]
+    assert {"regrasps", "held_point", "mostly_within"} & _failed(tmp_path, pivots)
+
+
+def test_with_the_arms_holding_the_angles_of_their_catch_it_hangs_back(tmp_path):
+    def frozen(spec):  # the reach ends a second after the catch, as it first did
+        for key in _reaches(spec, "hand"):
+            key["reach"]["hold"] = 1.0
+    assert {"regrasps", "held_point", "mostly_within"} & _failed(tmp_path, frozen)
+
+
+def test_the_guides_posture_expectations_are_the_logs():
+    import re
+
+    import yaml
+
+    guide = (ROOT / "docs" / "interfaces.md").read_text(encoding="utf-8")
+    shown = [yaml.safe_load(line[2:]) for line in re.findall(r"^- mostly_within: .*$", guide,
+                                                             re.M)]
+    sidecar = yaml.safe_load(LOG.with_name("biped-ladder-climb.expect.yaml").read_text())
+    assert len(shown) == 3 and all(e in sidecar["expect"] for e in shown)

@@ -1,153 +1,214 @@
-"""Search the last round of the ladder climb (assets/scripts/biped-ladder-climb.yaml)
-and check the script on the log's own expectations.
+"""Search the IK ladder climb (assets/scripts/biped-ladder-climb.yaml) limb by limb from
+checkpoints, and check the script on the log's own expectations.
 
-    python tools/tune_ladder.py [--write]
+    python tools/tune_ladder.py [--write] [--partial SCRIPT] [--rounds N] [--prefix SCRIPT]
 
-The first rounds are fixed: both hands to rung 4, each foot one rung up from the floor
-with a push of the legs (h) after it, then twice round the limbs (g, g, g, h, g, y),
-one key a second. Those bring the hands to rung 8 and the feet to rung 6; a third
-round the same way drops the figure (it hangs back, legs bent, and the near hand falls
-short of rung 10). The last round is searched in two stages from there, each a seeded
-random search over 4 to 9 keys of the layout's own (g, h, y, u, s, d, n; g listed three
-times) with 0.3 to 1.5 s between them: stage 1 (seed 1, 150 tries) scores what is held
-2 s after the last key - the sum of the held rungs' numbers, 5 more for each hand
-holding and 3 more for each hand on rung 10; stage 2 (seed 2, 120 tries) starts after
-stage 1's best and adds twice the highest rung each limb held right after one of the
-searched keys. Each try is a fresh
-Session played from the start (about 1.5 s of CPU). The best script is then recorded as
-a log in a temporary folder and replayed with assets/logs/biped-ladder-climb.expect.yaml
-(exit 1 if it fails); --write writes it over the script. Deterministic: the same
-interface finds the same keys (the shipped script's last round: n, g, h, h, then g, s,
-g, g, g, h).
+The climb is the state machine's order, four rounds of the near hand, the far hand,
+the near foot and the far foot, less the far foot's last turn (with the hands on the
+top rung a foot above rung 7 puts the hips above the hands: the body falls back off its
+feet). A hand's turn is g (two rungs up: rung 4 from the floor, then 6, 8, 10; a
+candidate landing elsewhere does not count); a foot's, t (one rung up; from the floor,
+rung 2) or g (two). Every turn is a phase that starts with a checkpoint (an ``action:
+checkpoint`` entry of the script, so the recorded log is the searched run bit for
+bit); each candidate is played from that checkpoint: optionally a posture key first (h
+push with the legs, n bend them, u pull with the arms, y push with them) 0.3 or 0.7 s
+before the limb's key, and optionally one (h, y, u) 0.5 or 0.9 s after it; the phase
+ends 1.8 s after the limb's key. A candidate counts if every limb that held still holds
+at the end of the phase and the moving limb holds a rung above the one it left; they
+rank by how the body stands - the share of the phase's samples (every 1/20 s) with the
+chest within 25 deg of upright, the pelvis within 0.35 m of the rungs' x and both feet
+below the pelvis (what the log's mostly_within expectations measure), from the third
+round on plus the same at the phase's last sample (the next phase starts there) - then
+by the rung the limb reached. Depth first: the best candidate of a phase is kept, the
+next (up to KEEP) tried if the phases after it find nothing (the first candidate of
+the first phase leads to a dead end in the first two rounds: the search comes back
+to the second). The grid is fixed, so the search is deterministic (about ten minutes
+on a loaded machine). The script is then recorded as a log in a temporary folder and
+replayed with assets/logs/biped-ladder-climb.expect.yaml (exit 1 if it fails); --write
+writes it over the script. --partial writes the furthest climb found so far as the
+search goes, --rounds and --prefix (start after a script's phases) are for trials.
 """
 
 from __future__ import annotations
 
 import argparse
-import random
+import itertools
+import math
 import sys
+import tempfile
 from pathlib import Path
+
+import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.data.catalog import ROOT, load_setup  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.testing import replay_script_text  # noqa: E402
+from puppet.testing import record_script, replay_log  # noqa: E402
+from puppet.timeline.playback import play  # noqa: E402
+from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
-INTERFACE = ROOT / "interfaces" / "biped-ladder.yaml"
-SCRIPT = ROOT / "assets" / "scripts" / "biped-ladder-climb.yaml"
-EXPECT = ROOT / "assets" / "logs" / "biped-ladder-climb.expect.yaml"
-KEYS = "g g g h y u s d n".split()
-SETTLE = 2.0  # s after the last key before what is held is scored (and the log ends)
-
-
-def fixed_rounds() -> tuple[list[tuple[float, str]], float]:
-    """The first rounds' (t, key) and the time after them."""
-    out = [(0.5, "g"), (1.5, "g"), (2.5, "t"), (3.5, "h"), (4.5, "t"), (5.5, "h")]
-    t = 6.5
-    for _ in range(2):
-        for key in ("g", "g", "g", "h", "g", "y"):
-            out.append((t, key))
-            t += 1.0
-    return out, t
-
-
-def play(presses, searched: int = 0):
-    """Play (t, key) presses from the start; then SETTLE s. Returns the session and the
-    highest rung each limb held right after each of the last ``searched`` presses."""
-    s = Session(load_setup(str(INTERFACE), None))
-    dt, sim = s.sim.dt, s.sim
-    best: dict[str, int] = {}
-    for i, (t, key) in enumerate(presses):
-        s.advance(max(0, round(t / dt) - s.steps))
-        s.handle(ev.key(key, True))
-        s.handle(ev.key(key, False))
-        if i >= len(presses) - searched:
-            for name, rung in held(sim).items():
-                best[name] = max(best.get(name, 0), rung)
-    s.advance(round(SETTLE / dt))
-    return s, best
+INTERFACE, SCENE = "biped-ladder", "ladder"
+NAME = "biped-ladder-climb"
+LIMBS = ("hand_near", "hand_far", "foot_near", "foot_far")  # the state machine's order
+ROUNDS = 4
+# the far foot's last turn is left out: with the hands on the top rung, a foot above
+# rung 7 puts the hips above the hands, and the body falls back off its feet
+LAST = 15
+LADDER_X = 0.45  # m: the rungs' x (assets/scenes/ladder.yaml)
+PRE = (None, "h", "n", "u", "y")  # a posture key before the limb's (None: none)
+PRE_GAP = (0.3, 0.7)  # s from it to the limb's key
+POST = (None, "h", "y", "u")  # a posture key after the limb's
+POST_GAP = (0.5, 0.9)  # s after the limb's key
+PHASE = 1.8  # s from the limb's key to the end of its phase (the reach ends at 1.5-1.6 s)
+SETTLE = 2.0  # s after the last phase (the log ends there)
+KEEP = 2  # candidates of a phase tried before going back to the phase before
+SAMPLE = 1 / 20  # s between posture samples
+END_FROM = 2  # from this round (0: the first) a phase's last sample counts too
 
 
-def held(sim) -> dict[str, int]:
-    """limb -> the number of the rung it holds."""
-    out = {}
-    for name, (_, prop) in sim.grasps.items():
-        if prop is not None:
-            out[name] = int(sim.props[prop].nearest(sim.grasp_point(name))[2][4:])
+def rung(sim, name: str) -> int:
+    """The number of the rung ``name`` holds (0: none)."""
+    held = sim.grasps.get(name)
+    if held is None or held[1] is None:
+        return 0
+    point = sim.props[held[1]].nearest(sim.grasp_point(name))[2]
+    return int(point[4:]) if point else 0
+
+
+def posture(character) -> tuple[bool, bool, bool]:
+    """(chest within 25 deg of upright, pelvis within 0.35 m of the rungs' x, both feet
+    below the pelvis): what the log's mostly_within expectations measure."""
+    chest = abs(math.degrees(math.remainder(character.bodies["chest"].angle, 2 * math.pi)))
+    px, py = character.link_position("pelvis")
+    feet = max(character.link_position(f)[1] for f in ("foot_near", "foot_far"))
+    return chest <= 25.0, abs(px - LADDER_X) <= 0.35, feet < py
+
+
+def script(entries: list[dict], seconds: float) -> ScriptSpec:
+    return ScriptSpec(interface=INTERFACE, scene=SCENE, seconds=seconds, events=entries)
+
+
+def keys_of(limb: str) -> tuple[str, ...]:
+    return ("g",) if limb.startswith("hand") else ("t", "g")
+
+
+def rows(t0: float, limb: str):
+    """(entries, end) of each candidate of a phase starting at ``t0``."""
+    for key, pre, pre_gap, post, post_gap in itertools.product(
+            keys_of(limb), PRE, PRE_GAP, POST, POST_GAP):
+        if (pre is None and pre_gap != PRE_GAP[0]) or (post is None and post_gap != POST_GAP[0]):
+            continue
+        out = [{"t": round(t0, 4), "action": "checkpoint"}]
+        at = t0 + 0.01
+        if pre is not None:
+            out.append({"t": round(at, 4), "key": pre})
+            at += pre_gap
+        out.append({"t": round(at, 4), "key": key})
+        if post is not None:
+            out.append({"t": round(at + post_gap, 4), "key": post})
+        yield out, round(at + PHASE, 4)
+
+
+def ranked(entries: list[dict], t: float, limb: str, end_too: bool) -> list[tuple]:
+    """The candidates of ``limb``'s phase that work from the end of ``entries`` (at
+    ``t``), best first: (value, row, end, rungs held after)."""
+    s = Session(load_setup(INTERFACE, SCENE))
+    dt = s.sim.dt
+    play(s, compile_script(script(entries, t), dt), round(t / dt))
+    before = {n: rung(s.sim, n) for n in LIMBS}
+    s.handle(ev.action("checkpoint"))  # what the phase's first entry does, at step t
+    every = max(1, round(SAMPLE / dt))
+    out = []
+    for row, end in rows(t, limb):
+        s.restore_checkpoint()
+        seen = []
+        play(s, [e for e in compile_script(script(entries + row, end), dt)
+                 if e[0] > round(t / dt)], round(end / dt), every=every,
+             on_tick=lambda s: seen.append(posture(s.character)))
+        now = {n: rung(s.sim, n) for n in LIMBS}
+        if not all(now[n] for n in LIMBS if before[n]) or now[limb] <= before[limb]:
+            continue
+        if limb.startswith("hand") and now[limb] != (before[limb] + 2 if before[limb] else 4):
+            continue  # a hand two rungs up (from the floor: rung 4)
+        # the share of the phase's samples standing well, and (from round END_FROM on)
+        # how it ends: the next phase starts from there
+        value = sum(sum(p) for p in seen) / (3 * max(1, len(seen)))
+        if end_too:
+            value += sum(posture(s.character)) / 3
+        out.append(((round(value, 3), now[limb]), row, end, now))
+    out.sort(key=lambda c: c[0], reverse=True)
     return out
 
 
-def score(presses, searched: int, with_reached: bool) -> float:
-    s, best = play(presses, searched)
-    now = held(s.sim)
-    hands = [now.get("hand_near"), now.get("hand_far")]
-    value = sum(now.values()) + 5 * sum(1 for h in hands if h) + 3 * sum(1 for h in hands
-                                                                        if h == 10)
-    return value + (2 * sum(best.values()) if with_reached else 0)
+def search(partial: Path | None = None, rounds: int = ROUNDS,
+           prefix: Path | None = None) -> tuple[list[dict], float]:
+    phases = [limb for _ in range(rounds) for limb in LIMBS][:LAST]
+    deepest = [-1]
+
+    def go(entries, t, number):
+        if partial is not None and number > deepest[0]:  # the furthest climb so far
+            deepest[0] = number
+            write_script(entries, round(t + SETTLE, 4), partial)
+        if number == len(phases):
+            return entries, t
+        limb = phases[number]
+        for value, row, end, now in ranked(entries, t, limb,
+                                             number >= END_FROM * len(LIMBS))[:KEEP]:
+            keys = " ".join(e["key"] for e in row if "key" in e)
+            print(f"{'  ' * number}phase {number} ({limb}): {keys} -> {now}, "
+                  f"posture {value[0]:.2f}", flush=True)
+            found = go(entries + row, end, number + 1)
+            if found is not None:
+                return found
+        return None
+
+    first, t0, number = [], 0.5, 0
+    if prefix is not None:  # a script's phases taken as they are (a trial from there)
+        spec = yaml.safe_load(prefix.read_text())
+        first, t0 = spec["events"], spec["seconds"] - SETTLE
+        number = sum(1 for e in first if e.get("key") in ("g", "t"))
+    found = go(first, round(t0, 4), number)
+    if found is None:
+        raise SystemExit("no climb found")
+    return found[0], round(found[1] + SETTLE, 4)
 
 
-def stage(prefix, start: float, seed: int, tries: int, with_reached: bool):
-    """The best of ``tries`` random key rows after ``prefix`` (ending at ``start`` s)."""
-    rng = random.Random(seed)
-    best = (-1.0, [])
-    for i in range(tries):
-        n = rng.randint(4, 9)
-        row = [(round(rng.uniform(0.3, 1.5), 2), rng.choice(KEYS)) for _ in range(n)]
-        t, presses = start, list(prefix)
-        for gap, key in row:
-            t += gap
-            presses.append((t, key))
-        value = score(presses, len(row), with_reached)
-        if value > best[0]:
-            best = (value, row)
-            print(f"stage seed {seed} try {i}: {value:g} {row}", flush=True)
-    return best[1]
-
-
-def script_text(presses) -> str:
-    dt = Session(load_setup(str(INTERFACE), None)).sim.dt
-    steps = [(round(t / dt), key) for t, key in presses]
-    lines = [
-        "description: The human figure climbs the ladder with hands and feet, every limb "
-        "regrasping in the order the state machine keeps (near hand, far hand, near foot, "
-        "far foot) - both hands to rung 4, each foot one rung up from the floor with a push "
-        "of the legs (h) after it, twice round the limbs (g, g, g, h, g, y) a key a second, "
-        "then a last round found by tools/tune_ladder.py. Hands from rung 4 to rung 10 "
-        "(1.2 to 3.0 m), feet from the floor to rung 8 (2.4 m).",
-        "interface: biped-ladder", "scene: ladder",
-        f"seconds: {(steps[-1][0] + round(SETTLE / dt)) * dt:.6f}", "events:"]
-    for step, key in steps:
-        t = round(step * dt, 6)
-        assert round(t / dt) == step
-        lines.append(f"  - {{t: {t!r}, key: {key}}}")
-    return "\n".join(lines) + "\n"
-
-
-def check(text: str):
-    """The script ``text`` played and judged by the shipped log's expectations."""
-    return replay_script_text(text, INTERFACE, EXPECT)
+def write_script(entries: list[dict], seconds: float, path: Path) -> None:
+    text = {"description": "The human figure climbs the ladder with hands and feet, every "
+                           "limb regrasping in the order the state machine keeps (near "
+                           "hand, far hand, near foot, far foot), four rounds: the hands "
+                           "two rungs at a time from rung 4 to rung 10, the feet from the "
+                           "floor, each turn with the posture keys (h, n, u, y) before or "
+                           "after it that tools/tune_ladder.py found, phase by phase from "
+                           "checkpoints, standing up to the ladder.",
+            "interface": INTERFACE, "scene": SCENE, "seconds": seconds, "events": entries}
+    path.write_text(yaml.safe_dump(text, sort_keys=False, width=100), encoding="utf-8")
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--write", action="store_true", help=f"write {SCRIPT.relative_to(ROOT)}")
-    args = ap.parse_args()
-    presses, t = fixed_rounds()
-    for seed, tries, with_reached in ((1, 150, False), (2, 120, True)):
-        row = stage(presses, t, seed, tries, with_reached)
-        for gap, key in row:
-            t += gap
-            presses.append((t, key))
-    text = script_text(presses)
-    result = check(text)
-    for o in result.outcomes:
-        print(o)
-    if args.write and not result.failed:
-        SCRIPT.write_text(text, encoding="utf-8")
-        print(f"wrote {SCRIPT.relative_to(ROOT)}")
-    return 1 if result.failed else 0
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true", help="write the script")
+    parser.add_argument("--partial", type=Path, help="write the furthest climb found so "
+                                                     "far to this script, as the search goes")
+    parser.add_argument("--rounds", type=int, default=ROUNDS,
+                        help=f"rounds of the four limbs (default {ROUNDS}; fewer: a trial)")
+    parser.add_argument("--interface", default=INTERFACE, help="an interface to try")
+    parser.add_argument("--prefix", type=Path, help="start after this script's phases")
+    args = parser.parse_args()
+    globals()["INTERFACE"] = args.interface
+    entries, seconds = search(args.partial, args.rounds, args.prefix)
+    out = ROOT / "assets" / "scripts" / f"{NAME}.yaml"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = out if args.write else Path(tmp) / f"{NAME}.yaml"
+        write_script(entries, seconds, path)
+        expect = ROOT / "assets" / "logs" / f"{NAME}.expect.yaml"
+        log = record_script(str(path), Path(tmp) / f"{NAME}.jsonl")
+        result = replay_log(log, expect=yaml.safe_load(expect.read_text())["expect"])
+        for o in result.outcomes:
+            print(("  ok   " if o.passed else "  FAIL ") + f"{o.expectation}: {o.measured}")
+        return 0 if all(o.passed for o in result.outcomes) else 1
 
 
 if __name__ == "__main__":

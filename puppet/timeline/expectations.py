@@ -132,6 +132,12 @@ Each entry names one check:
                                   # along the prop's list than any those chains held
                                   # before (the next bar, the rung above), in a row by
                                   # turns (hand over hand) with 'alternate'
+      - mostly_within: {link: chest, max_tilt: 25, min_fraction: 0.8, from: 3.0}
+                                  # the link within bounds at (at least) 80% of the samples
+                                  # of the window: within 25 deg of upright; x_min / x_max
+                                  # (m, its centre of mass: near the ladder); below: LINK
+                                  # (its centre of mass lower than that link's: a foot
+                                  # under the hips) - each sample must meet all of them
       - final_hash: 0123456789abcdef           # the exact final state
 
 "Upright" is the root link's angle from its model orientation, taken modulo full
@@ -529,6 +535,71 @@ class Regrasps(Spec, kw_only=True):
     alternate: bool = False
 
 
+class MostlyWithin(Spec, kw_only=True):
+    """``link`` within every bound given at at least ``min_fraction`` of the samples from
+    ``from`` to ``until`` s: ``max_tilt`` deg from upright, its centre of mass's x within
+    ``x_min``..``x_max`` m, and lower than ``below``'s. A posture held most of the time
+    (the trunk upright and close to a ladder), not at every sample: a climb's strokes
+    pass through other postures."""
+
+    link: str
+    max_tilt: Num("angle") | None = None  # deg from upright, at most
+    x_min: Measure | None = None  # m: x of the centre of mass, at least
+    x_max: Measure | None = None  # m: x of the centre of mass, at most
+    below: str | None = None  # a link whose centre of mass is higher
+    min_fraction: Annotated[float, Meta(gt=0, le=1)]  # share of the window's samples
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
+
+    def __post_init__(self):
+        if all(b is None for b in (self.max_tilt, self.x_min, self.x_max, self.below)):
+            raise ValueError("give at least one of 'max_tilt', 'x_min', 'x_max', 'below'")
+        if self.x_min is not None and self.x_max is not None and self.x_max <= self.x_min:
+            raise ValueError(f"'x_max' ({self.x_max:g}) must be greater than 'x_min' "
+                             f"({self.x_min:g})")
+
+    def describe(self) -> str:
+        bounds = ", ".join(b for b in (
+            f"within {self.max_tilt:g} deg of upright" if self.max_tilt is not None else "",
+            f"x >= {self.x_min:g} m" if self.x_min is not None else "",
+            f"x <= {self.x_max:g} m" if self.x_max is not None else "",
+            f"below {self.below}" if self.below is not None else "") if b)
+        return (f"mostly_within {self.link} {bounds} at {self.min_fraction:g} of the samples "
+                f"from {self.from_:g} s to {_until(self)}")
+
+    def evaluate(self, e, traj) -> Outcome:
+        desc = self.describe()
+        if self.below is not None and self.below not in traj.links:
+            raise e.error(f"unknown link '{self.below}'; the character has: "
+                          f"{', '.join(traj.links)}", "below")
+        idx = _samples_in(traj.t, self.from_, self.until)
+        if len(idx) == 0:
+            return _no_samples(desc, traj.t)
+        k = traj.index(self.link)
+        ok = np.ones(len(idx), dtype=bool)
+        parts = []
+        if self.max_tilt is not None:
+            tilt = _tilt_deg(traj.angle[idx, k])
+            ok &= tilt <= self.max_tilt
+            parts.append(f"tilt within {self.max_tilt:g} deg at "
+                         f"{np.mean(tilt <= self.max_tilt):.0%}")
+        if self.x_min is not None or self.x_max is not None:
+            x = traj.x[idx, k]
+            lo = -np.inf if self.x_min is None else self.x_min
+            hi = np.inf if self.x_max is None else self.x_max
+            inside = (x >= lo) & (x <= hi)
+            ok &= inside
+            parts.append(f"x {x.min():.2f}..{x.max():.2f} m, in bounds at {np.mean(inside):.0%}")
+        if self.below is not None:
+            under = traj.y[idx, k] < traj.y[idx, traj.index(self.below)]
+            ok &= under
+            parts.append(f"below {self.below} at {np.mean(under):.0%}")
+        share = float(np.mean(ok))
+        return Outcome(desc, share >= self.min_fraction - 1e-9,
+                       f"all bounds met at {share:.1%} of {len(idx)} samples ("
+                       + "; ".join(parts) + ")")
+
+
 class Expectation(Spec, kw_only=True, dict=True):
     x_at_end: XAtEnd | None = None
     height_at_end: HeightAtEnd | None = None
@@ -564,6 +635,7 @@ class Expectation(Spec, kw_only=True, dict=True):
     held_point: HeldPoint | None = None
     always_holding: AlwaysHolding | None = None
     regrasps: Regrasps | None = None
+    mostly_within: MostlyWithin | None = None
     final_hash: str | None = None
     # (Located, data path) of this entry, for errors found only when evaluating, is
     # set as ``_where`` (not a field: ``dict=True`` lets the struct hold it)
@@ -661,6 +733,8 @@ class Expectation(Spec, kw_only=True, dict=True):
             window = "".join(f" {k} {b} s" for k, b in (("from", v.from_), ("until", v.until))
                              if b is not None)
             return f"always_holding one of {', '.join(v.chains)}{window}"
+        if isinstance(v, MostlyWithin):
+            return v.describe()
         if isinstance(v, Regrasps):
             return (f"regrasps {', '.join(v.chains)} along {v.prop} min {v.min}"
                     + (" by turns" if v.alternate else ""))
@@ -1291,6 +1365,8 @@ def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
         return _always_holding(desc, v, traj)
     if isinstance(v, Regrasps):
         return _regrasps(desc, v, traj)
+    if isinstance(v, MostlyWithin):
+        return v.evaluate(e, traj)
     if e.kind == "final_hash":
         return Outcome(desc, final_hash == v, f"final hash {final_hash}")
     raise AssertionError(e.kind)
