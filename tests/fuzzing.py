@@ -59,7 +59,7 @@ NASTY_NUMBERS = [".nan", ".NaN", ".inf", "-.inf", "1.0e+308", "-1.0e+308", "1.0e
                  "1.0e-320", "0", "-0.0", "-1", "1.0e+9", "-1.0e+9", "9" * 30, "0x7fffffff",
                  "1_000", "0o17", "1:30", "'3'", "true", "null", "~", "[]", "{}",
                  "!!float abc", "!!int 1x", "&a 1", "*a", "!!binary aGk=", "!!python/none ''",
-                 "2001-12-14", "1e3", ".5", "+.inf"]
+                 "2001-12-14", "1e3", ".5", "+.inf", "1" + "0" * 400, "'-1'", "'1e400'"]
 NASTY_WORDS = ["../../etc/passwd", "/etc/hosts", "../characters/luxo", "/dev/zero",
                "x" * 300, "luxo", "flat", "cat", "base", "ankle", "''", "\"\\0\"",
                "\"\\x07\"", "a b", "{a: *b}", "[&x a, *x, *x]", "!!str", "- ", ": ",

@@ -112,3 +112,23 @@ def test_what_was_accepted_before_still_is(tmp_path):
     path.write_text(text.replace("\nlinks:", "\nsolver: {iterations: true}\nlinks:", 1))
     with pytest.raises(DataError, match="expected a whole number"):
         load_character(path)
+
+
+@pytest.mark.parametrize("value, said", [
+    ("1" + "0" * 400, "must be a finite number in 0.001..1000 kg"),  # past any float
+    ("'-1'", "must be a finite number in 0.001..1000 kg (got '-1')"),  # text, out of range
+    ("'1e400'", "must be a finite number in 0.001..1000 kg (got '1e400')"),
+    ("'heavy'", "expected a number"),
+])
+def test_a_number_past_any_float_or_written_as_text_is_a_one_line_range_error(
+        tmp_path, value, said):
+    from puppet.data.characters import load_character
+
+    text = (Path(__file__).parent.parent / "characters" / "luxo.yaml").read_text()
+    path = tmp_path / "characters" / "odd.yaml"
+    path.parent.mkdir()
+    path.write_text(re.sub(r"mass: [0-9.]+", "mass: " + value, text, count=1))
+    with pytest.raises(DataError) as caught:
+        load_character(path)
+    message = str(caught.value)
+    assert said in message and "links.0.mass" in message and "\n" not in message

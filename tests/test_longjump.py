@@ -94,13 +94,17 @@ def test_run_up_counts_the_flights_before_the_jump_and_its_speed():
     assert not got.passed and "less than 1 s" in got.measured
     assert _outcome({"run_up": RUN_UP}, _Moving([[1, 0, 0]] * 5, 2.0)).measured == \
         "never in the air"
+    # a window that is not a whole number of samples long: the run is long enough
+    for over in (0.45, 0.55, 0.33):
+        got = _outcome({"run_up": dict(RUN_UP, over=over)}, _Moving(RUN, 2.0))
+        assert got.passed, (over, got.measured)
 
 
 def test_run_up_needs_flights_or_a_speed():
     import pytest
     from puppet.data.errors import DataError
 
-    with pytest.raises(DataError):
+    with pytest.raises(DataError, match="give 'min_flights', 'min_speed' or both"):
         parse_expectations([{"run_up": {"over": 1.0}}])
 
 

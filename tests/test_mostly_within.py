@@ -62,3 +62,12 @@ def test_an_entry_without_bounds_or_with_an_unknown_link_is_a_data_error():
                                                "min_fraction": 0.5}}])
     with pytest.raises(DataError, match="unknown link 'hips'"):
         _check({"link": "foot", "below": "hips", "min_fraction": 0.5}, _traj([0], 0, 0))
+
+
+def test_a_tilt_under_0_or_a_window_ending_before_it_starts_is_a_data_error():
+    with pytest.raises(DataError, match="must be at least 0"):
+        parse_expectations([{"mostly_within": {"link": "chest", "max_tilt": -5,
+                                               "min_fraction": 0.5}}])
+    with pytest.raises(DataError, match="'until' must be later than 'from'"):
+        parse_expectations([{"mostly_within": {"link": "chest", "max_tilt": 20,
+                                               "min_fraction": 0.5, "from": 3, "until": 2}}])

@@ -112,7 +112,8 @@ def goal(limb: str, before: dict, gap: int) -> int:
 
 
 def script(entries: list[dict], seconds: float) -> ScriptSpec:
-    return ScriptSpec(interface=INTERFACE, scene=SCENE, seconds=seconds, events=entries)
+    return ScriptSpec.model_validate({"interface": INTERFACE, "scene": SCENE,
+                                      "seconds": seconds, "events": entries})
 
 
 def stroke(t0: float, limbs, held: dict, x: float, y: float, duration: float,

@@ -87,7 +87,8 @@ def posture(character) -> tuple[bool, bool, bool]:
 
 
 def script(entries: list[dict], seconds: float) -> ScriptSpec:
-    return ScriptSpec(interface=INTERFACE, scene=SCENE, seconds=seconds, events=entries)
+    return ScriptSpec.model_validate({"interface": INTERFACE, "scene": SCENE,
+                                      "seconds": seconds, "events": entries})
 
 
 def keys_of(limb: str) -> tuple[str, ...]:

@@ -41,6 +41,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import msgspec
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -183,7 +184,7 @@ def backward_score(base: dict, p: dict) -> tuple[float, str, float]:
 def backward(tries: int, seed: int) -> int:
     base = yaml.safe_load(INTERFACE.read_text(encoding="utf-8"))
     spec = load_script(find("script", BACKWARD))
-    keys = {e["key"]: e["t"] for e in spec.model_dump()["events"] if e.get("key") in ("o", "2")}
+    keys = {e["key"]: e["t"] for e in msgspec.to_builtins(spec)["events"] if e.get("key") in ("o", "2")}
     tuck, rock = base["poses"]["tuck"]["joints"], base["poses"]["rock"]["joints"]
     holds = [step["hold"] for step in base["sequences"]["rock_up"]]
     best_p = {"t_waist": tuck["waist"], "t_hip": tuck["hip_near"], "t_knee": tuck["knee_near"],

@@ -74,7 +74,11 @@ def problem(name: str, value) -> str | None:
     lo, hi, _, open_lo = RANGES[name]
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return f"must be a number in {describe(name)}"
-    if not (math.isfinite(value) and lo <= value <= hi) or (open_lo and value == lo):
+    try:
+        finite = math.isfinite(value)
+    except OverflowError:  # a whole number past any float (10**400)
+        finite = False
+    if not (finite and lo <= value <= hi) or (open_lo and value == lo):
         return f"must be a finite number in {describe(name)}"
     return None
 

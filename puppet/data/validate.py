@@ -8,10 +8,13 @@ which range, which keys were allowed) and says it as puppet does: ``bad value fo
 'links.0.mass': must be a finite number in 0.001..1000 kg (got -1.0)``. None of
 msgspec's own wording reaches the user.
 
-Conversion is not strict (``strict=False``), so a file pydantic accepted is accepted as
-it was: a whole number for a decimal one (``2`` -> ``2.0``, as in strict mode), ``2.0``
-for a whole number, a number written as text (``'0.5'``), 1 and 0 for true and false;
-true/false is never a number, a number never text.
+Conversion is not strict (``strict=False``), as pydantic's lax mode was not: a whole
+number for a decimal one (``2`` -> ``2.0``, as in strict mode), ``2.0`` for a whole
+number, a number written as text (``'0.5'``), 1 and 0 for true and false; true/false
+is never a number, a number never text. Not quite every file pydantic took is taken:
+true/false for a plain bounded number (pydantic took it as 1/0 there), ``'yes'`` and
+``0.0`` for true/false, and text numbers such as ``' 7'``, ``'.5'``, ``'1_0'`` are now
+refused (none of the shipped files has one); ``'1e3'`` for a whole number is now taken.
 
 Two things msgspec leaves to us, done here:
 

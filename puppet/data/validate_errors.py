@@ -306,6 +306,11 @@ def _value_message(text: str, place: _Place) -> str:
             return "expected a number, got true/false"
         if wrong:
             return "expected a number"
+        if isinstance(value, str):  # a number written as text ('1e400', '-1'): its value
+            try:
+                value = float(value)
+            except ValueError:
+                return "expected a number"
         return problem(extra["range"], value) or text
     if extra.get("message") and (bound or wrong and _kind(base) == "int"
                                  and isinstance(value, int) and not isinstance(value, bool)):

@@ -161,7 +161,7 @@ import numpy as np
 
 from puppet.data.errors import DataError
 from puppet.data.ranges import Num, Time
-from puppet.data.validate import Meta, Spec, field, validate
+from puppet.data.validate import Meta, Spec, at, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Measure = Num("measure")
@@ -453,7 +453,7 @@ class RunUp(Spec, kw_only=True):
         if self.min_flights == 0 and self.min_speed is None:
             raise ValueError("give 'min_flights', 'min_speed' or both")
         if self.over <= 0:
-            raise ValueError("'over' must be more than 0 s")
+            raise at("over", "'over' must be more than 0 s")
 
 
 class StayedIn(Spec, kw_only=True):
@@ -543,7 +543,7 @@ class MostlyWithin(Spec, kw_only=True):
     pass through other postures."""
 
     link: str
-    max_tilt: Num("angle") | None = None  # deg from upright, at most
+    max_tilt: Annotated[float, Meta(ge=0, le=180)] | None = None  # deg from upright, at most
     x_min: Measure | None = None  # m: x of the centre of mass, at least
     x_max: Measure | None = None  # m: x of the centre of mass, at most
     below: str | None = None  # a link whose centre of mass is higher
@@ -554,6 +554,8 @@ class MostlyWithin(Spec, kw_only=True):
     def __post_init__(self):
         if all(b is None for b in (self.max_tilt, self.x_min, self.x_max, self.below)):
             raise ValueError("give at least one of 'max_tilt', 'x_min', 'x_max', 'below'")
+        if self.until is not None and self.until <= self.from_:
+            raise at("until", "'until' must be later than 'from'")
         if self.x_min is not None and self.x_max is not None and self.x_max <= self.x_min:
             raise ValueError(f"'x_max' ({self.x_max:g}) must be greater than 'x_min' "
                              f"({self.x_min:g})")
@@ -1099,10 +1101,13 @@ def _run_up(e: Expectation, v: RunUp, traj) -> Outcome:
     said = [f"the jump from t = {start:.2f} s; {len(flights)} flights of "
             f"{v.flight_seconds:g} s or more before it"]
     if v.min_speed is not None:
-        idx = _samples_in(traj.t, start - v.over, start)
-        if traj.t[idx[0]] > start - v.over + 1e-6 or len(idx) < 2:
+        if start - float(traj.t[0]) < v.over - 1e-9:
             return Outcome(e.describe(), False, said[0] + f"; the jump began {start:.2f} s "
                            f"into the run, less than {v.over:g} s")
+        idx = _samples_in(traj.t, start - v.over, start)
+        if len(idx) < 2 or traj.t[idx[-1]] <= traj.t[idx[0]]:
+            return Outcome(e.describe(), False, said[0] + f"; fewer than two samples in the "
+                           f"{v.over:g} s before the jump")
         i, j = int(idx[0]), int(idx[-1])
         speed = float((traj.com[j, 0] - traj.com[i, 0]) / (traj.t[j] - traj.t[i]))
         ok = ok and speed >= v.min_speed

@@ -1,0 +1,45 @@
+"""The search tools in tools/ still run against today's code: each imports, and the
+ones that build scripts from plain entries build scripts the player compiles (a data
+library's change broke three of them without a test noticing)."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+import pytest
+
+from puppet.timeline.script import compile_script
+
+TOOLS = Path(__file__).resolve().parents[1] / "tools"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def tools_on_path():
+    sys.path.insert(0, str(TOOLS))
+    yield
+    sys.path.remove(str(TOOLS))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in TOOLS.glob("*.py")))
+def test_each_tool_imports(name):
+    importlib.import_module(name)
+
+
+@pytest.mark.parametrize("name", ["tune_ladder", "tune_gymnast_climb"])
+def test_a_tools_script_from_plain_entries_compiles(name):
+    tool = importlib.import_module(name)
+    spec = tool.script([{"t": 0.1, "key": "g"}, {"t": 0.5, "action": "checkpoint"}], 1.0)
+    assert len(compile_script(spec, 1 / 480)) == 3  # the key down and up, the checkpoint
+
+
+def test_tune_recover_reads_its_scripts_keys():
+    import msgspec
+
+    from puppet.data.catalog import find
+    from puppet.timeline.script import load_script
+
+    tool = importlib.import_module("tune_recover")
+    events = msgspec.to_builtins(load_script(find("script", tool.BACKWARD)))["events"]
+    assert any(e.get("key") in ("o", "2") for e in events)
