@@ -132,3 +132,23 @@ def test_a_number_past_any_float_or_written_as_text_is_a_one_line_range_error(
         load_character(path)
     message = str(caught.value)
     assert said in message and "links.0.mass" in message and "\n" not in message
+
+
+@pytest.mark.parametrize("file, old, new, said", [
+    ("biped-auto", "hold: parent}", "hold: 0}", "expected one of: child, parent (got 0)"),
+    ("biped-auto", "hold: parent}", "hold: mom}", "expected one of: child, parent (got 'mom')"),
+    ("luxo-keys", "sequence: small_hop,", "sequence: small_hop, repeat: always,",
+     "expected one of: forever, or a whole number (got 'always')"),
+])
+def test_a_word_not_among_the_choices_names_the_choices_and_the_unions_other_kinds(
+        tmp_path, file, old, new, said):
+    from puppet.data.interfaces import load_interface
+
+    text = (Path(__file__).parent.parent / "interfaces" / f"{file}.yaml").read_text()
+    assert old in text
+    path = tmp_path / "interfaces" / f"{file}.yaml"
+    path.parent.mkdir()
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(DataError) as caught:
+        load_interface(path)
+    assert said in str(caught.value)

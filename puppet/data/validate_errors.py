@@ -292,6 +292,11 @@ def _literals(t: Any) -> list:
     return values
 
 
+_KIND_WORDS = {"float": "a number", "int": "a whole number", "bool": "true or false",
+               "list": "a list", "tuple": "a list", "struct": "a mapping of settings",
+               "dispatch": "a mapping of settings", "dict": "a mapping"}
+
+
 def _value_message(text: str, place: _Place) -> str:
     """What a value's error means, in puppet's words."""
     value, t = place.value, place.kind
@@ -326,8 +331,15 @@ def _value_message(text: str, place: _Place) -> str:
         return f"expected {n} items, got {got}"
     if text == "Number out of range":  # text such as '1e400' read as a number
         return "expected a finite number"
-    if text.startswith("Invalid enum value"):
-        return "expected one of: " + ", ".join(str(v) for v in _literals(t))
+    if text.startswith("Invalid enum value"):  # text, not one of the words: say the
+        others = []                             # union's other kinds too
+        for member in _members(t):
+            kind = _kind(member)
+            said = _KIND_WORDS.get(kind)
+            if said and said not in others:
+                others.append(said)
+        return "expected one of: " + ", ".join(str(v) for v in _literals(t)) + \
+            "".join(f", or {w}" for w in others)
     if wrong:
         names = [n.strip() for n in wrong.group(1).split("|")]
         literals = _literals(t)
@@ -341,6 +353,8 @@ def _value_message(text: str, place: _Place) -> str:
                                               None) if name == "object" else None))
         if not words:
             words = ["nothing (null)"]
+        if len(words) == 1 and literals and "str" in names:  # the words alone
+            return "expected one of: " + ", ".join(str(v) for v in literals)
         return "expected " + (words[0] if len(words) == 1 else
                               ", ".join(words[:-1]) + " or " + words[-1])
     return text  # a check of ours (a __post_init__'s ValueError): already puppet's words
