@@ -152,3 +152,26 @@ def test_a_word_not_among_the_choices_names_the_choices_and_the_unions_other_kin
     with pytest.raises(DataError) as caught:
         load_interface(path)
     assert said in str(caught.value)
+
+
+@pytest.mark.parametrize("key", ["a` - at `$.ground[0]", "a` - at `key` in `$.start",
+                                 "Object missing required field `name`"])
+def test_a_key_that_reads_like_a_path_is_reported_as_itself_where_it_is(tmp_path, key):
+    """The validator's message is text with the path at its end; a key holding the same
+    words must not move the error to another line or name another key."""
+    from puppet.data.scenes import load_scene
+
+    text = (Path(__file__).parent.parent / "assets" / "scenes" / "flat.yaml").read_text()
+    path = tmp_path / "scenes" / "odd.yaml"
+    path.parent.mkdir()
+    path.write_text(text.rstrip("\n") + "\n" + yaml_quoted(key) + ": 1\n")
+    line = len(path.read_text().splitlines())
+    with pytest.raises(DataError) as caught:
+        load_scene(path)
+    message = str(caught.value)
+    assert f"odd.yaml:{line}:1: unknown key '{key}'" in message, message
+
+
+def yaml_quoted(text: str) -> str:
+    """``text`` as a double-quoted YAML scalar."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'

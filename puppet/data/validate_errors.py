@@ -364,13 +364,39 @@ _UNKNOWN = re.compile(r"Object contains unknown field `(.*)`$", re.S)
 _MISSING = re.compile(r"Object missing required field `(.*)`$", re.S)
 
 
+def _unknown_cuts(message: str):
+    """(key, path tokens) for each way to read an unknown-field message as a key up to a
+    "` - at `" and a path alone after it, or as a key alone (a top-level one): a user's
+    key may hold that text."""
+    prefix = "Object contains unknown field `"
+    if not message.startswith(prefix):
+        return
+    i = len(prefix)
+    while (i := message.find("` - at `", i)) >= 0:
+        rest, tokens = _split(message[i + 1:])
+        if rest == "":
+            yield message[len(prefix):i], tokens
+        i += 1
+    if message.endswith("`"):  # at the top level msgspec gives no path at all
+        yield message[len(prefix):-1], []
+
+
 def to_data_error(located: Located, model: type, message: str) -> DataError:
     """The DataError of msgspec's error ``message`` for ``located`` validated as
     ``model``."""
     text, tokens = _split(message)
     place = _walk(model, located.data, tokens)
-    loc = place.loc
     unknown, missing = _UNKNOWN.match(text), _MISSING.match(text)
+    if unknown and not (isinstance(place.value, dict) and unknown.group(1) in place.value):
+        # a key that itself reads like a path ("a` - at `$.x"): the cut of the message
+        # whose key is there, at the place its path names
+        for key, path in _unknown_cuts(message):
+            there = _walk(model, located.data, path)
+            if isinstance(there.value, dict) and key in there.value:
+                text, tokens, place = f"Object contains unknown field `{key}`", path, there
+                unknown = _UNKNOWN.match(text)
+                break
+    loc = place.loc
     struct_key = tokens[-1:] == ["<key>"] and _is_struct(_strip(place.parent)[0])
     if unknown or struct_key:  # (a number as a key of settings: no such key either)
         key = unknown.group(1) if unknown else loc[-1] if loc else "?"
