@@ -235,3 +235,41 @@ def test_the_space_stepped_in_c_is_the_space_stepped_by_pymunk():
             space.step(dt)
 
     assert run(step_space) == run(pymunks)
+
+
+def _support_by_pymunk(character):
+    """support_extent through pymunk's own objects (arbiter.contact_point_set)."""
+    from puppet.physics.snapshot import restored_contacts
+
+    xs = []
+    for body in character.bodies.values():
+        restored = restored_contacts(body)
+        if restored is not None:
+            xs += [x for x, _ in restored]
+        else:
+            body.each_arbiter(lambda a: xs.extend(p.point_a.x for p in a.contact_point_set.points))
+    return (min(xs), max(xs)) if xs else None
+
+
+def test_the_support_extent_read_through_c_is_pymunks():
+    """Character.support_extent reads the contact points with Chipmunk's call and the
+    restored contacts once per space: the same extent as pymunk's objects give, while
+    walking, lying and right after a checkpoint re-seats the space."""
+    from puppet.bench import Subject, gesture
+
+    subject = Subject("biped", "biped-floor")
+    session = subject.session(keyframes=False)
+    frames = gesture(subject.frames(6.0), subject.interface_spec)
+    seen = {"none": 0, "some": 0, "restored": 0}
+    for k, batch in enumerate(frames):
+        for event in batch:
+            session.handle(event)
+        session.advance(subject.steps_per_frame)
+        if k % 45 == 0:
+            session.sim.checkpoint()  # the next reading is from the restored contacts
+            seen["restored"] += 1
+        c = session.character
+        got, want = c.support_extent(), _support_by_pymunk(c)
+        assert got == want, k
+        seen["none" if got is None else "some"] += 1
+    assert seen["some"] > 100 and seen["restored"] > 5

@@ -14,7 +14,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec, LinkSpec
 from puppet.physics.servo import PDServo
-from puppet.physics.snapshot import restored_contacts
+from puppet.physics.snapshot import restored_contacts, restored_touching
 
 
 def _rot(p, angle):
@@ -228,14 +228,17 @@ class Character:
         """(leftmost, rightmost) x of the points where the character touches anything
         outside itself (the support polygon, in the plane a segment), or None."""
         xs: list[float] = []
+        point_set = _cp.cpArbiterGetContactPointSet  # what arbiter.contact_point_set reads
 
-        def collect(arbiter) -> None:
-            for p in arbiter.contact_point_set.points:
-                xs.append(p.point_a.x)
-        for body in self.bodies.values():
-            restored = restored_contacts(body)
+        def collect(arbiter) -> None:  # (its point_a.x values, without building its objects)
+            got = point_set(arbiter._arbiter)
+            for i in range(got.count):
+                xs.append(got.points[i].pointA.x)
+        bodies = self.bodies.values()
+        restored = restored_touching(next(iter(bodies)).space)  # (one space for all)
+        for body in bodies:
             if restored is not None:  # right after a restore: the snapshot's contacts
-                xs += [x for x, _ in restored]
+                xs += [x for x, _ in restored.get(body, ())]
             else:
                 body.each_arbiter(collect)
         return (min(xs), max(xs)) if xs else None

@@ -111,11 +111,17 @@ def _touching(made, records, objects, stamp) -> dict:
 def restored_contacts(body) -> list | None:
     """The world points where ``body`` touched something, as restored with its space,
     while that space has not stepped since (None once it has: ask the arbiters)."""
-    space = body.space
+    restored = restored_touching(body.space)
+    return None if restored is None else restored.get(body, [])
+
+
+def restored_touching(space) -> dict | None:
+    """body -> the world points where it touched something, as restored with ``space``,
+    while it has not stepped since (None once it has)."""
     got = getattr(space, "_puppet_contacts", None)
     if got is None or _cp.cpSpaceGetTimestamp(space._space) != got[0]:
         return None
-    return touching(got).get(body, [])
+    return touching(got)
 
 
 def touching(got: list) -> dict:
