@@ -181,10 +181,16 @@ def backward_score(base: dict, p: dict) -> tuple[float, str, float]:
     return value, f"trunk {tilt:.1f} deg, head {low:.3f} m, feet {feet:.0%}", seconds
 
 
+def key_times(spec, names=("o", "2")) -> dict[str, float]:
+    """When the script ``spec`` presses each of the keys ``names`` (its last press)."""
+    return {e["key"]: e["t"] for e in msgspec.to_builtins(spec)["events"]
+            if e.get("key") in names}
+
+
 def backward(tries: int, seed: int) -> int:
     base = yaml.safe_load(INTERFACE.read_text(encoding="utf-8"))
     spec = load_script(find("script", BACKWARD))
-    keys = {e["key"]: e["t"] for e in msgspec.to_builtins(spec)["events"] if e.get("key") in ("o", "2")}
+    keys = key_times(spec)
     tuck, rock = base["poses"]["tuck"]["joints"], base["poses"]["rock"]["joints"]
     holds = [step["hold"] for step in base["sequences"]["rock_up"]]
     best_p = {"t_waist": tuck["waist"], "t_hip": tuck["hip_near"], "t_knee": tuck["knee_near"],
