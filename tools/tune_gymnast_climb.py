@@ -57,6 +57,7 @@ from puppet.session import Session  # noqa: E402
 from puppet.testing import record_script, replay_log  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
+from tools.ladder_rungs import rung  # noqa: E402
 
 INTERFACE, SCENE = "biped-gymnast", "ladder"
 KEY = {"hand_near": "z", "hand_far": "x", "foot_near": "a", "foot_far": "s"}
@@ -92,15 +93,6 @@ HAND_XS = (0.6, 0.7, 0.8, 0.9, 1.0)  # the waist bent forward: the body leans to
 HAND_REARM = (0.35, 0.6)  # later: clear of the rung the hands left
 PRELOAD = 0.4  # s the mouse takes to the stroke's far end before a trot let-go
 KEEP = {"bound": 2, "trot": 3}  # strokes of a phase tried before going back to the phase before
-
-
-def rung(sim, name: str) -> int:
-    """The number of the rung ``name`` holds (0: none)."""
-    held = sim.grasps.get(name)
-    if held is None or held[1] is None:
-        return 0
-    point = sim.props[held[1]].nearest(sim.grasp_point(name))[2]
-    return int(point[4:]) if point else 0
 
 
 def goal(limb: str, before: dict, gap: int) -> int:

@@ -48,6 +48,7 @@ from puppet.session import Session  # noqa: E402
 from puppet.testing import record_script, replay_log  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
+from tools.ladder_rungs import rung  # noqa: E402
 
 INTERFACE, SCENE = "biped-ladder", "ladder"
 NAME = "biped-ladder-climb"
@@ -66,15 +67,6 @@ SETTLE = 2.0  # s after the last phase (the log ends there)
 KEEP = 2  # candidates of a phase tried before going back to the phase before
 SAMPLE = 1 / 20  # s between posture samples
 END_FROM = 2  # from this round (0: the first) a phase's last sample counts too
-
-
-def rung(sim, name: str) -> int:
-    """The number of the rung ``name`` holds (0: none)."""
-    held = sim.grasps.get(name)
-    if held is None or held[1] is None:
-        return 0
-    point = sim.props[held[1]].nearest(sim.grasp_point(name))[2]
-    return int(point[4:]) if point else 0
 
 
 def posture(character) -> tuple[bool, bool, bool]:

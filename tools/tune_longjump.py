@@ -79,7 +79,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
+from puppet.timeline.expectations import (  # noqa: E402
+    _runs, evaluate_all, load_expectations)
 from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
@@ -119,16 +120,22 @@ def pairs(entries: list[dict], dt: float):
     return compile_script(ScriptSpec.model_validate({"events": entries}), dt)
 
 
+def longest_flight(free) -> tuple[int, int]:
+    """(samples, first index) of the longest stretch with nothing touching, the first if
+    tied, (0, 0) without one: the jump (the expectations' stretches, ``_runs``)."""
+    best = (0, 0)
+    for i, j in _runs(free):
+        if j - i + 1 > best[0]:
+            best = (j - i + 1, i)
+    return best
+
+
 def judge(sampler: Sampler, items) -> tuple[int, float, list]:
     """(expectations passed, the jump's length, the outcomes) of what was sampled."""
     traj = sampler.trajectory()
     outcomes = evaluate_all(items, traj, "")
     free = ~traj.contact.any(axis=1)
-    best, run, first = 0, 0, 0
-    for i, f in enumerate(free):
-        run = run + 1 if f else 0
-        if run > best:
-            best, first = run, i - run + 1
+    best, first = longest_flight(free)
     length = 0.0
     if best and first > 0 and first + best < len(free):  # the touching feet, off to down
         feet = [traj.index("foot_near"), traj.index("foot_far")]
@@ -440,11 +447,7 @@ def run_score(traj, items) -> tuple[float, str]:
     points = sum((10 if o.expectation.split()[0] in JUMP else 3) * o.passed
                  for o in outcomes)
     free = ~traj.contact.any(axis=1)
-    best, run, first = 0, 0, 0
-    for i, f in enumerate(free):
-        run = run + 1 if f else 0
-        if run > best:
-            best, first = run, i - run + 1
+    best, first = longest_flight(free)
     dt = float(traj.t[1] - traj.t[0])
     flight = best * dt
     if best < 6 or first == 0 or first + best >= len(free):

@@ -745,18 +745,14 @@ class Expectation(Spec, kw_only=True, dict=True):
                     + (f", each at x <= {v.max_x:g} m" if v.max_x is not None else "")
                     + (f", flight min {v.min_seconds:g} s" if v.min_seconds else ""))
         if isinstance(v, OnGround):
-            tilt = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min_root_angle),
-                                                           ("at most", v.max_root_angle))
-                                if b is not None)
+            tilt = _at_least_most(v.min_root_angle, v.max_root_angle)
             return (f"on_ground {', '.join(v.links)} min {v.min_seconds:g} s"
                     + (f", root {tilt} deg (signed)" if tilt else ""))
         if isinstance(v, Swung):
             return (f"swung min {v.min:g} deg each way about [{v.about[0]:g}, "
                     f"{v.about[1]:g}] from {v.from_:g} s to {_until(v)}")
         if isinstance(v, AngleWithin):
-            bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
-                                                             ("at most", v.max))
-                                  if b is not None)
+            bounds = _at_least_most(v.min, v.max)
             return (f"angle_within {v.link} {bounds} deg (signed) from {v.from_:g} s "
                     f"to {_until(v)}")
         if isinstance(v, Touched):
@@ -764,9 +760,7 @@ class Expectation(Spec, kw_only=True, dict=True):
                     + (f", x >= {v.min_x:g} m" if v.min_x is not None else "")
                     + (", before the longest flight" if v.before_flight else ""))
         if isinstance(v, BentAfterFlight):
-            bounds = " and ".join(f"{w} {b:g}" for w, b in (("at least", v.min),
-                                                             ("at most", v.max))
-                                  if b is not None)
+            bounds = _at_least_most(v.min, v.max)
             return (f"bent_after_flight {', '.join(v.links)} from {v.from_link} {bounds} "
                     f"deg within {v.within:g} s of the landing")
         if isinstance(v, FirstTouch):
@@ -876,6 +870,12 @@ def _runs(flags: np.ndarray) -> list[tuple[int, int]]:
     edges = np.diff(np.concatenate(([0], np.asarray(flags, dtype=np.int8), [0])))
     return list(zip(np.flatnonzero(edges == 1).tolist(),
                     (np.flatnonzero(edges == -1) - 1).tolist()))
+
+
+def _at_least_most(low: float | None, high: float | None) -> str:
+    """"at least LOW and at most HIGH" (either left out when None), as bounds are said."""
+    return " and ".join(f"{w} {b:g}" for w, b in (("at least", low), ("at most", high))
+                        if b is not None)
 
 
 def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, int, int]:
