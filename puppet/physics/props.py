@@ -11,9 +11,11 @@ import math
 from dataclasses import dataclass
 
 import pymunk
+from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.scenes import SceneSpec
 
+_to_world = _cp.cpBodyLocalToWorld  # what Body.local_to_world calls
 
 
 @dataclass
@@ -26,25 +28,30 @@ class Prop:
     pin: pymunk.PivotJoint | None = None
 
     def point_world(self, name: str) -> tuple[float, float]:
-        p = self.body.local_to_world(self.points[name])
-        return (p[0], p[1])
+        p = _to_world(self.body._body, self.points[name])
+        return (p.x, p.y)
 
     def nearest(self, world: tuple[float, float]) -> tuple[float, tuple[float, float], str | None]:
         """(distance, world point, point name or None) of the graspable place nearest
-        ``world``: a named point or the nearest point on a grasp segment."""
+        ``world``: a named point or the nearest point on a grasp segment. (An armed grasp
+        asks this of every prop at every step until it holds: the points go through
+        the C call pymunk's ``local_to_world`` makes, without its Vec2d.)"""
+        wx, wy = world
         best = (math.inf, world, None)
-        for name in self.points:
-            p = self.point_world(name)
-            d = math.hypot(p[0] - world[0], p[1] - world[1])
+        body, hypot = self.body._body, math.hypot
+        for name, local in self.points.items():
+            p = _to_world(body, local)
+            d = hypot(p.x - wx, p.y - wy)
             if d < best[0]:
-                best = (d, p, name)
+                best = (d, (p.x, p.y), name)
         for a, b in self.segments:
-            pa, pb = self.body.local_to_world(a), self.body.local_to_world(b)
-            vx, vy = pb[0] - pa[0], pb[1] - pa[1]
-            u = ((world[0] - pa[0]) * vx + (world[1] - pa[1]) * vy) / (vx * vx + vy * vy)
+            pa, pb = _to_world(body, a), _to_world(body, b)
+            ax, ay = pa.x, pa.y
+            vx, vy = pb.x - ax, pb.y - ay
+            u = ((wx - ax) * vx + (wy - ay) * vy) / (vx * vx + vy * vy)
             u = min(1.0, max(0.0, u))
-            p = (pa[0] + u * vx, pa[1] + u * vy)
-            d = math.hypot(p[0] - world[0], p[1] - world[1])
+            p = (ax + u * vx, ay + u * vy)
+            d = hypot(p[0] - wx, p[1] - wy)
             if d < best[0]:
                 best = (d, p, None)
         return best
