@@ -41,3 +41,12 @@ def test_tune_recover_reads_its_scripts_key_times():
     tool = importlib.import_module("tune_recover")
     times = tool.key_times(load_script(find("script", tool.BACKWARD)))
     assert set(times) == {"o", "2"} and all(isinstance(t, float) for t in times.values())
+
+
+def test_solver_sensitivity_replays_on_the_changed_solver():
+    """The tool's verdict rests on the replay using its solver: the file's keeps the
+    kip's expectations, 30 iterations break one (tools/solver_sensitivity.py)."""
+    tool = importlib.import_module("solver_sensitivity")
+    log = Path(__file__).resolve().parents[1] / "assets" / "logs" / "biped-kip.jsonl"
+    assert tool.failures(log, 40, None) == []
+    assert any(f.startswith("touching_at_end") for f in tool.failures(log, 30, None))

@@ -390,12 +390,17 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
-           trajectory: bool = True, as_recorded: bool = False) -> ReplayResult:
+           trajectory: bool = True, as_recorded: bool = False,
+           adjust=None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
-    evaluate its expectations. ``as_recorded``: see ``setup_for_log``."""
+    evaluate its expectations. ``as_recorded``: see ``setup_for_log``. ``adjust``: a
+    function of the Setup returning the one to replay on instead (a tool asking what
+    the log does on other physics: tools/solver_sensitivity.py)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
     setup, warnings = setup_for_log(log, as_recorded)
+    if adjust is not None:
+        setup = adjust(setup)
     warnings += cut_warnings(log)
     expectations = None
     if check:  # a plain replay does not import numpy or the expectations (process start)
