@@ -273,3 +273,25 @@ def test_the_support_extent_read_through_c_is_pymunks():
         assert got == want, k
         seen["none" if got is None else "some"] += 1
     assert seen["some"] > 100 and seen["restored"] > 5
+
+
+def test_sampled_sensors_share_one_centre_of_mass_and_only_while_sampling():
+    """Character.sample works the centre of mass out once for all readers (kip's two
+    com.dx maps): the values are the plain reads', and after it com() reads afresh."""
+    from puppet.interface.conditions import map_reader
+
+    session = Session(load_setup("biped-kip"))
+    session.advance(30)
+    c = session.character
+    names = ["com.dx.foot_near", "com.dx.foot_far", "com.vx", "com.x"]
+    readers = [(n, map_reader(n, c)) for n in names]
+    plain = {n: read() for n, read in readers}
+    calls = []
+    compute = c._com
+    c._com = lambda: calls.append(1) or compute()
+    sampled: dict = {}
+    c.sample(readers, sampled)
+    assert sampled == plain and len(calls) == 1
+    before = c.com()
+    session.advance(8)
+    assert c.com() != before and len(calls) == 3  # no memo outside sample

@@ -103,7 +103,7 @@ class InterfaceRuntime:
         every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
-        self.feedback = Feedback(servos, self.owners, self.inputs, every)
+        self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
                                None if sim is None else sim.ground_surface)

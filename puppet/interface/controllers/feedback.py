@@ -25,8 +25,10 @@ from puppet.interface.ownership import FEEDBACK, JointOwners, Owner
 class Feedback:
     BUSY = "busy"
 
-    def __init__(self, servos, owners: JointOwners, inputs: dict, every: int):
+    def __init__(self, servos, owners: JointOwners, inputs: dict, every: int, sample=None):
         self.servos = servos
+        # reads the sensors into the inputs (the character's ``sample``: at one instant)
+        self.sample = sample or _read_each
         self.owners_table = owners
         self.inputs = inputs  # the runtime's input values; sensor readings are put here
         self.every = every
@@ -49,8 +51,7 @@ class Feedback:
         if step % self.every:
             return WAITED  # between control steps
         values = self.inputs
-        for name, read in self.readers:
-            values[name] = read()
+        self.sample(self.readers, values)
         table, servos = self.owners_table.table, self.servos
         for apply, joints in self.setters:
             owned = [j for j in joints if table.get(j) == FEEDBACK]
@@ -100,3 +101,8 @@ class Feedback:
     def stop(self) -> None:
         self.base, self.last = {}, {}
         self.busy = bool(self.setters or self.adders)
+
+
+def _read_each(readers, values: dict) -> None:
+    for name, read in readers:
+        values[name] = read()
