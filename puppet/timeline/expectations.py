@@ -880,13 +880,15 @@ def _at_least_most(low: float | None, high: float | None) -> str:
 
 def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, int, int]:
     """Longest (first if tied) stretch of true samples: (seconds, first, last index);
-    (0.0, -1, -1) if there is none."""
-    best = (0.0, -1, -1)
+    (0.0, -1, -1) if there is none. Longest by its number of samples, which ties
+    exactly: the seconds (t[last] - t[first] + the median interval) of two equally long
+    stretches differ in the last bit by where they are in the run, and the later one
+    would win by rounding."""
+    best, count = (0.0, -1, -1), 0
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
     for i, j in _runs(flags):
-        length = float(t[j] - t[i] + dt)
-        if length > best[0]:
-            best = (length, i, j)
+        if j - i + 1 > count:
+            best, count = (float(t[j] - t[i] + dt), i, j), j - i + 1
     return best
 
 
