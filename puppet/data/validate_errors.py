@@ -230,7 +230,7 @@ def _submodels(annotation: Any) -> list[type]:
 
 def _allowed_keys(model: type, loc: tuple) -> list[str]:
     """Field names accepted at ``loc`` (a path of keys), walking the struct tree (every
-    member of a union: a misspelt ``grid`` still finds its key)."""
+    member of a union): where the entry itself does not say which member it is."""
     candidates = [model]
     for part in loc:
         if not isinstance(part, str):
@@ -245,6 +245,42 @@ def _allowed_keys(model: type, loc: tuple) -> list[str]:
     for cand in candidates:
         keys += list(_fields(cand))
     return sorted(set(keys))
+
+
+def _entry_keys(t: Any, data: Any, key: str) -> tuple[list[str], str] | None:
+    """(the keys allowed, a note) for an unknown ``key`` of the entry ``data`` held by a
+    field of type ``t``; None if the entry does not say which struct it is. A union's
+    member is the one the entry is: by its tag (a circle's keys, not a box's ``size``;
+    the note says which types have the key), or as the dispatch picks it (a map with
+    ``grid`` is a grid map). A key that the entry, with ``key`` renamed to it, would
+    have as the member it then is, is allowed too (``gird`` -> ``grid`` makes a linear
+    map a grid map)."""
+    if not isinstance(data, dict):
+        return None
+    member = _strip(_choose(t, data))[0]
+    if not _is_struct(member):
+        return None  # a tag no member has
+    own = set(_fields(member))
+    base, _ = _strip(t)
+    others = list(getattr(base, "choices", ())) if base in _DISPATCH else [
+        _strip(m)[0] for m in _members(t)]
+    switch = set()
+    for other in others:
+        if other is member or not _is_struct(other):
+            continue
+        for k in set(_fields(other)) - own:
+            renamed = {n: v for n, v in data.items() if n != key} | {k: data.get(key)}
+            if _strip(_choose(t, renamed))[0] is other:
+                switch.add(k)
+    note = ""
+    tag_field = member.__struct_config__.tag_field
+    if tag_field is not None:
+        having = [o.__struct_config__.tag for o in others if _is_struct(o)
+                  and o is not member and key in _fields(o)]
+        if having:
+            note = (f" (a key of {tag_field} {', '.join(having)}, not "
+                    f"{member.__struct_config__.tag})")
+    return sorted(own | switch), note
 
 
 # --- the message ---------------------------------------------------------------------
@@ -401,10 +437,12 @@ def to_data_error(located: Located, model: type, message: str) -> DataError:
     if unknown or struct_key:  # (a number as a key of settings: no such key either)
         key = unknown.group(1) if unknown else loc[-1] if loc else "?"
         loc = loc + (key,) if unknown else loc
-        allowed = _allowed_keys(model, loc[:-1])
+        entry = _entry_keys(place.kind, place.value, key) if unknown else (
+            sorted(_fields(_strip(place.parent)[0])), "")  # (a number: the struct's)
+        allowed, note = entry or (_allowed_keys(model, loc[:-1]), "")
         close = difflib.get_close_matches(str(key), allowed, n=1)
         hint = f"; did you mean '{close[0]}'?" if close else ";"
-        return located.error(loc, f"unknown key '{key}'{hint} expected one of: "
+        return located.error(loc, f"unknown key '{key}'{note}{hint} expected one of: "
                                   f"{', '.join(allowed)}", prefer_key=True)
     name = ".".join(str(p) for p in loc) or "(top level)"
     got = f" (got {_describe(place.value)})" if place.value is not _NOTHING else ""
