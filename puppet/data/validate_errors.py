@@ -5,6 +5,7 @@ the path, and say what was wrong and what was expected."""
 from __future__ import annotations
 
 import difflib
+import math
 import re
 import types
 import typing
@@ -305,6 +306,25 @@ def _num(text: str) -> str:
         return text
 
 
+def _finite(value: Any) -> bool:
+    """False for NaN and the infinities, given as numbers or as text ('nan')."""
+    try:
+        return math.isfinite(float(value))
+    except (TypeError, ValueError, OverflowError):
+        return True  # not a number at all: another message says so
+
+
+def _bounds(metas: list) -> str:
+    """A number's bounds as the messages say them: 'at least 0 and less than 1'."""
+    said = []
+    for meta in metas:
+        if isinstance(meta, msgspec.Meta):
+            for name, op in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<")):
+                if getattr(meta, name) is not None:
+                    said.append(f"{_WORDS[op]} {_num(str(getattr(meta, name)))}")
+    return " and ".join(said)
+
+
 def _what(name: str, t: Any) -> str:
     if name == "object":
         kind = _kind(t) if t is not None else "struct"
@@ -353,6 +373,8 @@ def _value_message(text: str, place: _Place) -> str:
             except ValueError:
                 return "expected a number"
         return problem(extra["range"], value) or text
+    if bound and _kind(base) == "float" and not _finite(value):
+        return f"must be a finite number, {_bounds(metas)}"  # (NaN fails every bound)
     if extra.get("message") and (bound or wrong and _kind(base) == "int"
                                  and isinstance(value, int) and not isinstance(value, bool)):
         return extra["message"]
@@ -366,7 +388,8 @@ def _value_message(text: str, place: _Place) -> str:
             return f"expected at most {n} item(s)"
         return f"expected {n} items, got {got}"
     if text == "Number out of range":  # text such as '1e400' read as a number
-        return "expected a finite number"
+        within = _bounds(metas)
+        return f"must be a finite number, {within}" if within else "expected a finite number"
     if text.startswith("Invalid enum value"):  # text, not one of the words: say the
         others = []                             # union's other kinds too
         for member in _members(t):
