@@ -100,6 +100,22 @@ def test_run_up_counts_the_flights_before_the_jump_and_its_speed():
         assert got.passed, (over, got.measured)
 
 
+def test_run_up_measures_up_to_the_flight_took_off_and_first_touch_measure():
+    """The jump is the longest flight for all three: with a longer flight after the
+    landing (0.4 s, from 1.2 s), run_up's jump is that one, as took_off's and
+    first_touch's are, and it counts the 0.3 s jump among its run-up's flights."""
+    bounce = RUN + [[0, 0, 0]] * 4 + [[1, 0, 0]]
+    traj = _Moving(bounce, 2.0)
+    traj.x = np.tile(traj.com[:, :1], (1, 3))  # every link where the centre of mass is
+    took = _outcome({"took_off": {"links": ["foot"]}}, traj)
+    touch = _outcome({"first_touch": {"links": ["foot"]}}, traj)
+    run = _outcome({"run_up": dict(RUN_UP, min_flights=4)}, traj)
+    assert took.measured.startswith("longest flight 0.40 s from t = 1.20 s"), took.measured
+    assert "ended at t = 1.60 s" in touch.measured, touch.measured
+    assert run.passed and run.measured.startswith(
+        "the jump from t = 1.20 s; 4 flights of 0.1 s or more before it"), run.measured
+
+
 def test_run_up_needs_flights_or_a_speed():
     import pytest
     from puppet.data.errors import DataError

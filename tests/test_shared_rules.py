@@ -54,3 +54,22 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
                 runtime.machine.enter(state, session.steps)
             for k in live_keys(spec, state):
                 assert runtime.binding(normalize_key(k.key)) is k, (path.stem, state, k.key)
+
+
+def test_longest_run_takes_the_first_of_two_as_long():
+    """Two stretches of 10 samples at 120 Hz: their seconds differ by rounding
+    (0.075 and 0.07500000000000001), and the first must still be the one."""
+    from puppet.timeline.expectations import _longest_run
+
+    t = np.arange(40) * 4 * (1 / 480)
+    flags = np.zeros(40, dtype=bool)
+    flags[0:10] = flags[15:25] = True
+    assert t[24] - t[15] > t[9] - t[0]  # the rounding the rule must not follow
+    length, first, last = _longest_run(flags, t)
+    assert (first, last) == (0, 9)
+    assert abs(length - 10 * t[1]) < 1e-12
+    flags[30:31] = True  # shorter, later: not it; one sample longer, later: it
+    assert _longest_run(flags, t)[1:] == (0, 9)
+    flags[25] = True
+    assert _longest_run(flags, t)[1:] == (15, 25)
+    assert _longest_run(np.zeros(3, dtype=bool), t[:3]) == (0.0, -1, -1)

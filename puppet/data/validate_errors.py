@@ -5,6 +5,7 @@ the path, and say what was wrong and what was expected."""
 from __future__ import annotations
 
 import difflib
+import math
 import re
 import types
 import typing
@@ -230,7 +231,7 @@ def _submodels(annotation: Any) -> list[type]:
 
 def _allowed_keys(model: type, loc: tuple) -> list[str]:
     """Field names accepted at ``loc`` (a path of keys), walking the struct tree (every
-    member of a union: a misspelt ``grid`` still finds its key)."""
+    member of a union): where the entry itself does not say which member it is."""
     candidates = [model]
     for part in loc:
         if not isinstance(part, str):
@@ -245,6 +246,42 @@ def _allowed_keys(model: type, loc: tuple) -> list[str]:
     for cand in candidates:
         keys += list(_fields(cand))
     return sorted(set(keys))
+
+
+def _entry_keys(t: Any, data: Any, key: str) -> tuple[list[str], str] | None:
+    """(the keys allowed, a note) for an unknown ``key`` of the entry ``data`` held by a
+    field of type ``t``; None if the entry does not say which struct it is. A union's
+    member is the one the entry is: by its tag (a circle's keys, not a box's ``size``;
+    the note says which types have the key), or as the dispatch picks it (a map with
+    ``grid`` is a grid map). A key that the entry, with ``key`` renamed to it, would
+    have as the member it then is, is allowed too (``gird`` -> ``grid`` makes a linear
+    map a grid map)."""
+    if not isinstance(data, dict):
+        return None
+    member = _strip(_choose(t, data))[0]
+    if not _is_struct(member):
+        return None  # a tag no member has
+    own = set(_fields(member))
+    base, _ = _strip(t)
+    others = list(getattr(base, "choices", ())) if base in _DISPATCH else [
+        _strip(m)[0] for m in _members(t)]
+    switch = set()
+    for other in others:
+        if other is member or not _is_struct(other):
+            continue
+        for k in set(_fields(other)) - own:
+            renamed = {n: v for n, v in data.items() if n != key} | {k: data.get(key)}
+            if _strip(_choose(t, renamed))[0] is other:
+                switch.add(k)
+    note = ""
+    tag_field = member.__struct_config__.tag_field
+    if tag_field is not None:
+        having = [o.__struct_config__.tag for o in others if _is_struct(o)
+                  and o is not member and key in _fields(o)]
+        if having:
+            note = (f" (a key of {tag_field} {', '.join(having)}, not "
+                    f"{member.__struct_config__.tag})")
+    return sorted(own | switch), note
 
 
 # --- the message ---------------------------------------------------------------------
@@ -267,6 +304,25 @@ def _num(text: str) -> str:
         return f"{float(text):g}"
     except ValueError:
         return text
+
+
+def _finite(value: Any) -> bool:
+    """False for NaN and the infinities, given as numbers or as text ('nan')."""
+    try:
+        return math.isfinite(float(value))
+    except (TypeError, ValueError, OverflowError):
+        return True  # not a number at all: another message says so
+
+
+def _bounds(metas: list) -> str:
+    """A number's bounds as the messages say them: 'at least 0 and less than 1'."""
+    said = []
+    for meta in metas:
+        if isinstance(meta, msgspec.Meta):
+            for name, op in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<")):
+                if getattr(meta, name) is not None:
+                    said.append(f"{_WORDS[op]} {_num(str(getattr(meta, name)))}")
+    return " and ".join(said)
 
 
 def _what(name: str, t: Any) -> str:
@@ -317,6 +373,8 @@ def _value_message(text: str, place: _Place) -> str:
             except ValueError:
                 return "expected a number"
         return problem(extra["range"], value) or text
+    if bound and _kind(base) == "float" and not _finite(value):
+        return f"must be a finite number, {_bounds(metas)}"  # (NaN fails every bound)
     if extra.get("message") and (bound or wrong and _kind(base) == "int"
                                  and isinstance(value, int) and not isinstance(value, bool)):
         return extra["message"]
@@ -330,7 +388,8 @@ def _value_message(text: str, place: _Place) -> str:
             return f"expected at most {n} item(s)"
         return f"expected {n} items, got {got}"
     if text == "Number out of range":  # text such as '1e400' read as a number
-        return "expected a finite number"
+        within = _bounds(metas)
+        return f"must be a finite number, {within}" if within else "expected a finite number"
     if text.startswith("Invalid enum value"):  # text, not one of the words: say the
         others = []                             # union's other kinds too
         for member in _members(t):
@@ -401,10 +460,12 @@ def to_data_error(located: Located, model: type, message: str) -> DataError:
     if unknown or struct_key:  # (a number as a key of settings: no such key either)
         key = unknown.group(1) if unknown else loc[-1] if loc else "?"
         loc = loc + (key,) if unknown else loc
-        allowed = _allowed_keys(model, loc[:-1])
+        entry = _entry_keys(place.kind, place.value, key) if unknown else (
+            sorted(_fields(_strip(place.parent)[0])), "")  # (a number: the struct's)
+        allowed, note = entry or (_allowed_keys(model, loc[:-1]), "")
         close = difflib.get_close_matches(str(key), allowed, n=1)
         hint = f"; did you mean '{close[0]}'?" if close else ";"
-        return located.error(loc, f"unknown key '{key}'{hint} expected one of: "
+        return located.error(loc, f"unknown key '{key}'{note}{hint} expected one of: "
                                   f"{', '.join(allowed)}", prefer_key=True)
     name = ".".join(str(p) for p in loc) or "(top level)"
     got = f" (got {_describe(place.value)})" if place.value is not _NOTHING else ""

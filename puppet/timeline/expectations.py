@@ -98,7 +98,8 @@ Each entry names one check:
                                   # flights, not a one-sample bounce
       - run_up: {links: [foot_near, foot_far], min_flights: 3, flight_seconds: 0.04,
                  min_speed: 1.5, over: 1.0}
-                                  # before the longest flight (the jump): at least 3
+                                  # before the longest flight (the jump, the flight
+                                  # took_off and first_touch measure): at least 3
                                   # flights with none of the links touching, 0.04 s or
                                   # more each, ended before it (within: s, only those
                                   # begun that long before it), and the centre of mass's
@@ -439,7 +440,16 @@ class RunUp(Spec, kw_only=True):
     least ``min_flights`` flights with none of ``links`` touching (default: no link),
     each ``flight_seconds`` or longer and over before the jump began (``within``: only
     those begun at most that long before it), and the centre of mass's mean speed along
-    +x over the ``over`` s before the jump at least ``min_speed``: a run-up."""
+    +x over the ``over`` s before the jump at least ``min_speed``: a run-up.
+
+    The jump is the longest flight, as it is for took_off, first_touch, landed_at,
+    bent_after_flight and touched's before_flight: none of them picks the flight by a
+    take-off line (took_off's ``max_x`` and first_touch's ``min_x`` check where the
+    longest flight began and ended, they do not choose it), so a log's entries all speak
+    of one flight. A longer flight elsewhere (a bounce out of the pit, a short jump)
+    moves all of them to it together, and took_off's and first_touch's bounds then fail
+    the log; picking the flight across a line here would need a line run_up does not
+    have, and could pass a run-up to a flight the other entries do not measure."""
 
     # the links off the ground (default: all)
     links: Annotated[list[str], Meta(min_length=1, max_length=64)] | None = None
@@ -880,13 +890,15 @@ def _at_least_most(low: float | None, high: float | None) -> str:
 
 def _longest_run(flags: np.ndarray, t: np.ndarray) -> tuple[float, int, int]:
     """Longest (first if tied) stretch of true samples: (seconds, first, last index);
-    (0.0, -1, -1) if there is none."""
-    best = (0.0, -1, -1)
+    (0.0, -1, -1) if there is none. Longest by its number of samples, which ties
+    exactly: the seconds (t[last] - t[first] + the median interval) of two equally long
+    stretches differ in the last bit by where they are in the run, and the later one
+    would win by rounding."""
+    best, count = (0.0, -1, -1), 0
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
     for i, j in _runs(flags):
-        length = float(t[j] - t[i] + dt)
-        if length > best[0]:
-            best = (length, i, j)
+        if j - i + 1 > count:
+            best, count = (float(t[j] - t[i] + dt), i, j), j - i + 1
     return best
 
 
