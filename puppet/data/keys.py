@@ -87,7 +87,12 @@ def key_problem(text: str) -> str | None:
         return None
     if name.startswith("gamepad.") and name[len("gamepad."):] in GAMEPAD_BUTTONS:
         return None
-    return (f"unknown key name '{name}'; expected a pygame key name such as a, 1, space, "
+    import difflib  # (only for a mistake: process start)
+
+    names = [*sorted(PYGAME_KEY_NAMES), *BUTTON_KEYS, *(f"gamepad.{b}" for b in GAMEPAD_BUTTONS)]
+    close = difflib.get_close_matches(name, [n for n in names if len(n) > 1], n=1, cutoff=0.7)
+    hint = f"; did you mean '{close[0]}'?" if close else ";"
+    return (f"unknown key name '{name}'{hint} expected a pygame key name such as a, 1, space, "
             f"return, backspace, tab, left, f1, [, =, or mouse.left / gamepad.a / gamepad.button0")
 
 
