@@ -88,6 +88,10 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
         if self.combine == "add" and self.frame != "joint":
             raise ValueError("an 'add' map adds degrees of the joint to its target; "
                              "'frame' goes with 'set' maps")
+        if self.hold == "parent" and self.frame == "joint":
+            raise ValueError("'hold: parent' says which link a 'frame' angle is for; "
+                             "without 'frame' the value is the joint's own angle (add "
+                             "frame: world or a link's name, or drop 'hold')")
 
     @property
     def feedback(self) -> bool:
@@ -382,6 +386,11 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
             owner = by_key.get(key)
             if owner is not None:
                 action = owner[4:]
+                if binding.app == action:  # binding the app's own action to its own key
+                    raise located.error(loc, f"key '{key}' is already the app's '{action}' "
+                                             f"key: delete this binding (it does that "
+                                             f"without one), or move the app's with "
+                                             f"app_keys: {{{action}: <key>}}")
                 raise located.error(loc, f"key '{key}' is the app's '{action}' key; bind "
                                          f"another key or move the app's with app_keys: "
                                          f"{{{action}: <key>}}")

@@ -395,6 +395,9 @@ def _value_message(text: str, place: _Place) -> str:
         for member in _members(t):
             kind = _kind(member)
             said = _KIND_WORDS.get(kind)
+            fields = list(_fields(_strip(member)[0])) if kind == "struct" else []
+            if 0 < len(fields) <= 3:  # a small struct: its shape ('{power: ...}')
+                said = "{" + ", ".join(f"{n}: ..." for n in fields) + "}"
             if said and said not in others:
                 others.append(said)
         return "expected one of: " + ", ".join(str(v) for v in _literals(t)) + \
@@ -414,8 +417,11 @@ def _value_message(text: str, place: _Place) -> str:
             words = ["nothing (null)"]
         if len(words) == 1 and literals and "str" in names:  # the words alone
             return "expected one of: " + ", ".join(str(v) for v in literals)
-        return "expected " + (words[0] if len(words) == 1 else
+        said = "expected " + (words[0] if len(words) == 1 else
                               ", ".join(words[:-1]) + " or " + words[-1])
+        if names == ["str"] and isinstance(value, (int, float)) and not isinstance(value, bool):
+            said += f" in quotes, '{value}' (unquoted, YAML reads it as a number)"  # key: 3
+        return said
     return text  # a check of ours (a __post_init__'s ValueError): already puppet's words
 
 
