@@ -258,7 +258,11 @@ def _replay(args: argparse.Namespace) -> int:
     if args.export_motion:  # headless always: a file for animators, no window
         if args.video or args.plot or args.check:
             raise UsageError("--export-motion goes alone (no --video, --plot or --check)")
-        from puppet.timeline.motion import export_motion_command
+        if len(args.logs) != 1:
+            raise UsageError("--export-motion takes one log")
+        from puppet.timeline.motion import FORMATS, export_motion_command
+
+        output_file("--export-motion", args.export_motion, FORMATS)  # before the replay
 
         return export_motion_command(args)
     if args.video:
