@@ -286,8 +286,25 @@ def _replay(args: argparse.Namespace) -> int:
     return replay_command(args)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, its mistakes in one line (README, Errors): ``puppet play:
+    argument --seconds: '-1' is not ... (puppet play --help)``, exit 2, with no usage
+    block above it. Sub-command parsers are made of the same class (add_subparsers)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_DATA_ERROR, f"{self.prog}: {message} ({self.prog} --help)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        # The innermost parser's prog ("puppet mocap send") ends up in the namespace: a
+        # sub-command's parser writes it after its parent did (argparse copies the
+        # sub-namespace over), so messages name the command that was run.
+        namespace = argparse.Namespace() if namespace is None else namespace
+        namespace.command_prog = self.prog
+        return super().parse_known_args(args, namespace)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="puppet",
         description="Drive physically simulated planar characters in real time.")
     parser.add_argument("--version", action="version", version=f"puppet {__version__}")
@@ -451,17 +468,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # argparse's parse_args says this as the root parser ("puppet: ...")
+        parser.exit(EXIT_DATA_ERROR, f"{args.command_prog}: unrecognized arguments: "
+                                     f"{' '.join(extra)} ({args.command_prog} --help)\n")
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
     try:
         return args.func(args)
-    except DataError as exc:
-        print(f"puppet {args.command}: {exc}", file=sys.stderr)
-        return EXIT_DATA_ERROR
-    except UsageError as exc:
-        print(f"puppet {args.command}: {exc}", file=sys.stderr)
+    except (DataError, UsageError) as exc:  # "puppet mocap send: ...", "puppet play: ..."
+        print(f"{args.command_prog}: {exc}", file=sys.stderr)
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130

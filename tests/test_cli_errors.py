@@ -97,20 +97,55 @@ def test_usage_errors_exit_2_with_the_command_named(capsys, tmp_path):
         (("replay", "luxo-hop", "luxo-backflip"), "puppet replay: several logs need --headless"),
         (("replay", "luxo-hop", "--check"), "puppet replay: --check needs --headless"),
         (("play", "luxo-mouse", "--headless", "--seconds", "-1"),
-         "puppet play: error: argument --seconds: '-1' is not a duration from 0"),
+         "puppet play: argument --seconds: '-1' is not a duration from 0"),
         (("play", "luxo-mouse", "--headless", "--fps", "0"),
-         "puppet play: error: argument --fps: '0' is not a frame rate"),
-        (("replay", "luxo-hop", "--headless", "--jobs", "0"), "puppet replay: error: argument"),
+         "puppet play: argument --fps: '0' is not a frame rate"),
+        (("replay", "luxo-hop", "--headless", "--jobs", "0"), "puppet replay: argument"),
         (("replay", "luxo-hop", "--headless", "--size", "10"),
-         "puppet replay: error: argument --size: '10' is not WIDTHxHEIGHT"),
+         "puppet replay: argument --size: '10' is not WIDTHxHEIGHT"),
         (("replay", "luxo-hop", "--headless", "--until-step", "-5"),
-         "puppet replay: error: argument --until-step"),
+         "puppet replay: argument --until-step"),
         (("check", str(tmp_path / "nosuch.yaml")), f"puppet check: {tmp_path}/nosuch.yaml: "),
         (("bench", "nosuch"), "puppet bench: no character named nosuch"),
     ]
     for argv, start in cases:
         code, line = _main_error(capsys, *argv)
         assert code == 2 and line.startswith(start), (argv, line)
+
+
+def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
+    cases = [
+        (("play", "luxo-mouse", "--headless", "--seconds", "-1"),
+         "puppet play: argument --seconds: '-1' is not a duration from 0 to 86400 (simulated "
+         "seconds) (puppet play --help)"),
+        (("play",), "puppet play: the following arguments are required: interface "
+                    "(puppet play --help)"),
+        (("play", "luxo-mouse", "--bogus"),
+         "puppet play: unrecognized arguments: --bogus (puppet play --help)"),
+        (("replay", "luxo-hop", "--jobs", "x"), "puppet replay: argument --jobs/-j: 'x' is "
+                                                "not a number of processes"),
+        (("mocap", "send", "cmu-131_01-walk", "--speed", "99"),
+         "puppet mocap send: argument --speed: '99' is not a speed from 0.05 to 10"),
+        (("mocap", "listen", "--port", "x"),
+         "puppet mocap listen: argument --port: invalid int value: 'x' "
+         "(puppet mocap listen --help)"),
+        (("mocap",), "puppet mocap: the following arguments are required: WHAT"),
+        (("check", "-x", "a.yaml"), "puppet check: unrecognized arguments: -x"),
+        (("bench", "--jsn"), "puppet bench: unrecognized arguments: --jsn"),
+        (("nosuch",), "puppet: argument COMMAND: invalid choice: 'nosuch'"),
+    ]
+    from puppet.cli import main
+
+    for argv, start in cases:
+        try:
+            code = main(list(argv))
+        except SystemExit as exc:
+            code = exc.code
+        captured = capsys.readouterr()
+        assert code == 2 and captured.out == "", (argv, captured.out)
+        assert captured.err.count("\n") == 1 and captured.err.startswith(start), \
+            (argv, captured.err)
+        assert "usage:" not in captured.err and "error:" not in captured.err
 
 
 def test_list_and_check_describe_their_arguments(capsys):
