@@ -73,6 +73,12 @@ _checkpoint_every = _number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT
 KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
 
+def _kind(text: str) -> str:
+    """``puppet list KIND``: a kind as the headings print it (interfaces) or singular."""
+    word = text.strip().lower()
+    return word[:-1] if word.endswith("s") and word[:-1] in KINDS else word
+
+
 IMAGE_EXTS = (".png", ".jpg", ".jpeg", ".bmp", ".tga")  # what pygame.image.save writes
 PLOT_EXTS = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's Agg writes
 
@@ -431,8 +437,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      "each file's one-line description: characters/, "
                                      "interfaces/, assets/scenes/, assets/scripts/, "
                                      "assets/logs/ and recordings/ (the window's own logs).")
-    lst.add_argument("kind", nargs="?", choices=KINDS, metavar="KIND",
-                     help=f"only this kind: {', '.join(KINDS)} (default: all)")
+    lst.add_argument("kind", nargs="?", choices=KINDS, metavar="KIND", type=_kind,
+                     help=f"only this kind: {', '.join(KINDS)}, or the plural as the "
+                          f"headings say (interfaces) (default: all)")
     lst.set_defaults(func=_list)
 
     check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)",

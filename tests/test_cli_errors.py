@@ -160,3 +160,19 @@ def test_list_and_check_describe_their_arguments(capsys):
         out = capsys.readouterr().out
         for word in words:
             assert word in out, (argv, out)
+
+
+def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
+    from puppet.cli import main
+
+    assert main(["list", "interface"]) == 0
+    singular = capsys.readouterr().out
+    assert singular.startswith("interfaces (interfaces/):\n  ") and "luxo-mouse" in singular
+    for word in ("interfaces", "Interfaces"):
+        assert main(["list", word]) == 0
+        assert capsys.readouterr().out == singular
+    assert main(["list", "scenes"]) == 0
+    assert capsys.readouterr().out.startswith("scenes (assets/scenes/):\n")
+    code, line = _main_error(capsys, "list", "interfacess")
+    assert code == 2 and line.startswith("puppet list: argument KIND: invalid choice: "
+                                         "'interfacess' (choose from 'character'"), line
