@@ -37,10 +37,19 @@ def test_play_without_a_display_says_so_points_to_headless_and_records_nothing(t
     assert proc.returncode == 2 and not log.exists()
 
 
-def test_a_window_replay_without_a_display_says_so_too():
+def test_a_window_replay_without_a_display_says_so_too_and_hints_at_replay(tmp_path):
     proc = puppet("replay", "luxo-hop", env=_no_display_env())
     assert proc.returncode == 2
-    assert proc.stderr.strip().splitlines()[-1].startswith("puppet replay: no display found")
+    line = proc.stderr.strip().splitlines()[-1]
+    assert line.startswith("puppet replay: no display found"), line
+    assert line.endswith("; use --headless to replay without a window (e.g. puppet replay "
+                         "luxo-hop --headless, or add --video out.mp4 to see it)"), line
+    assert "puppet play" not in line
+    mine = tmp_path / "my hop.jsonl"  # a log of one's own: its path, quoted for the shell
+    mine.write_bytes((catalog.ROOT / "assets" / "logs" / "luxo-hop.jsonl").read_bytes())
+    proc = puppet("replay", str(mine), env=_no_display_env())
+    assert proc.returncode == 2
+    assert f"(e.g. puppet replay '{mine}' --headless," in proc.stderr, proc.stderr
 
 
 def _main_error(capsys, *argv):
