@@ -397,7 +397,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="evaluate the expectations (header 'expect' or LOG.expect.yaml)")
     replay.add_argument("--until-step", type=_step, metavar="N",
                         help="stop at step N (the first time the replay is there "
-                             "with no more events for it)")
+                             "with no more events for it); past the log's end the run "
+                             "goes on without input to N, and a note on stderr says so")
     replay.add_argument("--as-recorded", action="store_true",
                         help="replay the interface as recorded in the log (its header's "
                              "copy), not today's file")

@@ -205,8 +205,11 @@ def export_motion_command(args) -> int:
         raise UsageError("--fps must be positive")
     path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
+    from puppet.timeline.report import until_note
+
     _, warnings = setup_for_log(log, args.as_recorded)
-    for w in warnings:
+    note = until_note(log, args.until_step)  # past the log's end: it runs on, no input
+    for w in warnings + ([note] if note else []):
         print(w, file=sys.stderr)
     motion = sample_motion(log, args.fps, args.until_step, args.allow_truncated,
                            args.as_recorded)
