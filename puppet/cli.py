@@ -236,17 +236,18 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _check(args: argparse.Namespace) -> int:
-    from puppet.checker import check_file
+    from puppet.checker import check_file, find_target
 
     failed = 0
     for name in args.files:
         try:
             warnings: list[str] = []
-            kind = check_file(name, warnings)
+            path = find_target(name)  # a path as given, or a name (then: the file's path)
+            kind = check_file(path, warnings)
             for w in warnings:
                 print(w, file=sys.stderr)
-            if not args.quiet:
-                print(f"{name}: ok ({kind})")
+            if not args.quiet:  # a name says which file it was
+                print(f"{name if path == Path(name) else path}: ok ({kind})")
         except DataError as exc:
             print(f"puppet check: {exc}", file=sys.stderr)
             failed += 1
@@ -443,17 +444,26 @@ def build_parser() -> argparse.ArgumentParser:
                           f"headings say (interfaces) (default: all)")
     lst.set_defaults(func=_list)
 
-    check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)",
-                           description="Validate data files as the app loads them: "
-                                       "characters, interfaces, scenes, scripts, mocap "
-                                       "mappings and logs' expectations (NAME.expect."
-                                       "yaml), each told by its folder, name or keys. A valid "
-                                       "file prints 'FILE: ok (KIND)'; an invalid one a "
-                                       "line 'puppet check: FILE:LINE:COL: what is wrong, "
-                                       "what was expected'. Exit 0 if all are valid, "
-                                       "else 2.")
+    check = sub.add_parser("check", help="validate data files, logs and clips (exit 0 "
+                                         "valid, 2 invalid)",
+                           description="Validate files as the app loads them: YAML data "
+                                       "files (.yaml: characters, interfaces, scenes, "
+                                       "scripts, mocap mappings, bone tables and logs' "
+                                       "expectations, NAME.expect.yaml), each told by its "
+                                       "folder, name or keys; input logs (.jsonl) as "
+                                       "replay reads them (header, every line, the files "
+                                       "it names, its expectations), without simulating; "
+                                       "BVH clips (.bvh) as mocap info reads them. A name "
+                                       "is looked up in every catalog folder (a name in "
+                                       "two, such as a script and its log, is refused: "
+                                       "give the path). A valid file prints 'FILE: ok "
+                                       "(KIND)'; an invalid one a line 'puppet check: "
+                                       "FILE:LINE:COL: what is wrong, what was expected'. "
+                                       "Exit 0 if all are valid, else 2.")
     check.add_argument("files", nargs="+", metavar="FILE",
-                       help="YAML data file(s) to validate (paths, e.g. characters/luxo.yaml)")
+                       help="YAML data file(s), logs (.jsonl) or BVH clips (.bvh) to "
+                            "validate: paths (characters/luxo.yaml) or names (luxo-mouse, "
+                            "cmu-131_01-walk)")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     check.set_defaults(func=_check)
 
