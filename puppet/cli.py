@@ -87,24 +87,35 @@ def output_file(option: str, path: str, exts) -> Path:
     """An option's output FILE, checked before anything runs: not a folder, and named
     with one of ``exts`` (say what is expected, never write a file of another name)."""
     p = Path(path)
-    if p.is_dir():
-        raise UsageError(f"{option} {path}: is a folder; give a file name ending in "
-                         f"{' or '.join(exts)}")
-    if p.suffix.lower() not in exts:
-        got = f"'{p.suffix}'" if p.suffix else "no extension"
-        raise UsageError(f"{option} {path}: {got}; give a file name ending in "
-                         f"{' or '.join(exts)}")
-    if p.parent.exists() and not p.parent.is_dir():
-        raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
+    try:
+        if p.is_dir():
+            raise UsageError(f"{option} {path}: is a folder; give a file name ending in "
+                             f"{' or '.join(exts)}")
+        if p.suffix.lower() not in exts:
+            got = f"'{p.suffix}'" if p.suffix else "no extension"
+            raise UsageError(f"{option} {path}: {got}; give a file name ending in "
+                             f"{' or '.join(exts)}")
+        if p.parent.exists() and not p.parent.is_dir():
+            raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
+    except OSError as exc:  # a name too long for the file system, a folder not ours...
+        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
     return p
 
 
 def output_folder(option: str, path: str) -> Path:
     """An option's output folder: a folder or a new path, not an existing file."""
     p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise UsageError(f"{option} {path}: is a file; give a folder (it is created if new)")
+    try:
+        if p.exists() and not p.is_dir():
+            raise UsageError(f"{option} {path}: is a file; give a folder (it is created "
+                             f"if new)")
+    except OSError as exc:
+        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
     return p
+
+
+def _short(path: str) -> str:
+    return path if len(path) <= 80 else path[:77] + "..."
 
 
 def _play(args: argparse.Namespace) -> int:

@@ -163,4 +163,22 @@ def test_a_wrong_export_name_is_a_usage_error_before_the_replay(tmp_path, capsys
         assert err == f"puppet replay: --export-motion {out}: {words}\n", err
     assert main(["replay", "luxo-hop", "luxo-kip", "--export-motion", "x.csv"]) == 2
     assert capsys.readouterr().err == "puppet replay: --export-motion takes one log\n"
+    long = tmp_path / ("a" * 300 + ".csv")  # more than a file name may hold
+    assert main(["replay", "luxo-hop", "--export-motion", str(long)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("puppet replay: --export-motion /") and err.endswith(
+        "...: File name too long\n") and err.count("\n") == 1, err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_export_that_cannot_be_written_is_one_line(tmp_path, capsys, monkeypatch):
+    import puppet.timeline.motion as motion
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(motion, "write_planar_bvh", full)
+    out = tmp_path / "hop.bvh"
+    assert main(["replay", "luxo-hop", "--until-step", "10", "--export-motion", str(out)]) == 2
+    assert capsys.readouterr().err == (f"puppet replay: --export-motion {out}: cannot write: "
+                                       f"No space left on device\n")

@@ -216,7 +216,8 @@ def export_motion_command(args) -> int:
     try:
         write_motion(motion, out)
     except OSError as exc:  # a read-only folder, a full disk: one line, not a traceback
-        raise UsageError(f"--export-motion {out}: cannot write: "
+        shown = str(out) if len(str(out)) <= 80 else str(out)[:77] + "..."
+        raise UsageError(f"--export-motion {shown}: cannot write: "
                          f"{exc.strerror or exc}") from None
     same = ("" if log.end_hash is None or args.until_step is not None
             else " (same end as recorded)" if motion.final_hash == log.end_hash
