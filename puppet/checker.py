@@ -1,4 +1,6 @@
-"""``puppet check``: validate any data file, telling its kind from its folder or keys."""
+"""``puppet check``: validate any data file, telling its kind from its folder or keys;
+a log (``.jsonl``) as ``puppet replay`` reads it, a BVH clip as ``puppet mocap info``
+does; a name as the other commands take one (``find_target``)."""
 
 from __future__ import annotations
 
@@ -12,6 +14,90 @@ from puppet.data.yamlfile import Located, load_file
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
                   "scripts": "script", "mappings": "mapping"}
+
+
+YAML_EXTS = (".yaml", ".yml")
+WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
+                    "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl "
+                    "logs and .bvh clips, or their names")
+
+
+def find_target(name: str) -> Path:
+    """``puppet check``'s argument as a file: a path as given, else a name looked up as
+    the other commands look theirs up (catalog.find), in every kind's folder since the
+    command does not say the kind: characters/, interfaces/, assets/scenes/,
+    assets/scripts/, assets/logs/ (else recordings/, as replay looks), assets/mappings/, assets/mocap/. A
+    name in two folders (a script and the log recorded from it) is refused, naming both."""
+    p = Path(name)
+    try:
+        if p.is_dir():
+            raise DataError(name, None, None, f"is a folder; {WHAT_CHECK_READS}")
+        if p.is_file():
+            return p
+    except OSError:  # a name too long for the file system
+        pass
+    if len(p.parts) > 1 or p.suffix.lower() in YAML_EXTS + (".jsonl", ".bvh"):
+        raise DataError(name, None, None, "no such file")
+    from puppet.data import catalog
+
+    found = []
+    for kind in catalog.FOLDERS:
+        if kind == "recording" and found and found[-1][0] == "log":
+            continue  # replay's order (find_log): assets/logs/, else recordings/
+        try:
+            found.append((kind, catalog.find(kind, name)))
+        except DataError:
+            continue
+    if len(found) == 1:
+        return found[0][1]
+    if found:
+        named = [f"{catalog._a(kind)} ({_shown(path)})" for kind, path in found]
+        which = ", ".join(named[:-1]) + " and " + named[-1]
+        raise DataError(name, None, None, f"ambiguous name: {which}; give the path")
+    folders = ", ".join(f"{sub}/" for sub, _ in catalog.FOLDERS.values())
+    raise DataError(name, None, None, f"no such file, and no name of the catalog ({folders})")
+
+
+def _shown(path: Path) -> str:
+    """A catalog file as the project names it (characters/luxo.yaml)."""
+    from puppet.data.catalog import ROOT
+
+    try:
+        return str(Path(path).relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+def check_log(path: Path, warnings: list[str] | None = None) -> str:
+    """A log as ``puppet replay`` reads it, without simulating: the header and every
+    line, the files the header names, the expectations (its ``.expect.yaml`` or the
+    header's) and the links they name, and the interface text of each reload event
+    (which the replay would apply); the first problem is the replay's DataError. What a
+    replay would warn about (the interface changed, no end line) goes to ``warnings``."""
+    from puppet.data.catalog import parse_interface_text
+    from puppet.timeline.expectations import load_expectations
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import cut_warnings, setup_for_log
+
+    log = read_log(path)
+    setup, said = setup_for_log(log)
+    said += cut_warnings(log)
+    expectations = load_expectations(log.path, log.header)
+    expectations.check_links([link.name for link in setup.character.links])
+    seen = set()
+    for e in log.events:
+        if e.event.get("type") != "reload" or e.event["text"] in seen:
+            continue
+        seen.add(e.event["text"])
+        try:
+            parse_interface_text(e.event["text"], e.event.get("path")
+                                 or str(setup.interface_path), setup.character,
+                                 setup.character_path, setup.scene)
+        except DataError as exc:  # apply_log's words, at the event's line
+            raise DataError(log.path, e.line, None, f"cannot apply this event: {exc}") from None
+    if warnings is not None:
+        warnings += said
+    return "log"
 
 
 def guess_kind(path: Path, located: Located) -> str:
@@ -45,6 +131,17 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
     """Validate one file; return its kind. Raises DataError on the first problem;
     ``warnings`` collects what is valid but probably not meant (two maps on a joint)."""
     path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".jsonl":
+        return check_log(path, warnings)
+    if suffix == ".bvh":  # as puppet mocap info reads it
+        from puppet.mocap.bvh import read_bvh
+
+        read_bvh(path)
+        return "mocap clip"
+    if suffix not in YAML_EXTS:
+        got = f"'{path.suffix}' files" if path.suffix else "a file with no extension"
+        raise DataError(str(path), None, None, f"cannot check {got}; {WHAT_CHECK_READS}")
     located = load_file(path)
     kind = guess_kind(path, located)
     if kind == "character":

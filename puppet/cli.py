@@ -73,6 +73,12 @@ _checkpoint_every = _number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT
 KINDS = ("character", "interface", "scene", "script", "log", "recording")
 
 
+def _kind(text: str) -> str:
+    """``puppet list KIND``: a kind as the headings print it (interfaces) or singular."""
+    word = text.strip().lower()
+    return word[:-1] if word.endswith("s") and word[:-1] in KINDS else word
+
+
 IMAGE_EXTS = (".png", ".jpg", ".jpeg", ".bmp", ".tga")  # what pygame.image.save writes
 PLOT_EXTS = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's Agg writes
 
@@ -81,24 +87,35 @@ def output_file(option: str, path: str, exts) -> Path:
     """An option's output FILE, checked before anything runs: not a folder, and named
     with one of ``exts`` (say what is expected, never write a file of another name)."""
     p = Path(path)
-    if p.is_dir():
-        raise UsageError(f"{option} {path}: is a folder; give a file name ending in "
-                         f"{' or '.join(exts)}")
-    if p.suffix.lower() not in exts:
-        got = f"'{p.suffix}'" if p.suffix else "no extension"
-        raise UsageError(f"{option} {path}: {got}; give a file name ending in "
-                         f"{' or '.join(exts)}")
-    if p.parent.exists() and not p.parent.is_dir():
-        raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
+    try:
+        if p.is_dir():
+            raise UsageError(f"{option} {path}: is a folder; give a file name ending in "
+                             f"{' or '.join(exts)}")
+        if p.suffix.lower() not in exts:
+            got = f"'{p.suffix}'" if p.suffix else "no extension"
+            raise UsageError(f"{option} {path}: {got}; give a file name ending in "
+                             f"{' or '.join(exts)}")
+        if p.parent.exists() and not p.parent.is_dir():
+            raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
+    except OSError as exc:  # a name too long for the file system, a folder not ours...
+        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
     return p
 
 
 def output_folder(option: str, path: str) -> Path:
     """An option's output folder: a folder or a new path, not an existing file."""
     p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise UsageError(f"{option} {path}: is a file; give a folder (it is created if new)")
+    try:
+        if p.exists() and not p.is_dir():
+            raise UsageError(f"{option} {path}: is a file; give a folder (it is created "
+                             f"if new)")
+    except OSError as exc:
+        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
     return p
+
+
+def _short(path: str) -> str:
+    return path if len(path) <= 80 else path[:77] + "..."
 
 
 def _play(args: argparse.Namespace) -> int:
@@ -230,17 +247,18 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _check(args: argparse.Namespace) -> int:
-    from puppet.checker import check_file
+    from puppet.checker import check_file, find_target
 
     failed = 0
     for name in args.files:
         try:
             warnings: list[str] = []
-            kind = check_file(name, warnings)
+            path = find_target(name)  # a path as given, or a name (then: the file's path)
+            kind = check_file(path, warnings)
             for w in warnings:
                 print(w, file=sys.stderr)
-            if not args.quiet:
-                print(f"{name}: ok ({kind})")
+            if not args.quiet:  # a name says which file it was
+                print(f"{name if path == Path(name) else path}: ok ({kind})")
         except DataError as exc:
             print(f"puppet check: {exc}", file=sys.stderr)
             failed += 1
@@ -258,7 +276,11 @@ def _replay(args: argparse.Namespace) -> int:
     if args.export_motion:  # headless always: a file for animators, no window
         if args.video or args.plot or args.check:
             raise UsageError("--export-motion goes alone (no --video, --plot or --check)")
-        from puppet.timeline.motion import export_motion_command
+        if len(args.logs) != 1:
+            raise UsageError("--export-motion takes one log")
+        from puppet.timeline.motion import FORMATS, export_motion_command
+
+        output_file("--export-motion", args.export_motion, FORMATS)  # before the replay
 
         return export_motion_command(args)
     if args.video:
@@ -282,8 +304,25 @@ def _replay(args: argparse.Namespace) -> int:
     return replay_command(args)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, its mistakes in one line (README, Errors): ``puppet play:
+    argument --seconds: '-1' is not ... (puppet play --help)``, exit 2, with no usage
+    block above it. Sub-command parsers are made of the same class (add_subparsers)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_DATA_ERROR, f"{self.prog}: {message} ({self.prog} --help)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        # The innermost parser's prog ("puppet mocap send") ends up in the namespace: a
+        # sub-command's parser writes it after its parent did (argparse copies the
+        # sub-namespace over), so messages name the command that was run.
+        namespace = argparse.Namespace() if namespace is None else namespace
+        namespace.command_prog = self.prog
+        return super().parse_known_args(args, namespace)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="puppet",
         description="Drive physically simulated planar characters in real time.")
     parser.add_argument("--version", action="version", version=f"puppet {__version__}")
@@ -370,7 +409,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="evaluate the expectations (header 'expect' or LOG.expect.yaml)")
     replay.add_argument("--until-step", type=_step, metavar="N",
                         help="stop at step N (the first time the replay is there "
-                             "with no more events for it)")
+                             "with no more events for it); past the log's end the run "
+                             "goes on without input to N, and a note on stderr says so")
     replay.add_argument("--as-recorded", action="store_true",
                         help="replay the interface as recorded in the log (its header's "
                              "copy), not today's file")
@@ -410,21 +450,31 @@ def build_parser() -> argparse.ArgumentParser:
                                      "each file's one-line description: characters/, "
                                      "interfaces/, assets/scenes/, assets/scripts/, "
                                      "assets/logs/ and recordings/ (the window's own logs).")
-    lst.add_argument("kind", nargs="?", choices=KINDS, metavar="KIND",
-                     help=f"only this kind: {', '.join(KINDS)} (default: all)")
+    lst.add_argument("kind", nargs="?", choices=KINDS, metavar="KIND", type=_kind,
+                     help=f"only this kind: {', '.join(KINDS)}, or the plural as the "
+                          f"headings say (interfaces) (default: all)")
     lst.set_defaults(func=_list)
 
-    check = sub.add_parser("check", help="validate data files (exit 0 valid, 2 invalid)",
-                           description="Validate data files as the app loads them: "
-                                       "characters, interfaces, scenes, scripts, mocap "
-                                       "mappings and logs' expectations (NAME.expect."
-                                       "yaml), each told by its folder, name or keys. A valid "
-                                       "file prints 'FILE: ok (KIND)'; an invalid one a "
-                                       "line 'puppet check: FILE:LINE:COL: what is wrong, "
-                                       "what was expected'. Exit 0 if all are valid, "
-                                       "else 2.")
+    check = sub.add_parser("check", help="validate data files, logs and clips (exit 0 "
+                                         "valid, 2 invalid)",
+                           description="Validate files as the app loads them: YAML data "
+                                       "files (.yaml: characters, interfaces, scenes, "
+                                       "scripts, mocap mappings, bone tables and logs' "
+                                       "expectations, NAME.expect.yaml), each told by its "
+                                       "folder, name or keys; input logs (.jsonl) as "
+                                       "replay reads them (header, every line, the files "
+                                       "it names, its expectations), without simulating; "
+                                       "BVH clips (.bvh) as mocap info reads them. A name "
+                                       "is looked up in every catalog folder (a name in "
+                                       "two, such as a script and its log, is refused: "
+                                       "give the path). A valid file prints 'FILE: ok "
+                                       "(KIND)'; an invalid one a line 'puppet check: "
+                                       "FILE:LINE:COL: what is wrong, what was expected'. "
+                                       "Exit 0 if all are valid, else 2.")
     check.add_argument("files", nargs="+", metavar="FILE",
-                       help="YAML data file(s) to validate (paths, e.g. characters/luxo.yaml)")
+                       help="YAML data file(s), logs (.jsonl) or BVH clips (.bvh) to "
+                            "validate: paths (characters/luxo.yaml) or names (luxo-mouse, "
+                            "cmu-131_01-walk)")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
     check.set_defaults(func=_check)
 
@@ -447,17 +497,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # argparse's parse_args says this as the root parser ("puppet: ...")
+        parser.exit(EXIT_DATA_ERROR, f"{args.command_prog}: unrecognized arguments: "
+                                     f"{' '.join(extra)} ({args.command_prog} --help)\n")
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
     try:
         return args.func(args)
-    except DataError as exc:
-        print(f"puppet {args.command}: {exc}", file=sys.stderr)
-        return EXIT_DATA_ERROR
-    except UsageError as exc:
-        print(f"puppet {args.command}: {exc}", file=sys.stderr)
+    except (DataError, UsageError) as exc:  # "puppet mocap send: ...", "puppet play: ..."
+        print(f"{args.command_prog}: {exc}", file=sys.stderr)
         return EXIT_DATA_ERROR
     except KeyboardInterrupt:
         return 130

@@ -37,10 +37,19 @@ def test_play_without_a_display_says_so_points_to_headless_and_records_nothing(t
     assert proc.returncode == 2 and not log.exists()
 
 
-def test_a_window_replay_without_a_display_says_so_too():
+def test_a_window_replay_without_a_display_says_so_too_and_hints_at_replay(tmp_path):
     proc = puppet("replay", "luxo-hop", env=_no_display_env())
     assert proc.returncode == 2
-    assert proc.stderr.strip().splitlines()[-1].startswith("puppet replay: no display found")
+    line = proc.stderr.strip().splitlines()[-1]
+    assert line.startswith("puppet replay: no display found"), line
+    assert line.endswith("; use --headless to replay without a window (e.g. puppet replay "
+                         "luxo-hop --headless, or add --video out.mp4 to see it)"), line
+    assert "puppet play" not in line
+    mine = tmp_path / "my hop.jsonl"  # a log of one's own: its path, quoted for the shell
+    mine.write_bytes((catalog.ROOT / "assets" / "logs" / "luxo-hop.jsonl").read_bytes())
+    proc = puppet("replay", str(mine), env=_no_display_env())
+    assert proc.returncode == 2
+    assert f"(e.g. puppet replay '{mine}' --headless," in proc.stderr, proc.stderr
 
 
 def _main_error(capsys, *argv):
@@ -97,20 +106,55 @@ def test_usage_errors_exit_2_with_the_command_named(capsys, tmp_path):
         (("replay", "luxo-hop", "luxo-backflip"), "puppet replay: several logs need --headless"),
         (("replay", "luxo-hop", "--check"), "puppet replay: --check needs --headless"),
         (("play", "luxo-mouse", "--headless", "--seconds", "-1"),
-         "puppet play: error: argument --seconds: '-1' is not a duration from 0"),
+         "puppet play: argument --seconds: '-1' is not a duration from 0"),
         (("play", "luxo-mouse", "--headless", "--fps", "0"),
-         "puppet play: error: argument --fps: '0' is not a frame rate"),
-        (("replay", "luxo-hop", "--headless", "--jobs", "0"), "puppet replay: error: argument"),
+         "puppet play: argument --fps: '0' is not a frame rate"),
+        (("replay", "luxo-hop", "--headless", "--jobs", "0"), "puppet replay: argument"),
         (("replay", "luxo-hop", "--headless", "--size", "10"),
-         "puppet replay: error: argument --size: '10' is not WIDTHxHEIGHT"),
+         "puppet replay: argument --size: '10' is not WIDTHxHEIGHT"),
         (("replay", "luxo-hop", "--headless", "--until-step", "-5"),
-         "puppet replay: error: argument --until-step"),
+         "puppet replay: argument --until-step"),
         (("check", str(tmp_path / "nosuch.yaml")), f"puppet check: {tmp_path}/nosuch.yaml: "),
         (("bench", "nosuch"), "puppet bench: no character named nosuch"),
     ]
     for argv, start in cases:
         code, line = _main_error(capsys, *argv)
         assert code == 2 and line.startswith(start), (argv, line)
+
+
+def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
+    cases = [
+        (("play", "luxo-mouse", "--headless", "--seconds", "-1"),
+         "puppet play: argument --seconds: '-1' is not a duration from 0 to 86400 (simulated "
+         "seconds) (puppet play --help)"),
+        (("play",), "puppet play: the following arguments are required: interface "
+                    "(puppet play --help)"),
+        (("play", "luxo-mouse", "--bogus"),
+         "puppet play: unrecognized arguments: --bogus (puppet play --help)"),
+        (("replay", "luxo-hop", "--jobs", "x"), "puppet replay: argument --jobs/-j: 'x' is "
+                                                "not a number of processes"),
+        (("mocap", "send", "cmu-131_01-walk", "--speed", "99"),
+         "puppet mocap send: argument --speed: '99' is not a speed from 0.05 to 10"),
+        (("mocap", "listen", "--port", "x"),
+         "puppet mocap listen: argument --port: invalid int value: 'x' "
+         "(puppet mocap listen --help)"),
+        (("mocap",), "puppet mocap: the following arguments are required: WHAT"),
+        (("check", "-x", "a.yaml"), "puppet check: unrecognized arguments: -x"),
+        (("bench", "--jsn"), "puppet bench: unrecognized arguments: --jsn"),
+        (("nosuch",), "puppet: argument COMMAND: invalid choice: 'nosuch'"),
+    ]
+    from puppet.cli import main
+
+    for argv, start in cases:
+        try:
+            code = main(list(argv))
+        except SystemExit as exc:
+            code = exc.code
+        captured = capsys.readouterr()
+        assert code == 2 and captured.out == "", (argv, captured.out)
+        assert captured.err.count("\n") == 1 and captured.err.startswith(start), \
+            (argv, captured.err)
+        assert "usage:" not in captured.err and "error:" not in captured.err
 
 
 def test_list_and_check_describe_their_arguments(capsys):
@@ -125,3 +169,19 @@ def test_list_and_check_describe_their_arguments(capsys):
         out = capsys.readouterr().out
         for word in words:
             assert word in out, (argv, out)
+
+
+def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
+    from puppet.cli import main
+
+    assert main(["list", "interface"]) == 0
+    singular = capsys.readouterr().out
+    assert singular.startswith("interfaces (interfaces/):\n  ") and "luxo-mouse" in singular
+    for word in ("interfaces", "Interfaces"):
+        assert main(["list", word]) == 0
+        assert capsys.readouterr().out == singular
+    assert main(["list", "scenes"]) == 0
+    assert capsys.readouterr().out.startswith("scenes (assets/scenes/):\n")
+    code, line = _main_error(capsys, "list", "interfacess")
+    assert code == 2 and line.startswith("puppet list: argument KIND: invalid choice: "
+                                         "'interfacess' (choose from 'character'"), line

@@ -201,6 +201,23 @@ def test_send_counts_what_it_sent_and_refuses_an_unknown_format(capsys):
     assert "invalid choice: 'morse'" in capsys.readouterr().err
 
 
+def test_send_takes_a_clip_name_as_mocap_info_does_and_says_it_is_send(capsys):
+    from puppet.cli import main
+
+    assert main(["mocap", "send", "cmu-131_01-walk", "--to", "udp://127.0.0.1:9",
+                 "--speed", "10", "--quiet"]) == 0
+    assert main(["mocap", "send", "cmu-131_01-walk", "--to", "udp://127.0.0.1:9",
+                 "--speed", "10"]) == 0
+    assert capsys.readouterr().out.startswith("sending cmu-131_01-walk.bvh (")
+    assert main(["mocap", "send", "nosuch-walk"]) == 2
+    assert capsys.readouterr().err == ("puppet mocap send: nosuch-walk: no clip named "
+                                       "'nosuch-walk'; known: cmu-01_01-jumps, "
+                                       "cmu-131_01-walk\n")
+    assert main(["mocap", "send", "gone/walk.bvh"]) == 2
+    assert capsys.readouterr().err.startswith("puppet mocap send: gone/walk.bvh: no such "
+                                              "file")
+
+
 def test_a_headless_live_take_ends_with_the_figures_state_line(tmp_path, capsys):
     from puppet.cli import main
 

@@ -132,6 +132,53 @@ def test_cli_writes_bvh_and_csv_and_refuses_other_files(tmp_path, capsys):
     assert "same end as recorded" in capsys.readouterr().out
     assert read_bvh(out).frame_time == pytest.approx(1 / 24, abs=1e-7)
     assert main(["replay", "luxo-hop", "--export-motion", str(tmp_path / "hop.csv")]) == 0
-    with pytest.raises(SystemExit, match="cannot write '.fbx' files; use .bvh or .csv"):
-        main(["replay", "luxo-hop", "--export-motion", str(tmp_path / "hop.fbx")])
     assert math.isfinite(read_bvh(out).motion.sum())
+
+
+def test_export_into_a_new_folder_creates_it_as_video_and_plot_do(tmp_path, capsys):
+    out = tmp_path / "new" / "deeper" / "hop.csv"
+    assert main(["replay", "luxo-hop", "--until-step", "120", "--export-motion",
+                 str(out)]) == 0
+    said = capsys.readouterr().out
+    assert said.startswith(f"wrote {out}: 8 frames at 30 fps"), said  # 0.25 s at dt 1/480
+    with out.open(newline="") as f:
+        rows = list(csv.reader(f))
+    assert rows[0][:2] == ["frame", "time_s"] and len(rows) == 1 + 8
+
+
+def test_a_wrong_export_name_is_a_usage_error_before_the_replay(tmp_path, capsys,
+                                                                monkeypatch):
+    import puppet.timeline.motion as motion
+
+    def no_replay(*args, **kwargs):
+        raise AssertionError("replayed before the output name was checked")
+
+    monkeypatch.setattr(motion, "sample_motion", no_replay)
+    cases = [(tmp_path / "hop.fbx", "'.fbx'; give a file name ending in .bvh or .csv"),
+             (tmp_path / "hop", "no extension; give a file name ending in .bvh or .csv"),
+             (tmp_path, "is a folder; give a file name ending in .bvh or .csv")]
+    for out, words in cases:
+        assert main(["replay", "luxo-hop", "--export-motion", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert err == f"puppet replay: --export-motion {out}: {words}\n", err
+    assert main(["replay", "luxo-hop", "luxo-kip", "--export-motion", "x.csv"]) == 2
+    assert capsys.readouterr().err == "puppet replay: --export-motion takes one log\n"
+    long = tmp_path / ("a" * 300 + ".csv")  # more than a file name may hold
+    assert main(["replay", "luxo-hop", "--export-motion", str(long)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("puppet replay: --export-motion /") and err.endswith(
+        "...: File name too long\n") and err.count("\n") == 1, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_export_that_cannot_be_written_is_one_line(tmp_path, capsys, monkeypatch):
+    import puppet.timeline.motion as motion
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(motion, "write_planar_bvh", full)
+    out = tmp_path / "hop.bvh"
+    assert main(["replay", "luxo-hop", "--until-step", "10", "--export-motion", str(out)]) == 2
+    assert capsys.readouterr().err == (f"puppet replay: --export-motion {out}: cannot write: "
+                                       f"No space left on device\n")

@@ -208,3 +208,22 @@ def test_a_log_that_blows_up_exits_3_alone_and_among_others(tmp_path, capsys):
     assert replay_command(args(HOP, log)) == 3
     last = capsys.readouterr().out.splitlines()[-1]
     assert re.fullmatch(r"2 logs: 2 ok, 0 differ, 0 errors, \d+ blow-ups?", last), last
+
+
+def test_until_step_past_the_end_says_the_run_goes_on_without_input(capsys, tmp_path):
+    note = (f"{HOP}: note: the log ends at step 2160 (4.500 s); --until-step 2400 runs on "
+            f"without input to step 2400 (5.000 s)\n")
+    assert replay_command(args(HOP, until_step=2400)) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith(f"{HOP}: step 2400  t=5.000s  state=")
+    assert captured.err == note
+    assert replay_command(args(HOP, HOP, until_step=2400)) == 0  # the table: each log's note
+    assert capsys.readouterr().err == note + note
+    for inside in (2160, 1000):  # the end itself, or before it: nothing to say
+        assert replay_command(args(HOP, until_step=inside)) == 0
+        assert capsys.readouterr().err == ""
+    from puppet.cli import main
+
+    out = tmp_path / "hop.csv"
+    assert main(["replay", str(HOP), "--until-step", "2400", "--export-motion", str(out)]) == 0
+    assert capsys.readouterr().err == note

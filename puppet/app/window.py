@@ -7,6 +7,7 @@ steps; everything that changes the simulation goes through ``Session.handle``.
 from __future__ import annotations
 
 import os
+import shlex
 import time
 import warnings
 from pathlib import Path
@@ -46,11 +47,12 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.app.hud import HudInfo, draw_hud
     from puppet.app.render import draw_world
 
+    hint = headless_hint(replay)  # the command that was run: play, or replay LOG
     try:
         pygame.display.init()  # no pygame.init(): puppet makes no sound
-        missing = no_display(pygame)
+        missing = no_display(pygame, hint)
     except pygame.error as exc:
-        missing = f"no display found ({exc}); {HEADLESS_HINT}"
+        missing = f"no display found ({exc}); {hint}"
     if missing:  # before anything is recorded
         pygame.quit()
         raise UsageError(missing)
@@ -417,7 +419,26 @@ HEADLESS_HINT = ("use --headless to run without a window (e.g. puppet play luxo-
 OFFSCREEN_DRIVERS = ("offscreen", "dummy")
 
 
-def no_display(pygame) -> str:
+def headless_hint(replay=None) -> str:
+    """What to run instead without a display: ``puppet play`` 's headless example, or
+    for a replay (``replay``: its ``Log``) the same replay headless, the log by its
+    name if it is one of the catalog's (assets/logs/, recordings/), else its path."""
+    if replay is None:
+        return HEADLESS_HINT
+    from puppet.data.catalog import folder
+
+    path = Path(replay.path)
+    try:
+        named = path.resolve().parent in (folder("log").resolve(),
+                                          folder("recording").resolve())
+    except OSError:
+        named = False
+    log = path.stem if named else shlex.quote(str(replay.path))
+    return (f"use --headless to replay without a window (e.g. puppet replay {log} "
+            f"--headless, or add --video out.mp4 to see it)")
+
+
+def no_display(pygame, hint: str = HEADLESS_HINT) -> str:
     """Why no window can be seen ("" if one can). Without a display SDL falls back to
     an off-screen video driver, and the window would run, invisibly, for ever. A
     driver asked for by name (SDL_VIDEODRIVER=dummy, as the tests do) is the user's
@@ -430,7 +451,7 @@ def no_display(pygame) -> str:
     if driver and (driver not in OFFSCREEN_DRIVERS or asked == driver):
         return ""
     return f"no display found (SDL could only open its '{driver or 'none'}' video driver); " \
-           f"{HEADLESS_HINT}"
+           f"{hint}"
 
 
 def _pick(session: Session, camera, screen_pos) -> tuple[str, tuple[float, float]] | None:

@@ -119,7 +119,8 @@ def add_subcommands(msub) -> None:
                            description="Stream a BVH clip over OSC/UDP in real time "
                                        "(VMC bones, MediaPipe landmarks, or puppet "
                                        "channels through a mapping).")
-    send.add_argument("clip", metavar="CLIP", help="a BVH file")
+    send.add_argument("clip", metavar="CLIP",
+                      help="a BVH file, or a name: assets/mocap/NAME.bvh")
     send.add_argument("--to", default="udp://127.0.0.1:39539", metavar="udp://HOST:PORT",
                       help="where to send (default udp://127.0.0.1:39539)")
     send.add_argument("--format", choices=FORMATS, default="vmc",
@@ -153,12 +154,14 @@ def add_subcommands(msub) -> None:
 
 
 def _send(args: argparse.Namespace) -> int:
+    from puppet.data.catalog import find
     from puppet.mocap.bvh import read_bvh
     from puppet.mocap.formats import parse_udp
     from puppet.mocap.send import encoder, load_bones, stream
 
     address = parse_udp("--to", args.to, 39539)
-    clip = read_bvh(args.clip)
+    clip_path = find("clip", args.clip)  # a path, or a name as mocap info and --mocap take
+    clip = read_bvh(clip_path)
     table = retargeter = None
     if args.format == "puppet":
         if args.mapping is None:
@@ -169,7 +172,7 @@ def _send(args: argparse.Namespace) -> int:
     encode = encoder(clip, args.format, table, retargeter)
     seconds = clip.frames * clip.frame_time / args.speed
     if not args.quiet:
-        print(f"sending {Path(args.clip).name} ({clip.frames} frames at {clip.fps:.4g} fps, "
+        print(f"sending {clip_path.name} ({clip.frames} frames at {clip.fps:.4g} fps, "
               f"{seconds:.1f} s{', looping' if args.loop else ''}) as {args.format} to "
               f"udp://{address[0]}:{address[1]}; Ctrl+C stops", flush=True)
 

@@ -156,8 +156,11 @@ def _far(spec: CharacterSpec, link: str, pivot: tuple[float, float]) -> tuple[fl
 
 # -- writing ----------------------------------------------------------------------------
 def write_motion(motion: Motion, path: str | Path) -> None:
-    """Write ``motion`` as BVH or CSV, by the suffix of ``path``."""
+    """Write ``motion`` as BVH or CSV, by the suffix of ``path`` (its folder is created
+    if missing, as a video's, a plot's, a screenshot's and a log's are)."""
     suffix = Path(path).suffix.lower()
+    if suffix in FORMATS:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
     if suffix == ".bvh":
         joints = planar_hierarchy(motion.character)
         col = {name: i for i, name in enumerate(motion.joints)}
@@ -183,27 +186,39 @@ def write_motion(motion: Motion, path: str | Path) -> None:
 
 
 def export_motion_command(args) -> int:
-    """``puppet replay LOG --headless --export-motion OUT.bvh|OUT.csv [--fps N]``."""
+    """``puppet replay LOG --headless --export-motion OUT.bvh|OUT.csv [--fps N]``.
+    The command line (``puppet.cli``) has checked OUT (a file name ending in .bvh or
+    .csv, not a folder) before this runs; a missing folder is created, as --video,
+    --plot, --screenshot and --record do."""
     import sys
 
+    from puppet.data.errors import UsageError
     from puppet.timeline.replay import find_log
 
     if len(args.logs) != 1:
-        raise SystemExit("puppet replay: --export-motion takes one log")
+        raise UsageError("--export-motion takes one log")
     out = Path(args.export_motion)
     if out.suffix.lower() not in FORMATS:
-        raise SystemExit(f"puppet replay: --export-motion: cannot write '{out.suffix}' files; "
+        raise UsageError(f"--export-motion {out}: cannot write '{out.suffix}' files; "
                          f"use {' or '.join(FORMATS)}")
     if not args.fps > 0:
-        raise SystemExit("puppet replay: --fps must be positive")
+        raise UsageError("--fps must be positive")
     path = find_log(args.logs[0])
     log = read_log(path, args.allow_truncated)
+    from puppet.timeline.report import until_note
+
     _, warnings = setup_for_log(log, args.as_recorded)
-    for w in warnings:
+    note = until_note(log, args.until_step)  # past the log's end: it runs on, no input
+    for w in warnings + ([note] if note else []):
         print(w, file=sys.stderr)
     motion = sample_motion(log, args.fps, args.until_step, args.allow_truncated,
                            args.as_recorded)
-    write_motion(motion, out)
+    try:
+        write_motion(motion, out)
+    except OSError as exc:  # a read-only folder, a full disk: one line, not a traceback
+        shown = str(out) if len(str(out)) <= 80 else str(out)[:77] + "..."
+        raise UsageError(f"--export-motion {shown}: cannot write: "
+                         f"{exc.strerror or exc}") from None
     same = ("" if log.end_hash is None or args.until_step is not None
             else " (same end as recorded)" if motion.final_hash == log.end_hash
             else f" (recorded {log.end_hash}: DIFFERENT)")

@@ -23,7 +23,8 @@ def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check:
     """One headless replay, as a plain dict (runs in a worker process). ``path`` may
     be a log's name (``find_log``)."""
     try:
-        result = replay(find_log(path), until_step, allow_truncated, check=check, trajectory=check,
+        log = read_log(find_log(path), allow_truncated)
+        result = replay(log, until_step, allow_truncated, check=check, trajectory=check,
                         as_recorded=as_recorded)
     except DataError as exc:
         return {"log": path, "error": str(exc)}
@@ -31,7 +32,26 @@ def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check:
         return {"log": path, "error": f"{path}: internal error: {type(exc).__name__}: {exc}"}
     out = result.summary
     out["outcomes"] = [str(o) for o in result.outcomes]
+    note = until_note(log, until_step)
+    if note:
+        out["warnings"].append(note)
     return out
+
+
+def until_note(log: Log, until_step: int | None) -> str | None:
+    """The line to say when ``--until-step`` is past the log's end: the replay goes on
+    simulating, with no input, to the step asked (the character settling, falling or
+    lying still: a user may want that, so it is not refused, but it is not the log)."""
+    if until_step is None or until_step <= log.last_step:
+        return None
+    dt = log.header.get("dt")
+    dt = dt if isinstance(dt, float) and dt > 0 else None
+
+    def at(step: int) -> str:
+        return f"step {step}" + (f" ({step * dt:.3f} s)" if dt else "")
+
+    return (f"{log.path}: note: the log ends at {at(log.last_step)}; --until-step "
+            f"{until_step} runs on without input to {at(until_step)}")
 
 
 def verdict(res: dict) -> str:
@@ -138,6 +158,9 @@ def replay_command(args) -> int:
         log = read_log(find_log(logs[0]), args.allow_truncated)
         setup, warnings = setup_for_log(log, args.as_recorded)
         warnings += cut_warnings(log)
+        note = until_note(log, args.until_step)
+        if note:
+            warnings.append(note)
         for w in warnings:
             print(w, file=sys.stderr)
         slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)

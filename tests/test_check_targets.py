@@ -1,0 +1,124 @@
+"""``puppet check`` takes what the other commands take: names (looked up in every catalog
+folder, since check does not say the kind), input logs (read as ``puppet replay`` reads
+them, the first problem in its words) and BVH clips (as ``puppet mocap info`` reads
+them); anything else is told what check reads."""
+
+from __future__ import annotations
+
+import json
+
+from puppet.cli import main
+from puppet.data.catalog import ROOT
+
+HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"
+WALK = ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"
+READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, scripts, "
+         "mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl logs and .bvh clips, "
+         "or their names")
+
+
+def run(capsys, *argv):
+    code = main(["check", *map(str, argv)])
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err
+    return code, captured.out, captured.err
+
+
+def lines_of(path):
+    return path.read_text(encoding="utf-8").splitlines()
+
+
+def write(path, lines):
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_log_and_a_clip_are_checked_as_replay_and_mocap_info_read_them(capsys):
+    assert run(capsys, HOP, WALK) == (0, f"{HOP}: ok (log)\n{WALK}: ok (mocap clip)\n", "")
+    logs = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
+    code, out, err = run(capsys, "-q", *logs)
+    assert (code, out, err) == (0, "", "")
+
+
+def test_names_are_looked_up_in_every_folder_and_an_ambiguous_one_is_refused(capsys):
+    code, out, _ = run(capsys, "luxo-mouse", "luxo", "cmu-131_01-walk", "biped-mocap-live",
+                       "flat")
+    assert code == 0
+    assert out.splitlines() == [f"{ROOT}/interfaces/luxo-mouse.yaml: ok (interface)",
+                                f"{ROOT}/characters/luxo.yaml: ok (character)",
+                                f"{WALK}: ok (mocap clip)",
+                                f"{ROOT}/assets/logs/biped-mocap-live.jsonl: ok (log)",
+                                f"{ROOT}/assets/scenes/flat.yaml: ok (scene)"]
+    code, out, err = run(capsys, "luxo-hop")
+    assert (code, out) == (2, "")
+    assert err == ("puppet check: luxo-hop: ambiguous name: a script (assets/scripts/"
+                   "luxo-hop.yaml) and a log (assets/logs/luxo-hop.jsonl); give the path\n")
+    code, _, err = run(capsys, "no-such-thing")
+    assert code == 2 and err.startswith("puppet check: no-such-thing: no such file, and no "
+                                        "name of the catalog (characters/, interfaces/, "), err
+
+
+def test_other_files_are_told_what_check_reads(capsys, tmp_path):
+    notes = write(tmp_path / "notes.md", ["# notes"])
+    bare = write(tmp_path / "luxo", ["links: []"])
+    assert run(capsys, notes) == (2, "", f"puppet check: {notes}: cannot check '.md' files; "
+                                         f"{READS}\n")
+    assert run(capsys, bare) == (2, "", f"puppet check: {bare}: cannot check a file with no "
+                                        f"extension; {READS}\n")
+    assert run(capsys, tmp_path) == (2, "", f"puppet check: {tmp_path}: is a folder; {READS}\n")
+    missing = tmp_path / "gone.jsonl"
+    assert run(capsys, missing) == (2, "", f"puppet check: {missing}: no such file\n")
+
+
+def _replay_error(capsys, path, *options) -> str:
+    assert main(["replay", str(path), "--headless", *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("puppet replay: ") and err.count("\n") == 1, err
+    return err.removeprefix("puppet replay: ")
+
+
+def test_a_broken_log_gives_the_replays_first_problem(capsys, tmp_path):
+    lines = lines_of(HOP)
+    bad_line = write(tmp_path / "bad-line.jsonl",
+                     lines[:3] + ['{"step": 200, "event": {"type": "mouse", "x": 0.5}}']
+                     + lines[3:])
+    header = json.loads(lines[0])
+    header["scene"] = "no-such-scene"
+    bad_header = write(tmp_path / "bad-header.jsonl", [json.dumps(header)] + lines[1:])
+    reload = {"step": 300, "event": {"type": "reload", "text": "name: x\ncharacter: luxo\n"
+                                                               "maps: 3\n"}}
+    bad_reload = write(tmp_path / "bad-reload.jsonl", lines[:4] + [json.dumps(reload)]
+                       + lines[4:])
+    for path, words in ((bad_line, f"{bad_line}:4: "), (bad_header, f"{bad_header}:1: "),
+                        (bad_reload, f"{bad_reload}:5: cannot apply this event: ")):
+        expected = _replay_error(capsys, path)
+        assert expected.startswith(words), expected
+        assert run(capsys, path) == (2, "", f"puppet check: {expected}")
+
+
+def test_a_logs_expectations_are_checked_with_it(capsys, tmp_path):
+    log = write(tmp_path / "hop.jsonl", lines_of(HOP))
+    side = write(tmp_path / "hop.expect.yaml",
+                 ["expect:", "  - never_fell: true", "  - height_at_end: {link: lampshade, "
+                                                     "min: 0.1}"])
+    expected = _replay_error(capsys, log, "--check")  # replay reads them with --check
+    assert expected.startswith(f"{side}:3:"), expected
+    assert "unknown link 'lampshade'" in expected
+    assert run(capsys, log) == (2, "", f"puppet check: {expected}")
+    write(side, ["expect:", "  - never_fell: true"])
+    assert run(capsys, log) == (0, f"{log}: ok (log)\n", "")
+
+
+def test_what_a_replay_warns_about_a_log_check_warns_about_too(capsys, tmp_path):
+    cut = write(tmp_path / "cut.jsonl", lines_of(HOP)[:-1])  # no end line: killed?
+    code, out, err = run(capsys, cut)
+    assert (code, out) == (0, f"{cut}: ok (log)\n")
+    assert err.startswith(f"{cut}: warning: no end line (the recording did not close"), err
+
+
+def test_a_broken_clip_is_a_line_of_the_bvh_reader(capsys, tmp_path):
+    text = WALK.read_text(encoding="utf-8").replace("CHANNELS 6", "CHANNELS six", 1)
+    clip = tmp_path / "walk.bvh"
+    clip.write_text(text, encoding="utf-8")
+    code, out, err = run(capsys, clip)
+    assert (code, out) == (2, "") and err.startswith(f"puppet check: {clip}:5"), err
