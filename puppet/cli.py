@@ -137,11 +137,12 @@ def _play(args: argparse.Namespace) -> int:
         script = load_script(script_path)
         if script.scene and not args.scene:  # a name in a file: the catalog or beside it
             script.scene = str(find("scene", script.scene, (script_path.resolve().parent,)))
-        if script.interface and Path(script.interface).stem != Path(args.interface).stem:
-            print(f"puppet play: warning: {args.input} was written for interface "
-                  f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     # A script made for a scene plays there unless --scene says otherwise.
     setup = load_setup(args.interface, args.scene or (script.scene if script else None))
+    if script is not None and script.interface and Path(script.interface).stem not in (
+            Path(args.interface).stem, setup.interface.name):  # (a copy keeps its name)
+        print(f"puppet play: warning: {args.input} was written for interface "
+              f"'{script.interface}', playing it on '{args.interface}'", file=sys.stderr)
     if script is not None:  # a drag or push must name a link of this character
         from puppet.timeline.script import check_links
 

@@ -185,3 +185,16 @@ def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
     code, line = _main_error(capsys, "list", "interfacess")
     assert code == 2 and line.startswith("puppet list: argument KIND: invalid choice: "
                                          "'interfacess' (choose from 'character'"), line
+
+
+def test_a_script_on_a_copy_of_its_interface_is_not_warned_about(tmp_path):
+    """A script written for interface X plays on a copy of X's file (same ``name:``,
+    another path) without the "written for another interface" warning; on an
+    interface of another name it is warned about."""
+    copy = tmp_path / "my-variant.yaml"
+    copy.write_text((catalog.ROOT / "interfaces" / "luxo-mouse.yaml").read_text())
+    same = puppet("play", str(copy), "--headless", "--input", "luxo-hop", "--seconds", "0.1")
+    assert same.returncode == 0, same.stderr
+    assert "was written for interface" not in same.stderr
+    other = puppet("play", "luxo-keys", "--headless", "--input", "luxo-hop", "--seconds", "0.1")
+    assert "was written for interface 'luxo-mouse', playing it on 'luxo-keys'" in other.stderr
