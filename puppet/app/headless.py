@@ -84,6 +84,7 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
         counter = iter(range(10 ** 9))
 
         def on_tick(s: Session) -> None:
+            _follow(renderer, s)
             renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png",
                           ghost=_synced(ghost, s))
 
@@ -95,8 +96,15 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     with recording:
         play(session, events, until, every, on_tick)
     if screenshot:
+        _follow(renderer, session)
         renderer.save(session, screenshot, ghost=_synced(ghost, session))
     return session
+
+
+def _follow(renderer: FrameRenderer, session: Session) -> None:
+    """The session's messages on the frame, as the window shows them: each for
+    ``hud.MESSAGE_SECONDS`` of the wall time the run would take at its slowdown."""
+    renderer.info.follow_messages(session, session.time * renderer.info.slowdown)
 
 
 def _synced(ghost, session: Session) -> Session | None:
