@@ -61,9 +61,21 @@ def test_maps_are_described_in_plain_words():
             for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
                 assert jargon not in text, (name, text)
     lines = dict(interface_lines(load_setup("luxo-mouse").interface))
-    assert lines["mouse left-right"] == "ankle +80 deg at the left .. -80 at the right"
+    assert lines["mouse left-right"] == "leans the lower arm back (left) .. forward (right)"
+    assert lines["mouse up-down"] == "folds the lamp (down) .. unfolds it (up)"
     trot = interface_lines(load_setup("cat-trot").interface)
     assert ("mouse", "far hip and knee: blends 6 poses, half a cycle apart") in trot
+
+
+@pytest.mark.parametrize("name", [n for n in INTERFACES if n.startswith("luxo")])
+def test_luxos_maps_say_what_the_lamp_does(name):
+    """Every map of a Luxo layout is described in the lamp's words (its lower arm, the
+    lamp folding), not as a joint's angles ("ankle +80 deg at the left")."""
+    spec = load_setup(name).interface
+    maps = list(spec.maps) + [m for mode in spec.modes.values() for m in mode]
+    for m in maps:
+        assert m.description, (name, m)
+        assert "deg" not in m.description and "ankle" not in m.description
 
 
 def test_the_controls_panel_is_compact_until_the_help_key():
