@@ -228,9 +228,11 @@ class _Seen:
 def test_tracking_without_a_stream_says_so_once():
     from puppet.interface import events as ev
 
-    session = _walk_in(["a"], 10)
+    session = _walk_in(["a"], 240)
     texts, _ = _drawn(session)
     assert "a: no motion capture stream (start with --mocap CLIP)" in texts
+    # and the tracking line says why nothing follows (not only LOST after 0.25 s)
+    assert "tracking angles: no motion capture stream" in texts
     serial = session.message_serial
     session.handle(ev.key("a", True))  # already tracking: no second notice
     assert session.message_serial == serial

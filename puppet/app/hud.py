@@ -232,7 +232,10 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     changed = world_changes(session)
     if changed:
         lines.append(changed)
-    tracking = session.runtime.tracker.status  # mocap: following, pulls, lost
+    tracker = session.runtime.tracker
+    tracking = tracker.status  # mocap: following, pulls, lost
+    if tracking and not any(c in session.runtime.channels for c in tracker.joints.values()):
+        tracking = f"tracking {tracker.mode}: no motion capture stream"
     if tracking:
         lines.append(tracking)
     for status in info.sources:  # live streams and clips: what came, what was dropped
