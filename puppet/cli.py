@@ -220,6 +220,8 @@ def _play(args: argparse.Namespace) -> int:
           f"state={session.sim.state_hash()}")
     if args.screenshot:
         print(f"wrote {args.screenshot}")
+    if args.frames:
+        print(f"wrote {session.frames_written} frames to {args.frames}")
     for note in session.blowup_messages:  # the window shows them; here nothing would
         print(f"puppet play: {note}", file=sys.stderr)
     return EXIT_BLOWUP if session.blowups else 0
@@ -424,7 +426,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "(0.1-100; 0.25 watches a replay four times faster)")
     replay.add_argument("--video", metavar="OUT",
                         help="headless: render the replay as the window shows it, HUD "
-                             "included, to OUT (.mp4, .mov, .mkv, .avi or .gif)")
+                             "included, to OUT (.mp4, .mov, .mkv, .avi or .gif); the last "
+                             "frame is held 1 s more, with the replay's verdict, so that a "
+                             "player or a looping gif does not end on the last move")
     replay.add_argument("--fps", type=_fps, default=30.0,
                         help="frame rate for --video (1-240, at most 50 for a gif; default 30) "
                              "and --export-motion")

@@ -155,7 +155,13 @@ class Session:
             else:
                 self.sim.end_drag()
             return None
+        tracker = self.runtime.tracker
+        was_tracking = tracker.mode
         action = self.runtime.on_event(event)  # an interface key may ask for an app action
+        if kind == "key" and was_tracking == "off" and tracker.mode != "off" \
+                and not self._rebuilding \
+                and not any(c in self.runtime.channels for c in tracker.joints.values()):
+            self.say(f"{event['key']}: no motion capture stream (start with --mocap CLIP)")
         if action in SIM_ACTIONS:
             self.perform(action)
             return None

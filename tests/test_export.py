@@ -362,3 +362,44 @@ def test_a_chosen_slowdown_wins_over_the_recorded_speed_keys(slowed, tmp_path, m
                              slowdown_chosen=True) == 0
     assert set(slowdowns) == {0.5}
     assert feeders[0].session.sim.state_hash() == log.end_hash
+
+
+def test_the_videos_hold_shows_the_verdict_not_the_pause_banner(hop, tmp_path, monkeypatch):
+    """The second held at the end shows the replay's verdict, and no 'PAUSED (. steps,
+    p resumes)': a video has no keys to resume it."""
+    from puppet.app import hud
+
+    seen, real = [], hud.draw_hud
+
+    class Spy:
+        def __init__(self, font):
+            self.font = font
+
+        def render(self, text, *a):
+            seen[-1].append(text)
+            return self.font.render(text, *a)
+
+        def __getattr__(self, name):
+            return getattr(self.font, name)
+
+    def spy(surface, session, info, font, small):
+        seen.append([])
+        return real(surface, session, info, Spy(font), Spy(small))
+
+    monkeypatch.setattr(hud, "draw_hud", spy)
+    video = export_video(hop, tmp_path / "hold.gif", fps=10, size=SMALL, hold=0.5,
+                         progress=False)
+    assert len(seen) == video.frames == 1 + 13 + 5
+    for texts in seen[-5:]:  # the hold
+        assert not any(t.startswith("PAUSED") for t in texts), texts
+        assert any(t.startswith("replay finished") for t in texts), texts
+    assert not any(t.startswith("PAUSED") for texts in seen for t in texts)
+
+
+def test_cli_frames_says_how_many_it_wrote(tmp_path, capsys):
+    out = tmp_path / "frames"
+    assert main(["play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds",
+                 "0.5", "--frames", str(out), "--fps", "10"]) == 0
+    written = sorted(out.glob("frame_*.png"))
+    assert len(written) == 5
+    assert f"wrote 5 frames to {out}" in capsys.readouterr().out

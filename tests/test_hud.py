@@ -61,9 +61,21 @@ def test_maps_are_described_in_plain_words():
             for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
                 assert jargon not in text, (name, text)
     lines = dict(interface_lines(load_setup("luxo-mouse").interface))
-    assert lines["mouse left-right"] == "ankle +80 deg at the left .. -80 at the right"
+    assert lines["mouse left-right"] == "leans the lower arm back (left) .. forward (right)"
+    assert lines["mouse up-down"] == "folds the lamp (down) .. unfolds it (up)"
     trot = interface_lines(load_setup("cat-trot").interface)
     assert ("mouse", "far hip and knee: blends 6 poses, half a cycle apart") in trot
+
+
+@pytest.mark.parametrize("name", [n for n in INTERFACES if n.startswith("luxo")])
+def test_luxos_maps_say_what_the_lamp_does(name):
+    """Every map of a Luxo layout is described in the lamp's words (its lower arm, the
+    lamp folding), not as a joint's angles ("ankle +80 deg at the left")."""
+    spec = load_setup(name).interface
+    maps = list(spec.maps) + [m for mode in spec.modes.values() for m in mode]
+    for m in maps:
+        assert m.description, (name, m)
+        assert "deg" not in m.description and "ankle" not in m.description
 
 
 def test_the_controls_panel_is_compact_until_the_help_key():
@@ -147,3 +159,107 @@ def test_where_line_names_each_machines_state():
     spec = load_setup("luxo-keys").interface
     assert where_line(spec, "upright", None, {"main": "upright", "grasp": "open"}) == \
         "state upright, grasp open"
+
+
+def _walk_in(state_keys, steps):
+    from puppet.interface import events as ev
+
+    session = Session(load_setup("biped-walk"))
+    for key in state_keys:
+        session.handle(ev.key(key, True))
+        session.handle(ev.key(key, False))
+    session.advance(steps)
+    return session
+
+
+def test_the_walks_hud_says_what_the_mouse_does_before_it_does_anything():
+    """Standing, the mouse drives nothing yet: the HUD says what it will do and when
+    (the 0.3 s after each space), in the compact panel and in the full list."""
+    session = _walk_in([], 10)
+    assert session.runtime.mode == "standing"
+    for help_ in (False, True):
+        texts, _ = _drawn(session, show_help=help_)
+        assert "mouse left-right" in texts and "mouse up-down" in texts, help_
+        said = " ".join(texts)
+        assert "for 0.3 s after space: the swing thigh back (left)" in said, help_
+
+
+def test_sensor_maps_come_after_the_players_controls_folded_until_the_help_key():
+    session = _walk_in(["space"], 240)  # past the 0.3 s of stepping: reaching
+    assert session.runtime.mode == "reaching"
+    texts, _ = _drawn(session)
+    assert not any(t.startswith("(balance)") for t in texts)
+    rows = [t for t in texts if t in ("mouse left-right", "space", "a", "sensors")]
+    assert rows == ["mouse left-right", "space", "a", "sensors"]
+    assert "4 maps acting by themselves (f1: all)" in texts
+    full, _ = _drawn(session, show_help=True)
+    heading = full.index("by themselves, from the body's sensors")
+    assert full.index("shift+a") < heading < full.index(
+        "body ahead of the stance foot: swing foot further the more ahead")
+
+
+@pytest.mark.parametrize("help_", [False, True])
+def test_no_hud_text_is_cut_short(help_):
+    """Long texts wrap onto the next row instead of ending in an ellipsis, in every
+    state of every shipped interface."""
+    for name in INTERFACES:
+        session = Session(load_setup(name))
+        spec = session.setup.interface
+        for state in spec.states or [None]:
+            enter = spec.states[state].enter if state is not None else None
+            mode = enter.mode if enter is not None and enter.mode else session.runtime.mode
+            runtime = _Seen(session.runtime, state=state, mode=mode, states=None)
+            texts, _ = _drawn(_Seen(session, runtime=runtime), show_help=help_)
+            cut = [t for t in texts if t.endswith("...") and t != "..."]
+            assert not cut, (name, state, cut)
+
+
+class _Seen:
+    """An object as another with some attributes changed (a session in another state)."""
+
+    def __init__(self, of, **changed):
+        self._of, self._changed = of, changed
+
+    def __getattr__(self, name):
+        changed = self.__dict__["_changed"]
+        return changed[name] if name in changed else getattr(self.__dict__["_of"], name)
+
+
+def test_tracking_without_a_stream_says_so_once():
+    from puppet.interface import events as ev
+
+    session = _walk_in(["a"], 240)
+    texts, _ = _drawn(session)
+    assert "a: no motion capture stream (start with --mocap CLIP)" in texts
+    # and the tracking line says why nothing follows (not only LOST after 0.25 s)
+    assert "tracking angles: no motion capture stream" in texts
+    serial = session.message_serial
+    session.handle(ev.key("a", True))  # already tracking: no second notice
+    assert session.message_serial == serial
+    fed = Session(load_setup("biped-walk"))  # a stream is there: no notice
+    fed.handle({"type": "channels", "values": {c: 0.0 for c in
+                                                fed.runtime.tracker.joints.values()}})
+    fed.handle(ev.key("a", True))
+    assert fed.message_serial == 0
+
+
+@pytest.mark.parametrize("name", ["biped-recover", "luxo-keys", "cat-bound", "biped-bars"])
+def test_the_help_panels_do_not_cover_each_other(name, monkeypatch):
+    """With the help key: the controls, the pose key pictures and the legend side by side."""
+    from puppet.app import hud
+
+    rects = []
+    for fn in ("draw_rows", "draw_keymap"):
+        real = getattr(hud, fn)
+
+        def spy(*a, _real=real, **k):
+            rect = _real(*a, **k)
+            if rect is not None:
+                rects.append(rect)
+            return rect
+        monkeypatch.setattr(hud, fn, spy)
+    _drawn(Session(load_setup(name)), show_help=True)
+    assert len(rects) >= 3
+    for i, a in enumerate(rects):
+        for b in rects[i + 1:]:
+            assert not a.colliderect(b), (name, a, b)

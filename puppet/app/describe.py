@@ -93,7 +93,7 @@ def map_line(m) -> tuple[str, str]:
     A map's own ``description`` is what it does, when the file gives one."""
     if getattr(m, "description", ""):
         names = (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
-        return input_label(names), m.description
+        return input_label(names), _unprefixed(m.description, names)
     if getattr(m, "grid", None) is not None:
         rows, cols = len(m.grid), len(m.grid[0])
         who = joint_words(m.joints) if m.joints else "the poses' joints"
@@ -116,6 +116,22 @@ def map_line(m) -> tuple[str, str]:
     if tuple(m.from_) not in ((0.0, 1.0), (-1.0, 1.0)):
         return what, f"{who} {_fmt(a)} deg at {m.from_[0]:g} .. {_fmt(b)} at {m.from_[1]:g}"
     return what, f"{who} {_fmt(a)} deg at the {lo} .. {_fmt(b)} at the {hi}"
+
+
+def _unprefixed(text: str, names) -> str:
+    """A description without the input it opens with, which the HUD's key column shows
+    already: "mouse x: the swing thigh ..." -> "the swing thigh ...", "mouse x (run):
+    the thigh ..." -> "run: the thigh ..."."""
+    if len(names) != 1 or "." not in names[0]:
+        return text
+    device, _, part = names[0].partition(".")
+    head = f"{device} {part}"
+    if text.startswith(head + ": "):
+        return text[len(head) + 2:]
+    if text.startswith(head + " (") and "): " in text:
+        inner, _, rest = text[len(head) + 2:].partition("): ")
+        return f"{inner}: {rest}"
+    return text
 
 
 def compact_lines(lines: list[tuple[str, str]], more: str,
@@ -210,3 +226,151 @@ def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
     table = spec.app_key_table()
     return [(table[action], text) for action, (_, text) in APP_KEYS.items()] + [
         ("ctrl+drag", "pull a body with a spring (the mouse maps and the camera wait)")]
+
+
+def _inputs_of(m) -> tuple[str, ...]:
+    return (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
+
+
+def reads_sensors(m) -> bool:
+    """A map driven by the body's own sensors (balance feedback), not by the player."""
+    return any(n.startswith("sensor.") for n in _inputs_of(m))
+
+
+def _live_maps(spec: InterfaceSpec, state: str | None, mode: str | None) -> list:
+    maps = list(spec.maps)
+    mode = mode if mode is not None else spec.start_mode
+    if mode is not None:
+        maps += spec.modes[mode]
+    if spec.states:
+        maps += spec.states[state if state is not None else spec.start_state].maps
+    return maps
+
+
+def _goto_state(spec: InterfaceSpec, k) -> str | None:
+    """The main machine's state a key's ``goto`` leads to (None: none, or another machine's)."""
+    if k.goto is None or not spec.states:
+        return None
+    to = spec.resolve_goto(k.goto, MAIN_MACHINE)
+    return to[1] if to is not None and to[0] == MAIN_MACHINE else None
+
+
+def _state_mode(spec: InterfaceSpec, name: str) -> str | None:
+    enter = spec.states[name].enter
+    return enter.mode if enter is not None else None
+
+
+def _where_else(spec: InterfaceSpec, state: str | None, mode_name: str | None,
+                state_name: str | None) -> str:
+    """Where maps that are not live now apply, in a player's words: "for 0.3 s after
+    space" when a key live now leads to the state that has them (or enters their
+    mode) and a timed transition leaves it, "after space", else "in mode stepping"."""
+    keys, timed = [], []
+    for k in live_keys(spec, state):
+        to = _goto_state(spec, k)
+        if state_name is not None:
+            here = to == state_name
+        else:
+            here = k.mode == mode_name or to is not None and _state_mode(spec, to) == mode_name
+        if not here or k.key in keys:
+            continue
+        keys.append(k.key)
+        if to is not None:  # left again by time, for a state without these maps
+            left = [t.after for t in spec.states[to].transitions
+                    if t.after is not None and t.when is None and t.to in spec.states
+                    and (state_name is not None or _state_mode(spec, t.to) != mode_name)]
+            if left:
+                timed.append(min(left))
+    if keys:
+        after = "after " + " or ".join(keys)
+        return f"for {max(timed):.2g} s {after}" if len(timed) == len(keys) else after
+    return f"in mode {mode_name}" if mode_name is not None else f"in state {state_name}"
+
+
+def _elsewhere(spec: InterfaceSpec, state: str | None,
+               mode: str | None) -> list[tuple[str, str, str]]:
+    """(input, where, what it does) for the maps on the player's own inputs that are
+    not live in ``state`` and ``mode`` but are in another mode or state."""
+    live = {map_line(m) for m in _live_maps(spec, state, mode)}
+    mode = mode if mode is not None else spec.start_mode
+    state = state if state is not None else (spec.start_state if spec.states else None)
+    places = [(m, None) for m in spec.modes if m != mode]
+    places += [(None, s) for s in spec.states if s != state]
+    out: list[tuple[str, str, str]] = []
+    seen = set(live)
+    for mode_name, state_name in places:
+        maps = spec.modes[mode_name] if mode_name is not None else spec.states[state_name].maps
+        mine = [m for m in maps if not reads_sensors(m) and map_line(m) not in seen]
+        if not mine:
+            continue
+        where = _where_else(spec, state, mode_name, state_name)
+        for m in mine:
+            key, text = map_line(m)
+            seen.add((key, text))
+            out.append((key, where, text))
+    return out
+
+
+def elsewhere_lines(spec: InterfaceSpec, state: str | None = None,
+                    mode: str | None = None) -> list[tuple[str, str]]:
+    """(input, where: what it does) for the maps on the player's own inputs (mouse,
+    gamepad, ...) that are not live in ``state`` and ``mode`` but are in another mode
+    or state: what the mouse will do, and when ("for 0.3 s after space: ...")."""
+    return [(key, f"{where}: {text}") for key, where, text in _elsewhere(spec, state, mode)]
+
+
+def _compact_elsewhere(spec: InterfaceSpec, state: str | None, mode: str | None,
+                       live_inputs: set[str], more: str) -> list[tuple[str, str]]:
+    """The compact list's rows for inputs that do nothing now but will: one row per
+    input, what its one map does, or how many maps it drives and from when."""
+    rows: dict[str, list[tuple[str, str]]] = {}
+    for key, where, text in _elsewhere(spec, state, mode):
+        if key not in live_inputs:
+            rows.setdefault(key, []).append((where, text))
+    out = []
+    for key, found in rows.items():
+        if len(found) == 1:
+            out.append((key, f"{found[0][0]}: {found[0][1]}"))
+            continue
+        wheres = list(dict.fromkeys(w for w, _ in found))
+        where = wheres[0] if len(wheres) == 1 else wheres[0].split(" s ", 1)[-1] \
+            if wheres[0].startswith("for ") else wheres[0]
+        out.append((key, f"{where}: {len(found)} maps ({more})"))
+    return out
+
+
+SENSORS = "sensors"  # the key column of the sensor maps' folded row
+
+
+def control_rows(spec: InterfaceSpec, state: str | None = None, mode: str | None = None,
+                 more: str | None = None) -> list[tuple[str, str]]:
+    """The HUD's controls: the player's maps live now, then the player's maps of the
+    other modes and states (with when they apply), the keys and gestures, and last the
+    maps on the body's own sensors. ``more`` (e.g. "f1: all"): the compact list (maps
+    on one input in one row, the sensor maps in one row); None: all of them, the sensor
+    maps under a heading of their own."""
+    maps = _live_maps(spec, state, mode)
+    user = [map_line(m) for m in maps if not reads_sensors(m)]
+    sensed = [map_line(m) for m in maps if reads_sensors(m)]
+    keys = [(k.key, action_text(k)) for k in live_keys(spec, state)]
+    keys += [(g.key, g.description or f"gesture {g.duration:.1f} s") for g in spec.gestures]
+    if more is not None:
+        later = _compact_elsewhere(spec, state, mode, {k for k, _ in user}, more)
+        rows = compact_lines(user, more) + later
+        rows = compact_lines(rows + keys, more, limit=8)
+        if sensed:
+            rows.append((SENSORS, f"{len(sensed)} map{'s' if len(sensed) > 1 else ''} "
+                                  f"acting by themselves ({more})"))
+        return rows
+    groups: dict[tuple[str, str], list[str]] = {}  # (input, where) -> what each map does
+    for key, where, text in _elsewhere(spec, state, mode):
+        groups.setdefault((key, where), []).append(text)
+    later = []
+    for (key, where), texts in groups.items():  # a whole other mode's maps: counted
+        later += [(key, f"{where}: {text}") for text in texts] if len(texts) <= 2 else \
+            [(key, f"{where}: {len(texts)} maps")]
+    rows = user + later + keys
+    if sensed:
+        rows += [("by themselves, from the body's sensors", "")]
+        rows += [("", f"{k.removeprefix('(balance) ')}: {t}") for k, t in sensed]
+    return rows

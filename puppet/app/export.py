@@ -119,7 +119,8 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     ``slowdown`` (default: the recorded one) is wall seconds per simulated second, as
     in the window; ``size`` is the window size drawn, ``scale`` shrinks the frames
     written (e.g. 0.5 for a small gif); ``hold`` seconds of the last frame are added
-    at the end. ``progress``: a tqdm bar (None: only when stderr is a terminal).
+    at the end, showing the replay's verdict ("replay finished ... the same as
+    recorded"), so that a player or a looping gif does not cut the last move short. ``progress``: a tqdm bar (None: only when stderr is a terminal).
     ``overlay``: draw the balance overlay (centre of mass, support, xcom) as F4 does.
     """
     from tqdm import tqdm
@@ -176,10 +177,9 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
             feeder.advance(n)  # recorded speed keys reach the clock (clock.apply)
             video_time += frame_dt
             emit(frame_dt)
-        if hold > 0:
-            done = finished_message(session, log)
-            session.say(done, error="DIFFERENT" in done)
-            info.paused = True
+        if hold > 0:  # the last frame held, with the verdict (the window's message at
+            done = finished_message(session, log)  # the end of a replay), not its pause
+            session.say(done, error="DIFFERENT" in done)  # banner: a video has no keys
             for _ in range(round(hold * fps)):
                 video_time += frame_dt
                 emit(frame_dt)

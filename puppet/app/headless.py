@@ -71,7 +71,8 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     every frame at ``fps`` (``frames_dir``); ``record``: also write the input log
     there (the images do not change the run: same log, same state hash).
     ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character;
-    ``overlay``: draw the balance overlay (``render.draw_balance``)."""
+    ``overlay``: draw the balance overlay (``render.draw_balance``). The session
+    returned has ``frames_written``: the number of frames written to ``frames_dir``."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
@@ -79,13 +80,15 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
         renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
                                  overlay=overlay)
     every, on_tick = 0, None
+    session.frames_written = 0  # how many frames went to frames_dir (the CLI says so)
     if frames_dir:
         every = max(1, round(1.0 / (fps * session.sim.dt)))
-        counter = iter(range(10 ** 9))
 
         def on_tick(s: Session) -> None:
-            renderer.save(s, Path(frames_dir) / f"frame_{next(counter):05d}.png",
+            _follow(renderer, s)
+            renderer.save(s, Path(frames_dir) / f"frame_{session.frames_written:05d}.png",
                           ghost=_synced(ghost, s))
+            session.frames_written += 1
 
     recording = contextlib.nullcontext()
     if record:
@@ -95,8 +98,15 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     with recording:
         play(session, events, until, every, on_tick)
     if screenshot:
+        _follow(renderer, session)
         renderer.save(session, screenshot, ghost=_synced(ghost, session))
     return session
+
+
+def _follow(renderer: FrameRenderer, session: Session) -> None:
+    """The session's messages on the frame, as the window shows them: each for
+    ``hud.MESSAGE_SECONDS`` of the wall time the run would take at its slowdown."""
+    renderer.info.follow_messages(session, session.time * renderer.info.slowdown)
 
 
 def _synced(ghost, session: Session) -> Session | None:

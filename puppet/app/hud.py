@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import pygame
 
-from puppet.app.describe import app_lines, compact_lines, interface_lines, where_line
+from puppet.app.describe import app_lines, control_rows, where_line
 from puppet.app.keymap import draw_keymap
 from puppet.session import Session
 
@@ -55,8 +55,8 @@ GAP = 14  # pixels between a row's key and its text
 
 
 COMPACT_SHARE = 0.4  # of the window's width: the compact key panel at most (long texts
-# cut with an ellipsis, all of them on the help key), so that the gap between the two top
-# panels, where the camera puts the character (camera.LEAD_X), stays free
+# wrapped onto the next rows), so that the gap between the two top panels, where the
+# camera puts the character (camera.LEAD_X), stays free
 
 
 def _panel(surface, rect) -> None:
@@ -80,6 +80,45 @@ def fit(font: pygame.font.Font, text: str, width: int) -> str:
     return text.rstrip() + "..."
 
 
+def wrap(font: pygame.font.Font, text: str, width: int) -> list[str]:
+    """``text`` broken at spaces into lines of at most ``width`` pixels as ``font``
+    draws them (a single word wider than that is cut with an ellipsis)."""
+    lines: list[str] = []
+    line = ""
+    words: list[str] = []
+    for word in text.split(" "):  # ".." and "..." stay with the word after them
+        if words and words[-1] in ("..", "..."):
+            words[-1] += " " + word
+        else:
+            words.append(word)
+    for word in words:
+        trial = f"{line} {word}" if line else word
+        if line and font.size(trial)[0] > width:
+            lines.append(line)
+            trial = word
+        line = trial
+    lines.append(line)
+    return [fit(font, t, width) for t in lines]
+
+
+def wrap_rows(font: pygame.font.Font, rows: list[tuple[str, str]],
+              max_width: int) -> list[tuple[str, str]]:
+    """(key, text) rows with each text too long for a panel ``max_width`` wide broken
+    onto rows of its own under it (their key ""), so that no text is cut."""
+    keyed = [(k, t) for k, t in rows if t]
+    key_w = max((font.size(k)[0] for k, _ in keyed), default=0) + GAP
+    room = max(60, max_width - 16 - key_w - font.size("  ")[0])
+    out: list[tuple[str, str]] = []
+    for k, t in rows:
+        if not t:
+            out.append((k, t))
+            continue
+        first, *rest = wrap(font, t, room)
+        out.append((k, first))
+        out += [("", "  " + more) for more in rest]
+    return out
+
+
 def layout_rows(font: pygame.font.Font, rows: list[tuple[str, str]],
                 max_width: int) -> tuple[int, int, list[tuple[str, str]]]:
     """Lay out (key, text) rows by measured width: (key column width, panel width,
@@ -94,7 +133,24 @@ def layout_rows(font: pygame.font.Font, rows: list[tuple[str, str]],
                           for k, t in rows]
 
 
+MIN_COLUMN = 300  # pixels: a column of a panel at least (more, if the panel itself is)
 BAR_HEIGHT = 30  # the timeline bar along the bottom, with its margin
+
+
+def _columns(small, rows: list[tuple[str, str]], per: int,
+             share: int) -> list[list[tuple[str, str]]]:
+    """``rows`` in columns of at most ``per`` rows ``share`` pixels wide, each wrapped
+    by its own key column's width; a row's wrapped lines stay in one column."""
+    columns, rest = [], list(rows)
+    while rest:
+        n = min(per, len(rest))
+        wrapped = wrap_rows(small, rest[:n], share)
+        while len(wrapped) > per and n > 1:
+            n -= 1
+            wrapped = wrap_rows(small, rest[:n], share)
+        columns.append(wrapped[:per])
+        rest = rest[n:]
+    return columns
 
 
 def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, top: int,
@@ -103,8 +159,14 @@ def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, to
     ``right`` (None: its left edge at 8). Rows that do not fit above ``bottom`` go on in
     a second column (and so on), each laid out by its own width."""
     per = max(1, (bottom - top - 8) // ROW)
-    columns = [rows[i:i + per] for i in range(0, len(rows), per)]
-    share = max_width // len(columns)
+    share, count = max_width, 0
+    while True:  # wrap for the columns' width; more rows may need one more column
+        columns = _columns(small, rows, per, share)
+        if len(columns) <= count or count > 8:
+            break
+        count = len(columns)
+        share = max(max_width // count, min(max_width, MIN_COLUMN))  # too narrow to read:
+        # wider than asked (the panel reaches further left)
     laid = [layout_rows(small, col, share) for col in columns]
     width = sum(w for _, w, _ in laid)
     x0 = 8 if right is None else right - width
@@ -170,7 +232,10 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     changed = world_changes(session)
     if changed:
         lines.append(changed)
-    tracking = session.runtime.tracker.status  # mocap: following, pulls, lost
+    tracker = session.runtime.tracker
+    tracking = tracker.status  # mocap: following, pulls, lost
+    if tracking and not any(c in session.runtime.channels for c in tracker.joints.values()):
+        tracking = f"tracking {tracker.mode}: no motion capture stream"
     if tracking:
         lines.append(tracking)
     for status in info.sources:  # live streams and clips: what came, what was dropped
@@ -184,27 +249,30 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
                      (16, 12 + i * 22))
 
     runtime = session.runtime
-    controls = interface_lines(setup.interface, runtime.state, runtime.mode)
     where = where_line(setup.interface, runtime.state, runtime.mode, runtime.states)
     rows = [(f"controls  ({where})" if where else "controls", "")]
     help_key = keys["help"]
-    if info.show_help:
-        rows += controls + [("", ""), ("app keys", "")] + app_lines(setup.interface)
+    if info.show_help:  # the player's controls, the sensors' maps, the app's keys
+        rows += control_rows(setup.interface, runtime.state, runtime.mode)
+        rows += [("", ""), ("app keys", "")] + app_lines(setup.interface)
     else:  # compact: the maps on one input in one row, a few keys; the rest on help
-        rows += compact_lines(controls, f"{help_key}: all")
+        rows += control_rows(setup.interface, runtime.state, runtime.mode, f"{help_key}: all")
         rows += [(help_key, "all keys, pose pictures, what the marks mean")]
     bottom = surface.get_height() - BAR_HEIGHT - 16
-    room = surface.get_width() - left_w - 32
+    left = left_w + 8  # the left edge of the room the controls panel has
+    if info.show_help:  # what the marks mean, bottom left, above the bar, and the pose
+        legend = legend_rows(session)  # keys as pictures, laid out like the keyboard
+        drawn = draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW,
+                          bottom, surface.get_width() // 2)
+        keymap = draw_keymap(surface, setup.interface, setup.character, small,
+                             (8, 16 + height), state=session.runtime.state, scene=setup.scene)
+        # the controls beside them, not over them (room for two columns at least)
+        left = max([left, drawn.right] + ([keymap.right] if keymap is not None else []))
+        left = min(left, surface.get_width() // 2)
+    room = surface.get_width() - left - 24
     if not info.show_help:  # compact: narrow enough to leave the character's place free
         room = min(room, int(COMPACT_SHARE * surface.get_width()))
     draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room)
-    if info.show_help:  # what the marks mean, bottom left, above the bar
-        legend = legend_rows(session)
-        draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW, bottom,
-                  surface.get_width() // 2)
-    if info.show_help:  # pose keys as pictures, laid out like the keyboard
-        draw_keymap(surface, setup.interface, setup.character, small, (8, 16 + height),
-                    state=session.runtime.state, scene=setup.scene)
     draw_timeline(surface, session, info, small)
     if info.message:
         msg = font.render(fit(font, info.message, surface.get_width() - 48), True,

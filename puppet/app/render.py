@@ -30,9 +30,10 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     surface.fill(scene.sky)
     _draw_grid(surface, camera, None)
     _draw_ground(surface, session, camera)
-    _draw_grid(surface, camera, font, labels_only=True, scene=scene)
-    for ruler in scene.rulers:
-        _draw_ruler(surface, camera, scene, ruler, font)
+    taken: list[pygame.Rect] = []  # distance labels drawn: no label goes over another
+    for ruler in scene.rulers:  # the rulers' labels first: the grid's give way to them
+        _draw_ruler(surface, camera, scene, ruler, font, taken)
+    _draw_grid(surface, camera, font, labels_only=True, scene=scene, taken=taken)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
     _draw_props(surface, session, camera)
@@ -78,9 +79,20 @@ def draw_balance(surface: pygame.Surface, session: Session, camera: Camera,
         surface.blit(font.render("xcom", True, color), (x - 14, y - 30))
 
 
+def _free(rect: pygame.Rect, taken: list[pygame.Rect] | None) -> bool:
+    """Whether ``rect`` keeps clear of the labels in ``taken`` (then it is added)."""
+    if taken is None:
+        return True
+    if rect.inflate(6, 2).collidelist(taken) >= 0:
+        return False
+    taken.append(rect)
+    return True
+
+
 def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
-               scene=None) -> None:
-    """Faint vertical lines every 0.5 m, labelled every metre: shows distance travelled."""
+               scene=None, taken: list[pygame.Rect] | None = None) -> None:
+    """Faint vertical lines every 0.5 m, labelled every metre: shows distance travelled
+    (a label that would cover one in ``taken``, a ruler's, is left out)."""
     x0, x1 = camera.visible_x()
     step = 0.5 if camera.view_height <= 3 else 1.0
     k = math.floor(x0 / step)
@@ -97,6 +109,9 @@ def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
             top = camera.to_screen((x, ground))[1] + 6 if ground is not None else 0
             top = min(top, surface.get_height() - BOTTOM_RESERVED_PX - 22)  # above the bar
             tag = label.get_rect(topleft=(sx + 4, top)).inflate(6, 2)
+            if not _free(tag, taken):
+                k += 1
+                continue
             back = pygame.Surface(tag.size, pygame.SRCALPHA)
             back.fill((255, 255, 255, 190))
             surface.blit(back, tag.topleft)
@@ -117,8 +132,11 @@ def _draw_ground(surface, session: Session, camera: Camera) -> None:
             pygame.draw.lines(surface, (235, 245, 255), False, pts, max(1, width // 2))
 
 
-def _draw_ruler(surface, camera: Camera, scene, ruler, font) -> None:
-    """Ticks standing on the ground, longer and labelled every ``label_every``."""
+def _draw_ruler(surface, camera: Camera, scene, ruler, font,
+                taken: list[pygame.Rect] | None = None) -> None:
+    """Ticks standing on the ground, longer and labelled every ``label_every`` (a label
+    that would cover one in ``taken`` - a ruler's drawn before - is left out, its tick
+    still long)."""
     x0, x1 = camera.visible_x()
     h = camera.view_height
     for x, distance, labelled in ruler.ticks():
@@ -133,7 +151,9 @@ def _draw_ruler(surface, camera: Camera, scene, ruler, font) -> None:
             text = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
                     else f"{distance * 100:.0f} cm")
             label = font.render(text, True, ruler.color)
-            surface.blit(label, (a[0] - label.get_width() / 2, a[1] + 4))
+            rect = label.get_rect(midtop=(a[0], a[1] + 4))
+            if _free(rect, taken):
+                surface.blit(label, rect)
 
 
 def _draw_props(surface, session: Session, camera: Camera) -> None:
