@@ -194,7 +194,7 @@ def _play(args: argparse.Namespace) -> int:
                           sources=[clip] if clip is not None else ())
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
-    from puppet.timeline.script import compile_script, run_seconds
+    from puppet.timeline.script import compile_script, late_note, run_seconds
 
     events = compile_script(script, DEFAULT_DT) if script is not None else []
     seconds = run_seconds(script, args.seconds)
@@ -202,11 +202,10 @@ def _play(args: argparse.Namespace) -> int:
         if args.seconds is None and (script is None or script.seconds is None):
             seconds = clip.clip.duration  # a clip's run lasts the clip
         events = sorted(events + clip.events(DEFAULT_DT, seconds), key=lambda e: e[0])
-    late = sum(1 for step, _ in events if step * DEFAULT_DT > seconds)
-    if late:
-        print(f"puppet play: warning: {late} scripted event(s) come after the run ends at "
-              f"{seconds:g} s and never act (set 'seconds:' in the script, or --seconds)",
-              file=sys.stderr)
+    late = (late_note(script, seconds, DEFAULT_DT, args.seconds is not None, clip is not None)
+            if script else None)
+    if late:  # entries as written, and how long the script runs
+        print(f"puppet play: warning: {late}", file=sys.stderr)
     # --record writes the scripted run as a log (see ``puppet replay``); images too
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,

@@ -35,14 +35,12 @@ def replay_log(path: str | Path | Log, until_step: int | None = None, allow_trun
     (header or sidecar file).
 
     ``expect`` (a list of expectation dicts, as in a sidecar file) replaces the log's.
+    As ``puppet replay --check``: a log without its end line is refused (DataError)
+    unless ``allow_truncated``, which checks the events it has (``result.unchecked``
+    says what was left out).
     """
-    result = replay(path, until_step, allow_truncated, check=expect is None,
-                    sample_every=sample_every, as_recorded=as_recorded)
-    if expect is not None:
-        items = parse_expectations(expect, f"{path} (expect=)")
-        items.check_links(result.trajectory.links)
-        result.outcomes = evaluate_all(items.items, result.trajectory, result.final_hash)
-    return result
+    return replay(path, until_step, allow_truncated, sample_every=sample_every,
+                  as_recorded=as_recorded, expect=expect)
 
 
 def check(result: ReplayResult, expect: list) -> list[Outcome]:

@@ -98,4 +98,40 @@ def test_scripted_events_after_the_end_of_the_run_are_reported(tmp_path):
                       "  - {t: 9.0, key: a}\n")
     proc = puppet("play", "luxo-mouse", "--headless", "--input", str(script))
     assert proc.returncode == 0
-    assert "2 scripted event(s) come after the run ends at 5 s" in proc.stderr
+    assert ("1 of the script's 2 entries starts after the run ends and never acts: the run "
+            "ends at 5 s (the default: neither --seconds nor 'seconds:' in the script says); "
+            "the script's last entry is at t = 9 s") in proc.stderr, proc.stderr
+
+
+def test_late_entries_are_counted_as_written_and_the_script_says_how_long_it_runs():
+    """luxo-hop has 6 entries after 1.1 s (glides of many mouse samples each): the
+    warning counts those 6, not the 259 events they compile to, and says how long the
+    script runs instead of telling the user to set the --seconds they just set."""
+    proc = puppet("play", "luxo-mouse", "--headless", "--input", "luxo-hop", "--seconds", "1.1")
+    assert proc.returncode == 0, proc.stderr
+    assert ("warning: 6 of the script's 9 entries start after the run ends and never act: "
+            "the run ends at 1.1 s (--seconds); the script's last entry is at t = 3.5 s and "
+            "it is done at 3.8 s") in proc.stderr, proc.stderr
+    assert "259" not in proc.stderr and "set 'seconds:'" not in proc.stderr
+
+
+def test_late_note_counts_entries_and_entries_cut_short():
+    from puppet.physics.simulation import DEFAULT_DT as dt
+    from puppet.timeline.script import late_note, ScriptSpec, ScriptEntry
+
+    spec = ScriptSpec(seconds=2.0, events=[
+        ScriptEntry(t=0.0, mouse=(0.5, 0.5)),
+        ScriptEntry(t=1.9, mouse=(0.2, 0.2), over=0.5),  # a glide past the end
+        ScriptEntry(t=2.0, key="a"),  # at the end's own step: it acts
+        ScriptEntry(t=2.5, key="b", hold=0.5),  # a press and its release: one entry
+        ScriptEntry(t=3.0, action="reset")])
+    note = late_note(spec, 2.0, dt)
+    assert note.startswith("2 of the script's 5 entries start after the run ends and never "
+                           "act, 1 is cut short by the end (a glide or hold that goes on "
+                           "past it): the run ends at 2 s (the script's 'seconds:')"), note
+    assert note.endswith("the script's last entry is at t = 3 s"), note
+    assert late_note(spec, 3.0, dt) is None  # the 0.5 s hold of 'b' is done at 3 s
+    assert late_note(spec, 2.9, dt, given=True) == (
+        "1 of the script's 5 entries starts after the run ends and never acts, 1 is cut "
+        "short by the end (a glide or hold that goes on past it): the run ends at 2.9 s "
+        "(--seconds); the script's last entry is at t = 3 s")

@@ -345,3 +345,81 @@ def test_guide_rigid_grasp_keeps_the_held_angle(tmp_path):
     tap(s, "u")
     s.advance(1)
     assert not s.sim.rigid and not s.sim.grasps
+
+
+# -- docs/scripts.md's commands, run as written ------------------------------------------
+SHIPPED = ("characters", "interfaces", "assets/scenes", "assets/scripts")  # what they read
+
+
+def doc_commands(path: Path) -> list[str]:
+    """Every ``puppet`` command of a page, in its order: the lines of its ```sh blocks
+    (a trailing '# comment' dropped) and inline `puppet SUBCOMMAND ARG...` spans."""
+    text = path.read_text(encoding="utf-8")
+    found = []
+    for m in re.finditer(r"```sh\n(.*?)```|`(puppet [^`]+)`", text, re.S):
+        if m.group(1) is not None:
+            lines = [re.sub(r"\s+#.*", "", ln).strip() for ln in m.group(1).splitlines()]
+            found += [(m.start(), ln) for ln in lines if ln.startswith("puppet ")]
+        elif len(m.group(2).split()) >= 3:  # `puppet play` alone names the command only
+            found.append((m.start(), m.group(2)))
+    return [cmd for _, cmd in sorted(found, key=lambda f: f[0])]  # a block's lines in order
+
+
+def doc_file_names() -> set[str]:
+    """The names of the files the docs' examples are (``# file:`` blocks): they do not
+    ship, a reader saves them."""
+    return {FILE_MARK.match(t.splitlines()[0]).group(2)[:-len(".yaml")]
+            for doc in DOC_FILES for _, t in yaml_blocks(doc) if FILE_MARK.match(t.splitlines()[0])}
+
+
+def test_scripts_doc_commands_run_as_written(tmp_path):
+    """Every command of docs/scripts.md runs as written (exit 0), in the page's order,
+    from the top folder of a copy of the clone's data files (paths such as
+    assets/scripts/luxo-hop.yaml are relative to it; a log it records is the one it
+    replays). Those that name no file of
+    the docs' own examples run on a fresh clone's files alone, the page's opening
+    example among them; the rest run once the examples are saved where the page says
+    (the worked example's interfaces/luxo-hopper.yaml, the scripts under their names)."""
+    import os
+    import shlex
+    import shutil
+    import subprocess
+    import sys
+
+    root = DOCS.parent
+    home = tmp_path / "clone"
+    for sub in SHIPPED:
+        shutil.copytree(root / sub, home / sub)
+    env = dict(os.environ, PUPPET_HOME=str(home), SDL_VIDEODRIVER="dummy",
+               SDL_AUDIODRIVER="dummy")
+    commands = doc_commands(DOCS / "scripts.md")
+    ours = doc_file_names()
+
+    def needs_doc_file(cmd: str) -> bool:
+        return any(Path(word).stem in ours for word in shlex.split(cmd)[2:])
+
+    first_block = (DOCS / "scripts.md").read_text().split("```sh\n")[1].split("```")[0]
+    opening = [c for c in commands if c in first_block]
+    assert opening and not any(needs_doc_file(c) for c in opening), opening
+    fresh = [c for c in commands if not needs_doc_file(c)]
+    later = [c for c in commands if needs_doc_file(c)]
+    assert len(fresh) >= 5 and later, commands
+
+    def run(cmd: str) -> None:
+        proc = subprocess.run([sys.executable, "-m", "puppet", *shlex.split(cmd)[1:]],
+                              cwd=home, env=env, capture_output=True, text=True,
+                              timeout=300)
+        assert proc.returncode == 0, f"{cmd}\n{proc.stdout}{proc.stderr}"
+        assert "Traceback" not in proc.stderr, cmd
+
+    for cmd in fresh:
+        run(cmd)
+    # save the examples as the page says: the worked example's final interface file,
+    # the scripts as the files their first lines name
+    (home / "interfaces" / WORKED).write_text(worked_example(tmp_path / "x").read_text())
+    for _, text in yaml_blocks(DOCS / "scripts.md"):
+        m = FILE_MARK.match(text.splitlines()[0])
+        if m:
+            (home / m.group(1) / m.group(2)).write_text(text)
+    for cmd in later:
+        run(cmd)

@@ -60,9 +60,67 @@ def test_killed_recording_keeps_its_events_and_replays(tmp_path):
     session.handle(ev.mouse(0.1, 0.9))
     log = read_log(path)
     assert [e.step for e in log.events] == [0, 50] and log.end is None
-    result = replay(path)  # replays, and says why there is no end state to compare
-    assert result.steps == 50 and result.same_end is None
+    result = replay(path, check=False)  # replays, and says why there is no end state
+    assert result.steps == 50 and result.same_end is None  # to compare
     assert any("no end line" in w and "killed" in w for w in result.warnings)
+    with pytest.raises(DataError) as info:  # a checked replay refuses it (the next test)
+        replay(path)
+    assert info.value.line == 4 and "--allow-truncated" in info.value.message
+
+
+def _cut_end(hop_log: Path, tmp_path: Path) -> Path:
+    """``hop_log`` without its end line (``head -n -1``), with expectations beside it."""
+    cut = _write(tmp_path / "cut-end.jsonl", hop_log.read_text().splitlines()[:-1])
+    (tmp_path / "cut-end.expect.yaml").write_text(
+        "expect:\n  - upright_at_end: true\n  - x_at_end: {link: base, min: -1}\n")
+    return cut
+
+
+def test_checked_replay_refuses_a_log_without_its_end_line(tmp_path, hop_log):
+    """Under --check a log that lost only its end line is refused as a log cut mid-line
+    is (exit 2, the same hint): it would stop at its last event, not where the recording
+    stopped, and its end state could not be compared. --allow-truncated checks the
+    events it has and says the end state was not checked; a plain replay goes on with
+    the warning."""
+    cut = _cut_end(hop_log, tmp_path)
+    n = len(cut.read_text().splitlines())
+    proc = _cli("replay", cut, "--headless", "--check")
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    err = proc.stderr.strip().splitlines()
+    assert len(err) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert err[0].startswith(f"puppet replay: {cut}:{n + 1}: no end line"), err
+    assert err[0].endswith("(--allow-truncated replays the lines before it)"), err
+    assert proc.stdout == ""
+    proc = _cli("replay", cut, "--headless", "--check", "--allow-truncated")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "ok   upright_at_end" in proc.stdout
+    assert ("not checked: same end as the recording (the log has no end line"
+            in proc.stdout), proc.stdout
+    assert "'same end as the recording' is not checked" in proc.stderr, proc.stderr
+    proc = _cli("replay", cut, "--headless")  # no --check: replays, with the warning
+    assert proc.returncode == 0 and "state=" in proc.stdout, proc.stderr
+    assert "no end line" in proc.stderr and "no recorded end state" in proc.stderr
+
+
+def test_replay_log_follows_the_rule_of_check(tmp_path, hop_log):
+    """puppet.testing.replay_log refuses a log without its end line as --check does,
+    with its own expectations or a test's (expect=); allow_truncated checks what there
+    is and says so."""
+    from puppet.testing import replay_log
+
+    cut = _cut_end(hop_log, tmp_path)
+    for expect in (None, [{"upright_at_end": True}]):
+        with pytest.raises(DataError, match="no end line.*--allow-truncated"):
+            replay_log(cut, expect=expect)
+    result = replay_log(cut, allow_truncated=True)
+    assert result.same_end is None and not result.failed and len(result.outcomes) == 2
+    assert result.unchecked and "no end line" in result.unchecked[0]
+    assert result.summary["unchecked"] == result.unchecked
+    result = replay_log(cut, allow_truncated=True, expect=[{"upright_at_end": True}])
+    assert [o.expectation for o in result.outcomes] == ["upright_at_end true"]
+    assert any("is not checked" in w for w in result.warnings)
+    whole = replay_log(hop_log)  # a closed log: nothing left out
+    assert whole.same_end is True and whole.unchecked == []
 
 
 def test_default_path_never_overwrites(tmp_path):

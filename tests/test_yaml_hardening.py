@@ -34,8 +34,56 @@ BAD = {  # text -> (line, col, message fragment)
     "python tag": ("a: !!python/name:os.system ''\n", 1, 4, "unsupported YAML value"),
     "set": ("!!set {a, b}\n", 1, 1, "unsupported YAML value"),
     "list key": ("? [a, b]\n: 1\n", 1, 3, "a mapping key must be a plain name"),
-    "syntax": ("a: [1, 2\nb: 3\n", 2, 2, "YAML syntax error: expected ',' or ']'"),
-    "tab": ("a:\n\t- 1\n", 2, 1, "found character '\\t' that cannot start any token"),
+    "syntax": ("a: [1, 2\nb: 3\n", 2, 2, "YAML syntax error: the '[' at line 1, column 4 is "
+               "not closed by line 2, column 2: expected ',' between its items or ']'"),
+    # PyYAML's words for the common mistakes, said plainly (what is wrong, what to do)
+    "tab": ("a:\n\t- 1\n", 2, 1, "a tab in the indentation: YAML indents with spaces only"),
+    "tab after a dash": ("a:\n  b: [1]\n  c:\n    -\t1\n", 4, 6,
+                         "a tab after '-': YAML separates with spaces, not tabs"),
+    "one space less": ("a:\n  - name: x\n    shapes:\n      - r: 1\n   mass: 1\n", 5, 4,
+                       "'mass' is indented 3 spaces, which lines up with nothing above it: "
+                       "YAML nests by indentation, so a line starts in the column of the keys "
+                       "it belongs with: expected 4 spaces, like 'shapes' on line 3, or 2, "
+                       "like the '-' on line 2"),
+    "one space more": ("a:\n  b: 1\n   c: 2\n", 3, 4,
+                       "'c' is indented 3 spaces, more than 'b' on line 2 above it (2 spaces), "
+                       "so it reads as the rest of b's value"),
+    "item off": ("a:\n  - 1\n - 2\n", 3, 2, "the list item '- 2' is indented 1 space, which "
+                 "lines up with nothing above it"),
+    "key among items": ("a:\n  - 1\n  b: 2\n", 3, 3, "'b' is a key in the column of the list "
+                        "items above (the '-' on line 2): a list holds '- ' items only"),
+    "item among keys": ("a:\n  b: 2\n  - 1\n", 3, 3, "the list item '- 1' is in the column of "
+                        "the keys above ('b' on line 2): a mapping holds 'key: value' lines"),
+    "no colon": ("a: 1\nb 2\nc: 3\n", 2, 1, "'b 2' is not 'key: value': expected a ':' and a "
+                 "space after the key"),
+    "no colon, runs on": ("a:\n  - name x\n    mass: 1\n", 2, 5, "'name x' is not 'key: value': "
+                          "expected a ':' and a space after the key, so it runs on into line 3"),
+    "no space after colon": ("maps:\n  - input:mouse.x\n    joint: ankle\n", 2, 5,
+                             "'input:mouse.x' is not 'key: value': expected a ':' and a space "
+                             "after the key; a ':' right before other text is part of the "
+                             "text, so it runs on into line 3"),
+    "no space, a comment": ("maps:\n  - input:mouse.x  # x\n    joint: ankle\n", 2, 5,
+                             "'input:mouse.x' is not 'key: value': expected a ':' and a space "
+                             "after the key; a ':' right before other text is part of the "
+                             "text, so 'joint' on line 3 cannot go with it"),
+    "runs on from an item": ("a:\n  - 0.2\n   over: 0.1\n", 3, 4,
+                             "'over' reads as the rest of the value '0.2' on line 2"),
+    "item after a key": ("a: 1\nevents: - {t: 0}\n", 2, 9, "a list item ('- ') after "
+                         "'events:' on the same line: a list's items start lines of their own"),
+    "no key": ("a:\n  b: 1\n  : 2\n", 3, 3, "a ':' with no key before it"),
+    "first line indented": (" a: 1\nb: 2\n", 2, 1, "'b' is indented 0 spaces, less than the "
+                            "file's first line ('a' on line 1, 1 space)"),
+    "colon no space": ("a:\n  b:1\n  c: 2\n", 2, 3, "'b:1' is not 'key: value'"),
+    "colon in value": ("name: luxo: lamp\n", 1, 11, "the value of 'name' holds ': ' "
+                       "('luxo: lamp'): quote the whole value (name: \"luxo: lamp\")"),
+    "unclosed quote": ("a: 1\nb: 'x\nc: 3\n", 2, 4, "the quote (') that starts here is never "
+                       "closed"),
+    "text after quote": ("a: 'it's'\n", 1, 8, "text after the closing quote (') of a value"),
+    "escape": ('a: "C:\\path"\n', 1, 7, "'\\p' is not an escape in a double-quoted value"),
+    "extra bracket": ("a: [1, 2]]\n", 1, 10, "a ']' with no '[' open before it"),
+    "two commas": ("a: [1, , 2]\n", 1, 8, "two commas with no item between them"),
+    "reserved": ("a: @x\n", 1, 4, "'@' cannot start an unquoted value"),
+    "crlf": ("a:\r\n  b: 1\r\n c: 2\r\n", 3, 2, "'c' is indented 1 space, which lines up"),
 }
 
 

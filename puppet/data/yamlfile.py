@@ -26,6 +26,7 @@ from typing import Any
 import yaml
 
 from puppet.data.errors import DataError
+from puppet.data.yaml_errors import plain_words
 
 Position = tuple[int, int]  # 1-based line, column
 MAX_BYTES = 2_000_000  # a data file's largest size (the shipped ones are under 10 kB)
@@ -205,14 +206,13 @@ def _parse(text: str, path: str, loader_class) -> Located:
         loader.dispose()
 
 
-def _syntax_error(exc: yaml.MarkedYAMLError, path: str) -> DataError:
+def _syntax_error(exc: yaml.MarkedYAMLError, path: str, text: str = "") -> DataError:
     mark = exc.problem_mark or exc.context_mark
     line, col = (mark.line + 1, mark.column + 1) if mark else (None, None)
     problem = " ".join(str(exc.problem or exc.context or "invalid YAML").split())
-    if "expected ',' or" in problem:  # an unclosed or broken { } / [ ] item
-        problem += (" (look at the lines above too: inside { } and [ ] items are "
-                    "separated by commas, and a '# comment' there hides the rest of "
-                    "its line, closing bracket included)")
+    plain = plain_words(exc, problem, text.splitlines()) if text else None
+    if plain is not None:  # the common mistakes, said as what is wrong and what to do
+        line, col, problem = plain
     return DataError(path, line, col, f"YAML syntax error: {problem}")
 
 
@@ -230,7 +230,7 @@ def load_text(text: str, path: str, loader=None) -> Located:
             # message and mark, so that both loaders give the same one line.
             return load_text(text, path, PURE_LOADER)
         if isinstance(exc, yaml.MarkedYAMLError):
-            raise _syntax_error(exc, path) from None
+            raise _syntax_error(exc, path, text) from None
         message = " ".join(str(exc).split())
         raise DataError(path, None, None, f"YAML error: {message}") from None
     except RecursionError:  # not expected (no recursion here), but never a traceback

@@ -216,6 +216,8 @@ MAX_PATH = 4096  # characters in a file name in a header or a reload event
 MAX_GESTURE_POINTS = 200_000
 MAX_CHANNELS = 4096  # named values in one channels event (a mocap frame has a few hundred)
 MAX_STEP = 10 ** 12  # a rewind's step when no log bounds it (a live source)
+# how a refused cut log (a bad line, or under --check no end line) says what to do
+TRUNCATED_HINT = " (--allow-truncated replays the lines before it)"
 
 
 def max_step(dt: float) -> int:
@@ -532,7 +534,7 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
                 log.truncated_at = i
                 log.truncated_reason = problem
                 break
-            hint = "" if log.end is not None else " (--allow-truncated replays the lines before it)"
+            hint = "" if log.end is not None else TRUNCATED_HINT
             raise DataError(path_s, i, None, problem + hint)
         log.events.append(LogEvent(obj["step"], obj["event"], i))
     return log

@@ -21,7 +21,7 @@ from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_t
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
-from puppet.timeline.log import Log, read_log
+from puppet.timeline.log import TRUNCATED_HINT, Log, read_log
 from puppet.timeline.playback import next_move, play
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
@@ -248,6 +248,8 @@ class ReplayResult:
     # compare (no end line, stopped early with until_step, or a truncated log)
     same_end: bool | None = None
     blowups: list[str] = field(default_factory=list)  # the session's note for each
+    # checks a checked replay could not make (a cut log's end state), one line each
+    unchecked: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> list[Outcome]:
@@ -264,7 +266,7 @@ class ReplayResult:
                 "same_end": self.same_end,
                 "checks": len(self.outcomes), "failed": [str(o) for o in self.failed],
                 "warnings": list(self.warnings), "truncated_at": self.truncated_at,
-                "blowups": list(self.blowups)}
+                "blowups": list(self.blowups), "unchecked": list(self.unchecked)}
 
 
 def find_log(name: str) -> str:
@@ -282,18 +284,66 @@ def find_log(name: str) -> str:
             raise exc from None
 
 
-def cut_warnings(log: Log) -> list[str]:
+SAME_END = "same end as the recording"  # the check a closed log's end line gives
+
+
+def _checking(log: Log) -> str:
+    """How a checked replay of a cut log says what it checks: the events it has."""
+    return (f"checking the expectations on its {len(log.events)} events only (to step "
+            f"{log.last_step}); '{SAME_END}' is not checked")
+
+
+def cut_warnings(log: Log, check: bool = False) -> list[str]:
     """What a replay should say about a log that does not end as a closed recording
     does: cut off at a bad line (replayed with --allow-truncated), or with no end line
-    (the recording was killed or crashed: nothing to compare the end state with)."""
+    (the recording was killed or crashed: nothing to compare the end state with).
+    ``check``: the replay evaluates expectations (on what the log has, see ``require_end``)."""
     if log.truncated_at is not None:
-        return [f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; "
-                f"replaying the {len(log.events)} events before it"]
+        what = (_checking(log) if check
+                else f"replaying the {len(log.events)} events before it")
+        return [f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; {what}"]
     if log.end is None:
+        what = (_checking(log) if check
+                else f"replaying its {len(log.events)} events, with no recorded end state "
+                     "to compare")
         return [f"{log.path}: warning: no end line (the recording did not close: killed or "
-                f"crashed?); replaying its {len(log.events)} events, with no recorded end "
-                f"state to compare"]
+                f"crashed?); {what}"]
     return []
+
+
+def require_end(log: Log, allow_truncated: bool) -> None:
+    """The rule of a checked replay (``puppet replay --check``, ``replay(check=True)``,
+    ``puppet.testing.replay_log``, ``--video --check``): a log without its end line is
+    refused as a log cut mid-line is, unless ``allow_truncated``. Without the end line
+    the replay stops at the last event instead of where the recording stopped, so
+    expectations at the end would be measured at another time, and the end state cannot
+    be compared. A plain replay (the window's, or headless without --check) goes on
+    with the warning of ``cut_warnings``."""
+    if log.end is not None or log.truncated_at is not None or allow_truncated:
+        return
+    line = (log.events[-1].line if log.events else 1) + 1
+    raise DataError(log.path, line, None,
+                    'no end line ({"end": N, "hash": "..."}): the recording did not close '
+                    "(killed or crashed?) or the file was cut, so where the run ended and "
+                    f"its end state are unknown and the checks cannot be made"
+                    + TRUNCATED_HINT)
+
+
+def not_checked(log: Log, until_step: int | None = None) -> list[str]:
+    """What a checked replay of this log leaves out, one line each (printed with the
+    checks): the end state, when the log has none to compare with."""
+    if until_step is not None:
+        return []  # stopped early by request: nothing to compare at that step
+    if log.truncated_at is not None:
+        why = f"the log was cut at line {log.truncated_at}"
+    elif log.end is None:
+        why = "the log has no end line"
+    elif not log.end_hash:
+        why = "the end line has no hash"
+    else:
+        return []
+    return [f"{SAME_END} ({why}; the checks above cover its {len(log.events)} events, "
+            f"to step {log.last_step})"]
 
 
 def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]]:
@@ -391,22 +441,30 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True, as_recorded: bool = False,
-           adjust=None) -> ReplayResult:
+           adjust=None, expect: list | None = None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
-    evaluate its expectations. ``as_recorded``: see ``setup_for_log``. ``adjust``: a
-    function of the Setup returning the one to replay on instead (a tool asking what
-    the log does on other physics: tools/solver_sensitivity.py)."""
+    evaluate its expectations (``check``; a log without its end line is then refused
+    unless ``allow_truncated``: ``require_end``). ``expect``: expectation dicts to check
+    instead of the log's (a test's; no end-state check is added), under the same rule.
+    ``as_recorded``: see ``setup_for_log``. ``adjust``: a function of the Setup
+    returning the one to replay on instead (a tool asking what the log does on other
+    physics: tools/solver_sensitivity.py)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
+    check = check or expect is not None
+    if check:  # before anything is loaded: the log itself cannot be checked
+        require_end(log, allow_truncated)
     setup, warnings = setup_for_log(log, as_recorded)
     if adjust is not None:
         setup = adjust(setup)
-    warnings += cut_warnings(log)
+    warnings += cut_warnings(log, check)
     expectations = None
     if check:  # a plain replay does not import numpy or the expectations (process start)
-        from puppet.timeline.expectations import Outcome, evaluate_all, load_expectations
+        from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
+                                                  parse_expectations)
 
-        expectations = load_expectations(path, log.header)
+        expectations = (load_expectations(path, log.header) if expect is None
+                        else parse_expectations(expect, f"{path} (expect=)"))
     session = new_session(log, setup)
     if expectations is not None:
         expectations.check_links(list(session.character.link_order))
@@ -424,12 +482,13 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     outcomes: list[Outcome] = []
     if expectations is not None:
         outcomes = evaluate_all(expectations.items, traj, final)
-        if same_end is not None:
-            outcomes.append(Outcome("same end as the recording", same_end,
+        if same_end is not None and expect is None:
+            outcomes.append(Outcome(SAME_END, same_end,
                                     f"replayed {final}, recorded {log.end_hash}"))
     return ReplayResult(str(path), final, session.steps, session.time, log.end_hash, traj,
                         outcomes, warnings, log.truncated_at, session, same_end,
-                        list(session.blowup_messages))
+                        list(session.blowup_messages),
+                        not_checked(log, until_step) if check and expect is None else [])
 
 
 class LogFeeder:

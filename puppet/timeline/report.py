@@ -112,6 +112,8 @@ def print_one(res: dict, check: bool) -> None:
             print(f"  {line}")
         if not res["outcomes"]:
             print("  (no expectations)")
+        for line in res.get("unchecked", []):
+            print(f"  not checked: {line}")
     print_notes(res)
 
 

@@ -91,6 +91,47 @@ def run_seconds(spec: ScriptSpec | None, seconds: float | None = None) -> float:
     return DEFAULT_SECONDS if seconds is None else seconds
 
 
+def entry_end(e: ScriptEntry) -> float:
+    """When an entry has done all it does, s: a glide's or drag's end, a key's release."""
+    if e.mouse is not None:
+        return e.t + e.over
+    if e.key is not None:
+        return e.t + e.hold
+    if e.drag is not None:
+        return e.t + e.drag.over + e.drag.hold
+    return e.t
+
+
+def late_note(spec: ScriptSpec, seconds: float, dt: float, given: bool = False,
+              clip: bool = False) -> str | None:
+    """What to say when some of a script's entries come after the run's end (they never
+    act) or run past it (a glide or hold cut short), counted as the user wrote them
+    (entries, not the mouse samples of a glide or a key's press and release), with how
+    long the script runs, so that ``--seconds`` or ``seconds:`` can be chosen; None
+    when every entry is done by the end. ``given``: ``seconds`` came from --seconds;
+    ``clip``: else a mocap clip's length sets it, unless the script says.
+    An entry at the end's own step still acts (``play``)."""
+    end = round(seconds / dt)
+    late = [e for e in spec.events if round(e.t / dt) > end]
+    cut = [e for e in spec.events if round(e.t / dt) <= end < round(entry_end(e) / dt)]
+    if not late and not cut:
+        return None
+    n = len(spec.events)
+    one = len(late) == 1
+    told = [f"{len(late)} of the script's {n} entries start{'s' if one else ''} after the run "
+            f"ends and never act{'s' if one else ''}" if late else "",
+            f"{len(cut)} {'is' if len(cut) == 1 else 'are'} cut short by the end (a glide or "
+            "hold that goes on past it)" if cut else ""]
+    last = max(spec.events, key=lambda e: e.t)
+    done = max(entry_end(e) for e in spec.events)
+    source = ("--seconds" if given else "the script's 'seconds:'" if spec.seconds is not None
+              else "the --mocap clip's length" if clip
+              else "the default: neither --seconds nor 'seconds:' in the script says")
+    return (f"{', '.join(t for t in told if t)}: the run ends at {seconds:g} s ({source}); "
+            f"the script's last entry is at t = {last.t:g} s"
+            + (f" and it is done at {done:g} s" if done > last.t else ""))
+
+
 def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
     """(step, event) pairs in the order they act."""
     out: list[tuple[int, int, Event]] = []  # (step, entry order, event)
