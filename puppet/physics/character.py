@@ -200,22 +200,20 @@ class Character:
 
     def com(self) -> tuple[float, float]:
         """Centre of mass, world m."""
-        memo = self._memo
-        if memo is None:
-            return self._com()
-        got = memo.get("com")
-        if got is None:
-            got = memo["com"] = self._com()
-        return got
+        return self._sampled("com", self._com)
 
     def com_velocity(self) -> tuple[float, float]:
         """The centre of mass's velocity, world m/s."""
+        return self._sampled("com_velocity", self._com_velocity)
+
+    def _sampled(self, name: str, compute):
+        """``compute()``, once per ``sample`` while one runs."""
         memo = self._memo
         if memo is None:
-            return self._com_velocity()
-        got = memo.get("com_velocity")
+            return compute()
+        got = memo.get(name)
         if got is None:
-            got = memo["com_velocity"] = self._com_velocity()
+            got = memo[name] = compute()
         return got
 
     def _com(self) -> tuple[float, float]:
