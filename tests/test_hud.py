@@ -9,7 +9,7 @@ from puppet.app.headless import FrameRenderer
 from puppet.app.hud import ERROR, NEWS, layout_rows
 from puppet.data import catalog
 from puppet.data.catalog import load_setup
-from puppet.app.describe import app_lines, compact_lines, interface_lines
+from puppet.app.describe import app_lines, control_rows
 from puppet.session import Session
 
 INTERFACES = [n for n, _ in catalog.list_kind("interface")]
@@ -45,8 +45,8 @@ def test_rows_are_laid_out_by_measured_width(name):
     pygame.font.init()
     small = pygame.font.Font(None, 20)
     spec = load_setup(name).interface
-    full = [("controls", "")] + interface_lines(spec) + app_lines(spec)
-    for rows in (full, compact_lines(interface_lines(spec), "f1: all")):
+    full = [("controls", "")] + control_rows(spec) + app_lines(spec)
+    for rows in (full, control_rows(spec, more="f1: all")):
         key_w, width, laid = layout_rows(small, rows, 640)
         assert width <= 640
         for key, text in laid:
@@ -57,13 +57,15 @@ def test_rows_are_laid_out_by_measured_width(name):
 
 def test_maps_are_described_in_plain_words():
     for name in INTERFACES:
-        for _, text in interface_lines(load_setup(name).interface):
-            for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
-                assert jargon not in text, (name, text)
-    lines = dict(interface_lines(load_setup("luxo-mouse").interface))
+        spec = load_setup(name).interface
+        for state in spec.states or [None]:
+            for _, text in control_rows(spec, state) + control_rows(spec, state, None, "f1"):
+                for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
+                    assert jargon not in text, (name, state, text)
+    lines = dict(control_rows(load_setup("luxo-mouse").interface))
     assert lines["mouse left-right"] == "leans the lower arm back (left) .. forward (right)"
     assert lines["mouse up-down"] == "folds the lamp (down) .. unfolds it (up)"
-    trot = interface_lines(load_setup("cat-trot").interface)
+    trot = control_rows(load_setup("cat-trot").interface)
     assert ("mouse", "far hip and knee: blends 6 poses, half a cycle apart") in trot
 
 
