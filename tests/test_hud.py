@@ -375,3 +375,18 @@ def test_the_kept_hud_layout_is_the_one_a_fresh_hud_draws():
     assert gymnast.session.runtime.states["far_hand"] != before["far_hand"]
     assert gymnast.session.runtime.state == before["near_hand"]
     gymnast.same("far hand free")
+
+
+def test_the_time_a_map_waits_for_is_said_as_the_file_gives_it():
+    """"for 1.25 s after space", not rounded to two digits ("for 1.2 s")."""
+    from pathlib import Path
+
+    from puppet.data.catalog import setup_from_text
+
+    path = Path(load_setup("biped-walk").interface_path)
+    text = path.read_text()
+    assert text.count("after: 0.3}") == 2  # the swing after each swap of the legs
+    spec = setup_from_text(text.replace("after: 0.3}", "after: 1.25}"), path).interface
+    for more in (None, "f1: all"):
+        said = " ".join(t for _, t in control_rows(spec, None, None, more))
+        assert "for 1.25 s after space: " in said, more

@@ -262,7 +262,7 @@ def _where_else(spec: InterfaceSpec, state: str | None, mode_name: str | None,
                 timed.append(min(left))
     if keys:
         after = "after " + " or ".join(keys)
-        return f"for {max(timed):.2g} s {after}" if len(timed) == len(keys) else after
+        return f"for {max(timed):g} s {after}" if len(timed) == len(keys) else after
     return f"in mode {mode_name}" if mode_name is not None else f"in state {state_name}"
 
 
