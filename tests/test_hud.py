@@ -9,7 +9,7 @@ from puppet.app.headless import FrameRenderer
 from puppet.app.hud import ERROR, NEWS, layout_rows
 from puppet.data import catalog
 from puppet.data.catalog import load_setup
-from puppet.app.describe import app_lines, compact_lines, interface_lines
+from puppet.app.describe import app_lines, control_rows
 from puppet.session import Session
 
 INTERFACES = [n for n, _ in catalog.list_kind("interface")]
@@ -45,8 +45,8 @@ def test_rows_are_laid_out_by_measured_width(name):
     pygame.font.init()
     small = pygame.font.Font(None, 20)
     spec = load_setup(name).interface
-    full = [("controls", "")] + interface_lines(spec) + app_lines(spec)
-    for rows in (full, compact_lines(interface_lines(spec), "f1: all")):
+    full = [("controls", "")] + control_rows(spec) + app_lines(spec)
+    for rows in (full, control_rows(spec, more="f1: all")):
         key_w, width, laid = layout_rows(small, rows, 640)
         assert width <= 640
         for key, text in laid:
@@ -57,13 +57,15 @@ def test_rows_are_laid_out_by_measured_width(name):
 
 def test_maps_are_described_in_plain_words():
     for name in INTERFACES:
-        for _, text in interface_lines(load_setup(name).interface):
-            for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
-                assert jargon not in text, (name, text)
-    lines = dict(interface_lines(load_setup("luxo-mouse").interface))
+        spec = load_setup(name).interface
+        for state in spec.states or [None]:
+            for _, text in control_rows(spec, state) + control_rows(spec, state, None, "f1"):
+                for jargon in ("->", "mirrored", "pose grid", "_near", "_far", "mouse.x"):
+                    assert jargon not in text, (name, state, text)
+    lines = dict(control_rows(load_setup("luxo-mouse").interface))
     assert lines["mouse left-right"] == "leans the lower arm back (left) .. forward (right)"
     assert lines["mouse up-down"] == "folds the lamp (down) .. unfolds it (up)"
-    trot = interface_lines(load_setup("cat-trot").interface)
+    trot = control_rows(load_setup("cat-trot").interface)
     assert ("mouse", "far hip and knee: blends 6 poses, half a cycle apart") in trot
 
 
@@ -263,3 +265,128 @@ def test_the_help_panels_do_not_cover_each_other(name, monkeypatch):
     for i, a in enumerate(rects):
         for b in rects[i + 1:]:
             assert not a.colliderect(b), (name, a, b)
+
+
+class CountingFont(SpyFont):
+    """A font that counts the texts it measures."""
+
+    def __init__(self, font, seen):
+        super().__init__(font, seen)
+        self.measured = 0
+
+    def size(self, text):
+        self.measured += 1
+        return self.font.size(text)
+
+
+@pytest.mark.parametrize("help_", [False, True])
+def test_a_frame_that_changes_nothing_measures_no_text_again(help_):
+    """The controls panel's rows and their layout are kept from frame to frame while
+    what they depend on stays the same: the next frame measures no text of them."""
+    session = Session(load_setup("biped-walk"))  # no pose keys: no key map pictures
+    renderer = FrameRenderer(session, (1280, 800))
+    renderer.small = CountingFont(renderer.small, [])
+    renderer.info.show_help = help_
+    renderer.render(session)
+    assert renderer.small.measured > 50  # the first frame lays the panels out
+    session.advance(8)
+    renderer.small.measured = 0
+    renderer.render(session)
+    assert renderer.small.measured == 0
+
+
+def _pixels(surface):
+    return pygame.image.tobytes(surface, "RGB")
+
+
+class _KeptAndFresh:
+    """A HUD kept across frames beside one drawing its first frame, over one world."""
+
+    def __init__(self, name):
+        from puppet.app import hud
+
+        self.hud = hud
+        self.session = Session(load_setup(name))
+        self.renderer = FrameRenderer(self.session, (1280, 720))
+        self.kept = hud.HudInfo()
+
+    def press(self, key, steps=8):
+        from puppet.interface import events as ev
+
+        self.session.handle(ev.key(key, True))
+        self.session.handle(ev.key(key, False))
+        self.session.advance(steps)
+
+    def same(self, note, size=None, **info):
+        """The two draw the same pixels (after resizing the window to ``size`` and
+        setting the kept HUD's ``info``)."""
+        renderer, session, kept = self.renderer, self.session, self.kept
+        if size is not None:
+            renderer.surface = pygame.Surface(size)
+            renderer.camera.resize(*size)
+        world = renderer.render(session, hud=False).copy()
+        for k, v in info.items():
+            setattr(kept, k, v)
+        fresh = self.hud.HudInfo(show_help=kept.show_help, paused=kept.paused)
+        drawn = []
+        for i in (kept, fresh):
+            i.follow_messages(session, 0.0)
+            surface = world.copy()
+            self.hud.draw_hud(surface, session, i, renderer.font, renderer.small)
+            drawn.append(_pixels(surface))
+        assert drawn[0] == drawn[1], note
+
+
+def test_the_kept_hud_layout_is_the_one_a_fresh_hud_draws():
+    """Through what changes the controls panel (the state and mode, the help key, the
+    tracking line, the window's size, a hot reload), a HUD that keeps its layout across
+    frames draws what a HUD drawing its first frame draws, to the pixel."""
+    walk = _KeptAndFresh("biped-walk")
+    walk.same("start")
+    walk.same("help", show_help=True)
+    walk.same("compact again", show_help=False)
+    walk.press("space")
+    assert walk.session.runtime.mode == "stepping"
+    walk.same("stepping")
+    walk.session.advance(240)
+    walk.same("reaching")
+    walk.press("a")  # tracking, with no stream: a line more on the left
+    walk.same("tracking")
+    walk.same("tracking, help", show_help=True)
+    walk.same("narrower", size=(1024, 720))
+    walk.same("lower", size=(1024, 640))
+    walk.same("lower, compact", show_help=False)
+    text = walk.session.setup.interface_path.read_text()
+    walk.session.reload(text.replace("the swing thigh back (left)", "the thigh swung back"))
+    walk.same("reloaded")
+    walk.same("paused", paused=True)
+    kept = walk.hud.LAID_KEPT
+    for width in range(1024, 1024 + 3 * kept):  # a window being resized
+        walk.same(f"width {width}", size=(width, 640))
+    assert len(walk.kept._laid) <= kept
+
+    gymnast = _KeptAndFresh("biped-gymnast")  # a mode key; one state machine per limb
+    gymnast.same("start")
+    gymnast.press("2")
+    assert gymnast.session.runtime.mode == "bound"
+    gymnast.same("bound")
+    before = gymnast.session.runtime.states
+    gymnast.press("w", 240)  # the far hand lets go: another machine's state
+    assert gymnast.session.runtime.states["far_hand"] != before["far_hand"]
+    assert gymnast.session.runtime.state == before["near_hand"]
+    gymnast.same("far hand free")
+
+
+def test_the_time_a_map_waits_for_is_said_as_the_file_gives_it():
+    """"for 1.25 s after space", not rounded to two digits ("for 1.2 s")."""
+    from pathlib import Path
+
+    from puppet.data.catalog import setup_from_text
+
+    path = Path(load_setup("biped-walk").interface_path)
+    text = path.read_text()
+    assert text.count("after: 0.3}") == 2  # the swing after each swap of the legs
+    spec = setup_from_text(text.replace("after: 0.3}", "after: 1.25}"), path).interface
+    for more in (None, "f1: all"):
+        said = " ".join(t for _, t in control_rows(spec, None, None, more))
+        assert "for 1.25 s after space: " in said, more

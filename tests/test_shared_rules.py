@@ -13,13 +13,13 @@ from puppet.timeline.script import DEFAULT_SECONDS, ScriptSpec, run_seconds
 
 def test_key_map_shows_what_a_key_does_in_the_state():
     from puppet.app.keymap import pose_key_bindings
-    from puppet.app.describe import interface_lines
+    from puppet.app.describe import control_rows
 
     spec, _ = load_interface(find("interface", "luxo-keys"))
     assert dict(pose_key_bindings(spec, "upright"))["1"] == "stand_low"
     # on its back "1" rolls over (the state's key), so the key map shows no stand pose
     assert "1" not in dict(pose_key_bindings(spec, "on_back"))
-    assert ("1", "roll over") in interface_lines(spec, "on_back")
+    assert ("1", "roll over") in control_rows(spec, "on_back")  # the HUD's rows
 
 
 def test_run_seconds_caller_then_script_then_default():

@@ -7,7 +7,7 @@ import pytest
 from puppet.checker import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
-from puppet.app.describe import interface_lines
+from puppet.app.describe import control_rows, live_keys
 from puppet.session import Session
 
 INTERFACES = sorted((Path(__file__).parents[1] / "interfaces").glob("*.yaml"))
@@ -22,8 +22,10 @@ def test_shipped_interface_checks_and_plays_every_key(path):
         session.handle(ev.key(binding.key, False))
         session.advance(60)
     assert not session.sim.blown_up()
-    assert interface_lines(session.setup.interface, session.runtime.state,
-                           session.runtime.mode)
+    spec, runtime = session.setup.interface, session.runtime
+    shown = {k for k, _ in control_rows(spec, runtime.state, runtime.mode)}  # as on F1
+    assert {k.key for k in live_keys(spec, runtime.state)} <= shown
+    assert control_rows(spec, runtime.state, runtime.mode, "f1: all")  # the compact list
 
 
 def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
@@ -39,12 +41,16 @@ def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
 
 
 def test_key_map_names_the_live_state_and_lists_each_key_once():
+    """The HUD's controls panel, compact and on the help key, lists each key live in a
+    state once (a state's own key, not the top level's it rebinds)."""
     from puppet.data.catalog import load_setup
-    from puppet.app.describe import interface_lines, where_line
+    from puppet.app.describe import where_line
 
     spec = load_setup("luxo-keys").interface
     assert spec.states, "luxo-keys has a state machine"
     for state in spec.states:
-        keys = [k for k, _ in interface_lines(spec, state, None) if not k.startswith("mouse")]
-        assert len(keys) == len(set(keys)), (state, keys)
+        for more in (None, "f1: all"):
+            keys = [k for k, text in control_rows(spec, state, None, more)
+                    if k and text and k != "..." and not k.startswith("mouse")]
+            assert len(keys) == len(set(keys)), (state, more, keys)
         assert f"state {state}" in where_line(spec, state, None)

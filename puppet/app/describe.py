@@ -190,23 +190,6 @@ def live_keys(spec: InterfaceSpec, state: str | None = None) -> list[ActionSpec]
     return list(own) + [k for k in keys if normalize_key(k.key) not in bound]
 
 
-def interface_lines(spec: InterfaceSpec, state: str | None = None,
-                    mode: str | None = None) -> list[tuple[str, str]]:
-    """(input, what it does) for the interface's own controls (in a state and mode)."""
-    lines: list[tuple[str, str]] = [map_line(m) for m in spec.maps]
-    mode = mode if mode is not None else spec.start_mode
-    if mode is not None:
-        lines += [map_line(m) for m in spec.modes[mode]]
-    if spec.states:
-        state = state if state is not None else spec.start_state
-        lines += [map_line(m) for m in spec.states[state].maps]
-    for k in live_keys(spec, state):
-        lines.append((k.key, action_text(k)))
-    for g in spec.gestures:  # recorded mouse paths
-        lines.append((g.key, g.description or f"gesture {g.duration:.1f} s"))
-    return lines
-
-
 def where_line(spec: InterfaceSpec, state: str | None, mode: str | None,
                states: dict[str, str] | None = None) -> str:
     """"state upright, mode walk": which bindings are live now ("" if neither exists);
@@ -228,13 +211,9 @@ def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
         ("ctrl+drag", "pull a body with a spring (the mouse maps and the camera wait)")]
 
 
-def _inputs_of(m) -> tuple[str, ...]:
-    return (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
-
-
 def reads_sensors(m) -> bool:
     """A map driven by the body's own sensors (balance feedback), not by the player."""
-    return any(n.startswith("sensor.") for n in _inputs_of(m))
+    return any(n.startswith("sensor.") for n in m.inputs)
 
 
 def _live_maps(spec: InterfaceSpec, state: str | None, mode: str | None) -> list:
@@ -283,7 +262,7 @@ def _where_else(spec: InterfaceSpec, state: str | None, mode_name: str | None,
                 timed.append(min(left))
     if keys:
         after = "after " + " or ".join(keys)
-        return f"for {max(timed):.2g} s {after}" if len(timed) == len(keys) else after
+        return f"for {max(timed):g} s {after}" if len(timed) == len(keys) else after
     return f"in mode {mode_name}" if mode_name is not None else f"in state {state_name}"
 
 
@@ -309,14 +288,6 @@ def _elsewhere(spec: InterfaceSpec, state: str | None,
             seen.add((key, text))
             out.append((key, where, text))
     return out
-
-
-def elsewhere_lines(spec: InterfaceSpec, state: str | None = None,
-                    mode: str | None = None) -> list[tuple[str, str]]:
-    """(input, where: what it does) for the maps on the player's own inputs (mouse,
-    gamepad, ...) that are not live in ``state`` and ``mode`` but are in another mode
-    or state: what the mouse will do, and when ("for 0.3 s after space: ...")."""
-    return [(key, f"{where}: {text}") for key, where, text in _elsewhere(spec, state, mode)]
 
 
 def _compact_elsewhere(spec: InterfaceSpec, state: str | None, mode: str | None,

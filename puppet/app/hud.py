@@ -34,6 +34,10 @@ class HudInfo:
     sources: list = field(default_factory=list)  # status lines of the input sources
     _seen_serial: int = 0
     _message_until: float = 0.0
+    # What the HUD drew last, kept by what it depends on (see draw_hud and draw_rows), so
+    # that a frame that changes nothing measures no text again
+    _rows: tuple = field(default=(None, None), repr=False, compare=False)
+    _laid: dict = field(default_factory=dict, repr=False, compare=False)
 
     def follow_messages(self, session: Session, now: float) -> None:
         """Show the session's newest message (e.g. a recovered blow-up) for
@@ -153,12 +157,14 @@ def _columns(small, rows: list[tuple[str, str]], per: int,
     return columns
 
 
-def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, top: int,
-              bottom: int, max_width: int) -> pygame.Rect:
-    """A panel of (key, text) rows laid out by measured width, its right edge at
-    ``right`` (None: its left edge at 8). Rows that do not fit above ``bottom`` go on in
-    a second column (and so on), each laid out by its own width."""
-    per = max(1, (bottom - top - 8) // ROW)
+LAID_KEPT = 8  # panels laid out kept (draw_rows' cache): the controls and the legend,
+# and a few more while the window is resized
+
+
+def _lay_out(small, rows: tuple[tuple[str, str], ...], per: int,
+             max_width: int) -> tuple[int, int, list[tuple[pygame.Surface, int, int]]]:
+    """(width, height, [(text drawn, x, y) relative to the panel]) of a panel of ``rows``
+    as ``draw_rows`` lays them out: a function of its arguments alone."""
     share, count = max_width, 0
     while True:  # wrap for the columns' width; more rows may need one more column
         columns = _columns(small, rows, per, share)
@@ -169,20 +175,43 @@ def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, to
         # wider than asked (the panel reaches further left)
     laid = [layout_rows(small, col, share) for col in columns]
     width = sum(w for _, w, _ in laid)
-    x0 = 8 if right is None else right - width
     height = 8 + max(len(col) for col in columns) * ROW
-    rect = pygame.Rect(x0, top, width, height)
-    _panel(surface, rect)
-    x = x0
+    blits = []
+    x = 0
     for key_w, col_w, col in laid:
         for i, (k, text) in enumerate(col):
-            y = top + 4 + i * ROW
+            y = 4 + i * ROW
             if not text:
-                surface.blit(small.render(k, True, TITLE), (x + 8, y))
+                blits.append((small.render(k, True, TITLE), x + 8, y))
                 continue
-            surface.blit(small.render(k, True, TEXT), (x + 8, y))
-            surface.blit(small.render(text, True, DIM), (x + 8 + key_w, y))
+            blits.append((small.render(k, True, TEXT), x + 8, y))
+            blits.append((small.render(text, True, DIM), x + 8 + key_w, y))
         x += col_w
+    return width, height, blits
+
+
+def draw_rows(surface, small, rows: list[tuple[str, str]], right: int | None, top: int,
+              bottom: int, max_width: int, cache: dict | None = None) -> pygame.Rect:
+    """A panel of (key, text) rows laid out by measured width, its right edge at
+    ``right`` (None: its left edge at 8). Rows that do not fit above ``bottom`` go on in
+    a second column (and so on), each laid out by its own width. ``cache``: a dict that
+    keeps the last few layouts (and their rendered text) by all they depend on - the
+    font, the rows, the rows a column holds, the width allowed - across frames."""
+    per = max(1, (bottom - top - 8) // ROW)
+    key = (small, tuple(rows), per, max_width)
+    laid = cache.get(key) if cache is not None else None
+    if laid is None:
+        laid = _lay_out(small, key[1], per, max_width)
+        if cache is not None:
+            if len(cache) >= LAID_KEPT:
+                del cache[next(iter(cache))]  # the oldest
+            cache[key] = laid
+    width, height, blits = laid
+    x0 = 8 if right is None else right - width
+    rect = pygame.Rect(x0, top, width, height)
+    _panel(surface, rect)
+    for text, dx, dy in blits:
+        surface.blit(text, (x0 + dx, top + dy))
     return rect
 
 
@@ -213,6 +242,30 @@ def world_changes(session: Session) -> str:
     if session.runtime.perturber.on and not session.setup.interface.perturbation.start_on:
         parts.append("random kicks on")
     return "world: " + ", ".join(parts) if parts else ""
+
+
+def _control_panel(session: Session, info: HudInfo) -> tuple[tuple[str, str], ...]:
+    """The controls panel's rows: a function of the interface (a hot reload brings a
+    new one), its live state and mode, each state machine's state and the help key's
+    toggle, kept in ``info`` while those stay the same."""
+    spec, runtime = session.setup.interface, session.runtime
+    states = runtime.states
+    key = (spec, runtime.state, runtime.mode, tuple(states.items()) if states else (),
+           info.show_help)  # (the state is the first machine's, in states too)
+    kept_key, kept = info._rows
+    if kept_key == key:  # (the interface the same object, or one equal to it)
+        return kept
+    where = where_line(spec, runtime.state, runtime.mode, states)
+    rows = [(f"controls  ({where})" if where else "controls", "")]
+    help_key = spec.app_key_table()["help"]
+    if info.show_help:  # the player's controls, the sensors' maps, the app's keys
+        rows += control_rows(spec, runtime.state, runtime.mode)
+        rows += [("", ""), ("app keys", "")] + app_lines(spec)
+    else:  # compact: the maps on one input in one row, a few keys; the rest on help
+        rows += control_rows(spec, runtime.state, runtime.mode, f"{help_key}: all")
+        rows += [(help_key, "all keys, pose pictures, what the marks mean")]
+    info._rows = (key, tuple(rows))  # (not to be changed by the caller)
+    return info._rows[1]
 
 
 def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
@@ -248,22 +301,13 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT if i else TITLE),
                      (16, 12 + i * 22))
 
-    runtime = session.runtime
-    where = where_line(setup.interface, runtime.state, runtime.mode, runtime.states)
-    rows = [(f"controls  ({where})" if where else "controls", "")]
-    help_key = keys["help"]
-    if info.show_help:  # the player's controls, the sensors' maps, the app's keys
-        rows += control_rows(setup.interface, runtime.state, runtime.mode)
-        rows += [("", ""), ("app keys", "")] + app_lines(setup.interface)
-    else:  # compact: the maps on one input in one row, a few keys; the rest on help
-        rows += control_rows(setup.interface, runtime.state, runtime.mode, f"{help_key}: all")
-        rows += [(help_key, "all keys, pose pictures, what the marks mean")]
+    rows = _control_panel(session, info)
     bottom = surface.get_height() - BAR_HEIGHT - 16
     left = left_w + 8  # the left edge of the room the controls panel has
     if info.show_help:  # what the marks mean, bottom left, above the bar, and the pose
         legend = legend_rows(session)  # keys as pictures, laid out like the keyboard
         drawn = draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW,
-                          bottom, surface.get_width() // 2)
+                          bottom, surface.get_width() // 2, info._laid)
         keymap = draw_keymap(surface, setup.interface, setup.character, small,
                              (8, 16 + height), state=session.runtime.state, scene=setup.scene)
         # the controls beside them, not over them (room for two columns at least)
@@ -272,7 +316,10 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     room = surface.get_width() - left - 24
     if not info.show_help:  # compact: narrow enough to leave the character's place free
         room = min(room, int(COMPACT_SHARE * surface.get_width()))
-    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room)
+    # (room: the window's width less the top-left panel's - its lines, tracking and
+    # sources among them - or, on help, the legend's and the key map's; draw_rows keeps
+    # a layout by the room it was laid out for)
+    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room, info._laid)
     draw_timeline(surface, session, info, small)
     if info.message:
         msg = font.render(fit(font, info.message, surface.get_width() - 48), True,
