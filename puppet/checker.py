@@ -27,7 +27,8 @@ def find_target(name: str) -> Path:
     the other commands look theirs up (catalog.find), in every kind's folder since the
     command does not say the kind: characters/, interfaces/, assets/scenes/,
     assets/scripts/, assets/logs/ (else recordings/, as replay looks), assets/mappings/, assets/mocap/. A
-    name in two folders (a script and the log recorded from it) is refused, naming both."""
+    name in two folders (a script and the log recorded from it) is refused, naming both.
+    A name's file is returned as ``_shown`` names it, which its errors then carry."""
     p = Path(name)
     try:
         if p.is_dir():
@@ -49,7 +50,7 @@ def find_target(name: str) -> Path:
         except DataError:
             continue
     if len(found) == 1:
-        return found[0][1]
+        return _shown(found[0][1])
     if found:
         named = [f"{catalog._a(kind)} ({_shown(path)})" for kind, path in found]
         which = ", ".join(named[:-1]) + " and " + named[-1]
@@ -58,14 +59,41 @@ def find_target(name: str) -> Path:
     raise DataError(name, None, None, f"no such file, and no name of the catalog ({folders})")
 
 
-def _shown(path: Path) -> str:
-    """A catalog file as the project names it (characters/luxo.yaml)."""
-    from puppet.data.catalog import ROOT
+def _shown(path: Path) -> Path:
+    """A file found by name as check names it in every line about it (ok, its errors,
+    its warnings, an ambiguous name's choices): relative to the current folder when it
+    is inside it (interfaces/luxo-mouse.yaml, run in the checkout), else absolute; a
+    path that opens the file from where the command runs either way."""
+    try:
+        return Path(path).relative_to(Path.cwd())
+    except (ValueError, OSError):
+        return Path(path)
+
+
+def _read_log(path: Path):
+    """read_log's Log; its refusal of a log cut mid-line names the command that reads
+    the rest (``puppet replay --allow-truncated``: check has no such option)."""
+    from puppet.timeline.log import TRUNCATED_HINT, read_log
+    from puppet.timeline.replay import CHECK_TRUNCATED_HINT
 
     try:
-        return str(Path(path).relative_to(ROOT))
-    except ValueError:
-        return str(path)
+        return read_log(path)
+    except DataError as exc:
+        if not exc.message.endswith(TRUNCATED_HINT):
+            raise
+        raise DataError(exc.path, exc.line, exc.col, exc.message[:-len(TRUNCATED_HINT)]
+                        + CHECK_TRUNCATED_HINT) from None
+
+
+def _has_expectations(log) -> bool:
+    """Whether the log has expectations (its ``.expect.yaml`` or the header's): it is
+    meant for ``puppet replay --check``. Invalid ones count: they are there to check."""
+    from puppet.timeline.expectations import load_expectations
+
+    try:
+        return bool(load_expectations(log.path, log.header).items)
+    except DataError:
+        return True
 
 
 def check_log(path: Path, warnings: list[str] | None = None) -> str:
@@ -73,15 +101,22 @@ def check_log(path: Path, warnings: list[str] | None = None) -> str:
     line, the files the header names, the expectations (its ``.expect.yaml`` or the
     header's) and the links they name, and the interface text of each reload event
     (which the replay would apply); the first problem is the replay's DataError. What a
-    replay would warn about (the interface changed, no end line) goes to ``warnings``."""
+    replay would warn about (the interface changed, no end line) goes to ``warnings``.
+
+    A log with expectations is a test, run by ``puppet replay --check``: without its end
+    line it is refused as that command refuses it (``require_end``: exit 2, not 'ok',
+    which a check run before the replay in CI would pass). A log without expectations
+    (a take the window recorded, then killed) plays in a plain replay: ok, with the
+    warning that ``replay --check`` refuses it."""
     from puppet.data.catalog import parse_interface_text
     from puppet.timeline.expectations import load_expectations
-    from puppet.timeline.log import read_log
-    from puppet.timeline.replay import cut_warnings, setup_for_log
+    from puppet.timeline.replay import cut_warnings, require_end, setup_for_log
 
-    log = read_log(path)
-    setup, said = setup_for_log(log)
-    said += cut_warnings(log)
+    log = _read_log(path)
+    if log.end is None and _has_expectations(log):  # replay --check's first refusal
+        require_end(log, False, for_check=True)
+    setup, said = setup_for_log(log, for_check=True)
+    said += cut_warnings(log, for_check=True)
     expectations = load_expectations(log.path, log.header)
     expectations.check_links([link.name for link in setup.character.links])
     seen = set()

@@ -98,7 +98,9 @@ def output_file(option: str, path: str, exts) -> Path:
         if p.parent.exists() and not p.parent.is_dir():
             raise UsageError(f"{option} {path}: {p.parent} is a file, not a folder")
     except OSError as exc:  # a name too long for the file system, a folder not ours...
-        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
+        from puppet.data.catalog import short_path
+
+        raise UsageError(f"{option} {short_path(path)}: {exc.strerror or exc}") from None
     return p
 
 
@@ -110,12 +112,10 @@ def output_folder(option: str, path: str) -> Path:
             raise UsageError(f"{option} {path}: is a file; give a folder (it is created "
                              f"if new)")
     except OSError as exc:
-        raise UsageError(f"{option} {_short(path)}: {exc.strerror or exc}") from None
+        from puppet.data.catalog import short_path
+
+        raise UsageError(f"{option} {short_path(path)}: {exc.strerror or exc}") from None
     return p
-
-
-def _short(path: str) -> str:
-    return path if len(path) <= 80 else path[:77] + "..."
 
 
 def _play(args: argparse.Namespace) -> int:
@@ -255,7 +255,8 @@ def _check(args: argparse.Namespace) -> int:
     for name in args.files:
         try:
             warnings: list[str] = []
-            path = find_target(name)  # a path as given, or a name (then: the file's path)
+            # a path as given, or a name: then the file's path, the same in the ok line
+            path = find_target(name)  # as in its errors and warnings (checker._shown)
             kind = check_file(path, warnings)
             for w in warnings:
                 print(w, file=sys.stderr)
@@ -467,7 +468,9 @@ def build_parser() -> argparse.ArgumentParser:
                                        "expectations, NAME.expect.yaml), each told by its "
                                        "folder, name or keys; input logs (.jsonl) as "
                                        "replay reads them (header, every line, the files "
-                                       "it names, its expectations), without simulating; "
+                                       "it names, its expectations; one with expectations "
+                                       "needs its end line, as replay --check does), "
+                                       "without simulating; "
                                        "BVH clips (.bvh) as mocap info reads them. A name "
                                        "is looked up in every catalog folder (a name in "
                                        "two, such as a script and its log, is refused: "

@@ -40,15 +40,20 @@ def test_a_log_and_a_clip_are_checked_as_replay_and_mocap_info_read_them(capsys)
     assert (code, out, err) == (0, "", "")
 
 
-def test_names_are_looked_up_in_every_folder_and_an_ambiguous_one_is_refused(capsys):
-    code, out, _ = run(capsys, "luxo-mouse", "luxo", "cmu-131_01-walk", "biped-mocap-live",
-                       "flat")
+def test_names_are_looked_up_in_every_folder_and_an_ambiguous_one_is_refused(
+        capsys, monkeypatch, tmp_path):
+    names = ("luxo-mouse", "luxo", "cmu-131_01-walk", "biped-mocap-live", "flat")
+    files = ["interfaces/luxo-mouse.yaml: ok (interface)", "characters/luxo.yaml: ok "
+             "(character)", "assets/mocap/cmu-131_01-walk.bvh: ok (mocap clip)",
+             "assets/logs/biped-mocap-live.jsonl: ok (log)", "assets/scenes/flat.yaml: ok "
+                                                             "(scene)"]
+    monkeypatch.chdir(tmp_path)  # outside the checkout: the absolute paths
+    code, out, _ = run(capsys, *names)
     assert code == 0
-    assert out.splitlines() == [f"{ROOT}/interfaces/luxo-mouse.yaml: ok (interface)",
-                                f"{ROOT}/characters/luxo.yaml: ok (character)",
-                                f"{WALK}: ok (mocap clip)",
-                                f"{ROOT}/assets/logs/biped-mocap-live.jsonl: ok (log)",
-                                f"{ROOT}/assets/scenes/flat.yaml: ok (scene)"]
+    assert out.splitlines() == [f"{ROOT}/{f}" for f in files]
+    monkeypatch.chdir(ROOT)  # in it: the paths from here (each opens its file)
+    code, out, _ = run(capsys, *names)
+    assert (code, out.splitlines()) == (0, files)
     code, out, err = run(capsys, "luxo-hop")
     assert (code, out) == (2, "")
     assert err == ("puppet check: luxo-hop: ambiguous name: a script (assets/scripts/"
@@ -93,6 +98,8 @@ def test_a_broken_log_gives_the_replays_first_problem(capsys, tmp_path):
                         (bad_reload, f"{bad_reload}:5: cannot apply this event: ")):
         expected = _replay_error(capsys, path)
         assert expected.startswith(words), expected
+        # (replay's option, said as the command: check has no --allow-truncated)
+        expected = expected.replace("(--allow-truncated", "(puppet replay --allow-truncated")
         assert run(capsys, path) == (2, "", f"puppet check: {expected}")
 
 
@@ -110,10 +117,57 @@ def test_a_logs_expectations_are_checked_with_it(capsys, tmp_path):
 
 
 def test_what_a_replay_warns_about_a_log_check_warns_about_too(capsys, tmp_path):
+    """A log with no expectations (a take the window recorded, then killed) plays in a
+    plain replay: ok, warned in check's words (check does not replay it) that replay
+    --check refuses it."""
     cut = write(tmp_path / "cut.jsonl", lines_of(HOP)[:-1])  # no end line: killed?
     code, out, err = run(capsys, cut)
     assert (code, out) == (0, f"{cut}: ok (log)\n")
-    assert err.startswith(f"{cut}: warning: no end line (the recording did not close"), err
+    assert err == (f"{cut}: warning: no end line (the recording did not close: killed or "
+                   f"crashed?); puppet replay plays its 303 events with no recorded end "
+                   f"state to compare, and replay --check refuses it\n"), err
+    assert "replaying" not in err
+
+
+def test_a_log_with_expectations_and_no_end_line_is_refused_as_replay_check_refuses_it(
+        capsys, tmp_path):
+    """Its expectations make it a test for ``puppet replay --check``, which refuses it
+    (exit 2): check says so, in the same words at the same line (the log's last: there
+    is no line after it), with the command to run instead of the option it has not."""
+    for where in ("sidecar", "header"):
+        lines = lines_of(HOP)[:-1]
+        cut = tmp_path / where / "cut.jsonl"
+        cut.parent.mkdir()
+        if where == "sidecar":
+            write(tmp_path / where / "cut.expect.yaml", ["expect:", "  - never_fell: true"])
+        else:
+            header = json.loads(lines[0])
+            header["expect"] = [{"never_fell": True}]
+            lines[0] = json.dumps(header)
+        write(cut, lines)
+        replayed = _replay_error(capsys, cut, "--check")
+        assert replayed.startswith(f"{cut}:{len(lines)}: no end line"), replayed
+        code, out, err = run(capsys, cut)
+        assert (code, out) == (2, ""), err
+        assert err == "puppet check: " + replayed.replace(
+            "(--allow-truncated checks", "(puppet replay --headless --check "
+                                        "--allow-truncated checks"), err
+        assert "(puppet replay --headless --check --allow-truncated checks the expectations "
+        "on its 303 events, to step 1824, without the end state)\n" in err, err
+        assert run(capsys, "-q", cut)[0] == 2
+
+
+def test_a_log_cut_mid_line_names_the_replay_option_as_a_command(capsys, tmp_path):
+    """check has no --allow-truncated: its hint names ``puppet replay --allow-truncated``."""
+    text = HOP.read_text(encoding="utf-8")
+    cut = tmp_path / "mid.jsonl"
+    cut.write_text(text[:-30], encoding="utf-8")
+    replayed = _replay_error(capsys, cut)
+    assert replayed.endswith(" (--allow-truncated replays the lines before it)\n"), replayed
+    code, out, err = run(capsys, cut)
+    assert (code, out) == (2, "")
+    assert err == "puppet check: " + replayed.replace(
+        "(--allow-truncated", "(puppet replay --allow-truncated"), err
 
 
 def test_a_broken_clip_is_a_line_of_the_bvh_reader(capsys, tmp_path):
@@ -122,3 +176,54 @@ def test_a_broken_clip_is_a_line_of_the_bvh_reader(capsys, tmp_path):
     clip.write_text(text, encoding="utf-8")
     code, out, err = run(capsys, clip)
     assert (code, out) == (2, "") and err.startswith(f"puppet check: {clip}:5"), err
+
+
+def test_a_file_found_by_name_is_named_alike_when_ok_and_in_its_errors(capsys, monkeypatch,
+                                                                       tmp_path):
+    from puppet.data import catalog
+
+    (tmp_path / "characters").mkdir()
+    good = (ROOT / "characters" / "luxo.yaml").read_text(encoding="utf-8")
+    (tmp_path / "characters" / "luxo.yaml").write_text(good, encoding="utf-8")
+    (tmp_path / "characters" / "bad.yaml").write_text("name: bad\nlinks: 3\n",
+                                                      encoding="utf-8")
+    monkeypatch.setattr(catalog, "ROOT", tmp_path)
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, "luxo", "bad")
+    assert code == 2
+    assert out == "characters/luxo.yaml: ok (character)\n"
+    assert err.startswith("puppet check: characters/bad.yaml:2:"), err
+    monkeypatch.chdir(ROOT)  # the catalog elsewhere: its absolute paths, both
+    code, out, err = run(capsys, "luxo", "bad")
+    assert out == f"{tmp_path}/characters/luxo.yaml: ok (character)\n"
+    assert err.startswith(f"puppet check: {tmp_path}/characters/bad.yaml:2:"), err
+
+
+def test_checks_words_about_a_logs_interface_say_what_a_replay_would_do(capsys, tmp_path):
+    """check does not replay: its notes and hints say what ``puppet replay`` would do and
+    name that command's option (check has no --as-recorded)."""
+    def log_with(name, **changes):
+        lines = lines_of(HOP)
+        header = json.loads(lines[0])
+        header.update(changes)
+        return write(tmp_path / name, [json.dumps(header)] + lines[1:])
+
+    gone = log_with("gone.jsonl", interface="no-such-interface")
+    changed = log_with("changed.jsonl", interface_hash="0" * 16)
+    broken = write(tmp_path / "broken.yaml", ["name: broken", "description: x",
+                                              "character: luxo", "maps: 5"])
+    bad = log_with("bad.jsonl", interface=str(broken))
+    code, out, err = run(capsys, gone, changed)
+    assert (code, out) == (0, f"{gone}: ok (log)\n{changed}: ok (log)\n")
+    assert err == (f"{gone}: note: interface file 'no-such-interface' not found (in the "
+                   f"catalog or the log's folder); a replay plays the copy recorded in the "
+                   f"log (checked here)\n"
+                   f"{changed}: warning: interface 'luxo-mouse' has changed since this log "
+                   f"was recorded ({ROOT}/interfaces/luxo-mouse.yaml); a replay may end "
+                   f"elsewhere (puppet replay --as-recorded replays the recorded "
+                   f"interface)\n"), err
+    code, out, err = run(capsys, bad)
+    assert (code, out) == (2, "") and err.startswith(f"puppet check: {broken}:4:"), err
+    assert err.endswith("(puppet replay --as-recorded replays the log's own copy of the "
+                        "interface)\n"), err
+    assert "replaying" not in err

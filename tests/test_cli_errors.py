@@ -198,3 +198,65 @@ def test_a_script_on_a_copy_of_its_interface_is_not_warned_about(tmp_path):
     assert "was written for interface" not in same.stderr
     other = puppet("play", "luxo-keys", "--headless", "--input", "luxo-hop", "--seconds", "0.1")
     assert "was written for interface 'luxo-mouse', playing it on 'luxo-keys'" in other.stderr
+
+
+def test_the_no_display_hint_names_a_log_by_name_only_if_the_name_finds_it(tmp_path,
+                                                                           monkeypatch):
+    """find_log looks in assets/logs/ before recordings/: a recording whose name a
+    shipped log also has is given by its path, which replays it, not the other one."""
+    import types
+
+    from puppet.app import window
+
+    for sub, name in (("assets/logs", "hop"), ("recordings", "hop"), ("recordings", "mine")):
+        (tmp_path / sub).mkdir(parents=True, exist_ok=True)
+        (tmp_path / sub / f"{name}.jsonl").write_text("{}\n")
+    monkeypatch.setattr(catalog, "ROOT", tmp_path)
+    monkeypatch.chdir(tmp_path)
+
+    def hint(path):
+        return window.headless_hint(types.SimpleNamespace(path=str(path)))
+
+    def says(log):
+        return f"(e.g. puppet replay {log} --headless,"
+
+    assert says("hop") in hint(tmp_path / "assets/logs/hop.jsonl")
+    assert says("mine") in hint(tmp_path / "recordings/mine.jsonl")
+    assert says("mine") in hint("recordings/mine.jsonl")  # (given relative: the same file)
+    shadowed = tmp_path / "recordings/hop.jsonl"
+    assert says(shadowed) in hint(shadowed), hint(shadowed)
+    assert says("recordings/hop.jsonl") in hint("recordings/hop.jsonl")
+    elsewhere = tmp_path / "my hop.jsonl"
+    assert says(f"'{elsewhere}'") in hint(elsewhere)
+    monkeypatch.setattr(window, "os", types.SimpleNamespace(name="nt", environ=os.environ))
+    assert says(f'"{elsewhere}"') in hint(elsewhere)  # cmd.exe reads no single quotes
+    assert says("hop") in hint(tmp_path / "assets/logs/hop.jsonl")
+
+
+def test_one_function_cuts_a_long_path_for_every_message(tmp_path, capsys, monkeypatch):
+    """catalog.short_path is the one cut of a path too long to show (a name, an output
+    file the file system refuses): a catalog name, --screenshot and --export-motion."""
+    import puppet.timeline.motion as motion
+    from puppet.data.errors import DataError
+
+    monkeypatch.setattr(catalog, "SHORT_PATH", 20)
+    import pytest
+
+    with pytest.raises(DataError) as info:
+        catalog.find("interface", "n" * 300)
+    assert info.value.path == "n" * 17 + "...", info.value.path
+    long = tmp_path / ("a" * 300 + ".png")
+    code, line = _main_error(capsys, "play", "luxo-mouse", "--headless", "--screenshot",
+                             str(long))
+    assert (code, line) == (2, f"puppet play: --screenshot {str(long)[:17]}...: File name "
+                               f"too long"), line
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(motion, "write_planar_bvh", full)
+    out = tmp_path / ("b" * 30 + ".bvh")
+    code, line = _main_error(capsys, "replay", "luxo-hop", "--until-step", "10",
+                             "--export-motion", str(out))
+    assert line == (f"puppet replay: --export-motion {str(out)[:17]}...: cannot write: "
+                    f"No space left on device"), line

@@ -175,3 +175,39 @@ def test_a_key_that_reads_like_a_path_is_reported_as_itself_where_it_is(tmp_path
 def yaml_quoted(text: str) -> str:
     """``text`` as a double-quoted YAML scalar."""
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def test_a_number_for_text_is_quoted_as_written_not_as_read():
+    """The hint quotes the source text at the value's place (``0x1F``, not 31), from a
+    text read in memory (a reload event's) as from a file; without a text (data built
+    in code) it can only say the value."""
+    from puppet.data.interfaces import parse_interface
+    from puppet.data.validate import located_data
+    from puppet.data.yamlfile import load_text
+
+    def message(text):
+        with pytest.raises(DataError) as info:
+            parse_interface(load_text(text, "in-memory.yaml"))
+        return info.value
+
+    head = "name: x\ndescription: d\ncharacter: luxo\nkeys:\n"
+    cases = [("  - {key: 0x1F, set: {ankle: 10}}\n", "'0x1F'", "a number", 31),
+             ("  - {set: {ankle: 10},\n     key: 1_0}\n", "'1_0'", "a number", 10),
+             ("  - {key: 0o7, set: {ankle: 10}}\n", None, "", 0),  # text: not this hint
+             ("  - key: Off # lights\n    set: {ankle: 10}\n", "'Off'", "false", False),
+             ("  - key: +1.50\n    set: {ankle: 10}\n", "'+1.50'", "a number", 1.5)]
+    for keys, written, reads, got in cases:
+        err = message(head + keys)
+        if written is None:
+            assert "in quotes" not in err.message, err
+            continue
+        assert err.message.endswith(f"expected text in quotes, {written} (unquoted, YAML "
+                                    f"reads it as {reads}) (got {got!r})"), err
+    err = message("name: x\ndescription: 12:30:00\ncharacter: luxo\n")  # base 60
+    assert "in quotes, '12:30:00' (unquoted, YAML reads it as a number) (got 45000)" \
+        in err.message, err
+    data = {"name": "x", "description": "d", "character": "luxo",
+            "keys": [{"key": 31, "set": {"ankle": 10}}]}
+    with pytest.raises(DataError) as info:
+        parse_interface(located_data(data, "code"))
+    assert "expected text in quotes, '31' (unquoted" in info.value.message

@@ -63,9 +63,12 @@ def test_killed_recording_keeps_its_events_and_replays(tmp_path):
     result = replay(path, check=False)  # replays, and says why there is no end state
     assert result.steps == 50 and result.same_end is None  # to compare
     assert any("no end line" in w and "killed" in w for w in result.warnings)
-    with pytest.raises(DataError) as info:  # a checked replay refuses it (the next test)
-        replay(path)
-    assert info.value.line == 4 and "--allow-truncated" in info.value.message
+    with pytest.raises(DataError) as info:  # a checked replay refuses it (the next test),
+        replay(path)  # at its last line (3 lines: no line 4 to point at)
+    assert info.value.line == 3 and "--allow-truncated" in info.value.message
+    assert "after this last line" in info.value.message
+    assert "the lines before it" not in info.value.message  # there is no bad line
+    assert "on its 2 events, to step 50," in info.value.message
 
 
 def _cut_end(hop_log: Path, tmp_path: Path) -> Path:
@@ -88,8 +91,10 @@ def test_checked_replay_refuses_a_log_without_its_end_line(tmp_path, hop_log):
     assert proc.returncode == 2, proc.stdout + proc.stderr
     err = proc.stderr.strip().splitlines()
     assert len(err) == 1 and "Traceback" not in proc.stderr, proc.stderr
-    assert err[0].startswith(f"puppet replay: {cut}:{n + 1}: no end line"), err
-    assert err[0].endswith("(--allow-truncated replays the lines before it)"), err
+    assert err[0].startswith(f"puppet replay: {cut}:{n}: no end line"), err  # its last
+    last = read_log(cut).events[-1].step
+    assert err[0].endswith(f"(--allow-truncated checks the expectations on its {n - 1} "
+                           f"events, to step {last}, without the end state)"), err
     assert proc.stdout == ""
     proc = _cli("replay", cut, "--headless", "--check", "--allow-truncated")
     assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -421,21 +421,32 @@ OFFSCREEN_DRIVERS = ("offscreen", "dummy")
 
 def headless_hint(replay=None) -> str:
     """What to run instead without a display: ``puppet play`` 's headless example, or
-    for a replay (``replay``: its ``Log``) the same replay headless, the log by its
-    name if it is one of the catalog's (assets/logs/, recordings/), else its path."""
+    for a replay (``replay``: its ``Log``) the same replay headless: the log by its
+    bare name if that name finds this very file (``find_log``: assets/logs/ is searched
+    before recordings/, so recordings/luxo-hop.jsonl is not 'luxo-hop' when
+    assets/logs/luxo-hop.jsonl exists), else its path, quoted for the shell."""
     if replay is None:
         return HEADLESS_HINT
-    from puppet.data.catalog import folder
+    from puppet.data.errors import DataError
+    from puppet.timeline.replay import find_log
 
     path = Path(replay.path)
     try:
-        named = path.resolve().parent in (folder("log").resolve(),
-                                          folder("recording").resolve())
-    except OSError:
+        named = Path(find_log(path.stem)).resolve() == path.resolve()
+    except (DataError, OSError):
         named = False
-    log = path.stem if named else shlex.quote(str(replay.path))
+    log = path.stem if named else _quoted(str(replay.path))
     return (f"use --headless to replay without a window (e.g. puppet replay {log} "
             f"--headless, or add --video out.mp4 to see it)")
+
+
+def _quoted(text: str) -> str:
+    """A path as the user's shell takes it: POSIX quoting, or on Windows double quotes
+    around a path with a space or a character cmd.exe or PowerShell treat specially
+    (neither reads POSIX single quotes)."""
+    if os.name == "nt":
+        return f'"{text}"' if any(c in text for c in ' &()^;,\'') else text
+    return shlex.quote(text)
 
 
 def no_display(pygame, hint: str = HEADLESS_HINT) -> str:

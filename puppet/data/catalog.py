@@ -50,6 +50,16 @@ _PLAIN_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,199}")
 MAX_NAME = 4096
 
 
+SHORT_PATH = 80  # characters of a path a one-line message shows
+
+
+def short_path(path) -> str:
+    """A path (or name) as a one-line message shows it: at most ``SHORT_PATH``
+    characters, a longer one cut with '...' (a name too long for the file system)."""
+    text = str(path)
+    return text if len(text) <= SHORT_PATH else text[:SHORT_PATH - 3] + "..."
+
+
 def _inside(path: Path, folders) -> bool:
     for f in folders:
         try:
@@ -69,10 +79,9 @@ def find(kind: str, name: str, within=None) -> Path:
     one of ``within`` (a relative path is relative to each of them). Anything else is
     a DataError, and is not read."""
     sub, ext = FOLDERS[kind]
-    shown = name if len(str(name)) <= 80 else str(name)[:77] + "..."
+    shown = short_path(name)
     if not isinstance(name, str) or not name or len(name) > MAX_NAME or "\x00" in name:
-        raise DataError(str(shown), None, None, f"not a {kind} name")
-    shown = str(shown)
+        raise DataError(shown, None, None, f"not a {kind} name")
     if within is None:
         as_path = Path(name)
         try:

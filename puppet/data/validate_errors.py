@@ -12,10 +12,11 @@ import typing
 from typing import Any
 
 import msgspec
+import yaml
 
 from puppet.data.errors import DataError
 from puppet.data.validate import _DISPATCH, _dec_hook
-from puppet.data.yamlfile import Located
+from puppet.data.yamlfile import _RESOLVER, _SCALARS, Located
 
 # --- the types along a path ----------------------------------------------------------
 
@@ -353,8 +354,36 @@ _KIND_WORDS = {"float": "a number", "int": "a whole number", "bool": "true or fa
                "dispatch": "a mapping of settings", "dict": "a mapping"}
 
 
-def _value_message(text: str, place: _Place) -> str:
-    """What a value's error means, in puppet's words."""
+_PLAIN_END = re.compile(r"\s+#|[,\]}]|\s*$")  # where a plain scalar ends on its line
+
+
+def _written(located: Located, loc: tuple, value: Any) -> str:
+    """The scalar at ``loc`` as the file writes it (``0x1F``, ``07``, ``1:30``, ``no``),
+    read from the text at its located start; ``str(value)`` if the text is not there
+    (data built in code) or does not read back as ``value``."""
+    pos = located.value_pos.get(tuple(loc))
+    if located.text is None or pos is None:
+        return str(value)
+    lines = located.text.splitlines()
+    line, col = pos
+    if not 0 < line <= len(lines):
+        return str(value)
+    rest = lines[line - 1][col - 1:]
+    word = rest[:_PLAIN_END.search(rest).start()]
+    try:  # read back as the loader reads a plain scalar
+        tag = _RESOLVER.resolve(yaml.ScalarNode, word, (True, False))
+        node = yaml.ScalarNode(tag, word)
+        same = _SCALARS.yaml_constructors[tag](_SCALARS, node)
+    except (KeyError, ValueError, TypeError, ArithmeticError, yaml.YAMLError):
+        return str(value)
+    if type(same) is not type(value) or repr(same) != repr(value):  # (NaN: by its repr)
+        return str(value)
+    return word
+
+
+def _value_message(text: str, place: _Place, located: Located) -> str:
+    """What a value's error means, in puppet's words (``located``: the file, to quote
+    a value as it was written)."""
     value, t = place.value, place.kind
     member = _choose(t, value) if value is not _NOTHING else t
     base, metas = _strip(member)
@@ -419,8 +448,11 @@ def _value_message(text: str, place: _Place) -> str:
             return "expected one of: " + ", ".join(str(v) for v in literals)
         said = "expected " + (words[0] if len(words) == 1 else
                               ", ".join(words[:-1]) + " or " + words[-1])
-        if names == ["str"] and isinstance(value, (int, float)) and not isinstance(value, bool):
-            said += f" in quotes, '{value}' (unquoted, YAML reads it as a number)"  # key: 3
+        if names == ["str"] and isinstance(value, (int, float)):  # key: 3, key: no
+            written = _written(located, place.loc, value)
+            reads = (("true" if value else "false") if isinstance(value, bool)
+                     else "a number")
+            said += f" in quotes, '{written}' (unquoted, YAML reads it as {reads})"
         return said
     return text  # a check of ours (a __post_init__'s ValueError): already puppet's words
 
@@ -485,7 +517,8 @@ def to_data_error(located: Located, model: type, message: str) -> DataError:
                                   f"{'.'.join(str(p) for p in loc) or 'the file'}")
     if place.kind == "<tag>":  # a tagged struct's tag: an unknown kind of thing
         return _tag_error(located, model, tokens, loc)
-    return located.error(loc, f"bad value for '{name}': {_value_message(text, place)}{got}")
+    return located.error(loc, f"bad value for '{name}': "
+                              f"{_value_message(text, place, located)}{got}")
 
 
 def _tag_error(located: Located, model: type, tokens: list, loc: tuple) -> DataError:

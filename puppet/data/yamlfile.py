@@ -45,6 +45,9 @@ class Located:
     data: Any
     value_pos: dict[tuple, Position] = field(default_factory=dict)
     key_pos: dict[tuple, Position] = field(default_factory=dict)
+    # the YAML text it was read from (None: data built in code), for messages that
+    # quote what was written (``key: 0x1F`` was written 0x1F, not 31)
+    text: str | None = field(default=None, repr=False, compare=False)
 
     def where(self, loc: tuple, prefer_key: bool = False) -> Position | None:
         """Position of the deepest known prefix of ``loc``."""
@@ -201,7 +204,9 @@ def _compose(loader, path: str) -> Located:
 def _parse(text: str, path: str, loader_class) -> Located:
     loader = loader_class(text)
     try:
-        return _compose(loader, path)
+        located = _compose(loader, path)
+        located.text = text
+        return located
     finally:
         loader.dispose()
 

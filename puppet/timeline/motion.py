@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from puppet.data.catalog import short_path
 from puppet.data.characters import CharacterSpec
 from puppet.mocap.bvh import PlanarJoint, write_planar_bvh
 from puppet.session import Session
@@ -216,8 +217,7 @@ def export_motion_command(args) -> int:
     try:
         write_motion(motion, out)
     except OSError as exc:  # a read-only folder, a full disk: one line, not a traceback
-        shown = str(out) if len(str(out)) <= 80 else str(out)[:77] + "..."
-        raise UsageError(f"--export-motion {shown}: cannot write: "
+        raise UsageError(f"--export-motion {short_path(out)}: cannot write: "
                          f"{exc.strerror or exc}") from None
     same = ("" if log.end_hash is None or args.until_step is not None
             else " (same end as recorded)" if motion.final_hash == log.end_hash

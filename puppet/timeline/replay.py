@@ -21,7 +21,7 @@ from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_t
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
-from puppet.timeline.log import TRUNCATED_HINT, Log, read_log
+from puppet.timeline.log import Log, read_log
 from puppet.timeline.playback import next_move, play
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
@@ -293,17 +293,21 @@ def _checking(log: Log) -> str:
             f"{log.last_step}); '{SAME_END}' is not checked")
 
 
-def cut_warnings(log: Log, check: bool = False) -> list[str]:
+def cut_warnings(log: Log, check: bool = False, for_check: bool = False) -> list[str]:
     """What a replay should say about a log that does not end as a closed recording
     does: cut off at a bad line (replayed with --allow-truncated), or with no end line
     (the recording was killed or crashed: nothing to compare the end state with).
-    ``check``: the replay evaluates expectations (on what the log has, see ``require_end``)."""
+    ``check``: the replay evaluates expectations (on what the log has, see ``require_end``).
+    ``for_check``: the words of ``puppet check`` (which reads the log, never cut, and
+    does not replay it) about a log with no end line: what a replay would do with it."""
     if log.truncated_at is not None:
         what = (_checking(log) if check
                 else f"replaying the {len(log.events)} events before it")
         return [f"{log.path}:{log.truncated_at}: warning: {log.truncated_reason}; {what}"]
     if log.end is None:
         what = (_checking(log) if check
+                else f"puppet replay plays its {len(log.events)} events with no recorded "
+                     "end state to compare, and replay --check refuses it" if for_check
                 else f"replaying its {len(log.events)} events, with no recorded end state "
                      "to compare")
         return [f"{log.path}: warning: no end line (the recording did not close: killed or "
@@ -311,22 +315,34 @@ def cut_warnings(log: Log, check: bool = False) -> list[str]:
     return []
 
 
-def require_end(log: Log, allow_truncated: bool) -> None:
+# how ``puppet check`` says what a log cut mid-line needs (read_log's TRUNCATED_HINT is
+# an option of the replay it was run in)
+CHECK_TRUNCATED_HINT = " (puppet replay --allow-truncated replays the lines before it)"
+
+
+def require_end(log: Log, allow_truncated: bool, for_check: bool = False) -> None:
     """The rule of a checked replay (``puppet replay --check``, ``replay(check=True)``,
     ``puppet.testing.replay_log``, ``--video --check``): a log without its end line is
     refused as a log cut mid-line is, unless ``allow_truncated``. Without the end line
     the replay stops at the last event instead of where the recording stopped, so
     expectations at the end would be measured at another time, and the end state cannot
     be compared. A plain replay (the window's, or headless without --check) goes on
-    with the warning of ``cut_warnings``."""
+    with the warning of ``cut_warnings``. The error names the log's last line (the end
+    line would follow it); ``for_check``: ``puppet check``'s refusal, whose hint names
+    the replay command to run."""
     if log.end is not None or log.truncated_at is not None or allow_truncated:
         return
-    line = (log.events[-1].line if log.events else 1) + 1
-    raise DataError(log.path, line, None,
-                    'no end line ({"end": N, "hash": "..."}): the recording did not close '
-                    "(killed or crashed?) or the file was cut, so where the run ended and "
-                    f"its end state are unknown and the checks cannot be made"
-                    + TRUNCATED_HINT)
+    last = log.events[-1].line if log.events else 1
+    what = (f"on its {len(log.events)} events, to step {log.last_step}," if log.events
+            else "at step 0 (it has no events),")
+    option = "puppet replay --headless --check --allow-truncated" if for_check \
+        else "--allow-truncated"
+    raise DataError(log.path, last, None,
+                    'no end line ({"end": N, "hash": "..."}) after this last line: the '
+                    "recording did not close (killed or crashed?) or the file was cut, so "
+                    "where the run ended and its end state are unknown and the checks "
+                    f"cannot be made ({option} checks the expectations {what} "
+                    "without the end state)")
 
 
 def not_checked(log: Log, until_step: int | None = None) -> list[str]:
@@ -346,8 +362,10 @@ def not_checked(log: Log, until_step: int | None = None) -> list[str]:
             f"to step {log.last_step})"]
 
 
-def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]]:
-    """Load what the header names; a one-line warning for each file that changed.
+def setup_for_log(log: Log, as_recorded: bool = False,
+                  for_check: bool = False) -> tuple[Setup, list[str]]:
+    """Load what the header names; a one-line warning for each file that changed
+    (``for_check``: in the words of ``puppet check``, which does not replay).
 
     The interface is today's file, so that yesterday's session replays against
     today's interface (a designer's test; a feat log fails when its interface breaks),
@@ -356,6 +374,7 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
     whose interface file is gone."""
     h = log.header
     embedded = h.get("interface_text")
+    as_recorded_option = "puppet replay --as-recorded" if for_check else "--as-recorded"
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
@@ -378,8 +397,8 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
         if not from_copy and embedded is not None and exc.path == str(where):
             raise DataError(exc.path, exc.line, exc.col,
-                            f"{exc.message} (--as-recorded replays the log's own copy of "
-                            f"the interface)") from None
+                            f"{exc.message} ({as_recorded_option} replays the log's own "
+                            f"copy of the interface)") from None
         raise
     warnings = []
     if h.get("puppet") != __version__:
@@ -392,8 +411,9 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
                         f"step {reloads[0]}); from there on the recorded versions play")
     if from_copy and not as_recorded:
         warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found "
-                        "(in the catalog or the log's folder); replaying the copy recorded "
-                        "in the log")
+                        "(in the catalog or the log's folder); "
+                        + ("a replay plays the copy recorded in the log (checked here)"
+                           if for_check else "replaying the copy recorded in the log"))
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
         if kind == "interface" and from_copy:
@@ -401,9 +421,10 @@ def setup_for_log(log: Log, as_recorded: bool = False) -> tuple[Setup, list[str]
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and file_hash(Path(path)) != recorded:
             warnings.append(f"{log.path}: warning: {kind} '{h.get(kind, path)}' has changed "
-                            f"since this log was recorded ({path}); replaying anyway, "
-                            "results may differ"
-                            + (" (--as-recorded replays the recorded interface)"
+                            f"since this log was recorded ({path}); "
+                            + ("a replay may end elsewhere" if for_check
+                               else "replaying anyway, results may differ")
+                            + (f" ({as_recorded_option} replays the recorded interface)"
                                if kind == "interface" and embedded is not None else ""))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
