@@ -72,6 +72,9 @@ BAD = {  # text -> (line, col, message fragment; one ending in \n ends the messa
     "no key": ("a:\n  b: 1\n  : 2\n", 3, 3, "a ':' with no key before it"),
     "first line indented": (" a: 1\nb: 2\n", 2, 1, "'b' is indented 0 spaces, less than the "
                             "file's first line ('a' on line 1, 1 space)"),
+    "first line indented, named": ("# c\n  name: x\n  mass: 1\n description: y\n", 4, 2,
+                                   "less than the file's first line ('name' on line 2, 2 "
+                                   "spaces)"),
     "colon no space": ("a:\n  b:1\n  c: 2\n", 2, 3, "'b:1' is not 'key: value'"),
     "colon in value": ("name: luxo: lamp\n", 1, 11, "the value of 'name' holds ': ' "
                        "('luxo: lamp'): quote the whole value (name: \"luxo: lamp\")"),

@@ -233,11 +233,12 @@ def plain_words(exc: yaml.MarkedYAMLError, problem: str,
                 + " (or '- ' before a list item)")
     document = re.fullmatch(r"expected '<document start>', but found '(.*)'", problem)
     if document and col == ind:
-        first = _levels_above(lines, row)
-        if first and ind < first[-1].col:
+        top = next((i for i in range(min(row, len(lines))) if not _is_blank(lines[i])), None)
+        first = _own_levels(top, lines[top])[-1:] if top is not None else []
+        if first and ind < first[0].col:
             return (row + 1, col + 1,
                     f"{_what(line[ind:])} is indented {_spaces(ind)}, less than the file's "
-                    f"first line ({first[-1].name}, {_spaces(first[-1].col)}): the top-level "
+                    f"first line ({first[0].name}, {_spaces(first[0].col)}): the top-level "
                     "keys all start in one column, usually the first")
         return None
     char = re.fullmatch(r"found character '(.*)' that cannot start any token", problem)
