@@ -17,7 +17,7 @@ LOADERS = [pytest.param(yamlfile.PURE_LOADER, id="pure")]
 if yamlfile.C_LOADER is not None:
     LOADERS.append(pytest.param(yamlfile.C_LOADER, id="libyaml"))
 
-BAD = {  # text -> (line, col, message fragment)
+BAD = {  # text -> (line, col, message fragment; one ending in \n ends the message)
     "bomb": ("a: &a [x, x, x, x, x, x, x, x, x]\nb: &b [*a, *a, *a, *a, *a, *a, *a, *a]\n"
              "c: &c [*b, *b, *b, *b, *b, *b, *b, *b]\nd: [*c, *c, *c, *c, *c, *c, *c, *c]\n",
              1, 4, "anchors (&name) and aliases"),
@@ -43,8 +43,7 @@ BAD = {  # text -> (line, col, message fragment)
     "one space less": ("a:\n  - name: x\n    shapes:\n      - r: 1\n   mass: 1\n", 5, 4,
                        "'mass' is indented 3 spaces, which lines up with nothing above it: "
                        "YAML nests by indentation, so a line starts in the column of the keys "
-                       "it belongs with: expected 4 spaces, like 'shapes' on line 3, or 2, "
-                       "like the '-' on line 2"),
+                       "it belongs with: expected 4 spaces, like 'shapes' on line 3\n"),
     "one space more": ("a:\n  b: 1\n   c: 2\n", 3, 4,
                        "'c' is indented 3 spaces, more than 'b' on line 2 above it (2 spaces), "
                        "so it reads as the rest of b's value"),
@@ -73,6 +72,9 @@ BAD = {  # text -> (line, col, message fragment)
     "no key": ("a:\n  b: 1\n  : 2\n", 3, 3, "a ':' with no key before it"),
     "first line indented": (" a: 1\nb: 2\n", 2, 1, "'b' is indented 0 spaces, less than the "
                             "file's first line ('a' on line 1, 1 space)"),
+    "first line indented, named": ("# c\n  name: x\n  mass: 1\n description: y\n", 4, 2,
+                                   "less than the file's first line ('name' on line 2, 2 "
+                                   "spaces)"),
     "colon no space": ("a:\n  b:1\n  c: 2\n", 2, 3, "'b:1' is not 'key: value'"),
     "colon in value": ("name: luxo: lamp\n", 1, 11, "the value of 'name' holds ': ' "
                        "('luxo: lamp'): quote the whole value (name: \"luxo: lamp\")"),
@@ -84,6 +86,59 @@ BAD = {  # text -> (line, col, message fragment)
     "two commas": ("a: [1, , 2]\n", 1, 8, "two commas with no item between them"),
     "reserved": ("a: @x\n", 1, 4, "'@' cannot start an unquoted value"),
     "crlf": ("a:\r\n  b: 1\r\n c: 2\r\n", 3, 2, "'c' is indented 1 space, which lines up"),
+    # a reviewer's findings: messages whose fix would not have worked
+    "colon in a { } value": ("maps:\n  - {input: mouse.x, description: mouse x: the thigh}\n",
+                             2, 42, "the value of 'description' holds ': ' ('mouse x: the "
+                             "thigh'): quote the whole value (description: \"mouse x: the "
+                             "thigh\")"),
+    "{ } missing comma": ("maps:\n  - {input: mouse.x joint: ankle}\n", 2, 26,
+                          "(input: \"mouse.x joint: ankle\"); or, if 'joint' starts the next "
+                          "item, put a ',' before it"),
+    "colon, backslash": ("name: x\ndescription: C:\\Users\\x: y\n", 2, 24,
+                         "quote the whole value (description: 'C:\\Users\\x: y')"),
+    "colon, double quotes": ('name: x\ndescription: say "hi": there\n', 2, 22,
+                             "quote the whole value (description: 'say \"hi\": there')"),
+    "colon, both quotes": ("name: x\ndescription: it's \"x\": odd\n", 2, 22,
+                           "(description: 'it''s \"x\": odd')"),
+    "colon, a comment": ("name: x\ndescription: hop: forward  # n\n", 2, 17,
+                         "(description: \"hop: forward\"), or"),
+    "colon, long value": ("name: x\ndescription: " + "a" * 40 + ": " + "b" * 40 + "\n", 2, 54,
+                          '(description: "' + "a" * 32 + " ... " + "b" * 10 + '"), or'),
+    "\\U escape": ('name: x\ndescription: "C:\\Users\\me"\n', 2, 17,
+                   "'\\U' in a double-quoted value starts an escape of 8 hexadecimal digits "
+                   "(a character code), and '\\Us' is not one: write '\\\\' for a backslash, "
+                   "or quote the value with ' ' instead ('C:\\Users\\me')"),
+    "\\x escape": ('maps:\n  - {input: a, description: "C:\\xyz"}\n', 2, 32,
+                   "'\\x' in a double-quoted value starts an escape of 2 hexadecimal digits"),
+    "after a block of text": ("name: x\nnotes: |\n  some text\n\n  more text\n bad: 1\n", 6, 2,
+                              "'bad' is indented 1 space: more than 'notes' on line 2 above it "
+                              "(0 spaces), less than the lines of its block of text ('|' or "
+                              "'>'), which ends at the first line indented less than them: "
+                              "YAML nests by indentation, so a line starts in the column of "
+                              "the keys it belongs with: expected 0 spaces, like 'notes' on "
+                              "line 2\n"),
+    "under a { } item": ("maps:\n  - {input: mouse.x,\n     joint: ankle}\n   bad: 1\n", 4, 4,
+                         "'bad' is indented under the '{ }' on line 2: a value written in "
+                         "'{ }' holds its keys inside it, separated by ',' (add 'bad: 1' "
+                         "before its closing '}')"),
+    "after a - | item": ("poses:\n  - |\n    hello\n   bad: 1\n", 4, 4,
+                         "block of text ('|' or '>'), which ends at the first line indented "
+                         "less than them: YAML nests by indentation, so a line starts in the "
+                         "column of the keys it belongs with: expected 0 spaces, like 'poses' "
+                         "on line 1\n"),
+    "dash, no space": ("maps:\n  -input: mouse.x\n   joint: ankle\n", 2, 3,
+                       "'-input: mouse.x' starts with '-' but no space after it, so it is not "
+                       "a list item: a list item's '-' needs a space after it ('- input: "
+                       "mouse.x')"),
+    "dash, no space, among items": ("maps:\n  - input: mouse.x\n  -joint: ankle\n", 3, 3,
+                                    "'-joint: ankle' starts with '-' but no space after it"),
+    "dash, no space, first item": ("poses:\n  -name: stand\n  - name: sit\n", 2, 3,
+                                   "a list item's '-' needs a space after it ('- name: stand')"),
+    "a key is not offered a '-' column": ("a:\n  - name: x\n    b: 1\n   c: 2\n", 4, 4,
+                                          "expected 4 spaces, like 'b' on line 3\n"),
+    "a key is offered the keys' columns": ("a:\n  b:\n    c: 1\n   d: 2\n", 4, 4,
+                                           "expected 4 spaces, like 'c' on line 3, or 2, "
+                                           "like 'b' on line 2\n"),
 }
 
 
@@ -95,7 +150,7 @@ def test_bad_yaml_is_one_line_with_position(name, loader):
         yamlfile.load_text(text, "f.yaml", loader)
     err = info.value
     assert (err.line, err.col) == (line, col), str(err)
-    assert fragment in err.message and "\n" not in str(err), str(err)
+    assert fragment in err.message + "\n" and "\n" not in str(err), str(err)
 
 
 def test_both_loaders_give_the_same_errors_for_every_broken_example(monkeypatch):
