@@ -15,7 +15,7 @@ def puppet(*args, env=None, cwd=None):
 
 def _no_display_env():
     env = {k: v for k, v in os.environ.items()
-           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER", "XDG_RUNTIME_DIR")}
     env["PYTHONPATH"] = str(catalog.ROOT)
     return env
 
@@ -31,6 +31,7 @@ def test_play_without_a_display_says_so_points_to_headless_and_records_nothing(t
     assert proc.returncode == 2
     line = proc.stderr.strip().splitlines()[-1]
     assert line.startswith("puppet play: no display found") and "--headless" in line
+    assert proc.stderr.strip() == line  # one line: not SDL's "XDG_RUNTIME_DIR is invalid" first
     assert _recordings() == before
     log = tmp_path / "x.jsonl"
     proc = puppet("play", "luxo-mouse", "--record", str(log), env=_no_display_env())

@@ -6,8 +6,11 @@ steps; everything that changes the simulation goes through ``Session.handle``.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shlex
+import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -48,14 +51,17 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     from puppet.app.render import draw_world
 
     hint = headless_hint(replay)  # the command that was run: play, or replay LOG
-    try:
-        pygame.display.init()  # no pygame.init(): puppet makes no sound
-        missing = no_display(pygame, hint)
-    except pygame.error as exc:
-        missing = f"no display found ({exc}); {hint}"
-    if missing:  # before anything is recorded
+    with _held_stderr() as said:  # what SDL prints while it looks for a display
+        try:
+            pygame.display.init()  # no pygame.init(): puppet makes no sound
+            missing = no_display(pygame, hint)
+        except pygame.error as exc:
+            missing = f"no display found ({exc}); {hint}"
+    if missing:  # before anything is recorded; SDL's own lines would only come first
         pygame.quit()
         raise UsageError(missing)
+    if said:  # a display was found: SDL's words may matter (a driver's warning)
+        sys.stderr.write(said[0])
     pygame.font.init()
     pygame.joystick.init()  # gamepads arrive as JOYDEVICEADDED events (hot-plug)
     gamepads = Gamepads(pygame)
@@ -438,6 +444,31 @@ def headless_hint(replay=None) -> str:
     log = path.stem if named else _quoted(str(replay.path))
     return (f"use --headless to replay without a window (e.g. puppet replay {log} "
             f"--headless, or add --video out.mp4 to see it)")
+
+
+@contextlib.contextmanager
+def _held_stderr():
+    """Hold what is written to the process's stderr (file descriptor 2, where SDL's C
+    code writes: "error: XDG_RUNTIME_DIR is invalid or not set" before the no-display
+    line) until the block ends; yields a list that then holds the text."""
+    said: list[str] = []
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):  # no real stderr (an embedding): nothing to hold
+        yield said
+        return
+    with tempfile.TemporaryFile() as held:
+        os.dup2(held.fileno(), 2)
+        try:
+            yield said
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            held.seek(0)
+            said.append(held.read().decode("utf-8", "replace"))
+    if not said[0]:
+        said.clear()
 
 
 def _quoted(text: str) -> str:
