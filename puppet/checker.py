@@ -4,6 +4,7 @@ does; a name as the other commands take one (``find_target``)."""
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 
 from puppet.data.errors import DataError
@@ -17,6 +18,11 @@ KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes"
 
 
 YAML_EXTS = (".yaml", ".yml")
+# kind -> (module, its parse function) for the kinds checked by parsing alone
+_PARSERS = {"character": ("puppet.data.characters", "parse_character"),
+            "scene": ("puppet.data.scenes", "parse_scene"),
+            "script": ("puppet.timeline.script", "parse_script"),
+            "mapping": ("puppet.data.mappings", "parse_mapping")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
                     "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl "
                     "logs and .bvh clips, or their names")
@@ -179,25 +185,9 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         raise DataError(str(path), None, None, f"cannot check {got}; {WHAT_CHECK_READS}")
     located = load_file(path)
     kind = guess_kind(path, located)
-    if kind == "character":
-        from puppet.data.characters import parse_character
-
-        parse_character(located)
-        return kind
-    if kind == "scene":
-        from puppet.data.scenes import parse_scene
-
-        parse_scene(located)
-        return kind
-    if kind == "script":
-        from puppet.timeline.script import parse_script
-
-        parse_script(located)
-        return kind
-    if kind == "mapping":
-        from puppet.data.mappings import parse_mapping
-
-        parse_mapping(located)
+    if kind in _PARSERS:  # (imported when asked: check reads only its file's kind)
+        module, parse = _PARSERS[kind]
+        getattr(importlib.import_module(module), parse)(located)
         return kind
     if kind == "expectations":  # their states and modes are checked when a log replays
         from puppet.data.validate import validate

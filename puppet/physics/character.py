@@ -217,22 +217,19 @@ class Character:
         return got
 
     def _com(self) -> tuple[float, float]:
-        mx = my = 0.0
-        to_world = _cp.cpBodyLocalToWorld
-        for body, mass, cog in self._mass_points():
-            p = to_world(body, cog)
-            mx += mass * p.x
-            my += mass * p.y
-        return (mx / self.mass, my / self.mass)
+        return self._mass_mean(_cp.cpBodyLocalToWorld)  # each link's centre, in the world
 
     def _com_velocity(self) -> tuple[float, float]:
-        vx = vy = 0.0
-        velocity = _cp.cpBodyGetVelocityAtLocalPoint
+        return self._mass_mean(_cp.cpBodyGetVelocityAtLocalPoint)  # ... and its velocity
+
+    def _mass_mean(self, at) -> tuple[float, float]:
+        """The mass-weighted mean of ``at(body, centre of gravity)`` over the links."""
+        sx = sy = 0.0
         for body, mass, cog in self._mass_points():
-            v = velocity(body, cog)
-            vx += mass * v.x
-            vy += mass * v.y
-        return (vx / self.mass, vy / self.mass)
+            v = at(body, cog)
+            sx += mass * v.x
+            sy += mass * v.y
+        return (sx / self.mass, sy / self.mass)
 
     def root_angle(self) -> float:
         """Angle of the root link (radians, counter-clockwise, 0 = as in the model)."""
