@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib
 from pathlib import Path
+from types import SimpleNamespace
 
 from puppet.data.errors import DataError
 from puppet.data.yamlfile import Located, load_file
@@ -125,19 +126,29 @@ def check_log(path: Path, warnings: list[str] | None = None) -> str:
     said += cut_warnings(log, for_check=True)
     expectations = load_expectations(log.path, log.header)
     expectations.check_links([link.name for link in setup.character.links])
+    # what the replay's trajectory would know: every interface version's state and mode
+    names = SimpleNamespace(state_names=dict.fromkeys(setup.interface.states),
+                            mode_names=dict.fromkeys(setup.interface.modes))
     seen = set()
     for e in log.events:
         if e.event.get("type") != "reload" or e.event["text"] in seen:
             continue
         seen.add(e.event["text"])
         try:
-            parse_interface_text(e.event["text"], e.event.get("path")
-                                 or str(setup.interface_path), setup.character,
-                                 setup.character_path, setup.scene)
+            spec = parse_interface_text(e.event["text"], e.event.get("path")
+                                        or str(setup.interface_path), setup.character,
+                                        setup.character_path, setup.scene)[0]
         except DataError as exc:  # apply_log's words, at the event's line
             raise DataError(log.path, e.line, None, f"cannot apply this event: {exc}") from None
+        names.state_names.update(dict.fromkeys(spec.states))
+        names.mode_names.update(dict.fromkeys(spec.modes))
+    # the states and modes named as the replay checks them (rc 2 there), and a window
+    # that begins after the log's end (no sample in it: a sure failure)
+    expectations.check_names(SimpleNamespace(state_names=list(names.state_names),
+                                             mode_names=list(names.mode_names)))
+    expectations.check_windows(log.last_step * float(log.header["dt"]))
     if warnings is not None:
-        warnings += said
+        warnings += said + expectations.notes
     return "log"
 
 
@@ -189,11 +200,12 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         module, parse = _PARSERS[kind]
         getattr(importlib.import_module(module), parse)(located)
         return kind
-    if kind == "expectations":  # their states and modes are checked when a log replays
-        from puppet.data.validate import validate
-        from puppet.timeline.expectations import ExpectFile
+    if kind == "expectations":  # their states and modes: checking the log checks them
+        from puppet.timeline.expectations import validate_expect_file
 
-        validate(located, ExpectFile)
+        if not validate_expect_file(located).expect and warnings is not None:
+            warnings.append(f"{path}: warning: 'expect' is an empty list: no expectation "
+                            "is checked")
         return kind
     if kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
         from puppet.mocap.send import parse_bones

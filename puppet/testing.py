@@ -9,7 +9,23 @@
 
 ``ReplayResult`` has the final state hash, the trajectory (numpy arrays of time,
 per-link x/y/angle, joint angles and targets, the interface's state and mode...), the
-summary and the failed expectations (each with what was measured).
+summary and the failed expectations (each an ``Outcome``: its ``kind``, what was
+expected and what was measured). A bad log or bad expectations raise ``DataError``
+(file:line and what is wrong in ``str()``).
+
+A failure test - the physics made weaker, the log must then fail - replays on a
+changed Setup (``adjust``: a function of the Setup returning the one to replay on):
+
+    from puppet.testing import replay_log, weaker_joints
+
+    result = replay_log("assets/logs/biped-push-step.jsonl",
+                        adjust=weaker_joints(["hip_near", "hip_far"], 0.3))
+    assert result.failed  # with 30% of the hips' strength it falls (never_fell...)
+
+``weaker_joints`` scales the named joints' maximum torque (the character's
+``max_torque``) in the Setup's character; any other change of the interface or the
+character is made the same way (``dataclasses.replace`` / ``model_copy`` of the Setup's
+parts).
 """
 
 from __future__ import annotations
@@ -18,34 +34,87 @@ import tempfile
 from pathlib import Path
 
 from puppet.data.catalog import find, load_setup
+from puppet.data.errors import DataError
 from puppet.session import Session
-from puppet.timeline.expectations import Outcome, evaluate_all, parse_expectations
+from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
+                                          parse_expectations)
 from puppet.timeline.log import Log, Recorder, read_log, record_events
 from puppet.timeline.replay import SAMPLE_EVERY, ReplayResult, Trajectory, replay
 from puppet.timeline.script import compile_script, load_script, run_seconds
 
-__all__ = ["ReplayResult", "Trajectory", "Outcome", "replay_log", "record_script",
-           "check", "Recorder", "read_log"]
+__all__ = ["ReplayResult", "Trajectory", "Outcome", "DataError", "replay_log",
+           "record_script", "check", "weaker_joints", "Recorder", "read_log"]
+
+# the command line's option, as the replay's errors name it, and its Python spelling
+_OPTION, _KEYWORD = "--allow-truncated", "allow_truncated=True"
+
+
+def _in_python(exc: DataError) -> DataError:
+    """A cut log's refusal in the words of this API: ``allow_truncated=True`` where
+    the command line's error says ``--allow-truncated``."""
+    if _OPTION not in exc.message:
+        return exc
+    return DataError(exc.path, exc.line, exc.col, exc.message.replace(_OPTION, _KEYWORD))
+
+
+def _entries(expect, where: str) -> list | None:
+    """``expect`` as a list of entries, else a DataError that says one is expected
+    (a bare name or one dict is not a list of them)."""
+    if expect is None or isinstance(expect, (list, tuple)):
+        return expect
+    return parse_expectations(expect, where)  # raises: it says what is expected
 
 
 def replay_log(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
                expect: list | None = None, sample_every: int = SAMPLE_EVERY,
-               as_recorded: bool = False) -> ReplayResult:
+               as_recorded: bool = False, adjust=None) -> ReplayResult:
     """Replay ``path`` (or a log already read) headless and check its expectations
-    (header or sidecar file).
+    (the sidecar file ``NAME.expect.yaml``, else the header's; the sidecar wins, and a
+    header's entries it leaves out are a warning in ``result.warnings``).
 
     ``expect`` (a list of expectation dicts, as in a sidecar file) replaces the log's.
     As ``puppet replay --check``: a log without its end line is refused (DataError)
     unless ``allow_truncated``, which checks the events it has (``result.unchecked``
-    says what was left out).
+    says what was left out). ``adjust``: a function of the Setup returning the one to
+    replay on (``replay``'s; see ``weaker_joints`` and the module's example).
     """
-    return replay(path, until_step, allow_truncated, sample_every=sample_every,
-                  as_recorded=as_recorded, expect=expect)
+    expect = _entries(expect, f"{getattr(path, 'path', path)} (expect=)")
+    try:
+        log = path if isinstance(path, Log) else read_log(path, allow_truncated)
+        result = replay(log, until_step, allow_truncated, sample_every=sample_every,
+                        as_recorded=as_recorded, expect=expect, adjust=adjust)
+    except DataError as exc:
+        raise _in_python(exc) from None
+    if expect is None:
+        result.warnings += load_expectations(log.path, log.header).notes
+    return result
+
+
+def weaker_joints(joints: list[str], scale: float):
+    """An ``adjust`` for ``replay_log``: the Setup with the named joints' maximum torque
+    (the character's ``max_torque``) times ``scale``: the physics made weaker, for a
+    test that a log fails without the strength it was recorded with."""
+    import dataclasses
+
+    def adjust(setup):
+        character = setup.character
+        names = [j.name for j in character.actuated]
+        unknown = [n for n in joints if n not in names]
+        if unknown:
+            raise DataError(str(setup.character_path), None, None,
+                            f"weaker_joints: no driven joint {', '.join(map(repr, unknown))}; "
+                            f"the character's are: {', '.join(names)}")
+        changed = [j.model_copy({"pd": j.pd.model_copy({"max_torque": j.pd.max_torque * scale})})
+                   if j.name in joints else j for j in character.joints]
+        return dataclasses.replace(setup, character=character.model_copy({"joints": changed}))
+
+    return adjust
 
 
 def check(result: ReplayResult, expect: list) -> list[Outcome]:
-    """Evaluate more expectations on a finished replay; returns the failed ones."""
-    items = parse_expectations(expect)
+    """Evaluate more expectations (a list of entries, as in a sidecar file) on a
+    finished replay; returns the failed ones."""
+    items = parse_expectations(expect, "check(expect=)")
     items.check_links(result.trajectory.links)
     return [o for o in evaluate_all(items.items, result.trajectory, result.final_hash)
             if not o.passed]

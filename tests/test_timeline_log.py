@@ -115,7 +115,7 @@ def test_replay_log_follows_the_rule_of_check(tmp_path, hop_log):
 
     cut = _cut_end(hop_log, tmp_path)
     for expect in (None, [{"upright_at_end": True}]):
-        with pytest.raises(DataError, match="no end line.*--allow-truncated"):
+        with pytest.raises(DataError, match="no end line.*allow_truncated=True"):
             replay_log(cut, expect=expect)
     result = replay_log(cut, allow_truncated=True)
     assert result.same_end is None and not result.failed and len(result.outcomes) == 2

@@ -1,15 +1,22 @@
 """What a replayed log must show: checked by ``puppet replay --check`` and test suites.
 
 Expectations live in the log header (``"expect": [...]``) or in a sidecar file
-``LOG.expect.yaml`` next to the log (``expect:`` then a list); the sidecar wins.
-Each entry names one check:
+``LOG.expect.yaml`` next to the log (``expect:`` then a list); the sidecar wins (the
+header's entries are then not checked, a warning says so; an empty list, which checks
+nothing, is a warning too). Each entry names one check (every kind is listed here):
 
     expect:
       - x_at_end: {link: base, min: 0.5}       # x of the link's centre of mass at the end, m
       - x_at_end: {com: true, max: 2.0}        # ... or of the whole character's
+      - height_at_end: {link: pelvis, min: 0.8, held: 1.0}
+                                  # the link's centre of mass (m above y = 0) within
+                                  # min..max at the end (held: at every sample of the
+                                  # last 1 s): standing, not crouched or fallen
       - upright_at_end: true                   # root within 45 deg of upright at the end
       - never_fell: true                       # root never more than 90 deg from upright
                                                # while touching the ground
+      - tilt_never_above: {links: [pelvis, chest], max: 45}
+                                  # each link within 45 deg of upright at every sample
       - tilt_at_end: {links: [pelvis, chest], max: 15, held: 1.0}
                                   # each link within 15 deg of upright at every sample of
                                   # the last 1 s (held 0: the last sample)
@@ -95,7 +102,9 @@ Each entry names one check:
                                   # at least 5 stretches that begin in the window with
                                   # none of the links touching (default: no link of the
                                   # character), each lasting 0.04 s or more: a run's
-                                  # flights, not a one-sample bounce
+                                  # flights, not a one-sample bounce; max_count: at
+                                  # most so many ({min_count: 2, max_count: 2}: exactly
+                                  # two hops)
       - run_up: {links: [foot_near, foot_far], min_flights: 3, flight_seconds: 0.04,
                  min_speed: 1.5, over: 1.0}
                                   # before the longest flight (the jump, the flight
@@ -121,7 +130,8 @@ Each entry names one check:
                                   # rope, not a still hang
       - held: {chains: [hand_near, hand_far], prop: bar, from: 0.0}
                                   # each chain held the prop at every sample (until: s)
-      - in_state_at_end: upright               # the state at the end (and in_mode_at_end)
+      - in_state_at_end: upright               # the state at the end
+      - in_mode_at_end: keys                   # the mode at the end
       - held_point: {prop: bars, point: bar7}  # some chain (or 'chain: NAME') held
                                                # that grasp point of the prop at a sample
       - always_holding: {chains: [hand_near, hand_far], from: 3.0}
@@ -141,9 +151,17 @@ Each entry names one check:
                                   # under the hips) - each sample must meet all of them
       - final_hash: 0123456789abcdef           # the exact final state
 
+Bounds that nothing can meet are refused when the file is read (``puppet check``):
+a ``max`` under its ``min`` (``x_min``/``x_max``, ``min_seconds``/``max_seconds``...),
+an ``until`` before its ``from``. ``puppet check LOG`` also refuses a window that
+begins after the log's end and, as the replay does, a state or mode the interface
+(any version the log plays) does not define.
+
 "Upright" is the root link's angle from its model orientation, taken modulo full
 turns. A fall is the root more than 90 deg from upright while any link of the
 character touches the ground: a somersault in the air that lands upright is not one.
+The first sample (step 0, before the first step) takes the contacts of the next one:
+pymunk has none yet, and a standing start would read as a flight.
 The trajectory is sampled every few steps (``Trajectory``), so "never" and
 "for 0.1 s" are as fine as that sampling (1/120 s by default); so is "stayed": a
 state left and re-entered between two samples goes unseen. A state or mode the
@@ -155,6 +173,7 @@ or the versions a reload brought in).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from dataclasses import field as dc_field
 from pathlib import Path
 from typing import Annotated, ClassVar, Literal
 
@@ -423,16 +442,22 @@ class MeanSpeed(Spec, kw_only=True):
 
 
 class FlightPhases(Spec, kw_only=True):
-    """At least ``min_count`` flights that begin inside the window: stretches of samples
-    with none of ``links`` touching (default: no link of the character), each at least
-    ``min_seconds`` long (from the first sample off to the first sample down again)."""
+    """At least ``min_count`` (and at most ``max_count``) flights that begin inside the
+    window: stretches of samples with none of ``links`` touching (default: no link of
+    the character), each at least ``min_seconds`` long (from the first sample off to the
+    first sample down again). Exactly two hops: ``min_count: 2, max_count: 2``."""
 
     from_: Time = field(name="from", default=0.0)  # s: window start
     until: Time | None = None  # s: window end (default: the end)
-    min_count: Annotated[int, Meta(ge=1, le=100000)]  # flights, at least
+    min_count: Annotated[int, Meta(ge=1, le=100000)] | None = None  # flights, at least
+    max_count: Annotated[int, Meta(ge=0, le=100000)] | None = None  # flights, at most
     min_seconds: Time  # s a flight lasts, at least
     # the links off the ground (default: all)
     links: Annotated[list[str], Meta(min_length=1, max_length=64)] | None = None
+
+    def __post_init__(self):
+        if self.min_count is None and self.max_count is None:
+            raise ValueError("give 'min_count', 'max_count' or both (flights)")
 
 
 class RunUp(Spec, kw_only=True):
@@ -472,11 +497,8 @@ class StayedIn(Spec, kw_only=True):
 
     column: ClassVar[str]  # the Trajectory column and the key naming it: state or mode
     from_: Time | None = field(name="from", default=None)  # s: window start (default: the start)
-    until: Time | None = None  # s: window end (default: the end)
-
-    def __post_init__(self):
-        if self.from_ is not None and self.until is not None and self.from_ > self.until:
-            raise ValueError("'from' must not be later than 'until'")
+    until: Time | None = None  # s: window end (default: the end; before 'from': refused
+    # with every kind's bounds, Expectations)
 
     @property
     def name(self) -> str:
@@ -782,7 +804,8 @@ class Expectation(Spec, kw_only=True, dict=True):
             return f"mean_speed {bounds} m/s from {v.from_:g} s to {_until(v)}"
         if isinstance(v, FlightPhases):
             what = "no link" if v.links is None else f"none of {', '.join(v.links)}"
-            return (f"flight_phases at least {v.min_count} of {v.min_seconds:g} s or more "
+            count = _at_least_most(v.min_count, v.max_count)
+            return (f"flight_phases {count} of {v.min_seconds:g} s or more "
                     f"({what} touching) from {v.from_:g} s to {_until(v)}")
         if isinstance(v, RunUp):
             what = "no link" if v.links is None else f"none of {', '.join(v.links)}"
@@ -805,18 +828,73 @@ class ExpectFile(Spec, kw_only=True):
     expect: list[Expectation]
 
 
+# (low, high) fields of a kind's settings: the high one may not be under the low one
+# (an entry that nothing can pass); the YAML names (``from_`` is 'from')
+BOUND_PAIRS = (("min", "max"), ("from_", "until"), ("x_min", "x_max"),
+               ("min_seconds", "max_seconds"), ("min_rms", "max_rms"),
+               ("min_root_angle", "max_root_angle"), ("min_count", "max_count"))
+
+
+def _yaml_name(name: str) -> str:
+    return name.removesuffix("_")
+
+
+def _bounds_problem(v) -> tuple[str, str] | None:
+    """(the high field's YAML name, the message) for a pair of bounds that no value can
+    meet (max under min, until before from), checked once here for every kind."""
+    for low, high in BOUND_PAIRS:
+        lo, hi = getattr(v, low, None), getattr(v, high, None)
+        if isinstance(lo, bool) or isinstance(hi, bool) or not (
+                isinstance(lo, (int, float)) and isinstance(hi, (int, float))):
+            continue
+        if hi < lo:
+            a, b = _yaml_name(low), _yaml_name(high)
+            if low == "from_":
+                return b, (f"'{b}' ({hi:g} s) is before '{a}' ({lo:g} s): the window is "
+                           f"empty; expected '{b}' at or after '{a}'")
+            return b, (f"'{b}' ({hi:g}) is less than '{a}' ({lo:g}): nothing can be in "
+                       f"that range; expected '{b}' at least '{a}'")
+    return None
+
+
 @dataclass
 class Expectations:
-    """Validated expectations and where they came from (for errors about link names)."""
+    """Validated expectations and where they came from (for errors about link names).
+    ``notes``: what loading them would warn about (one line each: a header's entries
+    left out for the sidecar's, an empty list)."""
 
     items: list[Expectation]
     located: Located | None
     loc_prefix: tuple  # data path of the list inside ``located``
+    notes: list[str] = dc_field(default_factory=list)
 
     def __post_init__(self):
         if self.located is not None:
             for i, e in enumerate(self.items):
                 e._where = (self.located, self.loc_prefix + (i, e.kind))
+        for e in self.items:
+            if isinstance(e.value, Spec) and (problem := _bounds_problem(e.value)):
+                raise e.error(f"{e.kind}: {problem[1]}", problem[0])
+
+    def check_names(self, names) -> None:
+        """DataError (at the entry) for a state or mode the interface does not define:
+        ``names`` has ``state_names`` and ``mode_names`` (a Trajectory, or what
+        ``puppet check`` reads from the log's interface versions)."""
+        for e in self.items:
+            if isinstance(e.value, StayedIn):
+                _check_name(e, names, e.value.column, e.value.name, e.value.column)
+            elif e.kind in AT_END:
+                _check_name(e, names, AT_END[e.kind], e.value)
+
+    def check_windows(self, end: float) -> None:
+        """DataError (at its 'from') for a window that begins after ``end`` (s: the
+        log's last step), which no sample of the replay can be in."""
+        for e in self.items:
+            start = getattr(e.value, "from_", None) if isinstance(e.value, Spec) else None
+            if start is not None and start > end + 1e-9:
+                raise e.error(f"'from' ({start:g} s) is after the log's end ({end:.2f} s): "
+                              f"no sample is in the window; expected 'from' at most "
+                              f"{end:.2f} s", "from")
 
     def check_links(self, links: list[str]) -> None:
         """DataError (at the entry) for a link the character does not have."""
@@ -840,23 +918,71 @@ def sidecar_path(log_path: str | Path) -> Path:
     return plain
 
 
+def _one_check_each(located: Located) -> None:
+    """An entry naming two checks (or none) of the known kinds, refused in one line at
+    the entry (msgspec's words would add the entry as a cut Python dict)."""
+    items = located.data.get("expect") if isinstance(located.data, dict) else None
+    if not isinstance(items, list):
+        return
+    kinds = Expectation.__struct_fields__
+    for i, entry in enumerate(items):
+        if not isinstance(entry, dict) or any(k not in kinds for k in entry):
+            continue  # not a mapping, or an unknown key: validate says what is wrong
+        if len(entry) != 1:
+            named = (f"names {len(entry)}: {', '.join(map(str, entry))}" if entry
+                     else "names none")
+            raise located.error(("expect", i), f"each expectation names exactly one check; "
+                                               f"this entry {named} (expected one per '- ' "
+                                               f"entry)")
+
+
+def validate_expect_file(located: Located) -> ExpectFile:
+    """A sidecar file's (or the header's) ``expect:`` list validated: each entry one
+    check, every pair of bounds one that a value can meet."""
+    _one_check_each(located)
+    spec = validate(located, ExpectFile)
+    Expectations(spec.expect, located, ("expect",))  # the bounds, at their entries
+    return spec
+
+
 def load_expectations(log_path: str | Path, header: dict) -> Expectations:
-    """The sidecar file's expectations if there is one, else the header's."""
+    """The sidecar file's expectations if there is one, else the header's: the sidecar
+    wins, and a header's own entries then left out are a note; so is an empty list
+    (a replay --check that checks nothing but the end state)."""
     side = sidecar_path(log_path)
     if side.is_file():
         located = load_file(side)
-        spec = validate(located, ExpectFile)
-        return Expectations(spec.expect, located, ("expect",))
-    raw = header.get("expect") or []
-    located = Located(str(log_path), {"expect": raw}, value_pos={(): (1, 1)})
-    spec = validate(located, ExpectFile)
-    return Expectations(spec.expect, located, ("expect",))
+        spec = validate_expect_file(located)
+        result = Expectations(spec.expect, located, ("expect",))
+        if header.get("expect"):
+            result.notes.append(f"{log_path}: warning: the header's {len(header['expect'])} "
+                                f"expectation(s) are not checked: the sidecar {side.name} "
+                                f"replaces them (the sidecar wins)")
+    else:
+        raw = header.get("expect") or []
+        located = Located(str(log_path), {"expect": raw}, value_pos={(): (1, 1)})
+        spec = validate_expect_file(located)
+        result = Expectations(spec.expect, located, ("expect",))
+        side = None
+    if not spec.expect and (side is not None or "expect" in header):
+        result.notes.append(f"{side or log_path}: warning: 'expect' is an empty list: "
+                            "no expectation is checked")
+    return result
 
 
 def parse_expectations(items: list, where: str = "expect") -> Expectations:
-    """Expectations given as Python data (e.g. by a test)."""
+    """Expectations given as Python data (e.g. by a test): a list of entries."""
+    if not isinstance(items, (list, tuple)):
+        raise DataError(where, None, None, f"expected a list of expectation entries "
+                                           f"(e.g. [{{'never_fell': True}}]), got "
+                                           f"{type(items).__name__} {_short(items)}")
     located = Located(where, {"expect": list(items)})
-    return Expectations(validate(located, ExpectFile).expect, located, ("expect",))
+    return Expectations(validate_expect_file(located).expect, located, ("expect",))
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 # -- evaluation ------------------------------------------------------------------------
@@ -865,6 +991,9 @@ class Outcome:
     expectation: str  # what was expected, one line
     passed: bool
     measured: str  # what was measured, one line
+    # the expectation's kind (its key: 'never_fell', 'flight_phases'...; 'same_end' for
+    # the recorded end state a closed log adds)
+    kind: str = ""
 
     def __str__(self) -> str:
         return f"{'ok  ' if self.passed else 'FAIL'} {self.expectation}: {self.measured}"
@@ -1085,7 +1214,9 @@ def _flight_phases(e: Expectation, v: FlightPhases, traj) -> Outcome:
         lengths.append(float(end - traj.t[i]))
     long = [d for d in lengths if d >= v.min_seconds - 1e-9]
     longest = f", the longest {max(lengths):.3f} s" if lengths else ""
-    return Outcome(e.describe(), len(long) >= v.min_count,
+    ok = ((v.min_count is None or len(long) >= v.min_count)
+          and (v.max_count is None or len(long) <= v.max_count))
+    return Outcome(e.describe(), ok,
                    f"{len(long)} flights of {v.min_seconds:g} s or more "
                    f"({len(lengths)} in all{longest})")
 
@@ -1234,6 +1365,12 @@ def _flight_end(desc: str, v: TookOff | FirstTouch, traj) -> Outcome:
 
 def evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
     """Check one expectation against a sampled trajectory (see ``Trajectory``)."""
+    outcome = _evaluate(e, traj, final_hash)
+    outcome.kind = e.kind
+    return outcome
+
+
+def _evaluate(e: Expectation, traj, final_hash: str) -> Outcome:
     v, desc = e.value, e.describe()
     if isinstance(v, XAtEnd):
         x = float(traj.com[-1, 0]) if v.com else float(traj.x[-1, traj.index(v.link)])

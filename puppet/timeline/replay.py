@@ -41,10 +41,15 @@ class Trajectory:
 
     Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
     (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
-    something outside the character). Per joint (``joints`` order): ``joint_angle``,
+    something outside the character; at the first sample, step 0, the next sample's:
+    before the first step there are no contacts yet). Per joint (``joints`` order): ``joint_angle``,
     ``joint_target`` (rad), ``joint_channel`` (the value of the input channel named
     like the joint - a performance's angle for it - in rad, NaN where none came yet).
-    ``com`` is (n, 2). ``state`` and ``mode`` (object arrays of names, None without
+    ``com`` is (n, 2). ``root_angle`` is the root link's angle (rad, as ``angle``'s
+    column for the root: unwrapped, 0 in the model's orientation). Read a link's column
+    with ``index``: ``traj.y[:, traj.index("base")]``; a joint's with
+    ``traj.joints.index``: ``traj.joint_angle[:, traj.joints.index("hip_near")]``.
+    ``state`` and ``mode`` (object arrays of names, None without
     states or modes) are the interface's state and mode at each
     sample, for expectations about what the character was doing; ``state_names`` and
     ``mode_names`` are the ones the interface defines (every version, if it was
@@ -77,8 +82,27 @@ class Trajectory:
     held: np.ndarray | None = None
     prop_points: dict[str, list[str]] | None = None  # prop -> its grasp points, in order
 
+    def __post_init__(self):
+        # the sample at step 0 is taken before the first step, when pymunk has found no
+        # contacts yet: it would read as a flight (a standing start counted as a hop,
+        # a one-sample 'airborne'); it takes the next sample's contacts instead
+        if len(self.step) > 1 and self.step[0] == 0:
+            self.contact[0] = self.contact[1]
+
     def index(self, link: str) -> int:
-        return self.links.index(link)
+        """The column of a link in the per-link arrays; ValueError naming the links
+        (and, for a joint's name, where joints are read) for another name."""
+        try:
+            return self.links.index(link)
+        except ValueError:
+            pass
+        joint = (f"'{link}' is a joint: its columns are in joint_angle, joint_target and "
+                 f"joint_channel, at trajectory.joints.index('{link}')"
+                 if link in self.joints else
+                 f"joints are read with trajectory.joints.index(NAME) in joint_angle, "
+                 f"joint_target, joint_channel (joints: {', '.join(self.joints) or 'none'})")
+        raise ValueError(f"no link '{link}' in the trajectory; the links are: "
+                         f"{', '.join(self.links)}; {joint}") from None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -250,6 +274,16 @@ class ReplayResult:
     blowups: list[str] = field(default_factory=list)  # the session's note for each
     # checks a checked replay could not make (a cut log's end state), one line each
     unchecked: list[str] = field(default_factory=list)
+
+    def __post_init__(self):
+        for o in self.outcomes:  # the check a closed log's end line adds
+            if o.expectation == SAME_END and not o.kind:
+                o.kind = "same_end"
+
+    def __repr__(self) -> str:
+        verdict = "ok" if self.ok else f"{len(self.failed)} of {len(self.outcomes)} failed"
+        return (f"ReplayResult(path={self.path!r}, steps={self.steps}, "
+                f"hash={self.final_hash!r}, {verdict})")
 
     @property
     def failed(self) -> list[Outcome]:
