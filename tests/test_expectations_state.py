@@ -78,7 +78,8 @@ def test_unknown_state_or_mode_is_a_data_error_at_the_entry(somersaults, tmp_pat
 @pytest.mark.parametrize("entry, message", [
     ({"state": "upright", "form": 1},
      "unknown key 'form'; did you mean 'from'? expected one of: from, state, until"),
-    ({"state": "upright", "from": 3, "until": 1}, "stayed_in_state: 'until' (1 s) is before 'from' (3 s)"),
+    ({"state": "upright", "from": 3, "until": 1},
+     "stayed_in_state: 'until' (1 s) is before 'from' (3 s)"),
     ({"from": 1}, "missing required key 'state' in expect.0.stayed_in_state"),
 ])
 def test_the_time_span_is_validated_when_loaded(entry, message):
