@@ -8,7 +8,8 @@ from __future__ import annotations
 import json
 
 from puppet.cli import main
-from puppet.data.catalog import ROOT
+from puppet.data.catalog import ROOT, file_hash
+from puppet.timeline.log import text_hash
 
 HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"
 WALK = ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"
@@ -90,7 +91,7 @@ def test_a_broken_log_gives_the_replays_first_problem(capsys, tmp_path):
     header = json.loads(lines[0])
     header["scene"] = "no-such-scene"
     bad_header = write(tmp_path / "bad-header.jsonl", [json.dumps(header)] + lines[1:])
-    reload = {"step": 300, "event": {"type": "reload", "text": "name: x\ncharacter: luxo\n"
+    reload = {"step": 148, "event": {"type": "reload", "text": "name: x\ncharacter: luxo\n"
                                                                "maps: 3\n"}}
     bad_reload = write(tmp_path / "bad-reload.jsonl", lines[:4] + [json.dumps(reload)]
                        + lines[4:])
@@ -209,19 +210,21 @@ def test_checks_words_about_a_logs_interface_say_what_a_replay_would_do(capsys, 
         return write(tmp_path / name, [json.dumps(header)] + lines[1:])
 
     gone = log_with("gone.jsonl", interface="no-such-interface")
-    changed = log_with("changed.jsonl", interface_hash="0" * 16)
+    older = json.loads(lines_of(HOP)[0])["interface_text"] + "# an older version\n"
+    older_hash = text_hash(older.encode())  # recorded from a file that has changed since
+    changed = log_with("changed.jsonl", interface_text=older, interface_hash=older_hash)
     broken = write(tmp_path / "broken.yaml", ["name: broken", "description: x",
                                               "character: luxo", "maps: 5"])
     bad = log_with("bad.jsonl", interface=str(broken))
     code, out, err = run(capsys, gone, changed)
     assert (code, out) == (0, f"{gone}: ok (log)\n{changed}: ok (log)\n")
-    assert err == (f"{gone}: note: interface file 'no-such-interface' not found (in the "
-                   f"catalog or the log's folder); a replay plays the copy recorded in the "
-                   f"log (checked here)\n"
-                   f"{changed}: warning: interface 'luxo-mouse' has changed since this log "
-                   f"was recorded ({ROOT}/interfaces/luxo-mouse.yaml); a replay may end "
-                   f"elsewhere (puppet replay --as-recorded replays the recorded "
-                   f"interface)\n"), err
+    today = file_hash(ROOT / "interfaces" / "luxo-mouse.yaml")
+    assert err == (f"{gone}: note: interface file 'no-such-interface' is not found (in the "
+                   f"catalog or the log's folder); the copy recorded in the log plays\n"
+                   f"{changed}: warning: interface 'luxo-mouse': the file found "
+                   f"({ROOT}/interfaces/luxo-mouse.yaml, hash {today}) differs from the one "
+                   f"recorded (hash {older_hash}); the replay may end elsewhere (puppet "
+                   f"replay --as-recorded replays the recorded interface)\n"), err
     code, out, err = run(capsys, bad)
     assert (code, out) == (2, "") and err.startswith(f"puppet check: {broken}:4:"), err
     assert err.endswith("(puppet replay --as-recorded replays the log's own copy of the "

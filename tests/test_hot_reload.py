@@ -104,11 +104,12 @@ def test_a_log_with_a_reload_replays_to_the_same_bits_without_the_file(tmp_path)
     assert result.final_hash == live and result.ok, result.summary
     assert result.warnings == []  # the interface came from the log's header
     today = replay(log)  # by default, against today's file: it changed, and says so
-    assert today.final_hash != live and any("has changed" in w for w in today.warnings)
+    assert today.final_hash != live and any("differs from the one recorded" in w
+                                            for w in today.warnings)
     assert any("hot-reloaded its interface (first at step 300)" in w for w in today.warnings)
     (tmp_path / "iface.yaml").unlink()  # gone: the recorded copy stands in
     gone = replay(log)
-    assert gone.final_hash == live and "not found" in gone.warnings[0]
+    assert gone.final_hash == live and "is not found" in gone.warnings[0]
 
 
 def test_rewind_across_a_reload_restores_the_interface_of_that_time(tmp_path):

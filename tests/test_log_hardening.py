@@ -179,10 +179,11 @@ def test_a_whole_drag_reads_start_move_and_end(tmp_path):
 
 def test_a_log_may_end_at_its_last_possible_step(tmp_path):
     last = 41472000  # 24 h at the hop's dt
-    log = read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last}, "hash": "x"}}']))
+    end = '"hash": "0123456789abcdef"}'
+    log = read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last}, {end}']))
     assert log.end_step == last
     with pytest.raises(DataError, match="bad end line"):
-        read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last + 1}, "hash": "x"}}']))
+        read_log(write(tmp_path, [header(), MOUSE, f'{{"end": {last + 1}, {end}']))
 
 
 def test_channel_names_may_have_capitals_digits_dots_and_dashes(tmp_path):

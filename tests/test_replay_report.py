@@ -141,18 +141,21 @@ def test_what_a_log_replays_when_its_interface_file_is_gone_changed_or_broken(tm
     gone = _log_with(tmp_path, "gone.jsonl", interface="no-such-interface")
     setup, warnings = setup_for_log(gone)
     assert setup.interface.name == "luxo-mouse"  # the copy in the log
-    assert f"{gone.path}: note: interface file 'no-such-interface' not found (in the " \
-        "catalog or the log's folder); replaying the copy recorded in the log" in warnings
+    assert f"{gone.path}: note: interface file 'no-such-interface' is not found (in the " \
+        "catalog or the log's folder); the copy recorded in the log plays" in warnings
 
     changed = _log_with(tmp_path, "changed.jsonl", interface_hash="0" * 16)
     _, warnings = setup_for_log(changed)
-    assert any(w.startswith(f"{changed.path}: warning: interface 'luxo-mouse' has changed")
-               and w.endswith("(--as-recorded replays the recorded interface)")
+    assert any(w.startswith(f"{changed.path}: warning: interface 'luxo-mouse': the file "
+                            "found (") and "differs from the one recorded (hash "
+               "0000000000000000); the replay may end elsewhere" in w
+               and w.endswith("(puppet replay --as-recorded replays the recorded interface)")
                for w in warnings), warnings
     no_copy = _log_with(tmp_path, "nocopy.jsonl", interface_hash="0" * 16,
                         interface_text=None)
     _, warnings = setup_for_log(no_copy)
-    assert any("has changed" in w and w.endswith("results may differ") for w in warnings)
+    assert any("differs from the one recorded" in w
+               and w.endswith("the replay may end elsewhere") for w in warnings)
     with pytest.raises(DataError) as info:
         setup_for_log(no_copy, as_recorded=True)
     assert str(info.value) == (f"{no_copy.path}:1: header: no recorded copy of the interface "
@@ -177,13 +180,14 @@ def test_a_replays_warnings_go_to_stderr_and_to_the_on_screen_note(tmp_path, cap
     changed = _log_with(tmp_path, "changed.jsonl", interface_hash="0" * 16)
     assert replay_command(args(changed.path)) == 0
     err = capsys.readouterr().err.splitlines()
-    assert any(line.startswith(f"{changed.path}: warning: interface 'luxo-mouse' has changed")
+    assert any(line.startswith(f"{changed.path}: warning: interface 'luxo-mouse': the file "
+                               "found (")
                for line in err), err
     seen = {}
     monkeypatch.setitem(sys.modules, "puppet.app.window", types.SimpleNamespace(
         run_window=lambda setup, slowdown, **options: seen.update(options) or 0))
     assert replay_command(args(changed.path, headless=False)) == 0
-    assert seen["note"].startswith("interface 'luxo-mouse' has changed since this log")
+    assert seen["note"].startswith("interface 'luxo-mouse': the file found (")
 
 
 def test_a_log_that_blows_up_exits_3_alone_and_among_others(tmp_path, capsys):

@@ -229,7 +229,7 @@ def test_changed_data_file_warns_and_still_replays(tmp_path):
     iface.write_text(original.replace("[80, -80]", "[0, 0]"))
     proc = _cli("replay", path, "--headless")  # today's interface: it ends elsewhere
     assert proc.returncode == 1 and "DIFFERENT" in proc.stdout
-    assert "interface" in proc.stderr and "has changed" in proc.stderr
+    assert "interface" in proc.stderr and "differs from the one recorded" in proc.stderr
     proc = _cli("replay", path, "--headless", "--as-recorded")
     assert proc.returncode == 0, proc.stderr
     assert "warning" not in proc.stderr and "(same as recorded)" in proc.stdout

@@ -11,8 +11,14 @@ on a clean exit a last line with the final step and state hash:
     {"step": 960, "event": {"type": "action", "name": "rewind", "to_step": 480}}
     {"end": 1200, "hash": "0123456789abcdef"}
 
-Steps may go back (after a rewind): events replay in file order. The file is written
-as the session goes and flushed after every line, so a killed process keeps all of it.
+Events are in step order: each event's step is at least the one before it, except
+after an event that moves the session back in time (a rewind goes to its ``to_step``;
+a restore, a take, or a press of the restore key go where the history says; while
+the window's scrub key is held the events go to the steps shown): ``_StepOrder``.
+Events replay in file order. The file is written as the session
+goes and flushed after every line, so a killed process keeps all of it. Hashes are
+16 hex digits; the header's ``interface_text`` is the file whose ``interface_hash``
+it carries (a replay that plays an edited copy warns: ``embedded_problem``).
 """
 
 from __future__ import annotations
@@ -28,12 +34,13 @@ from pathlib import Path
 from typing import Any
 
 from puppet import __version__
-from puppet.data.catalog import FOLDERS, ROOT, Setup, file_hash
+from puppet.data.catalog import FOLDERS, ROOT, Setup
 from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT_MIN,
                                     MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data import ranges
 from puppet.data.errors import DataError
-from puppet.data.keys import GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS
+from puppet.data.keys import (APP_KEYS, GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS,
+                              key_problem, normalize_key)
 from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.interface.events import Event
 
@@ -72,28 +79,62 @@ def _name(path: Path, kind: str) -> str:
         return str(path.absolute())
 
 
+HASH = re.compile(r"[0-9a-f]{16}")  # how a log writes a hash (file or state): 16 hex digits
+EMBEDDED = {"interface_text": "interface_hash"}  # a file's text the header keeps -> its hash
+
+
+def text_hash(raw: bytes) -> str:
+    """The hash a log writes for a file's bytes (``catalog.file_hash`` of the file):
+    the first 16 hex digits of its SHA-256; ``embedded_problem`` checks a kept text
+    against it."""
+    import hashlib  # here: OpenSSL's start-up is ~5 ms that a check does not need
+
+    return hashlib.sha256(raw).hexdigest()[:16]
+
+
+def embedded_problem(header: dict) -> str | None:
+    """What is wrong with the file texts a header keeps (``EMBEDDED``), or None: each
+    should be the file whose hash the header names. One that is not was edited (or
+    damaged) after the recording: a replay that plays it (``--as-recorded``, or the
+    file gone) warns, since it plays a session other than the one recorded - on purpose
+    in a test that weakens a log's interface to see it fail, so not refused. A
+    recording made before the text was kept byte for byte read it with universal
+    newlines, so the text with CRLF line ends counts as the file too."""
+    for text_key, hash_key in EMBEDDED.items():
+        text, recorded = header.get(text_key), header.get(hash_key)
+        if not isinstance(text, str) or not isinstance(recorded, str):
+            continue
+        raw = text.encode("utf-8", errors="surrogatepass")
+        if recorded not in (text_hash(raw), text_hash(raw.replace(b"\n", b"\r\n"))):
+            return (f"the header's '{text_key}' (hash {text_hash(raw)}) is not the file "
+                    f"recorded ('{hash_key}' {recorded}): the copy was edited after the "
+                    "recording")
+    return None
+
+
 def make_header(session, slowdown: float | None = None, description: str | None = None,
                 expect: list | None = None) -> dict:
     """The header of a log. It keeps the interface file's text (``interface_text``),
     so the log can replay the interface as recorded (``--as-recorded``), and from
     anywhere once the file is moved or deleted (a hot reload edits it while recording)."""
     setup: Setup = session.setup
+    raw = Path(setup.interface_path).read_bytes()  # the text kept and its hash: one read
     header: dict[str, Any] = {
         "format": FORMAT,
         "version": VERSION,
         "puppet": __version__,
         "interface": _name(setup.interface_path, "interface"),
-        "interface_hash": file_hash(Path(setup.interface_path)),
+        "interface_hash": text_hash(raw),
         "character": _name(setup.character_path, "character"),
-        "character_hash": file_hash(Path(setup.character_path)),
+        "character_hash": text_hash(Path(setup.character_path).read_bytes()),
         "scene": _name(setup.scene_path, "scene"),
-        "scene_hash": file_hash(Path(setup.scene_path)),
+        "scene_hash": text_hash(Path(setup.scene_path).read_bytes()),
         "dt": session.sim.dt,
         "seed": 0,  # nothing is random yet; kept so that logs stay readable if it is
         "slowdown": float(slowdown if slowdown is not None else setup.interface.slowdown),
         "checkpoint_interval": session.checkpoint_interval,
     }
-    header["interface_text"] = Path(setup.interface_path).read_text(encoding="utf-8")
+    header["interface_text"] = raw.decode("utf-8")  # (its line ends as in the file)
     if description:
         header["description"] = description
     if expect:
@@ -262,6 +303,10 @@ def _check_header(path: str, header: Any) -> dict:
     for key in ("description", "puppet", "interface_hash", "character_hash", "scene_hash"):
         if key in header and not isinstance(header[key], str):
             raise DataError(path, 1, None, f"header: '{key}' must be a string")
+    for key in ("interface_hash", "character_hash", "scene_hash"):
+        if key in header and not HASH.fullmatch(header[key]):
+            raise DataError(path, 1, None, f"header: '{key}' must be a hash of 16 hex digits "
+                                           f"(0-9, a-f), got {_short(header[key])}")
     return header
 
 
@@ -299,7 +344,8 @@ def _check_key(e):
     if not (_is_name(e["key"]) and isinstance(e["down"], bool)):
         return (f"key event: 'key' must be a name of 1..{MAX_NAME} characters and 'down' "
                 "true or false")
-    return None
+    problem = key_problem(e["key"])  # the names a file may bind (a device sends no other)
+    return None if problem is None else f"key event: {problem}"
 
 
 def _check_action(e, last_step):
@@ -367,6 +413,9 @@ def _check_gesture(e):
             and 0 < len(path) <= MAX_GESTURE_POINTS
             and isinstance(e.get("description", ""), str)):
         return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
+    problem = key_problem(e["key"])
+    if problem is not None:
+        return f"gesture event: {problem}"
     for p in path:
         if not (isinstance(p, list) and len(p) == 3):
             return "gesture event: 'path' must be a list of [t, x, y]"
@@ -506,6 +555,7 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
                                          "must be the log header") from None
     log = Log(path_s, _check_header(path_s, header))
     last_step = max_step(log.header["dt"])
+    order = _StepOrder(log.header.get("interface_text"))
     for i, line in enumerate(lines[1:], start=2):
         problem = None
         obj = None
@@ -524,11 +574,14 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
                     or not 0 <= end <= last_step or not isinstance(obj.get("hash", ""), str)):
                 problem = (f'bad end line: expected {{"end": N, "hash": "..."}}, N in '
                            f'0..{last_step}')
+            elif "hash" in obj and not HASH.fullmatch(obj["hash"]):
+                problem = (f"bad end line: 'hash' must be a state hash of 16 hex digits "
+                           f"(0-9, a-f), got {_short(obj['hash'])}")
             else:
                 log.end = obj
                 continue
         if problem is None:
-            problem = _check_event(obj, last_step)
+            problem = _check_event(obj, last_step) or order.problem(obj)
         if problem is not None:
             if allow_truncated:
                 log.truncated_at = i
@@ -537,7 +590,62 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
             hint = "" if log.end is not None else TRUNCATED_HINT
             raise DataError(path_s, i, None, problem + hint)
         log.events.append(LogEvent(obj["step"], obj["event"], i))
+        order.after(obj, i)
     return log
+
+
+RESTORE_KEY = APP_KEYS["restore"][0]  # the app's key back to the last checkpoint
+SCRUB_KEYS = (APP_KEYS["rewind"][0], APP_KEYS["forward"][0])  # held: the time line moves
+
+
+class _StepOrder:
+    """The rule that a log's events are in step order (an event moved or edited out of
+    place replays at another step, so the run ends elsewhere with nothing said).
+
+    An event's step is at least the one before it; after a rewind, at least its
+    ``to_step``. Time may go back with nothing in the log saying where to: after a
+    restore, a take or a press of the restore key any step may follow, and while a
+    scrub key is held (the window's rewind and forward keys: the events go to the
+    steps shown, and a rewind action commits the scrub when it is let go) the steps
+    are not checked. Those are the app's keys; once an interface text of the log
+    rebinds them (``app_keys``), or with no text to say, any key may be one."""
+
+    def __init__(self, interface_text: str | None):
+        self.floor = 0  # the least step the next event may have
+        self.line: int | None = None  # the line that set it
+        self.rewind = False  # set by a rewind (to its to_step)
+        self.scrubbing: set[str] = set()  # scrub keys held
+        self.rebound = interface_text is None or "app_keys" in interface_text
+
+    def problem(self, obj: dict) -> str | None:
+        step = obj["step"]
+        if step >= self.floor or self.scrubbing:
+            return None
+        where = (f"step {self.floor}, where the rewind of line {self.line} went" if self.rewind
+                 else f"step {self.floor} of line {self.line}")
+        return (f"step {step} comes before {where}; a log's events are in step order "
+                "(the log was edited or damaged)")
+
+    def after(self, obj: dict, line: int) -> None:
+        event = obj["event"]
+        kind, name = event["type"], event.get("name")
+        self.line, self.rewind, self.floor = line, False, obj["step"]
+        if kind == "reload" and "app_keys" in event["text"]:
+            self.rebound = True
+        if kind == "action" and name == "rewind":
+            self.floor, self.rewind = event["to_step"], True
+            self.scrubbing.clear()  # (the commit of a scrub)
+        elif kind == "action" and name in ("restore", "take"):
+            self.floor = 0
+        elif kind == "key":
+            key = normalize_key(event["key"])
+            if not event["down"]:
+                self.scrubbing.discard(key)
+            else:
+                if self.rebound or key in SCRUB_KEYS:
+                    self.scrubbing.add(key)
+                if self.rebound or key == RESTORE_KEY:
+                    self.floor = 0
 
 
 def record_events(session, events, until_step: int, path: str | Path, **header) -> Path:

@@ -21,7 +21,7 @@ from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_t
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
-from puppet.timeline.log import Log, read_log
+from puppet.timeline.log import Log, embedded_problem, read_log
 from puppet.timeline.playback import next_move, play
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
@@ -396,6 +396,30 @@ def not_checked(log: Log, until_step: int | None = None) -> list[str]:
             f"to step {log.last_step})"]
 
 
+def copy_note(log: Log, refused: bool) -> str:
+    """The note of a replay (and of ``puppet check``) that plays the interface copy the
+    header keeps because the file it names is not read: not found, or (``refused``) a
+    path outside the catalog and the log's folder, which a log may not make puppet read."""
+    name = log.header["interface"]
+    why = ("is outside the catalog and the log's folder, so it is not read (a log "
+           "reads no other files)" if refused
+           else "is not found (in the catalog or the log's folder)")
+    return f"{log.path}: note: interface file '{name}' {why}; the copy recorded in the log plays"
+
+
+def differs_warning(log: Log, kind: str, path: Path, found: str, has_copy: bool) -> str:
+    """The one words (replay and ``puppet check`` alike) for a file the header names
+    whose content is not the one recorded: ``path`` is the file the name found now
+    (today's version, or a variant of that name in the log's folder), ``found`` its
+    hash; ``has_copy``: the header keeps the recorded interface."""
+    name = log.header.get(kind, str(path))
+    return (f"{log.path}: warning: {kind} '{name}': the file found ({path}, hash {found}) "
+            f"differs from the one recorded (hash {log.header.get(f'{kind}_hash')}); the "
+            "replay may end elsewhere"
+            + (" (puppet replay --as-recorded replays the recorded interface)" if has_copy
+               else ""))
+
+
 def setup_for_log(log: Log, as_recorded: bool = False,
                   for_check: bool = False) -> tuple[Setup, list[str]]:
     """Load what the header names; a one-line warning for each file that changed
@@ -413,10 +437,12 @@ def setup_for_log(log: Log, as_recorded: bool = False,
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
     within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
+    refused = False  # the header names a file outside the catalog and the log's folder
     try:
         where = find("interface", h["interface"], within)
     except DataError as exc:
         where = None
+        refused = exc.message.endswith("it was not read")
         if embedded is None:
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
     from_copy = embedded is not None and (as_recorded or where is None)
@@ -444,22 +470,20 @@ def setup_for_log(log: Log, as_recorded: bool = False,
         warnings.append(f"{log.path}: note: the session hot-reloaded its interface (first at "
                         f"step {reloads[0]}); from there on the recorded versions play")
     if from_copy and not as_recorded:
-        warnings.append(f"{log.path}: note: interface file '{h['interface']}' not found "
-                        "(in the catalog or the log's folder); "
-                        + ("a replay plays the copy recorded in the log (checked here)"
-                           if for_check else "replaying the copy recorded in the log"))
+        warnings.append(copy_note(log, refused))
+    edited = embedded_problem(h) if (from_copy or for_check) else None
+    if edited:
+        warnings.append(f"{log.path}: warning: {edited}; "
+                        + ("a replay of the copy (puppet replay --as-recorded) plays it"
+                           if not from_copy else "playing it, not the session recorded"))
     for kind, path in (("interface", setup.interface_path), ("character", setup.character_path),
                        ("scene", setup.scene_path)):
         if kind == "interface" and from_copy:
             continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
-        if recorded is not None and file_hash(Path(path)) != recorded:
-            warnings.append(f"{log.path}: warning: {kind} '{h.get(kind, path)}' has changed "
-                            f"since this log was recorded ({path}); "
-                            + ("a replay may end elsewhere" if for_check
-                               else "replaying anyway, results may differ")
-                            + (f" ({as_recorded_option} replays the recorded interface)"
-                               if kind == "interface" and embedded is not None else ""))
+        if recorded is not None and (found := file_hash(Path(path))) != recorded:
+            warnings.append(differs_warning(log, kind, Path(path), found,
+                                            kind == "interface" and embedded is not None))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
                         f"the interface now uses '{Path(setup.character_path).stem}'")
