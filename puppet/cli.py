@@ -213,16 +213,28 @@ def _play(args: argparse.Namespace) -> int:
                            ghost=ghost, overlay=args.overlay == "com")
     if args.record:
         print(f"recorded {args.record}")
-    c = session.character
-    x, y = c.com()
-    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
-          f"state={session.sim.state_hash()}")
+    print(end_line(session))
     if args.screenshot:
         print(f"wrote {args.screenshot}")
     if args.frames:
         print(f"wrote {session.frames_written} frames to {args.frames}")
-    for note in session.blowup_messages:  # the window shows them; here nothing would
-        print(f"puppet play: {note}", file=sys.stderr)
+    return blowup_exit(session)
+
+
+def end_line(session) -> str:
+    """How a headless play ended: time, centre of mass, upright, the state's hash."""
+    c = session.character
+    x, y = c.com()
+    return (f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
+            f"state={session.sim.state_hash()}")
+
+
+def blowup_exit(session, prog: str = "puppet play") -> int:
+    """A headless play's exit code: each blow-up's message on stderr (the window shows
+    them; here nothing would), then EXIT_BLOWUP if there was one, else 0. A clip run
+    and a live take (puppet.mocap.commands.live_play) end through here."""
+    for note in session.blowup_messages:
+        print(f"{prog}: {note}", file=sys.stderr)
     return EXIT_BLOWUP if session.blowups else 0
 
 

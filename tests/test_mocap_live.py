@@ -37,9 +37,9 @@ def _cat_channels(tmp_path):
     return str(path)
 
 
-def _sender(port, seconds, rate=120.0, stop=None):
-    """Send /puppet/channels c0..c3 (slow sinusoids) at ``rate`` Hz for ``seconds`` to
-    ``port`` (a number, or a ListenedPort to wait for)."""
+def _sender(port, seconds, rate=120.0, stop=None, values_at=None):
+    """Send /puppet/channels c0..c3 (slow sinusoids; or ``values_at(k)``) at ``rate`` Hz
+    for ``seconds`` to ``port`` (a number, or a ListenedPort to wait for)."""
     import math
 
     def run():
@@ -51,7 +51,8 @@ def _sender(port, seconds, rate=120.0, stop=None):
             k = 0
             while time.perf_counter() - start < seconds and not (stop and stop.is_set()):
                 t = k / rate
-                values = {f"c{i}": 0.9 * math.sin(2 * math.pi * 0.7 * t + i) for i in range(4)}
+                values = ({f"c{i}": 0.9 * math.sin(2 * math.pi * 0.7 * t + i) for i in range(4)}
+                          if values_at is None else values_at(k))
                 sock.sendto(puppet_osc.encode_frame(t, values), ("127.0.0.1", port))
                 k += 1
                 time.sleep(max(0.0, start + k / rate - time.perf_counter()))
@@ -183,6 +184,32 @@ def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys, monkeyp
     port = listened.port
     assert f"mocap puppet 127.0.0.1:{port}:" in out and "recorded" in out
     assert main(["replay", str(record), "--headless", "--check"]) == 0
+
+
+def test_a_live_take_that_blows_up_says_so_on_stderr_and_exits_3(capsys, monkeypatch):
+    """A performer's wild stream (uniform +-180 deg on every channel at 120 Hz) into
+    biped-mocap blows the simulation up: the headless take says each recovery, as a
+    clip run does, not only exit 3."""
+    import random
+
+    rng = random.Random(7)
+    names = ("hip_near", "hip_far", "knee_near", "knee_far", "root.x", "root.y", "root.angle")
+    listened = ListenedPort(monkeypatch)
+    stop = threading.Event()
+    sender = _sender(listened, seconds=5.0, stop=stop,
+                     values_at=lambda k: {n: rng.uniform(-180.0, 180.0) for n in names})
+    try:
+        code = main(["play", "biped-mocap", "--headless", "--seconds", "0.6", "--no-record",
+                     "--mocap", "udp://127.0.0.1:0", "--mocap-format", "puppet",
+                     "--slowdown", "1"])
+    finally:
+        stop.set()
+        sender.join()
+    captured = capsys.readouterr()
+    assert code == 3, captured.out
+    lines = captured.err.splitlines()
+    assert lines and all(line.startswith("puppet play: the simulation blew up at t=")
+                         for line in lines), captured.err
 
 
 @pytest.mark.parametrize("argv, words", [

@@ -268,8 +268,7 @@ def live_play(args, setup) -> int | None:
         renderer.info.sources = (source.hud_line(),)
         renderer.save(session, args.screenshot)
         print(f"wrote {args.screenshot}")
-    c = session.character
-    x, y = c.com()
-    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
-          f"state={session.sim.state_hash()}")
-    return 3 if session.blowups else 0
+    from puppet.cli import blowup_exit, end_line
+
+    print(end_line(session))
+    return blowup_exit(session)  # each blow-up said on stderr, as a clip run says them
