@@ -257,6 +257,46 @@ def test_listen_prints_what_arrives(capsys, monkeypatch):
     assert "LOST" in out.splitlines()[-1]  # the stream stopped over a second ago
 
 
+def test_listen_says_why_once_per_kind_of_drop(capsys, monkeypatch):
+    """A MediaPipe sender, garbage and VMC frames with only the hips, to a vmc listen
+    through vmc-humanoid: the counts every second, and the first reason of each kind
+    once (the foreign address names the format that takes it)."""
+    from puppet.mocap import mediapipe, vmc
+
+    listened = ListenedPort(monkeypatch)
+    stop = threading.Event()
+
+    def send():
+        port = listened.wait()
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            k = 0
+            while not stop.is_set() and k < 120:
+                for dgram in (mediapipe.encode_frame(k / 60, {"nose": (0.0, 1.0, 0.0)}), b"xyz",
+                              vmc.encode_frame(k / 60, {"Hips": ((0, 1, 0), (0, 0, 0, 1))})):
+                    sock.sendto(dgram, ("127.0.0.1", port))
+                k += 1
+                time.sleep(1 / 60)
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
+    try:
+        assert main(["mocap", "listen", "--port", "0", "--mapping", "vmc-humanoid",
+                     "--seconds", "2.2"]) == 0
+    finally:
+        stop.set()
+        sender.join()
+    out = capsys.readouterr().out
+    assert " unknown_address" in out and " malformed" in out and " unmapped" in out
+    reasons = [line for line in out.splitlines() if line.startswith("  ") and ": " in line
+               and not line.startswith(("  channels", "  1 named"))]
+    assert len(reasons) == 3, out  # each kind once (the counts go on every second)
+    assert "  malformed: not an OSC message or bundle" in reasons
+    assert ("  unknown_address: '/mediapipe/pose' is not a VMC address (a mediapipe address: "
+            "listen --format mediapipe?)") in reasons
+    unmapped = next(line for line in reasons if line.startswith("  unmapped: "))
+    assert unmapped.startswith("  unmapped: the frame lacks 18 of the 19 points the mapping "
+                               "reads (Chest, Head, LeftFoot, LeftHand...)"), out
+
+
 def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):
     with OscSource("vmc", port=0) as source:
         code = main(["mocap", "send", "assets/mocap/cmu-131_01-walk.bvh", "--to",

@@ -207,12 +207,17 @@ def _listen(args: argparse.Namespace) -> int:
           flush=True)
     start = time.perf_counter()
     names_shown: tuple = ()
+    reasons_shown: set[str] = set()
     try:
         while args.seconds is None or time.perf_counter() - start < args.seconds:
             time.sleep(min(1.0, args.seconds - (time.perf_counter() - start))
                        if args.seconds is not None else 1.0)
             events = source.drain()
             print(source.status(), flush=True)
+            for kind, text in source.reasons():  # once a kind: why the first was dropped
+                if kind not in reasons_shown:
+                    reasons_shown.add(kind)
+                    print(f"  {kind}: {text}{_format_hint(text, args.format)}", flush=True)
             if source.last_names and source.last_names != names_shown:
                 names_shown = source.last_names
                 print(f"  {len(names_shown)} named: {', '.join(names_shown)}", flush=True)
@@ -228,6 +233,22 @@ def _listen(args: argparse.Namespace) -> int:
         source.close()
     print(source.status())
     return 0
+
+
+ADDRESS_FORMATS = (("/VMC/", "vmc"), ("/mediapipe/pose", "mediapipe"),
+                   ("/puppet/channels", "puppet"))  # an address's beginning: whose it is
+
+
+def _format_hint(text: str, fmt: str) -> str:
+    """A drop that quotes another format's address (``'/mediapipe/pose' is not a VMC
+    address``): which --format would take it; else nothing."""
+    if not text.startswith("'"):
+        return ""
+    address = text[1:].split("'", 1)[0]
+    for prefix, other in ADDRESS_FORMATS:
+        if other != fmt and address.startswith(prefix):
+            return f" (a {other} address: listen --format {other}?)"
+    return ""
 
 
 def live_play(args, setup) -> int | None:
