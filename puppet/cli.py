@@ -183,6 +183,13 @@ def _play(args: argparse.Namespace) -> int:
                 raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
                           loop=args.loop)
+        from puppet.data.catalog import find
+        from puppet.mocap.bvh import read_bvh
+        from puppet.mocap.info import mapping_unit_note
+
+        note = mapping_unit_note(read_bvh(find("clip", args.mocap)), mapping, mapping_path)
+        if note:  # a clip in metres read as centimetres plays a 10 cm performer
+            print(f"puppet play: warning: {note}", file=sys.stderr)
     elif args.mapping or args.loop:
         raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
     if not args.headless:
@@ -241,7 +248,10 @@ def blowup_exit(session, prog: str = "puppet play") -> int:
 def _mocap_info(args: argparse.Namespace) -> int:
     from puppet.mocap.info import describe
 
-    print(describe(args.clip, args.mapping))
+    notes: list[str] = []
+    print(describe(args.clip, args.mapping, notes))
+    for note in notes:  # e.g. a performer 0.10 m tall: a unit wrong
+        print(f"puppet mocap info: warning: {note}", file=sys.stderr)
     return 0
 
 

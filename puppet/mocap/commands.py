@@ -170,6 +170,13 @@ def _send(args: argparse.Namespace) -> int:
     else:
         table = load_bones(_project_file(args.bones))
     encode = encoder(clip, args.format, table, retargeter)
+    from puppet.mocap.info import height_note, mapping_unit_note
+
+    note = (mapping_unit_note(clip, retargeter.mapping, find("mapping", args.mapping))
+            if table is None else
+            height_note(clip, table.unit, table.up, f"the bone table's unit in {table.path}"))
+    if note:  # a clip in metres through a centimetre table streams a 10 cm performer
+        print(f"puppet mocap send: warning: {note}", file=sys.stderr)
     seconds = clip.frames * clip.frame_time / args.speed
     if not args.quiet:
         print(f"sending {clip_path.name} ({clip.frames} frames at {clip.fps:.4g} fps, "
