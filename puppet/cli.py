@@ -123,6 +123,10 @@ def _play(args: argparse.Namespace) -> int:
     from puppet.timeline.log import EXISTS
     from puppet.timeline.script import load_script
 
+    if args.input and Path(args.input).suffix.lower() == ".jsonl":  # not a YAML error
+        raise UsageError(f"--input {args.input}: a .jsonl file is a recorded log, not a "
+                         f"script (assets/scripts/NAME.yaml); play it back with: "
+                         f"puppet replay {args.input}")
     if not args.headless and (args.input or args.screenshot or args.frames):
         raise UsageError("--input, --screenshot and --frames need --headless")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
@@ -192,6 +196,11 @@ def _play(args: argparse.Namespace) -> int:
             print(f"puppet play: warning: {note}", file=sys.stderr)
     elif args.mapping or args.loop:
         raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
+    if (clip is not None and args.loop and args.headless and args.seconds is None
+            and (script is None or script.seconds is None)):  # it would play once, silently
+        raise UsageError("--loop headless needs --seconds S: a looping clip has no end, "
+                         f"and a headless run without --seconds lasts the clip once "
+                         f"({clip.clip.duration:.2f} s)")
     if not args.headless:
         from puppet.app.window import run_window
 
@@ -393,7 +402,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "udp://127.0.0.1:39539 (see --mocap-format), paced in real "
                            "time and recorded")
     play.add_argument("--loop", action="store_true",
-                      help="play the --mocap clip over and over (headless: set --seconds)")
+                      help="play the --mocap clip over and over (headless: needs --seconds, "
+                           "a looping clip has no end)")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")

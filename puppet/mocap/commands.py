@@ -265,7 +265,9 @@ def live_play(args, setup) -> int | None:
         return None
     if args.input or args.frames or args.ghost or getattr(args, "loop", False):
         raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
-                         "--loop (a live take is recorded; replay its log for those)")
+                         "--loop (a live take is the performer's: record it with --record "
+                         "LOG; then puppet replay LOG --video OUT renders its frames, "
+                         "and play --ghost LOG shows it beside another run)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
     source.start()
     print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
