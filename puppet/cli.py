@@ -123,6 +123,10 @@ def _play(args: argparse.Namespace) -> int:
     from puppet.timeline.log import EXISTS
     from puppet.timeline.script import load_script
 
+    if args.input and Path(args.input).suffix.lower() == ".jsonl":  # not a YAML error
+        raise UsageError(f"--input {args.input}: a .jsonl file is a recorded log, not a "
+                         f"script (assets/scripts/NAME.yaml); play it back with: "
+                         f"puppet replay {args.input}")
     if not args.headless and (args.input or args.screenshot or args.frames):
         raise UsageError("--input, --screenshot and --frames need --headless")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
@@ -183,8 +187,20 @@ def _play(args: argparse.Namespace) -> int:
                 raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
                           loop=args.loop)
+        from puppet.data.catalog import find
+        from puppet.mocap.bvh import read_bvh
+        from puppet.mocap.info import mapping_unit_note
+
+        note = mapping_unit_note(read_bvh(find("clip", args.mocap)), mapping, mapping_path)
+        if note:  # a clip in metres read as centimetres plays a 10 cm performer
+            print(f"puppet play: warning: {note}", file=sys.stderr)
     elif args.mapping or args.loop:
         raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
+    if (clip is not None and args.loop and args.headless and args.seconds is None
+            and (script is None or script.seconds is None)):  # it would play once, silently
+        raise UsageError("--loop headless needs --seconds S: a looping clip has no end, "
+                         f"and a headless run without --seconds lasts the clip once "
+                         f"({clip.clip.duration:.2f} s)")
     if not args.headless:
         from puppet.app.window import run_window
 
@@ -213,23 +229,38 @@ def _play(args: argparse.Namespace) -> int:
                            ghost=ghost, overlay=args.overlay == "com")
     if args.record:
         print(f"recorded {args.record}")
-    c = session.character
-    x, y = c.com()
-    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
-          f"state={session.sim.state_hash()}")
+    print(end_line(session))
     if args.screenshot:
         print(f"wrote {args.screenshot}")
     if args.frames:
         print(f"wrote {session.frames_written} frames to {args.frames}")
-    for note in session.blowup_messages:  # the window shows them; here nothing would
-        print(f"puppet play: {note}", file=sys.stderr)
+    return blowup_exit(session)
+
+
+def end_line(session) -> str:
+    """How a headless play ended: time, centre of mass, upright, the state's hash."""
+    c = session.character
+    x, y = c.com()
+    return (f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
+            f"state={session.sim.state_hash()}")
+
+
+def blowup_exit(session, prog: str = "puppet play") -> int:
+    """A headless play's exit code: each blow-up's message on stderr (the window shows
+    them; here nothing would), then EXIT_BLOWUP if there was one, else 0. A clip run
+    and a live take (puppet.mocap.commands.live_play) end through here."""
+    for note in session.blowup_messages:
+        print(f"{prog}: {note}", file=sys.stderr)
     return EXIT_BLOWUP if session.blowups else 0
 
 
 def _mocap_info(args: argparse.Namespace) -> int:
     from puppet.mocap.info import describe
 
-    print(describe(args.clip, args.mapping))
+    notes: list[str] = []
+    print(describe(args.clip, args.mapping, notes))
+    for note in notes:  # e.g. a performer 0.10 m tall: a unit wrong
+        print(f"puppet mocap info: warning: {note}", file=sys.stderr)
     return 0
 
 
@@ -371,7 +402,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "udp://127.0.0.1:39539 (see --mocap-format), paced in real "
                            "time and recorded")
     play.add_argument("--loop", action="store_true",
-                      help="play the --mocap clip over and over (headless: set --seconds)")
+                      help="play the --mocap clip over and over (headless: needs --seconds, "
+                           "a looping clip has no end)")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")

@@ -37,9 +37,9 @@ def _cat_channels(tmp_path):
     return str(path)
 
 
-def _sender(port, seconds, rate=120.0, stop=None):
-    """Send /puppet/channels c0..c3 (slow sinusoids) at ``rate`` Hz for ``seconds`` to
-    ``port`` (a number, or a ListenedPort to wait for)."""
+def _sender(port, seconds, rate=120.0, stop=None, values_at=None):
+    """Send /puppet/channels c0..c3 (slow sinusoids; or ``values_at(k)``) at ``rate`` Hz
+    for ``seconds`` to ``port`` (a number, or a ListenedPort to wait for)."""
     import math
 
     def run():
@@ -51,7 +51,8 @@ def _sender(port, seconds, rate=120.0, stop=None):
             k = 0
             while time.perf_counter() - start < seconds and not (stop and stop.is_set()):
                 t = k / rate
-                values = {f"c{i}": 0.9 * math.sin(2 * math.pi * 0.7 * t + i) for i in range(4)}
+                values = ({f"c{i}": 0.9 * math.sin(2 * math.pi * 0.7 * t + i) for i in range(4)}
+                          if values_at is None else values_at(k))
                 sock.sendto(puppet_osc.encode_frame(t, values), ("127.0.0.1", port))
                 k += 1
                 time.sleep(max(0.0, start + k / rate - time.perf_counter()))
@@ -185,6 +186,32 @@ def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys, monkeyp
     assert main(["replay", str(record), "--headless", "--check"]) == 0
 
 
+def test_a_live_take_that_blows_up_says_so_on_stderr_and_exits_3(capsys, monkeypatch):
+    """A performer's wild stream (uniform +-180 deg on every channel at 120 Hz) into
+    biped-mocap blows the simulation up: the headless take says each recovery, as a
+    clip run does, not only exit 3."""
+    import random
+
+    rng = random.Random(7)
+    names = ("hip_near", "hip_far", "knee_near", "knee_far", "root.x", "root.y", "root.angle")
+    listened = ListenedPort(monkeypatch)
+    stop = threading.Event()
+    sender = _sender(listened, seconds=5.0, stop=stop,
+                     values_at=lambda k: {n: rng.uniform(-180.0, 180.0) for n in names})
+    try:
+        code = main(["play", "biped-mocap", "--headless", "--seconds", "0.6", "--no-record",
+                     "--mocap", "udp://127.0.0.1:0", "--mocap-format", "puppet",
+                     "--slowdown", "1"])
+    finally:
+        stop.set()
+        sender.join()
+    captured = capsys.readouterr()
+    assert code == 3, captured.out
+    lines = captured.err.splitlines()
+    assert lines and all(line.startswith("puppet play: the simulation blew up at t=")
+                         for line in lines), captured.err
+
+
 @pytest.mark.parametrize("argv, words", [
     (["--mocap", "udp://127.0.0.1:39599", "--mapping", "cmu-131"],
      "reads points a vmc stream never sends (Chest2, LeftAnkle, LeftElbow, LeftHip...); "
@@ -228,6 +255,46 @@ def test_listen_prints_what_arrives(capsys, monkeypatch):
     assert "4 named: c0, c1, c2, c3" in out and "channels: c0=" in out
     assert "0 dropped" in out
     assert "LOST" in out.splitlines()[-1]  # the stream stopped over a second ago
+
+
+def test_listen_says_why_once_per_kind_of_drop(capsys, monkeypatch):
+    """A MediaPipe sender, garbage and VMC frames with only the hips, to a vmc listen
+    through vmc-humanoid: the counts every second, and the first reason of each kind
+    once (the foreign address names the format that takes it)."""
+    from puppet.mocap import mediapipe, vmc
+
+    listened = ListenedPort(monkeypatch)
+    stop = threading.Event()
+
+    def send():
+        port = listened.wait()
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            k = 0
+            while not stop.is_set() and k < 120:
+                for dgram in (mediapipe.encode_frame(k / 60, {"nose": (0.0, 1.0, 0.0)}), b"xyz",
+                              vmc.encode_frame(k / 60, {"Hips": ((0, 1, 0), (0, 0, 0, 1))})):
+                    sock.sendto(dgram, ("127.0.0.1", port))
+                k += 1
+                time.sleep(1 / 60)
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
+    try:
+        assert main(["mocap", "listen", "--port", "0", "--mapping", "vmc-humanoid",
+                     "--seconds", "2.2"]) == 0
+    finally:
+        stop.set()
+        sender.join()
+    out = capsys.readouterr().out
+    assert " unknown_address" in out and " malformed" in out and " unmapped" in out
+    reasons = [line for line in out.splitlines() if line.startswith("  ") and ": " in line
+               and not line.startswith(("  channels", "  1 named"))]
+    assert len(reasons) == 3, out  # each kind once (the counts go on every second)
+    assert "  malformed: not an OSC message or bundle" in reasons
+    assert ("  unknown_address: '/mediapipe/pose' is not a VMC address (a mediapipe address: "
+            "listen --format mediapipe?)") in reasons
+    unmapped = next(line for line in reasons if line.startswith("  unmapped: "))
+    assert unmapped.startswith("  unmapped: the frame lacks 18 of the 19 points the mapping "
+                               "reads (Chest, Head, LeftFoot, LeftHand...)"), out
 
 
 def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):

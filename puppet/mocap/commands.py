@@ -170,6 +170,13 @@ def _send(args: argparse.Namespace) -> int:
     else:
         table = load_bones(_project_file(args.bones))
     encode = encoder(clip, args.format, table, retargeter)
+    from puppet.mocap.info import height_note, mapping_unit_note
+
+    note = (mapping_unit_note(clip, retargeter.mapping, find("mapping", args.mapping))
+            if table is None else
+            height_note(clip, table.unit, table.up, f"the bone table's unit in {table.path}"))
+    if note:  # a clip in metres through a centimetre table streams a 10 cm performer
+        print(f"puppet mocap send: warning: {note}", file=sys.stderr)
     seconds = clip.frames * clip.frame_time / args.speed
     if not args.quiet:
         print(f"sending {clip_path.name} ({clip.frames} frames at {clip.fps:.4g} fps, "
@@ -207,12 +214,17 @@ def _listen(args: argparse.Namespace) -> int:
           flush=True)
     start = time.perf_counter()
     names_shown: tuple = ()
+    reasons_shown: set[str] = set()
     try:
         while args.seconds is None or time.perf_counter() - start < args.seconds:
             time.sleep(min(1.0, args.seconds - (time.perf_counter() - start))
                        if args.seconds is not None else 1.0)
             events = source.drain()
             print(source.status(), flush=True)
+            for kind, text in source.reasons():  # once a kind: why the first was dropped
+                if kind not in reasons_shown:
+                    reasons_shown.add(kind)
+                    print(f"  {kind}: {text}{_format_hint(text, args.format)}", flush=True)
             if source.last_names and source.last_names != names_shown:
                 names_shown = source.last_names
                 print(f"  {len(names_shown)} named: {', '.join(names_shown)}", flush=True)
@@ -230,6 +242,22 @@ def _listen(args: argparse.Namespace) -> int:
     return 0
 
 
+ADDRESS_FORMATS = (("/VMC/", "vmc"), ("/mediapipe/pose", "mediapipe"),
+                   ("/puppet/channels", "puppet"))  # an address's beginning: whose it is
+
+
+def _format_hint(text: str, fmt: str) -> str:
+    """A drop that quotes another format's address (``'/mediapipe/pose' is not a VMC
+    address``): which --format would take it; else nothing."""
+    if not text.startswith("'"):
+        return ""
+    address = text[1:].split("'", 1)[0]
+    for prefix, other in ADDRESS_FORMATS:
+        if other != fmt and address.startswith(prefix):
+            return f" (a {other} address: listen --format {other}?)"
+    return ""
+
+
 def live_play(args, setup) -> int | None:
     """``puppet play ... --mocap URL``: the window or a headless real-time take.
     None when --mocap is not given."""
@@ -237,7 +265,9 @@ def live_play(args, setup) -> int | None:
         return None
     if args.input or args.frames or args.ghost or getattr(args, "loop", False):
         raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
-                         "--loop (a live take is recorded; replay its log for those)")
+                         "--loop (a live take is the performer's: record it with --record "
+                         "LOG; then puppet replay LOG --video OUT renders its frames, "
+                         "and play --ghost LOG shows it beside another run)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
     source.start()
     print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
@@ -268,8 +298,7 @@ def live_play(args, setup) -> int | None:
         renderer.info.sources = (source.hud_line(),)
         renderer.save(session, args.screenshot)
         print(f"wrote {args.screenshot}")
-    c = session.character
-    x, y = c.com()
-    print(f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
-          f"state={session.sim.state_hash()}")
-    return 3 if session.blowups else 0
+    from puppet.cli import blowup_exit, end_line
+
+    print(end_line(session))
+    return blowup_exit(session)  # each blow-up said on stderr, as a clip run says them

@@ -41,7 +41,40 @@ def _tree(clip: Clip) -> list[str]:
     return lines
 
 
-def describe(clip_name: str, mapping_name: str | None = None) -> str:
+HUMAN_HEIGHT = (0.5, 3.0)  # metres: a performer's head-to-feet outside this is a wrong unit
+
+
+def performer_height(clip: Clip, unit: float, up: str) -> float:
+    """The performer's height in metres: head to feet (the extent of every joint and
+    End Site along ``up``: "y", "-z"...), the median over the clip's frames (a crouch
+    or a jump moves few of them), times ``unit`` (metres per BVH unit)."""
+    _, pos = clip.world_transforms()
+    along = pos[..., "xyz".index(up[-1])]
+    return float(np.median(along.max(axis=1) - along.min(axis=1))) * unit
+
+
+def height_note(clip: Clip, unit: float, up: str, where: str) -> str | None:
+    """One line when the performer is far from human size at ``unit`` (a clip in
+    metres read as centimetres: a 10 cm performer), naming where the unit is set
+    (``where``); None when the height is human."""
+    height = performer_height(clip, unit, up)
+    if HUMAN_HEIGHT[0] <= height <= HUMAN_HEIGHT[1]:
+        return None
+    return (f"the performer is {height:.2f} m tall: is the unit right? (head to feet "
+            f"{height / unit:.4g} clip units x {unit:g} m, {where}; a human is "
+            f"{HUMAN_HEIGHT[0]:g}..{HUMAN_HEIGHT[1]:g} m)")
+
+
+def mapping_unit_note(clip: Clip, mapping: MappingSpec, mapping_path) -> str | None:
+    """``height_note`` at a mapping's unit (its ``source: {unit, up}``)."""
+    return height_note(clip, mapping.source.unit, mapping.source.up,
+                       f"the mapping's source.unit in {mapping_path}")
+
+
+def describe(clip_name: str, mapping_name: str | None = None,
+             notes: list[str] | None = None) -> str:
+    """What ``puppet mocap info`` prints; ``notes`` gets what goes to stderr (a
+    performer far from human size at the mapping's unit)."""
     path = find("clip", clip_name)
     clip = read_bvh(path)
     joints = [j for j in clip.joints if not j.end_site]
@@ -55,12 +88,16 @@ def describe(clip_name: str, mapping_name: str | None = None) -> str:
         chosen = [(Path(mapping_path).stem, load_mapping(mapping_path))]
     else:
         chosen = matching_mappings(clip)[:1]
+        mapping_path = find("mapping", chosen[0][0]) if chosen else None
         if not chosen:
             out.append("planar angles: no mapping of assets/mappings/ names all its joints "
                        "(write one, see docs/interfaces.md, 'Motion capture'; then "
                        "--mapping NAME)")
             return "\n".join(out)
     name, mapping = chosen[0]
+    note = mapping_unit_note(clip, mapping, mapping_path)
+    if note and notes is not None:
+        notes.append(note)
     rc = retarget_clip(clip, mapping, str(path))
     out.append(f"planar channels through mapping '{name}' (degrees; m for .x .y):")
     out.append(f"  {'channel':16s} {'min':>8s} {'mean':>8s} {'max':>8s}")

@@ -76,11 +76,13 @@ class Counts:
     skipped: int = 0  # bundle elements python-osc could not read (each a malformed drop)
     dropped: collections.Counter = field(default_factory=collections.Counter)
     last_problem: str = ""
+    first_detail: dict = field(default_factory=dict)  # reason -> what its first drop said
 
     def drop(self, reason: str, detail: str = "") -> None:
         assert reason in DROP_REASONS, reason
         self.dropped[reason] += 1
         self.last_problem = detail or reason
+        self.first_detail.setdefault(reason, detail or reason)
 
     @property
     def total_dropped(self) -> int:

@@ -63,6 +63,7 @@ class OscSource:
         self.last_arrival: float | None = None  # clock time of the last sample posted
         self.last_frame: float | None = None  # ... of the last frame decoded (mapped or not)
         self.unmapped = 0  # frames that gave no channels (no mapping, or no point it reads)
+        self.unmapped_reason = ""  # why the first of them gave none (``reasons``)
         self.last_names: tuple[str, ...] = ()  # the points (or channels) of the last frame
         self.lost_count = 0
         self.fresh = False  # a sample came within lost_after (wall time) of the last drain
@@ -84,6 +85,8 @@ class OscSource:
                 values = self._channels(frame)
                 if not values:
                     self.unmapped += 1
+                    if not self.unmapped_reason and self.retargeter is not None:
+                        self.unmapped_reason = self._unmapped_why(frame)
                     continue
                 if self.queue.post(ev.channels(values)):
                     posted += 1
@@ -105,6 +108,30 @@ class OscSource:
         except Exception as exc:  # a live stream never takes the frame loop down
             self.decoder.counts.last_problem = f"mapping failed: {type(exc).__name__}: {exc}"
             return {}
+
+    def _unmapped_why(self, frame: Frame) -> str:
+        """Why a frame of points gave no channel through the retargeter."""
+        problem = self.decoder.counts.last_problem
+        if problem.startswith("mapping failed"):
+            return problem
+        missing = sorted(set(self.retargeter.point_names) - set(frame.points))
+        if missing:
+            return (f"the frame lacks {len(missing)} of the {len(self.retargeter.point_names)} "
+                    f"points the mapping reads ({', '.join(missing[:4])}"
+                    f"{'...' if len(missing) > 4 else ''})")
+        return "the mapping made no finite channel of the frame's points"
+
+    def reasons(self) -> list[tuple[str, str]]:
+        """(kind, what the first of its drops said) for each kind of drop seen so far,
+        in ``DROP_REASONS`` order, then ``unmapped`` (with a mapping)."""
+        from puppet.mocap.osc import DROP_REASONS
+
+        with self._lock:
+            first = dict(self.decoder.counts.first_detail)
+            out = [(r, first[r]) for r in DROP_REASONS if r in first]
+            if self.unmapped and self.unmapped_reason:
+                out.append(("unmapped", self.unmapped_reason))
+        return out
 
     # -- the frame loop's side
     def drain(self, sim_time: float | None = None, wall: float | None = None) -> list[dict]:
