@@ -110,22 +110,28 @@ class MappingSpec(Spec, kw_only=True):
     com: dict[str, Num("ratio")] = field(default_factory=dict)
 
     def __post_init__(self):
-        for name, channel in self.channels.items():
-            for seg in (channel.segment, channel.relative_to):
-                if seg is not None and seg not in self.segments:
-                    known = ", ".join(self.segments)
-                    raise ValueError(f"channel '{name}' names segment '{seg}', which "
-                                     f"'segments' does not define (known: {known})")
-        if isinstance(self.plane, str) and self.facing is None:
-            raise ValueError(f"plane: {self.plane} needs 'facing: {{left: POINT, right: "
-                             f"POINT}}' (a stream, and a clip that hardly travels, face "
-                             f"the way those points say), or give the plane as [x, y, z]")
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
             raise ValueError("plane: the forward direction [x, y, z] must not be zero")
         for name in self.effectors:
             if f"{name}.x" in self.channels or f"{name}.y" in self.channels:
                 raise ValueError(f"effector '{name}' makes channels that 'channels' "
                                  f"defines too")
+
+    def problems(self):
+        """(where, message) of each name the mapping uses but does not define, ``where``
+        the path of the field in the file (``parse_mapping`` points at its line)."""
+        for name, channel in self.channels.items():
+            for key, seg in (("segment", channel.segment), ("relative_to", channel.relative_to)):
+                if seg is not None and seg not in self.segments:
+                    yield (("channels", name, key),
+                           f"channel '{name}' names segment '{seg}', which 'segments' does "
+                           f"not define{_did_you_mean(seg, self.segments)} (known: "
+                           f"{', '.join(self.segments)})")
+        if isinstance(self.plane, str) and self.facing is None:
+            yield (("plane",),
+                   f"plane: {self.plane} needs 'facing: {{left: POINT, right: POINT}}' (a "
+                   f"stream, and a clip that hardly travels, face the way those points "
+                   f"say), or give the plane as [x, y, z]")
 
     def point_names(self) -> set[str]:
         """Every source point the mapping reads."""
@@ -148,8 +154,18 @@ class MappingSpec(Spec, kw_only=True):
         return names
 
 
+def _did_you_mean(name: str, known) -> str:
+    import difflib  # only for a mistake
+
+    close = difflib.get_close_matches(str(name), list(known), n=1)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
 def parse_mapping(located: Located) -> MappingSpec:
-    return validate(located, MappingSpec)
+    spec = validate(located, MappingSpec)
+    for where, message in spec.problems():
+        raise located.error(where, message)
+    return spec
 
 
 def load_mapping(path) -> MappingSpec:
