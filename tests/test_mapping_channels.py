@@ -1,0 +1,82 @@
+"""A mapping's channels against the character it plays on: a channel that is no joint
+of it (a typo) is an error with a did-you-mean, at the channel's line, in play and in
+``puppet check``; a mapping none of whose channels is a joint is refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from puppet.cli import main
+
+CMU = Path("assets/mappings/cmu-131.yaml").read_text(encoding="utf-8")
+
+
+def _typo(tmp_path, text=CMU) -> Path:
+    path = tmp_path / "typo.yaml"
+    path.write_text(text.replace("  knee_near:", "  knee_naer:"), encoding="utf-8")
+    return path
+
+
+def _line_of(path: Path, text: str) -> int:
+    return next(i for i, line in enumerate(path.read_text().splitlines(), 1) if text in line)
+
+
+def test_check_refuses_a_channel_no_joint_of_the_mappings_character(tmp_path, capsys):
+    path = _typo(tmp_path)
+    assert "character: biped" in path.read_text()
+    assert main(["check", str(path)]) != 0
+    err = capsys.readouterr().err.strip()
+    assert f"typo.yaml:{_line_of(path, 'knee_naer')}:" in err, err
+    assert "'knee_naer'" in err and "did you mean 'knee_near'?" in err and "\n" not in err
+
+
+def test_check_of_a_mapping_naming_no_character_cannot_tell(tmp_path, capsys):
+    path = _typo(tmp_path, CMU.replace("character: biped\n", ""))
+    assert main(["check", str(path)]) == 0  # which joints it is for, it does not say
+
+
+def test_play_refuses_a_channel_no_joint_of_the_character(tmp_path, capsys):
+    path = _typo(tmp_path, CMU.replace("character: biped\n", ""))
+    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-131_01-walk",
+                 "--mapping", str(path)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and f"typo.yaml:{_line_of(path, 'knee_naer')}:" in err, err
+    assert "is no joint of biped; did you mean 'knee_near'?" in err and "\n" not in err
+
+
+def test_check_of_an_interface_holds_its_mappings_channels_to_its_character(tmp_path, capsys):
+    _typo(tmp_path, CMU.replace("character: biped\n", ""))
+    text = Path("interfaces/biped-mocap.yaml").read_text(encoding="utf-8")
+    interface = tmp_path / "mine.yaml"
+    interface.write_text(text.replace("mapping: cmu-131", "mapping: typo.yaml"),
+                         encoding="utf-8")
+    assert main(["check", str(interface)]) != 0
+    err = capsys.readouterr().err.strip()
+    assert "mine.yaml:" in err and "did you mean 'knee_near'?" in err, err
+
+
+def test_play_refuses_a_mapping_that_drives_none_of_the_characters_joints(capsys):
+    code = main(["play", "luxo-mouse", "--headless", "--mocap", "cmu-131_01-walk",
+                 "--mapping", "cmu-131"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "no channel of mapping 'cmu-131'" in err, err
+    assert "is a joint of luxo (ankle, knee)" in err and "\n" not in err
+
+
+def test_no_mapping_fits_luxo_so_none_is_suggested(capsys):
+    code = main(["play", "luxo-mouse", "--headless", "--mocap", "cmu-131_01-walk"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "no mapping of assets/mappings/ fits luxo" in err, err
+    assert "--mapping NAME" not in err
+    code = main(["play", "biped-stand", "--headless", "--mocap", "cmu-131_01-walk"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "--mapping NAME (" in err and "cmu-131" in err, err
+
+
+@pytest.mark.parametrize("name", ["cmu-01", "cmu-131", "mediapipe-pose", "vmc-humanoid"])
+def test_the_shipped_mappings_name_their_character_and_pass(name, capsys):
+    path = f"assets/mappings/{name}.yaml"
+    assert "character: biped" in Path(path).read_text()
+    assert main(["check", path]) == 0
