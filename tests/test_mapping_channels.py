@@ -80,3 +80,25 @@ def test_the_shipped_mappings_name_their_character_and_pass(name, capsys):
     path = f"assets/mappings/{name}.yaml"
     assert "character: biped" in Path(path).read_text()
     assert main(["check", path]) == 0
+
+
+def test_play_with_a_clip_the_mapping_does_not_fit_suggests_the_one_info_picks(capsys):
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.info import matching_mappings
+
+    picked = matching_mappings(read_bvh("assets/mocap/cmu-01_01-jumps.bvh"))[0][0]
+    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-01_01-jumps"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and f"--mapping {picked} (shipped)" in err and picked == "cmu-01", err
+    # what the source has: all of it (counted), not only the names the mapping reads
+    assert "the source has 31 points: Hips, LHipJoint, LeftUpLeg" in err, err
+    assert "\n" not in err
+
+
+def test_a_mistyped_joint_of_a_mapping_gets_a_did_you_mean(tmp_path, capsys):
+    path = tmp_path / "kne.yaml"
+    path.write_text(CMU.replace("to: RightKnee}", "to: RightKne}"), encoding="utf-8")
+    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-131_01-walk",
+                 "--mapping", str(path)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "no point named RightKne (did you mean RightKnee?)" in err, err

@@ -67,4 +67,19 @@ def find_mapping(name: str | None, interface, interface_path=None,
 def open_clip(clip: str, mapping: MappingSpec) -> RetargetedClip:
     """A BVH clip (a path or a catalog name, assets/mocap/NAME.bvh) through ``mapping``."""
     path = find("clip", clip)
-    return retarget_clip(read_bvh(path), mapping, str(path))
+    bvh = read_bvh(path)
+    if not mapping.point_names() <= set(bvh.names):
+        from puppet.mocap.info import matching_mappings
+
+        fits = matching_mappings(bvh)[:1]  # the one mocap info picks
+        try:
+            return retarget_clip(bvh, mapping, str(path))
+        except DataError as exc:
+            if not fits:
+                raise
+            name = fits[0][0]
+            raise DataError(exc.path, exc.line, exc.col,
+                            f"{exc.message}; expected a mapping that names its joints: "
+                            f"--mapping {name} (shipped) names them all, the one "
+                            f"'puppet mocap info' picks") from None
+    return retarget_clip(bvh, mapping, str(path))
