@@ -102,3 +102,24 @@ def test_a_mistyped_joint_of_a_mapping_gets_a_did_you_mean(tmp_path, capsys):
                  "--mapping", str(path)])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "no point named RightKne (did you mean RightKnee?)" in err, err
+
+
+def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
+    """cmu-01 against cmu-131 with subject 1's joint names put back: every other field
+    that differs is one the README and the guide name, with its value."""
+    import re
+
+    from puppet.data.mappings import load_mapping
+
+    a = load_mapping("assets/mappings/cmu-131.yaml")
+    b = load_mapping("assets/mappings/cmu-01.yaml")
+    # (the fields that hold no joint names; the others differ by them)
+    differ = [f for f in ("source", "plane", "size", "channels") if getattr(a, f) != getattr(b, f)]
+    assert "plane" in differ and "size" in differ  # (what the files hold today)
+    for doc in ("README.md", "docs/interfaces.md"):
+        text = " ".join(Path(doc).read_text(encoding="utf-8").split())
+        said = re.search(r"`(?:assets/mappings/)?cmu-01\.yaml` is [^)]*?\)[^.;]*", text)
+        assert said, doc
+        for field in differ:
+            assert f"`{field}" in said.group(0), (doc, field, said.group(0))
+        assert f"{b.size:g}" in said.group(0) and f"plane: {b.plane}" in said.group(0)
