@@ -165,10 +165,10 @@ def guess_kind(path: Path, located: Located) -> str:
         return "scene"
     if "events" in data:
         return "script"
+    if "segments" in data:  # (before character: a mapping may name its character)
+        return "mapping"
     if "character" in data:
         return "interface"
-    if "segments" in data:
-        return "mapping"
     if "vmc" in data or "mediapipe" in data:
         return "bone table"
     if "expect" in data:
@@ -232,11 +232,18 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         from puppet.data.mappings import load_mapping
         from puppet.data.tracking import mapping_problem
 
+        from puppet.data.mappings import channel_error, interface_reads
+
         try:
-            mapping = load_mapping(catalog.find("mapping", spec.tracking.mapping,
-                                                catalog.reference_folders(path)))
+            mapping_path = catalog.find("mapping", spec.tracking.mapping,
+                                        catalog.reference_folders(path))
+            mapping = load_mapping(mapping_path)
         except DataError as exc:
             raise located.error(("tracking", "mapping"), exc.message) from None
+        error = channel_error(mapping_path, mapping, [j.name for j in character.joints],
+                              spec.character, interface_reads(spec))
+        if error is not None:  # a channel no joint of this character (as play says)
+            raise located.error(("tracking", "mapping"), str(error))
         problem = mapping_problem(spec.tracking, mapping, [j.name for j in character.actuated])
         if problem:
             raise located.error(("tracking", "mapping"), problem)

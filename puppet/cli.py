@@ -177,7 +177,7 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.mocap.clips import find_mapping, open_clip
 
         mapping, mapping_path = find_mapping(args.mapping, setup.interface,
-                                             setup.interface_path)
+                                             setup.interface_path, setup.character)
         if setup.interface.tracking is not None:
             from puppet.data.tracking import mapping_problem
 

@@ -233,3 +233,20 @@ def test_a_mapping_without_facing_points_for_its_plane_is_refused():
                      "  a: {from: Hips, to: Knee}\n")
     mapping_from("root: {point: Hips}\nplane: [1, 0, 0]\nsegments:\n"
                  "  a: {from: Hips, to: Knee}\n")  # a given plane needs none
+
+
+def test_a_mapping_check_error_points_at_the_field_without_a_dump():
+    """A channel naming an undefined segment is an error at that channel's line, with a
+    did-you-mean, not at 1:1 with the whole file quoted; so is a plane without facing."""
+    text = ("name: hop-m\nroot: {point: Hips}\nplane: [1, 0, 0]\nsegments:\n"
+            "  thigh_near: {from: Hips, to: Knee}\n  shank_near: {from: Knee, to: Ankle}\n"
+            "channels:\n  knee_near: {segment: shank_near, relative_to: thigh_nar}\n")
+    with pytest.raises(DataError) as err:
+        mapping_from(text, "e3.yaml")
+    message = str(err.value)
+    assert message.startswith("e3.yaml:8:"), message
+    assert "did you mean 'thigh_near'?" in message and "(got" not in message
+    with pytest.raises(DataError) as err:
+        mapping_from("root: {point: Hips}\nsegments:\n  a: {from: Hips, to: Knee}\n"
+                     "plane: facing\n", "e4.yaml")
+    assert str(err.value).startswith("e4.yaml:4:") and "(got" not in str(err.value)

@@ -17,6 +17,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 
+from puppet.data.errors import DataError
 from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
@@ -93,6 +94,9 @@ class MappingSpec(Spec, kw_only=True):
     name: str = ""
     description: str = ""
     notes: str = ""
+    # the character whose joints the channels are named for (characters/NAME.yaml): then
+    # ``puppet check`` holds every channel to be one of its joints, as play does
+    character: str | None = None
     source: SourceSpec = field(default_factory=SourceSpec)
     # the figure's forward direction: 'travel' (where the root goes over a clip), 'facing' (each
     # frame, from the facing points) or [x, y, z] in source axes
@@ -110,22 +114,28 @@ class MappingSpec(Spec, kw_only=True):
     com: dict[str, Num("ratio")] = field(default_factory=dict)
 
     def __post_init__(self):
-        for name, channel in self.channels.items():
-            for seg in (channel.segment, channel.relative_to):
-                if seg is not None and seg not in self.segments:
-                    known = ", ".join(self.segments)
-                    raise ValueError(f"channel '{name}' names segment '{seg}', which "
-                                     f"'segments' does not define (known: {known})")
-        if isinstance(self.plane, str) and self.facing is None:
-            raise ValueError(f"plane: {self.plane} needs 'facing: {{left: POINT, right: "
-                             f"POINT}}' (a stream, and a clip that hardly travels, face "
-                             f"the way those points say), or give the plane as [x, y, z]")
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
             raise ValueError("plane: the forward direction [x, y, z] must not be zero")
         for name in self.effectors:
             if f"{name}.x" in self.channels or f"{name}.y" in self.channels:
                 raise ValueError(f"effector '{name}' makes channels that 'channels' "
                                  f"defines too")
+
+    def problems(self):
+        """(where, message) of each name the mapping uses but does not define, ``where``
+        the path of the field in the file (``parse_mapping`` points at its line)."""
+        for name, channel in self.channels.items():
+            for key, seg in (("segment", channel.segment), ("relative_to", channel.relative_to)):
+                if seg is not None and seg not in self.segments:
+                    yield (("channels", name, key),
+                           f"channel '{name}' names segment '{seg}', which 'segments' does "
+                           f"not define{_did_you_mean(seg, self.segments)} (known: "
+                           f"{', '.join(self.segments)})")
+        if isinstance(self.plane, str) and self.facing is None:
+            yield (("plane",),
+                   f"plane: {self.plane} needs 'facing: {{left: POINT, right: POINT}}' (a "
+                   f"stream, and a clip that hardly travels, face the way those points "
+                   f"say), or give the plane as [x, y, z]")
 
     def point_names(self) -> set[str]:
         """Every source point the mapping reads."""
@@ -148,8 +158,127 @@ class MappingSpec(Spec, kw_only=True):
         return names
 
 
+def _beside(located: Located) -> tuple:
+    """The folder of the file ``located`` was read from (a name in it may be a file
+    there), or none."""
+    from pathlib import Path
+
+    path = Path(located.path)
+    return (path.resolve().parent,) if path.is_file() else ()
+
+
+def _did_you_mean(name: str, known) -> str:
+    import difflib  # only for a mistake
+
+    close = difflib.get_close_matches(str(name), list(known), n=1)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
+# channels a mapping may make that are no joint: the root's angle in the world (tracking.root)
+ROOT_ANGLE = "root.angle"
+
+
+def channel_problem(mapping: MappingSpec, joints, character: str,
+                    also=()) -> tuple[str | None, str] | None:
+    """(the channel, what is wrong) when a channel of ``mapping`` is no joint of the
+    character (``joints``: its joint names), or (None, ...) when none of them is one:
+    such a channel would drive nothing (a typo, ``knee_naer``, or a mapping written for
+    another character). ``also``: other channel names the interface reads (its
+    ``tracking.channels``, ``tracking.root.angle``); ``root.angle`` always passes."""
+    joints = list(joints)
+    allowed = {*joints, ROOT_ANGLE, *also}
+    label = f"mapping '{mapping.name}'" if mapping.name else "the mapping"
+    if mapping.channels and not any(c in joints for c in mapping.channels):
+        return None, (f"no channel of {label} ({', '.join(mapping.channels)}) is a joint "
+                      f"of {character} ({', '.join(joints) or 'none'}): it would drive "
+                      f"nothing; expected a mapping written for {character}")
+    for name in mapping.channels:
+        if name not in allowed:
+            hint = _did_you_mean(name, joints)
+            return name, (f"channel '{name}' of {label} is no joint of {character}"
+                          f"{hint + ' ' if hint else '; '}expected one of: "
+                          f"{', '.join([*joints, ROOT_ANGLE])}")
+    return None
+
+
+def interface_reads(interface) -> set[str]:
+    """The channel names an interface reads besides its character's joints: what its
+    ``tracking`` renames joints to and its root angle, and every ``channel.NAME``
+    input or sensor it names (a map on ``channel.lean``)."""
+    import msgspec
+
+    names: set[str] = set()
+    tracking = interface.tracking
+    if tracking is not None:
+        names |= set(tracking.channels.values())
+        if tracking.root is not None:
+            names.add(tracking.root.angle)
+
+    def walk(value):
+        if isinstance(value, str):
+            if value.startswith("channel."):
+                names.add(value[len("channel."):])
+        elif isinstance(value, dict):
+            for v in value.values():
+                walk(v)
+        elif isinstance(value, (list, tuple)):
+            for v in value:
+                walk(v)
+
+    walk(msgspec.to_builtins(interface))
+    return names
+
+
+def channel_error(path, mapping: MappingSpec, joints, character: str,
+                  also=()) -> DataError | None:
+    """``channel_problem`` as a DataError at the channel's line in ``path`` (the
+    mapping's file), or None."""
+    problem = channel_problem(mapping, joints, character, also)
+    if problem is None:
+        return None
+    channel, message = problem
+    located = load_file(path)
+    return located.error(("channels", channel) if channel else ("channels",), message,
+                         prefer_key=True)
+
+
+def _beside(located: Located) -> tuple:
+    """The folder of the file ``located`` was read from (a name in it may be a file
+    there), or none."""
+    from pathlib import Path
+
+    path = Path(located.path)
+    return (path.resolve().parent,) if path.is_file() else ()
+
+
+def _did_you_mean(name: str, known) -> str:
+    import difflib  # only for a mistake
+
+    close = difflib.get_close_matches(str(name), list(known), n=1)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
 def parse_mapping(located: Located) -> MappingSpec:
-    return validate(located, MappingSpec)
+    """A mapping file's spec; a mapping that names its ``character`` has its channels
+    checked against that character's joints."""
+    spec = validate(located, MappingSpec)
+    for where, message in spec.problems():
+        raise located.error(where, message)
+    if spec.character is not None:
+        from puppet.data.catalog import find  # (the catalog imports widely: here, when needed)
+        from puppet.data.characters import parse_character
+
+        try:
+            character = parse_character(load_file(find("character", spec.character,
+                                                         _beside(located))))
+        except DataError as exc:
+            raise located.error(("character",), exc.message) from None
+        problem = channel_problem(spec, [j.name for j in character.joints], spec.character)
+        if problem is not None:
+            channel, message = problem
+            raise located.error(("channels", channel) if channel else ("channels",),
+                                message, prefer_key=True)
+    return spec
 
 
 def load_mapping(path) -> MappingSpec:

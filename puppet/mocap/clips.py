@@ -4,30 +4,82 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from puppet.data.catalog import find
+from puppet.data.catalog import find, list_kind
 from puppet.data.errors import DataError
-from puppet.data.mappings import MappingSpec, load_mapping
+from puppet.data.mappings import (MappingSpec, channel_error, channel_problem,
+                                  interface_reads, load_mapping)
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.retarget import RetargetedClip, retarget_clip
 
 
-def find_mapping(name: str | None, interface, interface_path=None) -> tuple[MappingSpec, Path]:
+def fitting_mappings(character) -> list[str]:
+    """The shipped mappings (names) whose every channel the character (a CharacterSpec)
+    can take: each a joint of it or its root angle."""
+    joints = [j.name for j in character.joints]
+    out = []
+    for name, _ in list_kind("mapping"):
+        try:
+            mapping = load_mapping(find("mapping", name))
+        except DataError:
+            continue
+        if channel_problem(mapping, joints, character.name) is None:
+            out.append(name)
+    return out
+
+
+def find_mapping(name: str | None, interface, interface_path=None,
+                 character=None) -> tuple[MappingSpec, Path]:
     """The mapping ``name`` (typed by the user: a path or a catalog name), else the one
-    the interface's ``tracking.mapping`` names (a catalog name, or a file beside it)."""
+    the interface's ``tracking.mapping`` names (a catalog name, or a file beside it).
+    With ``character`` (the CharacterSpec it plays on), a channel of the mapping that
+    is no joint of it (nor read by the interface) is a DataError at the channel's line,
+    and so is a mapping none of whose channels is one: it would drive nothing."""
     if name is None:
         tracking = interface.tracking
         if tracking is None or tracking.mapping is None:
+            fits = fitting_mappings(character) if character is not None else None
+            if fits == []:
+                hint = (f"no mapping of assets/mappings/ fits {character.name} (none "
+                        f"makes channels of its joints: "
+                        f"{', '.join(j.name for j in character.joints)}); expected a "
+                        f"mapping written for it (docs/interfaces.md, section 15.1)")
+            elif fits:
+                hint = (f"expected one, or --mapping NAME ({', '.join(fits)} "
+                        f"fit{'s' if len(fits) == 1 else ''} {character.name})")
+            else:
+                hint = "expected one, or --mapping NAME"
             raise DataError(str(interface_path or interface.name), None, None,
-                            "the interface names no mocap mapping (tracking.mapping); "
-                            "expected one, or --mapping NAME")
+                            f"the interface names no mocap mapping (tracking.mapping)"
+                            f"{', and ' if fits == [] else '; '}{hint}")
         within = (Path(interface_path).resolve().parent,) if interface_path else ()
         path = find("mapping", tracking.mapping, within)
     else:
         path = find("mapping", name)
-    return load_mapping(path), path
+    mapping = load_mapping(path)
+    if character is not None:
+        error = channel_error(path, mapping, [j.name for j in character.joints],
+                              character.name, interface_reads(interface))
+        if error is not None:
+            raise error
+    return mapping, path
 
 
 def open_clip(clip: str, mapping: MappingSpec) -> RetargetedClip:
     """A BVH clip (a path or a catalog name, assets/mocap/NAME.bvh) through ``mapping``."""
     path = find("clip", clip)
-    return retarget_clip(read_bvh(path), mapping, str(path))
+    bvh = read_bvh(path)
+    if not mapping.point_names() <= set(bvh.names):
+        from puppet.mocap.info import matching_mappings
+
+        fits = matching_mappings(bvh)[:1]  # the one mocap info picks
+        try:
+            return retarget_clip(bvh, mapping, str(path))
+        except DataError as exc:
+            if not fits:
+                raise
+            name = fits[0][0]
+            raise DataError(exc.path, exc.line, exc.col,
+                            f"{exc.message}; expected a mapping that names its joints: "
+                            f"--mapping {name} (shipped) names them all, the one "
+                            f"'puppet mocap info' picks") from None
+    return retarget_clip(bvh, mapping, str(path))

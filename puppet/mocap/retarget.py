@@ -190,17 +190,16 @@ class Retargeter:
         return out
 
     # -- a whole clip ------------------------------------------------------------------
-    def clip(self, points: Mapping[str, np.ndarray], frame_time: float) -> RetargetedClip:
-        """Every channel over a take: ``points`` name -> (frames, 3), source units."""
+    def clip(self, points: Mapping[str, np.ndarray], frame_time: float,
+             source_names: Sequence[str] | None = None) -> RetargetedClip:
+        """Every channel over a take: ``points`` name -> (frames, 3), source units;
+        ``source_names``: every point the source has (for the error when the mapping
+        reads one it has not; default, those of ``points``)."""
         pts = self._points(points)
-        where = f"mapping '{self.mapping.name}'" if self.mapping.name else "the mapping"
         missing = sorted(self.point_names - set(pts))
         if missing:
-            names = sorted(points)
-            listed = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
-            raise DataError(self.source_name, None, None,
-                            f"no point named {', '.join(missing)}, which {where} reads; "
-                            f"the source has {listed or 'none'}")
+            raise DataError(self.source_name, None, None, self.missing_message(
+                missing, list(points) if source_names is None else list(source_names)))
         m, up = self.mapping, self.up
         root = self._root(pts)
         frames = len(root)
@@ -236,6 +235,24 @@ class Retargeter:
             channels["clearance"] = clear
         times = np.arange(frames) * frame_time
         return RetargetedClip(times, channels)
+
+    def missing_message(self, missing: Sequence[str], source_names: Sequence[str]) -> str:
+        """Which points the mapping reads that the source has not (each with a
+        did-you-mean among the source's), and what the source has."""
+        import difflib  # only for a mistake
+
+        where = f"mapping '{self.mapping.name}'" if self.mapping.name else "the mapping"
+        shown = []
+        for name in missing:
+            close = difflib.get_close_matches(name, source_names, n=1, cutoff=0.8)
+            shown.append(f"{name} (did you mean {close[0]}?)" if close else name)
+        cut = 8
+        listed = ", ".join(shown[:cut]) + (f", ... ({len(missing)} in all)"
+                                          if len(missing) > cut else "")
+        names = list(source_names)
+        has = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
+        return (f"no point named {listed}, which {where} reads; the source has "
+                f"{len(names)} point{'s' if len(names) != 1 else ''}: {has or 'none'}")
 
     def _clearance(self, pts, floor: float):
         """The feet's height off the floor (m, 0 with a foot down), or None."""
@@ -345,6 +362,7 @@ def clip_points(clip, names) -> dict[str, np.ndarray]:
 def retarget_clip(clip, mapping: MappingSpec, name: str = "<clip>") -> RetargetedClip:
     """A BVH clip's channels through ``mapping`` (``name``: the clip's file, for errors)."""
     rt = Retargeter(mapping, name)
-    return rt.clip(clip_points(clip, rt.point_names), clip.frame_time)
+    return rt.clip(clip_points(clip, rt.point_names), clip.frame_time,
+                   [j.name for j in clip.joints if not j.end_site])
 
 
