@@ -242,22 +242,6 @@ def channel_error(path, mapping: MappingSpec, joints, character: str,
                          prefer_key=True)
 
 
-def _beside(located: Located) -> tuple:
-    """The folder of the file ``located`` was read from (a name in it may be a file
-    there), or none."""
-    from pathlib import Path
-
-    path = Path(located.path)
-    return (path.resolve().parent,) if path.is_file() else ()
-
-
-def _did_you_mean(name: str, known) -> str:
-    import difflib  # only for a mistake
-
-    close = difflib.get_close_matches(str(name), list(known), n=1)
-    return f"; did you mean '{close[0]}'?" if close else ""
-
-
 def parse_mapping(located: Located) -> MappingSpec:
     """A mapping file's spec; a mapping that names its ``character`` has its channels
     checked against that character's joints."""

@@ -12,19 +12,24 @@ from puppet.mocap.bvh import read_bvh
 from puppet.mocap.retarget import RetargetedClip, retarget_clip
 
 
+def shipped_mappings() -> list[tuple[str, MappingSpec]]:
+    """(name, spec) of every mapping in the catalog that loads (a broken one is
+    ``puppet check``'s business, not a suggestion's)."""
+    out = []
+    for name, _ in list_kind("mapping"):
+        try:
+            out.append((name, load_mapping(find("mapping", name))))
+        except DataError:
+            continue
+    return out
+
+
 def fitting_mappings(character) -> list[str]:
     """The shipped mappings (names) whose every channel the character (a CharacterSpec)
     can take: each a joint of it or its root angle."""
     joints = [j.name for j in character.joints]
-    out = []
-    for name, _ in list_kind("mapping"):
-        try:
-            mapping = load_mapping(find("mapping", name))
-        except DataError:
-            continue
-        if channel_problem(mapping, joints, character.name) is None:
-            out.append(name)
-    return out
+    return [name for name, mapping in shipped_mappings()
+            if channel_problem(mapping, joints, character.name) is None]
 
 
 def find_mapping(name: str | None, interface, interface_path=None,

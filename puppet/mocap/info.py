@@ -6,8 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from puppet.data.catalog import find, list_kind
-from puppet.data.errors import DataError
+from puppet.data.catalog import find
 from puppet.data.mappings import MappingSpec, load_mapping
 from puppet.mocap.bvh import Clip, read_bvh
 from puppet.mocap.retarget import retarget_clip
@@ -15,16 +14,11 @@ from puppet.mocap.retarget import retarget_clip
 
 def matching_mappings(clip: Clip) -> list[tuple[str, MappingSpec]]:
     """The catalog's mappings whose every point the clip has."""
+    from puppet.mocap.clips import shipped_mappings  # (clips imports this module)
+
     names = set(clip.names)
-    out = []
-    for name, _ in list_kind("mapping"):
-        try:
-            mapping = load_mapping(find("mapping", name))
-        except DataError:
-            continue
-        if mapping.point_names() <= names:
-            out.append((name, mapping))
-    return out
+    return [(name, mapping) for name, mapping in shipped_mappings()
+            if mapping.point_names() <= names]
 
 
 def _tree(clip: Clip) -> list[str]:
