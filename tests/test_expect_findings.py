@@ -15,7 +15,7 @@ import pytest
 from puppet.checker import check_file
 from puppet.timeline.expectations import (Expectation, evaluate_all, load_expectations,
                                           parse_expectations)
-from puppet.timeline.replay import Trajectory
+from puppet.timeline.trajectory import Trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"  # 4.5 s, luxo-mouse: no states

@@ -126,10 +126,11 @@ from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.testing import replay_log  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
-    _longest_run, evaluate_all, parse_expectations)
+    evaluate_all, parse_expectations)
+from puppet.timeline.expectations.measure import longest_run as _longest_run  # noqa: E402
 from puppet.timeline.log import record_events  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-floor.yaml"

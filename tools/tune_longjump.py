@@ -80,9 +80,10 @@ from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
-    _runs, evaluate_all, load_expectations)
+    evaluate_all, load_expectations)
+from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402
 

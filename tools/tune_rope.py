@@ -34,7 +34,7 @@ from puppet.data.catalog import load_setup  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
