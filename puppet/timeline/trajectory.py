@@ -88,6 +88,8 @@ class Trajectory:
         # a one-sample 'airborne'); it takes the next sample's contacts instead
         if len(self.step) > 1 and self.step[0] == 0:
             self.contact[0] = self.contact[1]
+            if self.touches is not None:
+                self.touches[0] = self.touches[1]
 
     def index(self, link: str) -> int:
         """The column of a link in the per-link arrays; ValueError naming the links
