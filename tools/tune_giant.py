@@ -153,8 +153,9 @@ def score(script: dict) -> tuple[float, list]:
     play(session, pairs, round(spec.seconds / session.sim.dt), 4, sampler)
     expect = load_expectations(LOG, {})
     outcomes = evaluate_all(expect.items, sampler.trajectory(), session.sim.state_hash())
-    turns = next((float(o.measured.split()[0]) for o in outcomes
-                  if o.expectation.startswith("revolutions")), 0.0)
+    # the turns in a row: the margin (turns past the entry's min) plus that min
+    turns = next((max(o.margin + e.value.min, 0.0) for o, e in zip(outcomes, expect.items)
+                  if o.kind == "revolutions"), 0.0)
     return turns, outcomes
 
 

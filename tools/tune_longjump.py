@@ -445,7 +445,7 @@ def run_score(traj, items) -> tuple[float, str]:
     outcomes = evaluate_all(items, traj, "")
     passed = sum(o.passed for o in outcomes)
     # the run-up, the take-off and the landing count most: sitting still passes the rest
-    points = sum((10 if o.expectation.split()[0] in JUMP else 3) * o.passed
+    points = sum((10 if o.kind in JUMP else 3) * o.passed
                  for o in outcomes)
     free = ~traj.contact.any(axis=1)
     best, first = longest_flight(free)
@@ -601,7 +601,7 @@ def robustness(text: str, items, mouse_x: float, check_at: float, press: float,
                 passed = all(o.passed for o in outcomes)
                 ok, total = ok + passed, total + 1
                 row.append("pass" if passed else ",".join(
-                    o.expectation.split()[0] for o in outcomes if not o.passed))
+                    o.kind for o in outcomes if not o.passed))
             print(f"mouse x {mx:g}, space {d:+.3f} s: " + " | ".join(
                 f"l {e:+.3f}: {r}" for e, r in zip(presses, row)), flush=True)
     print(f"{ok} of {total} pass")
