@@ -126,6 +126,7 @@ def check_log(path: Path, warnings: list[str] | None = None) -> str:
     said += cut_warnings(log, for_check=True)
     expectations = load_expectations(log.path, log.header)
     expectations.check_links([link.name for link in setup.character.links])
+    expectations.check_scene(list(setup.scene.props), [g.name for g in setup.scene.ground])
     # what the replay's trajectory would know: every interface version's state and mode
     names = SimpleNamespace(state_names=dict.fromkeys(setup.interface.states),
                             mode_names=dict.fromkeys(setup.interface.modes))

@@ -238,10 +238,13 @@ def _play(args: argparse.Namespace) -> int:
 
 
 def end_line(session) -> str:
-    """How a headless play ended: time, centre of mass, upright, the state's hash."""
+    """How a headless play ended: time, centre of mass, upright (over the last second,
+    when the run kept an ``upright_watch``), the state's hash."""
     c = session.character
     x, y = c.com()
-    return (f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  upright={c.upright()}  "
+    watch = getattr(session, "upright_watch", None)
+    upright = watch.said(session) if watch is not None else f"upright={c.upright()}"
+    return (f"t={session.time:.3f}s  com=({x:.3f}, {y:.3f}) m  {upright}  "
             f"state={session.sim.state_hash()}")
 
 

@@ -39,7 +39,8 @@ from puppet.session import Session
 from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
                                           parse_expectations)
 from puppet.timeline.log import Log, Recorder, read_log, record_events
-from puppet.timeline.replay import SAMPLE_EVERY, ReplayResult, Trajectory, replay
+from puppet.timeline.replay import ReplayResult, replay
+from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
 from puppet.timeline.script import compile_script, load_script, run_seconds
 
 __all__ = ["ReplayResult", "Trajectory", "Outcome", "DataError", "replay_log",

@@ -185,7 +185,7 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet():
     from puppet.data.catalog import load_setup, setup_from_text
     from puppet.session import Session
     from puppet.timeline.playback import play
-    from puppet.timeline.replay import SAMPLE_EVERY, Sampler
+    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
     from puppet.timeline.script import compile_script, load_script, run_seconds
 
     def flip(text=None):
@@ -206,7 +206,7 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet():
 
     tr = flip()
     assert turned(tr).passed, turned(tr).measured
-    from puppet.timeline.expectations import _longest_run
+    from puppet.timeline.expectations.measure import longest_run as _longest_run
 
     length, _, last = _longest_run(~tr.contact.any(axis=1), tr.t)
     assert length > 0.3, length

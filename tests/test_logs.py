@@ -9,6 +9,7 @@ checks below show that they would.
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 from functools import lru_cache
@@ -40,6 +41,9 @@ def test_log_replays_and_meets_its_expectations(log):
     assert result.outcomes, f"{log.name}: no expectations were checked"
     assert not result.failed, "\n".join(str(o) for o in result.failed)
     assert result.final_hash == result.recorded_hash
+    # each passed with a margin (how far inside its bound, in its unit) that says so
+    assert all(math.isfinite(o.margin) and o.margin >= -1e-6 for o in result.outcomes), \
+        [(o.kind, o.margin) for o in result.outcomes]
 
 
 @pytest.mark.parametrize("log", LOGS, ids=lambda p: p.stem)

@@ -10,7 +10,7 @@ from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.testing import replay_log
 from puppet.timeline.expectations import evaluate_all, parse_expectations
-from puppet.timeline.replay import Sampler
+from puppet.timeline.trajectory import Sampler
 from tests.helpers import with_changed_interface
 
 LOG = ROOT / "assets" / "logs" / "biped-monkey-bars.jsonl"

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 import puppet.timeline.replay as replay_mod
+import puppet.timeline.trajectory as trajectory_mod
 from puppet.timeline.log import read_log
-from puppet.timeline.replay import Sampler, find_log, replay
+from puppet.timeline.replay import find_log, replay
+from puppet.timeline.trajectory import Sampler
 
 
 class PlainSampler(Sampler):
@@ -35,7 +37,7 @@ class PlainSampler(Sampler):
                           [s.angle for s in servos], [s.target for s in servos],
                           [rt.channels.get(j, float("nan")) for j in self.joints],
                           rt.state, rt.mode,
-                          replay_mod._held(session.sim) if session.sim.grasps else ()))
+                          trajectory_mod._held(session.sim) if session.sim.grasps else ()))
 
 
 FIELDS = ("step", "t", "x", "y", "angle", "lowest", "contact", "com", "root_angle",

@@ -7,7 +7,7 @@ import numpy as np
 
 from puppet.data.catalog import find
 from puppet.data.interfaces import load_interface
-from puppet.timeline.expectations import _runs
+from puppet.timeline.expectations.measure import runs as _runs
 from puppet.timeline.script import DEFAULT_SECONDS, ScriptSpec, run_seconds
 
 
@@ -59,7 +59,7 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
 def test_longest_run_takes_the_first_of_two_as_long():
     """Two stretches of 10 samples at 120 Hz: their seconds differ by rounding
     (0.075 and 0.07500000000000001), and the first must still be the one."""
-    from puppet.timeline.expectations import _longest_run
+    from puppet.timeline.expectations.measure import longest_run as _longest_run
 
     t = np.arange(40) * 4 * (1 / 480)
     flags = np.zeros(40, dtype=bool)

@@ -38,6 +38,11 @@ def character_of(path: Path) -> str:
 def failures(path: Path, iterations: int, slop: float | None) -> list[str]:
     """The expectations of ``path`` that fail with its character's solver at
     ``iterations`` passes and ``slop`` (None: the file's), the end hash left out."""
+    return [o.expectation for o in failed(path, iterations, slop)]
+
+
+def failed(path: Path, iterations: int, slop: float | None) -> list:
+    """The failed Outcomes (kind, words, margin) of ``failures``."""
     def adjust(setup):
         old = setup.character.solver
         solver = SolverSpec(iterations=iterations,
@@ -46,8 +51,7 @@ def failures(path: Path, iterations: int, slop: float | None) -> list[str]:
             setup, character=setup.character.model_copy(update={"solver": solver}))
 
     result = replay(path, adjust=adjust)
-    return [o.expectation for o in result.outcomes
-            if not o.passed and o.expectation != "same end as the recording"]
+    return [o for o in result.outcomes if not o.passed and o.kind != "same_end"]
 
 
 def _numbers(kind, text: str) -> list:
@@ -79,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     settings = list(itertools.product(args.iterations, args.slop))
     jobs = [(p, n, s) for n, s in settings for p in logs]
     with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        results = list(pool.map(failures, *zip(*jobs)))
+        results = list(pool.map(failed, *zip(*jobs)))
     broken = False
     for i, (n, s) in enumerate(settings):
         rows = results[i * len(logs):(i + 1) * len(logs)]
@@ -87,11 +91,16 @@ def main(argv: list[str] | None = None) -> int:
         slop = "" if s is None else f", slop {s:g} m"
         print(f"{n} iterations{slop}: {len(held)}/{len(logs)} logs hold"
               + (f" ({', '.join(held)})" if held and len(held) < len(logs) else ""))
-        for path, failed in zip(logs, rows):
-            if failed:
+        for path, outcomes in zip(logs, rows):
+            if outcomes:
                 broken = True
-                kinds = dict.fromkeys(f.split(" ")[0].rstrip(":") for f in failed)  # in order, once
-                print(f"  {path.stem}: {', '.join(kinds)}")
+                worst: dict = {}  # kind -> its most negative margin, in order, once
+                for o in outcomes:
+                    if o.kind not in worst or o.margin < worst[o.kind].margin:
+                        worst[o.kind] = o
+                print(f"  {path.stem}: " + ", ".join(
+                    f"{k} ({o.margin:+.3g} {o.unit})".replace(" )", ")")
+                    for k, o in worst.items()))
     return 1 if broken else 0
 
 

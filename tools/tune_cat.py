@@ -36,6 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import load_setup  # noqa: E402
 from puppet.data.validate import validate  # noqa: E402
 from puppet.data.yamlfile import Located  # noqa: E402
+from puppet.physics.upright_watch import UprightWatch  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
@@ -106,8 +107,10 @@ def run(interface: str, scene: str | None, events: list[dict], seconds: float) -
     session = Session(load_setup(interface, scene))
     c = session.character
     worst = [0.0]
+    watch = UprightWatch()  # upright over the last second, not at the last step
 
     def sample(s):
+        watch(s)
         tilt = abs(math.degrees(math.remainder(c.root_angle(), 2 * math.pi)))
         if tilt > worst[0]:
             worst[0] = tilt
@@ -115,7 +118,7 @@ def run(interface: str, scene: str | None, events: list[dict], seconds: float) -
     until = round(seconds / session.sim.dt)
     play(session, compile_script(spec, session.sim.dt), until, 8, sample)
     x, y = c.com()
-    return {"x": x, "y": y, "tilt": worst[0], "upright": c.upright(),
+    return {"x": x, "y": y, "tilt": worst[0], "upright": watch.stayed(session),
             "blown": session.sim.blown_up() or session.blowups > 0}
 
 

@@ -48,7 +48,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT  # noqa: E402
 from puppet.timeline.expectations import evaluate_all, parse_expectations  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from tools.gestures import SessionRunner, climb, compile_entries  # noqa: E402
 
 STAND = (0.656, 0.583)  # the start pose in luxo-mouse coordinates
@@ -126,7 +126,7 @@ def shuffle_feat() -> Feat:
     def score(traj, t0, passed):
         base = traj.index("base")
         free = ~traj.contact[:, base]
-        from puppet.timeline.expectations import _longest_run
+        from puppet.timeline.expectations.measure import longest_run as _longest_run
         longest = _longest_run(free, traj.t)[0]
         dx = traj.x[-1, base] - traj.x[0, base]
         ground_tilt = np.where(traj.contact.any(axis=1), tilt(traj.root_angle), 0).max()
@@ -178,7 +178,7 @@ def _turn(traj, link="base"):
 
 
 def _flight_turn(traj):
-    from puppet.timeline.expectations import _runs
+    from puppet.timeline.expectations.measure import runs as _runs
     turn = _turn(traj)
     free = ~traj.contact.any(axis=1)
     best = 0.0

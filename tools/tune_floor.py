@@ -112,7 +112,6 @@ from __future__ import annotations
 import argparse
 import json
 import random
-import re
 import sys
 import tempfile
 from pathlib import Path
@@ -126,10 +125,12 @@ from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.testing import replay_log  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
-    _longest_run, evaluate_all, parse_expectations)
+    evaluate_all, parse_expectations)
+from puppet.timeline.expectations.measure import longest_flight  # noqa: E402
+from puppet.timeline.expectations.measure import longest_run as _longest_run  # noqa: E402
 from puppet.timeline.log import record_events  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-floor.yaml"
@@ -297,48 +298,38 @@ FEATS = {
 }
 
 
-def graded(feat: str, outcomes) -> float:
-    """The feat's slope: the handstand's seconds on the hands (what balanced_on
-    measures), a flip's turn in flight (turned ... in flight, per 100 deg), a kip's
-    longest flight (per 0.1 s, to 0.3 s), how near upright its trunk ends (per 60 deg)
-    and its head's lowest height over the last second (to 1.45 m)."""
+def graded(feat: str, outcomes, expect: list, tr) -> float:
+    """The feat's slope, read from the outcomes' margins (in each kind's unit, + inside
+    its bound) and the entries' bounds: the handstand's seconds on the hands (what
+    balanced_on measures), a flip's turn in flight (turned ... in flight, per 100 deg),
+    a kip's longest flight (per 0.1 s, to 0.3 s), how near upright its trunk ends (per
+    60 deg) and its head's lowest height over the last second (to 1.45 m)."""
+    pairs = [(o, next(iter(e.values()))) for o, e in zip(outcomes, expect)]
     if feat == "kip":
-        value = 0.0
-        for o in outcomes:
-            m = re.search(r"chest (-?[0-9]+)\.\.", o.measured)
-            if o.expectation.startswith("angle_within chest") and m:
-                value += (min(float(m.group(1)), -45) + 180) / 45  # less face-down
-            m = re.search(r"the longest ([0-9.]+) s", o.measured)
-            if o.expectation.startswith("flight_phases") and m:
-                value += min(float(m.group(1)), 0.3) * 10
-            m = re.search(r"at most ([0-9.]+) deg from upright", o.measured)
-            if o.expectation.startswith("tilt_at_end") and m:
-                value += (180 - float(m.group(1))) / 60
-            m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
-            if o.expectation.startswith("height_at_end") and m:
-                value += min(float(m.group(1)), 1.45) * 2
-            m = re.search(r"touching at ([0-9]+)%", o.measured)
-            if o.expectation.startswith("touching_at_end") and m:
-                value += float(m.group(1)) / 20  # both feet down
+        value = min(longest_flight(tr)[0], 0.3) * 10
+        for o, bound in pairs:
+            if o.kind == "angle_within" and bound.get("link") == "chest":
+                value += (min(o.margin, 0.0) + 135) / 45  # less face-down (min -45 deg)
+            elif o.kind == "tilt_at_end":
+                value += (180 - (bound["max"] - o.margin)) / 60
+            elif o.kind == "height_at_end":
+                value += (min(o.margin, 0.0) + bound["min"]) * 2
+            elif o.kind == "touching_at_end":
+                value += (o.margin + bound.get("min_fraction", 1.0)) * 5  # both feet down
         return value
-    for o in outcomes:
-        if o.expectation.startswith("balanced_on"):
-            m = re.search(r"upside down: ([0-9.]+) s", o.measured)
-            return float(m.group(1)) if m else 0.0
+    for o, bound in pairs:
+        if o.kind == "balanced_on":
+            return max(o.margin + bound["min_seconds"], 0.0)
     value = 0.0
-    for o in outcomes:
-        if o.expectation.startswith("turned") and "in flight" in o.expectation:
-            m = re.search(r"turned (-?[0-9.]+) deg", o.measured)
-            value += min(float(m.group(1)), 360.0) / 100 if m else 0.0
-        elif o.expectation.startswith("never_fell") and not o.passed:
-            m = re.search(r"largest tilt on the ground ([0-9.]+) deg", o.measured)
-            value += (180 - float(m.group(1))) / 90 if m else 0.0  # less of a fall
-        elif o.expectation.startswith("tilt_at_end") and not o.passed:
-            m = re.search(r"at most ([0-9.]+) deg", o.measured)
-            value += (180 - float(m.group(1))) / 90 if m else 0.0  # nearer upright
-        elif o.expectation.startswith("height_at_end"):
-            m = re.search(r"y = (-?[0-9.]+)\.\.", o.measured)
-            value += 2 * float(m.group(1)) if m else 0.0  # the lowest head, higher
+    for o, bound in pairs:
+        if o.kind == "turned" and bound.get("in_flight"):
+            value += min(o.margin + bound["min_degrees"], 360.0) / 100
+        elif o.kind == "never_fell" and not o.passed:
+            value += (90 + o.margin) / 90  # less of a fall (the largest tilt, from 180)
+        elif o.kind == "tilt_at_end" and not o.passed:
+            value += (180 - (bound["max"] - o.margin)) / 90  # nearer upright
+        elif o.kind == "height_at_end":
+            value += 2 * (o.margin + bound["min"])  # the lowest head, higher
     return value
 
 
@@ -422,7 +413,7 @@ def score(feat: str, docs: dict, expect: list, shifts=(0.0,),
             # a flip: standing still (or sitting after it) passes the standing ones; a
             # kip: only a flight that ends on the feet counts
             passed = sum(outcomes[k].passed for k in gate)
-        value = 10 * passed + graded(feat, outcomes)
+        value = 10 * passed + graded(feat, outcomes, expect, tr)
         turn = FEATS[feat].get("turn_gate", 1)  # the leading ones that make it a flip
         if FEATS[feat].get("landing_slope") and all(o.passed for o in outcomes[:turn]):
             value += 20 * on_feet_after_flight(tr)

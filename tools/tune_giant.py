@@ -46,7 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import load_setup  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
-from puppet.timeline.replay import Sampler  # noqa: E402
+from puppet.timeline.trajectory import Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.gestures import compile_entries  # noqa: E402
 
@@ -153,8 +153,9 @@ def score(script: dict) -> tuple[float, list]:
     play(session, pairs, round(spec.seconds / session.sim.dt), 4, sampler)
     expect = load_expectations(LOG, {})
     outcomes = evaluate_all(expect.items, sampler.trajectory(), session.sim.state_hash())
-    turns = next((float(o.measured.split()[0]) for o in outcomes
-                  if o.expectation.startswith("revolutions")), 0.0)
+    # the turns in a row: the margin (turns past the entry's min) plus that min
+    turns = next((max(o.margin + e.value.min, 0.0) for o, e in zip(outcomes, expect.items)
+                  if o.kind == "revolutions"), 0.0)
     return turns, outcomes
 
 

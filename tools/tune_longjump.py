@@ -80,9 +80,10 @@ from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
-    _runs, evaluate_all, load_expectations)
+    evaluate_all, load_expectations)
+from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402
 
@@ -444,7 +445,7 @@ def run_score(traj, items) -> tuple[float, str]:
     outcomes = evaluate_all(items, traj, "")
     passed = sum(o.passed for o in outcomes)
     # the run-up, the take-off and the landing count most: sitting still passes the rest
-    points = sum((10 if o.expectation.split()[0] in JUMP else 3) * o.passed
+    points = sum((10 if o.kind in JUMP else 3) * o.passed
                  for o in outcomes)
     free = ~traj.contact.any(axis=1)
     best, first = longest_flight(free)
@@ -600,7 +601,7 @@ def robustness(text: str, items, mouse_x: float, check_at: float, press: float,
                 passed = all(o.passed for o in outcomes)
                 ok, total = ok + passed, total + 1
                 row.append("pass" if passed else ",".join(
-                    o.expectation.split()[0] for o in outcomes if not o.passed))
+                    o.kind for o in outcomes if not o.passed))
             print(f"mouse x {mx:g}, space {d:+.3f} s: " + " | ".join(
                 f"l {e:+.3f}: {r}" for e, r in zip(presses, row)), flush=True)
     print(f"{ok} of {total} pass")

@@ -40,6 +40,7 @@ import yaml
 
 from puppet.data.catalog import ROOT, load_setup
 from puppet.interface import events as ev
+from puppet.physics.upright_watch import UprightWatch
 from puppet.session import Session
 
 INTERFACE = ROOT / "interfaces" / "luxo-keys.yaml"
@@ -151,9 +152,11 @@ def play_key(session: Session, key: str, seconds: float = 3.0) -> Outcome:
     every = 4
     stretch = 0.0
     dt = session.sim.dt
+    watch = UprightWatch()  # upright over the last second, not at the last step
 
     def sample() -> None:
         nonlocal stretch
+        watch(session)
         bottom = min(sh.cache_bb().bottom for sh in c.shapes["base"])
         out.rise = max(out.rise, bottom - floor)
         out.shade_top = max(out.shade_top, c.link_position("upper_arm")[1])
@@ -173,7 +176,7 @@ def play_key(session: Session, key: str, seconds: float = 3.0) -> Outcome:
     base = c.bodies["base"]
     out.dx = base.position.x - x0
     out.turn = math.degrees(base.angle - a0)
-    out.upright = c.upright()
+    out.upright = watch.stayed(session)
     out.angle = math.degrees(math.remainder(base.angle, 2 * math.pi))
     out.shade_low = c.link_position("upper_arm")[1]
     return out

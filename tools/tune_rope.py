@@ -22,7 +22,6 @@ no phase to read.
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 from pathlib import Path
 
@@ -34,7 +33,7 @@ from puppet.data.catalog import load_setup  # noqa: E402
 from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,24 +54,26 @@ def script(half: float, seconds: float, sweeps: bool = True) -> dict:
 
 
 def score(s: dict) -> list:
-    """The log's expectations on the script played through the Session."""
+    """The log's expectations on the script played through the Session (each outcome
+    with its entry, as ``(outcome, entry)``)."""
     spec = ScriptSpec.model_validate({"interface": INTERFACE, "scene": SCENE, **s})
     session = Session(load_setup(INTERFACE, SCENE))
     sampler = Sampler(session)
     sampler(session)
     play(session, compile_script(spec, session.sim.dt), round(spec.seconds / session.sim.dt),
          SAMPLE_EVERY, sampler)
-    return evaluate_all(load_expectations(LOG, {}).items, sampler.trajectory(),
-                        session.sim.state_hash())
+    items = load_expectations(LOG, {}).items
+    return list(zip(evaluate_all(items, sampler.trajectory(), session.sim.state_hash()),
+                    items))
 
 
-def late_swing(outcomes) -> float:
-    """The smaller side of the last swung window's extremes (deg)."""
+def late_swing(scored) -> float:
+    """The smaller side of the last swung window's extremes (deg): its margin (deg past
+    the entry's min, the nearer side) plus that min."""
     found = 0.0
-    for o in outcomes:
-        m = re.match(r"(-?[0-9.]+)\.\.(-?[0-9.]+) deg", o.measured)
-        if o.expectation.startswith("swung") and m:
-            found = min(-float(m.group(1)), float(m.group(2)))
+    for o, e in scored:
+        if o.kind == "swung":
+            found = o.margin + e.value.min
     return found
 
 
@@ -86,21 +87,21 @@ def main() -> int:
     args = ap.parse_args()
     still = score(script(1.0, args.seconds, sweeps=False))
     print(f"hanging still: {late_swing(still):.1f} deg, "
-          f"{'passes (wrong)' if all(o.passed for o in still) else 'fails'}")
+          f"{'passes (wrong)' if all(o.passed for o, _ in still) else 'fails'}")
     best = None
     n = round((args.hi - args.lo) / args.step)
     for k in range(n + 1):
         half = round(args.lo + k * args.step, 3)
         outcomes = score(script(half, args.seconds))
-        ok = all(o.passed for o in outcomes)
+        ok = all(o.passed for o, _ in outcomes)
         print(f"half period {half:.2f} s: {late_swing(outcomes):.1f} deg at the end, "
               f"{'passes' if ok else 'fails'}", flush=True)
         if ok and (best is None or late_swing(outcomes) > late_swing(best[1])):
             best = (half, outcomes)
-    if best is None or all(o.passed for o in still):
+    if best is None or all(o.passed for o, _ in still):
         return 1
     half, outcomes = best
-    for o in outcomes:
+    for o, _ in outcomes:
         print(o)
     print(f"half period: {half} s")
     if args.write:

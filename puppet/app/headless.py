@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import contextlib
-
+import math
 import os
 from pathlib import Path
 
 from puppet.app.camera import camera_for, subject_of
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
+from puppet.physics.upright_watch import UprightWatch
 from puppet.session import Session
 from puppet.timeline.playback import play
 
@@ -72,19 +73,26 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     there (the images do not change the run: same log, same state hash).
     ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character;
     ``overlay``: draw the balance overlay (``render.draw_balance``). The session
-    returned has ``frames_written``: the number of frames written to ``frames_dir``."""
+    returned has ``frames_written``: the number of frames written to ``frames_dir``,
+    and ``upright_watch``: whether the root stayed upright over the last second."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
     if screenshot or frames_dir:
         renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
                                  overlay=overlay)
-    every, on_tick = 0, None
     session.frames_written = 0  # how many frames went to frames_dir (the CLI says so)
+    # the end line's upright=: over the last second, not the last step (UprightWatch)
+    watch = session.upright_watch = UprightWatch()
+    watch_every = frame_every = UprightWatch.every(session.sim.dt)
     if frames_dir:
-        every = max(1, round(1.0 / (fps * session.sim.dt)))
+        frame_every = max(1, round(1.0 / (fps * session.sim.dt)))
+    every = math.gcd(frame_every, watch_every)  # (the steps do not depend on it)
 
-        def on_tick(s: Session) -> None:
+    def on_tick(s: Session) -> None:
+        if s.steps % watch_every == 0:
+            watch(s)
+        if frames_dir and s.steps % frame_every == 0:
             _follow(renderer, s)
             renderer.save(s, Path(frames_dir) / f"frame_{session.frames_written:05d}.png",
                           ghost=_synced(ghost, s))
@@ -96,6 +104,7 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
 
         recording = Recorder(session, record, slowdown=slowdown, description=description)
     with recording:
+        watch(session)
         play(session, events, until, every, on_tick)
     if screenshot:
         _follow(renderer, session)

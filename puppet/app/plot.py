@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from puppet.timeline.replay import Trajectory
+from puppet.timeline.trajectory import Trajectory
 
 TARGET_COLOR = "#d9822b"
 ANGLE_COLOR = "#1f4e8c"

@@ -13,6 +13,7 @@ import time
 from typing import Callable
 
 from puppet.data.catalog import Setup
+from puppet.physics.upright_watch import UprightWatch
 from puppet.session import Session
 
 FRAME_HZ = 60.0
@@ -25,6 +26,7 @@ def run_live(setup: Setup, sources, seconds: float, record=None, slowdown: float
     """Play ``seconds`` of simulated time paced by the wall clock (``slowdown`` wall
     seconds per simulated second; default the interface's), fed by ``sources``."""
     session = Session(setup)
+    watch = session.upright_watch = UprightWatch()  # the end line's upright= (each frame)
     dt = session.sim.dt
     slowdown = slowdown or setup.interface.slowdown
     until = round(seconds / dt)
@@ -46,6 +48,7 @@ def run_live(setup: Setup, sources, seconds: float, record=None, slowdown: float
                     session.handle(event)
             due = min(until, int((clock() - start) / (dt * slowdown)))
             session.advance(due - session.steps)
+            watch(session)
             if on_frame is not None:
                 on_frame(session)
     return session

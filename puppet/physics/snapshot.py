@@ -81,31 +81,36 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
     # GLIBC_TUNABLES=glibc.malloc.check=3) stops in that free() on the first replays of
     # the shipped logs, and a plain run aborted in malloc about one bench in five.
     # the captured step's contacts, worked out when first asked (restored_contacts)
-    space._puppet_contacts = [stamp, None, (made, arbiters, objects)]
+    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
     return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
 
 
-def _touching(made, records, objects, stamp) -> dict:
-    """body -> the world points where it touched something at the captured step.
+def _touching(made, records, objects, stamp) -> tuple[dict, dict]:
+    """body -> the world points where it touched something at the captured step; and
+    body -> (the other shape, point) of each of them.
 
     A rebuilt space holds the cached arbiters, but Chipmunk lists a body's contacts
     (``each_arbiter``) only once a step has found them again, so right after a restore
     - every checkpoint, a rewind - every link would read as touching nothing.
     ``restored_contacts`` answers from these until the space steps."""
     out: dict = {}
+    shapes: dict = {}
     for arb, record in zip(made, records):
         if arb.stamp != stamp or arb.count <= 0:
             continue  # not touching at the captured step (kept for warm starts)
-        for shape, side in ((objects[record[0]], 0), (objects[record[1]], 1)):
+        pair = (objects[record[0]], objects[record[1]])
+        for side, shape in enumerate(pair):
             body = shape.body
             if body is None or body.body_type != pymunk.Body.DYNAMIC:
                 continue
             cx, cy = body.local_to_world(body.center_of_gravity)
             points = out.setdefault(body, [])
+            others = shapes.setdefault(body, [])
             for i in range(arb.count):
                 r = arb.contacts[i].r1 if side == 0 else arb.contacts[i].r2
                 points.append((cx + r.x, cy + r.y))
-    return out
+                others.append((pair[1 - side], points[-1]))
+    return out, shapes
 
 
 def restored_contacts(body) -> list | None:
@@ -128,8 +133,14 @@ def touching(got: list) -> dict:
     """body -> points of a space's ``_puppet_contacts`` (worked out once)."""
     if got[1] is None:
         made, records, objects = got[2]
-        got[1], got[2] = _touching(made, records, objects, got[0]), None
+        (got[1], got[3]), got[2] = _touching(made, records, objects, got[0]), None
     return got[1]
+
+
+def touching_shapes(got: list) -> dict:
+    """body -> (the shape it touched, world point) of a space's ``_puppet_contacts``."""
+    touching(got)
+    return got[3]
 
 
 # -- records ---------------------------------------------------------------------------

@@ -4,9 +4,10 @@ The header names the interface, character and scene; when one of those files has
 changed since the recording (its hash differs) the replay warns in one line and goes
 on. Events are applied in file order; the sim is advanced to each event's step first.
 
-This is the replay engine (``replay``, ``Sampler``, ``Trajectory``, ``ReplayResult``,
-``LogFeeder``, ``setup_for_log``, ``new_session``, ``apply_log``, ``find_log``); what
-the ``puppet replay`` command prints and exits with is ``puppet.timeline.report``.
+This is the replay engine (``replay``, ``ReplayResult``, ``LogFeeder``,
+``setup_for_log``, ``new_session``, ``apply_log``, ``find_log``); the sampled run it
+records is ``puppet.timeline.trajectory`` (``Sampler``, ``Trajectory``); what the
+``puppet replay`` command prints and exits with is ``puppet.timeline.report``.
 """
 
 from __future__ import annotations
@@ -20,237 +21,12 @@ from puppet import __version__
 from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
-from puppet.physics.snapshot import touching as snapshot_touching
 from puppet.timeline.log import Log, embedded_problem, read_log
 from puppet.timeline.playback import next_move, play
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 
-if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
-    import numpy as np
-
+if TYPE_CHECKING:  # the expectations are imported only by a checked replay
     from puppet.timeline.expectations import Outcome
-
-SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
-
-
-_NAN = float("nan")
-
-
-@dataclass
-class Trajectory:
-    """Sampled states of a replay, one row per sample (numpy arrays).
-
-    Per link (columns in ``links`` order): ``x``, ``y`` (centre of mass, m), ``angle``
-    (rad), ``lowest`` (lowest point of the link's shapes, m), ``contact`` (touching
-    something outside the character; at the first sample, step 0, the next sample's:
-    before the first step there are no contacts yet). Per joint (``joints`` order): ``joint_angle``,
-    ``joint_target`` (rad), ``joint_channel`` (the value of the input channel named
-    like the joint - a performance's angle for it - in rad, NaN where none came yet).
-    ``com`` is (n, 2). ``root_angle`` is the root link's angle (rad, as ``angle``'s
-    column for the root: unwrapped, 0 in the model's orientation). Read a link's column
-    with ``index``: ``traj.y[:, traj.index("base")]``; a joint's with
-    ``traj.joints.index``: ``traj.joint_angle[:, traj.joints.index("hip_near")]``.
-    ``state`` and ``mode`` (object arrays of names, None without
-    states or modes) are the interface's state and mode at each
-    sample, for expectations about what the character was doing; ``state_names`` and
-    ``mode_names`` are the ones the interface defines (every version, if it was
-    reloaded), so such an expectation can say a name does not exist. ``held`` is what
-    the chains hold (grasps) at each sample. After a rewind the
-    abandoned branch's samples are dropped: the trajectory is the history that was kept.
-    """
-
-    links: list[str]
-    joints: list[str]
-    step: np.ndarray
-    t: np.ndarray
-    x: np.ndarray
-    y: np.ndarray
-    angle: np.ndarray
-    lowest: np.ndarray
-    contact: np.ndarray
-    com: np.ndarray
-    root_angle: np.ndarray
-    joint_angle: np.ndarray
-    joint_target: np.ndarray
-    joint_channel: np.ndarray  # the channel named like each joint (rad; NaN: none yet)
-    state: np.ndarray
-    mode: np.ndarray
-    state_names: list[str]
-    mode_names: list[str]
-    # what the chains hold at each sample: a tuple of (chain, prop or None for the world,
-    # grasp point name or None: a segment or a world point, x, y of the held point in m)
-    # per sample, () when nothing is held
-    held: np.ndarray | None = None
-    prop_points: dict[str, list[str]] | None = None  # prop -> its grasp points, in order
-
-    def __post_init__(self):
-        # the sample at step 0 is taken before the first step, when pymunk has found no
-        # contacts yet: it would read as a flight (a standing start counted as a hop,
-        # a one-sample 'airborne'); it takes the next sample's contacts instead
-        if len(self.step) > 1 and self.step[0] == 0:
-            self.contact[0] = self.contact[1]
-
-    def index(self, link: str) -> int:
-        """The column of a link in the per-link arrays; ValueError naming the links
-        (and, for a joint's name, where joints are read) for another name."""
-        try:
-            return self.links.index(link)
-        except ValueError:
-            pass
-        joint = (f"'{link}' is a joint: its columns are in joint_angle, joint_target and "
-                 f"joint_channel, at trajectory.joints.index('{link}')"
-                 if link in self.joints else
-                 f"joints are read with trajectory.joints.index(NAME) in joint_angle, "
-                 f"joint_target, joint_channel (joints: {', '.join(self.joints) or 'none'})")
-        raise ValueError(f"no link '{link}' in the trajectory; the links are: "
-                         f"{', '.join(self.links)}; {joint}") from None
-
-    def __len__(self) -> int:
-        return len(self.t)
-
-
-class Sampler:
-    """An ``on_tick`` callback that records the session's state.
-
-    It runs at every sample of every replay (most of a test replay's time went here),
-    so it reads pymunk through its C library directly, with what does not change (the
-    links' centres of gravity, the servos' springs and bodies) looked up once per
-    set of bodies (a restore rebuilds them): the same C calls pymunk's properties make,
-    so the same numbers to the bit (tested against the plain reading)."""
-
-    def __init__(self, session: Session):
-        c = session.character
-        self.links = list(c.link_order)
-        self.joints = list(c.servos)
-        self.root = c.spec.root
-        self._no_channels = [_NAN] * len(self.joints)
-        self.rows: list[tuple] = []
-        self.state_names: dict[str, None] = {}  # ordered sets
-        self.mode_names: dict[str, None] = {}
-        self._runtime = None
-        self.prop_points = {n: list(p.points) for n, p in session.sim.props.items()}
-        self._take = (0, 0)  # the session's last take seen (Session.last_take)
-        self._key = None  # the bodies the plan below was made for
-        from pymunk._chipmunk_cffi import ffi, lib
-
-        self._lib = lib
-        touched = self._touched = [0]
-
-        @ffi.callback("void(cpBody *, cpArbiter *, void *)")
-        def count(body, arbiter, data):  # a link's arbiters: anything outside it
-            touched[0] += 1
-
-        self._count, self._null = count, ffi.NULL
-
-    def _plan(self, c) -> None:
-        """Per link (in ``links`` order): body, its C pointer, centre of gravity, the
-        C pointers of its shapes; the com's bodies in ``Character.com``'s order."""
-        self._key = c.bodies[self.links[0]]
-        self._per_link = [(c.bodies[n], c.bodies[n]._body, tuple(c.bodies[n].center_of_gravity),
-                           [sh._shape for sh in c.shapes[n]]) for n in self.links]
-        at = {n: i for i, n in enumerate(self.links)}
-        self._com_order = [(at[n], b.mass) for n, b in c.bodies.items()]
-        self._mass = c.mass
-        link_of = {id(c.bodies[n]): i for i, n in enumerate(self.links)}
-        # a joint's angle is its child's angle less its parent's: read once per link
-        self._servos = [(link_of[id(c.servos[j].child)], link_of[id(c.servos[j].parent)],
-                         c.servos[j].spring) for j in self.joints]
-        self._root = at[c.spec.root]
-
-    def __call__(self, session: Session) -> None:
-        step = session.steps
-        rt = session.runtime
-        if rt is not self._runtime:  # the start, or a reload: names it may have added
-            self._runtime = rt
-            self.state_names.update(dict.fromkeys(rt.spec.states))
-            self.mode_names.update(dict.fromkeys(rt.spec.modes))
-        if self.rows and step <= self.rows[-1][0]:  # time went back: a rewind
-            while self.rows and self.rows[-1][0] >= step:
-                self.rows.pop()
-        take = getattr(session, "last_take", None)
-        if take is not None and take != self._take:  # a branch taken up: the samples
-            self._take = take  # after its fork belonged to the future left
-            while take[0] and self.rows and self.rows[-1][0] > take[1]:
-                self.rows.pop()
-        c = session.character
-        if self._key is not c.bodies[self.links[0]]:  # a restore rebuilds all the bodies
-            self._plan(c)
-        lib, touched, count, null = self._lib, self._touched, self._count, self._null
-        to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeGetBB, lib.cpBodyEachArbiter
-        per_link = []
-        space = self._per_link[0][0].space
-        restored = getattr(space, "_puppet_contacts", None)  # just restored: the snapshot's
-        if restored is not None and lib.cpSpaceGetTimestamp(space._space) != restored[0]:
-            restored = None  # contacts (see snapshot.restored_contacts); else the arbiters
-        if restored is not None:
-            restored = snapshot_touching(restored)
-        for body, ptr, cog, shapes in self._per_link:
-            p = to_world(ptr, cog)
-            if restored is not None:
-                touching = bool(restored.get(body))
-            else:
-                touched[0] = 0
-                each(ptr, count, null)
-                touching = touched[0] > 0
-            per_link.append((p.x, p.y, body.angle, min(get_bb(sh).b for sh in shapes),
-                             touching))
-        mx = my = 0.0  # Character.com, from the positions just read, in its order
-        for i, mass in self._com_order:
-            mx += mass * per_link[i][0]
-            my += mass * per_link[i][1]
-        self.rows.append((step, session.time, per_link, (mx / self._mass, my / self._mass),
-                          per_link[self._root][2],
-                          [per_link[i][2] - per_link[k][2] for i, k, _ in self._servos],
-                          [spring.rest_angle for _, _, spring in self._servos],
-                          [rt.channels.get(j, _NAN) for j in self.joints] if rt.channels
-                          else self._no_channels, rt.state, rt.mode,
-                          _held(session.sim) if session.sim.grasps else ()))
-
-    def trajectory(self) -> Trajectory:
-        import numpy as np
-
-        rows = self.rows
-        n, nl, nj = len(rows), len(self.links), len(self.joints)
-        link = np.array([r[2] for r in rows], dtype=float).reshape(n, nl, 5)
-        return Trajectory(
-            links=self.links, joints=self.joints,
-            step=np.array([r[0] for r in rows], dtype=np.int64),
-            t=np.array([r[1] for r in rows], dtype=float),
-            x=link[:, :, 0], y=link[:, :, 1], angle=link[:, :, 2], lowest=link[:, :, 3],
-            contact=link[:, :, 4].astype(bool),
-            com=np.array([r[3] for r in rows], dtype=float).reshape(n, 2),
-            root_angle=np.array([r[4] for r in rows], dtype=float),
-            joint_angle=np.array([r[5] for r in rows], dtype=float).reshape(n, nj),
-            joint_target=np.array([r[6] for r in rows], dtype=float).reshape(n, nj),
-            joint_channel=np.radians(np.array([r[7] for r in rows],
-                                              dtype=float).reshape(n, nj)),
-            state=np.array([r[8] for r in rows], dtype=object),
-            mode=np.array([r[9] for r in rows], dtype=object),
-            state_names=list(self.state_names), mode_names=list(self.mode_names),
-            held=_object_array([r[10] for r in rows]), prop_points=self.prop_points)
-
-
-def _object_array(items: list) -> np.ndarray:
-    import numpy as np
-
-    out = np.empty(len(items), dtype=object)
-    out[:] = items
-    return out
-
-
-def _held(sim) -> tuple:
-    """(chain, prop, grasp point name, x, y) of every grasp held now, sorted by chain;
-    the name is the prop's grasp point at the held place (None: a segment, a world
-    point), x and y where the held point is (m)."""
-    out = []
-    for name, (_, prop) in sorted(sim.grasps.items()):
-        point = None
-        x, y = sim.grasp_point(name)
-        if prop is not None:
-            distance, _, nearest = sim.props[prop].nearest((x, y))
-            point = nearest if distance < 1e-6 else None
-        out.append((name, prop, point, x, y))
-    return tuple(out)
-
 
 @dataclass
 class ReplayResult:
@@ -547,7 +323,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     session = new_session(log, setup)
     if expectations is not None:
         expectations.check_links(list(session.character.link_order))
-    sampler = Sampler(session) if (trajectory or expectations) else None
+    sampler = (Sampler(session, touches=expectations is not None and expectations.touches)
+               if (trajectory or expectations) else None)
     if sampler is not None:
         sampler(session)
     apply_log(session, log, until_step, sample_every if sampler else 0, sampler)
@@ -563,7 +340,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
         outcomes = evaluate_all(expectations.items, traj, final)
         if same_end is not None and expect is None:
             outcomes.append(Outcome(SAME_END, same_end,
-                                    f"replayed {final}, recorded {log.end_hash}"))
+                                    f"replayed {final}, recorded {log.end_hash}",
+                                    margin=0.0 if same_end else float("-inf")))
     return ReplayResult(str(path), final, session.steps, session.time, log.end_hash, traj,
                         outcomes, warnings, log.truncated_at, session, same_end,
                         list(session.blowup_messages),
