@@ -288,11 +288,14 @@ def _check(args: argparse.Namespace) -> int:
             warnings: list[str] = []
             # a path as given, or a name: then the file's path, the same in the ok line
             path = find_target(name)  # as in its errors and warnings (checker._shown)
-            kind = check_file(path, warnings)
+            report: list[str] | None = None if args.no_stability else []
+            kind = check_file(path, warnings, report)
             for w in warnings:
                 print(w, file=sys.stderr)
             if not args.quiet:  # a name says which file it was
                 print(f"{name if path == Path(name) else path}: ok ({kind})")
+                for line in report or ():  # a character's stability check
+                    print(f"  {line}")
         except DataError as exc:
             print(f"puppet check: {exc}", file=sys.stderr)
             failed += 1
@@ -515,6 +518,10 @@ def build_parser() -> argparse.ArgumentParser:
                             "validate: paths (characters/luxo.yaml) or names (luxo-mouse, "
                             "cmu-131_01-walk)")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    check.add_argument("--no-stability", action="store_true",
+                       help="characters: skip the stability check (the start pose held "
+                            "5 s on a flat floor, and nudged: does it stand, which joints "
+                            "oscillate, sag or are locked by their damping)")
     check.set_defaults(func=_check)
 
     bench = sub.add_parser("bench", help="measure simulation speed, checkpoints and rewind",
