@@ -38,6 +38,7 @@ FALL_TILT = 45.0  # deg the root may turn from its start angle before the body h
 FALL_DROP = 0.5  # the centre of mass below this fraction of its start height: fallen
 SWING_DEG = 0.5  # deg: a sustained swing at least this large is an oscillation
 SAG_DEG = 3.0  # deg from its target at the end: the joint sags
+TIP_DEG = 10.0  # deg the root turns while held, standing: it settles into another pose
 LOCK_LAM = 6.5  # lam above this: damping acts over 100x its number (the joint locks)
 TRACK_LAM = 3.0  # lam up to this still tracks (the damping the report suggests)
 TOPPLE_MARGIN = 1.5  # stiffness below this many times m g h is reported as too soft
@@ -94,6 +95,7 @@ class Stability:
     loads: list[Load] = field(default_factory=list)
     touching: list[str] = field(default_factory=list)  # links on the floor, at the end
     dt: float = 0.0
+    touching_start: list[str] = field(default_factory=list)  # ... at LOADS_AT
 
     @property
     def stands(self) -> bool:
@@ -224,7 +226,8 @@ def stability(spec: CharacterSpec) -> Stability:
     def probe(sim: Simulation, t: float) -> None:
         if not start and t >= LOADS_AT:
             c = sim.character
-            start["loads"] = _loads(spec, sim, [n for n in c.link_order if c.in_contact(n)])
+            start["touching"] = [n for n in c.link_order if c.in_contact(n)]
+            start["loads"] = _loads(spec, sim, start["touching"])
         for name, servo in sim.character.servos.items():
             if t > tail_from:
                 angles[name].append(math.degrees(servo.angle))
@@ -245,4 +248,5 @@ def stability(spec: CharacterSpec) -> Stability:
         lam, light, moment, track, follow = locks[joint.name]
         joints.append(Joint(joint.name, swing, hz, math.degrees(servo.angle - servo.target),
                             capped[joint.name] / steps, lam, light, moment, track, follow))
-    return Stability(quiet, nudged, nudge, joints, start.get("loads", []), touching, sim.dt)
+    return Stability(quiet, nudged, nudge, joints, start.get("loads", []), touching, sim.dt,
+                     start.get("touching", []))

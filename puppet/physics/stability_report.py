@@ -8,7 +8,7 @@ its load), each warning saying what to change. The measurements are ``stability`
 from __future__ import annotations
 
 from puppet.data.characters import CharacterSpec
-from puppet.physics.stability import (NUDGE_AT, SAG_DEG, SECONDS, SWING_DEG, TAIL,
+from puppet.physics.stability import (NUDGE_AT, SAG_DEG, SECONDS, SWING_DEG, TAIL, TIP_DEG,
                                       TOPPLE_MARGIN, Stability, stability)
 
 CAPPED_SHARE = 0.2  # of the run at its torque limit: the joint is too weak
@@ -36,6 +36,14 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
     else:
         warnings.append(_fall(q, f"with its targets held (its start pose) on a flat floor, "
                                  f"it") + "; see docs/characters.md (Will it stand?)")
+    sank = [n for n in s.touching if n not in s.touching_start]
+    if s.stands and sank:
+        warnings.append(f"it sinks onto {', '.join(sank)}: on the floor at the end, not at "
+                        "the start (stiffer joints above them, or a start pose that "
+                        "rests on them)")
+    if s.stands and abs(q.tilt) > TIP_DEG:
+        warnings.append(f"it tips {q.tilt:+.0f} deg while held (the root link's angle): "
+                        "the start pose does not rest on its support as drawn")
     n = s.nudged
     nudge = f"nudged {s.nudge:.2g} m/s forward at {NUDGE_AT:g} s"
     if s.stands and n.fell_at is not None:
