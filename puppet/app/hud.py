@@ -258,11 +258,12 @@ def _control_panel(session: Session, info: HudInfo) -> tuple[tuple[str, str], ..
     where = where_line(spec, runtime.state, runtime.mode, states)
     rows = [(f"controls  ({where})" if where else "controls", "")]
     help_key = spec.app_key_table()["help"]
+    scene = session.setup.scene.name  # (keys meant for other scenes are left out)
     if info.show_help:  # the player's controls, the sensors' maps, the app's keys
-        rows += control_rows(spec, runtime.state, runtime.mode)
+        rows += control_rows(spec, runtime.state, runtime.mode, scene=scene)
         rows += [("", ""), ("app keys", "")] + app_lines(spec)
     else:  # compact: the maps on one input in one row, a few keys; the rest on help
-        rows += control_rows(spec, runtime.state, runtime.mode, f"{help_key}: all")
+        rows += control_rows(spec, runtime.state, runtime.mode, f"{help_key}: all", scene)
         rows += [(help_key, "all keys, pose pictures, what the marks mean")]
     info._rows = (key, tuple(rows))  # (not to be changed by the caller)
     return info._rows[1]
@@ -293,13 +294,22 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         lines.append(tracking)
     for status in info.sources:  # live streams and clips: what came, what was dropped
         lines.append(status)
-    height = 8 + len(lines) * 22
     left_w = min(surface.get_width() // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
+    how = setup.interface.how_to_play  # a newcomer's one line, wrapped under the title
+    if how:  # (in the panel's width: the character stands just right of it)
+        told = _wrapped(small, "how to play: " + how, left_w - 16, info)
+    else:
+        told = []
+    height = 8 + len(lines) * 22 + len(told) * ROW + (6 if told else 0)
     _panel(surface, pygame.Rect(8, 8, left_w, height))
-    for i, text in enumerate(lines):
-        surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT if i else TITLE),
-                     (16, 12 + i * 22))
+    surface.blit(font.render(fit(font, lines[0], left_w - 16), True, TITLE), (16, 12))
+    for i, text in enumerate(told):
+        surface.blit(text, (16, 12 + 22 + i * ROW))
+    below = 12 + len(told) * ROW + (6 if told else 0)
+    for i, text in enumerate(lines[1:], start=1):
+        surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT),
+                     (16, below + i * 22))
 
     rows = _control_panel(session, info)
     bottom = surface.get_height() - BAR_HEIGHT - 16
@@ -328,6 +338,19 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
                                        surface.get_height() - BAR_HEIGHT - 10))
         _panel(surface, rect.inflate(16, 8))
         surface.blit(msg, rect)
+
+
+def _wrapped(small, text: str, width: int, info: HudInfo) -> list:
+    """``text`` wrapped to ``width`` and rendered in the news colour, kept in ``info``
+    by the text and width (the how-to-play line is drawn every frame)."""
+    key = ("how", text, width, small)
+    got = info._laid.get(key)
+    if got is None:
+        got = [small.render(line, True, NEWS) for line in wrap(small, text, width)]
+        if len(info._laid) >= LAID_KEPT:
+            del info._laid[next(iter(info._laid))]
+        info._laid[key] = got
+    return got
 
 
 def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,

@@ -151,16 +151,19 @@ def _key_place(key: str) -> tuple[int, float] | None:
     return None
 
 
-def pose_key_bindings(interface, state: str | None = None) -> list[tuple[str, str]]:
-    """(key chord, pose name) for the keys live in ``state`` that set a pose."""
-    return [(normalize_key(k.key), k.pose) for k in live_keys(interface, state)
+def pose_key_bindings(interface, state: str | None = None,
+                      scene: str | None = None) -> list[tuple[str, str]]:
+    """(key chord, pose name) for the keys live in ``state`` that set a pose (on the
+    scene named ``scene``: see ``live_keys``)."""
+    return [(normalize_key(k.key), k.pose) for k in live_keys(interface, state, scene)
             if k.pose is not None]
 
 
-def reach_key_bindings(interface, state: str | None = None) -> list[tuple[str, object]]:
+def reach_key_bindings(interface, state: str | None = None,
+                       scene: str | None = None) -> list[tuple[str, object]]:
     """(key chord, reach) for the keys live in ``state`` that reach for a prop's grasp
     point (``point: {prop, offset}``) and set no pose: the key map draws their target."""
-    return [(normalize_key(k.key), k.reach) for k in live_keys(interface, state)
+    return [(normalize_key(k.key), k.reach) for k in live_keys(interface, state, scene)
             if k.pose is None and k.reach is not None and k.reach.point is not None]
 
 
@@ -220,8 +223,9 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
     picture; one strip per modifier (none, ctrl, ...). With the ``scene``, keys that
     reach for a prop's grasp point are drawn too, as the bar or rung they go for.
     Returns the rect drawn (None if no key sets a pose)."""
-    bindings = pose_key_bindings(interface, state)
-    reaches = dict(reach_key_bindings(interface, state)) if scene is not None else {}
+    named = scene.name if scene is not None else None
+    bindings = pose_key_bindings(interface, state, named)
+    reaches = dict(reach_key_bindings(interface, state, named)) if scene is not None else {}
     reaches = {k: r for k, r in reaches.items() if r.point.prop in scene.props} \
         if reaches else {}
     bindings += [(chord, "") for chord in reaches]

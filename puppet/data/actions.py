@@ -293,6 +293,13 @@ class KeyActionSpec(ActionSpec, kw_only=True):
     """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed."""
 
     key: str
+    # the scenes (their names) this key is for: on any other it does nothing and the HUD and
+    # the key map leave it out (default: every scene)
+    scenes: list[str] = field(default_factory=list)
+
+    def plays_on(self, scene: str | None) -> bool:
+        """Whether the key acts on the scene named ``scene`` (None: any scene)."""
+        return not self.scenes or scene is None or scene in self.scenes
 
 
 class PerturbSpec(Spec, kw_only=True):

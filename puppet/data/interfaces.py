@@ -232,6 +232,8 @@ class InterfaceSpec(Spec, kw_only=True):
     name: str
     description: str
     character: str
+    # one line for a newcomer, shown on the HUD: where to hold the mouse, which keys, what rhythm
+    how_to_play: str = ""
     scene: str = "flat"
     slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] = 1.0
     app_keys: dict[str, str] = field(default_factory=dict)  # rebind the app's keys: action -> key

@@ -72,7 +72,9 @@ class InterfaceRuntime:
         # (the stance leg and the swing leg); poses and maps are resolved per binding.
         self.roles = RoleBinding(spec)
         self._use_binding(spec.start_binding)
-        self.bindings = {normalize_key(k.key): k for k in spec.keys}
+        # a key for other scenes (``scenes:``) is not bound here
+        scene = sim.scene_spec.name if sim is not None else None
+        self.bindings = {normalize_key(k.key): k for k in spec.keys if k.plays_on(scene)}
         machines = spec.state_machines()
         self.channels: dict[str, float] = {}  # channel.NAME inputs, by bare NAME
         self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
@@ -83,10 +85,12 @@ class InterfaceRuntime:
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
-        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
+        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys
+                                                if k.plays_on(scene)}
                                for mname, m in machines.items()
                                for sname, s in m.states.items()}
-        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys}
+        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys
+                                     if k.plays_on(scene)}
                              for mname, m in machines.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
