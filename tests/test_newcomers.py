@@ -60,3 +60,71 @@ def test_keys_for_the_ladder_are_not_offered_or_bound_on_the_high_bar():
     assert "e" not in shown and "d" not in shown and "1" in shown
     assert {"e", "d"} <= {k for k, _ in control_rows(spec, scene="ladder")}
     assert {k.key for k in live_keys(spec, None, "highbar")} & {"e", "d"} == set()
+
+
+@pytest.mark.parametrize("name", ["biped-bars", "biped-gymnast", "biped-ladder"])
+@pytest.mark.parametrize("size", [(1024, 640), (1280, 720)])
+def test_no_bar_or_rung_is_under_the_top_panels(pygame, name, size):
+    """A scene with a view of its own (an apparatus) is framed below the HUD's panels:
+    every point of every prop (bars 2 m ahead and more included) is drawn under them."""
+    from puppet.app.headless import FrameRenderer
+
+    session = Session(load_setup(name))
+    renderer = FrameRenderer(session, size)
+    renderer.render(session)
+    band, camera = renderer.info.top_band, renderer.camera
+    assert 100 < band < size[1] // 2 and camera.top_px == band
+    for prop in session.sim.props.values():
+        points = [prop.point_world(p) for p in prop.points]
+        for shape in prop.shapes:
+            if hasattr(shape, "a"):
+                a, b = (prop.body.local_to_world(p) for p in (shape.a, shape.b))
+                points += [(a.x + (b.x - a.x) * k / 20, a.y + (b.y - a.y) * k / 20)
+                           for k in range(21)]
+        for p in points:
+            x, y = camera.to_screen(p)
+            if 0 <= x < size[0]:
+                assert y > band, (name, size, p, y, band)
+
+
+def test_a_long_error_wraps_on_screen_with_nothing_cut_off(pygame):
+    from puppet.app.hud import message_lines
+
+    font = pygame.font.Font(None, 24)
+    error = ("/home/someone/projects/puppet-layouts/interfaces/my-long-named-layout.yaml:"
+             "12:5: key 'r' is the app's 'reset' key; bind another key or move the app's "
+             "with app_keys: {reset: <key>}")
+    lines = message_lines(font, error, 400)
+    assert len(lines) >= 3 and all(font.size(line)[0] <= 400 for line in lines)
+    assert "".join(lines).replace(" ", "") == error.replace(" ", "")
+
+
+def test_a_refused_hot_reload_is_also_printed_to_the_terminal(tmp_path, monkeypatch, capsys,
+                                                              pygame):
+    """The window (SDL dummy driver): a bad save is said on screen and, whole, on
+    stderr, where it can be read and copied; the last good version keeps running."""
+    from puppet.app import window
+
+    path = tmp_path / "iface.yaml"
+    good = "name: t\ndescription: test\ncharacter: luxo\nkeys:\n  - {key: h, pose: p}\n" \
+           "poses:\n  p: {joints: {knee: 90}}\n"
+    path.write_text(good)
+    frame = {"n": 0, "start": None}
+    real_get = pygame.event.get
+
+    def fake_get(*args, **kw):
+        import time
+
+        frame["n"] += 1
+        if frame["n"] == 3:
+            path.write_text(good.replace("key: h", "key: r"))  # the app's reset key
+            frame["start"] = time.perf_counter()
+        real_get()
+        done = frame["start"] is not None and time.perf_counter() - frame["start"] > 1.2
+        return [pygame.event.Event(pygame.QUIT)] if done else []
+
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    assert window.run_window(load_setup(str(path)), no_record=True) == 0
+    err = capsys.readouterr().err
+    assert f"puppet play: {path}:5:" in err and "key 'r' is the app's 'reset' key" in err
+    assert "(the last valid version keeps running)" in err

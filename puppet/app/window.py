@@ -47,7 +47,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
     from puppet.app.camera import camera_for, subject_of
     from puppet.app.clock import SimClock
-    from puppet.app.hud import HudInfo, draw_hud
+    from puppet.app.hud import HudInfo, draw_hud, frame_under_panels
     from puppet.app.render import draw_world
 
     hint = headless_hint(replay)  # the command that was run: play, or replay LOG
@@ -371,6 +371,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             change = reloader.poll(time.perf_counter())
             if change is not None and not change.ok:
                 reload_error = change.error  # the last good version keeps running
+                print(f"puppet play: {change.error} (the last valid version keeps "
+                      "running)", file=sys.stderr, flush=True)  # the whole line, to copy
             elif change is not None:
                 reload_error = ""
                 handle(ev.reload(change.text, str(setup.interface_path)))
@@ -404,6 +406,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
         if not session.sim.blown_up():  # else (until the next health check recovers
             if not (dragging or ctrl_held()):  # it) the last world drawn stays; the
+                frame_under_panels(screen, camera, session, info, font, small)
                 camera.follow(subject_of(session), wall_dt)  # camera holds for a drag
             if ghost is not None:
                 ghost.sync(session)
