@@ -128,3 +128,27 @@ def test_a_refused_hot_reload_is_also_printed_to_the_terminal(tmp_path, monkeypa
     err = capsys.readouterr().err
     assert f"puppet play: {path}:5:" in err and "key 'r' is the app's 'reset' key" in err
     assert "(the last valid version keeps running)" in err
+
+
+@pytest.mark.parametrize("name", ["biped-recover", "luxo-keys", "cat-bound", "biped-floor"])
+def test_f1_pose_pictures_are_large_and_drawn_once(pygame, name, monkeypatch):
+    """F1's pose keys as pictures at least 84 px (they were 58) in a 1280x720 window,
+    inside the room beside the other help panels; the panel is drawn once and then only
+    blitted (no text measured or rendered again while it is shown)."""
+    from puppet.app import keymap
+    from puppet.app.headless import FrameRenderer
+
+    session = Session(load_setup(name))
+    renderer = FrameRenderer(session, (1280, 720))
+    renderer.info.show_help = True
+    chosen = []
+    real = keymap.keymap_layout
+    monkeypatch.setattr(keymap, "keymap_layout",
+                        lambda blocks, room: chosen.append(real(blocks, room)) or chosen[-1])
+    renderer.render(session)
+    assert len(chosen) == 1 and chosen[0][0] >= 84, chosen
+    calls = []
+    monkeypatch.setattr(keymap, "_render_keymap", lambda *a: calls.append(a))
+    renderer.render(session)
+    renderer.render(session)
+    assert calls == [] and len(chosen) == 1  # the cached panel, blitted

@@ -42,6 +42,7 @@ class HudInfo:
     # that a frame that changes nothing measures no text again
     _rows: tuple = field(default=(None, None), repr=False, compare=False)
     _laid: dict = field(default_factory=dict, repr=False, compare=False)
+    _keymap: dict = field(default_factory=dict, repr=False, compare=False)  # F1's pictures
 
     def follow_messages(self, session: Session, now: float) -> None:
         """Show the session's newest message (e.g. a recovered blow-up) for
@@ -354,8 +355,10 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         legend = legend_rows(session)  # keys as pictures, laid out like the keyboard
         drawn = draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW,
                           bottom, surface.get_width() // 2, info._laid)
+        space = (surface.get_width() // 2 - 16, drawn.top - 8 - (16 + height))
         keymap = draw_keymap(surface, setup.interface, setup.character, small,
-                             (8, 16 + height), state=session.runtime.state, scene=setup.scene)
+                             (8, 16 + height), state=session.runtime.state, scene=setup.scene,
+                             room=space, cache=info._keymap)  # the pictures as large as fit
         # the controls beside them, not over them (room for two columns at least)
         left = max([left, drawn.right] + ([keymap.right] if keymap is not None else []))
         left = min(left, surface.get_width() // 2)
