@@ -129,6 +129,9 @@ def _play(args: argparse.Namespace) -> int:
                          f"puppet replay {args.input}")
     if not args.headless and (args.input or args.screenshot or args.frames):
         raise UsageError("--input, --screenshot and --frames need --headless")
+    if args.headless and args.virtual_pad:  # a script moves the pad itself
+        raise UsageError("--virtual-pad is for the window; headless, a script's gamepad: "
+                         "entries move the sticks (docs/scripts.md)")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
         raise UsageError(f"--record {args.record}: {EXISTS}")
     if args.screenshot:
@@ -207,7 +210,8 @@ def _play(args: argparse.Namespace) -> int:
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
                           ghost=ghost, overlay=args.overlay == "com",
                           note=setup.warnings[0] if setup.warnings else "",
-                          sources=[clip] if clip is not None else ())
+                          sources=[clip] if clip is not None else (),
+                          virtual_pad=args.virtual_pad)
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, late_note, run_seconds
@@ -414,6 +418,11 @@ def build_parser() -> argparse.ArgumentParser:
                       help="com: start with the balance overlay on (centre of mass, its "
                            "ground point, the support between the outermost ground "
                            "contacts, the extrapolated centre of mass); F4 toggles it")
+    play.add_argument("--virtual-pad", action="store_true",
+                      help="try a gamepad layout with no pad: the mouse is the left stick "
+                           "(hold the right button: the right stick), the left button the "
+                           "right trigger, i j k l the face buttons y x a b, the arrows the "
+                           "d-pad, u o the shoulders, return start; logged as a gamepad")
     from puppet.mocap.commands import add_play_options, add_subcommands
 
     add_play_options(play)  # --mocap-format (--mocap udp://...: a live stream)

@@ -25,6 +25,9 @@ def input_words(name: str) -> tuple[str, str, str]:
     """(what the input is, its low end, its high end) in a player's words:
     mouse.x -> ("mouse left-right", "left", "right")."""
     device, _, part = name.partition(".")
+    if device == "pointer" and part in _AXES:
+        what, lo, hi = _AXES[part]
+        return f"mouse or stick {what}", lo, hi
     if device == "mouse" and part in _AXES:
         what, lo, hi = _AXES[part]
         return f"mouse {what}", lo, hi

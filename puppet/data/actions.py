@@ -26,6 +26,8 @@ INPUT_PATTERNS = (
     ("mouse.x", r"mouse\.x"),
     ("mouse.y", r"mouse\.y"),
     ("mouse.left / mouse.middle / mouse.right", r"mouse\.(left|middle|right)"),
+    ("pointer.x / pointer.y (the mouse, or the gamepad's pointer stick read as 0..1)",
+     r"pointer\.[xy]"),
     ("gamepad.left_x / left_y / right_x / right_y (-1..1, y up)",
      r"gamepad\.(left|right)_[xy]"),
     ("gamepad.left_trigger / right_trigger (0..1)", r"gamepad\.(left|right)_trigger"),

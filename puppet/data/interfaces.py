@@ -226,6 +226,8 @@ class GamepadSpec(Spec, kw_only=True):
 
     dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.12  # sticks (-1..1)
     trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.05  # triggers (0..1)
+    # the stick that moves the inputs pointer.x / pointer.y, as the mouse does
+    pointer: Literal["left", "right"] = "left"
 
 
 class InterfaceSpec(Spec, kw_only=True):
