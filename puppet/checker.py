@@ -228,8 +228,10 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
     spec, character, _ = catalog.check_interface(located)
     if warnings is not None:
         from puppet.data.interface_refs import map_conflicts
+        from puppet.physics.holds import hold_warnings
 
         warnings += map_conflicts(spec, located)
+        warnings += hold_warnings(spec, character, located)
     try:
         scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
     except DataError as exc:

@@ -154,6 +154,9 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.timeline.script import check_links
 
         check_links(script_path, script, [link.name for link in setup.character.links])
+    from puppet.physics.holds import setup_hold_warnings
+
+    setup = setup_hold_warnings(setup)  # (a world-frame hold against a light free side)
     for w in setup.warnings:  # valid but probably not meant (two maps on one joint)
         print(w, file=sys.stderr)
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden

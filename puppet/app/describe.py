@@ -94,6 +94,10 @@ def map_line(m) -> tuple[str, str]:
     """(input, what it does) in plain words, e.g. ("mouse", "near hip and knee: blends 6
     poses") or ("mouse left-right", "ankle +80 deg at the left .. -80 at the right").
     A map's own ``description`` is what it does, when the file gives one."""
+    if getattr(m, "add", None) is not None:  # a constant offset while it is active
+        gains = m.gains()
+        who = joint_words(gains) if len(gains) > 1 else next(iter(gains)).replace("_", " ")
+        return "(balance) offset", m.description or f"{who} {m.add:+g} deg while active"
     if getattr(m, "description", ""):
         names = (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
         return input_label(names), _unprefixed(m.description, names)
@@ -218,8 +222,9 @@ def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
 
 
 def reads_sensors(m) -> bool:
-    """A map driven by the body's own sensors (balance feedback), not by the player."""
-    return any(n.startswith("sensor.") for n in m.inputs)
+    """A map driven by the body's own sensors (balance feedback), or a constant offset,
+    not by the player: it acts by itself."""
+    return any(n.startswith("sensor.") for n in m.inputs) or getattr(m, "add", None) is not None
 
 
 def _live_maps(spec: InterfaceSpec, state: str | None, mode: str | None) -> list:
