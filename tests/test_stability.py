@@ -105,3 +105,17 @@ def test_heavy_damping_on_a_light_link_is_reported_locked(tmp_path, capsys):
     lam, track = float(m.group(1)), float(m.group(2))
     # lam = damping * dt * (1/I_a + 1/I_b), and the damping that tracks gives lam = 3
     assert math.isclose(3.0 * 3.0 / track, lam, rel_tol=0.02) and lam > 6.5
+
+
+def test_a_bent_joint_softer_than_its_load_is_told_the_stiffness_it_needs(tmp_path, capsys):
+    """Luxo's knee (bent 55 deg) at stiffness 3: above m*g*h (0.65), but the shade's
+    weight pulls with 0.23 N*m and bends it 4 deg: the report says so, and what stiffness
+    keeps it within 2 deg (30x the torque)."""
+    path = lamp(tmp_path, "soft-knee", knee="pd: {stiffness: 3.0, damping: 0.05, max_torque: 9.0}")
+    out, err = check(capsys, path)
+    m = re.search(r"knee gives about (\d+) deg under the 0.45 kg it carries \(its weight pulls "
+                  r"with ([\d.]+) N\*m, stiffness 3 N\*m/rad.*stiffness ([\d.]+)", err)
+    assert m, err
+    assert 3 <= int(m.group(1)) <= 6
+    assert float(m.group(3)) == pytest.approx(float(m.group(2)) / math.radians(2), rel=0.02)
+    assert "balance at the start: centre of mass at x " in out

@@ -96,6 +96,18 @@ class Stability:
     touching: list[str] = field(default_factory=list)  # links on the floor, at the end
     dt: float = 0.0
     touching_start: list[str] = field(default_factory=list)  # ... at LOADS_AT
+    # (the centre of mass's x, (the support's left x, right x) or None) at LOADS_AT
+    balance: tuple | None = None
+    mass: float = 0.0  # kg, the whole body
+
+    @property
+    def off_support(self) -> float:
+        """m the start pose's centre of mass is ahead (+) or behind (-) its support (0:
+        over it)."""
+        if self.balance is None or self.balance[1] is None:
+            return 0.0
+        x, (left, right) = self.balance[0], self.balance[1]
+        return x - right if x > right else x - left if x < left else 0.0
 
     @property
     def stands(self) -> bool:
@@ -228,6 +240,7 @@ def stability(spec: CharacterSpec) -> Stability:
             c = sim.character
             start["touching"] = [n for n in c.link_order if c.in_contact(n)]
             start["loads"] = _loads(spec, sim, start["touching"])
+            start["balance"] = (c.com()[0], c.support_extent())
         for name, servo in sim.character.servos.items():
             if t > tail_from:
                 angles[name].append(math.degrees(servo.angle))
@@ -249,4 +262,4 @@ def stability(spec: CharacterSpec) -> Stability:
         joints.append(Joint(joint.name, swing, hz, math.degrees(servo.angle - servo.target),
                             capped[joint.name] / steps, lam, light, moment, track, follow))
     return Stability(quiet, nudged, nudge, joints, start.get("loads", []), touching, sim.dt,
-                     start.get("touching", []))
+                     start.get("touching", []), start.get("balance"), sim.character.mass)

@@ -7,11 +7,16 @@ its load), each warning saying what to change. The measurements are ``stability`
 
 from __future__ import annotations
 
+import math
+
 from puppet.data.characters import CharacterSpec
 from puppet.physics.stability import (NUDGE_AT, SAG_DEG, SECONDS, SWING_DEG, TAIL, TIP_DEG,
-                                      TOPPLE_MARGIN, Stability, stability)
+                                      TOPPLE_MARGIN, TRACK_LAM, Stability, stability)
 
 CAPPED_SHARE = 0.2  # of the run at its torque limit: the joint is too weak
+GIVE_DEG = 3.0  # deg a loaded joint gives under its weight (torque / stiffness): too soft
+GIVE_SHARE = 0.25  # ... when it carries at least this share of the body
+NEAR_EDGE = 0.25  # of the support's length: a centre of mass this near an edge tips over it
 
 
 def _g(x: float) -> str:
@@ -42,8 +47,10 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
                         "the start (stiffer joints above them, or a start pose that "
                         "rests on them)")
     if s.stands and abs(q.tilt) > TIP_DEG:
-        warnings.append(f"it tips {q.tilt:+.0f} deg while held (the root link's angle): "
-                        "the start pose does not rest on its support as drawn")
+        way = "backward" if q.tilt > 0 else "forward"
+        warnings.append(f"it tips {q.tilt:+.0f} deg ({way}) while held (the root link's "
+                        "angle): the start pose does not rest on its support as drawn"
+                        + _over(s, q.tilt > 0))
     n = s.nudged
     nudge = f"nudged {s.nudge:.2g} m/s forward at {NUDGE_AT:g} s"
     if s.stands and n.fell_at is not None:
@@ -77,6 +84,16 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
                             f"{_g(load.stiffness)} N*m/rad against m*g*h = "
                             f"{_g(load.topple)}; give it {TOPPLE_MARGIN:g}-3 times that "
                             f"({_g(2 * load.topple)})")
+        bend = math.degrees(load.torque / load.stiffness) if load.stiffness > 0 else 90.0
+        if bend > GIVE_DEG and load.mass >= GIVE_SHARE * s.mass:  # the weight bends it:
+            # the pose moves, and the body's balance with it (a tail's sag is cosmetic)
+            warnings.append(f"{both} give{'' if len(load.joints) > 1 else 's'} about "
+                            f"{bend:.0f} deg under the {load.mass:.3g} kg "
+                            f"{'they carry' if len(load.joints) > 1 else 'it carries'} "
+                            f"(its weight pulls with {_g(load.torque)} N*m, stiffness "
+                            f"{_g(load.stiffness)} N*m/rad: torque / stiffness radians); for "
+                            f"{GIVE_DEG - 1:g} deg or less, stiffness "
+                            f"{_g(load.torque / math.radians(GIVE_DEG - 1))}")
         if load.torque > load.max_torque:
             warnings.append(f"{both} cannot hold the {load.mass:.3g} kg it carries: its "
                             f"weight pulls with {_g(load.torque)} N*m, max_torque "
@@ -98,8 +115,13 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
         lines.append("joints: " + "; ".join(said) if said else "joints: see the warnings")
         slow = max(s.joints, key=lambda j: j.follow, default=None)
         if slow is not None and not s.locked and slow.follow >= 0.005:
+            ceiling = (f" (its damping is past the {_g(slow.track_damping)} up to which the "
+                       "engine lets it track freely)" if slow.lam > TRACK_LAM else "")
             lines.append(f"slowest to follow a new target: {slow.name}, about "
-                         f"{_seconds(slow.follow)}")
+                         f"{_seconds(slow.follow)}{ceiling}")
+    said = balance_line(s)
+    if said:
+        lines.append(said)
     for load in sorted(s.loads, key=lambda x: -x.mass)[:3]:
         ratio = (f", {load.stiffness / load.topple:.2g}x its m*g*h {_g(load.topple)}"
                  if load.topple > 0 else " (it hangs below the hinge)")
@@ -108,6 +130,41 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
                      f"kg: stiffness {_g(load.stiffness)} N*m/rad{ratio}; "
                      f"{_g(load.torque)} of {_g(load.max_torque)} N*m to hold it")
     return lines, warnings
+
+
+def _over(s: Stability, backward: bool) -> str:
+    """What the start pose's balance says about a tip ``backward`` (else forward): its
+    centre of mass outside what it stands on, or near that edge."""
+    if s.balance is None or s.balance[1] is None:
+        return ""
+    x, (left, right) = s.balance
+    off = s.off_support
+    if off != 0.0:
+        return (f"; its centre of mass starts {abs(off) * 100:.1f} cm "
+                f"{'ahead of' if off > 0 else 'behind'} what it stands on (x {left:.3g}.."
+                f"{right:.3g} m): move the feet under it")
+    edge = x - left if backward else right - x
+    if edge > NEAR_EDGE * (right - left):
+        return ""  # well inside: the tip is the joints' (a warning of its own says which)
+    return (f"; its centre of mass starts {edge * 100:.1f} cm from the "
+            f"{'back' if backward else 'front'} edge of what it stands on (x {left:.3g}.."
+            f"{right:.3g} m): move the feet {'back' if backward else 'forward'} "
+            f"under it, or the mass {'forward' if backward else 'back'}")
+
+
+def balance_line(s: Stability) -> str | None:
+    """Where the start pose's centre of mass is over what it stands on."""
+    if s.balance is None or s.balance[1] is None:
+        return None
+    x, (left, right) = s.balance
+    if s.off_support:
+        where = (f"{abs(s.off_support) * 100:.1f} cm "
+                 f"{'ahead of' if s.off_support > 0 else 'behind'} it")
+    else:
+        where = (f"{(x - left) * 100:.1f} cm from its back edge, {(right - x) * 100:.1f} "
+                 "cm from its front edge")
+    return (f"balance at the start: centre of mass at x {x:.3g} m, what it stands on from "
+            f"{left:.3g} to {right:.3g} m: {where}")
 
 
 def _seconds(t: float) -> str:
