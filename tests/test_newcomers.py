@@ -152,3 +152,15 @@ def test_f1_pose_pictures_are_large_and_drawn_once(pygame, name, monkeypatch):
     renderer.render(session)
     renderer.render(session)
     assert calls == [] and len(chosen) == 1  # the cached panel, blitted
+
+
+def test_an_apparatus_is_drawn_on_a_stand_a_low_handhold_is_not():
+    from puppet.app.render import prop_stands
+
+    bar = prop_stands(Session(load_setup("biped-gymnast")))
+    assert len(bar) == 3 and bar[0][2] == 28  # a post as thick as the bar, two stays
+    (x, top), (_, floor), _ = bar[0]
+    assert (x, floor) == (0.0, 0.0) and top == pytest.approx(2.8 - 0.014)
+    bars = prop_stands(Session(load_setup("biped-bars")))
+    assert sorted(round(a[0], 2) for a, _, _ in bars) == [-0.1, 3.75]  # each end
+    assert prop_stands(Session(load_setup("luxo-mouse", "pendulum"))) == []  # 0.36 m up

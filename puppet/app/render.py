@@ -157,7 +157,8 @@ def _draw_ruler(surface, camera: Camera, scene, ruler, font,
                 surface.blit(label, rect)
 
 
-STAND_CLEAR = 0.25  # m: a static prop this far above the ground is drawn on a stand
+STAND_CLEAR = 1.0  # m: a static prop this far above the ground (out of reach, an
+# apparatus) is drawn on a stand; a handhold lower down reads as it is
 STAND_NARROW = 0.3  # m: a prop narrower than this stands on one post and two stays
 STAY_SPREAD = 0.45  # of the post's height: how far out the stays reach the ground
 
@@ -182,6 +183,8 @@ def prop_stands(session: Session) -> list[tuple[tuple, tuple, int]]:
             else:
                 a, b = (prop.body.local_to_world(p) for p in (shape.a, shape.b))
                 points += [(a.x, a.y - shape.radius), (b.x, b.y - shape.radius)]
+        post = round(2000 * max(shape.radius for shape in prop.shapes))  # mm: as thick
+        # as the bar it holds
         left, right = min(p[0] for p in points), max(p[0] for p in points)
         bottom = min(p[1] for p in points)
         middle = (left + right) / 2
@@ -190,18 +193,18 @@ def prop_stands(session: Session) -> list[tuple[tuple, tuple, int]]:
             continue
         if right - left < STAND_NARROW:
             top = (middle, bottom)
-            out.append((top, (middle, ground), 40))
+            out.append((top, (middle, ground), post))
             spread = STAY_SPREAD * (bottom - ground)
             for side in (-1, 1):
                 foot = middle + side * spread
                 if scene.ground_height(foot) is not None:
-                    out.append((top, (foot, scene.ground_height(foot)), 8))
+                    out.append((top, (foot, scene.ground_height(foot)), max(1, post // 4)))
         else:
             for x in (left, right):
                 under = [p[1] for p in points if abs(p[0] - x) < 1e-9]
                 floor = scene.ground_height(x)
                 if floor is not None:
-                    out.append(((x, min(under)), (x, floor), 40))
+                    out.append(((x, min(under)), (x, floor), post))
     return out
 
 
