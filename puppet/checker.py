@@ -180,9 +180,12 @@ def guess_kind(path: Path, located: Located) -> str:
                             "mediapipe:) or a log's expectations (expect:)")
 
 
-def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
+def check_file(path: str | Path, warnings: list[str] | None = None,
+               report: list[str] | None = None) -> str:
     """Validate one file; return its kind. Raises DataError on the first problem;
-    ``warnings`` collects what is valid but probably not meant (two maps on a joint)."""
+    ``warnings`` collects what is valid but probably not meant (two maps on a joint).
+    ``report``: for a character, collects the stability check's lines (its problems go
+    to ``warnings``): the start pose held on a flat floor, ``puppet.physics.stability``."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".jsonl":
@@ -199,7 +202,14 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
     kind = guess_kind(path, located)
     if kind in _PARSERS:  # (imported when asked: check reads only its file's kind)
         module, parse = _PARSERS[kind]
-        getattr(importlib.import_module(module), parse)(located)
+        spec = getattr(importlib.import_module(module), parse)(located)
+        if kind == "character" and report is not None:
+            from puppet.physics.stability_report import character_report
+
+            lines, problems = character_report(spec)
+            report += lines
+            if warnings is not None:
+                warnings += [f"{path}: warning: {w}" for w in problems]
         return kind
     if kind == "expectations":  # their states and modes: checking the log checks them
         from puppet.timeline.expectations import validate_expect_file
@@ -219,8 +229,10 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
     spec, character, _ = catalog.check_interface(located)
     if warnings is not None:
         from puppet.data.interface_refs import map_conflicts
+        from puppet.physics.holds import hold_warnings
 
         warnings += map_conflicts(spec, located)
+        warnings += hold_warnings(spec, character, located)
     try:
         scene_path = catalog.find("scene", spec.scene, catalog.reference_folders(path))
     except DataError as exc:

@@ -129,6 +129,9 @@ def _play(args: argparse.Namespace) -> int:
                          f"puppet replay {args.input}")
     if not args.headless and (args.input or args.screenshot or args.frames):
         raise UsageError("--input, --screenshot and --frames need --headless")
+    if args.headless and args.virtual_pad:  # a script moves the pad itself
+        raise UsageError("--virtual-pad is for the window; headless, a script's gamepad: "
+                         "entries move the sticks (docs/scripts.md)")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
         raise UsageError(f"--record {args.record}: {EXISTS}")
     if args.screenshot:
@@ -151,6 +154,9 @@ def _play(args: argparse.Namespace) -> int:
         from puppet.timeline.script import check_links
 
         check_links(script_path, script, [link.name for link in setup.character.links])
+    from puppet.physics.holds import setup_hold_warnings
+
+    setup = setup_hold_warnings(setup)  # (a world-frame hold against a light free side)
     for w in setup.warnings:  # valid but probably not meant (two maps on one joint)
         print(w, file=sys.stderr)
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden
@@ -207,7 +213,8 @@ def _play(args: argparse.Namespace) -> int:
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
                           ghost=ghost, overlay=args.overlay == "com",
                           note=setup.warnings[0] if setup.warnings else "",
-                          sources=[clip] if clip is not None else ())
+                          sources=[clip] if clip is not None else (),
+                          virtual_pad=args.virtual_pad)
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, late_note, run_seconds
@@ -291,11 +298,14 @@ def _check(args: argparse.Namespace) -> int:
             warnings: list[str] = []
             # a path as given, or a name: then the file's path, the same in the ok line
             path = find_target(name)  # as in its errors and warnings (checker._shown)
-            kind = check_file(path, warnings)
+            report: list[str] | None = None if args.no_stability else []
+            kind = check_file(path, warnings, report)
             for w in warnings:
                 print(w, file=sys.stderr)
             if not args.quiet:  # a name says which file it was
                 print(f"{name if path == Path(name) else path}: ok ({kind})")
+                for line in report or ():  # a character's stability check
+                    print(f"  {line}")
         except DataError as exc:
             print(f"puppet check: {exc}", file=sys.stderr)
             failed += 1
@@ -414,6 +424,11 @@ def build_parser() -> argparse.ArgumentParser:
                       help="com: start with the balance overlay on (centre of mass, its "
                            "ground point, the support between the outermost ground "
                            "contacts, the extrapolated centre of mass); F4 toggles it")
+    play.add_argument("--virtual-pad", action="store_true",
+                      help="try a gamepad layout with no pad: the mouse is the left stick "
+                           "(hold the right button: the right stick), the left button the "
+                           "right trigger, i j k l the face buttons y x a b, the arrows the "
+                           "d-pad, u o the shoulders, return start; logged as a gamepad")
     from puppet.mocap.commands import add_play_options, add_subcommands
 
     add_play_options(play)  # --mocap-format (--mocap udp://...: a live stream)
@@ -518,6 +533,10 @@ def build_parser() -> argparse.ArgumentParser:
                             "validate: paths (characters/luxo.yaml) or names (luxo-mouse, "
                             "cmu-131_01-walk)")
     check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    check.add_argument("--no-stability", action="store_true",
+                       help="characters: skip the stability check (the start pose held "
+                            "5 s on a flat floor, and nudged: does it stand, which joints "
+                            "oscillate, sag or are locked by their damping)")
     check.set_defaults(func=_check)
 
     bench = sub.add_parser("bench", help="measure simulation speed, checkpoints and rewind",

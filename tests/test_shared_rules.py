@@ -52,7 +52,7 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
         for state in spec.states or [None]:
             if state is not None:
                 runtime.machine.enter(state, session.steps)
-            for k in live_keys(spec, state):
+            for k in live_keys(spec, state, session.setup.scene.name):
                 assert runtime.binding(normalize_key(k.key)) is k, (path.stem, state, k.key)
 
 

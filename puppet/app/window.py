@@ -19,6 +19,7 @@ from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
 from puppet.data.keys import key_chord
 from puppet.app.devices import Gamepads, device_events
+from puppet.app.virtual_pad import pad_events
 from puppet.interface import events as ev
 from puppet.session import Session
 
@@ -31,7 +32,8 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
                until_step: int | None = None, ghost=None, note: str = "",
-               slowdown_chosen: bool = False, overlay: bool = False, sources=()) -> int:
+               slowdown_chosen: bool = False, overlay: bool = False, sources=(),
+               virtual_pad: bool = False) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
@@ -47,7 +49,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
     from puppet.app.camera import camera_for, subject_of
     from puppet.app.clock import SimClock
-    from puppet.app.hud import HudInfo, draw_hud
+    from puppet.app.hud import HudInfo, draw_hud, frame_under_panels
     from puppet.app.render import draw_world
 
     hint = headless_hint(replay)  # the command that was run: play, or replay LOG
@@ -179,7 +181,18 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     pressed: dict[str, str] = {}  # key name -> chord it was pressed as
     dragging = False
     last_mouse = None
-    if feeder is None and hold_pose():  # start where the mouse maps hold the start pose
+    pad = None  # --virtual-pad: the mouse and a few keys are a gamepad
+    if virtual_pad and feeder is None:
+        from puppet.app.virtual_pad import HELP, VirtualPad
+
+        pad = VirtualPad()
+        w, h = screen.get_size()
+        pygame.mouse.set_pos((w // 2, h // 2))  # the stick at rest
+        taken = VirtualPad.clashes(setup.interface)
+        session.say(HELP + (f" (the layout's own {', '.join(taken)} do not reach it)"
+                            if taken else ""))
+        print(f"puppet play: {HELP}", file=sys.stderr)
+    elif feeder is None and hold_pose():  # start where the mouse maps hold the start pose
         session.say("the pointer starts where the mouse holds the start pose")
     frames = pygame.time.Clock()
     start = time.perf_counter()
@@ -210,7 +223,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                  and session.key_to_app.get(event["key"]) == "reset"
                  and not session.runtime.handles_key(event["key"]))
         action = session.handle(event)
-        if reset and hold_pose(after_reset=True):
+        if reset and pad is None and hold_pose(after_reset=True):
             session.say("reset: the pointer is back where the mouse holds the start pose")
         return action
 
@@ -229,7 +242,11 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             held_at.clear()
         pos = (min(1.0, max(0.0, mx / max(1, w - 1))),
                min(1.0, max(0.0, 1.0 - my / max(1, h - 1))))
-        if pos != last_mouse:
+        if pad is not None:  # the mouse is a stick
+            for event_ in pad.mouse(*pos):
+                handle(event_)
+            last_mouse = pos
+        elif pos != last_mouse:
             handle(ev.mouse(*pos))
             gestures.add(session.time, *pos)
             last_mouse = pos
@@ -320,9 +337,14 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     while running:
         wall_dt = frames.tick(60) / 1000.0
         for event in pygame.event.get():
-            for translated in device_events(pygame, event, gamepads,
-                                            session.interface.gamepad):
+            translated = device_events(pygame, event, gamepads, session.interface.gamepad)
+            consumed = False
+            if pad is not None:  # mouse buttons and the pad's keys are the pad's
+                translated, consumed = pad_events(pygame, pad, event, translated)
+            for translated in translated:
                 running = app_action(handle(translated)) and running
+            if consumed:  # a key of the pad: not a key of the layout too
+                continue
             if event.type == pygame.QUIT:
                 running = False
             elif event.type == pygame.WINDOWRESIZED or event.type == pygame.VIDEORESIZE:
@@ -371,6 +393,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             change = reloader.poll(time.perf_counter())
             if change is not None and not change.ok:
                 reload_error = change.error  # the last good version keeps running
+                print(f"puppet play: {change.error} (the last valid version keeps "
+                      "running)", file=sys.stderr, flush=True)  # the whole line, to copy
             elif change is not None:
                 reload_error = ""
                 handle(ev.reload(change.text, str(setup.interface_path)))
@@ -404,6 +428,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
         if not session.sim.blown_up():  # else (until the next health check recovers
             if not (dragging or ctrl_held()):  # it) the last world drawn stays; the
+                frame_under_panels(screen, camera, session, info, font, small)
                 camera.follow(subject_of(session), wall_dt)  # camera holds for a drag
             if ghost is not None:
                 ghost.sync(session)

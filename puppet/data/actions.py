@@ -26,6 +26,8 @@ INPUT_PATTERNS = (
     ("mouse.x", r"mouse\.x"),
     ("mouse.y", r"mouse\.y"),
     ("mouse.left / mouse.middle / mouse.right", r"mouse\.(left|middle|right)"),
+    ("pointer.x / pointer.y (the mouse, or the gamepad's pointer stick read as 0..1)",
+     r"pointer\.[xy]"),
     ("gamepad.left_x / left_y / right_x / right_y (-1..1, y up)",
      r"gamepad\.(left|right)_[xy]"),
     ("gamepad.left_trigger / right_trigger (0..1)", r"gamepad\.(left|right)_trigger"),
@@ -293,6 +295,13 @@ class KeyActionSpec(ActionSpec, kw_only=True):
     """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed."""
 
     key: str
+    # the scenes (their names) this key is for: on any other it does nothing and the HUD and
+    # the key map leave it out (default: every scene)
+    scenes: list[str] = field(default_factory=list)
+
+    def plays_on(self, scene: str | None) -> bool:
+        """Whether the key acts on the scene named ``scene`` (None: any scene)."""
+        return not self.scenes or scene is None or scene in self.scenes
 
 
 class PerturbSpec(Spec, kw_only=True):

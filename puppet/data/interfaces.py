@@ -61,12 +61,15 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
 
     # mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 top), mouse.left, gamepad.axisN,
     # channel.NAME ...
-    input: str
+    input: str | None = None
     joint: str | None = None
     # coupling: joint -> gain (sign = mirror)
     joints: dict[str, Num("coupling")] = field(default_factory=dict)
     from_: tuple[Num("input"), Num("input")] = field(name="from", default=(0.0, 1.0))
-    to: tuple[AngleChange, AngleChange]  # degrees at from[0] and from[1]
+    to: tuple[AngleChange, AngleChange] | None = None  # degrees at from[0] and from[1]
+    # a constant offset, degrees, added to the joints' targets while the map is active (its
+    # mode or state): no input, no 'to'
+    add: AngleChange | None = None
     clamp: bool = True
     curve: Curve = "linear"
     # joint: the value is the joint's angle; world: the angle of the joint's child link in the
@@ -79,7 +82,20 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
     description: str = ""  # what it does, in the player's words
 
     def __post_init__(self):
-        check_inputs(self, "input")
+        if self.add is not None:
+            if self.input is not None or self.to is not None:
+                raise ValueError("an 'add' map adds a constant (degrees) while it is "
+                                 "active; it has no 'input' or 'to' (for an input's value "
+                                 "added, write 'combine: add')")
+            if self.frame != "joint" or self.curve != "linear":
+                raise ValueError("an 'add' map adds degrees of the joint: no 'frame' or "
+                                 "'curve'")
+            self.combine = "add"
+        elif self.input is None or self.to is None:
+            raise ValueError("a map needs 'input' and 'to' (the input's values as degrees), "
+                             "or 'add' (a constant, degrees, added while it is active)")
+        else:
+            check_inputs(self, "input")
         if self.from_[0] == self.from_[1]:
             raise ValueError("'from' must be two different input values")
         if (self.joint is None) == (not self.joints):
@@ -103,7 +119,7 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        return (self.input,)
+        return () if self.input is None else (self.input,)
 
 
 class GridMapSpec(Spec, MapSpec, kw_only=True):
@@ -226,12 +242,16 @@ class GamepadSpec(Spec, kw_only=True):
 
     dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.12  # sticks (-1..1)
     trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.05  # triggers (0..1)
+    # the stick that moves the inputs pointer.x / pointer.y, as the mouse does
+    pointer: Literal["left", "right"] = "left"
 
 
 class InterfaceSpec(Spec, kw_only=True):
     name: str
     description: str
     character: str
+    # one line for a newcomer, shown on the HUD: where to hold the mouse, which keys, what rhythm
+    how_to_play: str = ""
     scene: str = "flat"
     slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] = 1.0
     app_keys: dict[str, str] = field(default_factory=dict)  # rebind the app's keys: action -> key

@@ -33,7 +33,7 @@ import math
 
 from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
-from puppet.data.keys import normalize_key
+from puppet.data.keys import POINTER, normalize_key, pointer_value
 from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
@@ -72,7 +72,9 @@ class InterfaceRuntime:
         # (the stance leg and the swing leg); poses and maps are resolved per binding.
         self.roles = RoleBinding(spec)
         self._use_binding(spec.start_binding)
-        self.bindings = {normalize_key(k.key): k for k in spec.keys}
+        # a key for other scenes (``scenes:``) is not bound here
+        scene = sim.scene_spec.name if sim is not None else None
+        self.bindings = {normalize_key(k.key): k for k in spec.keys if k.plays_on(scene)}
         machines = spec.state_machines()
         self.channels: dict[str, float] = {}  # channel.NAME inputs, by bare NAME
         self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
@@ -83,10 +85,12 @@ class InterfaceRuntime:
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
         # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
-        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
+        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys
+                                                if k.plays_on(scene)}
                                for mname, m in machines.items()
                                for sname, s in m.states.items()}
-        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys}
+        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys
+                                     if k.plays_on(scene)}
                              for mname, m in machines.items()}
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
@@ -119,6 +123,12 @@ class InterfaceRuntime:
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
         self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
+        # pointer.x / pointer.y: the mouse, or the gamepad's pointer stick (only kept when
+        # a map reads them)
+        self._pointer = any(n in POINTER for m in _every_map(spec) for n in m.inputs)
+        stick = spec.gamepad.pointer
+        self._pointer_axes = {f"gamepad.{stick}_x": "pointer.x",
+                              f"gamepad.{stick}_y": "pointer.y"}
         self.mode = spec.start_mode
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
@@ -268,12 +278,12 @@ class InterfaceRuntime:
         for machine in self.machines.values():
             active += machine.spec.states[machine.current].maps
         self.active_maps = active
-        self._mouse_maps = mapping.fused(self._compiled(("mouse.x", "mouse.y")))
+        self._mouse_maps = mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER))
         self._channel_maps = {}
         self._push_feedback(active)
         joints: set[str] = set()
         for m in active:
-            if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
+            if any(n in ("mouse.x", "mouse.y") + POINTER for n in m.inputs):
                 joints |= self._map_joints(m)
         self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
         self.gestures.mouse_joints = joints
@@ -342,6 +352,7 @@ class InterfaceRuntime:
 
         def score(x: float, y: float) -> tuple[float, float]:
             values["mouse.x"], values["mouse.y"] = x, y
+            values["pointer.x"], values["pointer.y"] = x, y
             for apply in self._mouse_maps:
                 apply(values)  # written straight to the servos; put back below
             error = max(abs(servos[j].target - t) for j, t in want.items())
@@ -435,6 +446,8 @@ class InterfaceRuntime:
         if kind == "mouse":
             self.inputs["mouse.x"] = event["x"]
             self.inputs["mouse.y"] = event["y"]
+            if self._pointer:
+                self.inputs["pointer.x"], self.inputs["pointer.y"] = event["x"], event["y"]
             values, table = self.inputs, self.owners.table
             for apply in self._mouse_maps:  # the hot path: no lookups, no allocation
                 written = apply(values)
@@ -463,7 +476,10 @@ class InterfaceRuntime:
                     self.tracker.sampled(now)
             else:
                 self.inputs[name] = value
-            self.apply_maps((name,))
+            pointer = self._pointer and self._pointer_axes.get(name)
+            if pointer:  # the pointer stick moves the pointer, as the mouse does
+                self.inputs[pointer] = pointer_value(value)
+            self.apply_maps((name, pointer) if pointer else (name,))
             if kind != "channel" and not is_analog(name) \
                     and (was > 0.5) != (value > 0.5):  # buttons also act as keys
                 result = self._press(name, value > 0.5, now)
@@ -742,3 +758,10 @@ class InterfaceRuntime:
 def _copy_holds(holds: dict) -> dict:
     """A deep copy of gain holds (chord -> joint -> [stiffness, damping])."""
     return {c: {j: list(v) for j, v in h.items()} for c, h in holds.items()}
+
+
+def _every_map(spec: InterfaceSpec):
+    """Every map of an interface: the top level's, each mode's, each state's."""
+    from puppet.data.interface_refs import all_maps
+
+    return (m for _, m in all_maps(spec))
