@@ -57,7 +57,7 @@ def _main_error(capsys, *argv):
     """Run ``puppet ARGV`` in this process: (exit code, the last stderr line)."""
     import pytest
 
-    from puppet.cli import main
+    from puppet.commands import main
 
     try:
         code = main(list(argv))
@@ -144,7 +144,7 @@ def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
         (("bench", "--jsn"), "puppet bench: unrecognized arguments: --jsn"),
         (("nosuch",), "puppet: argument COMMAND: invalid choice: 'nosuch'"),
     ]
-    from puppet.cli import main
+    from puppet.commands import main
 
     for argv, start in cases:
         try:
@@ -159,7 +159,7 @@ def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
 
 
 def test_list_and_check_describe_their_arguments(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     for argv, words in ((["list", "--help"], ["KIND", "only this kind", "recordings/"]),
                         (["check", "--help"], ["FILE", "YAML data file", "Exit 0"])):
@@ -173,7 +173,7 @@ def test_list_and_check_describe_their_arguments(capsys):
 
 
 def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["list", "interface"]) == 0
     singular = capsys.readouterr().out

@@ -128,7 +128,7 @@ from puppet.testing import replay_log  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
     _longest_run, evaluate_all, parse_expectations)
 from puppet.timeline.log import record_events  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 

@@ -11,7 +11,7 @@ from puppet.app.camera import camera_for, subject_of
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 
 DEFAULT_SIZE = (1280, 720)
 

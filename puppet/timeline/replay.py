@@ -22,7 +22,7 @@ from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
 from puppet.timeline.log import Log, embedded_problem, read_log
-from puppet.timeline.playback import next_move, play
+from puppet.session.playback import next_move, play
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
     import numpy as np
