@@ -62,6 +62,44 @@ class FrameRenderer:
         self.pygame.image.save(self.render(session, hud, ghost=ghost), str(path))
 
 
+class Images:
+    """The images of a headless run, drawn as the window draws them: every frame at
+    ``fps`` into ``frames_dir`` (frame_00000.png, ...) and/or the last one into
+    ``screenshot``. One path for ``puppet play --headless`` and ``puppet replay
+    --headless``: ``every(dt)`` and ``frame`` go to ``playback.play`` as its ``every``
+    and ``on_tick``, ``finish`` writes the screenshot. Drawing reads the session only:
+    the run, its log and its state hash are those of a run without images."""
+
+    def __init__(self, screenshot: str | Path | None = None, frames_dir: str | Path | None = None,
+                 fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float = 1.0,
+                 overlay: bool = False, ghost=None):
+        self.screenshot, self.frames_dir, self.fps = screenshot, frames_dir, fps
+        self.size, self.slowdown, self.overlay, self.ghost = size, slowdown, overlay, ghost
+        self.renderer: FrameRenderer | None = None
+        self.written = 0  # frames written to frames_dir
+
+    def every(self, dt: float) -> int:
+        """Steps between two frames (0: no frames asked for)."""
+        return max(1, round(1.0 / (self.fps * dt))) if self.frames_dir else 0
+
+    def _draw(self, session: Session, path: Path | str) -> None:
+        if self.renderer is None:  # made for the first session drawn (its scene's camera)
+            self.renderer = FrameRenderer(session, self.size, self.slowdown,
+                                          overlay=self.overlay)
+        _follow(self.renderer, session)
+        self.renderer.save(session, path, ghost=_synced(self.ghost, session))
+
+    def frame(self, session: Session) -> None:
+        """Write the next frame (``play``'s ``on_tick``)."""
+        self._draw(session, Path(self.frames_dir) / f"frame_{self.written:05d}.png")
+        self.written += 1
+
+    def finish(self, session: Session) -> None:
+        """Write the screenshot: the last frame, where the run ended."""
+        if self.screenshot:
+            self._draw(session, self.screenshot)
+
+
 def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
                  screenshot: str | None = None, frames_dir: str | None = None,
                  fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None,
@@ -75,31 +113,18 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     returned has ``frames_written``: the number of frames written to ``frames_dir``."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
-    renderer = None
-    if screenshot or frames_dir:
-        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
-                                 overlay=overlay)
-    every, on_tick = 0, None
-    session.frames_written = 0  # how many frames went to frames_dir (the CLI says so)
-    if frames_dir:
-        every = max(1, round(1.0 / (fps * session.sim.dt)))
-
-        def on_tick(s: Session) -> None:
-            _follow(renderer, s)
-            renderer.save(s, Path(frames_dir) / f"frame_{session.frames_written:05d}.png",
-                          ghost=_synced(ghost, s))
-            session.frames_written += 1
-
+    images = Images(screenshot, frames_dir, fps, size, slowdown or setup.interface.slowdown,
+                    overlay, ghost)
     recording = contextlib.nullcontext()
     if record:
         from puppet.timeline.log import Recorder
 
         recording = Recorder(session, record, slowdown=slowdown, description=description)
     with recording:
-        play(session, events, until, every, on_tick)
-    if screenshot:
-        _follow(renderer, session)
-        renderer.save(session, screenshot, ghost=_synced(ghost, session))
+        play(session, events, until, images.every(session.sim.dt),
+             images.frame if frames_dir else None)
+    images.finish(session)
+    session.frames_written = images.written  # how many frames went to frames_dir (the CLI says so)
     return session
 
 

@@ -14,7 +14,7 @@ import re
 import sys
 
 from puppet.commands import options
-from puppet.commands.options import PLOT_EXTS, output_file
+from puppet.commands.options import IMAGE_EXTS, PLOT_EXTS, output_file, output_folder
 from puppet.data.errors import UsageError
 
 
@@ -49,11 +49,18 @@ def register(subparsers) -> None:
                              "included, to OUT (.mp4, .mov, .mkv, .avi or .gif); the last "
                              "frame is held 1 s more, with the replay's verdict, so that a "
                              "player or a looping gif does not end on the last move")
+    replay.add_argument("--screenshot", metavar="PNG",
+                        help="headless: write the replay's last frame to this image file "
+                             "(.png, .jpg, .bmp or .tga), as play --screenshot does")
+    replay.add_argument("--frames", metavar="DIR",
+                        help="headless: write every frame (at --fps of simulated time) as "
+                             "DIR/frame_N.png (DIR is created), as play --frames does")
     replay.add_argument("--fps", type=options.fps, default=30.0,
-                        help="frame rate for --video (1-240, at most 50 for a gif; default 30) "
-                             "and --export-motion")
+                        help="frame rate for --video (1-240, at most 50 for a gif; default "
+                             "30), --frames and --export-motion")
     replay.add_argument("--size", type=options.size, default=(1280, 720), metavar="WxH",
-                        help="window size drawn for --video (default 1280x720)")
+                        help="window size drawn for --video, --frames and --screenshot "
+                             "(default 1280x720)")
     replay.add_argument("--scale", type=options.scale, default=1.0,
                         help="shrink --video frames by this factor (e.g. 0.5 for a gif)")
     replay.add_argument("--plot", metavar="PNG",
@@ -62,7 +69,7 @@ def register(subparsers) -> None:
                              ".jpg)")
     replay.add_argument("--overlay", choices=["com"],
                         help="com: draw the balance overlay (as F4 in the window) in the "
-                             "window and in --video")
+                             "window, in --video, --frames and --screenshot")
     replay.add_argument("--export-motion", metavar="OUT",
                         help="write the performed motion (root position and angle, every "
                              "joint angle, at --fps) to OUT: .bvh (a planar hierarchy named "
@@ -72,8 +79,9 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.export_motion:  # headless always: a file for animators, no window
-        if args.video or args.plot or args.check:
-            raise UsageError("--export-motion goes alone (no --video, --plot or --check)")
+        if args.video or args.plot or args.check or args.frames or args.screenshot:
+            raise UsageError("--export-motion goes alone (no --video, --plot, --frames, "
+                             "--screenshot or --check)")
         if len(args.logs) != 1:
             raise UsageError("--export-motion takes one log")
         from puppet.timeline.motion import FORMATS, export_motion_command
@@ -81,6 +89,8 @@ def run(args: argparse.Namespace) -> int:
         output_file("--export-motion", args.export_motion, FORMATS)  # before the replay
 
         return export_motion_command(args)
+    if args.frames or args.screenshot:
+        return _images(args)
     if args.video:
         from puppet.app.export import GIF_EXTS, VIDEO_EXTS
 
@@ -100,6 +110,48 @@ def run(args: argparse.Namespace) -> int:
     # it (gc.freeze: about 15 ms of a short headless replay's ~140).
     gc.freeze()
     return replay_command(args)
+
+
+def _images(args: argparse.Namespace) -> int:
+    """``--frames DIR`` and ``--screenshot FILE``: the replay's images, drawn by the code
+    that draws ``puppet play --headless``'s (``puppet.app.headless.Images``), during the
+    one replay whose state line (and, with --check, checks) it prints."""
+    if args.video or args.plot:
+        raise UsageError("--frames and --screenshot go without --video and --plot (each "
+                         "makes its own replay; run them one after the other)")
+    if not args.headless:
+        raise UsageError("--screenshot and --frames need --headless")
+    if len(args.logs) != 1:
+        raise UsageError("--frames and --screenshot take one log")
+    if args.screenshot:
+        output_file("--screenshot", args.screenshot, IMAGE_EXTS)
+    if args.frames:
+        output_folder("--frames", args.frames)
+    from puppet.app.headless import Images
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import find_log, replay
+    from puppet.timeline.report import exit_code, print_one, until_note, verdict
+
+    log = read_log(find_log(args.logs[0]), args.allow_truncated)
+    slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)  # the HUD's
+    images = Images(args.screenshot, args.frames, args.fps, tuple(args.size), slowdown,
+                    overlay=args.overlay == "com")
+    every = images.every(float(log.header["dt"]))
+    result = replay(log, args.until_step, args.allow_truncated, check=args.check,
+                    trajectory=args.check, as_recorded=args.as_recorded,
+                    frames=(every, images.frame) if every else None)
+    images.finish(result.session)
+    res = result.summary
+    res["outcomes"] = [str(o) for o in result.outcomes]
+    note = until_note(log, args.until_step)
+    if note:
+        res["warnings"].append(note)
+    print_one(res, args.check)
+    if args.screenshot:
+        print(f"wrote {args.screenshot}")
+    if args.frames:
+        print(f"wrote {images.written} frames to {args.frames}")
+    return exit_code([verdict(res)], bool(res.get("blowups")))
 
 
 def replay_command(args) -> int:

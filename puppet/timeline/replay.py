@@ -11,6 +11,7 @@ the ``puppet replay`` command prints and exits with is ``puppet.timeline.report`
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -520,14 +521,17 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True, as_recorded: bool = False,
-           adjust=None, expect: list | None = None) -> ReplayResult:
+           adjust=None, expect: list | None = None,
+           frames: tuple[int, Callable[[Session], None]] | None = None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
     evaluate its expectations (``check``; a log without its end line is then refused
     unless ``allow_truncated``: ``require_end``). ``expect``: expectation dicts to check
     instead of the log's (a test's; no end-state check is added), under the same rule.
     ``as_recorded``: see ``setup_for_log``. ``adjust``: a function of the Setup
     returning the one to replay on instead (a tool asking what the log does on other
-    physics: tools/solver_sensitivity.py)."""
+    physics: tools/solver_sensitivity.py). ``frames``: (every, on_frame), on_frame
+    called with the session every ``every`` steps (the images of ``puppet replay
+    --frames``; reading the session only, they leave the replay as it is)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
     check = check or expect is not None
@@ -550,7 +554,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     sampler = Sampler(session) if (trajectory or expectations) else None
     if sampler is not None:
         sampler(session)
-    apply_log(session, log, until_step, sample_every if sampler else 0, sampler)
+    every, on_tick = _ticks((sample_every if sampler else 0, sampler), frames or (0, None))
+    apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
         sampler(session)
     traj = sampler.trajectory() if sampler is not None else None
@@ -568,6 +573,22 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                         outcomes, warnings, log.truncated_at, session, same_end,
                         list(session.blowup_messages),
                         not_checked(log, until_step) if check and expect is None else [])
+
+
+def _ticks(*ticks: tuple[int, Callable | None]) -> tuple[int, Callable | None]:
+    """One (every, on_tick) for ``play`` of several: ticks at their steps' greatest
+    common divisor, each calling its own at its multiples (a session's steps do not
+    depend on how they are split between calls)."""
+    ticks = tuple((n, f) for n, f in ticks if n and f is not None)
+    if len(ticks) < 2:
+        return ticks[0] if ticks else (0, None)
+    every = math.gcd(*(n for n, _ in ticks))
+
+    def on_tick(session: Session) -> None:
+        for n, f in ticks:
+            if session.steps % n == 0:
+                f(session)
+    return every, on_tick
 
 
 class LogFeeder:
