@@ -99,7 +99,7 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         path = record or default_path(setup.interface.name)
         recorder = Recorder(session, path, slowdown=slowdown)
         print(f"recording to {path}")
-    from puppet.timeline.history import Scrubber
+    from puppet.session.history import Scrubber
 
     scrub = Scrubber(session)
     camera = camera_for(setup)
