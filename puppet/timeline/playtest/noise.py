@@ -226,9 +226,14 @@ def perturb(pairs: Sequence[tuple[int, Event]], slowdowns: Sequence[float], dt: 
         new_step[i] = min(max(new_step[i], 0), end_step)
     order: list[int] = []
     for segment in segments:
-        # by new step; a marker just before the event it goes with; ties in log order
-        order.extend(sorted(segment, key=lambda i: (new_step[i], anchor.get(i, i),
-                                                     0 if i not in anchor else -1, i)))
+        # the event that sent time back first (the steps after it are on the new time
+        # line); then by new step, a marker just before the event it goes with, ties in
+        # log order
+        head = segment[:1] if kinds[segment[0]][0] == TRAVEL else []
+        order.extend(head)
+        order.extend(sorted(segment[len(head):],
+                            key=lambda i: (new_step[i], anchor.get(i, i),
+                                           0 if i not in anchor else -1, i)))
     moved = [(new_step[i], values.get(i, pairs[i][1])) for i in order]
     moves = [Move(i, pairs[i][0], new_step[i], real[i]) for i in range(n)]
     return Perturbation(moved, moves)
