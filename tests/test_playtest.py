@@ -231,3 +231,35 @@ def test_a_log_without_feat_expectations_is_an_error(tmp_path):
     log = _sidecar(tmp_path, "expect:\n  - final_hash: 0123456789abcdef\n")
     with pytest.raises(DataError, match="no feat expectations"):
         prepare(str(log))
+
+
+def test_the_window_shows_the_last_playtest_figure_of_its_interface(tmp_path, monkeypatch):
+    import pygame
+
+    from puppet.app import hud, window
+    from puppet.timeline.playtest import store
+
+    kept = tmp_path / "playtests.json"
+    monkeypatch.setenv("PUPPET_PLAYTESTS", str(kept))  # the command, in its process
+    proc = _puppet("luxo-keys-sit-stand", "--tries", "2", "--noise", "steady")
+    assert proc.returncode == 0, proc.stderr
+    entry = json.loads(kept.read_text(encoding="utf-8"))["interfaces"]["luxo-keys"]
+    assert (entry["log"], entry["passes"], entry["tries"], entry["noise"]) == \
+        ("luxo-keys-sit-stand", 2, 2, "steady")
+    monkeypatch.setattr(store, "STORE", kept)  # the window, here
+    shown = []
+    real_draw = hud.draw_hud
+    monkeypatch.setattr(hud, "draw_hud", lambda surface, session, info, *fonts: (
+        shown.append(info.playtest), real_draw(surface, session, info, *fonts)))
+    frames = {"n": 0}
+    real_get = pygame.event.get
+
+    def fake_get(*args, **kw):
+        real_get()
+        frames["n"] += 1
+        return [pygame.event.Event(pygame.QUIT)] if frames["n"] >= 3 else []
+
+    monkeypatch.setattr(pygame.event, "get", fake_get)
+    assert window.run_window(load_setup("luxo-keys"), no_record=True) == 0
+    assert shown and shown[-1] == "playtest luxo-keys-sit-stand: 2/2 pass at steady"
+    assert store.figure_line(store.last_for("luxo-mouse")) == ""  # none for that one

@@ -115,6 +115,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     camera.follow(subject_of(session), None)
     info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
                    overlay=overlay)
+    from puppet.timeline.playtest.store import figure_line, last_for
+
+    info.playtest = figure_line(last_for(setup.interface.name))  # how forgiving, last measured
     reloader = None
     reload_error = ""  # shown until the file is valid again
     if feeder is None:  # hot reload: saving the interface file applies it at once
