@@ -128,6 +128,7 @@ rules:
     ("{state: flying}", "no state 'flying'"),
     ("{mode: dancing}", "no mode 'dancing'"),
     ("{sensor: lean, above: 10, state: sitting}", "exactly one of sensor"),
+    ("[{state: [upright, flying]}, {sensor: contact.base, is: true}]", "no state 'flying'"),
 ])
 def test_a_rule_naming_what_the_interface_lacks_is_refused_at_its_line(tmp_path, when, words):
     text = f"interface: luxo-keys\nrules:\n  - {{when: {when}, after: 0.2, key: w}}\n"
@@ -170,3 +171,20 @@ def test_the_window_plays_the_rules_on_its_clock(tmp_path, monkeypatch):
         assert len(presses) >= 2
         _, expected, _ = _run(_spec(), seconds=log.last_step * DT)
         assert presses == [p for p in expected if p <= log.last_step][:len(presses)]
+
+
+def test_a_list_of_conditions_must_all_hold_and_for_waits_until_they_have_held():
+    spec = _spec("""
+interface: luxo-keys
+events:
+  - {t: 0.5, key: w}
+rules:
+  - when: [{state: [upright, sitting]}, {sensor: contact.base, is: true}]
+    for: 0.1
+    after: 0.2
+    key: w
+""")
+    _, presses, landings = _run(spec)
+    assert len(presses) >= 3
+    for p in presses[1:]:  # held 0.1 s (48 steps: six polls), then 0.2 s (96 steps)
+        assert any(p - land == 48 + 96 for land in landings), (p, landings)

@@ -45,27 +45,38 @@ class _Rule:
         self.first = max(1, round(spec.from_ / dt))
         self.last = None if spec.until is None else round(spec.until / dt)
         self.was: bool | None = None  # the condition at the last poll (None: not read yet)
+        self.since: int | None = None  # the step it became true (None: false, or acted on)
         self.fired = 0
         self.busy_until = -1  # a reaction pending until this step
-        w = spec.when
-        self.test = compile_test(w.condition()) if w.sensor is not None else None
+        self.tests = [compile_test(w.condition()) if w.sensor is not None else None
+                      for w in spec.when]
         self._readers: dict[tuple, Callable[[], float]] = {}
 
     def holds(self, session: Session) -> bool:
-        w, runtime = self.spec.when, session.runtime
-        if w.mode is not None:
-            return runtime.mode == w.mode
-        if w.state is not None:
-            where = session.interface.resolve_goto(w.state)
-            machine = runtime.machines.get(where[0]) if where else None
-            return machine is not None and machine.current == where[1]
-        sensor = runtime.roles.sensor(w.sensor)  # a role as the binding means it now
-        key = (id(runtime), sensor)
-        read = self._readers.get(key)
-        if read is None:
-            read = self._readers[key] = reader(sensor, session.character,
-                                               runtime.channels, runtime.inputs)
-        return self.test(read())
+        """Whether every condition of the rule holds now."""
+        runtime = session.runtime
+        for k, w in enumerate(self.spec.when):
+            if w.mode is not None:
+                ok = runtime.mode == w.mode
+            elif w.state is not None:
+                ok = False
+                for name in w.states:
+                    where = session.interface.resolve_goto(name)
+                    machine = runtime.machines.get(where[0]) if where else None
+                    if machine is not None and machine.current == where[1]:
+                        ok = True
+                        break
+            else:
+                sensor = runtime.roles.sensor(w.sensor)  # a role as the binding means now
+                key = (id(runtime), sensor)
+                read = self._readers.get(key)
+                if read is None:
+                    read = self._readers[key] = reader(sensor, session.character,
+                                                       runtime.channels, runtime.inputs)
+                ok = self.tests[k](read())
+            if not ok:
+                return False
+        return True
 
 
 class ScriptPlayer:
@@ -200,13 +211,18 @@ class ScriptPlayer:
         self._polled = now
         for rule in self.rules:
             if now < rule.first or (rule.last is not None and now > rule.last):
-                rule.was = None  # out of its window: it reads afresh when it is back in
+                rule.was = rule.since = None  # out of its window: read afresh when back in
                 continue
             holds = rule.holds(self.session)
-            became = holds and rule.was is False
+            if holds and rule.was is False:
+                rule.since = now  # it became true: it acts once it has held 'for'
+            elif not holds:
+                rule.since = None
             rule.was = holds
-            if became and now > rule.busy_until and (rule.spec.times is None
-                                                     or rule.fired < rule.spec.times):
+            if rule.since is not None and now - rule.since >= self._steps(rule.spec.for_) \
+                    and now > rule.busy_until and (rule.spec.times is None
+                                                   or rule.fired < rule.spec.times):
+                rule.since = None  # once per time it becomes true
                 self._react(rule, now)
 
     def _rewound(self, now: int) -> None:
@@ -215,7 +231,7 @@ class ScriptPlayer:
         self.pending.clear()
         self._polled = now - 1
         for rule in self.rules:
-            rule.was, rule.busy_until = None, -1
+            rule.was, rule.since, rule.busy_until = None, None, -1
 
     def advance(self, steps: int) -> None:
         """Run up to ``steps`` steps; what is due at the step reached acts too."""

@@ -88,14 +88,15 @@ class ScriptEntry(Spec, kw_only=True):
 class WhenSpec(Spec, kw_only=True):
     """What a rule watches for: a sensor condition (as a state machine's transition
     writes it: ``sensor`` with ``above``/``below``, or ``is`` for a contact), the
-    interface entering a state (``state``: NAME or MACHINE.NAME) or a mode (``mode``).
-    The rule fires when it *becomes* true."""
+    interface being in a state (``state``: NAME or MACHINE.NAME, or a list: any of
+    them) or a mode (``mode``). A rule's ``when`` is one of these or a list of them
+    (all must hold); the rule fires when it *becomes* true."""
 
     sensor: str | None = None
     above: Num("sensor") | None = None
     below: Num("sensor") | None = None
     is_: bool | None = field(name="is", default=None)
-    state: str | None = None
+    state: str | list[str] | None = None
     mode: str | None = None
 
     def __post_init__(self):
@@ -106,8 +107,15 @@ class WhenSpec(Spec, kw_only=True):
         if self.sensor is None and (self.above is not None or self.below is not None
                                     or self.is_ is not None):
             raise ValueError("above, below and is go with 'sensor'")
+        if isinstance(self.state, list) and not self.state:
+            raise ValueError("'state' needs at least one state name")
         if self.sensor is not None:
             self.condition()  # ConditionSpec's own checks (is for contacts...)
+
+    @property
+    def states(self) -> list[str]:
+        return [] if self.state is None else [self.state] if isinstance(self.state, str) \
+            else list(self.state)
 
     def condition(self) -> ConditionSpec:
         return ConditionSpec(sensor=self.sensor, above=self.above, below=self.below,
@@ -115,12 +123,14 @@ class WhenSpec(Spec, kw_only=True):
 
 
 class RuleSpec(Spec, kw_only=True):
-    """When ``when`` becomes true, ``after`` s of *real* time later (a person's
-    reaction delay, which a playtest's noise varies), press ``key`` (for ``hold`` real
-    s) or move the mouse to ``mouse`` (gliding ``over`` real s). ``from`` / ``until``
-    (simulated s) arm it for a window; ``times``: it fires at most so often."""
+    """When ``when`` becomes true (and has held for ``for`` s of real time: a foot
+    settled, not a touch), ``after`` s of *real* time later (a person's reaction delay,
+    which a playtest's noise varies), press ``key`` (for ``hold`` real s) or move the
+    mouse to ``mouse`` (gliding ``over`` real s). ``from`` / ``until`` (simulated s)
+    arm it for a window; ``times``: it fires at most so often."""
 
-    when: WhenSpec
+    when: WhenSpec | Annotated[list[WhenSpec], Meta(min_length=1, max_length=16)]
+    for_: Duration = field(name="for", default=0.0)  # real s the condition must hold first
     after: Duration
     key: str | None = None
     hold: Duration = 0.0
@@ -140,6 +150,8 @@ class RuleSpec(Spec, kw_only=True):
         if self.mouse is not None and not all(0.0 <= v <= 1.0 for v in self.mouse):
             raise ValueError(f"mouse position must be within [0, 1] x [0, 1], got "
                              f"{list(self.mouse)}")
+        if isinstance(self.when, WhenSpec):
+            self.when = [self.when]  # (one condition or several: all must hold)
         if self.until is not None and self.until < self.from_:
             raise ValueError(f"'until' ({self.until:g} s) is before 'from' ({self.from_:g} "
                              "s): the rule would never fire")
@@ -262,6 +274,35 @@ def load_script(path) -> ScriptSpec:
     return parse_script(load_file(path))
 
 
+def _when_problem(w: WhenSpec, interface, character) -> tuple[str | None, tuple]:
+    """What is wrong with a condition's names for this interface and character, and
+    where (the field's path under the condition)."""
+    from puppet.data.interface_refs import sensor_problem
+
+    if w.sensor is not None:
+        return sensor_problem(w.sensor, character, interface.roles), ("sensor",)
+    if w.mode is not None and w.mode not in interface.modes:
+        return (f"the interface '{interface.name}' has no mode '{w.mode}'; its modes: "
+                f"{', '.join(interface.modes) or 'none'}"), ("mode",)
+    for j, name in enumerate(w.states):
+        if interface.resolve_goto(name) is None:
+            states = sorted({n for m in interface.state_machines().values() for n in m.states})
+            return (f"the interface '{interface.name}' has no state '{name}' (or it is in "
+                    f"two machines: write MACHINE.STATE); its states: "
+                    f"{', '.join(states) or 'none'}"), \
+                ("state",) + ((j,) if isinstance(w.state, list) else ())
+    return None, ()
+
+
+def _listed(located, path, rule: int) -> bool:
+    """Whether the rule's ``when`` was written as a list (its errors then name the item)."""
+    data = (located or load_file(path)).data
+    try:
+        return isinstance(data["rules"][rule]["when"], list)
+    except (KeyError, IndexError, TypeError):
+        return False
+
+
 def check_links(path, spec: ScriptSpec, links: list[str], interface=None,
                 character=None, located: Located | None = None) -> None:
     """DataError at the entry for a drag or push of a link the character played does
@@ -270,26 +311,12 @@ def check_links(path, spec: ScriptSpec, links: list[str], interface=None,
     sensor, state or mode they do not have. ``located``: the script's text as read
     (default: ``path`` read again for the error's line)."""
     if interface is not None and character is not None:
-        from puppet.data.interface_refs import sensor_problem
-
         for i, r in enumerate(spec.rules):
-            w = r.when
-            problem, what = None, None
-            if w.sensor is not None:
-                problem, what = sensor_problem(w.sensor, character, interface.roles), "sensor"
-            elif w.state is not None and interface.resolve_goto(w.state) is None:
-                states = sorted({n for m in interface.state_machines().values()
-                                 for n in m.states})
-                problem, what = (f"the interface '{interface.name}' has no state "
-                                 f"'{w.state}' (or it is in two machines: write "
-                                 f"MACHINE.STATE); its states: "
-                                 f"{', '.join(states) or 'none'}"), "state"
-            elif w.mode is not None and w.mode not in interface.modes:
-                problem, what = (f"the interface '{interface.name}' has no mode "
-                                 f"'{w.mode}'; its modes: "
-                                 f"{', '.join(interface.modes) or 'none'}"), "mode"
-            if problem:
-                raise (located or load_file(path)).error(("rules", i, "when", what), problem)
+            for k, w in enumerate(r.when):
+                problem, what = _when_problem(w, interface, character)
+                if problem:
+                    loc = ("rules", i, "when") + ((k,) if _listed(located, path, i) else ())
+                    raise (located or load_file(path)).error(loc + what, problem)
     for i, e in enumerate(spec.events):
         for kind, what in (("drag", e.drag), ("push", e.push)):
             if what is not None and what.link not in links:
