@@ -131,13 +131,17 @@ def _bar_verdict(result, bar) -> tuple[str, bool | None]:
 
 
 def _failures(result) -> Counter:
-    """How the failed tries failed: the kind of each expectation missed (per try)."""
+    """How the failed tries failed: for each kind of expectation, the tries that
+    missed one of that kind (a blow-up or leaving the world: 'blow-up')."""
     kinds: Counter = Counter()
     for r in result.results:
         if not r.passed:
+            missed = set()
             for line in r.failed:
                 words = line.split()
-                kinds[words[1] if len(words) > 1 and words[0] == "FAIL" else line] += 1
+                missed.add(words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
+                           else line)
+            kinds.update(missed)
     return kinds
 
 

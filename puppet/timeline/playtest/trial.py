@@ -149,7 +149,7 @@ def judge(prepared: Prepared, log: Log | None = None, noise: Noise | None = None
     final = session.sim.state_hash()
     outcomes = evaluate_all(prepared.expectations.items, sampler.trajectory(), final)
     failed = [str(o) for o in outcomes if not o.passed]
-    failed += [f"FAIL {note}" for note in session.blowup_messages]
+    failed += [f"FAIL blow-up: {note}" for note in session.blowup_messages]
     return TryResult(-1, not failed, failed, final, session.steps)
 
 
