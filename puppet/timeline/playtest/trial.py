@@ -24,7 +24,8 @@ from pathlib import Path
 from puppet.data.catalog import Setup
 from puppet.data.errors import DataError
 from puppet.data.playtest import Noise
-from puppet.timeline.expectations import Expectations, evaluate_all, load_expectations
+from puppet.timeline.expectations import (Expectations, evaluate_all, load_expectations,
+                                          sidecar_path)
 from puppet.timeline.log import Log, LogEvent, read_log
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.slowdown import in_force
@@ -65,14 +66,23 @@ class TryResult:
         return asdict(self)
 
 
-_PREPARED: dict[str, Prepared] = {}
+_PREPARED: dict[tuple, Prepared] = {}
+
+
+def _mtime(path: Path) -> int | None:
+    """A file's modification time (None: none), so that an edited log or sidecar is
+    prepared again."""
+    try:
+        return path.stat().st_mtime_ns
+    except OSError:
+        return None
 
 
 def prepare(name: str) -> Prepared:
     """The log called ``name`` (a path or a log's name) ready for tries; cached per
     process. DataError for a log that cannot be replayed or has no feat to judge."""
     path = find_log(name)
-    key = str(Path(path).resolve())
+    key = (str(Path(path).resolve()), _mtime(Path(path)), _mtime(sidecar_path(path)))
     if key in _PREPARED:
         return _PREPARED[key]
     log = read_log(path)
