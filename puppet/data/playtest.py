@@ -64,13 +64,14 @@ class Noise(Spec, kw_only=True):
 
 
 # The named levels (docs/interfaces.md, "The human model", says where each number comes
-# from). tremor is a quarter of the aim error, as in the first measurement.
+# from). tremor is a quarter of the aim error, as in the first measurement; tempo's
+# standard deviation (a uniform's half-width / sqrt 3) is 2, 4, 8 % of a stroke.
 LEVELS: dict[str, Noise] = {
-    "steady": Noise(timing_ms=10.0, aim_px=2.0, tremor_px=0.5, tempo=0.02,
+    "steady": Noise(timing_ms=10.0, aim_px=2.0, tremor_px=0.5, tempo=0.035,
                     stick_aim=0.02, stick_tremor=0.005),
-    "human": Noise(timing_ms=30.0, aim_px=5.0, tremor_px=1.25, tempo=0.04,
+    "human": Noise(timing_ms=30.0, aim_px=5.0, tremor_px=1.25, tempo=0.07,
                    stick_aim=0.05, stick_tremor=0.0125),
-    "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.08,
+    "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.14,
                     stick_aim=0.10, stick_tremor=0.025),
 }
 LevelName = Literal["steady", "human", "novice"]
