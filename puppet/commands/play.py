@@ -30,7 +30,9 @@ def register(subparsers) -> None:
                            "than real time); default: the interface's")
     play.add_argument("--headless", action="store_true", help="no window")
     play.add_argument("--input", metavar="SCRIPT",
-                      help="scripted input (assets/scripts/NAME.yaml or path), headless")
+                      help="scripted input (assets/scripts/NAME.yaml or path): timed events "
+                           "and rules that react to what happens (docs/scripts.md); in the "
+                           "window it plays as you watch, headless it runs alone")
     play.add_argument("--seconds", type=options.seconds, help="simulated seconds to run headless "
                                                     "(default: the script's, else 5)")
     play.add_argument("--screenshot", metavar="PNG",
@@ -88,8 +90,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--input {args.input}: a .jsonl file is a recorded log, not a "
                          f"script (assets/scripts/NAME.yaml); play it back with: "
                          f"puppet replay {args.input}")
-    if not args.headless and (args.input or args.screenshot or args.frames):
-        raise UsageError("--input, --screenshot and --frames need --headless")
+    if not args.headless and (args.screenshot or args.frames):
+        raise UsageError("--screenshot and --frames need --headless")
     if args.headless and args.virtual_pad:  # a script moves the pad itself
         raise UsageError("--virtual-pad is for the window; headless, a script's gamepad: "
                          "entries move the sticks (docs/scripts.md)")
@@ -100,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     if args.frames:
         output_folder("--frames", args.frames)
     script = None
-    if args.input and args.headless:
+    if args.input:
         script_path = find("script", args.input)
         script = load_script(script_path)
         if script.scene and not args.scene:  # a name in a file: the catalog or beside it
@@ -114,7 +116,8 @@ def run(args: argparse.Namespace) -> int:
     if script is not None:  # a drag or push must name a link of this character
         from puppet.timeline.script import check_links
 
-        check_links(script_path, script, [link.name for link in setup.character.links])
+        check_links(script_path, script, [link.name for link in setup.character.links],
+                    setup.interface, setup.character)
     from puppet.physics.holds import setup_hold_warnings
 
     setup = setup_hold_warnings(setup)  # (a world-frame hold against a light free side)
@@ -173,7 +176,8 @@ def run(args: argparse.Namespace) -> int:
                           ghost=ghost, overlay=args.overlay == "com",
                           note=setup.warnings[0] if setup.warnings else "",
                           sources=[clip] if clip is not None else (),
-                          virtual_pad=args.virtual_pad)
+                          virtual_pad=args.virtual_pad, script=script,
+                          script_text=_script_text(script_path) if script else None)
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, late_note, run_seconds
@@ -192,7 +196,9 @@ def run(args: argparse.Namespace) -> int:
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,
                            description=(script.description or None) if args.input else None,
-                           ghost=ghost, overlay=args.overlay == "com")
+                           ghost=ghost, overlay=args.overlay == "com",
+                           rules=script if script is not None and script.rules else None,
+                           script=_script_text(script_path) if script is not None else None)
     if args.record:
         print(f"recorded {args.record}")
     print(end_line(session))
@@ -201,6 +207,14 @@ def run(args: argparse.Namespace) -> int:
     if args.frames:
         print(f"wrote {session.frames_written} frames to {args.frames}")
     return blowup_exit(session)
+
+
+def _script_text(path) -> tuple[str, str]:
+    """(name, text) of a script, for the header of a log it plays (a playtest plays its
+    rules again)."""
+    from puppet.data.yamlfile import read_text
+
+    return Path(path).stem, read_text(path)
 
 
 def end_line(session) -> str:
