@@ -17,7 +17,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from puppet import __version__
-from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
+from puppet.data.catalog import (Folders, Setup, file_hash, find, in_catalog, load_setup,
+                                  setup_from_text)
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
@@ -407,13 +408,30 @@ def copy_note(log: Log, refused: bool) -> str:
     return f"{log.path}: note: interface file '{name}' {why}; the copy recorded in the log plays"
 
 
-def differs_warning(log: Log, kind: str, path: Path, found: str, has_copy: bool) -> str:
+def unquoted_error(log: Log, found: list, hint: str = "") -> DataError:
+    """The error of a log whose setup failed after it made puppet read files beside it
+    (``found``, outside the catalog): their errors (and the checks against them, a
+    joint the interface names that the character lacks...) would quote what those
+    files hold, which a log someone sent you must not make puppet print. So the error
+    names the files and the command that shows it, for files that are yours."""
+    names = ", ".join(sorted({p.name for p in found}))
+    paths = " ".join(sorted({str(p) for p in found}))
+    return DataError(log.path, 1, None,
+                     f"header: the files it names beside the log ({names}) do not make a "
+                     f"valid session; the error is not shown, as it could quote a file the "
+                     f"log made puppet read (puppet check {paths} shows it){hint}")
+
+
+def differs_warning(log: Log, kind: str, path: Path, found: str | None,
+                    has_copy: bool) -> str:
     """The one words (replay and ``puppet check`` alike) for a file the header names
     whose content is not the one recorded: ``path`` is the file the name found now
     (today's version, or a variant of that name in the log's folder), ``found`` its
-    hash; ``has_copy``: the header keeps the recorded interface."""
+    hash (None: not shown, a file beside the log: its hash would tell of its content);
+    ``has_copy``: the header keeps the recorded interface."""
     name = log.header.get(kind, str(path))
-    return (f"{log.path}: warning: {kind} '{name}': the file found ({path}, hash {found}) "
+    shown = f"{path}, hash {found}" if found is not None else str(path)
+    return (f"{log.path}: warning: {kind} '{name}': the file found ({shown}) "
             f"differs from the one recorded (hash {log.header.get(f'{kind}_hash')}); the "
             "replay may end elsewhere"
             + (" (puppet replay --as-recorded replays the recorded interface)" if has_copy
@@ -436,7 +454,7 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
-    within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
+    within = Folders((Path(log.path).resolve().parent,))  # the catalog, or beside the log
     refused = False  # the header names a file outside the catalog and the log's folder
     try:
         where = find("interface", h["interface"], within)
@@ -455,10 +473,12 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     except DataError as exc:
         if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
-        if not from_copy and embedded is not None and exc.path == str(where):
-            raise DataError(exc.path, exc.line, exc.col,
-                            f"{exc.message} ({as_recorded_option} replays the log's own "
-                            f"copy of the interface)") from None
+        hint = (f" ({as_recorded_option} replays the log's own copy of the interface)"
+                if not from_copy and embedded is not None and exc.path == str(where) else "")
+        if within.found:
+            raise unquoted_error(log, within.found, hint) from None
+        if hint:
+            raise DataError(exc.path, exc.line, exc.col, exc.message + hint) from None
         raise
     warnings = []
     if h.get("puppet") != __version__:
@@ -482,8 +502,9 @@ def setup_for_log(log: Log, as_recorded: bool = False,
             continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and (found := file_hash(Path(path))) != recorded:
-            warnings.append(differs_warning(log, kind, Path(path), found,
-                                            kind == "interface" and embedded is not None))
+            warnings.append(differs_warning(
+                log, kind, Path(path), None if Path(path).resolve() in within.found else found,
+                kind == "interface" and embedded is not None))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
                         f"the interface now uses '{Path(setup.character_path).stem}'")
@@ -509,6 +530,14 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
     except DataError as exc:  # a reload event whose interface text is invalid
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
+        setup = session.setup
+        beside = sorted({Path(p).name for p in (setup.character_path, setup.scene_path)
+                         if not in_catalog(p)})
+        if beside:  # checked against files the log made puppet read: quote nothing
+            raise DataError(log.path, line, None,
+                            f"cannot apply this event: the reloaded interface does not fit "
+                            f"the files beside the log ({', '.join(beside)}); the error is "
+                            "not shown, as it could quote them") from None
         raise DataError(log.path, line, None, f"cannot apply this event: {exc}") from None
     except (ValueError, KeyError, TypeError) as exc:
         i = current["i"]
