@@ -7,6 +7,7 @@ argparse (standard library) rather than a CLI framework: it gives sub-commands,
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
@@ -299,7 +300,21 @@ def _check(args: argparse.Namespace) -> int:
     return EXIT_DATA_ERROR if failed else 0
 
 
+def _minutes(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 < value <= 24 * 60:
+        raise argparse.ArgumentTypeError(f"expected minutes, a number in 0..1440, got {text!r}")
+    return value
+
+
 def _bench(args: argparse.Namespace) -> int:
+    if args.soak is not None:  # the long scrubbing soak instead (puppet/soak.py)
+        from puppet.soak import soak_main
+
+        return soak_main(args.soak, as_json=args.json)
     from puppet.bench import main as bench_main
 
     return bench_main(quick=args.quick, as_json=args.json, strict=args.strict, cpu=args.cpu,
@@ -530,6 +545,10 @@ def build_parser() -> argparse.ArgumentParser:
                        help="time by the thread's CPU time (a whole process's: its CPU ms), "
                             "not the wall clock (steadier when other processes load the "
                             "machine)")
+    bench.add_argument("--soak", type=_minutes, metavar="MINUTES",
+                       help="instead: scrub the cat and the biped for MINUTES each (30 for "
+                            "the issue's soak) and report the growth of the resident memory "
+                            "(exit 1 past 2 MB)")
     bench.set_defaults(func=_bench)
     return parser
 
