@@ -53,9 +53,10 @@ KINDS = {  # kind -> (catalog folder, the shipped files)
     "script": sorted((ROOT / "assets" / "scripts").glob("*.yaml")),
     "expect": sorted((ROOT / "assets" / "logs").glob("*.expect.yaml")),
     "mapping": sorted((ROOT / "assets" / "mappings").glob("*.yaml")),
+    "bones": sorted((ROOT / "assets" / "mocap").glob("*-bones.yaml")),  # bone tables
 }
 FOLDER = {"character": "characters", "interface": "interfaces", "scene": "scenes",
-          "script": "scripts", "expect": "logs", "mapping": "mappings"}
+          "script": "scripts", "expect": "logs", "mapping": "mappings", "bones": "bones"}
 LOGS = [ROOT / "assets" / "logs" / n for n in ("luxo-hop.jsonl", "luxo-keys-hops.jsonl",
                                                "cat-bound.jsonl")]
 LOG_LINES = 40  # a log mutant keeps the header, this many events and the end line
@@ -267,6 +268,20 @@ def _accepted(kind: str, path: Path) -> None:
             return
         for values in clip.channels.values():
             assert not np.isinf(values).any()
+    elif kind == "bones":  # stream the walk clip through it, as mocap send does
+        from puppet.mocap.bvh import read_bvh
+        from puppet.mocap.send import encoder, load_bones
+
+        clip = read_bvh(ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh")
+        table = load_bones(path)
+        for fmt in ("vmc", "mediapipe"):
+            try:
+                encode = encoder(clip, fmt, table)
+            except DataError as exc:  # valid, but not for this clip: said in one line
+                assert "\n" not in str(exc), str(exc)
+                continue
+            for k in range(0, clip.frames, 97):
+                assert isinstance(encode(k, k * clip.frame_time), bytes)
     elif kind == "script":
         spec = parse_script(load_file(path))
         setup = load_setup("luxo-keys")
