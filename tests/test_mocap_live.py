@@ -72,7 +72,7 @@ def _sender(port, seconds, rate=120.0, stop=None, values_at=None):
 # was delivered (issue 32: the suite holds at a load of 8 on 2 cores): every frame sent
 # before the take ended is received (waiting for the receiving thread as long again as
 # the take took), none dropped, and a channels event in the log for (about) every drawn
-# frame that had a new one; with a floor an idle machine passes many times over.
+# frame that had a new one (at a load of 20 on 2 cores a biped take drew 3 frames).
 MIN_FRAMES = 20  # frames a take must receive at all, however loaded the machine
 
 
@@ -98,7 +98,9 @@ class Take:
             time.sleep(0.01)
         assert counts.frames >= max(MIN_FRAMES, sent_by_end), (counts, sent_by_end, took)
         assert counts.total_dropped == 0, counts
-        assert streamed >= max(MIN_FRAMES // 2, 0.5 * self.fresh), (streamed, self.fresh)
+        # a loaded machine draws few frames (each advances the physics further): as
+        # many events as drawn frames that had a new one, give or take a merge
+        assert self.fresh >= 1 and streamed >= 0.5 * self.fresh, (streamed, self.fresh)
 
 
 def test_a_source_turns_frames_into_one_channels_event_per_drain_and_counts_drops():
