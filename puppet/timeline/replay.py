@@ -17,12 +17,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from puppet import __version__
-from puppet.data.catalog import (Folders, Setup, file_hash, find, in_catalog, load_setup,
-                                  setup_from_text)
+from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
 from puppet.timeline.log import Log, embedded_problem, read_log
+from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.playback import next_move, play
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
@@ -408,20 +408,6 @@ def copy_note(log: Log, refused: bool) -> str:
     return f"{log.path}: note: interface file '{name}' {why}; the copy recorded in the log plays"
 
 
-def unquoted_error(log: Log, found: list, hint: str = "") -> DataError:
-    """The error of a log whose setup failed after it made puppet read files beside it
-    (``found``, outside the catalog): their errors (and the checks against them, a
-    joint the interface names that the character lacks...) would quote what those
-    files hold, which a log someone sent you must not make puppet print. So the error
-    names the files and the command that shows it, for files that are yours."""
-    names = ", ".join(sorted({p.name for p in found}))
-    paths = " ".join(sorted({str(p) for p in found}))
-    return DataError(log.path, 1, None,
-                     f"header: the files it names beside the log ({names}) do not make a "
-                     f"valid session; the error is not shown, as it could quote a file the "
-                     f"log made puppet read (puppet check {paths} shows it){hint}")
-
-
 def differs_warning(log: Log, kind: str, path: Path, found: str | None,
                     has_copy: bool) -> str:
     """The one words (replay and ``puppet check`` alike) for a file the header names
@@ -530,15 +516,7 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
     except DataError as exc:  # a reload event whose interface text is invalid
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
-        setup = session.setup
-        beside = sorted({Path(p).name for p in (setup.character_path, setup.scene_path)
-                         if not in_catalog(p)})
-        if beside:  # checked against files the log made puppet read: quote nothing
-            raise DataError(log.path, line, None,
-                            f"cannot apply this event: the reloaded interface does not fit "
-                            f"the files beside the log ({', '.join(beside)}); the error is "
-                            "not shown, as it could quote them") from None
-        raise DataError(log.path, line, None, f"cannot apply this event: {exc}") from None
+        raise reload_error(log, line, session.setup, exc) from None
     except (ValueError, KeyError, TypeError) as exc:
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
