@@ -95,7 +95,12 @@ def source_for(url: str, fmt: str, mapping: str | None, setup=None, option: str 
                              f"{STREAM_MAPPINGS[fmt]})")
     elif mapping is not None:
         raise UsageError(f"{option}: a puppet stream sends channels: it needs no --mapping")
-    return OscSource(fmt, host, port, retargeter=retargeter)
+    guard = None
+    if setup is not None:  # every sample judged against the figure it drives
+        from puppet.mocap.guard import guard_for
+
+        guard = guard_for(setup, retargeter.mapping if retargeter is not None else None)
+    return OscSource(fmt, host, port, retargeter=retargeter, guard=guard)
 
 
 def add_play_options(play: argparse.ArgumentParser) -> None:

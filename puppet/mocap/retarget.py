@@ -120,6 +120,13 @@ class Retargeter:
         self._floor: float | None = None
         self._forward: np.ndarray | None = self.fixed_forward
 
+    def rebase(self) -> None:
+        """The stream's root jumped to a place it kept (a sender that re-placed its
+        origin): the travel goes on from here (no jump in ``root.x``) and the floor is
+        found again (``floor: lowest``)."""
+        self._root_prev = None
+        self._floor = None
+
     # -- the math, on (frames, 3) arrays -----------------------------------------------
     def _points(self, points: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
         return {n: np.asarray(p, float) * self.mirror for n, p in points.items()}

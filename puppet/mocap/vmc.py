@@ -29,7 +29,8 @@ ROOT = "/VMC/Ext/Root/Pos"
 BONE = "/VMC/Ext/Bone/Pos"
 TIME = "/VMC/Ext/T"
 OK = "/VMC/Ext/OK"
-QUAT_NORM = (0.5, 2.0)  # a rotation's quaternion length outside this is garbage
+QUAT_NORM = (0.9, 1.1)  # a rotation's quaternion length outside this is garbage (senders
+# write unit quaternions as float32: 1 within 1e-6; a length of 2 is no rotation)
 
 
 def _transform(args: list, what: str) -> tuple[unity.Vec, unity.Quat]:
@@ -37,7 +38,8 @@ def _transform(args: list, what: str) -> tuple[unity.Vec, unity.Quat]:
     q = tuple(bounded(v, f"{what} rotation", 2.0) for v in args[3:7])
     norm = sum(c * c for c in q) ** 0.5
     if not QUAT_NORM[0] <= norm <= QUAT_NORM[1]:
-        raise Drop("out_of_range", f"{what} rotation: a quaternion of length {norm:.3g}")
+        raise Drop("out_of_range", f"{what} rotation: a quaternion of length {norm:.3g} "
+                                   f"(expected 1, a unit quaternion)")
     return p, unity.normalised(q)  # type: ignore[arg-type]
 
 
