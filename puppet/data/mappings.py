@@ -90,6 +90,16 @@ class ChannelSpec(Spec, kw_only=True):
     scale: Num("coupling") = 1.0
 
 
+class FilterSpec(Spec, kw_only=True):
+    """The 1-euro filter of a live stream's channels (``puppet.mocap.smoothing``): a
+    low-pass at ``cutoff`` Hz while the performer is still, rising by ``beta`` Hz per
+    deg/s (a centimetre a second counts as a degree) as they move. ``cutoff: 0``: no
+    filter. A clip is never filtered."""
+
+    cutoff: Num("cutoff") = 4.0
+    beta: Num("cutoff_slope") = 0.02
+
+
 class MappingSpec(Spec, kw_only=True):
     name: str = ""
     description: str = ""
@@ -112,6 +122,8 @@ class MappingSpec(Spec, kw_only=True):
     clearance: ClearanceSpec | None = None
     # source point -> weight: the centre of mass (absent: the root point)
     com: dict[str, Num("ratio")] = field(default_factory=dict)
+    # a live stream's filter (a webcam's jitter: more; a suit: less); a clip is not filtered
+    filter: FilterSpec = field(default_factory=FilterSpec)
 
     def __post_init__(self):
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:

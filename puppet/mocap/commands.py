@@ -95,12 +95,16 @@ def source_for(url: str, fmt: str, mapping: str | None, setup=None, option: str 
                              f"{STREAM_MAPPINGS[fmt]})")
     elif mapping is not None:
         raise UsageError(f"{option}: a puppet stream sends channels: it needs no --mapping")
-    guard = None
-    if setup is not None:  # every sample judged against the figure it drives
+    guard = smoother = None
+    if setup is not None:  # every sample judged against the figure it drives, then filtered
         from puppet.mocap.guard import guard_for
+        from puppet.mocap.smoothing import StreamFilter
 
-        guard = guard_for(setup, retargeter.mapping if retargeter is not None else None)
-    return OscSource(fmt, host, port, retargeter=retargeter, guard=guard)
+        mapping = retargeter.mapping if retargeter is not None else None
+        guard = guard_for(setup, mapping)
+        smoother = StreamFilter(*((mapping.filter.cutoff, mapping.filter.beta)
+                                  if mapping is not None else ()))
+    return OscSource(fmt, host, port, retargeter=retargeter, guard=guard, smoother=smoother)
 
 
 def add_play_options(play: argparse.ArgumentParser) -> None:

@@ -48,11 +48,13 @@ class OscSource:
 
     def __init__(self, fmt: str, host: str = LOCALHOST, port: int | None = None,
                  retargeter=None, lost_after: float = LOST_AFTER,
-                 clock: Callable[[], float] = time.perf_counter, guard=None):
+                 clock: Callable[[], float] = time.perf_counter, guard=None,
+                 smoother=None):
         self.decoder = decoder(fmt)
         self.format = fmt
         self.retargeter = retargeter
         self.guard = guard  # judges points and channels against the figure (guard.py)
+        self.smoother = smoother  # filters what the guard kept (smoothing.py)
         self.host = host
         self.port = self.decoder.default_port if port is None else port
         self.lost_after = lost_after
@@ -100,6 +102,9 @@ class OscSource:
                     values = guard.channels.judge(values, arrival)
                     if not values:  # every channel absurd: no sample
                         continue
+                if self.smoother is not None:  # on the sender's clock if it sends one
+                    values = self.smoother.apply(
+                        values, frame.time if frame.time is not None else arrival)
                 if self.queue.post(ev.channels(values)):
                     posted += 1
                     self.last_arrival = arrival
