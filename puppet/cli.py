@@ -174,10 +174,12 @@ def _play(args: argparse.Namespace) -> int:
     clip = None
     if args.mocap:  # a recorded clip plays in sim time, through the interface's mapping
         from puppet.mocap.clip_source import ClipSource
-        from puppet.mocap.clips import find_mapping, open_clip
+        from puppet.mocap.clips import choose_mapping, open_clip
 
-        mapping, mapping_path = find_mapping(args.mapping, setup.interface,
-                                             setup.interface_path, setup.character)
+        mapping, mapping_path, note = choose_mapping(args.mocap, args.mapping, setup.interface,
+                                                     setup.interface_path, setup.character)
+        if note:  # not the interface's: a shipped one that fits the clip, or its rig's
+            print(f"puppet play: {note}", file=sys.stderr)
         if setup.interface.tracking is not None:
             from puppet.data.tracking import mapping_problem
 
@@ -431,6 +433,9 @@ def build_parser() -> argparse.ArgumentParser:
                                         "(by name)")
     info.set_defaults(func=_mocap_info)
     add_subcommands(mocap_sub)  # puppet mocap send / listen (live OSC)
+    from puppet.mocap.rig_command import register as register_rig_mapping
+
+    register_rig_mapping(mocap_sub)  # puppet mocap mapping CLIP: a recognised rig's mapping
 
     replay = sub.add_parser("replay", help="replay input logs (in a window or headless)",
                             description="Replay recorded input logs. Headless prints the "

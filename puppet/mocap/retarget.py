@@ -16,8 +16,8 @@ for a whole clip (vectorised over its frames) and for a live stream (a frame at 
    angle in the world (``root.angle``) is unwrapped for good (a somersault reaches
    360); a joint angle goes back a turn if it passes ``TURN_LIMIT`` (225: past the
    wobble at +-180, and short of the turns a running sum would drift by where a limb
-   seen nearly end-on spins in the projection); a segment seen end-on (projected to less than a fifth of its length)
-   holds its last good angle;
+   seen nearly end-on spins in the projection); a segment seen end-on (projected to
+   less than a fifth of its length) holds its last good angle;
 4. the root: ``root.x`` is the forward distance travelled since the first frame (the
    sum of each frame's move along that frame's forward, so a performer who turns
    still walks the figure forward), ``root.y`` the root point's height above the floor;
