@@ -31,14 +31,32 @@ class SourceSpec(Spec, kw_only=True):
     unit: Num("source_unit") = 1.0  # metres per source length unit (CMU BVH: 0.056444, cm: 0.01)
     # the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)
     handedness: Literal["right", "left"] = "right"
+    # each axis's length in units, before unit: a picture's normalised landmarks have x in
+    # widths and y in heights ([1.3333, 1, 0] for 4:3; 0 drops an axis: a webcam's depth)
+    scale: tuple[Num("axis_scale"), Num("axis_scale"), Num("axis_scale")] = (1.0, 1.0, 1.0)
 
 
 class FacingSpec(Spec, kw_only=True):
-    """Two points across the body (the hips), left and right: the performer faces
-    forward of the line between them."""
+    """Two points across the body (the hips), ``left`` and ``right``: the performer
+    faces forward of the line between them; or two along it, ``back`` and ``front``
+    (an ankle and its toe tip): the performer faces from one to the other (what a
+    camera that sees the performer side-on can tell)."""
 
-    left: str
-    right: str
+    left: str | None = None
+    right: str | None = None
+    back: str | None = None
+    front: str | None = None
+
+    def __post_init__(self):
+        across, along = (self.left, self.right), (self.back, self.front)
+        if not ((None not in across and along == (None, None))
+                or (None not in along and across == (None, None))):
+            raise ValueError("facing: give left and right (points across the body) or back "
+                             "and front (points along the way it faces), one pair")
+
+    @property
+    def points(self) -> list[str]:
+        return [p for p in (self.left, self.right, self.back, self.front) if p is not None]
 
 
 class RootSpec(Spec, kw_only=True):
@@ -155,7 +173,7 @@ class MappingSpec(Spec, kw_only=True):
         for seg in self.segments.values():
             names |= {seg.start, seg.to}
         if self.facing is not None:
-            names |= {self.facing.left, self.facing.right}
+            names |= set(self.facing.points)
         if self.clearance is not None:
             names |= set(self.clearance.points)
         return names

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from puppet.data.errors import UsageError
 
-FORMATS = ("vmc", "mediapipe", "puppet")  # puppet.mocap.formats.FORMATS, importless
+FORMATS = ("vmc", "mediapipe", "mediapipe-osc", "puppet")  # formats.FORMATS, importless
 DEFAULT_BONES = "assets/mocap/cmu-bones.yaml"
 MAX_SPEED = 10.0
 
@@ -49,8 +49,10 @@ def _project_file(path: str) -> Path:
     return root / p if (root / p).exists() else p
 
 
-STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose"}  # the defaults
-POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names"}
+STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose",
+                   "mediapipe-osc": "mediapipe-image"}  # the defaults
+POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names",
+               "mediapipe-osc": "MediaPipe landmark names"}
 
 
 def stream_points(fmt: str) -> set[str]:
@@ -112,8 +114,10 @@ def add_play_options(play: argparse.ArgumentParser) -> None:
     live udp:// stream, and the mapping either goes through)."""
     play.add_argument("--mocap-format", choices=FORMATS, default="vmc",
                       help="--mocap udp://...: what the stream sends: vmc (default, port "
-                           "39539), mediapipe (/mediapipe/pose) or puppet "
-                           "(/puppet/channels: channels, no mapping)")
+                           "39539), mediapipe (/mediapipe/pose world landmarks, port 39570), "
+                           "mediapipe-osc (the MediaPipe-to-OSC bridge: a count, picture "
+                           "landmarks, mirrored; port 7500) or puppet (/puppet/channels: "
+                           "channels, no mapping)")
 
 
 def is_live(value: str | None) -> bool:
@@ -133,7 +137,9 @@ def add_subcommands(msub) -> None:
     send.add_argument("--to", default="udp://127.0.0.1:39539", metavar="udp://HOST:PORT",
                       help="where to send (default udp://127.0.0.1:39539)")
     send.add_argument("--format", choices=FORMATS, default="vmc",
-                      help="vmc (default), mediapipe, or puppet (needs --mapping)")
+                      help="vmc (default), mediapipe, mediapipe-osc (as the "
+                           "MediaPipe-to-OSC bridge: the clip filmed side-on), or puppet "
+                           "(needs --mapping)")
     send.add_argument("--bones", default=DEFAULT_BONES, metavar="FILE",
                       help="which BVH joint is which humanoid bone / landmark (vmc and "
                            f"mediapipe; default {DEFAULT_BONES})")
@@ -154,7 +160,8 @@ def add_subcommands(msub) -> None:
                         help="address to bind (default 127.0.0.1; 0.0.0.0 for every "
                              "network)")
     listen.add_argument("--format", choices=FORMATS, default="vmc",
-                        help="what to expect: vmc (default), mediapipe or puppet")
+                        help="what to expect: vmc (default), mediapipe, mediapipe-osc or "
+                             "puppet")
     listen.add_argument("--mapping", metavar="NAME",
                         help="also show the channels this mapping makes of the points")
     listen.add_argument("--seconds", type=_duration, metavar="S",
@@ -253,6 +260,7 @@ def _listen(args: argparse.Namespace) -> int:
 
 ADDRESS_FORMATS = (("/VMC/", "vmc"), ("/mediapipe/pose", "mediapipe"),
                    ("/puppet/channels", "puppet"))  # an address's beginning: whose it is
+# (mediapipe-osc's address is mediapipe's: a leading count says which, in the drop's words)
 
 
 def _format_hint(text: str, fmt: str) -> str:

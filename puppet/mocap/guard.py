@@ -198,6 +198,7 @@ class PoseGuard:
     def __init__(self, mapping, tally: Tally | None = None):
         self.tally = tally or Tally()
         self.metres = mapping.source.unit
+        self.scale = tuple(mapping.source.scale)
         self.segments = {n: (s.start, s.to) for n, s in mapping.segments.items()}
         self.root = list(mapping.root.points)
         self.lengths: dict[str, collections.deque] = {n: collections.deque(maxlen=MEDIAN_OF)
@@ -207,6 +208,9 @@ class PoseGuard:
     def judge(self, points: dict, now: float) -> str:
         """``"keep"``, ``"drop"`` (counted) or ``"rejoin"``: keep it, and the mapping
         must forget where the root was (it jumped to a place the stream kept)."""
+        if self.scale != (1.0, 1.0, 1.0):
+            sx, sy, sz = self.scale
+            points = {n: (p[0] * sx, p[1] * sy, p[2] * sz) for n, p in points.items()}
         seen = {}
         for name, (a, b) in self.segments.items():
             if a in points and b in points:

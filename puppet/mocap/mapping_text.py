@@ -63,11 +63,17 @@ def mapping_yaml(spec: MappingSpec, comments: list[str] = ()) -> str:
         out.append("notes: >")
         out += _folded(spec.notes)
     s = spec.source
-    out.append(f"source: {_flow([('up', s.up), ('unit', s.unit), ('handedness', s.handedness)])}")
+    source = [("up", s.up), ("unit", s.unit), ("handedness", s.handedness)]
+    if tuple(s.scale) != (1.0, 1.0, 1.0):
+        source.append(("scale", list(s.scale)))
+    out.append(f"source: {_flow(source)}")
     plane = spec.plane if isinstance(spec.plane, str) else list(spec.plane)
     out.append(f"plane: {_value(plane)}")
     if spec.facing is not None:
-        out.append(f"facing: {_flow([('left', spec.facing.left), ('right', spec.facing.right)])}")
+        f = spec.facing
+        pairs = ([("left", f.left), ("right", f.right)] if f.left is not None
+                 else [("back", f.back), ("front", f.front)])
+        out.append(f"facing: {_flow(pairs)}")
     out.append(f"size: {scalar(spec.size)}")
     out.append(f"root: {_flow([('point', spec.root.point), ('floor', spec.root.floor)])}")
     width = max(len(n) for n in spec.segments) + 1

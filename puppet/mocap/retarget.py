@@ -43,8 +43,9 @@ MIN_TRAVEL = 0.05  # m: less root travel than this over a clip, and 'travel' use
 
 
 def _axes(mapping: MappingSpec) -> tuple[np.ndarray, np.ndarray]:
-    """(mirror, up): a diagonal that makes the source's frame right-handed, and the up
-    unit vector (in the mirrored frame)."""
+    """(mirror, up): a diagonal that makes the source's frame right-handed (and each
+    axis as long as the others: ``source.scale``), and the up unit vector (in the
+    mirrored frame)."""
     axis = mapping.source.up
     index = "xyz".index(axis[-1])
     up = np.zeros(3)
@@ -52,7 +53,7 @@ def _axes(mapping: MappingSpec) -> tuple[np.ndarray, np.ndarray]:
     mirror = np.ones(3)
     if mapping.source.handedness == "left":
         mirror[(index + 1) % 3] = -1.0  # flip an axis that is not up: now right-handed
-    return mirror, up
+    return mirror * np.asarray(mapping.source.scale, float), up
 
 
 def _horizontal(v: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -145,8 +146,10 @@ class Retargeter:
 
     def _facing(self, pts) -> np.ndarray | None:
         face = self.mapping.facing
-        if face is None or face.left not in pts or face.right not in pts:
+        if face is None or any(n not in pts for n in face.points):
             return None
+        if face.back is not None:  # along the way it faces (a foot seen side-on)
+            return _unit(_horizontal(pts[face.front] - pts[face.back], self.up))
         across = pts[face.left] - pts[face.right]
         return _unit(_horizontal(np.cross(across, self.up), self.up))
 

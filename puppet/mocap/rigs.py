@@ -420,7 +420,7 @@ def _build(template: MappingSpec, joints: dict[str, str], unit, up, handedness, 
     data["source"] = {"up": up, "unit": unit, "handedness": handedness}
     data["plane"] = plane
     data["size"] = size
-    data["facing"] = {k: point(v) for k, v in data["facing"].items()}
+    data["facing"] = {k: point(v) for k, v in data["facing"].items() if v is not None}
     data["root"] = {"point": [point(p) for p in data["root"]["point"]], "floor": floor}
     for seg in data["segments"].values():
         seg["from"], seg["to"] = point(seg["from"]), point(seg["to"])

@@ -199,6 +199,10 @@ class OscSource:
             if self.lost_count and not self.fresh:
                 text += ", LOST"
             text += f", {c.drops_text()}"
+            if c.no_pose:
+                text += f", {c.no_pose} no pose"
+            if c.continued:
+                text += f", {c.continued} continued"
             judged = self.guard.tally.text() if self.guard is not None else ""
             if judged:
                 text += f", {judged}"
