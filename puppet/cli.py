@@ -188,7 +188,7 @@ def _play(args: argparse.Namespace) -> int:
             if problem:
                 raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
-                          loop=args.loop)
+                          loop=args.loop, drop=args.mocap_drop)
         from puppet.data.catalog import find
         from puppet.mocap.bvh import read_bvh
         from puppet.mocap.info import mapping_unit_note
@@ -196,8 +196,9 @@ def _play(args: argparse.Namespace) -> int:
         note = mapping_unit_note(read_bvh(find("clip", args.mocap)), mapping, mapping_path)
         if note:  # a clip in metres read as centimetres plays a 10 cm performer
             print(f"puppet play: warning: {note}", file=sys.stderr)
-    elif args.mapping or args.loop:
-        raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
+    elif args.mapping or args.loop or args.mocap_drop:
+        raise UsageError("--mapping, --loop and --mocap-drop go with --mocap (the clip they "
+                         "are for)")
     if (clip is not None and args.loop and args.headless and args.seconds is None
             and (script is None or script.seconds is None)):  # it would play once, silently
         raise UsageError("--loop headless needs --seconds S: a looping clip has no end, "
@@ -406,6 +407,11 @@ def build_parser() -> argparse.ArgumentParser:
     play.add_argument("--loop", action="store_true",
                       help="play the --mocap clip over and over (headless: needs --seconds, "
                            "a looping clip has no end)")
+    from puppet.mocap.clip_source import drop_option
+
+    play.add_argument("--mocap-drop", type=drop_option, metavar="FROM:UNTIL",
+                      help="no sample of the --mocap clip from FROM to UNTIL s: the "
+                           "stream lost, to try what the interface does then")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")

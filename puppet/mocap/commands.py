@@ -280,9 +280,10 @@ def live_play(args, setup) -> int | None:
     None when --mocap is not given."""
     if not is_live(args.mocap):
         return None
-    if args.input or args.frames or args.ghost or getattr(args, "loop", False):
-        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
-                         "--loop (a live take is the performer's: record it with --record "
+    if args.input or args.frames or args.ghost or getattr(args, "loop", False) \
+            or getattr(args, "mocap_drop", None):
+        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost, "
+                         "--loop and --mocap-drop (a live take is the performer's: record it with --record "
                          "LOG; then puppet replay LOG --video OUT renders its frames, "
                          "and play --ghost LOG shows it beside another run)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
