@@ -99,7 +99,7 @@ def walk_source():
 
 
 def _run(session, events, until):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     play(session, [e for e in events if e[0] >= session.steps], until)
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import find
 from puppet.data.mappings import load_mapping, parse_mapping
 from puppet.data.yamlfile import load_text
