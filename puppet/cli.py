@@ -551,6 +551,9 @@ def build_parser() -> argparse.ArgumentParser:
     from puppet.commands import playtest as playtest_command
 
     playtest_command.register(sub)  # puppet playtest LOG...
+    from puppet.commands import tune as tune_command
+
+    tune_command.register(sub)  # puppet tune SPEC.yaml
     return parser
 
 
