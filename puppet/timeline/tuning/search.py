@@ -334,9 +334,9 @@ class Search:
                 self._say(kept[-1], label)
                 continue
             # backtrack: the latest stage that has another try to offer takes it
-            while kept and not kept[-1].alternatives:
-                kept.pop()
-            if kept and backtracks < self.spec.max_backtracks:
+            back = max((i for i, k in enumerate(kept) if k.alternatives), default=None)
+            if back is not None and backtracks < self.spec.max_backtracks:
+                del kept[back + 1:]
                 backtracks += 1
                 k = kept.pop()
                 params, result = k.alternatives[0]
