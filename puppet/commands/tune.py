@@ -15,6 +15,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from puppet.commands.engine import (add_cluster_option, add_jobs_option, default_jobs,
+                                    executor_for)
+
 EXIT_NOT_FOUND, EXIT_ERROR, EXIT_INTERRUPTED = 1, 2, 130
 
 
@@ -28,24 +31,6 @@ def _positive(kind, what: str, lo, hi):
             raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo:g} to {hi:g}")
         return value
     return parse
-
-
-def add_engine_options(p: argparse.ArgumentParser, default_jobs: int) -> None:
-    """--jobs and --cluster: where tries run (shared with ``puppet playtest``)."""
-    p.add_argument("--jobs", "-j", type=_positive(int, "number of processes", 1, 256),
-                   default=default_jobs, metavar="N",
-                   help=f"run tries in N local processes (default {default_jobs}); the "
-                        "results do not depend on it")
-    p.add_argument("--cluster", metavar="ADDRESS",
-                   help="run tries on a Dask cluster: its scheduler's address "
-                        "(tcp://HOST:8786), or 'local' for a local cluster of --jobs "
-                        "workers; needs pip install 'puppet[cluster]'")
-
-
-def default_jobs() -> int:
-    import os
-
-    return max(1, min(4, (os.cpu_count() or 2)))
 
 
 def register(subparsers) -> argparse.ArgumentParser:
@@ -75,7 +60,8 @@ def register(subparsers) -> argparse.ArgumentParser:
                    metavar="N", help="stop after playing N tries (run again to go on)")
     p.add_argument("--fresh", action="store_true",
                    help="forget the tries of an earlier run of this search")
-    add_engine_options(p, default_jobs())
+    add_jobs_option(p, default_jobs())
+    add_cluster_option(p)
     p.set_defaults(func=run)
     return p
 
@@ -131,7 +117,6 @@ def _file(option: str, text: str, ext: str) -> Path:
 
 
 def run(args) -> int:
-    from puppet.timeline.executor import make_executor
     from puppet.timeline.tuning import Interrupted, Search, load_tune_spec
     from puppet.timeline.tuning.writer import write_all
 
@@ -143,7 +128,7 @@ def run(args) -> int:
     if args.fresh:
         state_path.unlink(missing_ok=True)
     bars = _Bars()
-    with make_executor(args.jobs, args.cluster) as executor:
+    with executor_for(args) as executor:
         search = Search(loaded, executor, state_path, bars, args.max_tries, args.scale,
                         args.seed)
         print(f"tuning {args.spec}: {len(loaded.spec.stages)} stage(s), seed "

@@ -79,15 +79,15 @@ class ProcessExecutor(Executor):
                 out[futures[fut]] = fut.result()
                 if progress is not None:
                     progress(1)
-        except BaseException:
-            for fut in futures:
-                fut.cancel()
+        except BaseException:  # Ctrl+C: the tasks not begun are dropped, not waited for
             self._pool.shutdown(wait=False, cancel_futures=True)
+            self._stopped = True
             raise
         return out
 
     def close(self) -> None:
-        self._pool.shutdown(wait=True, cancel_futures=True)
+        if not getattr(self, "_stopped", False):
+            self._pool.shutdown(wait=True, cancel_futures=True)
 
 
 class DaskExecutor(Executor):

@@ -45,7 +45,11 @@ def _check_stage(loaded: Loaded, i: int) -> None:
     stage = loaded.spec.stages[i]
     loc = ("stages", i)
     params = {p.name: p for p in params_of(stage)}
-    for name in stage.vary:
+    for name, written in stage.vary.items():
+        if isinstance(written, tuple) and written[1] < written[0]:
+            raise loaded.error(loc + ("vary", name),
+                               f"range [{written[0]:g}, {written[1]:g}]: the high end is "
+                               "under the low one; expected [low, high]")
         if name in RESERVED or not name.isidentifier():
             raise loaded.error(loc + ("vary", name),
                                f"'{name}' cannot name a parameter (expected a name of "

@@ -63,7 +63,7 @@ class GeneratorRun:
     def add(self, entry: dict) -> None:
         """Queue a script entry (``{t, mouse, over}``, ``{t, key, hold}``...)."""
         entry = dict(entry)
-        if entry["t"] < self.t - 1e-9:
+        if entry["t"] < self.t - self.dt / 2:  # (rounded to 0.1 ms: the same step)
             raise ValueError(f"a generator's entry at t = {entry['t']:g} s is in the past "
                              f"(now {self.t:g} s)")
         spec = ScriptSpec.model_validate({"events": [{"t": 0.0, "mouse": list(self._mouse)},

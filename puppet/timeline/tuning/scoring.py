@@ -34,15 +34,16 @@ class Term:
     floor: float = -100.0
     required: bool = False
     feat: bool = False  # one of the spec's feat entries
+    margin: float = 0.0  # what a required term's margin must reach
 
     @classmethod
     def of(cls, spec) -> Term:
         return cls(spec.expect, spec.over, spec.points, spec.weight, spec.cap, spec.floor,
-                   spec.required)
+                   spec.required, False, spec.margin)
 
     @classmethod
-    def feat_entry(cls, e) -> Term:
-        return cls(e, "run", 10.0, 1.0, 0.0, -100.0, True, True)
+    def feat_entry(cls, e, required: bool = True) -> Term:
+        return cls(e, "run", 10.0, 1.0, 0.0, -100.0, required, True)
 
 
 @dataclass
@@ -89,7 +90,7 @@ def judge(terms: list[Term], stage: Trajectory, run: Trajectory,
         margin = o.margin if o.margin is not None and not math.isnan(o.margin) else -math.inf
         counted = min(term.cap, max(term.floor, margin))
         score += term.points * o.passed + term.weight * counted
-        if term.required and not o.passed:
+        if term.required and not (o.passed and margin >= term.margin):
             ok = False
         judged.append(Judged(o.kind, o.passed, margin, str(o), term.required, term.feat))
     return score, ok, judged

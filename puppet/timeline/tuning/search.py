@@ -110,7 +110,10 @@ class Search:
         terms = [Term.of(t) for t in stage.score]
         judged = stage.feat if stage.feat is not None else i == len(self.spec.stages) - 1
         if judged and self.spec.feat is not None:
-            terms += [Term.feat_entry(e) for e in self.spec.feat.expect]
+            # a stage played again and again scores the feat but cannot be held to it
+            # at every repetition: its 'until' (or the last time) decides
+            gate = stage.times == 1 and not stage.until
+            terms += [Term.feat_entry(e, gate) for e in self.spec.feat.expect]
         return terms
 
     def _scaled(self, n: int) -> int:
@@ -167,12 +170,17 @@ class Search:
         keys = [digest(ctx.key, p) for p in batch]
         out: list[TryResult | None] = [None] * len(batch)
         todo: list[int] = []
+        asked: set[str] = set()
         for i, k in enumerate(keys):
+            if k in asked:  # a try asked twice in one batch: played (or looked up) once
+                self.reporter.advance(1)
+                continue
+            asked.add(k)
             if k in self.state.tries:
                 out[i] = TryResult.from_dict(self.state.tries[k])
                 self.looked_up += 1
                 self.reporter.advance(1)
-            elif k not in (keys[j] for j in todo):
+            else:
                 todo.append(i)
         stop = False
         if self.stop_after is not None and self.played + len(todo) >= self.stop_after:

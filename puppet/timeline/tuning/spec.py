@@ -107,7 +107,9 @@ class TermSpec(Spec, kw_only=True):
     """One graded expectation: ``points`` if it holds, plus ``weight`` per unit of its
     margin, the margin counted between ``floor`` and ``cap`` (-inf, nothing measured,
     counts as ``floor``). ``over``: the stage's stretch (its times from the stage's
-    start) or the whole run so far. ``required``: a try that misses it is not kept."""
+    start) or the whole run so far. ``required``: a try that misses it is not kept;
+    ``margin``: with ``required``, the margin it must reach (more than just holding:
+    ``never_fell`` with margin 30 is never more than 60 deg from upright on the ground)."""
 
     expect: Expectation
     over: Literal["stage", "run"] = "stage"
@@ -116,8 +118,12 @@ class TermSpec(Spec, kw_only=True):
     cap: float = 0.0
     floor: float = -100.0
     required: bool = False
+    margin: float = 0.0
 
     def __post_init__(self):
+        if self.margin and not self.required:
+            raise ValueError("'margin' is what a required term must reach: it goes with "
+                             "'required: true'")
         if self.cap < self.floor:
             raise ValueError(f"'cap' ({self.cap:g}) is under 'floor' ({self.floor:g})")
 
@@ -204,12 +210,13 @@ class TuneSpec(Spec, kw_only=True):
 class Param:
     """A parameter as the search uses it (from ``vary``)."""
 
-    def __init__(self, name: str, spec: ParamSpec):
+    def __init__(self, name: str, spec: ParamSpec | tuple):
         self.name = name
-        self.range = spec.range
-        self.step = spec.step
-        self.choose = spec.choose
-        self.interface = list(spec.interface)
+        if isinstance(spec, ParamSpec):
+            self.range, self.step, self.choose = spec.range, spec.step, spec.choose
+            self.interface = list(spec.interface)
+        else:  # written [low, high]
+            self.range, self.step, self.choose, self.interface = tuple(spec), None, None, []
 
     @property
     def span(self) -> float:
@@ -241,7 +248,7 @@ class Param:
 def params_of(stage: StageSpec) -> list[Param]:
     out = []
     for name, p in stage.vary.items():
-        out.append(Param(name, p if isinstance(p, ParamSpec) else ParamSpec(range=p)))
+        out.append(Param(name, p))
     return out
 
 
