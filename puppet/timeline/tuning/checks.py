@@ -98,12 +98,24 @@ def _check_stage(loaded: Loaded, i: int) -> None:
                             raise loaded.error(loc + ("vary", name), problem)
                 elif problem := key_problem(e.key):
                     raise loaded.error(loc + where + (j, "key"), problem)
+            if e.action in ("checkpoint", "restore"):
+                raise loaded.error(loc + where + (j, "action"),
+                                   f"a stage's entries may not {e.action}: each stage begins "
+                                   "at a checkpoint of its own (the search restores it)")
             if e.action is not None and e.action not in SIM_ACTIONS:
                 raise loaded.error(loc + where + (j, "action"),
                                    f"unknown action '{e.action}'; a script can perform "
                                    f"{', '.join(sorted(SIM_ACTIONS))}")
 
     entries(("events",), stage.events, known)
+    if stage.script is not None:
+        from puppet.timeline.tuning.template import script_entries
+
+        for j, e in enumerate(script_entries(loaded, i)):
+            if e.get("action") in ("checkpoint", "restore"):
+                raise loaded.error(loc + ("script",), f"{stage.script}: its entry {j + 1} "
+                                   f"is a {e['action']}: a stage begins at a checkpoint of "
+                                   "its own, and its input may not checkpoint or restore")
     after = set(known)
     if stage.repeat is not None:
         r = stage.repeat

@@ -164,6 +164,7 @@ class StageSpec(Spec, kw_only=True):
     events: list[EntryTemplate] = field(default_factory=list)
     repeat: RepeatSpec | None = None
     then: list[EntryTemplate] = field(default_factory=list)
+    script: str | None = None  # a script's events, played from the stage's start
     generator: str | None = None
     length: Number
     lookahead: Annotated[float, Meta(ge=0.0, le=60.0)] = 0.0

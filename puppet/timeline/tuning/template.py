@@ -46,6 +46,9 @@ class StageTemplate:
         self.then = [_entry(e) for e in s.then]
         self.length = _expr(s.length)
         self.at = None if s.at is None else _expr(s.at)
+        self.script: list[dict] = []
+        if s.script is not None:
+            self.script = script_entries(loaded, index)
 
     def values(self, params: dict) -> dict:
         """The parameters with the ``let:`` values added."""
@@ -67,7 +70,7 @@ class StageTemplate:
         """(script entries at absolute times, the stage's length in s) for ``params``
         with the stage starting at ``t0`` s."""
         values = self.values(params)
-        out: list[dict] = []
+        out: list[dict] = [dict(e, t=r4(t0 + e["t"])) for e in self.script]
         for i, e in enumerate(self.events):
             out.append(self._one(e, values, t0, ("events", i)))
         if self.repeat is not None:
@@ -142,6 +145,26 @@ class StageTemplate:
         return out
 
 
+def script_entries(loaded: Loaded, index: int) -> list[dict]:
+    """The events of the script a stage names (``script:``), as plain entries."""
+    import msgspec
+
+    from puppet.data.catalog import find
+    from puppet.timeline.script import load_script
+
+    name = loaded.spec.stages[index].script
+    try:
+        spec = load_script(find("script", name, (loaded.path.resolve().parent,)))
+    except DataError as exc:
+        raise loaded.error(("stages", index, "script"), f"{name}: {exc.message}") from None
+    out = []
+    for e in spec.events:
+        d = {k: v for k, v in msgspec.to_builtins(e).items()
+             if v is not None and not (k in ("over", "hold") and v == 0)}
+        out.append(d)
+    return out
+
+
 def _entry(e: EntryTemplate) -> dict:
     """An entry's expressions parsed once."""
     out: dict = {"t": _expr(e.t)}
@@ -188,4 +211,4 @@ def template_exprs(e: EntryTemplate) -> list[tuple[tuple, object]]:
     return out
 
 
-__all__ = ["DataError", "StageTemplate", "r4", "template_exprs"]
+__all__ = ["StageTemplate", "r4", "script_entries", "template_exprs"]
