@@ -2,7 +2,8 @@
 a designer gets back (``NAME.interface.yaml``), comments and layout kept.
 
 A place is a dotted path into the file's data, list items by index:
-``gains.ankle_near.max_torque``, ``modes.stepping.0.to.1``. Each number is replaced
+``gains.ankle_near.max_torque``, ``modes.stepping.0.to.1``; ``-states.s.maps.0.to.1``
+writes the value negated (a map's slope written ``to: [v, -v]``). Each number is replaced
 where it is written (its line and column as the YAML reader found them), so the file
 differs from the original only in those numbers.
 """
@@ -23,6 +24,7 @@ def _path(place: str) -> tuple:
 def lookup(data, place: str) -> tuple[float | None, str | None]:
     """(the number at ``place``, None) or (None, what is wrong)."""
     node = data
+    place = place.lstrip("-")
     for key in _path(place):
         if isinstance(node, dict) and key in node:
             node = node[key]
@@ -61,10 +63,13 @@ def with_values(text: str, where: str, values: dict[str, float]) -> str:
 
 
 def interface_values(params: list, values: dict) -> dict[str, float]:
-    """place -> value of the interface parameters among ``params`` (``spec.Param``)."""
+    """place -> value of the interface parameters among ``params`` (``spec.Param``); a
+    place written ``-PLACE`` takes the value negated (a map's ``to: [v, -v]``)."""
     out = {}
     for p in params:
         if p.interface:
             for place in p.interface:
-                out[place] = float(values[p.name])
+                negated = place.startswith("-")
+                out[place.lstrip("-")] = -float(values[p.name]) if negated else float(
+                    values[p.name])
     return out

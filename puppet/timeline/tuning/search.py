@@ -228,7 +228,8 @@ class Search:
         else:
             self.reporter.stage(label, max(tries, 1) + s.climbs * refine)
             rng = random.Random(f"{self.seed}/{si}/{rep}")
-            first = complete(params, stage.first) if stage.first else None
+            given = {**self.start.current(params), **stage.first}  # the interface's own
+            first = complete(params, given) if given else None
             centre = first
             for r, n in enumerate(rounds(s, max(tries, 1))):
                 batch = []

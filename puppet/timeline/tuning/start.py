@@ -106,6 +106,22 @@ class Start:
             self._interface_text = self.interface_path.read_text(encoding="utf-8")
         return with_values(self._interface_text, str(self.interface_path), places)
 
+    def current(self, params: list) -> dict:
+        """The interface file's own value of each interface parameter (its first
+        place's, rounded as the parameter is): where a search of them starts."""
+        from puppet.data.yamlfile import load_text
+        from puppet.timeline.tuning.interface_values import lookup
+
+        if self._interface_text is None:
+            self._interface_text = self.interface_path.read_text(encoding="utf-8")
+        data = load_text(self._interface_text, str(self.interface_path)).data
+        out = {}
+        for p in params:
+            if p.interface:
+                value = lookup(data, p.interface[0])[0]
+                out[p.name] = p.clamp(-value if p.interface[0].startswith("-") else value)
+        return out
+
     def fingerprint(self) -> str:
         """What the results depend on besides the spec: the interface, scene and
         character files' text, the start log, puppet's version and this package's code."""
