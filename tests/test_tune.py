@@ -301,3 +301,40 @@ def test_a_local_dask_cluster_of_two_workers_gives_the_same_log(tmp_path):
     assert events_of(tmp_path / "here.jsonl") == events_of(tmp_path / "there.jsonl")
     here_plays = run_plans([plan])[0]
     assert [r.final_hash for r in on_dask.results] == [r.final_hash for r in here_plays.results]
+
+
+# -- the docs' worked example, and every shipped spec ---------------------------------
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "tuning.md"
+SPECS = Path(__file__).resolve().parents[1] / "assets" / "tune"
+
+
+def test_the_worked_example_runs_as_the_docs_say(tmp_path, capsys, monkeypatch):
+    import re
+    import shlex
+
+    from puppet.cli import main
+
+    text = DOCS.read_text(encoding="utf-8")
+    block = re.search(r"```yaml\n# file: assets/tune/luxo-first-hop.yaml\n(.*?)```", text,
+                      re.S).group(1)
+    assert block == (SPECS / "luxo-first-hop.yaml").read_text(encoding="utf-8")
+    line = next(cmd for cmd in re.findall(r"^puppet tune .*$", text, re.M)
+                if "--script" in cmd)
+    args = shlex.split(line.split("#")[0])[1:]
+    args[args.index("--script") + 1] = str(tmp_path / "hop.yaml")
+    monkeypatch.chdir(Path(__file__).resolve().parents[1])
+    code = main(args + ["--out", str(tmp_path / "hop.jsonl")])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    shown = re.search(r"```\n(stage 1/1 'hop'.*?)```", text, re.S).group(1).splitlines()
+    for want in [shown[0]] + [s for s in shown if s.startswith("  ok")] + [shown[-1]]:
+        if "wrote" not in want:
+            assert want.replace("luxo-first-hop", "hop") in out, want
+    assert (tmp_path / "hop.yaml").is_file() and (tmp_path / "hop.expect.yaml").is_file()
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in SPECS.glob("*.yaml")))
+def test_every_shipped_spec_is_valid_and_names_a_shipped_feat(name):
+    loaded = load_tune_spec(SPECS / f"{name}.yaml")
+    Search(loaded)  # its names checked against the character, its start prepared
+    assert loaded.spec.feat is not None and loaded.spec.feat.expect
