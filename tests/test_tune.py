@@ -195,7 +195,9 @@ stages:
 
 def test_stages_repeat_until_their_goal_each_from_a_checkpoint(tmp_path):
     loaded = load_tune_spec(spec_file(tmp_path, STEPS, "steps.yaml"))
-    _, result, written = run_search(loaded, tmp_path / "steps.jsonl")
+    state = tmp_path / "steps.tune.json"
+    result = Search(loaded, Executor(), state).run()
+    written = write_all(loaded, result, tmp_path / "steps.jsonl", tmp_path / "steps-script.yaml")
     reps = [k.rep for k in result.kept]
     assert reps == list(range(len(reps))) and 1 <= len(reps) <= 4
     assert result.kept[-1].result.until_ok or len(reps) == 4
@@ -205,6 +207,11 @@ def test_stages_repeat_until_their_goal_each_from_a_checkpoint(tmp_path):
              if e.event.get("name") == "checkpoint"]
     assert marks == [round(k.t0 * 480) for k in result.kept]
     assert written.same_as_search  # tried from restored checkpoints, replayed straight
+    # and the script it wrote, played and recorded as `puppet play --record` does, too
+    from puppet.testing import record_script, replay_log
+
+    again = replay_log(record_script(str(written.script), tmp_path / "again.jsonl"))
+    assert again.final_hash == replay_log(written.log).final_hash
 
 
 def test_with_no_try_meeting_a_stage_it_backtracks_to_an_alternative(tmp_path):
