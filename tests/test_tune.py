@@ -301,7 +301,8 @@ def test_a_local_dask_cluster_of_two_workers_gives_the_same_log(tmp_path):
         assert dask.workers == 2 and "Dask" in dask.name
         _, there, _ = run_search(loaded, tmp_path / "there.jsonl", dask)
         from puppet.data.playtest import LEVELS
-        from puppet.timeline.playtest import Plan, run as run_plans
+        from puppet.timeline.playtest import Plan
+        from puppet.timeline.playtest import run as run_plans
 
         plan = Plan(str(tmp_path / "here.jsonl"), LEVELS["human"], "human", 4, 0)
         on_dask = run_plans([plan], executor=dask)[0]

@@ -138,12 +138,12 @@ def _failures(result) -> Counter:
     kinds: Counter = Counter()
     for r in result.results:
         if not r.passed:
-            missed = set()
-            for line in r.failed:
+            missed: dict[str, None] = {}  # in the expectations' order (a set's order is
+            for line in r.failed:          # the hash seed's: ties would shuffle the table)
                 words = line.split()
-                missed.add(words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
-                           else line)
-            kinds.update(missed)
+                missed[words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
+                       else line] = None
+            kinds.update(list(missed))
     return kinds
 
 

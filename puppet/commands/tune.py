@@ -15,8 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from puppet.commands.engine import (add_cluster_option, add_jobs_option, default_jobs,
-                                    executor_for)
+from puppet.commands.engine import add_cluster_option, add_jobs_option, default_jobs, executor_for
 
 EXIT_NOT_FOUND, EXIT_ERROR, EXIT_INTERRUPTED = 1, 2, 130
 

@@ -95,7 +95,7 @@ def run(plans: list[Plan], jobs: int = 1,
     else:
         with make_executor(jobs if len(tasks) > 1 else 1) as local:
             results = local.map(_task, args, progress)
-    for (k, i), res in zip(tasks, results):
+    for (k, _), res in zip(tasks, results, strict=True):
         if isinstance(res, str):
             out[k].error = out[k].error or res
         else:

@@ -49,7 +49,8 @@ def grid(params: list[Param]) -> list[dict]:
     if size > MAX_GRID:
         raise ValueError(f"the grid has {size} points (at most {MAX_GRID}): a coarser "
                          "'step' or fewer parameters")
-    return [dict(zip([p.name for p in params], combo)) for combo in itertools.product(*axes)]
+    names = [p.name for p in params]
+    return [dict(zip(names, combo, strict=True)) for combo in itertools.product(*axes)]
 
 
 def rounds(search: SearchSpec, tries: int) -> list[int]:

@@ -19,7 +19,7 @@ def check_spec(loaded: Loaded) -> None:
     spec = loaded.spec
     if spec.feat is not None:
         Expectations(spec.feat.expect, loaded.located, ("feat", "expect"))
-    for i, stage in enumerate(spec.stages):
+    for i in range(len(spec.stages)):
         _check_stage(loaded, i)
     for i, stage in enumerate(spec.stages):
         if stage.generator is not None:
@@ -92,7 +92,8 @@ def _check_stage(loaded: Loaded, i: int) -> None:
                     if name not in choices:
                         raise loaded.error(loc + where + (j, "key"),
                                            f"'{e.key}': '{name}' is not a 'choose' parameter "
-                                           f"of the stage (those: {', '.join(sorted(choices)) or 'none'})")
+                                           "of the stage (those: "
+                                           f"{', '.join(sorted(choices)) or 'none'})")
                     for option in params[name].choose:
                         if problem := key_problem(str(option)):
                             raise loaded.error(loc + ("vary", name), problem)
@@ -137,10 +138,10 @@ def _check_stage(loaded: Loaded, i: int) -> None:
                 raise loaded.error(loc + ("vary", p.name),
                                    f"a grid search ('search: {{grid: true}}') needs a 'step' "
                                    f"for '{p.name}' (or a 'choose' list)")
-    if not stage.score and not (stage.feat or (stage.feat is None and i == len(
-            loaded.spec.stages) - 1 and loaded.spec.feat is not None)):
-        if params:
-            raise loaded.error(loc, f"stage '{stage.name}' varies {', '.join(params)} but "
+    judges_feat = stage.feat or (stage.feat is None and i == len(loaded.spec.stages) - 1
+                                 and loaded.spec.feat is not None)
+    if params and not stage.score and not judges_feat:
+        raise loaded.error(loc, f"stage '{stage.name}' varies {', '.join(params)} but "
                                     "has no 'score:' (and does not judge the feat): nothing "
                                     "tells its tries apart; expected a 'score:' list")
 

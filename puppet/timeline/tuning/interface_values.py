@@ -26,9 +26,10 @@ def lookup(data, place: str) -> tuple[float | None, str | None]:
     node = data
     place = place.lstrip("-")
     for key in _path(place):
-        if isinstance(node, dict) and key in node:
-            node = node[key]
-        elif isinstance(node, list) and isinstance(key, int) and -len(node) <= key < len(node):
+        in_map = isinstance(node, dict) and key in node
+        in_list = (isinstance(node, list) and isinstance(key, int)
+                   and -len(node) <= key < len(node))
+        if in_map or in_list:
             node = node[key]
         else:
             return None, f"no '{key}' there"

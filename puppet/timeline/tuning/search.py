@@ -189,7 +189,7 @@ class Search:
         if todo:
             tasks = [self._task(ctx, si, batch[i])[0] for i in todo]
             results = self.executor.map(run_try, tasks, self.reporter.advance)
-            for i, r in zip(todo, results):
+            for i, r in zip(todo, results, strict=True):
                 self.state.tries[keys[i]] = r.to_dict()
                 out[i] = r
             self.played += len(todo)
@@ -205,7 +205,7 @@ class Search:
         size = max(4, 4 * self.executor.workers)
         for i in range(0, len(batch), size):
             part = batch[i:i + size]
-            for p, r in zip(part, self._evaluate(ctx, si, part)):
+            for p, r in zip(part, self._evaluate(ctx, si, part), strict=True):
                 pool.append((p, r))
 
     def _search_stage(self, si: int, rep: int, ctx: Context, label: str) -> list:

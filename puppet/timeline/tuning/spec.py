@@ -16,7 +16,7 @@ from puppet.data.playtest import LevelName
 from puppet.data.ranges import Seed
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
-from puppet.timeline.expectations import ExpectFile, Expectation
+from puppet.timeline.expectations import Expectation, ExpectFile
 from puppet.timeline.script import ScriptEntry
 from puppet.timeline.tuning.expr import Expr, ExprError
 

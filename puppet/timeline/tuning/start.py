@@ -82,7 +82,8 @@ class Start:
             cut = log.last_step if s.until is None else round(s.until / self.dt)
             if not 0 <= cut <= log.last_step:
                 raise loaded.error(("start", "until"),
-                                   f"{s.until:g} s is outside the log (0..{log.last_step * self.dt:.2f} s)")
+                                   f"{s.until:g} s is outside the log "
+                                   f"(0..{log.last_step * self.dt:.2f} s)")
             kept = []
             for step, e in events:
                 if step > cut:

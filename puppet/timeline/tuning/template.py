@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from puppet.data.errors import DataError
 from puppet.timeline.tuning.expr import Expr, ExprError
-from puppet.timeline.tuning.spec import EntryTemplate, Loaded, MAX_CYCLES, StageSpec
+from puppet.timeline.tuning.spec import MAX_CYCLES, EntryTemplate, Loaded, StageSpec
 
 NUMBER_FIELDS = ("t", "over", "hold")
 
@@ -53,7 +53,7 @@ class StageTemplate:
     def values(self, params: dict) -> dict:
         """The parameters with the ``let:`` values added."""
         values = dict(params)
-        for i, (name, e) in enumerate(self.lets):
+        for name, e in self.lets:
             values[name] = self._eval(e, values, ("let", name))
         return values
 
@@ -63,8 +63,8 @@ class StageTemplate:
         except ExprError as exc:
             shown = ", ".join(f"{k} = {v:g}" for k, v in values.items()
                               if isinstance(v, float) and k in e.names)
-            raise self.loaded.error(self.loc + sub, f"{exc}{' (with ' + shown + ')' if shown else ''}"
-                                    ) from None
+            with_values = f" (with {shown})" if shown else ""
+            raise self.loaded.error(self.loc + sub, f"{exc}{with_values}") from None
 
     def entries(self, params: dict, t0: float) -> tuple[list[dict], float]:
         """(script entries at absolute times, the stage's length in s) for ``params``
