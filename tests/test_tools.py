@@ -1,6 +1,7 @@
-"""The search tools in tools/ still run against today's code: each imports, and the
+"""The tools left in tools/ still run against today's code: each imports, and the
 ones that build scripts from plain entries build scripts the player compiles (a data
-library's change broke three of them without a test noticing)."""
+library's change broke three of them without a test noticing). The searches that are
+a product feature are tuning specs now (assets/tune/, puppet tune: tests/test_tune.py)."""
 
 from __future__ import annotations
 
@@ -32,15 +33,6 @@ def test_a_tools_script_from_plain_entries_compiles(name):
     tool = importlib.import_module(name)
     spec = tool.script([{"t": 0.1, "key": "g"}, {"t": 0.5, "action": "checkpoint"}], 1.0)
     assert len(compile_script(spec, 1 / 480)) == 3  # the key down and up, the checkpoint
-
-
-def test_tune_recover_reads_its_scripts_key_times():
-    from puppet.data.catalog import find
-    from puppet.timeline.script import load_script
-
-    tool = importlib.import_module("tune_recover")
-    times = tool.key_times(load_script(find("script", tool.BACKWARD)))
-    assert set(times) == {"o", "2"} and all(isinstance(t, float) for t in times.values())
 
 
 def test_solver_sensitivity_replays_on_the_changed_solver():
