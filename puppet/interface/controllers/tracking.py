@@ -27,9 +27,12 @@ from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.tracking import TrackingSpec
 from puppet.interface.ownership import JointOwners, Owner
-from puppet.physics.kinematics import beyond, joint_order, link_poses
+from puppet.physics.body_state import BodyReader
+from puppet.physics.kinematics import beyond, joint_order
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
@@ -53,6 +56,10 @@ class Tracker:
         self.lost_steps = 0 if spec is None else max(1, round(spec.lost_after / dt))
         cs = character.spec
         self.order = joint_order(cs)
+        # the joints root outward as plain values, for the performed pose (``_performed``)
+        self._chain = [(j.name, j.parent, j.child, j.anchor[0], j.anchor[1])
+                       for j in self.order]
+        self._reader = BodyReader()  # the figure in one call (KD pulls)
         self.limits = {j.name: (None if j.limits is None else
                                 (math.radians(j.limits[0]), math.radians(j.limits[1])))
                        for j in cs.actuated}
@@ -263,7 +270,10 @@ class Tracker:
 
     def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
-        pose's (implicit PD over one control period), weaker while reacting to a push."""
+        pose's (implicit PD over one control period), weaker while reacting to a push.
+        The figure is read in one call (``body_state``) and each link's centre and the
+        performed pose are worked out with Chipmunk's and ``link_poses``' arithmetic, so
+        the pulls are the ones a link-by-link reading gives, to the bit."""
         spec, ch, c = self.spec, self.channels, self.character
         root = spec.root
         x, y, a = ch.get(root.x), ch.get(root.y), ch.get(root.angle)
@@ -276,18 +286,18 @@ class Tracker:
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        q = {j: self._clamped(j, math.radians(ch[n])) for j, n in self.joints.items() if n in ch}
-        poses = link_poses(c.spec, self.order, origin, angle, q)
+        clamped = self._clamped
+        radians = math.radians
+        q = {j: clamped(j, radians(ch[n])) for j, n in self.joints.items() if n in ch}
+        poses = self._performed(origin, angle, cos, sin, q)
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0))
         T = self.period
         preset, scale = spec.preset, self.scale
         prev = self.prev
+        links = self._links()
         targets = {}
-        for name in self.pulled:
-            body = c.bodies[name]
-            ox, oy, la = poses[name]
-            gx, gy = body.center_of_gravity
-            cl, sl = math.cos(la), math.sin(la)
+        for name, _, _, _, gx, gy in links:
+            ox, oy, la, cl, sl = poses[name]
             targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
@@ -313,39 +323,69 @@ class Tracker:
             self._react(step, com, vx)
         weight = self._weight(step)
         stepping = self.step[0] if self.step is not None else None
-        table, joint_of = self.owners_table.table, self.joint_of
-        for name in self.pulled:
+        table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
+        state = self._reader.read(c.bodies[c.root].space)  # every body, one call
+        kp, dp, sqrt = preset.kp, preset.dp, math.sqrt
+        set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
+        for name, cb, i, m, gx, gy in links:
             joint = joint_of.get(name)
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            body = c.bodies[name]
-            px, py = targets[name][0], targets[name][1]
+            target = targets[name]
+            px, py = target[0], target[1]
             s = scale.get(name, 1.0)
             w = weight
             if name == stepping:  # the protective step, then back to the performance
                 px, py = self._stepped(step, weight, px, py)
                 w = 1.0
-            k, d = preset.kp * s * w, preset.dp * math.sqrt(s) * w  # same ratio
+            k, d = kp * s * w, dp * sqrt(s) * w  # same ratio
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, (0.0, 0.0))
-            m = body.mass
-            p = body.local_to_world(body.center_of_gravity)
-            vx, vy = body.velocity
+            bx, by, ba, vx, vy, spin = state[i:i + 6]
+            cb_, sb = math.cos(ba), math.sin(ba)  # its centre: cpBodyLocalToWorld's sums
+            wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
             den = m / T + k * T + d
-            body.velocity = ((m * vx / T + k * (px - p[0]) + d * tvx) / den,
-                             (m * vy / T + k * (py - p[1]) + d * tvy) / den)
-            if name in self.soles:  # a foot is also turned flat as performed (its sole
+            set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den,
+                              (m * vy / T + k * (py - wy) + d * tvy) / den))
+            if name in soles:  # a foot is also turned flat as performed (its sole
                 # stands on the ground; the ankle's inertia-scaled gain alone is weak)
-                inertia = body.moment
+                inertia = c.bodies[name].moment
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
                 want = poses[name][2]
-                turn = want - body.angle
+                turn = want - ba
                 turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                w = body.angular_velocity
-                body.angular_velocity = ((inertia * w / T + kt * turn
-                                          + dt_ * self.spin.get(name, 0.0))
-                                         / (inertia / T + kt * T + dt_))
+                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * self.spin.get(name, 0.0))
+                         / (inertia / T + kt * T + dt_))
+
+    def _links(self) -> list[tuple]:
+        """Per pulled link: (name, C body, where its values start in a bulk reading,
+        mass, centre of gravity x, y), for the bodies now (a restore re-binds them)."""
+        bodies = self.character.bodies
+        cached = self.__dict__.get("_link_rows")
+        space = bodies[self.character.root].space
+        if cached is None or cached[0] is not bodies or cached[1] is not space:
+            reader = self._reader
+            rows = []
+            for name in self.pulled:
+                body = bodies[name]
+                gx, gy = body.center_of_gravity
+                rows.append((name, body._body, reader.offset(space, body), body.mass, gx, gy))
+            cached = self._link_rows = (bodies, space, rows)
+        return cached[2]
+
+    def _performed(self, origin, angle: float, cos: float, sin: float, q: dict) -> dict:
+        """``link_poses`` (the performed pose's links), each with the cosine and sine of
+        its turn, worked out once for its children, its centre and its sole."""
+        poses = {self.character.spec.root: (origin[0], origin[1], angle, cos, sin)}
+        mcos, msin = math.cos, math.sin
+        for name, parent, child, ax, ay in self._chain:
+            px, py, pa, c, s = poses[parent]
+            wx, wy = px + c * ax - s * ay, py + s * ax + c * ay  # the hinge in the world
+            a = pa + q.get(name, 0.0)
+            c, s = mcos(a), msin(a)
+            poses[child] = (wx - (c * ax - s * ay), wy - (s * ax + c * ay), a, c, s)
+        return poses
 
     def _stepped(self, step: int, weight: float, px: float, py: float):
         """The stepping foot's target: along the step (lifted in the middle), then held
@@ -372,8 +412,7 @@ class Tracker:
             return 0.0
         lowest = math.inf
         for link, points in self.soles.items():
-            _, oy, la = poses[link]
-            cl, sl = math.cos(la), math.sin(la)
+            _, oy, _, cl, sl = poses[link]
             for px, py, r in points:
                 y = oy + sl * px + cl * py - r
                 if y < lowest:
