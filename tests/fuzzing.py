@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import ROOT, Setup, check_interface, find, load_setup
 from puppet.data.characters import parse_character
 from puppet.data.errors import DataError
@@ -31,7 +31,7 @@ from puppet.data.yamlfile import load_file, load_text
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.timeline.log import read_log
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 from puppet.timeline.script import check_links, compile_script, parse_script
 

@@ -11,7 +11,7 @@ import yaml
 
 from puppet.data.catalog import ROOT, find, load_setup
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script, run_seconds
 
 

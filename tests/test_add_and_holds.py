@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
@@ -76,7 +76,7 @@ keys:
 
 
 def test_a_hold_against_a_light_free_side_is_a_warning_at_its_place(tmp_path, capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     path = tmp_path / "cat-tail.yaml"
     path.write_text(TAIL)

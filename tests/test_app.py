@@ -6,7 +6,7 @@ import sys
 import pygame
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data import catalog
 
 

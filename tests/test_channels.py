@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import threading
 
-from puppet.bench import channel_frames, channel_interface_text
+from puppet.commands.bench.channels import channel_frames, channel_interface_text
 from puppet.data.actions import ActionSpec
 from puppet.data.catalog import load_character_named, load_setup
 from puppet.input.live import LiveQueue

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import ROOT, file_hash
 from puppet.timeline.log import text_hash
 

@@ -17,11 +17,11 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
-from puppet.cli import main
+from puppet.commands.check import check_file
+from puppet.commands import main
 from puppet.data.catalog import ROOT, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 
 from tests.test_docs import yaml_blocks
 

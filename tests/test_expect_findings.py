@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.timeline.expectations import (Expectation, evaluate_all, load_expectations,
                                           parse_expectations)
 from puppet.timeline.trajectory import Trajectory

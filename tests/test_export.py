@@ -9,7 +9,7 @@ import pytest
 
 from puppet.app.export import export_video
 from puppet.app.headless import run_headless
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import find, load_setup
 from puppet.interface.app_keys import SetSlowdown
 from puppet.testing import record_script, replay_log

@@ -167,7 +167,7 @@ def test_the_slower_key_climbs_the_table_to_100x_and_stops_there():
 
 @pytest.mark.parametrize("mass", ["-0.5", "0"])
 def test_puppet_check_refuses_a_character_with_a_mass_not_above_zero(tmp_path, capsys, mass):
-    from puppet.cli import main
+    from puppet.commands import main
 
     path = tmp_path / "c.yaml"
     path.write_text(textwrap.dedent(f"""\

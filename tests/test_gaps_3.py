@@ -156,11 +156,11 @@ def test_a_ghost_plays_the_session_as_played_not_todays_interface(tmp_path):
 
 
 def test_the_replay_command_replays_todays_interface_unless_asked_for_the_recorded(tmp_path):
-    from puppet.timeline.report import _replay_one
+    from puppet.timeline.report import replay_one
 
     _, log = _recorded(tmp_path)
-    today = _replay_one(str(log), None, False, False)
-    recorded = _replay_one(str(log), None, False, False, as_recorded=True)
+    today = replay_one(str(log), None, False, False)
+    recorded = replay_one(str(log), None, False, False, as_recorded=True)
     assert today["same_end"] is False and any("differs from the one recorded" in w
                                             for w in today["warnings"])
     assert recorded["same_end"] is True
@@ -300,7 +300,7 @@ def _pose(session):
 
 
 def test_the_preview_after_a_branch_shows_the_new_branch_not_the_cached_old_one():
-    from puppet.timeline.history import Scrubber
+    from puppet.session.history import Scrubber
 
     def played():
         s = Session(load_setup("luxo-mouse"))

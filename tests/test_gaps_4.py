@@ -190,7 +190,7 @@ def test_info_on_a_clip_no_mapping_fits_says_how_to_write_one(tmp_path):
 
 # -- the commands, in-process ----------------------------------------------------------------
 def test_send_counts_what_it_sent_and_refuses_an_unknown_format(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["mocap", "send", WALK, "--to", "udp://127.0.0.1:9", "--speed", "10"]) == 0
     out = capsys.readouterr().out
@@ -202,7 +202,7 @@ def test_send_counts_what_it_sent_and_refuses_an_unknown_format(capsys):
 
 
 def test_send_takes_a_clip_name_as_mocap_info_does_and_says_it_is_send(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["mocap", "send", "cmu-131_01-walk", "--to", "udp://127.0.0.1:9",
                  "--speed", "10", "--quiet"]) == 0
@@ -219,7 +219,7 @@ def test_send_takes_a_clip_name_as_mocap_info_does_and_says_it_is_send(capsys):
 
 
 def test_a_headless_live_take_ends_with_the_figures_state_line(tmp_path, capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     code = main(["play", "biped-mocap", "--mocap", "udp://127.0.0.1:0", "--headless",
                  "--seconds", "0.2", "--no-record"])

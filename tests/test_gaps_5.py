@@ -92,7 +92,7 @@ def test_the_planar_bvh_writer_indents_each_joint_under_its_parent(tmp_path):
 
 # -- the mocap commands ------------------------------------------------------------------------
 def test_a_default_file_is_found_from_any_folder(tmp_path, monkeypatch):
-    from puppet.mocap.commands import DEFAULT_BONES, _project_file
+    from puppet.commands.mocap import DEFAULT_BONES, _project_file
 
     monkeypatch.chdir(tmp_path)
     got = _project_file(DEFAULT_BONES)
@@ -101,7 +101,7 @@ def test_a_default_file_is_found_from_any_folder(tmp_path, monkeypatch):
 
 
 def test_a_live_mapping_that_reads_points_the_stream_never_sends_is_refused():
-    from puppet.mocap.commands import source_for
+    from puppet.commands.streams import source_for
 
     with pytest.raises(UsageError) as info:
         source_for("udp://127.0.0.1:0", "vmc", "cmu-131")
@@ -112,7 +112,7 @@ def test_a_live_mapping_that_reads_points_the_stream_never_sends_is_refused():
 
 
 def test_the_listen_help_says_where_the_take_comes_from(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     with pytest.raises(SystemExit):
         main(["mocap", "listen", "--help"])
@@ -238,7 +238,7 @@ def test_a_header_text_field_that_is_not_text_is_named(tmp_path, key):
 def test_a_listen_duration_is_more_than_zero_and_at_most_a_day():
     import argparse
 
-    from puppet.mocap.commands import _duration
+    from puppet.commands.mocap import _duration
 
     assert _duration("60") == 60.0 and _duration("86400") == 86400.0
     for bad in ("0", "-1", "86401", "soon"):
@@ -249,7 +249,7 @@ def test_a_listen_duration_is_more_than_zero_and_at_most_a_day():
 def test_listen_listens_on_the_port_it_is_given(capsys):
     import socket
 
-    from puppet.cli import main
+    from puppet.commands import main
 
     for _ in range(5):  # a free port, probed; another process may take it before the bind
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
@@ -265,7 +265,7 @@ def test_listen_listens_on_the_port_it_is_given(capsys):
 
 
 def test_listen_on_port_0_says_the_port_the_system_chose(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["mocap", "listen", "--format", "puppet", "--port", "0",
                  "--seconds", "0.1"]) == 0
@@ -275,7 +275,7 @@ def test_listen_on_port_0_says_the_port_the_system_chose(capsys):
 
 
 def test_the_latency_measure_reports_transit_and_waiting_times():
-    from puppet.mocap.latency import measure_latency
+    from puppet.commands.bench.latency import measure_latency
 
     got = measure_latency(0.3)
     assert got["transit_median_ms"] >= 0 and got["transit_p99_ms"] >= got["transit_median_ms"]
@@ -294,7 +294,7 @@ def test_regrasps_exactly_the_minimum_pass():
 
 
 def test_a_checkpoint_interval_of_zero_means_the_default():
-    from puppet.timeline.history import CHECKPOINT_EVERY, History
+    from puppet.session.history import CHECKPOINT_EVERY, History
 
     dt = 1 / 480
     assert History(dt, 0).checkpoint_every == History(dt, CHECKPOINT_EVERY).checkpoint_every
@@ -332,7 +332,7 @@ def test_listen_prints_the_channels_that_arrive(capsys, monkeypatch):
     import time
 
     from helpers import ListenedPort
-    from puppet.cli import main
+    from puppet.commands import main
     from puppet.mocap.puppet_osc import encode_frame
 
     listened = ListenedPort(monkeypatch)  # port 0: the system picks a free one

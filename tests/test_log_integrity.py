@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import ROOT, file_hash
 from puppet.data.errors import DataError
 from puppet.testing import record_script

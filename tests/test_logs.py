@@ -116,7 +116,7 @@ def test_turned_and_landed_at_are_validated():
 def test_replay_command_checks_logs_in_parallel():
     """The command's own parts (names, --jobs, the summary) on one log per character:
     every log passes ``replay(check=True)`` above, the function ``puppet replay
-    --check`` runs for each log (timeline.report.replay_command)."""
+    --check`` runs for each log (commands.replay.replay_command)."""
     logs = [str(p) for p in LOGS if p.stem in ("luxo-hop", "cat-trot", "biped-walk")]
     assert len(logs) == 3
     proc = subprocess.run([sys.executable, "-m", "puppet", "replay", *logs, "--headless",

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 
 CMU = Path("assets/mappings/cmu-131.yaml").read_text(encoding="utf-8")
 

@@ -10,11 +10,11 @@ import time
 
 import pytest
 
-from puppet.bench import channel_interface_text
-from puppet.cli import main
+from puppet.commands.bench.channels import channel_interface_text
+from puppet.commands import main
 from puppet.data.catalog import load_character_named, load_setup
 from puppet.mocap import puppet_osc
-from puppet.mocap.live import run_live
+from puppet.app.live import run_live
 from puppet.mocap.source import LOST_AFTER, OscSource
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
@@ -137,7 +137,7 @@ def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp
     """``puppet mocap send`` (VMC, the CMU walk) -> the shipped vmc-humanoid mapping ->
     biped-mocap's KD tracking, recorded live and replayed headless to the same hash."""
     from puppet.mocap.bvh import read_bvh
-    from puppet.mocap.commands import source_for
+    from puppet.commands.streams import source_for
     from puppet.mocap.send import encoder, load_bones, stream
 
     clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")

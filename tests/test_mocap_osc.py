@@ -279,7 +279,7 @@ def test_udp_addresses():
 
 
 def test_puppet_check_knows_bone_tables(tmp_path):
-    from puppet.checker import check_file
+    from puppet.commands.check import check_file
 
     assert check_file(BONES) == "bone table"
     assert check_file("assets/mocap/cmu-01-bones.yaml") == "bone table"

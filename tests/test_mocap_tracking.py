@@ -225,7 +225,7 @@ def test_a_looped_clip_walks_on_and_samples_on_its_grid(walk):
 
 
 def test_a_mapping_that_cannot_feed_the_tracking_is_refused(tmp_path):
-    from puppet.checker import check_file
+    from puppet.commands.check import check_file
 
     folder = tmp_path / "interfaces"
     folder.mkdir()

@@ -9,7 +9,7 @@ import socket
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.mocap.bvh import CMU_UNIT_METRES
 from puppet.mocap.info import performer_height
 from puppet.mocap.bvh import read_bvh

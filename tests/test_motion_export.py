@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import load_setup
 from puppet.mocap.bvh import read_bvh
 from puppet.session import Session

@@ -16,7 +16,7 @@ from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.timeline.log import Recorder
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]

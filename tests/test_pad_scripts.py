@@ -15,7 +15,7 @@ from puppet.data.errors import DataError
 from puppet.data.validate import located_data
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script, parse_script
 
 DT = 1 / 480
@@ -157,7 +157,7 @@ def test_the_virtual_pad_sends_gamepad_events_that_replay(tmp_path, monkeypatch)
 
 
 def test_virtual_pad_is_for_the_window(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["play", "luxo-gamepad", "--headless", "--virtual-pad"]) == 2
     assert "--virtual-pad is for the window" in capsys.readouterr().err

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 
 
 def _one_line_error(argv, capsys) -> str:

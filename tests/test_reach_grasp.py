@@ -22,7 +22,7 @@ from puppet.interface.ik import Chain, forward, hermite
 from puppet.physics.character import Character
 from puppet.session import Session
 from puppet.timeline.log import read_log, record_events
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 
 CAT, _ = load_character_named("cat")

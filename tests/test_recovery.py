@@ -10,7 +10,7 @@ from pathlib import Path
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session, world_box
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]

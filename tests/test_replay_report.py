@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from puppet.data.errors import UsageError
-from puppet.timeline.report import replay_command
+from puppet.commands.replay import replay_command
 
 ROOT = Path(__file__).resolve().parents[1]
 HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"  # 2160 steps, ends in bbc99d5d1990ab30
@@ -226,7 +226,7 @@ def test_until_step_past_the_end_says_the_run_goes_on_without_input(capsys, tmp_
     for inside in (2160, 1000):  # the end itself, or before it: nothing to say
         assert replay_command(args(HOP, until_step=inside)) == 0
         assert capsys.readouterr().err == ""
-    from puppet.cli import main
+    from puppet.commands import main
 
     out = tmp_path / "hop.csv"
     assert main(["replay", str(HOP), "--until-step", "2400", "--export-motion", str(out)]) == 0

@@ -1,4 +1,4 @@
-"""Scrubbing shows cached poses of the history (puppet.timeline.preview): each the pose
+"""Scrubbing shows cached poses of the history (puppet.session.preview): each the pose
 an exact rewind gives, without restoring the live space each frame; the one exact
 rewind comes on release."""
 
@@ -9,7 +9,7 @@ import pytest
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.history import Scrubber
+from puppet.session.history import Scrubber
 
 
 def _played(interface, seed=4):

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.app.describe import control_rows, live_keys

@@ -9,7 +9,7 @@ import re
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import ROOT
 from puppet.data.characters import load_character
 from puppet.physics.stability import stability

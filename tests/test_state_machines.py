@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
@@ -243,7 +243,7 @@ machines:
 
 
 def test_every_controller_running_at_once_comes_back_exactly_from_a_checkpoint(tmp_path):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     events = [(10, ev.key("q")), (20, ev.key("w")), (30, ev.key("g")), (40, ev.key("t"))]
     events += [(50 + 16 * i, ev.channels({"px": (i % 7) / 6, "py": (i % 5) / 4}))

@@ -14,7 +14,7 @@ from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.testing import check, record_script, replay_log
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -272,7 +272,7 @@ def test_a_log_that_ends_elsewhere_is_not_ok_in_table_summary_or_exit_code(hop, 
 
 def test_replay_takes_a_log_by_name_from_the_logs_or_recordings_folder(hop, tmp_path,
                                                                        monkeypatch, capsys):
-    from puppet.cli import main
+    from puppet.commands import main
     from puppet.data import catalog
 
     assert main(["replay", "luxo-hop", "--headless", "--until-step", "50"]) == 0

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data import yamlfile
 from puppet.data.errors import DataError
 

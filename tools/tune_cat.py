@@ -38,7 +38,7 @@ from puppet.data.validate import validate  # noqa: E402
 from puppet.data.yamlfile import Located  # noqa: E402
 from puppet.physics.upright_watch import UprightWatch  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
 # -- bound ---------------------------------------------------------------------------

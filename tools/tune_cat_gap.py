@@ -52,7 +52,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tools.gestures import SessionRunner, climb, compile_entries, tilt_deg  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 
 INTERFACE = "cat-bound"
 # the stride of assets/scripts/cat-bound.yaml (tuned on flat ground)

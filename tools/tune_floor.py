@@ -129,7 +129,7 @@ from puppet.timeline.expectations import (  # noqa: E402
 from puppet.timeline.expectations.measure import longest_flight  # noqa: E402
 from puppet.timeline.expectations.measure import longest_run as _longest_run  # noqa: E402
 from puppet.timeline.log import record_events  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 

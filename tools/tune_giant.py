@@ -147,7 +147,7 @@ def score(script: dict) -> tuple[float, list]:
     session = Session(load_setup(INTERFACE))
     pairs = compile_script(spec, session.sim.dt)
     sampler = Sampler(session)
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     sampler(session)
     play(session, pairs, round(spec.seconds / session.sim.dt), 4, sampler)

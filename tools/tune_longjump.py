@@ -82,7 +82,7 @@ from puppet.session import Session  # noqa: E402
 from puppet.timeline.expectations import (  # noqa: E402
     evaluate_all, load_expectations)
 from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402

@@ -54,7 +54,7 @@ import yaml
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.physics.simulation import DEFAULT_DT  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from tools.gestures import SessionRunner  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 

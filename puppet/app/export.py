@@ -199,7 +199,7 @@ def _pixels(pygame, surface):
 # -- ``puppet replay LOG --headless --video OUT --plot PNG`` ---------------------------
 def export_command(args) -> int:
     """The replay command with --video and/or --plot (one log, headless). The options'
-    ranges and the output names are checked by the command line (``puppet.cli``)."""
+    ranges and the output names are checked by the command line (``puppet.commands.replay``)."""
     from puppet.data.errors import UsageError
     from puppet.timeline.replay import find_log, replay
     from puppet.timeline.report import exit_code, print_one, verdict

@@ -36,6 +36,7 @@ class HudInfo:
     # scene's fixed view is framed under them (camera.reserve_top)
     top_band: int | None = None
     sources: list = field(default_factory=list)  # status lines of the input sources
+    playtest: str = ""  # the last playtest figure of this interface (puppet playtest)
     _seen_serial: int = 0
     _message_until: float = 0.0
     # What the HUD drew last, kept by what it depends on (see draw_hud and draw_rows), so
@@ -305,6 +306,8 @@ def _left_panel(width: int, session: Session, info: HudInfo, font: pygame.font.F
         lines.append(tracking)
     for status in info.sources:  # live streams and clips: what came, what was dropped
         lines.append(status)
+    if info.playtest:
+        lines.append(info.playtest)
     left_w = min(width // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
     how = setup.interface.how_to_play  # a newcomer's one line, wrapped under the title

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from puppet.data.characters import CharacterSpec, parse_character
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, did_you_mean
 from puppet.data.interface_refs import check_scene_refs, map_conflicts
 from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
 from puppet.data.scenes import SceneSpec, parse_scene
@@ -120,8 +120,11 @@ def find(kind: str, name: str, within=None) -> Path:
                             f"'{shown}' is neither a {kind} of the catalog ({sub}/NAME{ext}) "
                             f"nor a {ext} file inside a folder named on the command line "
                             f"({places}); it was not read")
-    known = ", ".join(n for n, _ in list_kind(kind)) or "none"
-    raise DataError(shown, None, None, f"no {kind} named '{shown}'; known: {known}")
+    names = [n for n, _ in list_kind(kind)]
+    hint = did_you_mean(name, names)  # "; did you mean 'luxo-mouse'?"
+    raise DataError(shown, None, None, f"no {kind} named '{shown}'{hint}"
+                                       f"{' Known' if hint else '; known'}: "
+                                       f"{', '.join(names) or 'none'}")
 
 
 def _a(word: str) -> str:

@@ -17,7 +17,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, did_you_mean
 from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
@@ -129,7 +129,7 @@ class MappingSpec(Spec, kw_only=True):
                 if seg is not None and seg not in self.segments:
                     yield (("channels", name, key),
                            f"channel '{name}' names segment '{seg}', which 'segments' does "
-                           f"not define{_did_you_mean(seg, self.segments)} (known: "
+                           f"not define{did_you_mean(seg, self.segments)} (known: "
                            f"{', '.join(self.segments)})")
         if isinstance(self.plane, str) and self.facing is None:
             yield (("plane",),
@@ -167,13 +167,6 @@ def _beside(located: Located) -> tuple:
     return (path.resolve().parent,) if path.is_file() else ()
 
 
-def _did_you_mean(name: str, known) -> str:
-    import difflib  # only for a mistake
-
-    close = difflib.get_close_matches(str(name), list(known), n=1)
-    return f"; did you mean '{close[0]}'?" if close else ""
-
-
 # channels a mapping may make that are no joint: the root's angle in the world (tracking.root)
 ROOT_ANGLE = "root.angle"
 
@@ -194,7 +187,7 @@ def channel_problem(mapping: MappingSpec, joints, character: str,
                       f"nothing; expected a mapping written for {character}")
     for name in mapping.channels:
         if name not in allowed:
-            hint = _did_you_mean(name, joints)
+            hint = did_you_mean(name, joints)
             return name, (f"channel '{name}' of {label} is no joint of {character}"
                           f"{hint + ' ' if hint else '; '}expected one of: "
                           f"{', '.join([*joints, ROOT_ANGLE])}")

@@ -13,6 +13,7 @@ from __future__ import annotations
 import collections
 import threading
 
+from puppet.interface.event_checks import event_problem
 from puppet.interface.events import Event
 
 DEFAULT_CAPACITY = 4096  # events held between two drains before the oldest are dropped
@@ -33,8 +34,6 @@ class LiveQueue:
 
     def post(self, event: Event) -> bool:
         """Queue an event (any thread). False, and counted, if it is malformed."""
-        from puppet.timeline.log import event_problem
-
         problem = event_problem(event)
         with self._lock:
             self.posted += 1

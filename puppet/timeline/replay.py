@@ -12,6 +12,7 @@ records is ``puppet.timeline.trajectory`` (``Sampler``, ``Trajectory``); what th
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,7 +23,7 @@ from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_t
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.log import Log, embedded_problem, read_log
-from puppet.timeline.playback import next_move, play
+from puppet.session.playback import next_move, play
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 
 if TYPE_CHECKING:  # the expectations are imported only by a checked replay
@@ -296,14 +297,17 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True, as_recorded: bool = False,
-           adjust=None, expect: list | None = None) -> ReplayResult:
+           adjust=None, expect: list | None = None,
+           frames: tuple[int, Callable[[Session], None]] | None = None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
     evaluate its expectations (``check``; a log without its end line is then refused
     unless ``allow_truncated``: ``require_end``). ``expect``: expectation dicts to check
     instead of the log's (a test's; no end-state check is added), under the same rule.
     ``as_recorded``: see ``setup_for_log``. ``adjust``: a function of the Setup
     returning the one to replay on instead (a tool asking what the log does on other
-    physics: tools/solver_sensitivity.py)."""
+    physics: tools/solver_sensitivity.py). ``frames``: (every, on_frame), on_frame
+    called with the session every ``every`` steps (the images of ``puppet replay
+    --frames``; reading the session only, they leave the replay as it is)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
     check = check or expect is not None
@@ -327,7 +331,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                if (trajectory or expectations) else None)
     if sampler is not None:
         sampler(session)
-    apply_log(session, log, until_step, sample_every if sampler else 0, sampler)
+    every, on_tick = _ticks((sample_every if sampler else 0, sampler), frames or (0, None))
+    apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
         sampler(session)
     traj = sampler.trajectory() if sampler is not None else None
@@ -346,6 +351,22 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                         outcomes, warnings, log.truncated_at, session, same_end,
                         list(session.blowup_messages),
                         not_checked(log, until_step) if check and expect is None else [])
+
+
+def _ticks(*ticks: tuple[int, Callable | None]) -> tuple[int, Callable | None]:
+    """One (every, on_tick) for ``play`` of several: ticks at their steps' greatest
+    common divisor, each calling its own at its multiples (a session's steps do not
+    depend on how they are split between calls)."""
+    ticks = tuple((n, f) for n, f in ticks if n and f is not None)
+    if len(ticks) < 2:
+        return ticks[0] if ticks else (0, None)
+    every = math.gcd(*(n for n, _ in ticks))
+
+    def on_tick(session: Session) -> None:
+        for n, f in ticks:
+            if session.steps % n == 0:
+                f(session)
+    return every, on_tick
 
 
 class LogFeeder:

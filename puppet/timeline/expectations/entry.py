@@ -15,6 +15,7 @@ import msgspec
 from puppet.timeline.expectations import (contacts, flight, grasps, position,  # noqa: F401
                                           posture, states)
 from puppet.data.errors import DataError
+from puppet.data.playtest import PlaytestBar
 from puppet.data.validate import Spec
 from puppet.data.yamlfile import Located
 from puppet.timeline.expectations.base import KINDS, Check, Checking
@@ -65,6 +66,8 @@ Expectation.__doc__ = ("One entry of an expect: list: exactly one of its fields 
 class ExpectFile(Spec, kw_only=True):
     description: str = ""
     expect: list[Expectation]
+    # how forgiving the feat must be: ``puppet playtest`` checks it (docs/interfaces.md)
+    playtest: PlaytestBar | None = None
 
 
 # (low, high) fields of a kind's settings: the high one may not be under the low one

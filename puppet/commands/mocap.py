@@ -1,4 +1,5 @@
-"""``puppet mocap send`` and ``puppet mocap listen``, and the ``--mocap`` option of play.
+"""``puppet mocap info``, ``send`` and ``listen``: a clip's contents, a clip streamed
+over OSC as a live source would, and what arrives on a port.
 
 Only argparse is imported at the top: the command line starts fast; each command
 imports what it needs.
@@ -11,9 +12,9 @@ import sys
 import time
 from pathlib import Path
 
+from puppet.commands.streams import FORMATS, retargeter_for
 from puppet.data.errors import UsageError
 
-FORMATS = ("vmc", "mediapipe", "puppet")  # puppet.mocap.formats.FORMATS, importless
 DEFAULT_BONES = "assets/mocap/cmu-bones.yaml"
 MAX_SPEED = 10.0
 
@@ -49,72 +50,22 @@ def _project_file(path: str) -> Path:
     return root / p if (root / p).exists() else p
 
 
-STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose"}  # the defaults
-POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names"}
-
-
-def stream_points(fmt: str) -> set[str]:
-    """The point names a stream of ``fmt`` can send."""
-    if fmt == "vmc":
-        from puppet.mocap.unity import PARENTS
-
-        return set(PARENTS)
-    from puppet.mocap.mediapipe import LANDMARKS
-
-    return set(LANDMARKS)
-
-
-def retargeter_for(mapping: str | None):
-    """A Retargeter for ``--mapping NAME`` (a catalog name or a path; None without)."""
-    if mapping is None:
-        return None
-    from puppet.data.catalog import find
-    from puppet.mocap.retarget import Retargeter, load_mapping
-
-    return Retargeter(load_mapping(find("mapping", mapping)))
-
-
-def source_for(url: str, fmt: str, mapping: str | None, setup=None, option: str = "--mocap"):
-    """An (unstarted) OscSource for ``--mocap udp://HOST:PORT``. The points of a vmc or
-    mediapipe stream go through ``mapping`` (a catalog name or a path), by default the
-    format's shipped one (``STREAM_MAPPINGS``): a clip's mapping (the interface's
-    ``tracking.mapping``) names the clip's joints, which a stream does not send."""
-    from puppet.mocap.formats import decoder, parse_udp
-    from puppet.mocap.source import OscSource
-
-    host, port = parse_udp(option, url, decoder(fmt).default_port, listening=True)
-    retargeter = None
-    if fmt != "puppet":
-        retargeter = retargeter_for(mapping or STREAM_MAPPINGS[fmt])
-        vocabulary = stream_points(fmt)
-        foreign = sorted(retargeter.point_names - vocabulary)
-        if foreign:
-            raise UsageError(f"--mapping {mapping}: reads points a {fmt} stream never sends "
-                             f"({', '.join(foreign[:4])}{'...' if len(foreign) > 4 else ''}); "
-                             f"expected {POINT_WORDS[fmt]} (e.g. the shipped "
-                             f"{STREAM_MAPPINGS[fmt]})")
-    elif mapping is not None:
-        raise UsageError(f"{option}: a puppet stream sends channels: it needs no --mapping")
-    return OscSource(fmt, host, port, retargeter=retargeter)
-
-
-def add_play_options(play: argparse.ArgumentParser) -> None:
-    """``--mocap-format`` (``--mocap`` and ``--mapping`` are play's own: a clip or a
-    live udp:// stream, and the mapping either goes through)."""
-    play.add_argument("--mocap-format", choices=FORMATS, default="vmc",
-                      help="--mocap udp://...: what the stream sends: vmc (default, port "
-                           "39539), mediapipe (/mediapipe/pose) or puppet "
-                           "(/puppet/channels: channels, no mapping)")
-
-
-def is_live(value: str | None) -> bool:
-    """``--mocap`` names a live stream (udp://HOST:PORT; any URL, so that tcp://...
-    is told what is supported), not a clip."""
-    return bool(value) and "://" in value
-
-
-def add_subcommands(msub) -> None:
-    """``send`` and ``listen`` under ``puppet mocap`` (``msub``: its sub-parsers)."""
+def register(subparsers) -> None:
+    """``puppet mocap`` and its sub-commands ``info``, ``send`` and ``listen``."""
+    mocap = subparsers.add_parser("mocap", help="motion capture: what a clip holds; stream a "
+                                                "clip live, watch a stream",
+                                  description="Motion-capture clips and streams: a clip's "
+                                              "skeleton and angles; send a BVH clip over "
+                                              "OSC as a live source would; listen and "
+                                              "print what arrives.")
+    msub = mocap.add_subparsers(dest="mocap_command", metavar="WHAT", required=True)
+    info = msub.add_parser("info", help="a clip's skeleton, frame rate, length and the "
+                                        "planar angles it would give")
+    info.add_argument("clip", help="a BVH file, or a name: assets/mocap/NAME.bvh")
+    info.add_argument("--mapping", help="the mapping (assets/mappings/NAME.yaml or a path); "
+                                        "default: the first whose points the clip has "
+                                        "(by name)")
+    info.set_defaults(func=_info)
     send = msub.add_parser("send", help="stream a BVH clip over OSC in real time",
                            description="Stream a BVH clip over OSC/UDP in real time "
                                        "(VMC bones, MediaPipe landmarks, or puppet "
@@ -151,6 +102,16 @@ def add_subcommands(msub) -> None:
     listen.add_argument("--seconds", type=_duration, metavar="S",
                         help="stop after S seconds (default: until Ctrl+C)")
     listen.set_defaults(func=_listen)
+
+
+def _info(args: argparse.Namespace) -> int:
+    from puppet.mocap.info import describe
+
+    notes: list[str] = []
+    print(describe(args.clip, args.mapping, notes))
+    for note in notes:  # e.g. a performer 0.10 m tall: a unit wrong
+        print(f"puppet mocap info: warning: {note}", file=sys.stderr)
+    return 0
 
 
 def _send(args: argparse.Namespace) -> int:
@@ -256,49 +217,3 @@ def _format_hint(text: str, fmt: str) -> str:
         if other != fmt and address.startswith(prefix):
             return f" (a {other} address: listen --format {other}?)"
     return ""
-
-
-def live_play(args, setup) -> int | None:
-    """``puppet play ... --mocap URL``: the window or a headless real-time take.
-    None when --mocap is not given."""
-    if not is_live(args.mocap):
-        return None
-    if args.input or args.frames or args.ghost or getattr(args, "loop", False):
-        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
-                         "--loop (a live take is the performer's: record it with --record "
-                         "LOG; then puppet replay LOG --video OUT renders its frames, "
-                         "and play --ghost LOG shows it beside another run)")
-    source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
-    source.start()
-    print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
-          flush=True)
-    try:
-        if not args.headless:
-            from puppet.app.window import run_window
-
-            return run_window(setup, args.slowdown, record=args.record,
-                              no_record=args.no_record, overlay=args.overlay == "com",
-                              sources=[source])
-        from puppet.mocap.live import run_live
-
-        seconds = args.seconds if args.seconds is not None else 5.0
-        session = run_live(setup, [source], seconds,
-                           record=None if args.no_record else args.record,
-                           slowdown=args.slowdown,
-                           description=f"a live {args.mocap_format} take from {args.mocap}")
-    finally:
-        source.close()
-    print(source.status())
-    if args.record and not args.no_record:
-        print(f"recorded {args.record}")
-    if args.screenshot:
-        from puppet.app.headless import FrameRenderer
-
-        renderer = FrameRenderer(session)
-        renderer.info.sources = (source.hud_line(),)
-        renderer.save(session, args.screenshot)
-        print(f"wrote {args.screenshot}")
-    from puppet.cli import blowup_exit, end_line
-
-    print(end_line(session))
-    return blowup_exit(session)  # each blow-up said on stderr, as a clip run says them

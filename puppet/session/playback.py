@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 from puppet.interface.events import Event
 
 if TYPE_CHECKING:  # the session itself plays its history back through here
-    from puppet.session import Session
+    from puppet.session.session import Session
 
 
 def next_move(steps: int, next_event: int | None, until_step: int | None,

@@ -19,8 +19,8 @@ from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
-from puppet.timeline.history import History, Snapshot
-from puppet.timeline.playback import play
+from puppet.session.history import History, Snapshot
+from puppet.session.playback import play
 
 FRAME_SECONDS = 1 / 60  # the cheap leaving-the-world check runs this often (a frame)
 WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends: gone

@@ -77,7 +77,7 @@ class PoseCache:
     def _scratch(self):
         live = self.session
         if self.scratch is None:
-            from puppet.session import Session
+            from puppet.session.session import Session
 
             self.scratch = Session(live.setup, dt=live.sim.dt,  # the same steps
                                    checkpoint_interval=live.checkpoint_interval)

@@ -4,10 +4,13 @@ does; a name as the other commands take one (``find_target``)."""
 
 from __future__ import annotations
 
+import argparse
 import importlib
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 
+from puppet.commands.options import EXIT_DATA_ERROR
 from puppet.data.errors import DataError
 from puppet.data.yamlfile import Located, load_file
 
@@ -164,7 +167,7 @@ def guess_kind(path: Path, located: Located) -> str:
         return "character"
     if "ground" in data:
         return "scene"
-    if "events" in data:
+    if "events" in data or "rules" in data:
         return "script"
     if "segments" in data:  # (before character: a mapping may name its character)
         return "mapping"
@@ -176,7 +179,7 @@ def guess_kind(path: Path, located: Located) -> str:
         return "expectations"
     raise located.error((), "cannot tell what kind of file this is; expected a character "
                             "(links:), scene (ground:), interface (character:), script "
-                            "(events:), mocap mapping (segments:), bone table (vmc:, "
+                            "(events: or rules:), mocap mapping (segments:), bone table (vmc:, "
                             "mediapipe:) or a log's expectations (expect:)")
 
 
@@ -261,3 +264,56 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
         if problem:
             raise located.error(("tracking", "mapping"), problem)
     return kind
+
+
+def register(subparsers) -> None:
+    """``puppet check FILE...``."""
+    check = subparsers.add_parser("check", help="validate data files, logs and clips (exit 0 "
+                                                "valid, 2 invalid)",
+                                  description="Validate files as the app loads them: YAML data "
+                                              "files (.yaml: characters, interfaces, scenes, "
+                                              "scripts, mocap mappings, bone tables and logs' "
+                                              "expectations, NAME.expect.yaml), each told by its "
+                                              "folder, name or keys; input logs (.jsonl) as "
+                                              "replay reads them (header, every line, the files "
+                                              "it names, its expectations; one with expectations "
+                                              "needs its end line, as replay --check does), "
+                                              "without simulating; "
+                                              "BVH clips (.bvh) as mocap info reads them. A name "
+                                              "is looked up in every catalog folder (a name in "
+                                              "two, such as a script and its log, is refused: "
+                                              "give the path). A valid file prints 'FILE: ok "
+                                              "(KIND)'; an invalid one a line 'puppet check: "
+                                              "FILE:LINE:COL: what is wrong, what was expected'. "
+                                              "Exit 0 if all are valid, else 2.")
+    check.add_argument("files", nargs="+", metavar="FILE",
+                       help="YAML data file(s), logs (.jsonl) or BVH clips (.bvh) to "
+                            "validate: paths (characters/luxo.yaml) or names (luxo-mouse, "
+                            "cmu-131_01-walk)")
+    check.add_argument("-q", "--quiet", action="store_true", help="print errors only")
+    check.add_argument("--no-stability", action="store_true",
+                       help="characters: skip the stability check (the start pose held "
+                            "5 s on a flat floor, and nudged: does it stand, which joints "
+                            "oscillate, sag or are locked by their damping)")
+    check.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    failed = 0
+    for name in args.files:
+        try:
+            warnings: list[str] = []
+            # a path as given, or a name: then the file's path, the same in the ok line
+            path = find_target(name)  # as in its errors and warnings (_shown)
+            report: list[str] | None = None if args.no_stability else []
+            kind = check_file(path, warnings, report)
+            for w in warnings:
+                print(w, file=sys.stderr)
+            if not args.quiet:  # a name says which file it was
+                print(f"{name if path == Path(name) else path}: ok ({kind})")
+                for line in report or ():  # a character's stability check
+                    print(f"  {line}")
+        except DataError as exc:
+            print(f"puppet check: {exc}", file=sys.stderr)
+            failed += 1
+    return EXIT_DATA_ERROR if failed else 0

@@ -180,12 +180,12 @@ SCRUB_RATE = 1.0  # s of simulated time per wall s when a scrub starts (it speed
 
 class Scrubber:
     """Holding the rewind key: move through the history (back, or forward with shift),
-    showing cached poses of it (``puppet.timeline.preview``: each frame within its
+    showing cached poses of it (``puppet.session.preview``: each frame within its
     budget); on release, commit with a logged "rewind" action, the one exact rewind, so
     that a replay of the log branches at the same place. Pure logic, no pygame."""
 
     def __init__(self, session):
-        from puppet.timeline.preview import PoseCache
+        from puppet.session.preview import PoseCache
 
         self.session = session
         self.cache = PoseCache(session)  # the preview: cached poses, budgeted per frame

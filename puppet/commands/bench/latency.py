@@ -33,7 +33,7 @@ FRAME_HZ = 60.0
 
 def _puppet_path(rate: float):
     """(setup, source, encode(k, t) -> datagram, targets set at the flush?)"""
-    from puppet.bench import channel_interface_text
+    from puppet.commands.bench.channels import channel_interface_text
     from puppet.data.catalog import load_character_named, setup_from_text
     from puppet.mocap import puppet_osc
     from puppet.mocap.source import OscSource
@@ -51,7 +51,7 @@ def _puppet_path(rate: float):
 def _vmc_path(rate: float):
     from puppet.data.catalog import ROOT, load_setup
     from puppet.mocap.bvh import read_bvh
-    from puppet.mocap.commands import source_for
+    from puppet.commands.streams import source_for
     from puppet.mocap.send import encoder, load_bones
 
     clip = read_bvh(ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh")
