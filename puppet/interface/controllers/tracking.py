@@ -297,7 +297,7 @@ class Tracker:
         links = self._links()
         targets = {}
         for name, _, _, _, gx, gy in links:
-            ox, oy, la, cl, sl = poses[name]
+            ox, oy, _, cl, sl = poses[name]
             targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
