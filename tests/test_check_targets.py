@@ -226,7 +226,9 @@ def test_checks_words_about_a_logs_interface_say_what_a_replay_would_do(capsys, 
                    f"recorded (hash {older_hash}); the replay may end elsewhere (puppet "
                    f"replay --as-recorded replays the recorded interface)\n"), err
     code, out, err = run(capsys, bad)
-    assert (code, out) == (2, "") and err.startswith(f"puppet check: {broken}:4:"), err
+    assert (code, out) == (2, "") and err.startswith(
+        f"puppet check: {bad}:1: header: the files it names beside the log (broken.yaml) "
+        "do not make a valid session"), err
     assert err.endswith("(puppet replay --as-recorded replays the log's own copy of the "
                         "interface)\n"), err
     assert "replaying" not in err

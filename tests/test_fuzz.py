@@ -161,3 +161,28 @@ def test_harness_sees_a_crash_and_a_hang():
             pass
 
     assert fuzzing.run_case("self-test", spin).outcome == "hang"
+
+
+def test_the_hang_bound_is_cpu_time_and_a_blocked_case_meets_the_wall_bound():
+    """A case is bounded by the CPU time it uses, not by the wall clock (a loaded
+    machine stretches that); a case that waits, using none, meets the wall bound."""
+    import resource
+    import time
+
+    def cpu():
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        return usage.ru_utime + usage.ru_stime
+
+    start = cpu()
+    with pytest.raises(fuzzing.Hang, match="CPU time"):
+        with fuzzing.time_limit(0.2, wall=30):
+            while True:
+                pass
+    assert cpu() - start >= 0.15  # (the timer counts in clock ticks)
+    slept = time.perf_counter()
+    with fuzzing.time_limit(0.05, wall=30):
+        time.sleep(0.3)  # 0.3 s of wall time, next to no CPU: not a hang
+    assert time.perf_counter() - slept >= 0.3
+    with pytest.raises(fuzzing.Hang, match="wall time"):
+        with fuzzing.time_limit(5, wall=0.2):
+            time.sleep(2)

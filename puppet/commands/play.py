@@ -219,7 +219,13 @@ def _script_text(path) -> tuple[str, str]:
 
 def end_line(session) -> str:
     """How a headless play ended: time, centre of mass, upright (over the last second,
-    when the run kept an ``upright_watch``), the state's hash."""
+    when the run kept an ``upright_watch``), the state's hash; a halted run says so
+    instead of where the figure is (``timeline.blowups.end_words``)."""
+    from puppet.timeline.blowups import end_words
+
+    halted = end_words(session)
+    if halted is not None:
+        return f"t={session.time:.3f}s  {halted}  state={session.sim.state_hash()}"
     c = session.character
     x, y = c.com()
     watch = getattr(session, "upright_watch", None)
@@ -229,10 +235,12 @@ def end_line(session) -> str:
 
 
 def blowup_exit(session, prog: str = "puppet play") -> int:
-    """A headless play's exit code: each blow-up's message on stderr (the window shows
-    them; here nothing would), then EXIT_BLOWUP if there was one, else 0. A clip run
-    and a live take (``_live_take``) end through here."""
-    for note in session.blowup_messages:
+    """A headless play's exit code: its blow-ups on stderr, each kind once with a count
+    (the window shows them; here nothing would), then EXIT_BLOWUP if there was one,
+    else 0. A clip run and a live take (``_live_take``) end through here."""
+    from puppet.timeline.blowups import fold
+
+    for note in fold(session.blowup_messages):
         print(f"{prog}: {note}", file=sys.stderr)
     return EXIT_BLOWUP if session.blowups else 0
 

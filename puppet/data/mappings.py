@@ -23,6 +23,10 @@ from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Axis = Literal["x", "y", "z", "-x", "-y", "-z"]
+# Limits besides the YAML file's own (2 MB, 48 levels): what a mapping lists, each
+# worked out for every frame of a clip and every datagram of a stream (the shipped ones
+# list up to 19 points and 12 segments; a BVH rig has at most 512 joints)
+MAX_POINTS = 256
 REST = {"forward": 0.0, "up": 90.0, "back": 180.0, "down": -90.0}
 
 
@@ -44,7 +48,7 @@ class FacingSpec(Spec, kw_only=True):
 class RootSpec(Spec, kw_only=True):
     # the source point the figure's root follows, or several: their mean (the two hip joints: the
     # figure's hip hinge)
-    point: str | list[str]
+    point: str | Annotated[list[str], Meta(max_length=MAX_POINTS)]
     # the floor's height in source units, or 'lowest': the lowest point a clip reaches (a stream: so
     # far)
     floor: Num("world_xy") | Literal["lowest"] = "lowest"
@@ -60,7 +64,7 @@ class ClearanceSpec(Spec, kw_only=True):
     centimetres up), never below 0. Channel ``clearance``, m: 0 while a foot is down,
     the height of a jump in flight, so a tracked figure leaves the ground then."""
 
-    points: Annotated[list[str], Meta(min_length=1)]
+    points: Annotated[list[str], Meta(min_length=1, max_length=MAX_POINTS)]
     standing: Num("size")  # m above the floor with the foot down
 
 
@@ -105,13 +109,16 @@ class MappingSpec(Spec, kw_only=True):
     # the figure's size over the performer's (lengths: root motion, effectors)
     size: Num("ratio") = 1.0
     root: RootSpec
-    segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1)]
-    channels: dict[str, ChannelSpec] = field(default_factory=dict)
+    segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1, max_length=MAX_POINTS)]
+    channels: Annotated[dict[str, ChannelSpec], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
     # name -> source point: channels NAME.x and NAME.y, m from the centre of mass, in the plane
-    effectors: dict[str, str] = field(default_factory=dict)
+    effectors: Annotated[dict[str, str], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
     clearance: ClearanceSpec | None = None
     # source point -> weight: the centre of mass (absent: the root point)
-    com: dict[str, Num("ratio")] = field(default_factory=dict)
+    com: Annotated[dict[str, Num("ratio")], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
 
     def __post_init__(self):
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:

@@ -354,9 +354,7 @@ def _held(a: np.ndarray) -> np.ndarray:
 
 def clip_points(clip, names) -> dict[str, np.ndarray]:
     """A BVH clip's world positions (source units) of the named joints and end sites."""
-    xyz = clip.world_positions(1.0)
-    index = {n: i for i, n in enumerate(clip.names)}
-    return {n: xyz[:, index[n]] for n in names if n in index}
+    return clip.positions_of(names)
 
 
 def retarget_clip(clip, mapping: MappingSpec, name: str = "<clip>") -> RetargetedClip:

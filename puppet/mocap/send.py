@@ -31,7 +31,7 @@ import numpy as np
 from puppet.data.errors import DataError
 from puppet.data.yamlfile import load_file
 from puppet.mocap import mediapipe, puppet_osc, unity, vmc
-from puppet.mocap.bvh import Clip
+from puppet.mocap.bvh import MAX_NAME, Clip
 
 MIRROR = np.diag([-1.0, 1.0, 1.0])  # right-handed -> Unity's left-handed (x mirrored)
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
@@ -88,8 +88,9 @@ def parse_bones(doc) -> BoneTable:
             if name not in names:
                 what = "a Unity humanoid bone" if part == "vmc" else "a MediaPipe landmark"
                 raise doc.error((part, name), f"'{name}' is not {what}", prefer_key=True)
-            if not isinstance(joint, str) or not joint:
-                raise doc.error((part, name), f"{part}.{name}: expected a BVH joint name")
+            if not isinstance(joint, str) or not joint or len(joint) > MAX_NAME:
+                raise doc.error((part, name), f"{part}.{name}: expected a BVH joint name "
+                                              f"(1 to {MAX_NAME} characters)")
             getattr(table, part)[str(name)] = joint
             table.where[(part, name)] = doc.where((part, name)) or (None, None)
     return table

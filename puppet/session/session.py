@@ -71,6 +71,7 @@ class Session:
         # rewind; the step count goes on, so a replay ends where the recording did).
         self._recovery: tuple[int, int] | None = None
         self.halted: str | None = None
+        self.halted_at: float | None = None  # s: when it halted (the end line says it)
         self._frame_every = max(1, round(FRAME_SECONDS / dt))
         self._world = world_box(setup.scene)
         self._root_name = self.sim.character.link_order[0]
@@ -385,6 +386,7 @@ class Session:
             before = last[1]  # that checkpoint failed again: one further back
         start = self.history.start
         if last is not None and before == last[1] and last[1] <= start.step:
+            self.halted_at = steps * self.sim.dt
             self.halted = (f"the simulation {what} at t={steps * self.sim.dt:.2f} s again "
                            f"after going back to the start; stopped (reset, rewind or "
                            f"change the interface)")

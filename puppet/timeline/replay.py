@@ -19,11 +19,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from puppet import __version__
-from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
+from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.log import Log, embedded_problem, read_log
 from puppet.session.playback import next_move, play
+from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 
 if TYPE_CHECKING:  # the expectations are imported only by a checked replay
@@ -184,13 +185,16 @@ def copy_note(log: Log, refused: bool) -> str:
     return f"{log.path}: note: interface file '{name}' {why}; the copy recorded in the log plays"
 
 
-def differs_warning(log: Log, kind: str, path: Path, found: str, has_copy: bool) -> str:
+def differs_warning(log: Log, kind: str, path: Path, found: str | None,
+                    has_copy: bool) -> str:
     """The one words (replay and ``puppet check`` alike) for a file the header names
     whose content is not the one recorded: ``path`` is the file the name found now
     (today's version, or a variant of that name in the log's folder), ``found`` its
-    hash; ``has_copy``: the header keeps the recorded interface."""
+    hash (None: not shown, a file beside the log: its hash would tell of its content);
+    ``has_copy``: the header keeps the recorded interface."""
     name = log.header.get(kind, str(path))
-    return (f"{log.path}: warning: {kind} '{name}': the file found ({path}, hash {found}) "
+    shown = f"{path}, hash {found}" if found is not None else str(path)
+    return (f"{log.path}: warning: {kind} '{name}': the file found ({shown}) "
             f"differs from the one recorded (hash {log.header.get(f'{kind}_hash')}); the "
             "replay may end elsewhere"
             + (" (puppet replay --as-recorded replays the recorded interface)" if has_copy
@@ -213,7 +217,7 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
-    within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
+    within = Folders((Path(log.path).resolve().parent,))  # the catalog, or beside the log
     refused = False  # the header names a file outside the catalog and the log's folder
     try:
         where = find("interface", h["interface"], within)
@@ -232,10 +236,12 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     except DataError as exc:
         if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
-        if not from_copy and embedded is not None and exc.path == str(where):
-            raise DataError(exc.path, exc.line, exc.col,
-                            f"{exc.message} ({as_recorded_option} replays the log's own "
-                            f"copy of the interface)") from None
+        hint = (f" ({as_recorded_option} replays the log's own copy of the interface)"
+                if not from_copy and embedded is not None and exc.path == str(where) else "")
+        if within.found:
+            raise unquoted_error(log, within.found, hint) from None
+        if hint:
+            raise DataError(exc.path, exc.line, exc.col, exc.message + hint) from None
         raise
     warnings = []
     if h.get("puppet") != __version__:
@@ -259,8 +265,9 @@ def setup_for_log(log: Log, as_recorded: bool = False,
             continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and (found := file_hash(Path(path))) != recorded:
-            warnings.append(differs_warning(log, kind, Path(path), found,
-                                            kind == "interface" and embedded is not None))
+            warnings.append(differs_warning(
+                log, kind, Path(path), None if Path(path).resolve() in within.found else found,
+                kind == "interface" and embedded is not None))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
                         f"the interface now uses '{Path(setup.character_path).stem}'")
@@ -286,7 +293,7 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
     except DataError as exc:  # a reload event whose interface text is invalid
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
-        raise DataError(log.path, line, None, f"cannot apply this event: {exc}") from None
+        raise reload_error(log, line, session.setup, exc) from None
     except (ValueError, KeyError, TypeError) as exc:
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None

@@ -91,7 +91,9 @@ def print_notes(res: dict) -> None:
 
     for w in res.get("warnings", []):
         print(w, file=sys.stderr)
-    for note in res.get("blowups", []):
+    from puppet.timeline.blowups import fold
+
+    for note in fold(res.get("blowups", [])):
         print(f"{res['log']}: {note}", file=sys.stderr)
 
 

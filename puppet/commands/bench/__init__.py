@@ -49,6 +49,7 @@ The package, one measurement a module: ``config`` (clock, run lengths, targets),
 from __future__ import annotations
 
 import argparse
+import math
 
 
 def register(subparsers) -> None:
@@ -70,10 +71,28 @@ def register(subparsers) -> None:
     bench.add_argument("--feats", action="store_true",
                        help="only the control overhead on the shipped feat logs (each log "
                             "with control against bare Chipmunk fed the same writes)")
+    bench.add_argument("--soak", type=_minutes, metavar="MINUTES",
+                       help="instead: scrub the cat and the biped for MINUTES each (30 for "
+                            "the issue's soak) and report the growth of the resident memory "
+                            "(exit 1 past 2 MB)")
     bench.set_defaults(func=run)
 
 
+def _minutes(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 < value <= 24 * 60:
+        raise argparse.ArgumentTypeError(f"expected minutes, a number in 0..1440, got {text!r}")
+    return value
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.soak is not None:  # the long scrubbing soak instead (soak.py)
+        from puppet.commands.bench.soak import soak_main
+
+        return soak_main(args.soak, as_json=args.json)
     import json
     import sys
 
