@@ -184,8 +184,10 @@ def test_info_on_a_clip_no_mapping_fits_says_how_to_write_one(tmp_path):
     bvh = tmp_path / "odd.bvh"
     bvh.write_text(TWO_JOINT_BVH)
     text = describe(str(bvh))
-    assert ("planar angles: no mapping of assets/mappings/ names all its joints (write "
-            "one, see docs/interfaces.md, 'Motion capture'; then --mapping NAME)") in text
+    assert ("planar angles: no mapping of assets/mappings/ names all its joints, and it is "
+            "no humanoid rig puppet recognises (no joint named for the left ankle (or "
+            "foot)") in text
+    assert "write a mapping (docs/interfaces.md, 'Motion capture'), then --mapping NAME" in text
 
 
 # -- the commands, in-process ----------------------------------------------------------------

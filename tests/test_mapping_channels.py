@@ -83,11 +83,14 @@ def test_the_shipped_mappings_name_their_character_and_pass(name, capsys):
 
 
 def test_play_with_a_clip_the_mapping_does_not_fit_suggests_the_one_info_picks(capsys):
+    """--mapping given, and it does not fit (without --mapping the interface's
+    mapping that does not fit gives way to the one info picks: test_mocap_rigs)."""
     from puppet.mocap.bvh import read_bvh
     from puppet.mocap.info import matching_mappings
 
     picked = matching_mappings(read_bvh("assets/mocap/cmu-01_01-jumps.bvh"))[0][0]
-    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-01_01-jumps"])
+    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-01_01-jumps",
+                 "--mapping", "cmu-131"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and f"--mapping {picked} (shipped)" in err and picked == "cmu-01", err
     # what the source has: all of it (counted), not only the names the mapping reads

@@ -141,8 +141,11 @@ def test_vmc_time_going_back_is_dropped_a_restart_is_not():
     t = lambda s: msg(vmc.TIME, float(s))  # noqa: E731
     assert d.feed(bundle(bone("Hips"), t(10.0)))
     assert d.feed(bundle(bone("Hips", (0, 1, 0)), t(9.9))) == []
-    assert d.feed(bundle(bone("Hips", (0, 1, 0)), t(10.0))) == []
+    assert d.feed(bundle(bone("Hips"), t(10.0))) == []  # the same time, nothing new
     assert d.counts.dropped == {"out_of_order": 1, "stale": 1}
+    # the same time with new bones: the frame's next bundle, not stale
+    assert d.feed(bundle(bone("Spine", (0, 0.5, 0)), t(10.0)))[0].points["Spine"] == (0, 0.5, 0)
+    assert d.counts.continued == 1 and d.counts.dropped["stale"] == 1
     # the dropped frames' bones were not kept
     assert d.feed(bundle(bone("Hips", (0, 3, 0)), t(10.1)))[0].points["Hips"] == (0, 3, 0)
     assert d.feed(bundle(bone("Hips"), t(0.5)))  # far back: the sender started again

@@ -64,8 +64,18 @@ def test_kd_control_follows_the_clip_and_a_rewind_replays_it_to_the_bit(walk):
     assert s.runtime.tracker.status == "tracking kd with pulls"
 
 
+def _letting_go():
+    """biped-mocap without tracking.stand: a lost stream lets go of the joints."""
+    import dataclasses
+
+    setup = load_setup("biped-mocap")
+    tracking = setup.interface.tracking.model_copy(update={"stand": None})
+    return Session(dataclasses.replace(setup, interface=setup.interface.model_copy(
+        update={"tracking": tracking})))
+
+
 def test_the_stream_lost_lets_go_and_a_new_sample_takes_the_joints_back(walk):
-    s = Session(load_setup("biped-mocap"))
+    s = _letting_go()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 0.5)
     run(s, events, round(0.5 / dt))
@@ -158,14 +168,21 @@ def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, imp
     assert tracker._weight(s.steps) == pytest.approx(spec.weight)
     assert f"reacting to a {case} push" in tracker.status
     end = start + round((spec.hold + spec.recover) / dt) + 16
+    if case == "fall":  # a get-up after the hold, then the performer over the blend
+        get_up = tracker.spec.reaction.get_up
+        run(s, [e for e in events if e[0] >= s.steps], start + round(spec.hold / dt) + 16)
+        assert tracker.getup is not None and "getting up (hands_knees)" in tracker.status
+        end = start + round((spec.hold + sum(p.hold for p in get_up.steps)
+                             + tracker.spec.blend) / dt) + 16
     run(s, [e for e in events if e[0] >= s.steps], end)
     assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
+    assert tracker.getup is None and tracker.back is None
 
 
 def test_lost_then_off_then_on_tracks_again(walk):
     """A lost stream, then `o` (off) and `t` (KD): tracking starts afresh, not stuck
-    lost holding the joints at KD's weak gains."""
-    s = Session(load_setup("biped-mocap"))
+    lost holding the joints at KD's weak gains (blended in over tracking.blend)."""
+    s = _letting_go()
     dt = s.sim.dt
     run(s, ClipSource(walk).events(dt, 0.3), round(0.3 / dt))
     run(s, [], round(0.7 / dt))
@@ -174,8 +191,8 @@ def test_lost_then_off_then_on_tracks_again(walk):
     s.handle(ev.key("o", True))
     s.handle(ev.key("t", True))
     assert not tracker.lost and tracker.mode == "kd"
-    events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.2)]
-    run(s, events, round(1.2 / dt))
+    events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.3)]
+    run(s, events, round(1.3 / dt))
     assert not tracker.lost and "LOST" not in tracker.status
     assert s.character.servos["knee_far"].target == pytest.approx(
         math.radians(s.runtime.channels["knee_far"]))

@@ -26,7 +26,9 @@ YAML_EXTS = (".yaml", ".yml")
 _PARSERS = {"character": ("puppet.data.characters", "parse_character"),
             "scene": ("puppet.data.scenes", "parse_scene"),
             "script": ("puppet.timeline.script", "parse_script"),
-            "mapping": ("puppet.data.mappings", "parse_mapping")}
+            "mapping": ("puppet.data.mappings", "parse_mapping"),
+            "humanoid rig": ("puppet.mocap.rigs", "parse_humanoid"),
+            "vmc avatar": ("puppet.mocap.vmc", "parse_avatar")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
                     "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl "
                     "logs and .bvh clips, or their names")
@@ -171,10 +173,14 @@ def guess_kind(path: Path, located: Located) -> str:
         return "script"
     if "segments" in data:  # (before character: a mapping may name its character)
         return "mapping"
+    if "sides" in data and "roles" in data:  # (before character: it names the figure's)
+        return "humanoid rig"
     if "character" in data:
         return "interface"
     if "vmc" in data or "mediapipe" in data:
         return "bone table"
+    if "bones" in data:
+        return "vmc avatar"
     if "expect" in data:
         return "expectations"
     raise located.error((), "cannot tell what kind of file this is; expected a character "

@@ -66,6 +66,9 @@ def register(subparsers) -> None:
                                         "default: the first whose points the clip has "
                                         "(by name)")
     info.set_defaults(func=_info)
+    from puppet.commands.mocap_mapping import register as register_rig_mapping
+
+    register_rig_mapping(msub)  # puppet mocap mapping CLIP: a recognised rig's mapping
     send = msub.add_parser("send", help="stream a BVH clip over OSC in real time",
                            description="Stream a BVH clip over OSC/UDP in real time "
                                        "(VMC bones, MediaPipe landmarks, or puppet "
@@ -75,7 +78,9 @@ def register(subparsers) -> None:
     send.add_argument("--to", default="udp://127.0.0.1:39539", metavar="udp://HOST:PORT",
                       help="where to send (default udp://127.0.0.1:39539)")
     send.add_argument("--format", choices=FORMATS, default="vmc",
-                      help="vmc (default), mediapipe, or puppet (needs --mapping)")
+                      help="vmc (default), mediapipe, mediapipe-osc (as the "
+                           "MediaPipe-to-OSC bridge: the clip filmed side-on), or puppet "
+                           "(needs --mapping)")
     send.add_argument("--bones", default=DEFAULT_BONES, metavar="FILE",
                       help="which BVH joint is which humanoid bone / landmark (vmc and "
                            f"mediapipe; default {DEFAULT_BONES})")
@@ -96,7 +101,8 @@ def register(subparsers) -> None:
                         help="address to bind (default 127.0.0.1; 0.0.0.0 for every "
                              "network)")
     listen.add_argument("--format", choices=FORMATS, default="vmc",
-                        help="what to expect: vmc (default), mediapipe or puppet")
+                        help="what to expect: vmc (default), mediapipe, mediapipe-osc or "
+                             "puppet")
     listen.add_argument("--mapping", metavar="NAME",
                         help="also show the channels this mapping makes of the points")
     listen.add_argument("--seconds", type=_duration, metavar="S",
@@ -205,6 +211,7 @@ def _listen(args: argparse.Namespace) -> int:
 
 ADDRESS_FORMATS = (("/VMC/", "vmc"), ("/mediapipe/pose", "mediapipe"),
                    ("/puppet/channels", "puppet"))  # an address's beginning: whose it is
+# (mediapipe-osc's address is mediapipe's: a leading count says which, in the drop's words)
 
 
 def _format_hint(text: str, fmt: str) -> str:

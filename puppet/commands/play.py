@@ -62,6 +62,11 @@ def register(subparsers) -> None:
     play.add_argument("--loop", action="store_true",
                       help="play the --mocap clip over and over (headless: needs --seconds, "
                            "a looping clip has no end)")
+    from puppet.mocap.clip_source import drop_option
+
+    play.add_argument("--mocap-drop", type=drop_option, metavar="FROM:UNTIL",
+                      help="no sample of the --mocap clip from FROM to UNTIL s: the "
+                           "stream lost, to try what the interface does then")
     play.add_argument("--mapping", metavar="MAPPING",
                       help="the mocap mapping (assets/mappings/NAME.yaml or a path); "
                            "default: the interface's tracking.mapping")
@@ -76,8 +81,10 @@ def register(subparsers) -> None:
                            "d-pad, u o the shoulders, return start; logged as a gamepad")
     play.add_argument("--mocap-format", choices=FORMATS, default="vmc",
                       help="--mocap udp://...: what the stream sends: vmc (default, port "
-                           "39539), mediapipe (/mediapipe/pose) or puppet "
-                           "(/puppet/channels: channels, no mapping)")
+                           "39539), mediapipe (/mediapipe/pose world landmarks, port 39570), "
+                           "mediapipe-osc (the MediaPipe-to-OSC bridge: a count, picture "
+                           "landmarks, mirrored; port 7500) or puppet (/puppet/channels: "
+                           "channels, no mapping)")
     play.set_defaults(func=run)
 
 
@@ -142,10 +149,12 @@ def run(args: argparse.Namespace) -> int:
     clip = None
     if args.mocap:  # a recorded clip plays in sim time, through the interface's mapping
         from puppet.mocap.clip_source import ClipSource
-        from puppet.mocap.clips import find_mapping, open_clip
+        from puppet.mocap.clips import choose_mapping, open_clip
 
-        mapping, mapping_path = find_mapping(args.mapping, setup.interface,
-                                             setup.interface_path, setup.character)
+        mapping, mapping_path, note = choose_mapping(args.mocap, args.mapping, setup.interface,
+                                                     setup.interface_path, setup.character)
+        if note:  # not the interface's: a shipped one that fits the clip, or its rig's
+            print(f"puppet play: {note}", file=sys.stderr)
         if setup.interface.tracking is not None:
             from puppet.data.tracking import mapping_problem
 
@@ -154,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
             if problem:
                 raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
-                          loop=args.loop)
+                          loop=args.loop, drop=args.mocap_drop)
         from puppet.data.catalog import find
         from puppet.mocap.bvh import read_bvh
         from puppet.mocap.info import mapping_unit_note
@@ -162,8 +171,9 @@ def run(args: argparse.Namespace) -> int:
         note = mapping_unit_note(read_bvh(find("clip", args.mocap)), mapping, mapping_path)
         if note:  # a clip in metres read as centimetres plays a 10 cm performer
             print(f"puppet play: warning: {note}", file=sys.stderr)
-    elif args.mapping or args.loop:
-        raise UsageError("--mapping and --loop go with --mocap (the clip they are for)")
+    elif args.mapping or args.loop or args.mocap_drop:
+        raise UsageError("--mapping, --loop and --mocap-drop go with --mocap (the clip they "
+                         "are for)")
     if (clip is not None and args.loop and args.headless and args.seconds is None
             and (script is None or script.seconds is None)):  # it would play once, silently
         raise UsageError("--loop headless needs --seconds S: a looping clip has no end, "
@@ -250,9 +260,11 @@ def _live_take(args, setup) -> int | None:
     None when --mocap is not given."""
     if not is_live(args.mocap):
         return None
-    if args.input or args.frames or args.ghost or getattr(args, "loop", False):
-        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost and "
-                         "--loop (a live take is the performer's: record it with --record "
+    if args.input or args.frames or args.ghost or getattr(args, "loop", False) \
+            or getattr(args, "mocap_drop", None):
+        raise UsageError("--mocap udp://... goes without --input, --frames, --ghost, "
+                         "--loop and --mocap-drop (a live take is the performer's: record "
+                         "it with --record "
                          "LOG; then puppet replay LOG --video OUT renders its frames, "
                          "and play --ghost LOG shows it beside another run)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 from puppet.data.errors import UsageError
 
-FORMATS = ("vmc", "mediapipe", "puppet")  # puppet.mocap.formats.FORMATS, importless
+FORMATS = ("vmc", "mediapipe", "mediapipe-osc", "puppet")  # formats.FORMATS, importless
 
-STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose"}  # the defaults
-POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names"}
+STREAM_MAPPINGS = {"vmc": "vmc-humanoid", "mediapipe": "mediapipe-pose",
+                   "mediapipe-osc": "mediapipe-image"}  # the defaults
+POINT_WORDS = {"vmc": "Unity humanoid bone names", "mediapipe": "MediaPipe landmark names",
+               "mediapipe-osc": "MediaPipe landmark names"}
 
 
 def stream_points(fmt: str) -> set[str]:
@@ -57,7 +59,16 @@ def source_for(url: str, fmt: str, mapping: str | None, setup=None, option: str 
                              f"{STREAM_MAPPINGS[fmt]})")
     elif mapping is not None:
         raise UsageError(f"{option}: a puppet stream sends channels: it needs no --mapping")
-    return OscSource(fmt, host, port, retargeter=retargeter)
+    guard = smoother = None
+    if setup is not None:  # every sample judged against the figure it drives, then filtered
+        from puppet.mocap.guard import guard_for
+        from puppet.mocap.smoothing import StreamFilter
+
+        mapping = retargeter.mapping if retargeter is not None else None
+        guard = guard_for(setup, mapping)
+        smoother = StreamFilter(*((mapping.filter.cutoff, mapping.filter.beta)
+                                  if mapping is not None else ()))
+    return OscSource(fmt, host, port, retargeter=retargeter, guard=guard, smoother=smoother)
 
 
 def is_live(value: str | None) -> bool:

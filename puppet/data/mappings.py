@@ -35,14 +35,32 @@ class SourceSpec(Spec, kw_only=True):
     unit: Num("source_unit") = 1.0  # metres per source length unit (CMU BVH: 0.056444, cm: 0.01)
     # the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)
     handedness: Literal["right", "left"] = "right"
+    # each axis's length in units, before unit: a picture's normalised landmarks have x in
+    # widths and y in heights ([1.3333, 1, 0] for 4:3; 0 drops an axis: a webcam's depth)
+    scale: tuple[Num("axis_scale"), Num("axis_scale"), Num("axis_scale")] = (1.0, 1.0, 1.0)
 
 
 class FacingSpec(Spec, kw_only=True):
-    """Two points across the body (the hips), left and right: the performer faces
-    forward of the line between them."""
+    """Two points across the body (the hips), ``left`` and ``right``: the performer
+    faces forward of the line between them; or two along it, ``back`` and ``front``
+    (an ankle and its toe tip): the performer faces from one to the other (what a
+    camera that sees the performer side-on can tell)."""
 
-    left: str
-    right: str
+    left: str | None = None
+    right: str | None = None
+    back: str | None = None
+    front: str | None = None
+
+    def __post_init__(self):
+        across, along = (self.left, self.right), (self.back, self.front)
+        if not ((None not in across and along == (None, None))
+                or (None not in along and across == (None, None))):
+            raise ValueError("facing: give left and right (points across the body) or back "
+                             "and front (points along the way it faces), one pair")
+
+    @property
+    def points(self) -> list[str]:
+        return [p for p in (self.left, self.right, self.back, self.front) if p is not None]
 
 
 class RootSpec(Spec, kw_only=True):
@@ -94,6 +112,16 @@ class ChannelSpec(Spec, kw_only=True):
     scale: Num("coupling") = 1.0
 
 
+class FilterSpec(Spec, kw_only=True):
+    """The 1-euro filter of a live stream's channels (``puppet.mocap.smoothing``): a
+    low-pass at ``cutoff`` Hz while the performer is still, rising by ``beta`` Hz per
+    deg/s (a centimetre a second counts as a degree) as they move. ``cutoff: 0``: no
+    filter. A clip is never filtered."""
+
+    cutoff: Num("cutoff") = 4.0
+    beta: Num("cutoff_slope") = 0.02
+
+
 class MappingSpec(Spec, kw_only=True):
     name: str = ""
     description: str = ""
@@ -119,6 +147,8 @@ class MappingSpec(Spec, kw_only=True):
     # source point -> weight: the centre of mass (absent: the root point)
     com: Annotated[dict[str, Num("ratio")], Meta(max_length=MAX_POINTS)] = field(
         default_factory=dict)
+    # a live stream's filter (a webcam's jitter: more; a suit: less); a clip is not filtered
+    filter: FilterSpec = field(default_factory=FilterSpec)
 
     def __post_init__(self):
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
@@ -150,7 +180,7 @@ class MappingSpec(Spec, kw_only=True):
         for seg in self.segments.values():
             names |= {seg.start, seg.to}
         if self.facing is not None:
-            names |= {self.facing.left, self.facing.right}
+            names |= set(self.facing.points)
         if self.clearance is not None:
             names |= set(self.clearance.points)
         return names

@@ -54,6 +54,10 @@ RANGES: dict[str, tuple[float, float, str, bool]] = {
     "ratio": (0.01, 1000.0, "", False),  # a mocap mapping's size, a gain's multiplier
     "gain": (0.0, 1.0e6, "", False),  # a tracking gain (kp, dp, kq, dq)
     "fraction": (0.0, 1.0, "", False),  # a reaction's weight
+    "speed": (0.0, 100.0, "m/s", False),  # a get-up's largest rise
+    "axis_scale": (0.0, 1000.0, "", False),  # a mocap source axis's length in its units
+    "cutoff": (0.0, 1000.0, "Hz", False),  # a stream filter's cutoff (0: no filter)
+    "cutoff_slope": (0.0, 10.0, "Hz per deg/s", False),  # how a filter's cutoff rises with speed
 }
 
 

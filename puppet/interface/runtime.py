@@ -111,6 +111,17 @@ class InterfaceRuntime:
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
                                None if sim is None else sim.ground_surface)
+        tracking = spec.tracking
+        if tracking is not None:  # the poses tracking stands the figure in, as its channels
+            joints = self.tracker.joints
+            used = [tracking.stand] if tracking.stand is not None else []
+            if tracking.reaction is not None and tracking.reaction.get_up is not None:
+                used += [step.pose for step in tracking.reaction.get_up.steps]
+            self.tracker.poses = {name: {joints[j]: v for j, v in
+                                         spec.poses[name].joint_degrees().items()
+                                         if j in joints} for name in used}
+            if tracking.stand is not None:
+                self.tracker.stand = self.tracker.poses[tracking.stand]
         self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.
@@ -264,7 +275,7 @@ class InterfaceRuntime:
             self.feedback.claim(joints)
         tracking = self.spec.tracking
         if tracking is not None and tracking.start != OFF:
-            self.tracker.switch(tracking.start, now)
+            self.tracker.switch(tracking.start, now, blend=False)
         for name in self.machines:
             self._run_entry(name, now, 0)
         self._reschedule(now)
@@ -483,6 +494,8 @@ class InterfaceRuntime:
                 self.channels[event["name"]] = value
                 if self.tracker.mode != OFF:
                     self.tracker.sampled(now)
+                    if self.tracker.due:
+                        self._tracking_due(now)
             else:
                 self.inputs[name] = value
             pointer = self._pointer and self._pointer_axes.get(name)
@@ -515,6 +528,8 @@ class InterfaceRuntime:
             if self.tracker.lost:  # the stream is back: the tracker takes its joints
                 self.channels.update(values)  # by these values (stored again at flush)
             self.tracker.sampled(self.step_now())
+            if self.tracker.due:  # found: the stream is back
+                self._tracking_due(self.step_now())
         pending = self._pending
         if pending and pending[-1][0] is entry:
             pending[-1][1] = values
@@ -536,6 +551,17 @@ class InterfaceRuntime:
                     self.owners.take(written)
         if self.frames.held and self.frames not in self._active:
             self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
+
+    def _tracking_due(self, now: int) -> None:
+        """Run what the tracker asked for: ``tracking.lost`` (the stream is lost: the
+        interface's balance), ``found`` (it is back), ``reaction.get_up`` (a fall)."""
+        due, self.tracker.due = self.tracker.due, []
+        spec = self.spec.tracking
+        for what in due:
+            action = (spec.reaction.get_up if what == "get_up" and spec.reaction is not None
+                      else getattr(spec, what, None) if what != "get_up" else None)
+            if action is not None:
+                self.run_action(action, now)
 
     def _press(self, chord: str, down: bool, now: int):
         if not down:
@@ -673,6 +699,8 @@ class InterfaceRuntime:
         for controller in active:
             if controller.tick(step) is not WAITED:
                 waited = False
+        if self.tracker.due:  # lost, or a fall: the interface's balance, its get-up
+            self._tracking_due(step)
         moved = False
         for machine in self._machine_list:
             to = machine.due(step)

@@ -48,10 +48,13 @@ class OscSource:
 
     def __init__(self, fmt: str, host: str = LOCALHOST, port: int | None = None,
                  retargeter=None, lost_after: float = LOST_AFTER,
-                 clock: Callable[[], float] = time.perf_counter):
+                 clock: Callable[[], float] = time.perf_counter, guard=None,
+                 smoother=None):
         self.decoder = decoder(fmt)
         self.format = fmt
         self.retargeter = retargeter
+        self.guard = guard  # judges points and channels against the figure (guard.py)
+        self.smoother = smoother  # filters what the guard kept (smoothing.py)
         self.host = host
         self.port = self.decoder.default_port if port is None else port
         self.lost_after = lost_after
@@ -82,12 +85,26 @@ class OscSource:
                 self.last_names = tuple(frame.points or frame.channels)
                 self.last_frame = arrival
                 self._arrivals.append(arrival)
+                guard = self.guard
+                if guard is not None and frame.points and guard.pose is not None:
+                    how = guard.pose.judge(frame.points, arrival)
+                    if how == "drop":
+                        continue
+                    if how == "rejoin" and self.retargeter is not None:
+                        self.retargeter.rebase()  # the root jumped: no travel, a new floor
                 values = self._channels(frame)
                 if not values:
                     self.unmapped += 1
                     if not self.unmapped_reason and self.retargeter is not None:
                         self.unmapped_reason = self._unmapped_why(frame)
                     continue
+                if guard is not None:
+                    values = guard.channels.judge(values, arrival)
+                    if not values:  # every channel absurd: no sample
+                        continue
+                if self.smoother is not None:  # on the sender's clock if it sends one
+                    values = self.smoother.apply(
+                        values, frame.time if frame.time is not None else arrival)
                 if self.queue.post(ev.channels(values)):
                     posted += 1
                     self.last_arrival = arrival
@@ -124,11 +141,15 @@ class OscSource:
     def reasons(self) -> list[tuple[str, str]]:
         """(kind, what the first of its drops said) for each kind of drop seen so far,
         in ``DROP_REASONS`` order, then ``unmapped`` (with a mapping)."""
+        from puppet.mocap.guard import GUARD_REASONS
         from puppet.mocap.osc import DROP_REASONS
 
         with self._lock:
             first = dict(self.decoder.counts.first_detail)
             out = [(r, first[r]) for r in DROP_REASONS if r in first]
+            if self.guard is not None:
+                judged = self.guard.tally.first_detail
+                out += [(r, judged[r]) for r in GUARD_REASONS if r in judged]
             if self.unmapped and self.unmapped_reason:
                 out.append(("unmapped", self.unmapped_reason))
         return out
@@ -178,6 +199,13 @@ class OscSource:
             if self.lost_count and not self.fresh:
                 text += ", LOST"
             text += f", {c.drops_text()}"
+            if c.no_pose:
+                text += f", {c.no_pose} no pose"
+            if c.continued:
+                text += f", {c.continued} continued"
+            judged = self.guard.tally.text() if self.guard is not None else ""
+            if judged:
+                text += f", {judged}"
             dropped = self.queue.dropped_bad + self.queue.dropped_overflow
             if dropped:
                 text += f", {dropped} events refused"
@@ -192,11 +220,12 @@ class OscSource:
             c = self.decoder.counts
             recent = sum(1 for a in self._arrivals if a >= now - RATE_WINDOW)
             last = self.last_frame
+            judged = self.guard.tally.text() if self.guard is not None else ""
         age = "waiting" if last is None else f"{now - last:.2f} s ago"
         text = f"mocap {self.format} :{self.port}  {recent / RATE_WINDOW:.0f} Hz  {age}"
         if self.lost_count and not self.fresh:
             text += "  LOST"
-        return f"{text}  {c.drops_text()}"
+        return f"{text}  {c.drops_text()}" + (f"  {judged}" if judged else "")
 
     # -- the server
     def start(self) -> "OscSource":
