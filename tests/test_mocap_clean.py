@@ -12,7 +12,7 @@ import pytest
 from puppet.data.catalog import find, load_setup
 from puppet.mocap import puppet_osc
 from puppet.mocap.bvh import read_bvh
-from puppet.mocap.commands import source_for
+from puppet.commands.streams import source_for
 from puppet.mocap.retarget import TURN_LIMIT, _continued, load_mapping, retarget_clip
 from puppet.mocap.smoothing import StreamFilter
 

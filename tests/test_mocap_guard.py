@@ -17,7 +17,7 @@ import pytest
 from puppet.data.catalog import load_setup
 from puppet.mocap import mediapipe, puppet_osc, vmc
 from puppet.mocap.bvh import read_bvh
-from puppet.mocap.commands import source_for
+from puppet.commands.streams import source_for
 from puppet.mocap.guard import REJOIN, guard_for
 from puppet.mocap.retarget import retarget_clip, load_mapping
 from puppet.mocap.send import encoder, load_bones

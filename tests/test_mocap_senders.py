@@ -15,7 +15,7 @@ from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 
 from puppet.mocap import mediapipe_bridge, puppet_osc, unity, vmc
 from puppet.mocap.bvh import read_bvh
-from puppet.mocap.commands import source_for
+from puppet.commands.streams import source_for
 from puppet.mocap.send import MIRROR, _matrices_to_quats, _world, encoder, load_bones
 
 ANGLES = ("hip_near", "knee_near", "ankle_near", "hip_far", "knee_far", "ankle_far",
