@@ -158,6 +158,11 @@ def format_report(report: dict) -> str:
             f"{kd['overhead_pct']:+.0f} % over its channels alone ({kd['off_speed_x']:.0f}x)")
     for path, lat in report.get("mocap_latency", {}).items():
         t = lat["target"]
+        if "send_median_ms" in lat:
+            row(f"mocap-latency ({path}): send -> targets, median / p99",
+                f"{lat['send_median_ms']:.1f}/{lat['send_p99_ms']:.1f} ms")
+            row("  (with decoding; most frames waiting at a drain, poses skipped)",
+                f"{lat['queued_max']}, {lat['skipped']}")
         row(f"mocap-latency ({path}): arrival -> targets", f"{lat['median_ms']:.1f} ms")
         row(f"  99th percentile / worst ({lat['samples']} samples)",
             f"{lat['p99_ms']:.1f}/{lat['max_ms']:.1f} ms")
