@@ -11,7 +11,7 @@ from puppet.commands.streams import source_for
 from puppet.data.catalog import load_setup
 from puppet.input.live import LiveQueue
 from puppet.interface import events as ev
-from puppet.mocap import puppet_osc, vmc
+from puppet.mocap import puppet_osc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.send import encoder, load_bones
 from puppet.mocap.source import OscSource
