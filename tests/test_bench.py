@@ -107,3 +107,19 @@ def test_the_quick_bench_replays_each_log_for_its_first_second_only(report):
     assert [i["log"] for i in got["items"]] == shipped
     assert all(abs(i["sim_seconds"] - seconds) < 0.01 and i["speed_x"] > 0
                for i in got["items"]), got["items"]
+
+
+def test_quick_bench_measures_every_feat_log_against_the_same_motion(report):
+    """Every shipped log is played with control and bare (the writes the controlled run
+    made, fed to Chipmunk); the bare run ends where the controlled one does."""
+    shipped = sorted(p.stem for p in (ROOT / "assets" / "logs").glob("*.jsonl"))
+    feats = report["feats"]
+    assert sorted(i["log"] for i in feats["items"]) == shipped
+    for item in feats["items"]:
+        assert "error" not in item, item
+        assert item["same_motion"] is True, item["log"]
+        assert item["steps"] > 0 and item["bare_us_per_step"] > 0
+        assert item["control_us_per_step"] > 0 and isinstance(item["overhead_pct"], float)
+    names = {t["name"] for t in feats["targets"]}
+    assert {f"control overhead: {log}" for log in shipped} <= names
+    assert "control overhead: median over the feat logs" in names

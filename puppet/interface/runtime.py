@@ -100,11 +100,11 @@ class InterfaceRuntime:
                                             self.dt)
         self.gestures = GestureController(spec.gestures, servos, self.owners, self.dt)
         self.gestures.inputs = self.inputs
+        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.grasping = GraspController(self.chains, character, sim, self.dt)
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
-                                        self.grasping, self.read_input, self.dt)
+                                        self.grasping, self.read_input, self.dt, every)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
-        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
@@ -133,6 +133,7 @@ class InterfaceRuntime:
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._active_cache: dict[tuple, tuple] = {}  # (binding, active maps) -> compiled
         self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
         # pointer.x / pointer.y: the mouse, or the gamepad's pointer stick (only kept when
         # a map reads them)
@@ -289,15 +290,22 @@ class InterfaceRuntime:
         for machine in self.machines.values():
             active += machine.spec.states[machine.current].maps
         self.active_maps = active
-        self._mouse_maps = mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER))
-        self._channel_maps = {}
-        self._push_feedback(active)
-        joints: set[str] = set()
-        for m in active:
-            if any(n in ("mouse.x", "mouse.y") + POINTER for n in m.inputs):
-                joints |= self._map_joints(m)
+        # What a set of active maps compiles to, under a binding, is worked out once (a
+        # gait enters a state every step): the appliers are plain functions of the inputs
+        key = (self.role_binding, tuple(map(id, active)))
+        compiled = self._active_cache.get(key)
+        if compiled is None:
+            joints: set[str] = set()
+            for m in active:
+                if any(n in ("mouse.x", "mouse.y") + POINTER for n in m.inputs):
+                    joints |= self._map_joints(m)
+            compiled = self._active_cache[key] = (
+                mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER)),
+                self._feedback_maps(active), frozenset(joints), {})
+        self._mouse_maps, (readers, setters, adders), joints, self._channel_maps = compiled
+        self.feedback.set_maps(list(readers), list(setters), list(adders))
         self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
-        self.gestures.mouse_joints = joints
+        self.gestures.mouse_joints = set(joints)
 
     def _compiled(self, inputs) -> list:
         """Compiled appliers of the active device maps reading any of ``inputs``, in
@@ -305,8 +313,9 @@ class InterfaceRuntime:
         return [self._applier(m) for m in self.active_maps
                 if not m.feedback and any(i in inputs for i in m.inputs)]
 
-    def _push_feedback(self, active) -> None:
-        """Hand the active feedback maps (sensor inputs, ``add``) to their controller."""
+    def _feedback_maps(self, active) -> tuple:
+        """The active feedback maps (sensor inputs, ``add``) as their controller takes
+        them: (readers, setters, adders)."""
         readers, setters, adders = {}, [], []
         for m in active:
             if not m.feedback:
@@ -321,7 +330,7 @@ class InterfaceRuntime:
                 adders.append(self._applier(m))
             else:
                 setters.append((self._applier(m), tuple(sorted(self._map_joints(m)))))
-        self.feedback.set_maps(list(readers.items()), setters, adders)
+        return tuple(readers.items()), tuple(setters), tuple(adders)
 
     def _map_joints(self, m) -> set[str]:
         m = self.roles.map(m)

@@ -23,6 +23,10 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
   checkpoint interval plus the input events; its memory under ``tracemalloc``); then
   ``Session.rewind_to`` a step 60 s back (restore the keyframe before it, re-simulate the
   input up to it) and one frame of play from there.
+* **feat logs** - the control overhead on what users run: every shipped log replayed
+  by a Session against bare Chipmunk fed the very writes the controlled run made
+  (``feats``: servo targets and gains, velocity changes, grasps, checkpoints' re-seats;
+  the bare run must end in the log's own state). ``--feats`` runs this section alone.
 * **logs** - replay speed of every ``assets/logs/*.jsonl`` through
   ``puppet.timeline.replay.replay`` with its expectations, as ``puppet.testing.replay_log``
   replays it.
@@ -39,7 +43,7 @@ code is 0 unless ``--strict``.
 The package, one measurement a module: ``config`` (clock, run lengths, targets),
 ``subjects`` (what is measured, the input), ``speed`` (control against bare pymunk),
 ``checkpoints`` (checkpoint, rewind, scrub), ``channels``, ``feedback``, ``mocap`` and
-``latency``, ``logs``, ``processes``; ``suite`` runs them all and ``report`` prints it.
+``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``; ``suite`` runs them all and ``report`` prints it.
 """
 
 from __future__ import annotations
@@ -64,6 +68,9 @@ def register(subparsers) -> None:
                        help="time by the thread's CPU time (a whole process's: its CPU ms), "
                             "not the wall clock (steadier when other processes load the "
                             "machine)")
+    bench.add_argument("--feats", action="store_true",
+                       help="only the control overhead on the shipped feat logs (each log "
+                            "with control against bare Chipmunk fed the same writes)")
     bench.add_argument("--soak", type=_minutes, metavar="MINUTES",
                        help="instead: scrub the cat and the biped for MINUTES each (30 for "
                             "the issue's soak) and report the growth of the resident memory "
@@ -89,14 +96,19 @@ def run(args: argparse.Namespace) -> int:
     import json
     import sys
 
-    from puppet.commands.bench.report import format_report
-    from puppet.commands.bench.suite import run_bench
+    from puppet.commands.bench.report import format_feat_report, format_report
+    from puppet.commands.bench.suite import run_bench, run_feats
 
-    report = run_bench(quick=args.quick, only=args.character or None,
-                       clock_name="cpu" if args.cpu else "wall")
+    clock_name = "cpu" if args.cpu else "wall"
+    if args.feats:
+        report = run_feats(quick=args.quick, only=args.character or None,
+                           clock_name=clock_name)
+    else:
+        report = run_bench(quick=args.quick, only=args.character or None,
+                           clock_name=clock_name)
     if args.json:
         json.dump(report, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
-        print(format_report(report))
+        print((format_feat_report if args.feats else format_report)(report))
     return 1 if args.strict and not report["all_pass"] else 0

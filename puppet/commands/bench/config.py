@@ -38,13 +38,16 @@ REWIND_TARGET = {"biped": 30.0, "biped-small": 30.0}
 SCRUB_FRAME_TARGET_MS = 1000.0 / 60.0  # every scrub frame within a 60 Hz frame
 PROCESS_TARGET_MS = 150.0  # a short headless replay or a check, end to end
 BVH_READ_TARGET_MS = 200.0  # a 2 MB motion-capture clip
+# the control layer on the shipped feat logs (issue 29): each log, and their median
+FEAT_OVERHEAD_TARGET_PCT = 15.0
+FEAT_MEDIAN_TARGET_PCT = 10.0
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
         "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 90.0, "scrub_frames": 600,
-        "process_repeats": 5, "log_seconds": None}
+        "process_repeats": 5, "log_seconds": None, "feat_rounds": 3, "feat_seconds": None}
 QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds": 1.0,
          "rewind_repeats": 2, "log_repeats": 1, "scrub_played_s": 4.0, "scrub_frames": 30,
-         "process_repeats": 1, "log_seconds": 1.0}
+         "process_repeats": 1, "log_seconds": 1.0, "feat_rounds": 1, "feat_seconds": 0.5}
 
 
 def median_ms(fn, repeats: int) -> float:

@@ -13,8 +13,13 @@ a Session and steps the physics. Two paths:
   biped-mocap's KD tracking, which writes the targets on its control ticks: the time is
   taken after the frame's steps (an upper bound: the first tick comes sooner).
 
-A frame's latency is from its arrival (decoded on the source's thread) to the targets
-set from it; it holds the wait for the next frame of the loop (up to one frame) and
+The headline is a frame's time from its send to the targets set from it: the loopback,
+the wait for the source's thread, its decoding (and retargeting) there, the wait for the
+loop's next frame and the session's handling. Under load the source's thread is what
+falls behind: it reads the whole backlog the socket holds at once and decodes only the
+newest pose (``OscSource.receive_many``), and the queue to the frame loop keeps at most
+one frame (``queued_max``). A frame's latency from its arrival (decoded on the source's
+thread) to the targets set from it is kept beside it; it holds the wait for the next frame of the loop (up to one frame) and
 the session's handling. The target, "within one frame at 60 fps": every sample acts at
 the first frame of the loop after it arrives (``next_frame_pct`` 100), so its latency
 is at most that frame's wait plus the handling (``processing``); in milliseconds that
@@ -80,6 +85,8 @@ def measure_latency(seconds: float = 3.0, rate: float = 120.0, path: str = "pupp
     waited: list[int] = []  # frames of the loop each sample waited (1: the next frame)
     processing: list[float] = []  # drain -> targets set (the session's handling)
     drains: list[float] = []  # when each earlier frame drained the source
+    send_to_target: list[float] = []  # send -> targets set: everything on the way
+    queued_max = 0  # the most channels events waiting at a drain (one: skip-to-newest)
     changed = 0
     with source:
         address = (source.host, source.port)
@@ -109,6 +116,7 @@ def measure_latency(seconds: float = 3.0, rate: float = 120.0, path: str = "pupp
                 if wait > 0:
                     time.sleep(wait)
                 before = [s.target for s in servos.values()]
+                queued_max = max(queued_max, source.queue.pending())
                 drain_at = time.perf_counter()
                 for event in source.drain(session.time):
                     session.handle(event)
@@ -125,6 +133,7 @@ def measure_latency(seconds: float = 3.0, rate: float = 120.0, path: str = "pupp
                         k = round(t * rate)
                         if k in sent:
                             latencies.append(done - arrival)
+                            send_to_target.append(done - sent[k])
                             transit.append(arrival - sent[k])
                             # the drains since it arrived (1: it acted at the next frame)
                             waited.append(1 + sum(1 for d in drains[-3:] if d > arrival))
@@ -142,7 +151,9 @@ def measure_latency(seconds: float = 3.0, rate: float = 120.0, path: str = "pupp
             else float("nan")
 
     return {"path": path, "samples": len(latencies), "frames": frame, "rate_hz": rate,
-            "frame_hz": FRAME_HZ, "median_ms": pct(latencies, 0.5),
+            "frame_hz": FRAME_HZ, "send_median_ms": pct(send_to_target, 0.5),
+            "send_p99_ms": pct(send_to_target, 0.99), "queued_max": queued_max,
+            "skipped": source.skipped, "median_ms": pct(latencies, 0.5),
             "p99_ms": pct(latencies, 0.99), "max_ms": pct(latencies, 1.0),
             "transit_median_ms": pct(transit, 0.5), "transit_p99_ms": pct(transit, 0.99),
             "processing_median_ms": pct(processing, 0.5),

@@ -124,6 +124,7 @@ def format_report(report: dict) -> str:
         sim, wall = sum(i["sim_seconds"] for i in items), sum(i["wall_s"] for i in items)
         lines.append(f"  {'all (replayed with their expectations)':<44} "
                      f"{sim / wall:>11.0f}x  ({sim:.1f} s in {wall * 1e3:.0f} ms)")
+    lines += format_feats(report["feats"])
     pr = report["processes"]
     verdict = {t["name"]: "PASS" if t["pass"] else "MISS" for t in report["targets"]}
     lines.append("")
@@ -157,6 +158,11 @@ def format_report(report: dict) -> str:
             f"{kd['overhead_pct']:+.0f} % over its channels alone ({kd['off_speed_x']:.0f}x)")
     for path, lat in report.get("mocap_latency", {}).items():
         t = lat["target"]
+        if "send_median_ms" in lat:
+            row(f"mocap-latency ({path}): send -> targets, median / p99",
+                f"{lat['send_median_ms']:.1f}/{lat['send_p99_ms']:.1f} ms")
+            row("  (with decoding; most frames waiting at a drain, poses skipped)",
+                f"{lat['queued_max']}, {lat['skipped']}")
         row(f"mocap-latency ({path}): arrival -> targets", f"{lat['median_ms']:.1f} ms")
         row(f"  99th percentile / worst ({lat['samples']} samples)",
             f"{lat['p99_ms']:.1f}/{lat['max_ms']:.1f} ms")
@@ -175,5 +181,56 @@ def format_report(report: dict) -> str:
     misses += [f["target"]["name"] for f in report.get("feedback", []) if not f["target"]["pass"]]
     misses += [t["name"] for g in report.get("grasping", []) for t in g["targets"]
                if not t["pass"]]
+    misses += feat_misses(report["feats"])
     lines.append("all targets met" if not misses else "MISSED: " + "; ".join(misses))
+    return "\n".join(lines)
+
+
+def format_feats(feats: dict) -> list[str]:
+    """The feat logs' section: per log the control overhead (median of the rounds,
+    their range), the time per step with control and bare, and whether the bare run
+    made the same motion."""
+    part = f", the first {feats['seconds']:g} s of each" if feats["seconds"] else ""
+    title = ("control overhead on the shipped feat logs (with control against bare "
+             f"Chipmunk fed the same writes, {feats['rounds']} interleaved rounds{part})")
+    columns = (f"  {'log':<34} {'overhead':>8} {'(range)':>14}  "
+               f"{'control/bare us a step':>22}  target")
+    lines = ["", title, columns]
+    verdict = {t["name"]: t for t in feats["targets"]}
+    for item in feats["items"]:
+        if "error" in item:
+            lines.append(f"  {item['log']:<34} error: {item['error']}")
+            continue
+        t = verdict[f"control overhead: {item['log']}"]
+        lo, hi = item["overhead_range_pct"]
+        lines.append(f"  {item['log']:<34} {item['overhead_pct']:>7.1f}% "
+                     f"{f'({lo:.0f}..{hi:.0f}%)':>14}  "
+                     f"{item['control_us_per_step']:>10.1f} / {item['bare_us_per_step']:<9.1f}"
+                     f"  <= {t['limit']:g}% {'PASS' if t['pass'] else 'MISS'}"
+                     + ("" if item["same_motion"] else "  DIFFERENT MOTION"))
+    median = verdict.get("control overhead: median over the feat logs")
+    if median:
+        lines.append(f"  {'median over the logs':<34} {median['value']:>7.1f}%"
+                     f"{'':>41}<= {median['limit']:g}% "
+                     f"{'PASS' if median['pass'] else 'MISS'}")
+    return lines
+
+
+def feat_misses(feats: dict) -> list[str]:
+    out = [t["name"] for t in feats["targets"] if not t["pass"]]
+    out += [f"bare run of {i['log']} made another motion" for i in feats["items"]
+            if not i.get("same_motion", True)]
+    return out
+
+
+def format_feat_report(report: dict) -> str:
+    """``puppet bench --feats``."""
+    lines = [f"puppet bench --feats{' --quick' if report['quick'] else ''}: pymunk "
+             f"{report['pymunk']}, Python {report['python']}, dt = 1/{round(1 / report['dt'])}"
+             f" s" + ("; times are the thread's CPU time (--cpu)"
+                      if report.get("clock") == "cpu" else "")
+             + f"; load average {report.get('load_average', '?')}"]
+    lines += format_feats(report["feats"])
+    misses = feat_misses(report["feats"])
+    lines += ["", "all targets met" if not misses else "MISSED: " + "; ".join(misses)]
     return "\n".join(lines)

@@ -9,13 +9,30 @@ import platform
 
 from puppet.commands.bench import config
 from puppet.commands.bench.channels import CHANNEL_SUBJECTS, measure_channels
-from puppet.commands.bench.checkpoints import (measure_checkpoint, measure_rewind,
-                                               measure_scrub, play_frames)
-from puppet.commands.bench.config import (CHECKPOINT_TARGET, CHECKPOINT_TARGET_MS, FRAME_HZ,
-                                          FULL, OVERHEAD_TARGET_PCT, PROCESS_TARGET_MS, QUICK,
-                                          REWIND_TARGET, REWIND_TARGET_MS,
-                                          SCRUB_FRAME_TARGET_MS, SPEED_TARGET,
-                                          SPEED_TARGET_DEFAULT, target)
+from puppet.commands.bench.checkpoints import (
+    measure_checkpoint,
+    measure_rewind,
+    measure_scrub,
+    play_frames,
+)
+from puppet.commands.bench.config import (
+    CHECKPOINT_TARGET,
+    CHECKPOINT_TARGET_MS,
+    FEAT_MEDIAN_TARGET_PCT,
+    FEAT_OVERHEAD_TARGET_PCT,
+    FRAME_HZ,
+    FULL,
+    OVERHEAD_TARGET_PCT,
+    PROCESS_TARGET_MS,
+    QUICK,
+    REWIND_TARGET,
+    REWIND_TARGET_MS,
+    SCRUB_FRAME_TARGET_MS,
+    SPEED_TARGET,
+    SPEED_TARGET_DEFAULT,
+    target,
+)
+from puppet.commands.bench.feats import measure_feats
 from puppet.commands.bench.feedback import FEEDBACK_INTERFACES, measure_feedback
 from puppet.commands.bench.logs import measure_logs
 from puppet.commands.bench.mocap import measure_mocap, measure_mocap_latency
@@ -97,21 +114,53 @@ def measure_grasping(cfg: dict) -> list[dict]:
     return out
 
 
-def run_bench(quick: bool = False, only: list[str] | None = None,
-              clock_name: str = "wall") -> dict:
+def feat_section(cfg: dict, only: list[str] | None = None) -> dict:
+    """The control overhead on every shipped feat log, with its targets."""
+    feats = measure_feats(cfg["feat_rounds"], cfg["feat_seconds"], only)
+    feats["targets"] = [target(f"control overhead: {i['log']}", i["overhead_pct"], "<=",
+                               FEAT_OVERHEAD_TARGET_PCT, "%")
+                        for i in feats["items"] if "overhead_pct" in i]
+    if feats["median_overhead_pct"] is not None:
+        feats["targets"].append(target("control overhead: median over the feat logs",
+                                       feats["median_overhead_pct"], "<=",
+                                       FEAT_MEDIAN_TARGET_PCT, "%"))
+    # a bare run that does not end where the controlled one does measured another
+    # motion: the figure is not a measurement, and the run fails
+    feats["all_same"] = all(i.get("same_motion", False) for i in feats["items"])
+    return feats
+
+
+def _header(cfg: dict, quick: bool, clock_name: str) -> dict:
     import pymunk
 
     from puppet import __version__
     from puppet.physics.simulation import DEFAULT_DT
 
+    return {"clock": clock_name, "puppet": __version__, "pymunk": pymunk.version,
+            "python": platform.python_version(), "machine": platform.machine(),
+            "quick": quick, "dt": DEFAULT_DT, "frame_hz": FRAME_HZ, "config": cfg,
+            "characters": []}
+
+
+def run_feats(quick: bool = False, only: list[str] | None = None,
+              clock_name: str = "wall") -> dict:
+    """``puppet bench --feats``: the feat logs' section alone."""
     cfg = QUICK if quick else FULL
     config.use_clock(clock_name)
-    report: dict = {
-        "clock": clock_name,
-        "puppet": __version__, "pymunk": pymunk.version, "python": platform.python_version(),
-        "machine": platform.machine(), "quick": quick, "dt": DEFAULT_DT,
-        "frame_hz": FRAME_HZ, "config": cfg, "characters": [],
-    }
+    report = _header(cfg, quick, clock_name)
+    report["feats"] = feat_section(cfg, only)
+    if hasattr(os, "getloadavg"):
+        report["load_average"] = ", ".join(f"{v:.2f}" for v in os.getloadavg())
+    report["all_pass"] = all(t["pass"] for t in report["feats"]["targets"]) \
+        and report["feats"]["all_same"]
+    return report
+
+
+def run_bench(quick: bool = False, only: list[str] | None = None,
+              clock_name: str = "wall") -> dict:
+    cfg = QUICK if quick else FULL
+    config.use_clock(clock_name)
+    report = _header(cfg, quick, clock_name)
     subjects = characters_and_interfaces()
     unknown = sorted(set(only or ()) - {c for c, _ in subjects})
     if unknown:
@@ -129,6 +178,7 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
                           if name in known and (not only or name in only)]
     report["grasping"] = [] if only and "biped" not in only else measure_grasping(cfg)
     report["logs"] = measure_logs(cfg["log_repeats"], cfg["log_seconds"])
+    report["feats"] = feat_section(cfg, only)
     report["processes"] = measure_processes(cfg["process_repeats"])
     if hasattr(os, "getloadavg"):  # how busy the machine was (others' processes too)
         report["load_average"] = ", ".join(f"{v:.2f}" for v in os.getloadavg())
@@ -154,5 +204,6 @@ def run_bench(quick: bool = False, only: list[str] | None = None,
         and all(t["pass"] for t in report["mocap"]["targets"]) \
         and all(r["target"]["pass"] for r in report["mocap_latency"].values()) \
         and all(f["target"]["pass"] for f in report["feedback"]) \
-        and all(t["pass"] for g in report["grasping"] for t in g["targets"])
+        and all(t["pass"] for g in report["grasping"] for t in g["targets"]) \
+        and all(t["pass"] for t in report["feats"]["targets"]) and report["feats"]["all_same"]
     return report

@@ -1,5 +1,7 @@
 """IK reaches (the paper's "IK target select"): a chain's end follows a Hermite-eased
-path to a target over a fixed duration, with IK re-solved every step, then holds.
+path to a target over a fixed duration, with IK re-solved at the control rate (on
+absolute multiples of the control period, as frame targets and feedback are), then
+holds.
 
 The target is a fixed point (world, or the root link's frame at the moment of the
 key), a scene prop's grasp point (followed as the prop moves; picked relative to what
@@ -13,6 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ik import hermite
 from puppet.interface.ownership import JointOwners, Owner, reach_owner
 
@@ -46,7 +49,7 @@ class ReachController:
     BUSY = "reaches"
 
     def __init__(self, chains, character, sim, owners: JointOwners, servos, grasps,
-                 read_input, dt: float):
+                 read_input, dt: float, every: int = 1):
         self.chains = chains
         self.character = character
         self.sim = sim
@@ -55,6 +58,7 @@ class ReachController:
         self.grasps = grasps  # the GraspController, for reaches that grasp on arrival
         self.read_input = read_input  # (name, default) -> an input's value now (steering)
         self.dt = dt
+        self.every = every  # the control period, steps: the IK is re-solved this often
         self.reaches: dict[str, Reach] = {}
 
     # -- targets -------------------------------------------------------------------
@@ -118,9 +122,11 @@ class ReachController:
                                       r.max_torque)
         self.owners_table.claim(chain.joints, owner)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
+        if step % self.every:
+            return WAITED  # between control steps
         if not self.reaches:
-            return
+            return None
         servos, owners = self.servos, self.owners_table
         for name, reach in list(self.reaches.items()):
             owner = reach_owner(name)
@@ -150,7 +156,9 @@ class ReachController:
                 del self.reaches[name]
 
     def next_wakeup(self, earliest: int) -> int | None:
-        return earliest if self.reaches else None
+        if not self.reaches:
+            return None
+        return -(-earliest // self.every) * self.every
 
     def owners(self) -> set[Owner]:
         return {reach_owner(n) for n in self.reaches}

@@ -31,11 +31,14 @@ from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.tracking import TrackingSpec
+from puppet.interface.controllers.kd_pull import FigureRows, joint_chain, performed_pose
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
 from puppet.interface.controllers.tracking_reaction import Reactions
 from puppet.interface.ownership import JointOwners, Owner
-from puppet.physics.kinematics import beyond, joint_order, link_poses
+from puppet.physics.kinematics import beyond, joint_order
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
@@ -63,6 +66,7 @@ class Tracker(Reactions):
         self.due: list[str] = []  # what the runtime is to run: "lost", "found", "get_up"
         cs = character.spec
         self.order = joint_order(cs)
+        self._chain = joint_chain(self.order)  # (the performed pose, kd_pull)
         self.limits = {j.name: (None if j.limits is None else
                                 (math.radians(j.limits[0]), math.radians(j.limits[1])))
                        for j in cs.actuated}
@@ -72,6 +76,7 @@ class Tracker(Reactions):
             self.joints = {j: spec.channels.get(j, j) for j in names}
         self.inertia = {j: _inertia_beyond(character, j) for j in self.joints}
         self.pulled = [link.name for link in cs.links]
+        self._figure = FigureRows(character, self.pulled)  # the pulled links, read in bulk
         self.joint_of = {j.child: j.name for j in cs.joints}  # link -> the joint above it
         self.scale = {} if spec is None else dict(spec.scale)
         self.ground_at = ground_at  # x -> the ground's surface height (None: no lift)
@@ -351,19 +356,19 @@ class Tracker(Reactions):
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        q = {j: self._clamped(j, math.radians(ch[n])) for j, n in self.joints.items() if n in ch}
-        poses = link_poses(c.spec, self.order, origin, angle, q)
+        clamped, radians = self._clamped, math.radians
+        q = {j: clamped(j, radians(ch[n])) for j, n in self.joints.items() if n in ch}
+        # the performed pose, each link's turn's cosine and sine with it (kd_pull)
+        poses = performed_pose(self._chain, c.spec.root, origin, angle, cos, sin, q)
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
                           self._all_points() if self.getup is not None else self.soles)
         T = self.period
         preset, scale = spec.preset, self.scale
         prev = self.prev
+        rows = self._figure.rows()
         targets = {}
-        for name in self.pulled:
-            body = c.bodies[name]
-            ox, oy, la = poses[name]
-            gx, gy = body.center_of_gravity
-            cl, sl = math.cos(la), math.sin(la)
+        for name, _, _, _, gx, gy in rows:
+            ox, oy, _, cl, sl = poses[name]
             targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
@@ -394,12 +399,13 @@ class Tracker(Reactions):
             get_up = self.spec.reaction.get_up
             no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
             rise = get_up.rise
-        table, joint_of = self.owners_table.table, self.joint_of
-        for name in self.pulled:
+        table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
+        state = self._figure.read()  # every body in one call: what each link is now
+        set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
+        for name, cb, i, m, gx, gy in rows:
             joint = joint_of.get(name)
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            body = c.bodies[name]
             px, py = targets[name][0], targets[name][1]
             s = scale.get(name, 1.0)
             w = weight
@@ -410,26 +416,24 @@ class Tracker(Reactions):
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, (0.0, 0.0))
-            m = body.mass
-            p = body.local_to_world(body.center_of_gravity)
-            vx, vy = body.velocity
+            bx, by, ba, vx, vy, spin = state[i:i + 6]
+            cb_, sb = math.cos(ba), math.sin(ba)  # its centre: cpBodyLocalToWorld's sums
+            wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
             den = m / T + k * T + d
-            new_vy = (m * vy / T + k * (py - p[1]) + d * tvy) / den
+            new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
             if getting_up and new_vy > vy:  # no levitation: a link rises only by pushing
                 new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
                 # and no faster than a body pushes itself up
-            body.velocity = ((m * vx / T + k * (px - p[0]) + d * tvx) / den, new_vy)
-            if name in self.soles:  # a foot is also turned flat as performed (its sole
+            set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den, new_vy))
+            if name in soles:  # a foot is also turned flat as performed (its sole
                 # stands on the ground; the ankle's inertia-scaled gain alone is weak)
-                inertia = body.moment
+                inertia = c.bodies[name].moment
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
                 want = poses[name][2]
-                turn = want - body.angle
+                turn = want - ba
                 turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                w = body.angular_velocity
-                body.angular_velocity = ((inertia * w / T + kt * turn
-                                          + dt_ * self.spin.get(name, 0.0))
-                                         / (inertia / T + kt * T + dt_))
+                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * self.spin.get(name, 0.0))
+                         / (inertia / T + kt * T + dt_))
 
     def _all_points(self) -> dict:
         """Every link's lowest points (a get-up's pose stands on knees, hands...)."""
@@ -452,8 +456,7 @@ class Tracker(Reactions):
             return 0.0
         lowest = math.inf
         for link, points in soles.items():
-            _, oy, la = poses[link]
-            cl, sl = math.cos(la), math.sin(la)
+            _, oy, _, cl, sl = poses[link]  # (performed_pose: its cosine and sine)
             for px, py, r in points:
                 y = oy + sl * px + cl * py - r
                 if y < lowest:
