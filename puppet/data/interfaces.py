@@ -364,6 +364,7 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     for loc, key in named:
         if key_problem(key):
             raise located.error(loc, key_problem(key))
+    _check_buffers(spec, located)
     app_table = spec.app_key_table()
     by_key: dict[str, str] = {}
     for action, key in app_table.items():
@@ -399,6 +400,24 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
                 raise located.error(loc, f"key '{key}' is bound twice{scope} (also "
                                          f"{'.'.join(map(str, where))}[{seen[key]}])")
             seen[key] = i
+
+
+def _check_buffers(spec: InterfaceSpec, located: Located) -> None:
+    """``buffer`` keeps a press for a state entered later: a key bound in every state
+    (top-level ``keys``, ``any_state``) never waits for one."""
+    always = [(("keys", i, "buffer"), k) for i, k in enumerate(spec.keys)]
+    always += [(("any_state", "keys", i, "buffer"), k)
+               for i, k in enumerate(spec.any_state.keys)]
+    always += [(("machines", m, "any_state", "keys", i, "buffer"), k)
+               for m, machine in spec.machines.items()
+               for i, k in enumerate(machine.any_state.keys)]
+    for loc, k in always:
+        if k.buffer is not None:
+            where = "top-level keys" if loc[0] == "keys" else "any_state keys"
+            raise located.error(loc, f"'buffer' keeps an early press for a state's key, "
+                                     f"but {where} are bound in every state: move key "
+                                     f"'{k.key}' into the states that take it, or drop "
+                                     f"'buffer'", prefer_key=True)
 
 
 def machine_keys(spec: InterfaceSpec):
