@@ -9,15 +9,12 @@ from __future__ import annotations
 
 from collections import deque
 
+from puppet.data.bounds import SLOWDOWNS, nearest_slowdown_index, stepped_slowdown
 from puppet.data.interfaces import MAX_SLOWDOWN, MIN_SLOWDOWN
 from puppet.interface.app_keys import SetSlowdown
 
-SLOWDOWNS = tuple(round(10 ** (i / 6), 2) for i in range(13))  # 1, 1.47, 2.15 ... 100
+__all__ = ["SLOWDOWNS", "SimClock", "nearest_slowdown_index"]
 MAX_CATCH_UP = 0.1  # wall s of simulation one frame may owe; more is dropped (no spiral)
-
-
-def nearest_slowdown_index(value: float) -> int:
-    return min(range(len(SLOWDOWNS)), key=lambda i: abs(SLOWDOWNS[i] - value))
 
 
 class SimClock:
@@ -29,14 +26,10 @@ class SimClock:
         self._history: deque[tuple[float, float]] = deque()  # (wall, sim) samples
 
     def slower(self) -> None:
-        self.index = min(self.index + 1, len(SLOWDOWNS) - 1)
-        self.slowdown = SLOWDOWNS[self.index]
+        self.slowdown, self.index = stepped_slowdown(self.slowdown, self.index, True)
 
-    def faster(self) -> None:
-        if self.slowdown <= SLOWDOWNS[0]:
-            return  # already at real time or a chosen fast-forward: the keys stop at 1x
-        self.index = max(self.index - 1, 0)
-        self.slowdown = SLOWDOWNS[self.index]
+    def faster(self) -> None:  # at real time or a chosen fast-forward the keys stop at 1x
+        self.slowdown, self.index = stepped_slowdown(self.slowdown, self.index, False)
 
     def set_slowdown(self, value: float) -> None:
         """Set the slowdown directly (an interface's ``slowdown:`` key), 0.1..100."""

@@ -180,6 +180,7 @@ from typing import Annotated, ClassVar, Literal
 import numpy as np
 
 from puppet.data.errors import DataError
+from puppet.data.playtest import PlaytestBar
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, Spec, at, field, validate
 from puppet.data.yamlfile import Located, load_file
@@ -826,6 +827,8 @@ class Expectation(Spec, kw_only=True, dict=True):
 class ExpectFile(Spec, kw_only=True):
     description: str = ""
     expect: list[Expectation]
+    # how forgiving the feat must be: ``puppet playtest`` checks it (docs/interfaces.md)
+    playtest: PlaytestBar | None = None
 
 
 # (low, high) fields of a kind's settings: the high one may not be under the low one

@@ -1,0 +1,114 @@
+"""The simulated player's imprecision, as numbers: the human model of ``puppet playtest``.
+
+A playtest replays a log many times, each time moved as a person's hands would move
+it (``puppet.timeline.playtest``). How far is set here, by named levels; the sources
+of the numbers are in docs/interfaces.md ("The human model"). All times are *real*
+(wall) time: at a slowdown of 3 a 30 ms error is 10 ms of simulated time, as it is
+for a person playing slowed down.
+
+A log's sidecar may set a bar its feat must clear (``PlaytestBar``):
+
+    playtest: {noise: human, tries: 20, min_pass: 0.8}
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from puppet.data.ranges import Num
+from puppet.data.validate import Meta, Spec
+
+# the window a mouse error in pixels is measured on: the app's smallest (x, y)
+REFERENCE_WINDOW = (1024.0, 640.0)
+
+# each parameter of the model: (least, most, unit, what it is); a command-line flag each
+PARAMETERS: dict[str, tuple[float, float, str, str]] = {
+    "timing_ms": (0.0, 2000.0, "ms", "each event's time error, real time (a stroke's as a "
+                                     "whole; a reactive rule's delay too)"),
+    "aim_px": (0.0, 500.0, "px", "a mouse stroke's offset, pixels of a 1024 x 640 window"),
+    "tremor_px": (0.0, 500.0, "px", "each mouse sample's own jitter on top of its stroke's"),
+    "tempo": (0.0, 0.5, "", "a stroke's length scaled by 1 +- this"),
+    "stick_aim": (0.0, 1.0, "", "a stick or trigger stroke's offset, of full deflection"),
+    "stick_tremor": (0.0, 1.0, "", "each stick sample's own jitter on top"),
+    "stroke_gap_ms": (0.0, 2000.0, "ms", "a pause this long between two samples of the "
+                                         "mouse (a stick...) begins a new stroke"),
+}
+
+
+def _bounded(name: str):
+    lo, hi, unit, _ = PARAMETERS[name]
+    return Annotated[float, Meta(ge=lo, le=hi, extra={
+        "message": f"{name} is a number {lo:g}..{hi:g}{' ' + unit if unit else ''}"})]
+
+
+Tries = Annotated[int, Meta(ge=1, le=10000, extra={
+    "message": "tries is a whole number 1..10000"})]
+
+
+class Noise(Spec, kw_only=True):
+    """One level of imprecision. Every bound is a half-width: an error is drawn
+    uniformly from -bound..+bound (per axis for positions)."""
+
+    timing_ms: _bounded("timing_ms")  # real ms
+    aim_px: _bounded("aim_px")  # px of the reference window
+    tremor_px: _bounded("tremor_px")
+    tempo: _bounded("tempo")  # (motor timing's scalar error)
+    stick_aim: _bounded("stick_aim")
+    stick_tremor: _bounded("stick_tremor")
+    stroke_gap_ms: _bounded("stroke_gap_ms") = 150.0
+
+    def is_off(self) -> bool:
+        """No error at all: the tries are the log itself."""
+        return not (self.timing_ms or self.aim_px or self.tremor_px or self.tempo
+                    or self.stick_aim or self.stick_tremor)
+
+
+# The named levels (docs/interfaces.md, "The human model", says where each number comes
+# from). tremor is a quarter of the aim error, as in the first measurement.
+LEVELS: dict[str, Noise] = {
+    "steady": Noise(timing_ms=10.0, aim_px=2.0, tremor_px=0.5, tempo=0.02,
+                    stick_aim=0.02, stick_tremor=0.005),
+    "human": Noise(timing_ms=30.0, aim_px=5.0, tremor_px=1.25, tempo=0.04,
+                   stick_aim=0.05, stick_tremor=0.0125),
+    "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.08,
+                    stick_aim=0.10, stick_tremor=0.025),
+}
+LevelName = Literal["steady", "human", "novice"]
+
+
+def noise_at(level: str = "human", **overrides: float) -> Noise:
+    """A named level with some of its parameters replaced (None: keep the level's).
+    ValueError naming the levels or the parameters for an unknown one."""
+    if level not in LEVELS:
+        raise ValueError(f"unknown noise level '{level}'; expected one of: "
+                         f"{', '.join(LEVELS)}")
+    base = LEVELS[level]
+    given = {k: v for k, v in overrides.items() if v is not None}
+    unknown = [k for k in given if k not in PARAMETERS]
+    if unknown:
+        raise ValueError(f"unknown noise parameter '{unknown[0]}'; expected one of: "
+                         f"{', '.join(PARAMETERS)}")
+    values = {k: getattr(base, k) for k in PARAMETERS}
+    values.update({k: float(v) for k, v in given.items()})
+    for k, v in given.items():
+        lo, hi, unit, _ = PARAMETERS[k]
+        if not lo <= float(v) <= hi:  # (NaN too)
+            raise ValueError(f"{k} must be a number {lo:g}..{hi:g}"
+                             f"{' ' + unit if unit else ''}, got {v!r}")
+    return Noise(**values)
+
+
+class PlaytestBar(Spec, kw_only=True):
+    """A sidecar's ``playtest:`` entry: at this noise level, at least ``min_pass`` of
+    ``tries`` tries must still meet the log's feat expectations."""
+
+    noise: LevelName = "human"
+    tries: Tries = 20
+    min_pass: Num("fraction")
+
+    def needed(self, tries: int | None = None) -> int:
+        """How many of ``tries`` (default the bar's own) must pass."""
+        import math
+
+        n = self.tries if tries is None else tries
+        return math.ceil(self.min_pass * n - 1e-9)
