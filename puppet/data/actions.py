@@ -292,9 +292,14 @@ class ActionSpec(Spec, kw_only=True):
 
 
 class KeyActionSpec(ActionSpec, kw_only=True):
-    """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed."""
+    """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed.
+
+    ``buffer`` (a state's key only): this binding also takes a press of its key made up
+    to that many seconds before its state was entered, while no binding took the key
+    (an input buffer, as fighting games keep a press made a little early)."""
 
     key: str
+    buffer: PositiveDuration | None = None  # s a press may come before the state
     # the scenes (their names) this key is for: on any other it does nothing and the HUD and
     # the key map leave it out (default: every scene)
     scenes: list[str] = field(default_factory=list)

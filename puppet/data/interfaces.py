@@ -173,16 +173,28 @@ dispatch(MapSpec, _map_kind)
 
 
 class TransitionSpec(Spec, kw_only=True):
-    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
+    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds:
+    one condition, or a list of conditions that must all hold at once (the swing foot
+    down *and* the body past the take-off board)."""
 
     to: str
     after: Num("time") | None = None  # s since entering the state
-    when: ConditionSpec | None = None
+    when: ConditionSpec | list[ConditionSpec] | None = None
 
     def __post_init__(self):
         if self.after is None and self.when is None:
             raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
                              "key transitions are keys with 'goto'")
+        if isinstance(self.when, list) and not self.when:
+            raise ValueError("'when' is an empty list: give one condition, or several "
+                             "that must all hold")
+
+    @property
+    def conditions(self) -> list[ConditionSpec]:
+        """The conditions that must all hold (none without ``when``)."""
+        if self.when is None:
+            return []
+        return list(self.when) if isinstance(self.when, list) else [self.when]
 
 
 class StateSpec(Spec, kw_only=True):
@@ -384,6 +396,7 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     for loc, key in named:
         if key_problem(key):
             raise located.error(loc, key_problem(key))
+    _check_buffers(spec, located)
     app_table = spec.app_key_table()
     by_key: dict[str, str] = {}
     for action, key in app_table.items():
@@ -419,6 +432,24 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
                 raise located.error(loc, f"key '{key}' is bound twice{scope} (also "
                                          f"{'.'.join(map(str, where))}[{seen[key]}])")
             seen[key] = i
+
+
+def _check_buffers(spec: InterfaceSpec, located: Located) -> None:
+    """``buffer`` keeps a press for a state entered later: a key bound in every state
+    (top-level ``keys``, ``any_state``) never waits for one."""
+    always = [(("keys", i, "buffer"), k) for i, k in enumerate(spec.keys)]
+    always += [(("any_state", "keys", i, "buffer"), k)
+               for i, k in enumerate(spec.any_state.keys)]
+    always += [(("machines", m, "any_state", "keys", i, "buffer"), k)
+               for m, machine in spec.machines.items()
+               for i, k in enumerate(machine.any_state.keys)]
+    for loc, k in always:
+        if k.buffer is not None:
+            where = "top-level keys" if loc[0] == "keys" else "any_state keys"
+            raise located.error(loc, f"'buffer' keeps an early press for a state's key, "
+                                     f"but {where} are bound in every state: move key "
+                                     f"'{k.key}' into the states that take it, or drop "
+                                     f"'buffer'", prefer_key=True)
 
 
 def machine_keys(spec: InterfaceSpec):

@@ -37,6 +37,7 @@ from puppet.data.keys import POINTER, normalize_key, pointer_value
 from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
+from puppet.interface.buffer import InputBuffer
 from puppet.interface.conditions import map_reader
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.feedback import Feedback
@@ -92,6 +93,7 @@ class InterfaceRuntime:
         self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys
                                      if k.plays_on(scene)}
                              for mname, m in machines.items()}
+        self.buffer = InputBuffer(self.state_bindings, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
         self.owners = JointOwners()
@@ -222,6 +224,7 @@ class InterfaceRuntime:
         for _, values in old._pending:  # stored, as old's flush would (its maps are gone)
             self.channels.update(values)
         self.held = set(old.held)
+        self.buffer.set_state(old.buffer.get_state())
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
         if old.role_binding in spec.bindings:
@@ -577,7 +580,10 @@ class InterfaceRuntime:
         if binding is None:
             if chord in self.gestures.paths:
                 self.gestures.start(chord, now)
+            else:
+                self.buffer.keep(chord, now)
             return None
+        self.buffer.spend(chord)
         return self.run_action(binding, now, chord, machine=machine)
 
     # -- actions -----------------------------------------------------------------
@@ -681,6 +687,10 @@ class InterfaceRuntime:
                             and self.roles.names_role(m)])
         self._activate(self.machines[machine].spec.states[state].maps)
         self._run_entry(machine, now, depth + 1)
+        if self.buffer.unused and self.machines[machine].current == state:
+            due = self.buffer.due(self._lookup, now)  # a press kept for this state
+            if due is not None:
+                self.run_action(due[0], now, due[2], depth + 1, due[1])
 
     def _run_entry(self, machine: str, now: int, depth: int) -> None:
         m = self.machines[machine]
@@ -752,6 +762,7 @@ class InterfaceRuntime:
             controller.stop()
         self.owners.table = {}
         self.gain_holds = {}
+        self.buffer.set_state(None)
         self.mode = self.spec.start_mode
         self._use_binding(self.spec.start_binding)
         self.apply_gains()
@@ -768,7 +779,7 @@ class InterfaceRuntime:
                 "controllers": [c.get_state() for c in self.controllers],
                 "machines": {n: m.get_state() for n, m in self.machines.items()},
                 "gain_holds": _copy_holds(self.gain_holds), "binding": self.role_binding,
-                "next_wakeup": self.next_wakeup}
+                "next_wakeup": self.next_wakeup, "buffer": self.buffer.get_state()}
 
     def set_state(self, state: dict) -> None:
         self.inputs.clear()
@@ -784,6 +795,7 @@ class InterfaceRuntime:
             if name in self.machines:
                 self.machines[name].set_state(s)
         self.gain_holds = _copy_holds(state["gain_holds"])
+        self.buffer.set_state(state.get("buffer"))
         if state["binding"] != self.role_binding:
             self._use_binding(state["binding"])
         self._pending = []
