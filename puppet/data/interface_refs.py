@@ -336,10 +336,12 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                                     f"'{first.child}' (the child of '{first.name}'), but its "
                                     f"parent is '{second.parent}'")
     for _, _, loc, t in transitions(spec):
-        if t.when is not None:
-            problem = sensor_problem(t.when.sensor, character, spec.roles)
+        several = isinstance(t.when, list)
+        for i, condition in enumerate(t.conditions):
+            problem = sensor_problem(condition.sensor, character, spec.roles)
             if problem:
-                raise located.error(loc + ("when", "sensor"), problem)
+                where = loc + (("when", i, "sensor") if several else ("when", "sensor"))
+                raise located.error(where, problem)
 
 
 def _check_tracking(spec, character, located, need, need_link) -> None:

@@ -157,16 +157,28 @@ dispatch(MapSpec, _map_kind)
 
 
 class TransitionSpec(Spec, kw_only=True):
-    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
+    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds:
+    one condition, or a list of conditions that must all hold at once (the swing foot
+    down *and* the body past the take-off board)."""
 
     to: str
     after: Num("time") | None = None  # s since entering the state
-    when: ConditionSpec | None = None
+    when: ConditionSpec | list[ConditionSpec] | None = None
 
     def __post_init__(self):
         if self.after is None and self.when is None:
             raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
                              "key transitions are keys with 'goto'")
+        if isinstance(self.when, list) and not self.when:
+            raise ValueError("'when' is an empty list: give one condition, or several "
+                             "that must all hold")
+
+    @property
+    def conditions(self) -> list[ConditionSpec]:
+        """The conditions that must all hold (none without ``when``)."""
+        if self.when is None:
+            return []
+        return list(self.when) if isinstance(self.when, list) else [self.when]
 
 
 class StateSpec(Spec, kw_only=True):

@@ -15,6 +15,21 @@ from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
 
+def _all_of(tests):
+    """A reader that is 1.0 when every (reader, test) holds, else 0.0 (in order, so a
+    cheap contact test written first spares the others)."""
+    def read() -> float:
+        for read_one, test in tests:
+            if not test(read_one()):
+                return 0.0
+        return 1.0
+    return read
+
+
+def _HOLDS(value: float) -> bool:
+    return value > 0.5
+
+
 class StateMachine:
     def __init__(self, name: str, machine, interface, character, dt: float,
                  channels: dict | None = None, inputs: dict | None = None):
@@ -58,16 +73,22 @@ class StateMachine:
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
         shared = list(machine.any_state.transitions)
-        readers = {t.when.sensor: reader(rename(t.when.sensor), self.character,
-                                         self.channels, self.inputs)
+        readers = {c.sensor: reader(rename(c.sensor), self.character,
+                                    self.channels, self.inputs)
                    for state in machine.states.values()
-                   for t in [*state.transitions, *shared] if t.when is not None}
+                   for t in [*state.transitions, *shared] for c in t.conditions}
 
         def compiled(t):
-            bounds = compile_bounds(t.when) if t.when is not None else None
+            conditions = t.conditions
+            if len(conditions) > 1:  # all must hold: one reading of 1.0 or 0.0
+                return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
+                        _all_of([(readers[c.sensor], compile_test(c)) for c in conditions]),
+                        _HOLDS, None, None)
+            when = conditions[0] if conditions else None
+            bounds = compile_bounds(when) if when is not None else None
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
-                    readers[t.when.sensor] if t.when is not None else None,
-                    compile_test(t.when) if t.when is not None and bounds is None else None,
+                    readers[when.sensor] if when is not None else None,
+                    compile_test(when) if when is not None and bounds is None else None,
                     *(bounds or (None, None)))
         # state -> [((machine, to), min steps in state, sensor reader or None, test, lo,
         # hi)]: a sensor's test is lo < value < hi (compared here, not called) or, for
