@@ -163,7 +163,7 @@ def guess_kind(path: Path, located: Located) -> str:
         return "character"
     if "ground" in data:
         return "scene"
-    if "events" in data:
+    if "events" in data or "rules" in data:
         return "script"
     if "segments" in data:  # (before character: a mapping may name its character)
         return "mapping"
@@ -175,7 +175,7 @@ def guess_kind(path: Path, located: Located) -> str:
         return "expectations"
     raise located.error((), "cannot tell what kind of file this is; expected a character "
                             "(links:), scene (ground:), interface (character:), script "
-                            "(events:), mocap mapping (segments:), bone table (vmc:, "
+                            "(events: or rules:), mocap mapping (segments:), bone table (vmc:, "
                             "mediapipe:) or a log's expectations (expect:)")
 
 

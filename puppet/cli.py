@@ -127,8 +127,8 @@ def _play(args: argparse.Namespace) -> int:
         raise UsageError(f"--input {args.input}: a .jsonl file is a recorded log, not a "
                          f"script (assets/scripts/NAME.yaml); play it back with: "
                          f"puppet replay {args.input}")
-    if not args.headless and (args.input or args.screenshot or args.frames):
-        raise UsageError("--input, --screenshot and --frames need --headless")
+    if not args.headless and (args.screenshot or args.frames):
+        raise UsageError("--screenshot and --frames need --headless")
     if args.record and Path(args.record).exists():  # a log is never silently overwritten
         raise UsageError(f"--record {args.record}: {EXISTS}")
     if args.screenshot:
@@ -136,7 +136,7 @@ def _play(args: argparse.Namespace) -> int:
     if args.frames:
         output_folder("--frames", args.frames)
     script = None
-    if args.input and args.headless:
+    if args.input:
         script_path = find("script", args.input)
         script = load_script(script_path)
         if script.scene and not args.scene:  # a name in a file: the catalog or beside it
@@ -150,7 +150,8 @@ def _play(args: argparse.Namespace) -> int:
     if script is not None:  # a drag or push must name a link of this character
         from puppet.timeline.script import check_links
 
-        check_links(script_path, script, [link.name for link in setup.character.links])
+        check_links(script_path, script, [link.name for link in setup.character.links],
+                    setup.interface, setup.character)
     for w in setup.warnings:  # valid but probably not meant (two maps on one joint)
         print(w, file=sys.stderr)
     if args.checkpoint_every is not None:  # the interface's checkpoint_every, overridden
@@ -207,7 +208,8 @@ def _play(args: argparse.Namespace) -> int:
         return run_window(setup, args.slowdown, record=args.record, no_record=args.no_record,
                           ghost=ghost, overlay=args.overlay == "com",
                           note=setup.warnings[0] if setup.warnings else "",
-                          sources=[clip] if clip is not None else ())
+                          sources=[clip] if clip is not None else (), script=script,
+                          script_text=_script_text(script_path) if script else None)
     from puppet.app.headless import run_headless
     from puppet.physics.simulation import DEFAULT_DT
     from puppet.timeline.script import compile_script, late_note, run_seconds
@@ -226,7 +228,9 @@ def _play(args: argparse.Namespace) -> int:
     session = run_headless(setup, events, seconds, args.screenshot, args.frames, args.fps,
                            slowdown=args.slowdown, record=args.record,
                            description=(script.description or None) if args.input else None,
-                           ghost=ghost, overlay=args.overlay == "com")
+                           ghost=ghost, overlay=args.overlay == "com",
+                           rules=script if script is not None and script.rules else None,
+                           script=_script_text(script_path) if script is not None else None)
     if args.record:
         print(f"recorded {args.record}")
     print(end_line(session))
@@ -235,6 +239,14 @@ def _play(args: argparse.Namespace) -> int:
     if args.frames:
         print(f"wrote {session.frames_written} frames to {args.frames}")
     return blowup_exit(session)
+
+
+def _script_text(path) -> tuple[str, str]:
+    """(name, text) of a script, for the header of a log it plays (a playtest plays its
+    rules again)."""
+    from puppet.data.yamlfile import read_text
+
+    return Path(path).stem, read_text(path)
 
 
 def end_line(session) -> str:
@@ -374,7 +386,9 @@ def build_parser() -> argparse.ArgumentParser:
                            "than real time); default: the interface's")
     play.add_argument("--headless", action="store_true", help="no window")
     play.add_argument("--input", metavar="SCRIPT",
-                      help="scripted input (assets/scripts/NAME.yaml or path), headless")
+                      help="scripted input (assets/scripts/NAME.yaml or path): timed events "
+                           "and rules that react to what happens (docs/scripts.md); in the "
+                           "window it plays as you watch, headless it runs alone")
     play.add_argument("--seconds", type=_seconds, help="simulated seconds to run headless "
                                                     "(default: the script's, else 5)")
     play.add_argument("--screenshot", metavar="PNG",
@@ -531,6 +545,9 @@ def build_parser() -> argparse.ArgumentParser:
                             "not the wall clock (steadier when other processes load the "
                             "machine)")
     bench.set_defaults(func=_bench)
+    from puppet.commands import playtest as playtest_command
+
+    playtest_command.register(sub)  # puppet playtest LOG...
     return parser
 
 

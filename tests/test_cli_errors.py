@@ -102,7 +102,7 @@ def test_a_path_is_called_a_path_and_a_folder_a_folder(tmp_path, capsys):
 
 def test_usage_errors_exit_2_with_the_command_named(capsys, tmp_path):
     cases = [
-        (("play", "luxo-mouse", "--screenshot", "x.png"), "puppet play: --input, --screenshot "
+        (("play", "luxo-mouse", "--screenshot", "x.png"), "puppet play: --screenshot "
                                                           "and --frames need --headless"),
         (("replay", "luxo-hop", "luxo-backflip"), "puppet replay: several logs need --headless"),
         (("replay", "luxo-hop", "--check"), "puppet replay: --check needs --headless"),

@@ -66,13 +66,17 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
                  screenshot: str | None = None, frames_dir: str | None = None,
                  fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float | None = None,
                  record: str | Path | None = None, description: str | None = None,
-                 ghost=None, overlay: bool = False) -> Session:
+                 ghost=None, overlay: bool = False, rules=None,
+                 script: tuple[str, str] | None = None) -> Session:
     """Play ``events`` for ``seconds``; write the final frame (``screenshot``) and/or
     every frame at ``fps`` (``frames_dir``); ``record``: also write the input log
     there (the images do not change the run: same log, same state hash).
     ``ghost``: a ``puppet.timeline.ghost.Ghost`` drawn beside the character;
-    ``overlay``: draw the balance overlay (``render.draw_balance``). The session
-    returned has ``frames_written``: the number of frames written to ``frames_dir``."""
+    ``overlay``: draw the balance overlay (``render.draw_balance``). ``rules``: a
+    script with rules (``ScriptSpec``), played with ``events`` by a reactive player
+    (``puppet.timeline.reactive``); ``script``: its (name, text), kept in the log's
+    header. The session returned has ``frames_written``: the number of frames written
+    to ``frames_dir``."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
     renderer = None
@@ -94,9 +98,17 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     if record:
         from puppet.timeline.log import Recorder
 
-        recording = Recorder(session, record, slowdown=slowdown, description=description)
+        recording = Recorder(session, record, slowdown=slowdown, description=description,
+                             script=script if rules is not None else None)
     with recording:
-        play(session, events, until, every, on_tick)
+        if rules is not None:
+            from puppet.timeline.reactive import ScriptPlayer, Speed, play_script
+
+            speed = Speed(slowdown or setup.interface.slowdown)
+            player = ScriptPlayer(session, rules, until, speed, speed.apply, timed=events)
+            play_script(session, player, every, on_tick)
+        else:
+            play(session, events, until, every, on_tick)
     if screenshot:
         _follow(renderer, session)
         renderer.save(session, screenshot, ghost=_synced(ghost, session))

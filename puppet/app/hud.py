@@ -32,6 +32,7 @@ class HudInfo:
     overlay: bool = False  # the centre-of-mass overlay is on (see render.draw_balance)
     branch: int | None = None  # the branch selected (history.branches index), listed
     sources: list = field(default_factory=list)  # status lines of the input sources
+    playtest: str = ""  # the last playtest figure of this interface (puppet playtest)
     _seen_serial: int = 0
     _message_until: float = 0.0
     # What the HUD drew last, kept by what it depends on (see draw_hud and draw_rows), so
@@ -293,6 +294,8 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         lines.append(tracking)
     for status in info.sources:  # live streams and clips: what came, what was dropped
         lines.append(status)
+    if info.playtest:
+        lines.append(info.playtest)
     height = 8 + len(lines) * 22
     left_w = min(surface.get_width() // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped

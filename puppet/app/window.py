@@ -31,7 +31,8 @@ MODIFIER_KEYS = {"left ctrl", "right ctrl", "left shift", "right shift", "left a
 def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                record: str | None = None, no_record: bool = False, replay=None,
                until_step: int | None = None, ghost=None, note: str = "",
-               slowdown_chosen: bool = False, overlay: bool = False, sources=()) -> int:
+               slowdown_chosen: bool = False, overlay: bool = False, sources=(),
+               script=None, script_text: tuple[str, str] | None = None) -> int:
     """Play ``setup`` in a window, recording a log (to ``record``, or by default to
     recordings/). With ``replay`` (a ``Log``), events come from the log instead of
     the devices, at the recorded slowdown; the devices only drive the window.
@@ -41,7 +42,10 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     ``slowdown_chosen``: the replay's slowdown was chosen (--slowdown), so the log's
     recorded speed keys do not change it (the viewer's own keys still do).
     ``sources``: live input sources (``puppet.input.live.LiveQueue``s, e.g. a mocap
-    stream) drained once a frame into the session, like the devices."""
+    stream) drained once a frame into the session, like the devices. ``script``: a
+    script (``ScriptSpec``) that plays alongside them, its rules reacting at the
+    slowdown in force (``puppet.timeline.reactive``); ``script_text``: its (name,
+    text), kept in the log's header."""
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
@@ -95,8 +99,14 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
         from puppet.timeline.log import Recorder, default_path
 
         path = record or default_path(setup.interface.name)
-        recorder = Recorder(session, path, slowdown=slowdown)
+        recorder = Recorder(session, path, slowdown=slowdown,
+                            script=script_text if script is not None else None)
         print(f"recording to {path}")
+    player = None
+    if script is not None and replay is None:  # timed events and rules, on the window's clock
+        from puppet.timeline.reactive import ScriptPlayer
+
+        player = ScriptPlayer(session, script, None, lambda: clock.slowdown, clock.apply)
     from puppet.timeline.history import Scrubber
 
     scrub = Scrubber(session)
@@ -105,6 +115,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
     camera.follow(subject_of(session), None)
     info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
                    overlay=overlay)
+    from puppet.timeline.playtest.store import figure_line, last_for
+
+    info.playtest = figure_line(last_for(setup.interface.name))  # how forgiving, last measured
     reloader = None
     reload_error = ""  # shown until the file is valid again
     if feeder is None:  # hot reload: saving the interface file applies it at once
@@ -386,6 +399,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
                 clock.toggle_pause()
                 done = finished_message(session, replay)
                 session.say(done, error="DIFFERENT" in done)
+        elif player is not None:
+            player.advance(steps)
         else:
             session.advance(steps)
         if session.halted and not clock.paused and not scrub.active:

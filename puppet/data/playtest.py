@@ -21,14 +21,26 @@ from puppet.data.validate import Meta, Spec
 # the window a mouse error in pixels is measured on: the app's smallest (x, y)
 REFERENCE_WINDOW = (1024.0, 640.0)
 
-Ms = Annotated[float, Meta(ge=0.0, le=2000.0, extra={
-    "message": "a time error is a number of milliseconds, 0..2000"})]
-Px = Annotated[float, Meta(ge=0.0, le=500.0, extra={
-    "message": "an aim error is a number of pixels of a 1024 px window, 0..500"})]
-Ratio = Annotated[float, Meta(ge=0.0, le=0.5, extra={
-    "message": "a tempo error is a fraction of a stroke's length, 0..0.5"})]
-Deflection = Annotated[float, Meta(ge=0.0, le=1.0, extra={
-    "message": "a stick error is a fraction of the stick's full deflection, 0..1"})]
+# each parameter of the model: (least, most, unit, what it is); a command-line flag each
+PARAMETERS: dict[str, tuple[float, float, str, str]] = {
+    "timing_ms": (0.0, 2000.0, "ms", "each event's time error, real time (a stroke's as a "
+                                     "whole; a reactive rule's delay too)"),
+    "aim_px": (0.0, 500.0, "px", "a mouse stroke's offset, pixels of a 1024 x 640 window"),
+    "tremor_px": (0.0, 500.0, "px", "each mouse sample's own jitter on top of its stroke's"),
+    "tempo": (0.0, 0.5, "", "a stroke's length scaled by 1 +- this"),
+    "stick_aim": (0.0, 1.0, "", "a stick or trigger stroke's offset, of full deflection"),
+    "stick_tremor": (0.0, 1.0, "", "each stick sample's own jitter on top"),
+    "stroke_gap_ms": (0.0, 2000.0, "ms", "a pause this long between two samples of the "
+                                         "mouse (a stick...) begins a new stroke"),
+}
+
+
+def _bounded(name: str):
+    lo, hi, unit, _ = PARAMETERS[name]
+    return Annotated[float, Meta(ge=lo, le=hi, extra={
+        "message": f"{name} is a number {lo:g}..{hi:g}{' ' + unit if unit else ''}"})]
+
+
 Tries = Annotated[int, Meta(ge=1, le=10000, extra={
     "message": "tries is a whole number 1..10000"})]
 
@@ -37,13 +49,13 @@ class Noise(Spec, kw_only=True):
     """One level of imprecision. Every bound is a half-width: an error is drawn
     uniformly from -bound..+bound (per axis for positions)."""
 
-    timing_ms: Ms  # each event (a stroke: as a whole), real ms; also a reaction's delay
-    aim_px: Px  # a mouse stroke's offset, px of the reference window
-    tremor_px: Px  # each mouse sample's own jitter on top, px
-    tempo: Ratio  # a stroke's length scaled by 1 +- tempo (motor timing's scalar error)
-    stick_aim: Deflection  # a stick or trigger stroke's offset, of full deflection
-    stick_tremor: Deflection  # each stick sample's own jitter on top
-    stroke_gap_ms: Ms = 150.0  # a pause this long (real) between samples begins a new stroke
+    timing_ms: _bounded("timing_ms")  # real ms
+    aim_px: _bounded("aim_px")  # px of the reference window
+    tremor_px: _bounded("tremor_px")
+    tempo: _bounded("tempo")  # (motor timing's scalar error)
+    stick_aim: _bounded("stick_aim")
+    stick_tremor: _bounded("stick_tremor")
+    stroke_gap_ms: _bounded("stroke_gap_ms") = 150.0
 
     def is_off(self) -> bool:
         """No error at all: the tries are the log itself."""
@@ -52,17 +64,17 @@ class Noise(Spec, kw_only=True):
 
 
 # The named levels (docs/interfaces.md, "The human model", says where each number comes
-# from). tremor is a quarter of the aim error, as in the first measurement.
+# from). tremor is a quarter of the aim error, as in the first measurement; tempo's
+# standard deviation (a uniform's half-width / sqrt 3) is 2, 4, 8 % of a stroke.
 LEVELS: dict[str, Noise] = {
-    "steady": Noise(timing_ms=10.0, aim_px=2.0, tremor_px=0.5, tempo=0.02,
+    "steady": Noise(timing_ms=10.0, aim_px=2.0, tremor_px=0.5, tempo=0.035,
                     stick_aim=0.02, stick_tremor=0.005),
-    "human": Noise(timing_ms=30.0, aim_px=5.0, tremor_px=1.25, tempo=0.04,
+    "human": Noise(timing_ms=30.0, aim_px=5.0, tremor_px=1.25, tempo=0.07,
                    stick_aim=0.05, stick_tremor=0.0125),
-    "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.08,
+    "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.14,
                     stick_aim=0.10, stick_tremor=0.025),
 }
 LevelName = Literal["steady", "human", "novice"]
-PARAMETERS = tuple(n for n in Noise.__struct_fields__)  # each one a command-line flag
 
 
 def noise_at(level: str = "human", **overrides: float) -> Noise:
@@ -79,7 +91,12 @@ def noise_at(level: str = "human", **overrides: float) -> Noise:
                          f"{', '.join(PARAMETERS)}")
     values = {k: getattr(base, k) for k in PARAMETERS}
     values.update({k: float(v) for k, v in given.items()})
-    return Noise.model_validate(values)
+    for k, v in given.items():
+        lo, hi, unit, _ = PARAMETERS[k]
+        if not lo <= float(v) <= hi:  # (NaN too)
+            raise ValueError(f"{k} must be a number {lo:g}..{hi:g}"
+                             f"{' ' + unit if unit else ''}, got {v!r}")
+    return Noise(**values)
 
 
 class PlaytestBar(Spec, kw_only=True):

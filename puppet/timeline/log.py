@@ -113,10 +113,12 @@ def embedded_problem(header: dict) -> str | None:
 
 
 def make_header(session, slowdown: float | None = None, description: str | None = None,
-                expect: list | None = None) -> dict:
+                expect: list | None = None, script: tuple[str, str] | None = None) -> dict:
     """The header of a log. It keeps the interface file's text (``interface_text``),
     so the log can replay the interface as recorded (``--as-recorded``), and from
-    anywhere once the file is moved or deleted (a hot reload edits it while recording)."""
+    anywhere once the file is moved or deleted (a hot reload edits it while recording).
+    ``script``: (name, text) of a reactive script that played the session: a replay
+    does not need it (the events it made are in the log), a playtest plays it again."""
     setup: Setup = session.setup
     raw = Path(setup.interface_path).read_bytes()  # the text kept and its hash: one read
     header: dict[str, Any] = {
@@ -139,6 +141,8 @@ def make_header(session, slowdown: float | None = None, description: str | None 
         header["description"] = description
     if expect:
         header["expect"] = list(expect)
+    if script is not None:
+        header["script"], header["script_text"] = script
     return header
 
 
@@ -172,7 +176,8 @@ class Recorder:
     is a DataError."""
 
     def __init__(self, session, path: str | Path, slowdown: float | None = None,
-                 description: str | None = None, expect: list | None = None):
+                 description: str | None = None, expect: list | None = None,
+                 script: tuple[str, str] | None = None):
         self.session = session
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -180,7 +185,7 @@ class Recorder:
             self.file = self.path.open("x", encoding="utf-8")
         except FileExistsError:
             raise DataError(str(path), None, None, EXISTS) from None
-        self._write(make_header(session, slowdown, description, expect))
+        self._write(make_header(session, slowdown, description, expect, script))
         self._previous = session.listener
         session.listener = self.on_event
 
@@ -300,7 +305,8 @@ def _check_header(path: str, header: Any) -> dict:
         raise DataError(path, 1, None, "header: 'interface_text' must be a string")
     if "expect" in header and not isinstance(header["expect"], list):
         raise DataError(path, 1, None, "header: 'expect' must be a list")
-    for key in ("description", "puppet", "interface_hash", "character_hash", "scene_hash"):
+    for key in ("description", "puppet", "interface_hash", "character_hash", "scene_hash",
+                "script", "script_text"):
         if key in header and not isinstance(header[key], str):
             raise DataError(path, 1, None, f"header: '{key}' must be a string")
     for key in ("interface_hash", "character_hash", "scene_hash"):

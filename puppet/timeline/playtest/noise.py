@@ -11,7 +11,8 @@ events moved in time (and the mouse and sticks in space) by the errors of a
   them) moves as a whole: one time shift, one tempo (its length scaled by
   1 +- ``tempo``), one aim offset (+-``aim_px`` per axis, of a 1024 x 640 window; a
   stick's +-``stick_aim``), plus each sample's own tremor (+-``tremor_px``);
-  a drag, a stream of mocap frames or a plugin channel moves in time as strokes do;
+  a drag moves in time as a stroke does; a stream of mocap frames or a plugin channel
+  only by its time shift (a performer's take, not a hand's stroke);
 - one input's events keep their order (a key, a button, the mouse...), and events at
   distinct steps stay at distinct steps: a key is never released before it is pressed;
 - checkpoint markers (the action, the app's checkpoint key), hot reloads and gesture
@@ -44,6 +45,7 @@ MARKER = "marker"  # moves with the event after it
 TRAVEL = "travel"  # time goes back: a marker that also begins a new segment
 
 _TRAVEL_ACTIONS = ("restore", "rewind", "take")
+STREAMS = ("channels",)  # inputs a stroke of which is not a hand's (no tempo)
 
 
 @dataclass
@@ -194,7 +196,10 @@ def perturb(pairs: Sequence[tuple[int, Event]], slowdowns: Sequence[float], dt: 
                                        name):
                     shift, tempo, ax, ay = (float(v) for v in _uniform(rng, 1.0, 4))
                     s0 = pairs[stroke[0]][0]
-                    scale = 1.0 + tempo * noise.tempo
+                    # a hand's stroke is played faster or slower; a stream (mocap frames,
+                    # a plugin's channel) is someone's whole take: only moved in time
+                    scale = 1.0 + tempo * noise.tempo if name not in STREAMS \
+                        and not name.startswith("channel:") else 1.0
                     for i in stroke:
                         step_shift = shift * timing / slowdowns[i] / dt
                         real[i] = shift * timing
@@ -226,9 +231,14 @@ def perturb(pairs: Sequence[tuple[int, Event]], slowdowns: Sequence[float], dt: 
         new_step[i] = min(max(new_step[i], 0), end_step)
     order: list[int] = []
     for segment in segments:
-        # by new step; a marker just before the event it goes with; ties in log order
-        order.extend(sorted(segment, key=lambda i: (new_step[i], anchor.get(i, i),
-                                                     0 if i not in anchor else -1, i)))
+        # the event that sent time back first (the steps after it are on the new time
+        # line); then by new step, a marker just before the event it goes with, ties in
+        # log order
+        head = segment[:1] if segment and kinds[segment[0]][0] == TRAVEL else []
+        order.extend(head)
+        order.extend(sorted(segment[len(head):],
+                            key=lambda i: (new_step[i], anchor.get(i, i),
+                                           0 if i not in anchor else -1, i)))
     moved = [(new_step[i], values.get(i, pairs[i][1])) for i in order]
     moves = [Move(i, pairs[i][0], new_step[i], real[i]) for i in range(n)]
     return Perturbation(moved, moves)

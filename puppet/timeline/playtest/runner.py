@@ -89,13 +89,18 @@ def run(plans: list[Plan], jobs: int = 1,
     if jobs > 1 and len(tasks) > 1:
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
+        pool = ProcessPoolExecutor(max_workers=jobs)
+        try:
             futures = {pool.submit(_task, out[k].path, plans[k].noise, plans[k].seed, i):
                        (k, i) for k, i in tasks}
             for fut in as_completed(futures):
                 done[futures[fut]] = fut.result()
                 if progress is not None:
                     progress(1)
+        except BaseException:  # Ctrl+C: the tries not begun are dropped, not waited for
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown()
     else:
         for k, i in tasks:
             done[(k, i)] = _task(out[k].path, plans[k].noise, plans[k].seed, i)

@@ -11,13 +11,11 @@ pressed, no hot reload) keeps its header's slowdown throughout, at no cost.
 
 from __future__ import annotations
 
-from puppet.data.bounds import MAX_SLOWDOWN, MIN_SLOWDOWN, nearest_slowdown_index, \
-    stepped_slowdown
 from puppet.data.catalog import Setup
 from puppet.data.interface_refs import actions
 from puppet.data.keys import normalize_key
-from puppet.interface.app_keys import SetSlowdown
 from puppet.timeline.log import Log
+from puppet.timeline.reactive import Speed
 
 
 def _chord(event: dict) -> str | None:
@@ -55,19 +53,12 @@ def in_force(log: Log, setup: Setup) -> list[float]:
     from puppet.timeline.replay import LogFeeder, new_session
 
     session = new_session(log, setup)
-    state = {"slowdown": start, "index": nearest_slowdown_index(start)}
+    speed = Speed(start)
     after: dict[int, float] = {}  # event index -> the slowdown after it acted
 
     def on_action(action) -> None:
-        if action in ("slower", "faster"):
-            state["slowdown"], state["index"] = stepped_slowdown(
-                state["slowdown"], state["index"], action == "slower")
-        elif isinstance(action, SetSlowdown):
-            state["slowdown"] = min(MAX_SLOWDOWN, max(MIN_SLOWDOWN, float(action.value)))
-            state["index"] = nearest_slowdown_index(state["slowdown"])
-        else:
-            return
-        after[feeder.i - 1] = state["slowdown"]
+        speed.apply(action)
+        after[feeder.i - 1] = speed.value
 
     feeder = LogFeeder(session, log, on_action=on_action)
     while not feeder.finished:

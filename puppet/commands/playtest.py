@@ -1,0 +1,227 @@
+"""``puppet playtest LOG...``: how forgiving a feat is, measured by a simulated player.
+
+Each log is replayed ``--tries`` times with a person's imprecision (the human model of
+``puppet.data.playtest``, at ``--noise`` or each parameter on its own flag) and judged
+by its feat expectations; stdout gets one row per log (or ``--json``), stderr a
+progress bar. Exit 1 when a log misses its own ``playtest:`` bar, 2 when a log cannot
+be played or an option is wrong, else 0. The figures are kept for the window's HUD
+(``puppet.timeline.playtest.store``) unless ``--no-save``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections import Counter
+from pathlib import Path
+
+from puppet.data.playtest import LEVELS, PARAMETERS
+
+EXIT_MISSED, EXIT_ERROR = 1, 2
+DEFAULT_TRIES = 20
+DEFAULT_LEVEL = "human"
+
+
+def _whole(what: str, lo: int, hi: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = lo - 1
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo} to {hi}")
+        return value
+    return parse
+
+
+def _number(name: str):
+    lo, hi, unit, _ = PARAMETERS[name]
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(
+                f"'{text}' is not a number from {lo:g} to {hi:g}{' ' + unit if unit else ''}")
+        return value
+    return parse
+
+
+def register(subparsers) -> argparse.ArgumentParser:
+    """Add ``puppet playtest`` to the command's sub-parsers."""
+    p = subparsers.add_parser(
+        "playtest", help="replay logs many times with a person's imprecision; how often "
+                         "the feat still comes off",
+        description="Replay each log --tries times, every event moved by a person's "
+                    "timing error (real time, so a slowed-down log moves less in "
+                    "simulated time) and every mouse or stick stroke by an aim error "
+                    "plus tremor, and judge each try by the log's feat expectations "
+                    "(its sidecar LOG.expect.yaml, else its header; the recorded end "
+                    "state is not judged). Prints one row per log; exit 1 if a log "
+                    "misses its own 'playtest:' bar, 2 on an error. The human model "
+                    "and how to read the figures: docs/interfaces.md, Playtests.")
+    p.add_argument("logs", nargs="+", metavar="LOG",
+                   help="log file(s) (.jsonl), or names (assets/logs/NAME.jsonl, else "
+                        "recordings/NAME.jsonl)")
+    p.add_argument("--tries", "-n", type=_whole("number of tries", 1, 10000),
+                   help=f"tries per log (default: the log's bar's, else {DEFAULT_TRIES})")
+    p.add_argument("--seed", type=_whole("seed", 0, 2 ** 32 - 1), default=0,
+                   help="the random seed (default 0): the same seed gives the same "
+                        "tries, bit for bit")
+    p.add_argument("--jobs", "-j", type=_whole("number of processes", 1, 256), default=1,
+                   metavar="N", help="run the tries in N processes (the figures do not "
+                                     "depend on it)")
+    p.add_argument("--noise", choices=list(LEVELS),
+                   help="how imprecise the player is: "
+                        + "; ".join(f"{n} +-{v.timing_ms:g} ms, {v.aim_px:g} px"
+                                    for n, v in LEVELS.items())
+                        + f" (default: the log's bar's level, else {DEFAULT_LEVEL})")
+    for name, (lo, hi, unit, what) in PARAMETERS.items():
+        p.add_argument("--" + name.replace("_", "-"), type=_number(name), dest=name,
+                       metavar=unit.upper() or "X",
+                       help=f"{what} ({lo:g}..{hi:g}; replaces the level's)")
+    p.add_argument("--json", action="store_true", help="print the results as JSON")
+    p.add_argument("--no-save", action="store_true",
+                   help="do not keep the figures for the window's HUD "
+                        "(recordings/playtests.json)")
+    p.set_defaults(func=run)
+    return p
+
+
+def _plans(args) -> list:
+    """One plan per log: the noise and tries asked for, else the log's bar's."""
+    from puppet.data.errors import DataError, UsageError
+    from puppet.data.playtest import noise_at
+    from puppet.timeline.playtest import Plan, load_bar
+    from puppet.timeline.replay import find_log
+
+    overrides = {n: getattr(args, n) for n in PARAMETERS if getattr(args, n) is not None}
+    plans, bars = [], []
+    for name in args.logs:
+        try:
+            bar = load_bar(find_log(name))
+        except DataError:
+            bar = None  # the log's own error is said when it is prepared
+        level = args.noise or (bar.noise if bar else DEFAULT_LEVEL)
+        tries = args.tries or (bar.tries if bar else DEFAULT_TRIES)
+        try:
+            noise = noise_at(level, **overrides)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+        label = level + ("*" if overrides else "")
+        plans.append(Plan(name, noise, label, tries, args.seed))
+        bars.append(bar)
+    return plans, bars
+
+
+def _bar_verdict(result, bar) -> tuple[str, bool | None]:
+    """(what the bar column says, met: True/False, None when not checked)."""
+    if bar is None:
+        return "-", None
+    want = f">= {bar.min_pass:.0%} at {bar.noise}"
+    if result.error is not None:
+        return want, None
+    if result.plan.level != bar.noise:  # another level (or a parameter changed)
+        return f"{want} (not checked)", None
+    met = result.passes >= bar.needed(len(result.results))
+    return f"{want}: {'met' if met else 'MISSED'}", met
+
+
+def _failures(result) -> Counter:
+    """How the failed tries failed: for each kind of expectation, the tries that
+    missed one of that kind (a blow-up or leaving the world: 'blow-up')."""
+    kinds: Counter = Counter()
+    for r in result.results:
+        if not r.passed:
+            missed = set()
+            for line in r.failed:
+                words = line.split()
+                missed.add(words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
+                           else line)
+            kinds.update(missed)
+    return kinds
+
+
+def _row(result, bar_text: str) -> tuple[str, ...]:
+    if result.error is not None:
+        return (result.plan.log, result.plan.level, "-", "-", bar_text, "ERROR")
+    n = len(result.results)
+    kinds = _failures(result)
+    how = ", ".join(f"{k} {c}" for k, c in kinds.most_common(3)) or "-"
+    return (result.plan.log, result.plan.level, f"{result.passes}/{n}",
+            f"{result.rate:.0%}", bar_text, how)
+
+
+def table(rows: list[tuple[str, ...]]) -> str:
+    head = ("log", "noise", "pass", "rate", "bar", "what the failed tries missed")
+    rows = [head] + rows
+    widths = [max(len(r[i]) for r in rows) for i in range(len(head) - 1)]
+    return "\n".join("  ".join(c.ljust(w) for c, w in zip(r, widths)) + "  " + r[-1]
+                     for r in rows)
+
+
+def _as_json(result, bar, met) -> dict:
+    out = {"log": result.plan.log, "path": result.path, "noise": result.plan.level,
+           "parameters": {k: getattr(result.plan.noise, k) for k in PARAMETERS},
+           "seed": result.plan.seed, "tries": result.plan.tries}
+    if result.error is not None:
+        return dict(out, error=result.error)
+    return dict(out, passes=result.passes, rate=result.rate,
+                bar=None if bar is None else {"noise": bar.noise, "tries": bar.tries,
+                                              "min_pass": bar.min_pass, "met": met},
+                failures=dict(_failures(result)),
+                results=[r.to_dict() for r in result.results], warnings=result.warnings)
+
+
+def _save(results) -> None:
+    from puppet.timeline.playtest import prepare
+    from puppet.timeline.playtest.store import save
+
+    figures = []
+    for r in results:
+        if r.error is None and r.results:
+            figures.append({"log": Path(r.path).name.removesuffix(".jsonl"),
+                            "interface": prepare(r.plan.log).setup.interface.name,
+                            "passes": r.passes, "tries": len(r.results),
+                            "noise": r.plan.level, "seed": r.plan.seed})
+    if figures:
+        save(figures)
+
+
+def run(args) -> int:
+    """The command: plans, the tries (with a progress bar), the table or JSON."""
+    from tqdm import tqdm
+
+    from puppet.timeline.playtest import run as run_plans
+
+    plans, bars = _plans(args)
+    total = sum(p.tries for p in plans)
+    # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
+    with tqdm(total=total, unit="try", desc="playtest", file=sys.stderr,
+              disable=None) as bar:
+        results = run_plans(plans, args.jobs, bar.update)
+    verdicts = [_bar_verdict(r, b) for r, b in zip(results, bars)]
+    for r in results:
+        for w in r.warnings:
+            print(w, file=sys.stderr)
+        if r.error is not None:
+            print(f"puppet playtest: {r.error}", file=sys.stderr)
+    if args.json:
+        print(json.dumps([_as_json(r, b, v[1]) for r, b, v in zip(results, bars, verdicts)],
+                         indent=1))
+    else:
+        print(table([_row(r, v[0]) for r, v in zip(results, verdicts)]))
+        missed = sum(v[1] is False for v in verdicts)
+        met = sum(v[1] is True for v in verdicts)
+        errors = sum(r.error is not None for r in results)
+        print(f"{len(results)} log{'' if len(results) == 1 else 's'}, {total} tries: "
+              f"bars {met} met, {missed} missed; "
+              f"{errors} error{'' if errors == 1 else 's'}")
+    if not args.no_save:
+        _save(results)
+    if any(r.error is not None for r in results):
+        return EXIT_ERROR
+    return EXIT_MISSED if any(v[1] is False for v in verdicts) else 0

@@ -1,0 +1,34 @@
+"""Every shipped ``playtest:`` bar, in a cheap version: a few tries at the bar's noise
+level from seed 0 (a deterministic sample of the tries ``puppet playtest`` runs), which
+must pass at the bar's rate less a margin. A change that makes a forgiving feat
+fragile fails here; ``puppet playtest assets/logs/*.jsonl`` measures the full bars."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from puppet.data.catalog import ROOT
+from puppet.data.playtest import noise_at
+from puppet.timeline.playtest import load_bar, playtest
+
+TRIES = 3  # per bar: CPU, not coverage (the full bars run 20)
+MARGIN = 0.34  # of the pass rate: one try of three may fail where the bar allows fewer
+
+LOGS = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
+BARS = [(log, bar) for log in LOGS if (bar := load_bar(str(log))) is not None]
+
+
+def test_some_shipped_feats_have_a_bar():
+    assert len(BARS) >= 5, [log.stem for log, _ in BARS]
+
+
+@pytest.mark.parametrize("log, bar", BARS, ids=[log.stem for log, _ in BARS])
+def test_the_feat_still_clears_its_bar_in_a_few_tries(log, bar):
+    result = playtest(log, noise_at(bar.noise), tries=TRIES, seed=0)
+    assert result.error is None, result.error
+    need = max(1, math.ceil((bar.min_pass - MARGIN) * TRIES - 1e-9))
+    missed = [f"try {r.index}: {'; '.join(r.failed)}" for r in result.results if not r.passed]
+    assert result.passes >= need, (f"{log.stem}: {result.passes}/{TRIES} at {bar.noise} "
+                                   f"(bar {bar.min_pass:.0%}): " + " | ".join(missed))
