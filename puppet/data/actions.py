@@ -253,6 +253,7 @@ class ActionSpec(Spec, kw_only=True):
 
     pose: str | None = None  # set a named pose absolutely
     set: dict[str, Target] = field(default_factory=dict)  # joint -> deg, or {world: deg} ...
+    over: PositiveDuration | None = None  # s: the pose's and set's targets travel there
     adjust: dict[str, AngleChange] = field(default_factory=dict)  # joint -> +deg
     sequence: str | None = None  # start a named pose sequence
     # play the sequence this many times (or until preempted)
@@ -281,6 +282,9 @@ class ActionSpec(Spec, kw_only=True):
         if self.app is not None and self.app not in META_APP_ACTIONS:
             raise at("app", f"unknown app action '{self.app}'; expected one of: "
                             f"{', '.join(META_APP_ACTIONS)}")
+        if self.over is not None and self.pose is None and not self.set:
+            raise at("over", "'over' (s) is how long the targets of 'pose' or 'set' take "
+                             "to get there, but this action has neither")
         if self.repeat is not None:
             if self.sequence is None:
                 raise ValueError("'repeat' repeats a sequence, but this action starts none")

@@ -180,6 +180,8 @@ class TransitionSpec(Spec, kw_only=True):
     to: str
     after: Num("time") | None = None  # s since entering the state
     when: ConditionSpec | list[ConditionSpec] | None = None
+    # s the `when` must have held without a break (a flickering contact is no take-off)
+    held: Num("time") | None = field(name="for", default=None)
 
     def __post_init__(self):
         if self.after is None and self.when is None:
@@ -188,6 +190,8 @@ class TransitionSpec(Spec, kw_only=True):
         if isinstance(self.when, list) and not self.when:
             raise ValueError("'when' is an empty list: give one condition, or several "
                              "that must all hold")
+        if self.held is not None and self.when is None:
+            raise at("for", "'for' (s) is how long 'when' must have held: it needs 'when'")
 
     @property
     def conditions(self) -> list[ConditionSpec]:

@@ -40,6 +40,7 @@ from puppet.interface.app_keys import AppAction, SetSlowdown
 from puppet.interface.buffer import InputBuffer
 from puppet.interface.conditions import map_reader
 from puppet.interface.controllers.base import WAITED
+from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
@@ -109,6 +110,7 @@ class InterfaceRuntime:
         self.perturber = Perturber(spec.perturbation, character, self.dt)
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
+        self.blends = BlendController(character, self.owners, self.frames, every)
         self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
@@ -128,7 +130,8 @@ class InterfaceRuntime:
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
-                            self.perturber, self.tracker, self.frames, self.feedback)
+                            self.perturber, self.tracker, self.blends, self.frames,
+                            self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self._controllers_wake: int | None = None  # the earliest of theirs
@@ -637,12 +640,12 @@ class InterfaceRuntime:
             for joint, d in a.damping.items():
                 servos[r(joint)].damping = d
         frames = self.frames
-        if a.pose is not None:
+        if a.pose is not None and a.over is None:
             pose = self.poses[a.pose]
             self.owners.take(pose.targets)
             apply_pose(servos, pose, frames=frames, owner=FRAME)
         held = []
-        for joint, deg in a.set.items():
+        for joint, deg in ({} if a.over is not None else a.set).items():
             joint = r(joint)
             if isinstance(deg, (int, float)):
                 servos[joint].target = math.radians(deg)
@@ -657,6 +660,8 @@ class InterfaceRuntime:
         self.owners.take([r(j) for j in a.touched_joints()])
         for joint, target in held:  # after the take: a frame target is held (owned)
             frames.hold(joint, target)
+        if a.over is not None:  # the pose's and set's targets travel (controllers/blend.py)
+            self._blend(a, now)
         if a.sequence is not None:
             self.sequences.start(a.sequence, now, a.repeat)
         if a.release is not None:
@@ -666,6 +671,11 @@ class InterfaceRuntime:
         if a.reach is not None:
             self.reaching.start(a.reach, now)
         return result
+
+    def _blend(self, a: ActionSpec, now: int) -> None:
+        """An action's pose and set with ``over``: the targets travel (its gains now)."""
+        pose = self.poses[a.pose] if a.pose is not None else None
+        self.blends.start_action(pose, a.set, self.roles.rename, now, round(a.over / self.dt))
 
     def release(self, which: str) -> None:
         """Let go: unpin the chain ("all": every chain) and disarm its grasp, also
