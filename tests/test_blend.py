@@ -8,7 +8,7 @@ import textwrap
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
@@ -92,7 +92,7 @@ def test_the_path_is_the_same_at_any_step_length(tmp_path):
 
 
 def test_a_checkpoint_mid_travel_replays_to_the_same_bits(tmp_path):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     events = [(10, ev.key("a")), (10, ev.key("a", False)), (100, ev.key("c"))]
     straight = session(tmp_path)

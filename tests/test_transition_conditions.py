@@ -8,7 +8,7 @@ import textwrap
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
@@ -65,7 +65,7 @@ def test_for_waits_until_the_condition_has_held_that_long_without_a_break(tmp_pa
 
 
 def test_a_checkpoint_taken_while_a_for_condition_holds_replays_to_the_same_step(tmp_path):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     events = [(0, ev.mouse(0.2, 0.5)), (60, ev.key("c")), (90, ev.mouse(0.2, 0.4))]
     straight = session(tmp_path, CORNER)
