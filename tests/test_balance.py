@@ -239,6 +239,7 @@ def test_the_shove_that_stepping_catches_fells_the_figure_that_holds_still(tmp_p
 
 def test_the_push_step_log_fails_with_weak_hips(tmp_path):
     from helpers import with_weak_hips
+
     from puppet.testing import replay_log
 
     result = replay_log(with_weak_hips("biped-push-step", "biped-step", tmp_path, 300.0, 75.0))

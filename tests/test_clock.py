@@ -2,8 +2,8 @@
 
 import math
 
-from puppet.interface.app_keys import SetSlowdown
 from puppet.app.clock import SLOWDOWNS, SimClock
+from puppet.interface.app_keys import SetSlowdown
 
 
 def test_slowdowns_are_log_spaced_from_1_to_100():

@@ -14,13 +14,12 @@ import textwrap
 
 import numpy as np
 import pytest
+from helpers import TWO_JOINT_BVH
 
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
-
-from helpers import TWO_JOINT_BVH
 
 WALK = "assets/mocap/cmu-131_01-walk.bvh"
 

@@ -13,13 +13,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import TWO_JOINT_BVH as BVH
 
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError, UsageError
 from puppet.interface.conditions import reader
 from puppet.session import Session
-
-from helpers import TWO_JOINT_BVH as BVH
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -332,6 +331,7 @@ def test_listen_prints_the_channels_that_arrive(capsys, monkeypatch):
     import time
 
     from helpers import ListenedPort
+
     from puppet.commands import main
     from puppet.mocap.puppet_osc import encode_frame
 

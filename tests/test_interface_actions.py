@@ -407,8 +407,8 @@ def test_perturbations_restore_from_a_checkpoint(tmp_path):
 
 
 def test_gamepad_channel_and_button_events_replay_from_a_log(tmp_path):
-    from puppet.timeline.log import read_log, record_events
     from puppet.session.playback import play
+    from puppet.timeline.log import read_log, record_events
 
     body = """
     maps:
@@ -443,8 +443,8 @@ def test_pointer_for_pose_finds_where_the_mouse_maps_hold_the_start_pose(tmp_pat
 
 # -- designer feedback: two maps on one joint --------------------------------------------------
 def test_two_maps_writing_one_joint_in_one_mode_warn_at_load_naming_both(tmp_path, capsys):
-    from puppet.commands.check import check_file
     from puppet.commands import main
+    from puppet.commands.check import check_file
 
     path = tmp_path / "interfaces" / "two.yaml"
     path.parent.mkdir()

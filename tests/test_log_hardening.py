@@ -152,6 +152,7 @@ def test_cli_malformed_lines_exit_2_without_internal_error(tmp_path):
         assert proc.returncode == 2, proc.stderr
         assert proc.stderr.startswith(f"{path}:3: ") or f" {path}:3: " in proc.stderr, \
             proc.stderr
+        assert fragment in proc.stderr, (fragment, proc.stderr)  # what the reader says, too
         assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -74,7 +75,7 @@ def test_another_rig_needs_only_another_mapping_file():
     other = parse_bvh(_emit_bvh(clip, lambda n: names.get(n, "x_" + n), cm_per_unit, 2),
                       "other.bvh")
     assert round(other.fps) == 60
-    text = open(CMU, encoding="utf-8").read()
+    text = Path(CMU).read_text(encoding="utf-8")
     for old, new in sorted(names.items(), key=lambda kv: -len(kv[0])):
         text = re.sub(rf"\b{old}\b", new, text)
     text = text.replace("unit: 0.056444", "unit: 0.01")
@@ -219,7 +220,7 @@ def test_a_stream_faces_the_way_the_hips_say():
 
 
 def test_a_clip_with_no_frames_is_a_one_line_error():
-    text = open(WALK, encoding="utf-8").read()
+    text = Path(WALK).read_text(encoding="utf-8")
     head = text[:text.index("MOTION")]
     empty = parse_bvh(head + "MOTION\nFrames: 0\nFrame Time: 0.008333\n", "empty.bvh")
     with pytest.raises(DataError, match="no frames") as err:

@@ -104,7 +104,7 @@ def test_the_pulls_off_is_free_fall():
     dt = s.sim.dt
     pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0, "clearance": 0.3}
     pose.update({j: 0.0 for j in s.character.servos})
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     lifted = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
@@ -112,7 +112,7 @@ def test_the_pulls_off_is_free_fall():
     assert lifted > 0.15
     s.handle(ev.key("f", True))
     assert "free fall" in s.runtime.tracker.status
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     dropped = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])

@@ -21,8 +21,8 @@ from puppet.interface import events as ev
 from puppet.interface.ik import Chain, forward, hermite
 from puppet.physics.character import Character
 from puppet.session import Session
-from puppet.timeline.log import read_log, record_events
 from puppet.session.playback import play
+from puppet.timeline.log import read_log, record_events
 from puppet.timeline.replay import replay
 
 CAT, _ = load_character_named("cat")
@@ -317,7 +317,8 @@ def test_a_hot_reload_naming_a_prop_the_scene_lacks_is_refused(tmp_path):
 # -- a three-joint arm of our own, in a session ----------------------------------------------
 ARM3 = """
 name: arm3
-description: a very heavy base (it hardly moves without gravity) and a three-link arm (test character)
+description: >-
+  a very heavy base (it hardly moves without gravity) and a three-link arm (test character)
 links:
   - name: base
     mass: 1000.0

@@ -60,7 +60,7 @@ def test_a_nan_is_caught_within_a_frame():
 
 def test_a_doomed_run_goes_back_step_by_step_then_halts_once(tmp_path):
     session = Session(load_setup(str(_tilted(tmp_path))))
-    for i in range(60 * 60):  # a minute of frames
+    for _ in range(60 * 60):  # a minute of frames
         session.handle(ev.mouse(0.5, 0.5))
         session.advance(8)
     notes = session.blowup_messages

@@ -36,11 +36,11 @@ def test_after_a_rewind_the_contacts_are_there_at_once():
 
 
 def test_the_replay_sampler_sees_the_feet_down_at_checkpoints():
-    from puppet.timeline.log import Recorder
-    from puppet.timeline.replay import replay
-
     import tempfile
     from pathlib import Path
+
+    from puppet.timeline.log import Recorder
+    from puppet.timeline.replay import replay
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "stand.jsonl"

@@ -9,8 +9,8 @@ from puppet.data.catalog import find, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.session.history import History, Scrubber
-from puppet.timeline.log import Recorder
 from puppet.session.playback import play
+from puppet.timeline.log import Recorder
 from puppet.timeline.replay import LogFeeder, new_session, read_log, replay
 from puppet.timeline.script import compile_script, load_script
 

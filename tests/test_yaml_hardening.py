@@ -243,7 +243,7 @@ links:
 joints:
   - {{name: j, parent: base, child: arm, anchor: [0, 0], pd: {{stiffness: {k}, damping: 1, max_torque: 5}}}}
 start: {{angle: {angle}, joints: {{j: 0}}}}
-"""
+"""  # noqa: E501 - one joint a line: the cases name their line numbers
 GOOD = dict(mass=1, radius=0.1, cx=0.1, k=10, angle=0)
 
 

@@ -57,8 +57,8 @@ sys.path.insert(0, str(ROOT))
 
 from puppet.data.catalog import find, setup_from_text  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
+from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.timeline.replay import Sampler  # noqa: E402
 from puppet.timeline.script import compile_script, load_script, run_seconds  # noqa: E402
 

@@ -14,9 +14,10 @@ that test, so run it on what this writes.
 Each stride is one bound cycle on the cat-bound keys (tools/tune_cat.py): at the
 stride's start the back pair pushes (a, or ctrl+a held = over-extended and stiff) and
 the front pair launches; at ``swing`` the back pair folds (w under, or e gathered
-forward) and the front pair reaches (l) or folds forward (o, to clear a step's riser); at ``land`` the front pair pushes and the back pair lands; at
-``gather`` the front pair folds (i) and the back pair stands (s). Its timings (period,
-swing, land, gather, push hold) and key choices are searched.
+forward) and the front pair reaches (l) or folds forward (o, to clear a step's riser);
+at ``land`` the front pair pushes and the back pair lands; at ``gather`` the front pair
+folds (i) and the back pair stands (s). Its timings (period, swing, land, gather, push
+hold) and key choices are searched.
 
 From the state after the strides kept so far the search checkpoints (a
 ``checkpoint`` action in the script: the paper's checkpoints, one per stride, about
@@ -29,10 +30,11 @@ the cat must leap it, its back feet leaving the near side before its front feet
 reach the far side) - plus a look-ahead: the same stride played
 twice more from there (a human keeps the rhythm), scored by how far that gets and
 whether it stays on its feet; only the first stride is kept, the next is searched
-afresh from its end (a stride that leaves the cat where it cannot go on scores low). When no stride from a checkpoint is
-acceptable (say, at the gap's edge) the search backtracks: the previous stride is
-replaced by its next-best alternative, and so on. Once the centre of mass is past
-``--finish`` the cat stands (s, k) and must stay upright for ``--settle`` s.
+afresh from its end (a stride that leaves the cat where it cannot go on scores low).
+When no stride from a checkpoint is acceptable (say, at the gap's edge) the search
+backtracks: the previous stride is replaced by its next-best alternative, and so on.
+Once the centre of mass is past ``--finish`` the cat stands (s, k) and must stay
+upright for ``--settle`` s.
 
 Every try is played through the real Session from the checkpoint, and the checkpoint
 action re-seats the run exactly as the recorded script does, so the written script
@@ -51,8 +53,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tools.gestures import SessionRunner, climb, compile_entries, tilt_deg  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
+from tools.gestures import SessionRunner, climb, compile_entries, tilt_deg  # noqa: E402
 
 INTERFACE = "cat-bound"
 # the stride of assets/scripts/cat-bound.yaml (tuned on flat ground)

@@ -46,8 +46,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.data.catalog import ROOT  # noqa: E402
-from puppet.timeline.expectations import evaluate_all, parse_expectations  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
+from puppet.timeline.expectations import evaluate_all, parse_expectations  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
 from tools.gestures import SessionRunner, climb, compile_entries  # noqa: E402
 

@@ -26,7 +26,8 @@ started from an earlier draft's numbers (themselves from a cruder search of the 
 poses, 550 tries) and found the shipped ones at try 13 (4.02 s on the hands); with them
 in the files, ``--tries 0`` replays them and passes, and then
 
-    puppet play biped-floor --headless --input biped-handstand --record assets/logs/biped-handstand.jsonl
+    puppet play biped-floor --headless --input biped-handstand \
+        --record assets/logs/biped-handstand.jsonl
 
 records the log (the same end hash as the tool's replay).
 
@@ -95,10 +96,10 @@ with a foot not flat at most of the others; ``--seed 20 --sigma 0.015`` (the sam
 shifts, 450 tries) found nothing better, and a hand grid over the standing pose's
 ankles (world -8..0) and the rising dx gain (40, 45.18, 50) at 20 press times gave
 -6 and 45.18: 32 of 40. Those are the shipped numbers (``--tries 0`` replays them).
-The 50 ms grid flatters them (its moments behave alike; why is not measured): at 10 ms (``--sweep 0.7 2.45 0.01``) 42 of 176 pass, and
-``--seed 21 --sigma 0.02 --shifts 0 0.002 0.006 0.011 0.302 -0.296 0.607 -0.493
---mean`` (150 tries, mixed phases) raised its own mean but not that count (38). They
-were recorded with
+The 50 ms grid flatters them (its moments behave alike; why is not measured): at 10 ms
+(``--sweep 0.7 2.45 0.01``) 42 of 176 pass, and ``--seed 21 --sigma 0.02 --shifts 0
+0.002 0.006 0.011 0.302 -0.296 0.607 -0.493 --mean`` (150 tries, mixed phases) raised
+its own mean but not that count (38). They were recorded with
 
     puppet play biped-kip --headless --input biped-kip --record assets/logs/biped-kip.jsonl
 
@@ -124,11 +125,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.testing import replay_log  # noqa: E402
-from puppet.timeline.expectations import (  # noqa: E402
-    _longest_run, evaluate_all, parse_expectations)
-from puppet.timeline.log import record_events  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
+from puppet.testing import replay_log  # noqa: E402
+from puppet.timeline.expectations import _longest_run, evaluate_all, parse_expectations  # noqa: E402
+from puppet.timeline.log import record_events  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 
@@ -152,7 +152,7 @@ def _pose(short: str, pose: str, **ranges) -> dict:
 def _world(short: str, pose: str, **ranges) -> dict:
     """The same for world targets ({world: A} or {world: A, hold: parent})."""
     out = _pose(short, pose, **ranges)
-    for lo, hi, dec, places in out.values():
+    for *_, places in out.values():
         places[:] = [place + ("world",) for place in places]
     return {f"{n}_world": v for n, v in out.items()}
 
@@ -382,7 +382,7 @@ def read(docs: dict, place):
 
 def with_params(docs: dict, params: dict, p: dict) -> dict:
     out = json.loads(json.dumps(docs))
-    for name, (lo, hi, dec, places) in params.items():
+    for name, (_, _, dec, places) in params.items():
         v = round(p[name], dec) if dec else int(round(p[name]))
         for place in places:
             put(out, place, v)
@@ -507,10 +507,10 @@ def main() -> int:
         else:
             p = {n: min(hi, max(lo, best_p[n] + rng.gauss(0, args.sigma * (hi - lo))))
                  for n, (lo, hi, _, _) in params.items()}
-        value, outs = score(args.feat, with_params(docs, params, p), expect, args.shifts,
+        value, _ = score(args.feat, with_params(docs, params, p), expect, args.shifts,
                             args.mean)
         if value > best:
-            best, best_p, outcomes = value, p, outs
+            best, best_p = value, p
             print(f"try {i}: {value:.2f}", flush=True)
             if args.verbose:
                 found = with_params(docs, params, best_p)

@@ -26,7 +26,8 @@ hold, both hands held throughout) by replaying the script through the same path
 (arms overhead, body straight) and the log runs on 3 s. The shipped log (seeded, so
 the same script again):
 
-    python tools/tune_giant.py --tries 16 --seconds 60 --write assets/scripts/biped-giant-swings.yaml
+    python tools/tune_giant.py --tries 16 --seconds 60 \
+        --write assets/scripts/biped-giant-swings.yaml
     puppet play biped-gymnast --headless --input assets/scripts/biped-giant-swings.yaml \
         --record assets/logs/biped-giant-swings.jsonl
 """

@@ -176,10 +176,8 @@ def search_hop(runner, rng, t0: float, x0: float, args) -> list:
         else:  # around the shipped hop half the time, anywhere the other half
             p = {}
             for k, (lo, hi) in BOUNDS.items():
-                if i % 2:
-                    v = DEFAULT[k] + rng.gauss(0.0, 0.15 * (hi - lo))
-                else:
-                    v = rng.uniform(lo, hi)
+                v = (DEFAULT[k] + rng.gauss(0.0, 0.15 * (hi - lo)) if i % 2
+                     else rng.uniform(lo, hi))
                 p[k] = min(hi, max(lo, v))
         o = evaluate(p)
         pool.append((score(o), p, o))

@@ -340,7 +340,7 @@ def measure(which: str) -> None:
         for start in ("stand",):
             o, = run(doc, str(k["key"]), start, 3.0)
             print(f"{k['key']:>2} {k.get('description', ''):28s} {o.line()}")
-    for state, fn in (("on_back", on_back), ("sitting", sitting)):
+    for state in ("on_back", "sitting"):  # run() starts them by name (START_STATES)
         for k in doc["states"].get(state, {}).get("keys", []):
             if which in ("all", str(k["key"])):
                 o, = run(doc, str(k["key"]), state, 3.0)

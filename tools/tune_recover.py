@@ -48,9 +48,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.data.catalog import ROOT, find, setup_from_text  # noqa: E402
 from puppet.session import Session  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.testing import replay_log  # noqa: E402
 from puppet.timeline.log import record_events  # noqa: E402
-from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.script import compile_script, load_script, run_seconds  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-recover.yaml"

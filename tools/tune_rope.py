@@ -32,8 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.data.catalog import load_setup  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
+from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.timeline.replay import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 

@@ -18,11 +18,10 @@ joints (what the keys and maps say holds them) until samples come again.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
-
+from typing import Literal
 
 from puppet.data.ranges import Num
-from puppet.data.validate import Meta, Spec, field
+from puppet.data.validate import Spec, field
 
 Gain = Num("gain")
 
@@ -64,8 +63,8 @@ class ReactionSpec(Spec, kw_only=True):
     ``small_margin`` m of it, ``small`` (a dip, then recover); beyond it by up to
     ``step_margin`` m, ``large`` (longer and weaker, and one foot of ``feet`` makes a
     protective step: lifted and put down ``step_past`` beyond the extrapolated centre
-    of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
-    it back up: the get-up)."""
+    of mass, then back to the performance as the pulls come back); further, ``fall``
+    (the pulls let go, the figure falls, then they bring it back up: the get-up)."""
 
     small_margin: Num("corner") = 0.05  # m beyond the support: still small
     step_margin: Num("size") = 0.3  # m beyond the support: large, not a fall

@@ -30,7 +30,7 @@ import math
 import socket
 import threading
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from puppet.data.errors import UsageError
 from puppet.input.live import LiveQueue

@@ -1291,7 +1291,7 @@ def _revolutions(e: Expectation, v: Revolutions, traj) -> Outcome:
     ways = {"backward": (1.0,), "forward": (-1.0,), "either": (1.0, -1.0)}[v.direction]
     slack = np.radians(v.slack)
     for sign in ways:
-        prev = start = top = None
+        prev = prev_u = start = top = None
         i0 = 0
         for i in range(n):
             if at[i] is None:

@@ -20,10 +20,10 @@ from typing import TYPE_CHECKING
 from puppet import __version__
 from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
-from puppet.session import Session
 from puppet.physics.snapshot import touching as snapshot_touching
-from puppet.timeline.log import Log, embedded_problem, read_log
+from puppet.session import Session
 from puppet.session.playback import next_move, play
+from puppet.timeline.log import Log, embedded_problem, read_log
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
     import numpy as np
@@ -543,8 +543,12 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     warnings += cut_warnings(log, check)
     expectations = None
     if check:  # a plain replay does not import numpy or the expectations (process start)
-        from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
-                                                  parse_expectations)
+        from puppet.timeline.expectations import (
+            Outcome,
+            evaluate_all,
+            load_expectations,
+            parse_expectations,
+        )
 
         expectations = (load_expectations(path, log.header) if expect is None
                         else parse_expectations(expect, f"{path} (expect=)"))

@@ -15,12 +15,9 @@ recorded log replays from.
 
 from __future__ import annotations
 
-from typing import Annotated
-
-
 from puppet.data.keys import key_problem, normalize_key
 from puppet.data.ranges import Duration, Num, Time, WorldXY
-from puppet.data.validate import Meta, Spec, field, validate
+from puppet.data.validate import Spec, validate
 from puppet.data.yamlfile import Located, load_file
 from puppet.interface import events as ev
 from puppet.interface.app_keys import SIM_ACTIONS

@@ -9,13 +9,27 @@ import platform
 
 from puppet.commands.bench import config
 from puppet.commands.bench.channels import CHANNEL_SUBJECTS, measure_channels
-from puppet.commands.bench.checkpoints import (measure_checkpoint, measure_rewind,
-                                               measure_scrub, play_frames)
-from puppet.commands.bench.config import (CHECKPOINT_TARGET, CHECKPOINT_TARGET_MS, FRAME_HZ,
-                                          FULL, OVERHEAD_TARGET_PCT, PROCESS_TARGET_MS, QUICK,
-                                          REWIND_TARGET, REWIND_TARGET_MS,
-                                          SCRUB_FRAME_TARGET_MS, SPEED_TARGET,
-                                          SPEED_TARGET_DEFAULT, target)
+from puppet.commands.bench.checkpoints import (
+    measure_checkpoint,
+    measure_rewind,
+    measure_scrub,
+    play_frames,
+)
+from puppet.commands.bench.config import (
+    CHECKPOINT_TARGET,
+    CHECKPOINT_TARGET_MS,
+    FRAME_HZ,
+    FULL,
+    OVERHEAD_TARGET_PCT,
+    PROCESS_TARGET_MS,
+    QUICK,
+    REWIND_TARGET,
+    REWIND_TARGET_MS,
+    SCRUB_FRAME_TARGET_MS,
+    SPEED_TARGET,
+    SPEED_TARGET_DEFAULT,
+    target,
+)
 from puppet.commands.bench.feedback import FEEDBACK_INTERFACES, measure_feedback
 from puppet.commands.bench.logs import measure_logs
 from puppet.commands.bench.mocap import measure_mocap, measure_mocap_latency
