@@ -107,3 +107,11 @@ def test_the_quick_bench_replays_each_log_for_its_first_second_only(report):
     assert [i["log"] for i in got["items"]] == shipped
     assert all(abs(i["sim_seconds"] - seconds) < 0.01 and i["speed_x"] > 0
                for i in got["items"]), got["items"]
+
+
+def test_the_latency_measure_reports_transit_and_waiting_times():
+    from puppet.commands.bench.latency import measure_latency
+
+    got = measure_latency(0.3)
+    assert got["transit_median_ms"] >= 0 and got["transit_p99_ms"] >= got["transit_median_ms"]
+    assert got["frames"] > 0
