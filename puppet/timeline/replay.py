@@ -11,7 +11,6 @@ the ``puppet replay`` command prints and exits with is ``puppet.timeline.report`
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,7 +21,7 @@ from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_t
 from puppet.data.errors import DataError
 from puppet.physics.snapshot import touching as snapshot_touching
 from puppet.session import Session
-from puppet.session.playback import next_move, play
+from puppet.session.playback import next_move, play, ticks
 from puppet.timeline.log import Log, embedded_problem, read_log
 
 if TYPE_CHECKING:  # numpy and the expectations are imported only by a checked replay
@@ -558,7 +557,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     sampler = Sampler(session) if (trajectory or expectations) else None
     if sampler is not None:
         sampler(session)
-    every, on_tick = _ticks((sample_every if sampler else 0, sampler), frames or (0, None))
+    every, on_tick = ticks((sample_every if sampler else 0, sampler), frames or (0, None))
     apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
         sampler(session)
@@ -577,22 +576,6 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                         outcomes, warnings, log.truncated_at, session, same_end,
                         list(session.blowup_messages),
                         not_checked(log, until_step) if check and expect is None else [])
-
-
-def _ticks(*ticks: tuple[int, Callable | None]) -> tuple[int, Callable | None]:
-    """One (every, on_tick) for ``play`` of several: ticks at their steps' greatest
-    common divisor, each calling its own at its multiples (a session's steps do not
-    depend on how they are split between calls)."""
-    ticks = tuple((n, f) for n, f in ticks if n and f is not None)
-    if len(ticks) < 2:
-        return ticks[0] if ticks else (0, None)
-    every = math.gcd(*(n for n, _ in ticks))
-
-    def on_tick(session: Session) -> None:
-        for n, f in ticks:
-            if session.steps % n == 0:
-                f(session)
-    return every, on_tick
 
 
 class LogFeeder:
