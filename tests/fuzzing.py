@@ -30,8 +30,8 @@ from puppet.data.scenes import parse_scene
 from puppet.data.yamlfile import load_file, load_text
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import read_log
 from puppet.session.playback import play
+from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
 from puppet.timeline.script import check_links, compile_script, parse_script
 

@@ -12,20 +12,20 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from functools import lru_cache
+from functools import cache
 
 import pytest
 import yaml
+from helpers import copy_log
 
 from puppet.data.catalog import ROOT, find
 from puppet.testing import check, read_log, replay_log
 from puppet.timeline.expectations import load_expectations, parse_expectations
-from helpers import copy_log
 
 LOGS = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def replayed(path: str):
     return replay_log(path)
 

@@ -81,7 +81,8 @@ def _numbers(kind, text: str) -> list:
     try:
         values = [kind(v) for v in text.split(",")]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got '{text}'")
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got '{text}'") \
+            from None
     if not values or any(v <= 0 for v in values):
         raise argparse.ArgumentTypeError(f"expected positive numbers, got '{text}'")
     return values

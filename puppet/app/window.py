@@ -15,6 +15,7 @@ import time
 import warnings
 from pathlib import Path
 
+from puppet.app.devices import Gamepads, device_events
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
 from puppet.data.keys import key_chord
@@ -137,9 +138,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
     def save_gestures() -> str:
         """Write the live interface's gestures into its file (the reload follows)."""
-        from puppet.data.yamlfile import read_text
         from puppet.data.errors import DataError
         from puppet.data.gesture_file import replace_gestures
+        from puppet.data.yamlfile import read_text
 
         if reload_error:
             return "the interface file has an error: fix it before saving gestures"

@@ -10,6 +10,7 @@ and the data layer at the top, and what its run needs when it runs: ``puppet
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 
@@ -87,8 +88,6 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:  # the output went to a pipe that closed (| head): fine
-        try:
+        with contextlib.suppress(OSError):
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - kept open till exit
-        except OSError:
-            pass
         return 0

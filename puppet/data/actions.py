@@ -9,12 +9,24 @@ seconds, lengths metres.
 from __future__ import annotations
 
 import re
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
-                                ModelXY, Num, PositiveDuration, Seed, Stiffness, Torque,
-                                WorldXY)
 from puppet.data.keys import APP_KEYS, GAMEPAD_BUTTONS
+from puppet.data.ranges import (
+    Angle,
+    AngleChange,
+    Damping,
+    Duration,
+    Friction,
+    Gravity,
+    ModelXY,
+    Num,
+    PositiveDuration,
+    Seed,
+    Stiffness,
+    Torque,
+    WorldXY,
+)
 from puppet.data.validate import Meta, Spec, at, field
 
 InputXY = tuple[Num("input"), Num("input")]
@@ -88,7 +100,7 @@ class FrameTargetSpec(Spec, kw_only=True):
 
 
 # degrees (a number) or a frame target (a mapping): msgspec tells them apart by type
-Target = Union[Angle, FrameTargetSpec]
+Target = Angle | FrameTargetSpec
 
 
 class PoseSpec(Spec, kw_only=True):

@@ -11,13 +11,25 @@ friction...) and rebindable app keys. The actions themselves are in
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
-                                 KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
-                                 check_inputs)
-from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 (re-exported)
-                                CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
+from puppet.data.actions import (
+    ActionSpec,
+    ChainSpec,
+    ConditionSpec,
+    KeyActionSpec,
+    PerturbSpec,
+    PoseSpec,
+    SequenceStepSpec,
+    check_inputs,
+)
+from puppet.data.bounds import (  # noqa: F401 (re-exported)
+    CHECKPOINT_EVERY,
+    CHECKPOINT_MAX,
+    CHECKPOINT_MIN,
+    MAX_SLOWDOWN,
+    MIN_SLOWDOWN,
+)
 from puppet.data.characters import CharacterSpec
 from puppet.data.errors import DataError
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
@@ -44,7 +56,7 @@ class PowerCurve(Spec, kw_only=True):
     power: Num("power")
 
 
-Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
+Curve = Literal["linear", "smoothstep"] | PowerCurve
 
 
 class MapSpec:

@@ -13,9 +13,9 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
 * **bare, same motion** - the same Simulation stepped by pymunk's ``space.step(dt)`` in
   a plain loop (what a plain pymunk program does; the Session steps Chipmunk directly,
   ``step_space``), with the servo targets the control run produced written straight
-  onto the pymunk springs between frames (so it goes through the identical trajectory: the state hashes
-  are compared). ``control overhead = control time / bare time - 1`` on this pair, since
-  a different motion costs the physics a different amount.
+  onto the pymunk springs between frames (so it goes through the identical trajectory:
+  the state hashes are compared). ``control overhead = control time / bare time - 1``
+  on this pair, since a different motion costs the physics a different amount.
 * **bare, at rest** - the same Simulation stepped with no targets at all (the character
   stands still): shown for information, it is not the same physics work.
 * **checkpoint** - ``Simulation.snapshot`` / ``restore`` / ``checkpoint`` times and bytes.

@@ -54,9 +54,9 @@ def _puppet_path(rate: float):
 
 
 def _vmc_path(rate: float):
+    from puppet.commands.streams import source_for
     from puppet.data.catalog import ROOT, load_setup
     from puppet.mocap.bvh import read_bvh
-    from puppet.commands.streams import source_for
     from puppet.mocap.send import encoder, load_bones
 
     clip = read_bvh(ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh")
