@@ -44,8 +44,8 @@ from puppet.timeline.expectations import (
 )
 from puppet.timeline.log import Log, Recorder, read_log, record_events
 from puppet.timeline.replay import ReplayResult, replay
-from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
 from puppet.timeline.script import compile_script, load_script, run_seconds
+from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
 
 __all__ = ["ReplayResult", "Trajectory", "Outcome", "DataError", "replay_log",
            "record_script", "check", "weaker_joints", "Recorder", "read_log"]

@@ -2,7 +2,8 @@
 functions the CLI uses, each outcome classified.
 
 A case must end in acceptance or a clean one-line DataError, within ``CASE_SECONDS``
-of CPU time (not wall time: the suite holds on a busy machine) and ``CASE_MB``; an accepted data file is also played for ``PLAY_SECONDS`` of simulated
+of CPU time (not wall time: the suite holds on a busy machine) and ``CASE_MB``; an
+accepted data file is also played for ``PLAY_SECONDS`` of simulated
 time (scripted mouse moves and presses of every key it binds), which must not raise.
 tests/test_fuzz.py drives it with hypothesis (seeded).
 """

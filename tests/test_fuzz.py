@@ -175,15 +175,13 @@ def test_the_hang_bound_is_cpu_time_and_a_blocked_case_meets_the_wall_bound():
         return usage.ru_utime + usage.ru_stime
 
     start = cpu()
-    with pytest.raises(fuzzing.Hang, match="CPU time"):
-        with fuzzing.time_limit(0.2, wall=30):
-            while True:
-                pass
+    with pytest.raises(fuzzing.Hang, match="CPU time"), fuzzing.time_limit(0.2, wall=30):
+        while True:
+            pass
     assert cpu() - start >= 0.15  # (the timer counts in clock ticks)
     slept = time.perf_counter()
     with fuzzing.time_limit(0.05, wall=30):
         time.sleep(0.3)  # 0.3 s of wall time, next to no CPU: not a hang
     assert time.perf_counter() - slept >= 0.3
-    with pytest.raises(fuzzing.Hang, match="wall time"):
-        with fuzzing.time_limit(5, wall=0.2):
-            time.sleep(2)
+    with pytest.raises(fuzzing.Hang, match="wall time"), fuzzing.time_limit(5, wall=0.2):
+        time.sleep(2)

@@ -17,7 +17,7 @@ STEPS = 480  # per simulated second
 
 LAYOUT = """
 name: t
-description: x acts only in 'ready', which comes 0.3 s after the start; a press made up to 0.2 s before counts
+description: x acts only in 'ready' (0.3 s after the start); a press 0.2 s early counts
 character: luxo
 states:
   busy:

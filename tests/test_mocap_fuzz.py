@@ -25,7 +25,6 @@ from hypothesis import strategies as st
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-import fuzzing
 from puppet.mocap import mediapipe, mediapipe_bridge, puppet_osc, vmc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.formats import DECODERS

@@ -80,12 +80,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.expectations import (  # noqa: E402
-    evaluate_all, load_expectations)
-from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
 from puppet.session.playback import play  # noqa: E402
-from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
+from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
+from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-longjump.yaml"

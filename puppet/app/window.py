@@ -16,11 +16,10 @@ import warnings
 from pathlib import Path
 
 from puppet.app.devices import Gamepads, device_events
+from puppet.app.virtual_pad import pad_events
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
 from puppet.data.keys import key_chord
-from puppet.app.devices import Gamepads, device_events
-from puppet.app.virtual_pad import pad_events
 from puppet.interface import events as ev
 from puppet.session import Session
 
@@ -355,8 +354,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             consumed = False
             if pad is not None:  # mouse buttons and the pad's keys are the pad's
                 translated, consumed = pad_events(pygame, pad, event, translated)
-            for translated in translated:
-                running = app_action(handle(translated)) and running
+            for one in translated:
+                running = app_action(handle(one)) and running
             if consumed:  # a key of the pad: not a key of the layout too
                 continue
             if event.type == pygame.QUIT:

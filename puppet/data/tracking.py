@@ -21,7 +21,7 @@ followed by ``reaction.get_up``: the recovery poses, then the performer again.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from puppet.data.actions import ActionSpec
 from puppet.data.ranges import AngleChange, Num

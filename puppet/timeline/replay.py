@@ -21,8 +21,8 @@ from puppet import __version__
 from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
+from puppet.session.playback import next_move, play, ticks
 from puppet.timeline.log import Log, embedded_problem, read_log
-from puppet.session.playback import next_move, play
 from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 

@@ -43,7 +43,8 @@ code is 0 unless ``--strict``.
 The package, one measurement a module: ``config`` (clock, run lengths, targets),
 ``subjects`` (what is measured, the input), ``speed`` (control against bare pymunk),
 ``checkpoints`` (checkpoint, rewind, scrub), ``channels``, ``feedback``, ``mocap`` and
-``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``; ``suite`` runs them all and ``report`` prints it.
+``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``;
+``suite`` runs them all and ``report`` prints it.
 """
 
 from __future__ import annotations
