@@ -243,7 +243,10 @@ class Window:
         action = session.app_action_of(event["key"]) if event["type"] == "key" else None
         if action in ("rewind", "forward"):  # the window's own: the scrub commits
             return action if event["down"] else None  # with a logged rewind action
-        self.scrub.commit()  # a key while scrubbing acts at the step shown, in the log too
+        if self.scrub.active and self.scrub.moved:
+            self.scrub.commit()  # a key while scrubbing acts at the step shown, in the log
+            if event["type"] == "key":  # too; its owner there (the states may differ)
+                action = session.app_action_of(event["key"])
         reset = event["type"] == "key" and event["down"] and action == "reset"
         action = session.handle(event)
         if reset and self.pad is None and self.hold_pose(after_reset=True):
