@@ -180,7 +180,7 @@ from typing import Annotated, ClassVar, Literal
 import numpy as np
 
 from puppet.data.errors import DataError
-from puppet.data.playtest import PlaytestBar
+from puppet.data.playtest_bar import PlaytestBar
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, Spec, at, field, validate
 from puppet.data.yamlfile import Located, load_file
