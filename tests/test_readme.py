@@ -82,3 +82,21 @@ def test_the_readmes_headless_commands_run_as_written(tmp_path, monkeypatch, cap
     for cmd in commands:
         words = [str(tmp_path / w) if w.endswith(".png") else w for w in shlex.split(cmd)]
         assert main(words[1:]) == 0, cmd
+
+
+def test_the_app_keys_table_of_playing_md_is_puppet_data_keys():
+    """docs/playing.md's app key table names every app key of ``APP_KEYS``, and no other
+    (the drag, a mouse gesture, is the one row that is not a key)."""
+    from puppet.data.keys import APP_KEYS
+
+    text = (ROOT / "docs" / "playing.md").read_text(encoding="utf-8")
+    table = text[text.index("| key | app action |"):].split("\n\n")[0].splitlines()[2:]
+    said = set()
+    for row in table:
+        cell = row.split("|")[1].strip().lower().removeprefix("hold ")
+        if cell == "`ctrl`+drag":
+            continue
+        for key in cell.split(" / "):
+            key = key.replace("`+`", "+").strip("`")
+            said.add({"esc": "escape"}.get(key, key))
+    assert said == {chord for chord, _ in APP_KEYS.values()}
