@@ -1,7 +1,7 @@
 """IK reaches (the paper's "IK target select"): a chain's end follows a Hermite-eased
-path to a target over a fixed duration, with IK re-solved at the control rate (on
-absolute multiples of the control period, as frame targets and feedback are), then
-holds.
+path to a target over a fixed duration, with IK re-solved every step on the way, then
+holds it there, re-solved at the control rate (on absolute multiples of the control
+period, as frame targets and feedback are).
 
 The target is a fixed point (world, or the root link's frame at the moment of the
 key), a scene prop's grasp point (followed as the prop moves; picked relative to what
@@ -123,12 +123,15 @@ class ReachController:
         self.owners_table.claim(chain.joints, owner)
 
     def tick(self, step: int) -> str | None:
-        if step % self.every:
-            return WAITED  # between control steps
         if not self.reaches:
             return None
+        if step % self.every and not self._moving(step):
+            return WAITED  # holding, between control steps
         servos, owners = self.servos, self.owners_table
+        at_control = not step % self.every
         for name, reach in list(self.reaches.items()):
+            if not at_control and step - reach.start >= reach.steps:
+                continue  # this one holds: its IK at the control steps only
             owner = reach_owner(name)
             owned = owners.owned(owner)
             if not owned:
@@ -158,7 +161,15 @@ class ReachController:
     def next_wakeup(self, earliest: int) -> int | None:
         if not self.reaches:
             return None
+        if self._moving(earliest):
+            return earliest
         return -(-earliest // self.every) * self.every
+
+    def _moving(self, step: int) -> bool:
+        """Whether a reach is still on its way at ``step`` (its end following the eased
+        path: solved every step, where a hand or foot places itself); one that holds
+        is solved at the control steps."""
+        return any(step - r.start < r.steps for r in self.reaches.values())
 
     def owners(self) -> set[Owner]:
         return {reach_owner(n) for n in self.reaches}
