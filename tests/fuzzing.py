@@ -2,7 +2,8 @@
 functions the CLI uses, each outcome classified.
 
 A case must end in acceptance or a clean one-line DataError, within ``CASE_SECONDS``
-of CPU time (not wall time: the suite holds on a busy machine) and ``CASE_MB``; an accepted data file is also played for ``PLAY_SECONDS`` of simulated
+of CPU time (not wall time: the suite holds on a busy machine) and ``CASE_MB``; an
+accepted data file is also played for ``PLAY_SECONDS`` of simulated
 time (scripted mouse moves and presses of every key it binds), which must not raise.
 tests/test_fuzz.py drives it with hypothesis (seeded).
 """
@@ -30,8 +31,8 @@ from puppet.data.scenes import parse_scene
 from puppet.data.yamlfile import load_file, load_text
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import read_log
 from puppet.session.playback import play
+from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
 from puppet.timeline.script import check_links, compile_script, parse_script
 

@@ -6,13 +6,13 @@ import math
 from pathlib import Path
 
 import pytest
-
-from puppet.data.catalog import ROOT, find, load_setup
-from puppet.testing import check, replay_log
 from helpers import with_weak_hips
 from test_luxo_feats import _failed, _weakened
+
+from puppet.data.catalog import ROOT, find, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
+from puppet.testing import check, replay_log
 
 
 def _press(session, key):

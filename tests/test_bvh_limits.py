@@ -5,14 +5,12 @@ converted; every refusal is one line, ``file:line: what, what was expected``."""
 
 import numpy as np
 import pytest
+from test_mocap_bvh import SMALL, WALK
 
 from puppet.commands.check import check_file
 from puppet.data.errors import DataError
 from puppet.mocap import bvh
-from puppet.mocap.bvh import (MAX_BYTES, MAX_JOINT_FRAMES, MAX_JOINTS, MAX_NAME, parse_bvh,
-                              read_bvh)
-
-from test_mocap_bvh import SMALL, WALK
+from puppet.mocap.bvh import MAX_BYTES, MAX_JOINT_FRAMES, MAX_JOINTS, MAX_NAME, parse_bvh, read_bvh
 
 
 def _refused(path_or_text, fragment: str, reader=None) -> DataError:

@@ -153,8 +153,8 @@ def test_a_log_with_expectations_and_no_end_line_is_refused_as_replay_check_refu
         assert err == "puppet check: " + replayed.replace(
             "(--allow-truncated checks", "(puppet replay --headless --check "
                                         "--allow-truncated checks"), err
-        assert "(puppet replay --headless --check --allow-truncated checks the expectations "
-        "on its 303 events, to step 1824, without the end state)\n" in err, err
+        assert ("(puppet replay --headless --check --allow-truncated checks the expectations "
+                "on its 303 events, to step 1824, without the end state)\n") in err, err
         assert run(capsys, "-q", cut)[0] == 2
 
 

@@ -26,7 +26,8 @@ from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
-FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/([A-Za-z0-9_.-]+\.yaml)\s*$")
+FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/"
+                       r"([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
 SNIPPET = re.compile(r"# snippet for ([a-z0-9-]+)\s*$")
 

@@ -9,13 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from puppet.commands.check import check_file
 from puppet.commands import main
+from puppet.commands.check import check_file
 from puppet.data.catalog import ROOT, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.session.playback import play
-
 from tests.test_docs import yaml_blocks
 
 DOCS = ROOT / "docs"

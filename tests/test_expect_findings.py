@@ -13,8 +13,12 @@ import numpy as np
 import pytest
 
 from puppet.commands.check import check_file
-from puppet.timeline.expectations import (Expectation, evaluate_all, load_expectations,
-                                          parse_expectations)
+from puppet.timeline.expectations import (
+    Expectation,
+    evaluate_all,
+    load_expectations,
+    parse_expectations,
+)
 from puppet.timeline.trajectory import Trajectory
 
 ROOT = Path(__file__).resolve().parents[1]

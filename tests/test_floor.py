@@ -185,8 +185,8 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet():
     from puppet.data.catalog import load_setup, setup_from_text
     from puppet.session import Session
     from puppet.session.playback import play
-    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
     from puppet.timeline.script import compile_script, load_script, run_seconds
+    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
 
     def flip(text=None):
         setup = load_setup("biped-floor") if text is None else setup_from_text(

@@ -5,8 +5,8 @@ from puppet.commands.play import blowup_exit, end_line
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.blowups import fold
 from puppet.session.playback import play
+from puppet.timeline.blowups import fold
 
 
 def _pushed(every: float, seconds: float) -> Session:

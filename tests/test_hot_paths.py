@@ -247,7 +247,8 @@ def _support_by_pymunk(character):
         if restored is not None:
             xs += [x for x, _ in restored]
         else:
-            body.each_arbiter(lambda a: xs.extend(p.point_a.x for p in a.contact_point_set.points))
+            body.each_arbiter(lambda a, xs=xs: xs.extend(p.point_a.x
+                                                         for p in a.contact_point_set.points))
     return (min(xs), max(xs)) if xs else None
 
 

@@ -22,9 +22,8 @@ def test_start_angle_lays_the_figure_on_its_back_on_the_ground():
 
 
 # -- the log ------------------------------------------------------------------------------
-from tests.test_floor import LOGS, _variant  # noqa: E402
-
 from puppet.testing import replay_log  # noqa: E402
+from tests.test_floor import LOGS, _variant  # noqa: E402
 
 
 def test_kip_log_starts_on_its_back_flies_lands_on_its_feet_and_stands():
@@ -94,7 +93,7 @@ def test_kip_falls_back_after_the_landing_without_the_rising_maps(tmp_path):
 def test_kip_stands_when_k_comes_at_other_moments():
     """Not only at the log's press time: k at 0.8 s and at 2.0 s kips and stands too,
     judged by the log's own expectations (of 176 moments 10 ms apart from 0.7 to 2.45 s,
-    42 pass: tools/tune_floor.py kip --sweep 0.7 2.45 0.01)."""
+    42 pass: a sweep of the press 10 ms apart)."""
     import yaml
 
     from puppet.data.catalog import ROOT

@@ -64,7 +64,7 @@ def puppet_modules(root: Path = PUPPET) -> dict[str, Path]:
     return {module_name(p, root): p for p in sorted(root.rglob("*.py"))}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _statements(text: str, here: str) -> tuple[tuple[str, tuple[str, ...], bool, int], ...]:
     """The import statements of a module's text (``here``: its package), each as
     (absolute module, names, names are from it, line); parsed once per text."""

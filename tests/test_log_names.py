@@ -15,8 +15,8 @@ from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import Recorder
 from puppet.session.playback import play
+from puppet.timeline.log import Recorder
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]

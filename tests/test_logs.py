@@ -12,20 +12,20 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from functools import lru_cache
+from functools import cache
 
 import pytest
 import yaml
+from helpers import copy_log
 
 from puppet.data.catalog import ROOT, find
 from puppet.testing import check, read_log, replay_log
 from puppet.timeline.expectations import load_expectations, parse_expectations
-from helpers import copy_log
 
 LOGS = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def replayed(path: str):
     return replay_log(path)
 
@@ -124,25 +124,3 @@ def test_replay_command_checks_logs_in_parallel():
                           text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert f"{len(logs)} logs: {len(logs)} ok, 0 failed, 0 errors" in proc.stdout
-
-
-def test_the_hop_search_tool_writes_a_script_that_replays_to_what_it_found(tmp_path):
-    """tools/tune_hops.py (how luxo-terrain was built), in miniature: two hops on the
-    flat floor, from checkpoints; the written script, recorded and replayed, ends
-    where the search said."""
-    sys.path.insert(0, str(ROOT))
-    from tools import tune_hops
-
-    script = tmp_path / "two-hops.yaml"
-    code = tune_hops.main(["--scene", "flat", "--finish", "0.5", "--margin", "0",
-                           "--tries", "3", "--refine", "0", "--write", str(script)])
-    assert code == 0
-    from puppet.testing import record_script
-
-    log = record_script(str(script), tmp_path / "two-hops.jsonl",
-                        expect=[{"x_at_end": {"link": "base", "min": 0.5}},
-                                {"upright_at_end": True}, {"never_fell": True}])
-    result = replay_log(log)
-    assert result.outcomes and not result.failed, [str(o) for o in result.failed]
-    assert sum(1 for e in read_log(log).events
-               if e.event.get("name") == "checkpoint") >= 2

@@ -5,7 +5,7 @@ Every key is pressed through ``Session.handle`` as the window sends it (key down
 bodies: base x (forward is +x), the base's lowest point (how high it got), the shade's
 height, and the base's accumulated rotation (counter-clockwise = backward for a lamp
 facing +x). The numbers in the comments are what the tuned sequences measure
-(tools/tune_luxo_keys.py measure all).
+(measured with the former tools/tune_luxo_keys.py; searched now by assets/tune/luxo-keys-*.yaml).
 """
 
 from __future__ import annotations

@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 from puppet.data.errors import DataError
-from puppet.mocap.bvh import (CMU_UNIT_METRES, PlanarJoint, parse_bvh, read_bvh,
-                              write_planar_bvh)
+from puppet.mocap.bvh import CMU_UNIT_METRES, PlanarJoint, parse_bvh, read_bvh, write_planar_bvh
 
 ROOT = Path(__file__).resolve().parents[1]
 WALK = ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"

@@ -18,12 +18,13 @@ import os
 import random
 import struct
 
+import fuzzing
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-import fuzzing
 from puppet.mocap import mediapipe, mediapipe_bridge, puppet_osc, vmc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.formats import DECODERS

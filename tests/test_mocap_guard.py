@@ -7,21 +7,19 @@ received, frames stepped), never by the wall clock."""
 from __future__ import annotations
 
 import math
-import os
 import random
 import socket
 import time
 
 import pytest
 
-from puppet.data.catalog import load_setup
+from puppet.commands.streams import source_for
+from puppet.data.catalog import find, load_setup
 from puppet.mocap import mediapipe, puppet_osc, vmc
 from puppet.mocap.bvh import read_bvh
-from puppet.commands.streams import source_for
 from puppet.mocap.guard import REJOIN, guard_for
-from puppet.mocap.retarget import retarget_clip, load_mapping
+from puppet.mocap.retarget import load_mapping, retarget_clip
 from puppet.mocap.send import encoder, load_bones
-from puppet.data.catalog import find
 from puppet.session import Session
 
 # datagrams: 10,000 over the three formats (the points' formats cost 10-20 times more to

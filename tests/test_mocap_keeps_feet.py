@@ -12,12 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from puppet.data.catalog import load_setup
+from puppet.data.catalog import find, load_setup
 from puppet.interface import events as ev
 from puppet.mocap.clip_source import ClipSource
 from puppet.mocap.clips import open_clip
 from puppet.mocap.retarget import load_mapping
-from puppet.data.catalog import find
 from puppet.session import Session
 from puppet.testing import replay_log
 
@@ -99,7 +98,7 @@ def walk_source():
 
 
 def _run(session, events, until):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     play(session, [e for e in events if e[0] >= session.steps], until)
 
@@ -141,7 +140,7 @@ def test_lost_and_found_actions_run(tmp_path):
     s = Session(load_setup(str(path)))
     dt = s.sim.dt
     frame = {"hip_near": 5.0, "root.x": 0.0, "root.y": 0.93, "root.angle": 0.0}
-    for k in range(10):
+    for _ in range(10):
         s.handle(ev.channels(frame))
         s.advance(8)
     assert s.runtime.state == "following"

@@ -9,17 +9,16 @@ import threading
 import time
 
 import pytest
+from helpers import ListenedPort
 
-from puppet.commands.bench.channels import channel_interface_text
+from puppet.app.live import run_live
 from puppet.commands import main
+from puppet.commands.bench.channels import channel_interface_text
 from puppet.data.catalog import load_character_named, load_setup
 from puppet.mocap import puppet_osc
-from puppet.app.live import run_live
 from puppet.mocap.source import LOST_AFTER, OscSource
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
-
-from helpers import ListenedPort
 
 
 class FakeClock:
@@ -181,8 +180,8 @@ def test_a_live_take_over_loopback_replays_to_the_recorded_hash(tmp_path):
 def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp_path):
     """``puppet mocap send`` (VMC, the CMU walk) -> the shipped vmc-humanoid mapping ->
     biped-mocap's KD tracking, recorded live and replayed headless to the same hash."""
-    from puppet.mocap.bvh import read_bvh
     from puppet.commands.streams import source_for
+    from puppet.mocap.bvh import read_bvh
     from puppet.mocap.send import encoder, load_bones, stream
 
     clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")

@@ -12,12 +12,11 @@ import pytest
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, UsageError
 from puppet.mocap import mediapipe, puppet_osc, unity, vmc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.formats import decoder, parse_udp
 from puppet.mocap.send import encoder, load_bones, mediapipe_points, schedule, vmc_world
-from puppet.data.errors import UsageError
 
 WALK = "assets/mocap/cmu-131_01-walk.bvh"
 BONES = "assets/mocap/cmu-bones.yaml"

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from rig_clips import CC, ROKOKO, SMPL, UNITY, write_rig
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.data.catalog import find
 from puppet.data.mappings import load_mapping, parse_mapping
 from puppet.data.yamlfile import load_text
@@ -17,8 +18,6 @@ from puppet.mocap.bvh import CMU_UNIT_METRES, read_bvh
 from puppet.mocap.mapping_text import mapping_yaml
 from puppet.mocap.retarget import retarget_clip
 from puppet.mocap.rigs import NotHumanoid, recognise, words
-
-from rig_clips import CC, ROKOKO, SMPL, UNITY, write_rig
 
 LIMBS = ("hip_near", "knee_near", "hip_far", "knee_far", "shoulder_near", "elbow_near",
          "shoulder_far", "elbow_far", "waist", "neck", "root.angle")

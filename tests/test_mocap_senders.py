@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 
+from puppet.commands.streams import source_for
 from puppet.mocap import mediapipe_bridge, puppet_osc, unity, vmc
 from puppet.mocap.bvh import read_bvh
-from puppet.commands.streams import source_for
 from puppet.mocap.send import MIRROR, _matrices_to_quats, _world, encoder, load_bones
 
 ANGLES = ("hip_near", "knee_near", "ankle_near", "hip_far", "knee_far", "ankle_far",

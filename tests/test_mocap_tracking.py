@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from helpers import tap
 
 from puppet.data.catalog import find, load_setup, setup_from_text
 from puppet.data.errors import DataError
@@ -114,7 +115,7 @@ def test_the_pulls_off_is_free_fall():
     dt = s.sim.dt
     pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0, "clearance": 0.3}
     pose.update({j: 0.0 for j in s.character.servos})
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     lifted = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
@@ -122,7 +123,7 @@ def test_the_pulls_off_is_free_fall():
     assert lifted > 0.15
     s.handle(ev.key("f", True))
     assert "free fall" in s.runtime.tracker.status
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     dropped = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
@@ -302,3 +303,32 @@ def test_a_large_push_makes_a_protective_step(walk):
     assert c.link_position(foot)[0] > x0 + 0.05 and c.in_contact(foot)  # put down ahead
     run(s, [e for e in events if e[0] >= s.steps], s.steps + round(1.5 / dt))
     assert c.upright()
+
+
+def test_kinematic_on_and_off_switch_the_pulls_and_toggle_flips_them(tmp_path):
+    text = (load_setup("biped-mocap").interface_path).read_text()
+    text = text.replace("keys:\n", "keys:\n  - {key: '7', kinematic: 'on'}\n"
+                                   "  - {key: '8', kinematic: 'off'}\n", 1)
+    path = tmp_path / "biped-mocap.yaml"
+    path.write_text(text)
+    s = Session(load_setup(str(path)))
+    tracker = s.runtime.tracker
+    for key, want in (("7", True), ("7", True), ("8", False), ("8", False), ("f", True),
+                      ("f", False), ("7", True)):
+        tap(s, key)
+        s.advance(2)
+        assert tracker.kinematic is want, key
+
+
+def test_after_a_push_the_pulls_come_back_from_their_weight_to_full_over_recover():
+    s = Session(load_setup("biped-mocap"))
+    tracker = s.runtime.tracker
+    small = tracker.spec.reaction.small
+    dt = s.sim.dt
+    tracker.reaction = ("small", 0)
+    assert tracker._weight(0) == pytest.approx(small.weight)
+    half = round((small.hold + small.recover / 2) / dt)
+    assert tracker._weight(half) == pytest.approx(small.weight + (1 - small.weight) / 2,
+                                                  abs=0.01)
+    assert tracker._weight(round((small.hold + small.recover) / dt) + 1) == 1.0
+    assert tracker.reaction is None

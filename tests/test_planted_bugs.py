@@ -5,14 +5,13 @@ bound. Each test here fails on its bug (checked by planting it again)."""
 
 
 import pytest
+from test_gaps_2 import deg, make
+from test_log_hardening import MOUSE, header, write
 
 from puppet.data.errors import DataError
 from puppet.data.interfaces import CHECKPOINT_MAX
 from puppet.interface import events as ev
 from puppet.timeline.log import read_log
-
-from test_gaps_2 import deg, make
-from test_log_hardening import MOUSE, header, write
 
 
 def test_an_add_map_scales_each_joint_by_its_own_gain(tmp_path):

@@ -47,7 +47,8 @@ def test_replay_images_follow_the_log_and_the_options(tmp_path, capsys):
     frames = sorted(out_dir.glob("frame_*.png"))
     assert [p.name for p in frames] == [f"frame_{i:05d}.png" for i in range(5)]
     image = Image.open(frames[-1])
-    assert image.size == (640, 360) and image.getcolors(1 << 16) is not None and len(image.getcolors(1 << 16)) > 20  # drawn
+    colours = image.getcolors(1 << 16)
+    assert image.size == (640, 360) and colours is not None and len(colours) > 20  # drawn
 
 
 def test_replay_image_options_are_checked_before_anything_runs(tmp_path, capsys):

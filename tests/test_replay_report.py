@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from puppet.data.errors import UsageError
 from puppet.commands.replay import replay_command
+from puppet.data.errors import UsageError
 
 ROOT = Path(__file__).resolve().parents[1]
 HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"  # 2160 steps, ends in bbc99d5d1990ab30

@@ -7,7 +7,8 @@ does) are freed right after Chipmunk frees their space (puppet/physics/snapshot.
 per restore, for good. This checks the many-restore path a scrub takes: every restored
 space steps alike, nothing blows up, a process that restores hundreds of times exits
 cleanly, and the memory in use stays flat over restores and over rounds of scrubbing
-(``puppet.commands.bench.soak``, the bench's 30-minute soak in a few rounds) on the cat and the biped."""
+(``puppet.commands.bench.soak``, the bench's 30-minute soak in a few rounds) on the cat
+and the biped."""
 
 import gc
 import subprocess
@@ -16,7 +17,6 @@ import sys
 import pytest
 
 from puppet.commands.bench.soak import malloc_bytes, rss_mb, soak
-
 from puppet.data.catalog import load_setup
 from puppet.session import Session
 

@@ -12,10 +12,10 @@ from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import Recorder, default_path, read_log
 from puppet.session.playback import play
-from puppet.timeline.replay import replay
 from puppet.testing import record_script
+from puppet.timeline.log import Recorder, default_path, read_log
+from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -58,7 +58,7 @@ def main() -> int:
                     help="minutes for running the sample (0: no limit); the mutants are "
                          "run in batches of BATCH, and none is started once it is spent")
     args = ap.parse_args()
-    log = open("mutmut.log", "w")
+    log = open("mutmut.log", "w")  # noqa: SIM115 - every mutmut run of main() writes here
     t0 = time.monotonic()
     # 1. Generate the mutants and collect which tests reach each function. Given a name
     # that matches no mutant, mutmut does just that and then stops (an assertion).
@@ -112,7 +112,8 @@ def main() -> int:
     report = "\n".join(lines) + "\n"
     Path("report.txt").write_text(report)
     print(report)
-    print(f"report: {Path('report.txt').resolve()}; mutmut's output: {Path('mutmut.log').resolve()}")
+    print(f"report: {Path('report.txt').resolve()}; "
+          f"mutmut's output: {Path('mutmut.log').resolve()}")
     return 0
 
 

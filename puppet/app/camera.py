@@ -61,7 +61,7 @@ def subject_of(session) -> Subject:
     return Subject(character.com(), box, ground)
 
 
-def camera_for(setup) -> "Camera":
+def camera_for(setup) -> Camera:
     """The camera the window and the video export frame a setup with: the character's
     view height, or what the scene's ``view`` asks for (an apparatus in the frame)."""
     view = setup.scene.view

@@ -323,10 +323,8 @@ def _left_panel(width: int, session: Session, info: HudInfo, font: pygame.font.F
     left_w = min(width // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
     how = setup.interface.how_to_play  # a newcomer's one line, wrapped under the title
-    if how:  # (in the panel's width: the character stands just right of it)
-        told = _wrapped(small, "how to play: " + how, left_w - 16, info)
-    else:
-        told = []
+    # (in the panel's width: the character stands just right of it)
+    told = _wrapped(small, "how to play: " + how, left_w - 16, info) if how else []
     height = 8 + len(lines) * 22 + len(told) * ROW + (6 if told else 0)
     return lines, left_w, told, height
 

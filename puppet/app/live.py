@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from puppet.data.catalog import Setup
 from puppet.physics.upright_watch import UprightWatch

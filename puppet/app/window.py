@@ -15,11 +15,11 @@ import time
 import warnings
 from pathlib import Path
 
+from puppet.app.devices import Gamepads, device_events
+from puppet.app.virtual_pad import pad_events
 from puppet.data.catalog import Setup
 from puppet.data.errors import UsageError
 from puppet.data.keys import key_chord
-from puppet.app.devices import Gamepads, device_events
-from puppet.app.virtual_pad import pad_events
 from puppet.interface import events as ev
 from puppet.session import Session
 
@@ -137,9 +137,9 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
 
     def save_gestures() -> str:
         """Write the live interface's gestures into its file (the reload follows)."""
-        from puppet.data.yamlfile import read_text
         from puppet.data.errors import DataError
         from puppet.data.gesture_file import replace_gestures
+        from puppet.data.yamlfile import read_text
 
         if reload_error:
             return "the interface file has an error: fix it before saving gestures"
@@ -354,8 +354,8 @@ def run_window(setup: Setup, slowdown: float | None = None, size=START_SIZE,
             consumed = False
             if pad is not None:  # mouse buttons and the pad's keys are the pad's
                 translated, consumed = pad_events(pygame, pad, event, translated)
-            for translated in translated:
-                running = app_action(handle(translated)) and running
+            for one in translated:
+                running = app_action(handle(one)) and running
             if consumed:  # a key of the pad: not a key of the layout too
                 continue
             if event.type == pygame.QUIT:

@@ -1,5 +1,5 @@
 """The ``puppet`` command: one module per sub-command (play, replay, check, list, bench,
-mocap, playtest), each with ``register(subparsers)`` (its options) and the function it runs.
+mocap, playtest, tune), each with ``register(subparsers)`` (its options) and the function it runs.
 
 argparse (standard library) rather than a CLI framework: it gives sub-commands,
 --help and typed options with no extra dependency. Every module imports only argparse
@@ -10,16 +10,17 @@ and the data layer at the top, and what its run needs when it runs: ``puppet
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 
 from puppet import __version__
-from puppet.commands import bench, check, mocap, play, playtest, replay
+from puppet.commands import bench, check, mocap, play, playtest, replay, tune
 from puppet.commands import list as list_command
 from puppet.commands.options import EXIT_DATA_ERROR
 from puppet.data.errors import DataError, UsageError, did_you_mean
 
-SUBCOMMANDS = (play, mocap, replay, list_command, check, playtest, bench)  # in --help's order
+SUBCOMMANDS = (play, mocap, replay, list_command, check, playtest, tune, bench)  # in --help's order
 
 
 class Parser(argparse.ArgumentParser):
@@ -87,8 +88,6 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:  # the output went to a pipe that closed (| head): fine
-        try:
+        with contextlib.suppress(OSError):
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - kept open till exit
-        except OSError:
-            pass
         return 0

@@ -38,9 +38,10 @@ def find_target(name: str) -> Path:
     """``puppet check``'s argument as a file: a path as given, else a name looked up as
     the other commands look theirs up (catalog.find), in every kind's folder since the
     command does not say the kind: characters/, interfaces/, assets/scenes/,
-    assets/scripts/, assets/logs/ (else recordings/, as replay looks), assets/mappings/, assets/mocap/. A
-    name in two folders (a script and the log recorded from it) is refused, naming both.
-    A name's file is returned as ``_shown`` names it, which its errors then carry."""
+    assets/scripts/, assets/logs/ (else recordings/, as replay looks), assets/mappings/,
+    assets/mocap/. A name in two folders (a script and the log recorded from it) is
+    refused, naming both. A name's file is returned as ``_shown`` names it, which its
+    errors then carry."""
     p = Path(name)
     try:
         if p.is_dir():
@@ -251,10 +252,8 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
 
     check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
     if spec.tracking is not None and spec.tracking.mapping is not None:
-        from puppet.data.mappings import load_mapping
+        from puppet.data.mappings import channel_error, interface_reads, load_mapping
         from puppet.data.tracking import mapping_problem
-
-        from puppet.data.mappings import channel_error, interface_reads
 
         try:
             mapping_path = catalog.find("mapping", spec.tracking.mapping,

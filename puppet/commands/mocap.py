@@ -132,7 +132,8 @@ def _send(args: argparse.Namespace) -> int:
     table = retargeter = None
     if args.format == "puppet":
         if args.mapping is None:
-            raise UsageError("--format puppet sends the clip's channels: give --mapping NAME (e.g. cmu-131)")
+            raise UsageError("--format puppet sends the clip's channels: give --mapping NAME "
+                             "(e.g. cmu-131)")
         retargeter = retargeter_for(args.mapping)
     else:
         table = load_bones(_project_file(args.bones))

@@ -16,6 +16,7 @@ import sys
 from collections import Counter
 from pathlib import Path
 
+from puppet.commands.engine import add_cluster_option, executor_for
 from puppet.data.playtest import LEVELS, PARAMETERS
 
 EXIT_MISSED, EXIT_ERROR = 1, 2
@@ -74,6 +75,7 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--jobs", "-j", type=_whole("number of processes", 1, 256), default=1,
                    metavar="N", help="run the tries in N processes (the figures do not "
                                      "depend on it)")
+    add_cluster_option(p)
     p.add_argument("--noise", choices=list(LEVELS),
                    help="how imprecise the player is: "
                         + "; ".join(f"{n} +-{v.timing_ms:g} ms, {v.aim_px:g} px"
@@ -136,12 +138,12 @@ def _failures(result) -> Counter:
     kinds: Counter = Counter()
     for r in result.results:
         if not r.passed:
-            missed = set()
-            for line in r.failed:
+            missed: dict[str, None] = {}  # in the expectations' order (a set's order is
+            for line in r.failed:          # the hash seed's: ties would shuffle the table)
                 words = line.split()
-                missed.add(words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
-                           else line)
-            kinds.update(missed)
+                missed[words[1].rstrip(":") if len(words) > 1 and words[0] == "FAIL"
+                       else line] = None
+            kinds.update(list(missed))
     return kinds
 
 
@@ -201,8 +203,8 @@ def run(args) -> int:
     total = sum(p.tries for p in plans)
     # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
     with tqdm(total=total, unit="try", desc="playtest", file=sys.stderr,
-              disable=None) as bar:
-        results = run_plans(plans, args.jobs, bar.update)
+              disable=None) as bar, executor_for(args) as executor:
+        results = run_plans(plans, progress=bar.update, executor=executor)
     verdicts = [_bar_verdict(r, b) for r, b in zip(results, bars)]
     for r in results:
         for w in r.warnings:

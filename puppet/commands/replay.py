@@ -160,9 +160,17 @@ def replay_command(args) -> int:
     (--check) or ends in another state than recorded, else 0."""
     from puppet.timeline.log import read_log
     from puppet.timeline.replay import cut_warnings, find_log, setup_for_log
-    from puppet.timeline.report import (EXIT_DATA_ERROR, exit_code, print_notes, print_one,
-                                        replay_one, results_table, summary_line, until_note,
-                                        verdict)
+    from puppet.timeline.report import (
+        EXIT_DATA_ERROR,
+        exit_code,
+        print_notes,
+        print_one,
+        replay_one,
+        results_table,
+        summary_line,
+        until_note,
+        verdict,
+    )
 
     logs = list(args.logs)
     if not args.headless:

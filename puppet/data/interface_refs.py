@@ -114,9 +114,9 @@ def check_names(spec, located: Located) -> None:
             if state.roles is not None:
                 need(where + ("states", name, "roles"), "role binding", state.roles, bindings)
     if spec.states and MAIN_MACHINE in spec.machines:
-        raise located.error(("machines", MAIN_MACHINE), f"machine name '{MAIN_MACHINE}' is the top-level "
-                                                  "'states'; name this machine otherwise",
-                            prefer_key=True)
+        raise located.error(("machines", MAIN_MACHINE),
+                            f"machine name '{MAIN_MACHINE}' is the top-level 'states'; name "
+                            "this machine otherwise", prefer_key=True)
     for mname, machine in spec.machines.items():
         if machine.initial is not None:
             need(("machines", mname, "initial"), "state", machine.initial, machine.states)
@@ -203,7 +203,7 @@ def _check_reachable(spec, located: Located) -> None:
                 edges.setdefault((machine, state), set()).add(to)
             else:
                 anywhere.add(to)  # a key in one machine moving another: live while there
-    for machine, state, loc, t in transitions(spec):
+    for machine, state, _loc, t in transitions(spec):
         to = spec.resolve_goto(t.to, machine)
         if state is None:
             anywhere.add(to)
@@ -341,10 +341,12 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                                     f"'{first.child}' (the child of '{first.name}'), but its "
                                     f"parent is '{second.parent}'")
     for _, _, loc, t in transitions(spec):
-        if t.when is not None:
-            problem = sensor_problem(t.when.sensor, character, spec.roles)
+        several = isinstance(t.when, list)
+        for i, condition in enumerate(t.conditions):
+            problem = sensor_problem(condition.sensor, character, spec.roles)
             if problem:
-                raise located.error(loc + ("when", "sensor"), problem)
+                where = loc + (("when", i, "sensor") if several else ("when", "sensor"))
+                raise located.error(where, problem)
 
 
 def _check_tracking(spec, character, located, need, need_link) -> None:

@@ -11,13 +11,25 @@ friction...) and rebindable app keys. The actions themselves are in
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
-                                 KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
-                                 check_inputs)
-from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 (re-exported)
-                                CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
+from puppet.data.actions import (
+    ActionSpec,
+    ChainSpec,
+    ConditionSpec,
+    KeyActionSpec,
+    PerturbSpec,
+    PoseSpec,
+    SequenceStepSpec,
+    check_inputs,
+)
+from puppet.data.bounds import (  # noqa: F401 (re-exported)
+    CHECKPOINT_EVERY,
+    CHECKPOINT_MAX,
+    CHECKPOINT_MIN,
+    MAX_SLOWDOWN,
+    MIN_SLOWDOWN,
+)
 from puppet.data.characters import CharacterSpec
 from puppet.data.errors import DataError
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
@@ -44,7 +56,7 @@ class PowerCurve(Spec, kw_only=True):
     power: Num("power")
 
 
-Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
+Curve = Literal["linear", "smoothstep"] | PowerCurve
 
 
 class MapSpec:
@@ -173,16 +185,32 @@ dispatch(MapSpec, _map_kind)
 
 
 class TransitionSpec(Spec, kw_only=True):
-    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
+    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds:
+    one condition, or a list of conditions that must all hold at once (the swing foot
+    down *and* the body past the take-off board)."""
 
     to: str
     after: Num("time") | None = None  # s since entering the state
-    when: ConditionSpec | None = None
+    when: ConditionSpec | list[ConditionSpec] | None = None
+    # s the `when` must have held without a break (a flickering contact is no take-off)
+    held: Num("time") | None = field(name="for", default=None)
 
     def __post_init__(self):
         if self.after is None and self.when is None:
             raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
                              "key transitions are keys with 'goto'")
+        if isinstance(self.when, list) and not self.when:
+            raise ValueError("'when' is an empty list: give one condition, or several "
+                             "that must all hold")
+        if self.held is not None and self.when is None:
+            raise at("for", "'for' (s) is how long 'when' must have held: it needs 'when'")
+
+    @property
+    def conditions(self) -> list[ConditionSpec]:
+        """The conditions that must all hold (none without ``when``)."""
+        if self.when is None:
+            return []
+        return list(self.when) if isinstance(self.when, list) else [self.when]
 
 
 class StateSpec(Spec, kw_only=True):
@@ -384,6 +412,7 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     for loc, key in named:
         if key_problem(key):
             raise located.error(loc, key_problem(key))
+    _check_buffers(spec, located)
     app_table = spec.app_key_table()
     by_key: dict[str, str] = {}
     for action, key in app_table.items():
@@ -419,6 +448,24 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
                 raise located.error(loc, f"key '{key}' is bound twice{scope} (also "
                                          f"{'.'.join(map(str, where))}[{seen[key]}])")
             seen[key] = i
+
+
+def _check_buffers(spec: InterfaceSpec, located: Located) -> None:
+    """``buffer`` keeps a press for a state entered later: a key bound in every state
+    (top-level ``keys``, ``any_state``) never waits for one."""
+    always = [(("keys", i, "buffer"), k) for i, k in enumerate(spec.keys)]
+    always += [(("any_state", "keys", i, "buffer"), k)
+               for i, k in enumerate(spec.any_state.keys)]
+    always += [(("machines", m, "any_state", "keys", i, "buffer"), k)
+               for m, machine in spec.machines.items()
+               for i, k in enumerate(machine.any_state.keys)]
+    for loc, k in always:
+        if k.buffer is not None:
+            where = "top-level keys" if loc[0] == "keys" else "any_state keys"
+            raise located.error(loc, f"'buffer' keeps an early press for a state's key, "
+                                     f"but {where} are bound in every state: move key "
+                                     f"'{k.key}' into the states that take it, or drop "
+                                     f"'buffer'", prefer_key=True)
 
 
 def machine_keys(spec: InterfaceSpec):

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-
 from puppet.data.errors import DataError, did_you_mean
 from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field, validate

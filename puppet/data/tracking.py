@@ -23,7 +23,6 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-
 from puppet.data.actions import ActionSpec
 from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field
@@ -91,8 +90,8 @@ class ReactionSpec(Spec, kw_only=True):
     ``small_margin`` m of it, ``small`` (a dip, then recover); beyond it by up to
     ``step_margin`` m, ``large`` (longer and weaker, and one foot of ``feet`` makes a
     protective step: lifted and put down ``step_past`` beyond the extrapolated centre
-    of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
-    it back up: the get-up)."""
+    of mass, then back to the performance as the pulls come back); further, ``fall``
+    (the pulls let go, the figure falls, then they bring it back up: the get-up)."""
 
     small_margin: Num("corner") = 0.05  # m beyond the support: still small
     step_margin: Num("size") = 0.3  # m beyond the support: large, not a fall

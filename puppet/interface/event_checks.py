@@ -86,7 +86,7 @@ def _check_action(e, last_step):
         return None
     if name == "take":  # an abandoned future taken up again (a kept branch)
         branch = e.get("branch")
-        if not (isinstance(branch, int) and not isinstance(branch, bool) and 0 <= branch):
+        if not (isinstance(branch, int) and not isinstance(branch, bool) and branch >= 0):
             return "take action needs a whole-number 'branch' >= 0"
         return None
     if name not in SIM_ACTIONS:

@@ -37,8 +37,10 @@ from puppet.data.keys import POINTER, normalize_key, pointer_value
 from puppet.interface import maps as mapping
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
+from puppet.interface.buffer import InputBuffer
 from puppet.interface.conditions import map_reader
 from puppet.interface.controllers.base import WAITED
+from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
@@ -92,6 +94,7 @@ class InterfaceRuntime:
         self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys
                                      if k.plays_on(scene)}
                              for mname, m in machines.items()}
+        self.buffer = InputBuffer(self.state_bindings, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
         self.owners = JointOwners()
@@ -107,6 +110,7 @@ class InterfaceRuntime:
         self.perturber = Perturber(spec.perturbation, character, self.dt)
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
+        self.blends = BlendController(character, self.owners, self.frames, every)
         self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
@@ -126,7 +130,8 @@ class InterfaceRuntime:
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
-                            self.perturber, self.tracker, self.frames, self.feedback)
+                            self.perturber, self.tracker, self.blends, self.frames,
+                            self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self._controllers_wake: int | None = None  # the earliest of theirs
@@ -222,6 +227,7 @@ class InterfaceRuntime:
         for _, values in old._pending:  # stored, as old's flush would (its maps are gone)
             self.channels.update(values)
         self.held = set(old.held)
+        self.buffer.set_state(old.buffer.get_state())
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
         if old.role_binding in spec.bindings:
@@ -577,7 +583,10 @@ class InterfaceRuntime:
         if binding is None:
             if chord in self.gestures.paths:
                 self.gestures.start(chord, now)
+            else:
+                self.buffer.keep(chord, now)
             return None
+        self.buffer.spend(chord)
         return self.run_action(binding, now, chord, machine=machine)
 
     # -- actions -----------------------------------------------------------------
@@ -631,12 +640,12 @@ class InterfaceRuntime:
             for joint, d in a.damping.items():
                 servos[r(joint)].damping = d
         frames = self.frames
-        if a.pose is not None:
+        if a.pose is not None and a.over is None:
             pose = self.poses[a.pose]
             self.owners.take(pose.targets)
             apply_pose(servos, pose, frames=frames, owner=FRAME)
         held = []
-        for joint, deg in a.set.items():
+        for joint, deg in ({} if a.over is not None else a.set).items():
             joint = r(joint)
             if isinstance(deg, (int, float)):
                 servos[joint].target = math.radians(deg)
@@ -651,6 +660,8 @@ class InterfaceRuntime:
         self.owners.take([r(j) for j in a.touched_joints()])
         for joint, target in held:  # after the take: a frame target is held (owned)
             frames.hold(joint, target)
+        if a.over is not None:  # the pose's and set's targets travel (controllers/blend.py)
+            self._blend(a, now)
         if a.sequence is not None:
             self.sequences.start(a.sequence, now, a.repeat)
         if a.release is not None:
@@ -660,6 +671,11 @@ class InterfaceRuntime:
         if a.reach is not None:
             self.reaching.start(a.reach, now)
         return result
+
+    def _blend(self, a: ActionSpec, now: int) -> None:
+        """An action's pose and set with ``over``: the targets travel (its gains now)."""
+        pose = self.poses[a.pose] if a.pose is not None else None
+        self.blends.start_action(pose, a.set, self.roles.rename, now, round(a.over / self.dt))
 
     def release(self, which: str) -> None:
         """Let go: unpin the chain ("all": every chain) and disarm its grasp, also
@@ -681,6 +697,10 @@ class InterfaceRuntime:
                             and self.roles.names_role(m)])
         self._activate(self.machines[machine].spec.states[state].maps)
         self._run_entry(machine, now, depth + 1)
+        if self.buffer.unused and self.machines[machine].current == state:
+            due = self.buffer.due(self._lookup, now)  # a press kept for this state
+            if due is not None:
+                self.run_action(due[0], now, due[2], depth + 1, due[1])
 
     def _run_entry(self, machine: str, now: int, depth: int) -> None:
         m = self.machines[machine]
@@ -752,6 +772,7 @@ class InterfaceRuntime:
             controller.stop()
         self.owners.table = {}
         self.gain_holds = {}
+        self.buffer.set_state(None)
         self.mode = self.spec.start_mode
         self._use_binding(self.spec.start_binding)
         self.apply_gains()
@@ -768,7 +789,7 @@ class InterfaceRuntime:
                 "controllers": [c.get_state() for c in self.controllers],
                 "machines": {n: m.get_state() for n, m in self.machines.items()},
                 "gain_holds": _copy_holds(self.gain_holds), "binding": self.role_binding,
-                "next_wakeup": self.next_wakeup}
+                "next_wakeup": self.next_wakeup, "buffer": self.buffer.get_state()}
 
     def set_state(self, state: dict) -> None:
         self.inputs.clear()
@@ -784,6 +805,7 @@ class InterfaceRuntime:
             if name in self.machines:
                 self.machines[name].set_state(s)
         self.gain_holds = _copy_holds(state["gain_holds"])
+        self.buffer.set_state(state.get("buffer"))
         if state["binding"] != self.role_binding:
             self._use_binding(state["binding"])
         self._pending = []

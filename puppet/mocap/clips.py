@@ -6,8 +6,13 @@ from pathlib import Path
 
 from puppet.data.catalog import find, list_kind
 from puppet.data.errors import DataError
-from puppet.data.mappings import (MappingSpec, channel_error, channel_problem,
-                                  interface_reads, load_mapping)
+from puppet.data.mappings import (
+    MappingSpec,
+    channel_error,
+    channel_problem,
+    interface_reads,
+    load_mapping,
+)
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.retarget import RetargetedClip, retarget_clip
 

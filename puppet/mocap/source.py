@@ -31,7 +31,7 @@ import select
 import socket
 import threading
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from puppet.data.errors import UsageError
 from puppet.input.live import LiveQueue

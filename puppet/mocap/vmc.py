@@ -29,12 +29,12 @@ Senders as people use them:
 
 from __future__ import annotations
 
-from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
-from pythonosc.osc_message_builder import OscMessageBuilder
-
 import functools
 from pathlib import Path
 from typing import Annotated
+
+from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
+from pythonosc.osc_message_builder import OscMessageBuilder
 
 from puppet.data.ranges import Num
 from puppet.data.validate import Meta, Spec, validate

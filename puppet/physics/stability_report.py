@@ -10,8 +10,18 @@ from __future__ import annotations
 import math
 
 from puppet.data.characters import CharacterSpec
-from puppet.physics.stability import (NUDGE_AT, SAG_DEG, SECONDS, SWING_DEG, TAIL, TIP_DEG,
-                                      TOPPLE_MARGIN, TRACK_LAM, Stability, stability)
+from puppet.physics.stability import (
+    NUDGE_AT,
+    SAG_DEG,
+    SECONDS,
+    SWING_DEG,
+    TAIL,
+    TIP_DEG,
+    TOPPLE_MARGIN,
+    TRACK_LAM,
+    Stability,
+    stability,
+)
 
 CAPPED_SHARE = 0.2  # of the run at its torque limit: the joint is too weak
 GIVE_DEG = 3.0  # deg a loaded joint gives under its weight (torque / stiffness): too soft
@@ -39,8 +49,8 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
                      f"{q.com_start[1]:.3f} -> {q.com_end[1]:.3f} m high; on the floor: "
                      f"{floor}")
     else:
-        warnings.append(_fall(q, f"with its targets held (its start pose) on a flat floor, "
-                                 f"it") + "; see docs/characters.md (Will it stand?)")
+        warnings.append(_fall(q, "with its targets held (its start pose) on a flat floor, "
+                                 "it") + "; see docs/characters.md (Will it stand?)")
     sank = [n for n in s.touching if n not in s.touching_start]
     if s.stands and sank:
         warnings.append(f"it sinks onto {', '.join(sank)}: on the floor at the end, not at "
@@ -105,7 +115,7 @@ def report(s: Stability) -> tuple[list[str], list[str]]:
                 f"{j.name} {j.sag:+.0f} deg" for j in sag))
     if s.stands:
         quiet = [f"none oscillates (+-{SWING_DEG:g} deg)" if not s.oscillating else "",
-                 f"none is locked by its damping" if not s.locked else "",
+                 "none is locked by its damping" if not s.locked else "",
                  "none reaches its torque limit" if not weak else ""]
         sag = [j for j in s.joints if abs(j.sag) >= SAG_DEG]
         said = [t for t in quiet if t]

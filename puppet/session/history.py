@@ -225,9 +225,9 @@ class Scrubber:
         if direction < 0 and not self.moved:  # show the first step back at once
             self.pos = min(self.pos, self.session.steps - 1)
         step = int(self.pos)
-        if step != self.session.steps:  # a cached pose (the exact rewind comes on commit)
-            if self.cache.show(step, forward=direction > 0) is not None:
-                self.moved = True
+        if (step != self.session.steps  # a cached pose (the exact rewind comes on commit)
+                and self.cache.show(step, forward=direction > 0) is not None):
+            self.moved = True
 
     def commit(self) -> None:
         """Log the step shown as a rewind action (if the scrub moved), so that input

@@ -11,6 +11,7 @@ per-step callback is only paid for when one is asked for.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
@@ -71,3 +72,20 @@ def play(session: Session, events: Iterable[tuple[int, Event]], until_step: int 
         session.advance(move)
         if ticking and session.steps % every == 0:
             on_tick(session)
+
+
+def ticks(*pairs: tuple[int, Callable | None]) -> tuple[int, Callable | None]:
+    """One (every, on_tick) for ``play`` out of several (each ``every`` 0 or its
+    callback None: left out): ticks at their steps' greatest common divisor, each
+    callback at its own multiples (a replay's trajectory samples and its frames; a
+    session's steps do not depend on how they are split between calls)."""
+    pairs = tuple((n, f) for n, f in pairs if n and f is not None)
+    if len(pairs) < 2:
+        return pairs[0] if pairs else (0, None)
+    every = math.gcd(*(n for n, _ in pairs))
+
+    def on_tick(session: Session) -> None:
+        for n, f in pairs:
+            if session.steps % n == 0:
+                f(session)
+    return every, on_tick

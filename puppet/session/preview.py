@@ -118,9 +118,9 @@ class PoseCache:
         s, events = self.scratch, iv.events
         while time.perf_counter() < deadline:
             now = s.sim.steps
-            if now % POSE_EVERY == 0 or now == iv.snap.step or now == iv.end:
-                if iv.reached != now:
-                    self._pose(iv)
+            if ((now % POSE_EVERY == 0 or now == iv.snap.step or now == iv.end)
+                    and iv.reached != now):
+                self._pose(iv)
             if now >= iv.end:
                 iv.done = True
                 self.running = None

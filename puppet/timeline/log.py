@@ -34,15 +34,19 @@ from pathlib import Path
 from typing import Any
 
 from puppet import __version__
-from puppet.data.catalog import FOLDERS, ROOT, Setup
-from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT_MIN,
-                                    MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data import ranges
+from puppet.data.catalog import FOLDERS, ROOT, Setup
 from puppet.data.errors import DataError
+from puppet.data.interfaces import (
+    CHECKPOINT_EVERY,
+    CHECKPOINT_MAX,
+    CHECKPOINT_MIN,
+    MAX_SLOWDOWN,
+    MIN_SLOWDOWN,
+)
 from puppet.data.keys import APP_KEYS, normalize_key
 from puppet.interface.event_checks import MAX_PATH, event_problem, is_number, short
 from puppet.interface.events import Event
-
 
 FORMAT = "puppet-log"
 VERSION = 1
@@ -271,7 +275,8 @@ def _check_header(path: str, header: Any) -> dict:
                                            f"1..{MAX_PATH} characters")
     if not DT_MIN <= header["dt"] <= DT_MAX:
         raise DataError(path, 1, None, f"header: 'dt' must be a finite number in "
-                                       f"{ranges.fmt(DT_MIN)}..{ranges.fmt(DT_MAX)} s, got {header['dt']!r}")
+                                       f"{ranges.fmt(DT_MIN)}..{ranges.fmt(DT_MAX)} s, "
+                                       f"got {header['dt']!r}")
     ci = header.setdefault("checkpoint_interval", CHECKPOINT_EVERY)
     if not is_number(ci) or not CHECKPOINT_MIN <= ci <= CHECKPOINT_MAX:
         raise DataError(path, 1, None, f"header: 'checkpoint_interval' must be a number of "

@@ -12,7 +12,6 @@ records is ``puppet.timeline.trajectory`` (``Sampler``, ``Trajectory``); what th
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,8 +21,8 @@ from puppet import __version__
 from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
+from puppet.session.playback import next_move, play, ticks
 from puppet.timeline.log import Log, embedded_problem, read_log
-from puppet.session.playback import next_move, play
 from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 
@@ -326,8 +325,12 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     warnings += cut_warnings(log, check)
     expectations = None
     if check:  # a plain replay does not import numpy or the expectations (process start)
-        from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
-                                                  parse_expectations)
+        from puppet.timeline.expectations import (
+            Outcome,
+            evaluate_all,
+            load_expectations,
+            parse_expectations,
+        )
 
         expectations = (load_expectations(path, log.header) if expect is None
                         else parse_expectations(expect, f"{path} (expect=)"))
@@ -338,7 +341,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                if (trajectory or expectations) else None)
     if sampler is not None:
         sampler(session)
-    every, on_tick = _ticks((sample_every if sampler else 0, sampler), frames or (0, None))
+    every, on_tick = ticks((sample_every if sampler else 0, sampler), frames or (0, None))
     apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
         sampler(session)
@@ -358,22 +361,6 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                         outcomes, warnings, log.truncated_at, session, same_end,
                         list(session.blowup_messages),
                         not_checked(log, until_step) if check and expect is None else [])
-
-
-def _ticks(*ticks: tuple[int, Callable | None]) -> tuple[int, Callable | None]:
-    """One (every, on_tick) for ``play`` of several: ticks at their steps' greatest
-    common divisor, each calling its own at its multiples (a session's steps do not
-    depend on how they are split between calls)."""
-    ticks = tuple((n, f) for n, f in ticks if n and f is not None)
-    if len(ticks) < 2:
-        return ticks[0] if ticks else (0, None)
-    every = math.gcd(*(n for n, _ in ticks))
-
-    def on_tick(session: Session) -> None:
-        for n, f in ticks:
-            if session.steps % n == 0:
-                f(session)
-    return every, on_tick
 
 
 class LogFeeder:

@@ -9,7 +9,6 @@ the window and a video show when a replay ends (``finished_message``).
 
 from __future__ import annotations
 
-
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.log import Log, read_log

@@ -28,10 +28,14 @@ from __future__ import annotations
 
 from typing import Annotated
 
-
 from puppet.data.actions import ConditionSpec
-from puppet.data.keys import (GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS,
-                               key_problem, normalize_key)
+from puppet.data.keys import (
+    GAMEPAD_BUTTONS,
+    GAMEPAD_STICKS,
+    GAMEPAD_TRIGGERS,
+    key_problem,
+    normalize_key,
+)
 from puppet.data.ranges import Duration, Num, Time, WorldXY
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file

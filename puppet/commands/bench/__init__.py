@@ -13,9 +13,9 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
 * **bare, same motion** - the same Simulation stepped by pymunk's ``space.step(dt)`` in
   a plain loop (what a plain pymunk program does; the Session steps Chipmunk directly,
   ``step_space``), with the servo targets the control run produced written straight
-  onto the pymunk springs between frames (so it goes through the identical trajectory: the state hashes
-  are compared). ``control overhead = control time / bare time - 1`` on this pair, since
-  a different motion costs the physics a different amount.
+  onto the pymunk springs between frames (so it goes through the identical trajectory:
+  the state hashes are compared). ``control overhead = control time / bare time - 1``
+  on this pair, since a different motion costs the physics a different amount.
 * **bare, at rest** - the same Simulation stepped with no targets at all (the character
   stands still): shown for information, it is not the same physics work.
 * **checkpoint** - ``Simulation.snapshot`` / ``restore`` / ``checkpoint`` times and bytes.
@@ -43,7 +43,8 @@ code is 0 unless ``--strict``.
 The package, one measurement a module: ``config`` (clock, run lengths, targets),
 ``subjects`` (what is measured, the input), ``speed`` (control against bare pymunk),
 ``checkpoints`` (checkpoint, rewind, scrub), ``channels``, ``feedback``, ``mocap`` and
-``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``; ``suite`` runs them all and ``report`` prints it.
+``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``;
+``suite`` runs them all and ``report`` prints it.
 """
 
 from __future__ import annotations

@@ -19,7 +19,8 @@ loop's next frame and the session's handling. Under load the source's thread is 
 falls behind: it reads the whole backlog the socket holds at once and decodes only the
 newest pose (``OscSource.receive_many``), and the queue to the frame loop keeps at most
 one frame (``queued_max``). A frame's latency from its arrival (decoded on the source's
-thread) to the targets set from it is kept beside it; it holds the wait for the next frame of the loop (up to one frame) and
+thread) to the targets set from it is kept beside it; it holds the wait for the next
+frame of the loop (up to one frame) and
 the session's handling. The target, "within one frame at 60 fps": every sample acts at
 the first frame of the loop after it arrives (``next_frame_pct`` 100), so its latency
 is at most that frame's wait plus the handling (``processing``); in milliseconds that
@@ -54,9 +55,9 @@ def _puppet_path(rate: float):
 
 
 def _vmc_path(rate: float):
+    from puppet.commands.streams import source_for
     from puppet.data.catalog import ROOT, load_setup
     from puppet.mocap.bvh import read_bvh
-    from puppet.commands.streams import source_for
     from puppet.mocap.send import encoder, load_bones
 
     clip = read_bvh(ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh")

@@ -16,8 +16,8 @@ def measure_logs(repeats: int, seconds: float | None = None) -> dict:
     logs = sorted(folder("log").glob("*.jsonl"))
     if not logs:
         return {"status": "no logs", "items": []}
-    from puppet.timeline.replay import replay
     from puppet.timeline.log import read_log
+    from puppet.timeline.replay import replay
 
     items = []
     gc.collect()

@@ -26,7 +26,7 @@ def measure_mocap(repeats: int, seconds: float = 8.0) -> dict:
     walk = None
     for path in sorted((ROOT / "assets" / "mocap").glob("*.bvh")):
         clip = read_bvh(path)
-        read_ms = median_ms(lambda: read_bvh(path), repeats)
+        read_ms = median_ms(lambda path=path: read_bvh(path), repeats)
         fk_ms = median_ms(clip.world_positions, repeats)
         item = {"clip": path.name, "bytes": path.stat().st_size, "frames": clip.frames,
                 "joints": len(clip.joints), "read_ms": read_ms, "fk_ms": fk_ms}
@@ -34,7 +34,8 @@ def measure_mocap(repeats: int, seconds: float = 8.0) -> dict:
         if found:
             name, mapping = found[0]
             item["mapping"] = name
-            item["retarget_ms"] = median_ms(lambda: retarget_clip(clip, mapping), repeats)
+            item["retarget_ms"] = median_ms(lambda clip=clip, mapping=mapping:
+                                            retarget_clip(clip, mapping), repeats)
             if "walk" in path.name:
                 walk = retarget_clip(clip, mapping)
         items.append(item)

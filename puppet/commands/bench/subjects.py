@@ -31,8 +31,8 @@ def characters_and_interfaces() -> list[tuple[str, list[str]]]:
 
 def gesture(frames: int, interface_spec) -> list[list[dict]]:
     """The input of each frame: a figure-of-eight mouse path, and key taps."""
-    from puppet.interface import events as ev
     from puppet.data.keys import normalize_key
+    from puppet.interface import events as ev
 
     # Keys that change the world itself (gravity, friction, random kicks, shoves, and the
     # app's checkpoint / restore / reset a layout may bind) are left out: the bare run
@@ -58,8 +58,7 @@ class Subject:
     """One character with its interface (or a bare Simulation), ready to build runs."""
 
     def __init__(self, character: str, interface: str | None, scene: str | None = None):
-        from puppet.data.catalog import find, load_character_named, load_scene_named, \
-            load_setup
+        from puppet.data.catalog import find, load_character_named, load_scene_named, load_setup
         from puppet.physics.simulation import DEFAULT_DT
 
         self.character = character

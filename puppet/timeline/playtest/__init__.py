@@ -11,8 +11,14 @@ and counts how often the feat still comes off (``puppet playtest``).
 from puppet.data.playtest import LEVELS, Noise, PlaytestBar, noise_at
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.runner import LogPlaytest, Plan, load_bar, playtest, run
-from puppet.timeline.playtest.trial import (TryResult, judge, perturbation, perturbed_log,
-                                            prepare, run_try)
+from puppet.timeline.playtest.trial import (
+                                            TryResult,
+                                            judge,
+                                            perturbation,
+                                            perturbed_log,
+                                            prepare,
+                                            run_try,
+)
 
 __all__ = ["LEVELS", "LogPlaytest", "Noise", "Perturbation", "Plan", "PlaytestBar",
            "TryResult", "judge", "load_bar", "noise_at", "perturb", "perturbation",

@@ -59,9 +59,10 @@ def load_bar(log_path: str) -> PlaytestBar | None:
     return validate_expect_file(load_file(side)).playtest
 
 
-def _task(log: str, noise: Noise, seed: int, index: int) -> TryResult | str:
+def _task(args: tuple) -> TryResult | str:
     """A worker's try; an error as its one line (the log was prepared before, so this
     is rare: a file changed meanwhile)."""
+    log, noise, seed, index = args
     try:
         return run_try(log, noise, seed, index)
     except DataError as exc:
@@ -69,9 +70,12 @@ def _task(log: str, noise: Noise, seed: int, index: int) -> TryResult | str:
 
 
 def run(plans: list[Plan], jobs: int = 1,
-        progress: Callable[[int], None] | None = None) -> list[LogPlaytest]:
-    """Every plan's tries, with ``jobs`` processes (1: here). ``progress(n)`` is called
-    as tries finish (n tries at a time)."""
+        progress: Callable[[int], None] | None = None, executor=None) -> list[LogPlaytest]:
+    """Every plan's tries, on ``executor`` (``puppet.timeline.executor``: here, local
+    processes or a Dask cluster), else in ``jobs`` local processes (1: here).
+    ``progress(n)`` is called as tries finish (n tries at a time)."""
+    from puppet.timeline.executor import make_executor
+
     out = [LogPlaytest(p) for p in plans]
     tasks: list[tuple[int, int]] = []  # (plan, try index)
     for k, p in enumerate(plans):
@@ -85,28 +89,13 @@ def run(plans: list[Plan], jobs: int = 1,
         out[k].path = prepared.path
         out[k].warnings = list(prepared.warnings)
         tasks.extend((k, i) for i in range(p.tries))
-    done: dict[tuple[int, int], TryResult | str] = {}
-    if jobs > 1 and len(tasks) > 1:
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        pool = ProcessPoolExecutor(max_workers=jobs)
-        try:
-            futures = {pool.submit(_task, out[k].path, plans[k].noise, plans[k].seed, i):
-                       (k, i) for k, i in tasks}
-            for fut in as_completed(futures):
-                done[futures[fut]] = fut.result()
-                if progress is not None:
-                    progress(1)
-        except BaseException:  # Ctrl+C: the tries not begun are dropped, not waited for
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
-        pool.shutdown()
+    args = [(out[k].path, plans[k].noise, plans[k].seed, i) for k, i in tasks]
+    if executor is not None:
+        results = executor.map(_task, args, progress)
     else:
-        for k, i in tasks:
-            done[(k, i)] = _task(out[k].path, plans[k].noise, plans[k].seed, i)
-            if progress is not None:
-                progress(1)
-    for (k, i), res in sorted(done.items()):
+        with make_executor(jobs if len(tasks) > 1 else 1) as local:
+            results = local.map(_task, args, progress)
+    for (k, _), res in zip(tasks, results, strict=True):
         if isinstance(res, str):
             out[k].error = out[k].error or res
         else:

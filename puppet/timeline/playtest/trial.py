@@ -24,15 +24,14 @@ from pathlib import Path
 from puppet.data.catalog import Setup
 from puppet.data.errors import DataError
 from puppet.data.playtest import Noise
-from puppet.timeline.expectations import (Expectations, evaluate_all, load_expectations,
-                                          sidecar_path)
+from puppet.timeline.expectations import Expectations, evaluate_all, load_expectations, sidecar_path
 from puppet.timeline.log import Log, LogEvent, read_log
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.slowdown import in_force
 from puppet.timeline.reactive import ScriptPlayer, Speed, play_script
-from puppet.timeline.replay import (SAMPLE_EVERY, Sampler, apply_log, find_log, new_session,
-                                    require_end, setup_for_log)
+from puppet.timeline.replay import apply_log, find_log, new_session, require_end, setup_for_log
 from puppet.timeline.script import ScriptSpec
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
 
 NOT_FEATS = ("final_hash",)  # expectation kinds that say which bits, not what was done
 
@@ -145,7 +144,7 @@ def judge(prepared: Prepared, log: Log | None = None, noise: Noise | None = None
     judge it by the feat expectations; with no ``log``, the log's reactive script
     plays (at ``noise``, for try ``index`` from ``seed``; None: as written)."""
     session = new_session(prepared.log, prepared.setup)
-    sampler = Sampler(session)
+    sampler = Sampler(session, touches=prepared.expectations.touches)
     sampler(session)
     if log is not None:
         apply_log(session, log, None, SAMPLE_EVERY, sampler)
