@@ -245,18 +245,6 @@ def format_feat_report(report: dict) -> str:
                       if report.get("clock") == "cpu" else "")
              + f"; load average {report.get('load_average', '?')}"]
     lines += format_feats(report["feats"])
-    if report.get("hud_frames"):
-        lines.append("")
-        lines.append("a frame with the HUD and F1 open (1280x720, the log replayed and drawn "
-                     "as the window does)")
-        for f in report["hud_frames"]:
-            t = f["target"]
-            row(f"{f['log']} ({f['scene']}): p50 / p99 / worst",
-                f"{f['p50_ms']:.1f}/{f['p99_ms']:.1f}/{f['max_ms']:.1f} ms",
-                f"p99 <= {t['limit']:g} ms", "PASS" if t["pass"] else "MISS")
-            row("  physics p50 / p99; drawing p50 / p99",
-                f"{f['physics_p50_ms']:.1f}/{f['physics_p99_ms']:.1f}; "
-                f"{f['draw_p50_ms']:.1f}/{f['draw_p99_ms']:.1f} ms")
     misses = feat_misses(report["feats"])
     lines += ["", "all targets met" if not misses else "MISSED: " + "; ".join(misses)]
     return "\n".join(lines)

@@ -21,6 +21,7 @@ from puppet.commands.bench.config import (
     FEAT_MEDIAN_TARGET_PCT,
     FEAT_OVERHEAD_TARGET_PCT,
     FRAME_HZ,
+    FRAME_P99_TARGET_MS,
     FULL,
     OVERHEAD_TARGET_PCT,
     PROCESS_TARGET_MS,
