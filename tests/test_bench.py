@@ -123,3 +123,11 @@ def test_quick_bench_measures_every_feat_log_against_the_same_motion(report):
     names = {t["name"] for t in feats["targets"]}
     assert {f"control overhead: {log}" for log in shipped} <= names
     assert "control overhead: median over the feat logs" in names
+
+
+def test_quick_bench_times_frames_with_the_hud_and_f1_on_the_biped_scenes(report):
+    frames = report["hud_frames"]
+    assert {f["log"] for f in frames} >= {"biped-walk", "biped-ladder-climb"}
+    for f in frames:
+        assert f["frames"] > 0 and 0 < f["p50_ms"] <= f["p99_ms"] <= f["max_ms"]
+        assert f["target"]["name"].startswith("frame with the HUD and F1")

@@ -4,6 +4,8 @@ sequences and feedback on the way). No timing assertions: targets live in the be
 
 from pathlib import Path
 
+import pytest
+
 from puppet.commands.bench.feats import bare_run, measure_feat, record
 from puppet.commands.bench.report import format_feats
 from puppet.timeline.log import read_log
@@ -12,8 +14,9 @@ from puppet.timeline.replay import setup_for_log
 LOGS = Path(__file__).resolve().parents[1] / "assets" / "logs"
 
 
-def test_the_bare_run_reaches_the_logs_own_end_state():
-    name = "luxo-back-headspring"  # a manual checkpoint on the way
+@pytest.mark.parametrize("name", ["luxo-back-headspring",  # a manual checkpoint on the way
+                                  "luxo-ski-jump"])  # a keyframe's re-seat at the last step
+def test_the_bare_run_reaches_the_logs_own_end_state(name):
     item = measure_feat(str(LOGS / f"{name}.jsonl"), rounds=1)
     assert item["same_motion"] is True and item["recorded_end"] is True
     assert item["writes"] > 0 and item["steps"] == read_log(LOGS / f"{name}.jsonl").last_step

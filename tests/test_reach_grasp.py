@@ -174,8 +174,8 @@ def test_reach_steered_by_a_channel_pair_follows_the_channels(tmp_path):
         assert s.runtime.read_input("channel.hx") == hx
         assert math.dist(shade_end(s), want) < 0.01, (hx, hy)
     assert "shade" in s.runtime.reaches  # steered: held until preempted
-    press(s, "1")  # a pose takes both joints back: the reach ends at its next control step
-    s.advance(s.runtime.reaching.every + 1)
+    press(s, "1")  # a pose takes both joints back
+    s.advance(2)
     assert s.runtime.reaches == {}
 
 

@@ -59,11 +59,9 @@ def test_a_rigid_grasp_holds_the_angle_a_pivot_lets_turn(tmp_path):
     pivot = held_angles(tmp_path, LUXO, "g")
     rigid = held_angles(tmp_path, RIGID, "g")
     weak = held_angles(tmp_path, RIGID, "h")  # 0.05 N*m: the angle hold gives way
-    # the shade turns about the bar's tip (0.047 rad with the reach's IK re-solved at
-    # the control rate; 0.18 when it was re-solved every step), over 20x the rigid's
-    assert spread(pivot) > 0.02
+    assert spread(pivot) > 0.1  # the shade turns about the bar's tip (0.18 rad)
     assert spread(rigid) < 0.002  # 0.001 rad: the gear joint's own give
-    assert spread(weak) > 0.02
+    assert spread(weak) > 0.1
 
 
 def test_the_angle_hold_goes_with_the_grasp(tmp_path):

@@ -9,6 +9,7 @@ import pygame
 
 from puppet.app.describe import app_lines, control_rows, where_line
 from puppet.app.keymap import draw_keymap
+from puppet.app.render import text as text_surface
 from puppet.session import Session
 
 TEXT = (40, 44, 52)
@@ -69,9 +70,20 @@ COMPACT_SHARE = 0.4  # of the window's width: the compact key panel at most (lon
 # camera puts the character (camera.LEAD_X), stays free
 
 
+_PANELS: dict[tuple[int, int], pygame.Surface] = {}  # size -> a filled panel (kept)
+PANELS_KEPT = 32  # sizes kept: the HUD draws a handful a frame, a few sizes each
+
+
 def _panel(surface, rect) -> None:
-    panel = pygame.Surface(rect.size, pygame.SRCALPHA)
-    panel.fill(PANEL)
+    """The translucent panel under a block of text: one surface per size, filled
+    once (making and filling a new one each frame cost more than blitting it)."""
+    size = (rect.width, rect.height)
+    panel = _PANELS.get(size)
+    if panel is None:
+        if len(_PANELS) >= PANELS_KEPT:
+            del _PANELS[next(iter(_PANELS))]  # the oldest
+        panel = _PANELS[size] = pygame.Surface(size, pygame.SRCALPHA)
+        panel.fill(PANEL)
     surface.blit(panel, rect.topleft)
 
 
@@ -341,12 +353,12 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
     lines, left_w, told, height = _left_panel(surface.get_width(), session, info, font,
                                               small)
     _panel(surface, pygame.Rect(8, 8, left_w, height))
-    surface.blit(font.render(fit(font, lines[0], left_w - 16), True, TITLE), (16, 12))
+    surface.blit(text_surface(font, fit(font, lines[0], left_w - 16), TITLE), (16, 12))
     for i, text in enumerate(told):
         surface.blit(text, (16, 12 + 22 + i * ROW))
     below = 12 + len(told) * ROW + (6 if told else 0)
     for i, text in enumerate(lines[1:], start=1):
-        surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT),
+        surface.blit(text_surface(font, fit(font, text, left_w - 16), TEXT),
                      (16, below + i * 22))
 
     rows = _control_panel(session, info)
@@ -459,11 +471,11 @@ def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
                + [b.head for b in branches])
     end = max(last * dt, 1.0)
     w, h = surface.get_size()
-    end_label = small.render(f"{end:.1f} s", True, DIM)
+    end_label = text_surface(small, f"{end:.1f} s", DIM)
     x0, x1, y = 90, w - 24 - end_label.get_width(), h - 18
     _panel(surface, pygame.Rect(8, y - 12, w - 16, 24))
     label = "REWIND" if info.scrubbing else f"{session.time:6.1f} s"
-    surface.blit(small.render(label, True, TITLE if info.scrubbing else TEXT), (16, y - 7))
+    surface.blit(text_surface(small, label, TITLE if info.scrubbing else TEXT), (16, y - 7))
     surface.blit(end_label, (x1 + 8, y - 7))
 
     def px(step: int) -> int:

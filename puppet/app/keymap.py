@@ -339,6 +339,9 @@ def _fits(blocks, cap: int, room: tuple[int, int]) -> bool:
     return w <= room[0] and h <= room[1]
 
 
+KEYMAPS_KEPT = 8  # key map panels kept (draw_keymap's cache): one per state of a gait
+
+
 def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
                 font: pygame.font.Font, topleft: tuple[int, int], cap: int | None = None,
                 state: str | None = None, scene=None, room: tuple[int, int] | None = None,
@@ -350,14 +353,18 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
     pixels the panel may take). ``cache``: a dict that keeps the panel drawn, by all it
     depends on, so that a frame with the key map shown costs one blit.
     Returns the rect drawn (None if no key sets a pose)."""
-    key = (interface, state, scene.name if scene is not None else None, cap, room,
-           font, character)
-    if cache is not None and cache.get("key") == key:
-        panel = cache["panel"]
+    # (the specs by identity, checked on a hit: they are not hashable)
+    key = (id(interface), state, scene.name if scene is not None else None, cap, room,
+           font, id(character))
+    got = cache.get(key) if cache is not None else None
+    if got is not None and got[0] is interface and got[1] is character:
+        panel = got[2]
     else:
         panel = _render_keymap(interface, character, font, cap, state, scene, room)
-        if cache is not None:
-            cache["key"], cache["panel"] = key, panel
+        if cache is not None:  # one panel per state: a gait goes round its states
+            if len(cache) >= KEYMAPS_KEPT:
+                del cache[next(iter(cache))]  # the oldest
+            cache[key] = (interface, character, panel)
     if panel is None:
         return None
     surface.blit(panel, topleft)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import pygame
@@ -9,6 +10,13 @@ import pymunk
 
 from puppet.app.camera import BOTTOM_RESERVED_PX, Camera
 from puppet.session import Session
+
+
+@functools.lru_cache(maxsize=512)
+def text(font: pygame.font.Font, words: str, color: tuple) -> pygame.Surface:
+    """``font.render(words, True, color)``, kept: most of what a frame writes (a
+    ruler's labels, the HUD's lines) is what the frame before wrote. Blitted only."""
+    return font.render(words, True, color)
 
 LAYER_ORDER = {"far": 0, "mid": 1, "near": 2}
 
@@ -105,7 +113,7 @@ def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
             pygame.draw.line(surface, (205, 212, 222) if whole else (215, 221, 230),
                              (sx, 0), (sx, surface.get_height()), 1)
         if labels_only and whole and font is not None:  # on the ground, on a light
-            label = font.render(f"{x:.0f} m", True, (40, 44, 52))  # tag: legible on any
+            label = text(font, f"{x:.0f} m", (40, 44, 52))  # tag: legible on any
             ground = scene.ground_height(x) if scene is not None else None  # ground
             top = camera.to_screen((x, ground))[1] + 6 if ground is not None else 0
             top = min(top, surface.get_height() - BOTTOM_RESERVED_PX - 22)  # above the bar
@@ -149,9 +157,9 @@ def _draw_ruler(surface, camera: Camera, scene, ruler, font,
         pygame.draw.line(surface, _shade(ruler.color, 0.55), (a[0] + 1, a[1]), (b[0] + 1, b[1]), 1)
         pygame.draw.line(surface, ruler.color, a, b, 2 if labelled else 1)
         if labelled and font is not None:
-            text = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
-                    else f"{distance * 100:.0f} cm")
-            label = font.render(text, True, ruler.color)
+            words = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
+                     else f"{distance * 100:.0f} cm")
+            label = text(font, words, tuple(ruler.color))
             rect = label.get_rect(midtop=(a[0], a[1] + 4))
             if _free(rect, taken):
                 surface.blit(label, rect)

@@ -95,11 +95,11 @@ class InterfaceRuntime(ActiveMaps, Actions):
                                             self.dt)
         self.gestures = GestureController(spec.gestures, servos, self.owners, self.dt)
         self.gestures.inputs = self.inputs
-        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.grasping = GraspController(self.chains, character, sim, self.dt)
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
-                                        self.grasping, self.read_input, self.dt, every)
+                                        self.grasping, self.read_input, self.dt)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
+        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.blends = BlendController(character, self.owners, self.frames, every)

@@ -27,6 +27,8 @@ that drives it with the mouse, builds a Session on the interface's scene and mea
   by a Session against bare Chipmunk fed the very writes the controlled run made
   (``feats``: servo targets and gains, velocity changes, grasps, checkpoints' re-seats;
   the bare run must end in the log's own state). ``--feats`` runs this section alone.
+* **HUD frames** - a frame with the HUD and F1's key map open on four biped logs,
+  replayed and drawn by the window's code (``frames``): p50 / p99 / worst.
 * **logs** - replay speed of every ``assets/logs/*.jsonl`` through
   ``puppet.timeline.replay.replay`` with its expectations, as ``puppet.testing.replay_log``
   replays it.
@@ -43,7 +45,8 @@ code is 0 unless ``--strict``.
 The package, one measurement a module: ``config`` (clock, run lengths, targets),
 ``subjects`` (what is measured, the input), ``speed`` (control against bare pymunk),
 ``checkpoints`` (checkpoint, rewind, scrub), ``channels``, ``feedback``, ``mocap`` and
-``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``processes``;
+``latency``, ``logs``, ``feats`` (the feat logs' control overhead), ``frames``,
+``processes``;
 ``suite`` runs them all and ``report`` prints it.
 """
 

@@ -41,13 +41,16 @@ BVH_READ_TARGET_MS = 200.0  # a 2 MB motion-capture clip
 # the control layer on the shipped feat logs (issue 29): each log, and their median
 FEAT_OVERHEAD_TARGET_PCT = 15.0
 FEAT_MEDIAN_TARGET_PCT = 10.0
+FRAME_P99_TARGET_MS = 8.0  # a frame with the HUD and F1 open, biped scenes (issue 29)
 
 FULL = {"seconds": 20.0, "repeats": 9, "checkpoint_repeats": 300, "rewind_seconds": 60.0,
         "rewind_repeats": 21, "log_repeats": 3, "scrub_played_s": 90.0, "scrub_frames": 600,
-        "process_repeats": 5, "log_seconds": None, "feat_rounds": 3, "feat_seconds": None}
+        "process_repeats": 5, "log_seconds": None, "feat_rounds": 3, "feat_seconds": None,
+        "hud_frames": 600}
 QUICK = {"seconds": 0.25, "repeats": 1, "checkpoint_repeats": 5, "rewind_seconds": 1.0,
          "rewind_repeats": 2, "log_repeats": 1, "scrub_played_s": 4.0, "scrub_frames": 30,
-         "process_repeats": 1, "log_seconds": 1.0, "feat_rounds": 1, "feat_seconds": 0.5}
+         "process_repeats": 1, "log_seconds": 1.0, "feat_rounds": 1, "feat_seconds": 0.5,
+         "hud_frames": 20}
 
 
 def median_ms(fn, repeats: int) -> float:

@@ -111,6 +111,8 @@ def record(log, setup, until: int | None = None) -> Trace:
             session.handle(events[i][1])
             i += 1
         if move is None:
+            if pending_reseat:  # a keyframe at the last step: the end state is re-seated
+                trace.ops.append((session.steps, True, [], [], [], None))
             break
         sim, runtime = session.sim, session.runtime
         if runtime._pending:
@@ -164,7 +166,7 @@ def bare_run(log, setup, trace: Trace):
     k = yield sim
     while True:
         stop = min(trace.steps, now + k)
-        while op is not None and op[0] < stop:
+        while op is not None and (op[0] < stop or op[0] == stop == trace.steps):
             at, reseat, servo_ch, motion_ch, grasps, world_ch = op
             if at > now:
                 step_space(sim.space, dt, at - now)

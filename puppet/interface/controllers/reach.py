@@ -1,7 +1,5 @@
 """IK reaches (the paper's "IK target select"): a chain's end follows a Hermite-eased
-path to a target over a fixed duration, with IK re-solved at the control rate (on
-absolute multiples of the control period, as frame targets and feedback are), then
-holds.
+path to a target over a fixed duration, with IK re-solved every step, then holds.
 
 The target is a fixed point (world, or the root link's frame at the moment of the
 key), a scene prop's grasp point (followed as the prop moves; picked relative to what
@@ -15,7 +13,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from puppet.interface.controllers.base import WAITED
 from puppet.interface.ik import hermite
 from puppet.interface.ownership import JointOwners, Owner, reach_owner
 
@@ -49,7 +46,7 @@ class ReachController:
     BUSY = "reaches"
 
     def __init__(self, chains, character, sim, owners: JointOwners, servos, grasps,
-                 read_input, dt: float, every: int = 1):
+                 read_input, dt: float):
         self.chains = chains
         self.character = character
         self.sim = sim
@@ -58,7 +55,6 @@ class ReachController:
         self.grasps = grasps  # the GraspController, for reaches that grasp on arrival
         self.read_input = read_input  # (name, default) -> an input's value now (steering)
         self.dt = dt
-        self.every = every  # the control period, steps: the IK is re-solved this often
         self.reaches: dict[str, Reach] = {}
 
     # -- targets -------------------------------------------------------------------
@@ -123,8 +119,6 @@ class ReachController:
         self.owners_table.claim(chain.joints, owner)
 
     def tick(self, step: int) -> str | None:
-        if step % self.every:
-            return WAITED  # between control steps
         if not self.reaches:
             return None
         servos, owners = self.servos, self.owners_table
@@ -156,9 +150,11 @@ class ReachController:
                 del self.reaches[name]
 
     def next_wakeup(self, earliest: int) -> int | None:
-        if not self.reaches:
-            return None
-        return -(-earliest // self.every) * self.every
+        # every step, on the way and holding: at the control rate (60 Hz) the ladder
+        # climb passed 9-10 of 20 human playtest tries against its bar of 14 (17 with
+        # the IK solved every step), so the rate is the feat's, not a setting to change
+        # under it (README, Benchmark)
+        return earliest if self.reaches else None
 
     def owners(self) -> set[Owner]:
         return {reach_owner(n) for n in self.reaches}
