@@ -243,7 +243,9 @@ def _flooded(setup, walk, fmt, count):
     assert session.blowups == 0 and not session.halted, session.blowup_messages
     assert tally.total > count // 10, tally.dropped  # the absurd ones were judged
     assert counts.total_dropped > 0  # and the garbage dropped by the decoder
-    assert source.queue.posted > count // 20  # the walk's frames came through
+    # the walk's frames came through: handed to the session, or passed over for a newer
+    # one of the same backlog (the source retargets only the newest: skip-to-newest)
+    assert source.queue.posted + source.skipped > count // 20
     c = session.character
     x, y = c.bodies[c.spec.root].position
     assert math.isfinite(x) and math.isfinite(y) and abs(x) < 60 and -1 < y < 5
