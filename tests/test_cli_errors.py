@@ -208,7 +208,7 @@ def test_the_no_display_hint_names_a_log_by_name_only_if_the_name_finds_it(tmp_p
     shipped log also has is given by its path, which replays it, not the other one."""
     import types
 
-    from puppet.app import window
+    from puppet.app import display, window
 
     for sub, name in (("assets/logs", "hop"), ("recordings", "hop"), ("recordings", "mine")):
         (tmp_path / sub).mkdir(parents=True, exist_ok=True)
@@ -230,7 +230,7 @@ def test_the_no_display_hint_names_a_log_by_name_only_if_the_name_finds_it(tmp_p
     assert says("recordings/hop.jsonl") in hint("recordings/hop.jsonl")
     elsewhere = tmp_path / "my hop.jsonl"
     assert says(f"'{elsewhere}'") in hint(elsewhere)
-    monkeypatch.setattr(window, "os", types.SimpleNamespace(name="nt", environ=os.environ))
+    monkeypatch.setattr(display, "os", types.SimpleNamespace(name="nt", environ=os.environ))
     assert says(f'"{elsewhere}"') in hint(elsewhere)  # cmd.exe reads no single quotes
     assert says("hop") in hint(tmp_path / "assets/logs/hop.jsonl")
 
@@ -312,7 +312,7 @@ def test_a_mistyped_name_gets_a_did_you_mean_in_its_one_line(capsys):
         (("list", "interfcs"), "puppet list: argument KIND: invalid choice: 'interfcs'; "
                                "did you mean 'interface'? (choose from "),
         (("mocap", "snd"), "puppet mocap: argument WHAT: invalid choice: 'snd'; did you mean "
-                           "'send'? (choose from 'info', 'send', 'listen')"),
+                           "'send'? (choose from 'info', 'mapping', 'send', 'listen')"),
     ]
     for argv, start in cases:
         code, line = _main_error(capsys, *argv)

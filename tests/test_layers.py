@@ -1,6 +1,6 @@
 """Every import inside puppet points down the layers, and no two packages import each other.
 
-The layers, bottom to top (README, Layout; docs: architecture):
+The layers, bottom to top (docs/architecture.md):
 
     data -> physics -> interface -> input -> mocap -> session -> timeline -> app -> commands
 

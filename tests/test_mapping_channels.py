@@ -109,7 +109,7 @@ def test_a_mistyped_joint_of_a_mapping_gets_a_did_you_mean(tmp_path, capsys):
 
 def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
     """cmu-01 against cmu-131 with subject 1's joint names put back: every other field
-    that differs is one the README and the guide name, with its value."""
+    that differs is one the mocap page and the guide name, with its value."""
     import re
 
     from puppet.data.mappings import load_mapping
@@ -119,7 +119,7 @@ def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
     # (the fields that hold no joint names; the others differ by them)
     differ = [f for f in ("source", "plane", "size", "channels") if getattr(a, f) != getattr(b, f)]
     assert "plane" in differ and "size" in differ  # (what the files hold today)
-    for doc in ("README.md", "docs/interfaces.md"):
+    for doc in ("docs/mocap.md", "docs/interfaces.md"):
         text = " ".join(Path(doc).read_text(encoding="utf-8").split())
         said = re.search(r"`(?:assets/mappings/)?cmu-01\.yaml` is [^)]*?\)[^.;]*", text)
         assert said, doc

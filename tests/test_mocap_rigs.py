@@ -126,7 +126,7 @@ def test_mixamo_names_in_metres(tmp_path):
 
 
 def test_a_skeleton_with_no_limbs_is_said_to_be_no_humanoid(tmp_path, capsys):
-    from test_gaps_4 import TWO_JOINT_BVH
+    from helpers import TWO_JOINT_BVH
 
     path = tmp_path / "odd.bvh"
     path.write_text(TWO_JOINT_BVH)

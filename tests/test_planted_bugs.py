@@ -5,8 +5,9 @@ bound. Each test here fails on its bug (checked by planting it again)."""
 
 
 import pytest
-from test_gaps_2 import deg, make
+from helpers import session_of as make
 from test_log_hardening import MOUSE, header, write
+from test_maps import deg
 
 from puppet.data.errors import DataError
 from puppet.data.interfaces import CHECKPOINT_MAX

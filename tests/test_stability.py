@@ -47,7 +47,7 @@ def test_every_shipped_character_stands_held_and_nudged(name):
 
 
 def test_the_biped_ankles_are_reported_locked_as_the_notes_measure_them():
-    """The ankle's 30 N*m*s/rad against a 0.006 kg*m^2 foot: e^-12 a step (README), and
+    """The ankle's 30 N*m*s/rad against a 0.006 kg*m^2 foot: e^-12 a step (docs/figures.md), and
     ankle damping 8 or less tracks (the guide): the report says both."""
     s = stability(load_character(ROOT / "characters" / "biped.yaml"))
     locked = {j.name: j for j in s.locked}

@@ -47,9 +47,11 @@ class FrameRenderer:
         """``wall_dt``: wall seconds since the last frame, for the camera's easing as in
         the window (None snaps to the character). ``ghost``: a session drawn
         translucently beside the live one (see ``puppet.timeline.ghost``)."""
-        from puppet.app.hud import draw_hud
+        from puppet.app.hud import draw_hud, frame_under_panels
         from puppet.app.render import draw_world
 
+        frame_under_panels(self.surface, self.camera, session, self.info, self.font,
+                           self.small)
         self.camera.follow(subject_of(session), wall_dt)
         draw_world(self.surface, session, self.camera, self.small, ghost=ghost,
                    overlay=self.info.overlay)

@@ -24,7 +24,7 @@ SUBCOMMANDS = (play, mocap, replay, list_command, check, playtest, tune, bench) 
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse's parser, its mistakes in one line (README, Errors): ``puppet play:
+    """argparse's parser, its mistakes in one line (docs/playing.md, Errors): ``puppet play:
     argument --seconds: '-1' is not ... (puppet play --help)``, exit 2, with no usage
     block above it; a mistyped choice or option gets a did-you-mean. Sub-command parsers
     are made of the same class (add_subparsers). No abbreviations: ``--headles`` is a

@@ -30,6 +30,19 @@ def _speed(text: str) -> float:
     return value
 
 
+def drop_option(text: str) -> tuple[float, float]:
+    """``FROM:UNTIL`` seconds (argparse's type for ``--mocap-drop``)."""
+    a, sep, b = text.partition(":")
+    try:
+        lo, hi = float(a), float(b)
+    except ValueError:
+        lo = hi = float("nan")
+    if not (sep and 0.0 <= lo < hi <= 3600.0):
+        raise argparse.ArgumentTypeError(f"'{text}' is not FROM:UNTIL, seconds with FROM "
+                                         f"before UNTIL (e.g. 4.5:6)")
+    return lo, hi
+
+
 def _duration(text: str) -> float:
     try:
         value = float(text)

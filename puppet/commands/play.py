@@ -62,7 +62,7 @@ def register(subparsers) -> None:
     play.add_argument("--loop", action="store_true",
                       help="play the --mocap clip over and over (headless: needs --seconds, "
                            "a looping clip has no end)")
-    from puppet.mocap.clip_source import drop_option
+    from puppet.commands.mocap import drop_option
 
     play.add_argument("--mocap-drop", type=drop_option, metavar="FROM:UNTIL",
                       help="no sample of the --mocap clip from FROM to UNTIL s: the "

@@ -21,21 +21,6 @@ from puppet.mocap.retarget import RetargetedClip
 LAP_CHANNEL = "root.x"  # the channel a loop carries on from lap to lap
 
 
-def drop_option(text: str) -> tuple[float, float]:
-    """``FROM:UNTIL`` seconds (argparse's type for ``--mocap-drop``)."""
-    import argparse
-
-    a, sep, b = text.partition(":")
-    try:
-        lo, hi = float(a), float(b)
-    except ValueError:
-        lo = hi = math.nan
-    if not (sep and 0.0 <= lo < hi <= 3600.0):
-        raise argparse.ArgumentTypeError(f"'{text}' is not FROM:UNTIL, seconds with FROM "
-                                         f"before UNTIL (e.g. 4.5:6)")
-    return lo, hi
-
-
 class ClipSource:
     def __init__(self, clip: RetargetedClip, rate: float = 60.0, start: float = 0.0,
                  speed: float = 1.0, loop: bool = False, name: str = "clip",

@@ -114,16 +114,21 @@ class Session:
             return runtime.on_event(event)  # (which runs pending channel maps first)
         if self.runtime._pending:
             self.runtime.flush()  # channel maps act before anything after them
+        # a key's owner, resolved once for this press (interface.bindings decides)
+        resolved = self.runtime.resolve(event["key"]) if kind == "key" else None
         if not self._rebuilding:
             if self.listener is not None:
                 self.listener(self.sim.steps, event)  # logged, all of it (speed keys too)
             if not (kind == "action" and event.get("name") in ("rewind", "restore", "take")
-                    or kind == "key" and self._window_key(event)):
+                    or kind == "key" and resolved.app is not None
+                    and resolved.app not in SIM_ACTIONS):  # the window's business (help,
+                # pause...), not input: it does not rewrite the future, so scrubbing back,
+                # pressing it and scrubbing forward again works
                 if self.sim.steps < self.history.head:
                     self.history.branch(self.sim.steps)  # new input: the future is rewritten
                 self.history.record(self.sim.steps, event)
         if kind == "key" and event["down"]:
-            app_action = self.app_action_of(event["key"])
+            app_action = resolved.app
             if app_action is not None:
                 if app_action in SIM_ACTIONS:
                     self.perform(app_action)
@@ -158,7 +163,8 @@ class Session:
             return None
         tracker = self.runtime.tracker
         was_tracking = tracker.mode
-        action = self.runtime.on_event(event)  # an interface key may ask for an app action
+        action = self.runtime.on_event(event, resolved)  # an interface key may ask for an
+        # app action
         if kind == "key" and was_tracking == "off" and tracker.mode != "off" \
                 and not self._rebuilding \
                 and not any(c in self.runtime.channels for c in tracker.joints.values()):
@@ -168,22 +174,10 @@ class Session:
             return None
         return action
 
-    def _window_key(self, event: Event) -> bool:
-        """A key event (down or up) of an app action that is the window's business (help,
-        pause, slowdown...), not input to the simulation: it does not rewrite the
-        future, so scrubbing back, pressing it and scrubbing forward again works."""
-        action = self.app_action_of(event["key"])
-        return action is not None and action not in SIM_ACTIONS
-
     def app_action_of(self, chord: str) -> AppAction | None:
-        """Who owns a key, decided here only: the app action ``chord`` stands for, or
-        None when it is the interface's input (an interface that binds an app's key
-        must have moved the app's action elsewhere: the loader refuses it otherwise;
-        a key neither binds is nobody's and comes back None too)."""
-        action = self.key_to_app.get(chord)
-        if action is None or self.runtime.handles_key(chord):
-            return None
-        return action
+        """The app action ``chord`` stands for now, or None when it is the interface's
+        input or nobody's (decided in ``interface.bindings``; asked here)."""
+        return self.runtime.resolve(chord).app
 
     def perform(self, name: str, to_step: int | None = None,
                 branch: int | None = None) -> None:

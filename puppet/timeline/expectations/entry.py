@@ -12,7 +12,7 @@ from dataclasses import field as dc_field
 import msgspec
 
 from puppet.data.errors import DataError
-from puppet.data.playtest import PlaytestBar
+from puppet.data.playtest_bar import PlaytestBar
 from puppet.data.validate import Spec
 from puppet.data.yamlfile import Located
 
