@@ -153,7 +153,7 @@ class ReachController:
         # every step, on the way and holding: at the control rate (60 Hz) the ladder
         # climb passed 9-10 of 20 human playtest tries against its bar of 14 (17 with
         # the IK solved every step), so the rate is the feat's, not a setting to change
-        # under it (README, Benchmark)
+        # under it (docs/benchmarks.md)
         return earliest if self.reaches else None
 
     def owners(self) -> set[Owner]:
