@@ -15,7 +15,7 @@ from puppet.data.yamlfile import Located, load_file
 # check does not build the interface, scene and script models (process start).
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
-                  "scripts": "script", "mappings": "mapping"}
+                  "scripts": "script", "mappings": "mapping", "tune": "tuning spec"}
 
 
 YAML_EXTS = (".yaml", ".yml")
@@ -25,7 +25,8 @@ _PARSERS = {"character": ("puppet.data.characters", "parse_character"),
             "script": ("puppet.timeline.script", "parse_script"),
             "mapping": ("puppet.data.mappings", "parse_mapping")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
-                    "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl "
+                    "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml, tuning "
+                    "specs), .jsonl "
                     "logs and .bvh clips, or their names")
 
 
@@ -160,6 +161,8 @@ def guess_kind(path: Path, located: Located) -> str:
     if kind:
         return kind
     data = located.data if isinstance(located.data, dict) else {}
+    if "stages" in data:  # (before script: a tuning spec may have fixed events)
+        return "tuning spec"
     if "links" in data:
         return "character"
     if "ground" in data:
@@ -207,6 +210,11 @@ def check_file(path: str | Path, warnings: list[str] | None = None) -> str:
         if not validate_expect_file(located).expect and warnings is not None:
             warnings.append(f"{path}: warning: 'expect' is an empty list: no expectation "
                             "is checked")
+        return kind
+    if kind == "tuning spec":  # puppet tune's (docs/tuning.md)
+        from puppet.timeline.tuning import load_tune_spec
+
+        load_tune_spec(path)
         return kind
     if kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
         from puppet.mocap.send import parse_bones

@@ -16,6 +16,7 @@ import pytest
 from puppet.data.errors import DataError
 from puppet.timeline.executor import Executor, make_executor
 from puppet.timeline.tuning import Interrupted, Search, load_tune_spec
+from puppet.timeline.tuning.trial import TryResult
 from puppet.timeline.tuning.writer import write_all
 
 HOP = """
@@ -110,6 +111,22 @@ def test_the_command_says_a_bad_spec_in_one_line_and_exits_2(tmp_path, capsys):
     assert main(["tune", str(path), "--out", str(tmp_path / "x.jsonl")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "'$cx': 'cx' is not a 'choose' parameter" in err, err
+
+
+def test_a_playtest_term_scores_how_often_the_simulated_player_still_lands_it(tmp_path):
+    text = (HOP % {"tries": 3, "refine": 0}).replace(
+        "    score:\n", "    playtest: {noise: human, tries: 3, weight: 20}\n    score:\n")
+    loaded = load_tune_spec(spec_file(tmp_path, text))
+    search = Search(loaded)
+    result = search.run()
+    tries = [TryResult.from_dict(d) for d in search.state.tries.values()]
+    kept = result.kept[0].result
+    assert kept.accepted and kept.pass_rate in (0.0, 1 / 3, 2 / 3, 1.0)
+    # only a try that meets what it requires is played by the simulated player
+    assert all(t.pass_rate is not None for t in tries if t.accepted)
+    assert all(t.pass_rate is None for t in tries if not t.accepted)
+    again = Search(load_tune_spec(spec_file(tmp_path, text, "again.yaml"))).run()
+    assert again.kept[0].result.pass_rate == kept.pass_rate  # the same draws each time
 
 
 # -- a search, resumed, on other engines: the same log ---------------------------------
