@@ -263,3 +263,7 @@ def test_the_window_shows_the_last_playtest_figure_of_its_interface(tmp_path, mo
     assert window.run_window(load_setup("luxo-keys"), no_record=True) == 0
     assert shown and shown[-1] == "playtest luxo-keys-sit-stand: 2/2 pass at steady"
     assert store.figure_line(store.last_for("luxo-mouse")) == ""  # none for that one
+
+
+def test_a_log_with_no_events_moves_nothing():
+    assert perturb([], [], DT, 100, LEVELS["novice"], 0, 0, APP_KEYS).pairs == []

@@ -4,19 +4,14 @@ A playtest replays a log many times, each time moved as a person's hands would m
 it (``puppet.timeline.playtest``). How far is set here, by named levels; the sources
 of the numbers are in docs/interfaces.md ("The human model"). All times are *real*
 (wall) time: at a slowdown of 3 a 30 ms error is 10 ms of simulated time, as it is
-for a person playing slowed down.
-
-A log's sidecar may set a bar its feat must clear (``PlaytestBar``):
-
-    playtest: {noise: human, tries: 20, min_pass: 0.8}
+for a person playing slowed down. Plain tables (no models to import): the command
+line reads them at start-up. The sidecar's ``playtest:`` bar is
+``puppet.data.playtest_bar``.
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
-
-from puppet.data.ranges import Num
-from puppet.data.validate import Meta, Spec
+from dataclasses import dataclass, fields
 
 # the window a mouse error in pixels is measured on: the app's smallest (x, y)
 REFERENCE_WINDOW = (1024.0, 640.0)
@@ -35,33 +30,26 @@ PARAMETERS: dict[str, tuple[float, float, str, str]] = {
 }
 
 
-def _bounded(name: str):
-    lo, hi, unit, _ = PARAMETERS[name]
-    return Annotated[float, Meta(ge=lo, le=hi, extra={
-        "message": f"{name} is a number {lo:g}..{hi:g}{' ' + unit if unit else ''}"})]
-
-
-Tries = Annotated[int, Meta(ge=1, le=10000, extra={
-    "message": "tries is a whole number 1..10000"})]
-
-
-class Noise(Spec, kw_only=True):
+@dataclass(frozen=True)
+class Noise:
     """One level of imprecision. Every bound is a half-width: an error is drawn
     uniformly from -bound..+bound (per axis for positions)."""
 
-    timing_ms: _bounded("timing_ms")  # real ms
-    aim_px: _bounded("aim_px")  # px of the reference window
-    tremor_px: _bounded("tremor_px")
-    tempo: _bounded("tempo")  # (motor timing's scalar error)
-    stick_aim: _bounded("stick_aim")
-    stick_tremor: _bounded("stick_tremor")
-    stroke_gap_ms: _bounded("stroke_gap_ms") = 150.0
+    timing_ms: float  # real ms
+    aim_px: float  # px of the reference window
+    tremor_px: float
+    tempo: float  # (motor timing's scalar error)
+    stick_aim: float
+    stick_tremor: float
+    stroke_gap_ms: float = 150.0
 
     def is_off(self) -> bool:
         """No error at all: the tries are the log itself."""
         return not (self.timing_ms or self.aim_px or self.tremor_px or self.tempo
                     or self.stick_aim or self.stick_tremor)
 
+
+assert [f.name for f in fields(Noise)] == list(PARAMETERS)  # one flag per field
 
 # The named levels (docs/interfaces.md, "The human model", says where each number comes
 # from). tremor is a quarter of the aim error, as in the first measurement; tempo's
@@ -74,12 +62,12 @@ LEVELS: dict[str, Noise] = {
     "novice": Noise(timing_ms=60.0, aim_px=10.0, tremor_px=2.5, tempo=0.14,
                     stick_aim=0.10, stick_tremor=0.025),
 }
-LevelName = Literal["steady", "human", "novice"]
 
 
 def noise_at(level: str = "human", **overrides: float) -> Noise:
     """A named level with some of its parameters replaced (None: keep the level's).
-    ValueError naming the levels or the parameters for an unknown one."""
+    ValueError naming the levels or the parameters for an unknown one, or the range
+    for a value outside it."""
     if level not in LEVELS:
         raise ValueError(f"unknown noise level '{level}'; expected one of: "
                          f"{', '.join(LEVELS)}")
@@ -90,26 +78,10 @@ def noise_at(level: str = "human", **overrides: float) -> Noise:
         raise ValueError(f"unknown noise parameter '{unknown[0]}'; expected one of: "
                          f"{', '.join(PARAMETERS)}")
     values = {k: getattr(base, k) for k in PARAMETERS}
-    values.update({k: float(v) for k, v in given.items()})
     for k, v in given.items():
         lo, hi, unit, _ = PARAMETERS[k]
         if not lo <= float(v) <= hi:  # (NaN too)
             raise ValueError(f"{k} must be a number {lo:g}..{hi:g}"
                              f"{' ' + unit if unit else ''}, got {v!r}")
+        values[k] = float(v)
     return Noise(**values)
-
-
-class PlaytestBar(Spec, kw_only=True):
-    """A sidecar's ``playtest:`` entry: at this noise level, at least ``min_pass`` of
-    ``tries`` tries must still meet the log's feat expectations."""
-
-    noise: LevelName = "human"
-    tries: Tries = 20
-    min_pass: Num("fraction")
-
-    def needed(self, tries: int | None = None) -> int:
-        """How many of ``tries`` (default the bar's own) must pass."""
-        import math
-
-        n = self.tries if tries is None else tries
-        return math.ceil(self.min_pass * n - 1e-9)

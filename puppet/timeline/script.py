@@ -162,13 +162,15 @@ class ScriptSpec(Spec, kw_only=True):
     interface: str | None = None
     scene: str | None = None
     seconds: Time | None = None  # default run length, s
-    events: list[ScriptEntry] = field(default_factory=list)
+    events: list[ScriptEntry] | None = None  # required unless there are rules
     rules: list[RuleSpec] = field(default_factory=list)
 
     def __post_init__(self):
-        if not self.events and not self.rules:
-            raise ValueError("a script needs 'events' (timed input) and/or 'rules' "
-                             "(input that reacts to what happens)")
+        if self.events is None:
+            if not self.rules:
+                raise ValueError("a script needs 'events' (timed input) and/or 'rules' "
+                                 "(input that reacts to what happens)")
+            self.events = []
 
 
 def run_seconds(spec: ScriptSpec | None, seconds: float | None = None) -> float:

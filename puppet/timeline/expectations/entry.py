@@ -15,7 +15,7 @@ import msgspec
 from puppet.timeline.expectations import (contacts, flight, grasps, position,  # noqa: F401
                                           posture, states)
 from puppet.data.errors import DataError
-from puppet.data.playtest import PlaytestBar
+from puppet.data.playtest_bar import PlaytestBar
 from puppet.data.validate import Spec
 from puppet.data.yamlfile import Located
 from puppet.timeline.expectations.base import KINDS, Check, Checking

@@ -8,7 +8,8 @@ and counts how often the feat still comes off (``puppet playtest``).
 - ``runner``: N tries of many logs, in one process or several.
 """
 
-from puppet.data.playtest import LEVELS, Noise, PlaytestBar, noise_at
+from puppet.data.playtest import LEVELS, Noise, noise_at
+from puppet.data.playtest_bar import PlaytestBar
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.runner import LogPlaytest, Plan, load_bar, playtest, run
 from puppet.timeline.playtest.trial import (TryResult, judge, perturbation, perturbed_log,

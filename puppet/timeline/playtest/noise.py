@@ -234,7 +234,7 @@ def perturb(pairs: Sequence[tuple[int, Event]], slowdowns: Sequence[float], dt: 
         # the event that sent time back first (the steps after it are on the new time
         # line); then by new step, a marker just before the event it goes with, ties in
         # log order
-        head = segment[:1] if kinds[segment[0]][0] == TRAVEL else []
+        head = segment[:1] if segment and kinds[segment[0]][0] == TRAVEL else []
         order.extend(head)
         order.extend(sorted(segment[len(head):],
                             key=lambda i: (new_step[i], anchor.get(i, i),

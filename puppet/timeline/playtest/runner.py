@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from puppet.data.errors import DataError
-from puppet.data.playtest import Noise, PlaytestBar
+from puppet.data.playtest import Noise
+from puppet.data.playtest_bar import PlaytestBar
 from puppet.timeline.playtest.trial import TryResult, prepare, run_try
 
 
