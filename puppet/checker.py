@@ -26,8 +26,7 @@ _PARSERS = {"character": ("puppet.data.characters", "parse_character"),
             "mapping": ("puppet.data.mappings", "parse_mapping")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
                     "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml, tuning "
-                    "specs), .jsonl "
-                    "logs and .bvh clips, or their names")
+                    "specs), .jsonl logs and .bvh clips, or their names")
 
 
 def find_target(name: str) -> Path:

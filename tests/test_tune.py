@@ -114,7 +114,7 @@ def test_the_command_says_a_bad_spec_in_one_line_and_exits_2(tmp_path, capsys):
 
 
 def test_a_playtest_term_scores_how_often_the_simulated_player_still_lands_it(tmp_path):
-    text = (HOP % {"tries": 3, "refine": 0}).replace(
+    text = (HOP % {"tries": 6, "refine": 6}).replace(
         "    score:\n", "    playtest: {noise: human, tries: 3, weight: 20}\n    score:\n")
     loaded = load_tune_spec(spec_file(tmp_path, text))
     search = Search(loaded)
