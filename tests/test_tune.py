@@ -176,11 +176,34 @@ def test_an_interrupted_search_resumes_where_it_stopped(tmp_path):
     assert search.played == whole.played - 5
     assert search.looked_up == whole.looked_up + 5
     assert events_of(out) == events_of(tmp_path / "whole.jsonl")
-    # a changed spec is another search: its old tries are set aside
+    # a stage edited is other tries: none of the old ones is looked up
     changed = load_tune_spec(spec_file(tmp_path, (HOP % {"tries": 6, "refine": 6}).replace(
         "weight: 10", "weight: 11")))
     again = Search(changed, Executor(), out.with_name("resumed.tune.json"))
-    assert again.state.tries == {} and "starting afresh" in again.state.note
+    before = len(again.state.tries)
+    again.run()
+    assert again.looked_up == 0 and len(again.state.tries) == before + again.played
+
+
+def test_a_later_stage_edited_finds_the_earlier_stages_tries(tmp_path):
+    text = STEPS.replace("times: 4", "times: 1").replace(
+        "    until:\n      - x_at_end: {link: base, min: 0.12}\n", "") + """  - name: lean
+    vary: {x: [0.6, 0.95]}
+    events:
+      - {t: 0, mouse: [x, 0.5], over: 0.1}
+    length: 0.5
+    search: {tries: 2, refine: 0}
+    score:
+      - expect: {mean_speed: {min: 0.0}}
+"""
+    state = tmp_path / "two.tune.json"
+    first = Search(load_tune_spec(spec_file(tmp_path, text, "two.yaml")), Executor(), state)
+    first.run()
+    assert first.played == 3 + 2
+    edited = text[:text.rindex("mean_speed: {min: 0.0}")] + "mean_speed: {min: 0.1}}\n"
+    second = Search(load_tune_spec(spec_file(tmp_path, edited, "two.yaml")), Executor(), state)
+    second.run()
+    assert second.looked_up == 3 and second.played == 2  # the first stage's, looked up
 
 
 # -- stages from checkpoints, repeated until, backtracking -----------------------------
