@@ -386,3 +386,35 @@ def test_every_shipped_spec_is_valid_and_names_a_shipped_feat(name):
     loaded = load_tune_spec(SPECS / f"{name}.yaml")
     Search(loaded)  # its names checked against the character, its start prepared
     assert loaded.spec.feat is not None and loaded.spec.feat.expect
+
+
+def test_a_search_can_begin_at_a_logs_checkpoint(tmp_path):
+    text = """
+start: {log: luxo-shuffle, checkpoint: 1}
+stages:
+  - name: lean
+    vary: {x: [0.6, 0.9]}
+    events:
+      - {t: 0, mouse: [x, 0.4], over: 0.1}
+    length: 0.5
+    search: {tries: 2, refine: 0}
+    score:
+      - expect: {mean_speed: {min: 0.0}}
+"""
+    loaded = load_tune_spec(spec_file(tmp_path, text, "from-log.yaml"))
+    search = Search(loaded)
+    result = search.run()
+    written = write_all(loaded, result, tmp_path / "from-log.jsonl", tmp_path / "x.yaml")
+    from puppet.timeline.log import read_log
+
+    source = read_log(SPECS.parents[0] / "logs" / "luxo-shuffle.jsonl")
+    ours = read_log(written.log)
+    assert ours.header["interface"] == source.header["interface"] == "luxo-mouse"
+    cut = [i for i, e in enumerate(source.events) if e.event.get("name") == "checkpoint"][0]
+    assert [(e.step, e.event) for e in ours.events[:cut + 1]] == \
+        [(e.step, e.event) for e in source.events[:cut + 1]]
+    assert result.kept[0].t0 == 0.3 and written.same_as_search
+    assert written.script is None and "began from a log" in written.notes[0]
+    bad = text.replace("checkpoint: 1", "checkpoint: 3")
+    with pytest.raises(DataError, match="luxo-shuffle has 1 checkpoint"):
+        Search(load_tune_spec(spec_file(tmp_path, bad, "bad.yaml")))
