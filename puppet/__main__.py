@@ -1,3 +1,3 @@
-from puppet.cli import main
+from puppet.commands import main
 
 raise SystemExit(main())

@@ -36,12 +36,16 @@ from pathlib import Path
 from puppet.data.catalog import find, load_setup
 from puppet.data.errors import DataError
 from puppet.session import Session
-from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
-                                          parse_expectations)
+from puppet.timeline.expectations import (
+    Outcome,
+    evaluate_all,
+    load_expectations,
+    parse_expectations,
+)
 from puppet.timeline.log import Log, Recorder, read_log, record_events
 from puppet.timeline.replay import ReplayResult, replay
-from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
 from puppet.timeline.script import compile_script, load_script, run_seconds
+from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
 
 __all__ = ["ReplayResult", "Trajectory", "Outcome", "DataError", "replay_log",
            "record_script", "check", "weaker_joints", "Recorder", "read_log"]

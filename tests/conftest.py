@@ -1,13 +1,16 @@
+import collections
 import os
+from pathlib import Path
 
+import pytest
+
+# The tests name shipped files as a user at the project's root does (assets/logs/...):
+# run from there, whichever folder pytest was started in.
+os.chdir(Path(__file__).resolve().parents[1])
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
-
-import collections
-
-import pytest
 
 # Under pytest-xdist the fuzz tests count in the worker processes: each worker hands its
 # counts back (workeroutput) and the controller adds them up for the summary.

@@ -4,15 +4,30 @@ from __future__ import annotations
 
 import json
 import shutil
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
 
 from puppet.data.catalog import ROOT, find, load_setup
+from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script, run_seconds
+
+
+def session_of(tmp_path: Path, text: str, name: str = "iface.yaml") -> Session:
+    """A Session of the interface ``text`` (dedented), written to ``tmp_path / name``."""
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return Session(load_setup(str(path)))
+
+
+def tap(session: Session, key: str) -> None:
+    """Press and release ``key``."""
+    session.handle(ev.key(key, True))
+    session.handle(ev.key(key, False))
 
 
 @dataclass

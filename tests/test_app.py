@@ -6,7 +6,7 @@ import sys
 import pygame
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data import catalog
 
 
@@ -117,7 +117,7 @@ def test_late_entries_are_counted_as_written_and_the_script_says_how_long_it_run
 
 def test_late_note_counts_entries_and_entries_cut_short():
     from puppet.physics.simulation import DEFAULT_DT as dt
-    from puppet.timeline.script import late_note, ScriptSpec, ScriptEntry
+    from puppet.timeline.script import ScriptEntry, ScriptSpec, late_note
 
     spec = ScriptSpec(seconds=2.0, events=[
         ScriptEntry(t=0.0, mouse=(0.5, 0.5)),

@@ -239,6 +239,7 @@ def test_the_shove_that_stepping_catches_fells_the_figure_that_holds_still(tmp_p
 
 def test_the_push_step_log_fails_with_weak_hips(tmp_path):
     from helpers import with_weak_hips
+
     from puppet.testing import replay_log
 
     result = replay_log(with_weak_hips("biped-push-step", "biped-step", tmp_path, 300.0, 75.0))
@@ -296,3 +297,55 @@ states:
     assert s.runtime.role_binding == "far"
     s.handle(ev.mouse(1.0, 0.5))
     assert math.degrees(s.character.servos["hip_near"].target) == pytest.approx(40)
+
+
+def _standing(name="luxo-mouse"):
+    s = Session(load_setup(name))
+    s.advance(480)  # settled on its base
+    return s
+
+
+def test_standing_the_support_is_the_base_on_the_floor():
+    from puppet.physics.balance import balance
+
+    s = _standing()
+    scene = s.setup.scene
+    b = balance(s.character, scene.gravity, scene.ground_height)
+    bottom = [sh.bb for sh in s.character.shapes["base"]]
+    left, right = min(bb.left for bb in bottom), max(bb.right for bb in bottom)
+    assert b.support[0] == pytest.approx(left, abs=0.01)  # from one end of the base
+    assert b.support[1] == pytest.approx(right, abs=0.01)  # to the other
+    assert b.ground_y == 0.0
+
+
+def test_over_a_gap_the_lowest_contact_is_the_ground_and_in_the_air_the_lowest_point():
+    from puppet.physics.balance import balance, ground_contacts
+
+    s = _standing()
+    lowest = min(p[1] for p in ground_contacts(s.character))
+    b = balance(s.character, (0.0, -9.81), lambda x: None)  # no ground known under it
+    assert b.ground_y == lowest and abs(lowest) < 0.01
+    s.character.bodies["base"].velocity = (0.0, 3.0)  # thrown up: off the floor
+    s.advance(60)
+    assert not ground_contacts(s.character)
+    b = balance(s.character, (0.0, -9.81), lambda x: None)
+    lowest = min(shape.bb.bottom for shapes in s.character.shapes.values() for shape in shapes)
+    assert b.ground_y == lowest and b.ground_y > 0.05
+
+
+def test_weightless_the_extrapolated_com_still_leads_by_the_speed():
+    from puppet.physics.balance import balance
+
+    s = _standing()
+    for body in s.character.bodies.values():
+        body.velocity = (0.5, 0.0)
+    b = balance(s.character, (0.0, 0.0), lambda x: 0.0)  # no gravity: earth's is taken
+    height = b.com[1]
+    assert b.xcom == pytest.approx(b.com[0] + 0.5 * math.sqrt(height / 9.81), rel=1e-9)
+
+
+def test_a_links_position_is_its_centre_of_mass_in_the_world():
+    s = _standing()
+    body = s.character.bodies["upper_arm"]
+    x, y = body.local_to_world(body.center_of_gravity)
+    assert s.character.link_position("upper_arm") == (x, y) and abs(x - y) > 0.01

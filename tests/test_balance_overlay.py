@@ -11,6 +11,7 @@ from puppet.interface import events as ev
 from puppet.physics.balance import balance, ground_contacts
 from puppet.session import Session
 
+
 def _one_interface_per_character() -> list[str]:
     """Each character's standing interface (NAME-stand) if it has one, else its first."""
     by_character: dict[str, list[str]] = {}
@@ -40,11 +41,9 @@ def test_standing_still_the_com_is_over_the_support(interface):
 
 
 def test_xcom_leads_the_com_by_its_speed_and_a_flight_has_no_support():
-    from puppet.timeline.replay import find_log
-
     # replay the hop a few steps at a time, through its flights
     from puppet.timeline.log import read_log
-    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+    from puppet.timeline.replay import LogFeeder, find_log, new_session, setup_for_log
 
     log = read_log(find_log("luxo-hop"))
     session = new_session(log, setup_for_log(log, False)[0])

@@ -74,7 +74,7 @@ def test_quick_bench_reports_every_character_with_positive_figures(report):
 
 
 def test_bench_table_names_targets_and_verdicts(report):
-    from puppet.bench import format_report
+    from puppet.commands.bench.report import format_report
 
     text = format_report(report)  # the table of the same figures the JSON holds
     assert "speed with control" in text and "checkpoint" in text
@@ -85,21 +85,21 @@ def test_bench_table_names_targets_and_verdicts(report):
 def test_the_cpu_clock_leaves_out_the_time_spent_waiting():
     import time
 
-    from puppet import bench
+    from puppet.commands.bench import config
 
     for name, counts_sleep in (("wall", True), ("cpu", False)):
-        bench._clock[0] = bench._CLOCKS[name]
+        config.use_clock(name)
         try:
-            t0 = bench.clock()
+            t0 = config.clock()
             time.sleep(0.05)
-            slept = bench.clock() - t0
+            slept = config.clock() - t0
         finally:
-            bench._clock[0] = bench._CLOCKS["wall"]
+            config.use_clock("wall")
         assert (slept >= 0.05) is counts_sleep, (name, slept)
 
 
 def test_the_quick_bench_replays_each_log_for_its_first_second_only(report):
-    from puppet.bench import QUICK
+    from puppet.commands.bench.config import QUICK
 
     got, seconds = report["logs"], QUICK["log_seconds"]
     assert got["status"] == f"ok, the first {seconds:g} s of each"
@@ -107,3 +107,27 @@ def test_the_quick_bench_replays_each_log_for_its_first_second_only(report):
     assert [i["log"] for i in got["items"]] == shipped
     assert all(abs(i["sim_seconds"] - seconds) < 0.01 and i["speed_x"] > 0
                for i in got["items"]), got["items"]
+
+
+def test_quick_bench_measures_every_feat_log_against_the_same_motion(report):
+    """Every shipped log is played with control and bare (the writes the controlled run
+    made, fed to Chipmunk); the bare run ends where the controlled one does."""
+    shipped = sorted(p.stem for p in (ROOT / "assets" / "logs").glob("*.jsonl"))
+    feats = report["feats"]
+    assert sorted(i["log"] for i in feats["items"]) == shipped
+    for item in feats["items"]:
+        assert "error" not in item, item
+        assert item["same_motion"] is True, item["log"]
+        assert item["steps"] > 0 and item["bare_us_per_step"] > 0
+        assert item["control_us_per_step"] > 0 and isinstance(item["overhead_pct"], float)
+    names = {t["name"] for t in feats["targets"]}
+    assert {f"control overhead: {log}" for log in shipped} <= names
+    assert "control overhead: median over the feat logs" in names
+
+
+def test_quick_bench_times_frames_with_the_hud_and_f1_on_the_biped_scenes(report):
+    frames = report["hud_frames"]
+    assert {f["log"] for f in frames} >= {"biped-walk", "biped-ladder-climb"}
+    for f in frames:
+        assert f["frames"] > 0 and 0 < f["p50_ms"] <= f["p99_ms"] <= f["max_ms"]
+        assert f["target"]["name"].startswith("frame with the HUD and F1")

@@ -10,11 +10,11 @@ import json
 from pathlib import Path
 
 import pytest
+from helpers import with_weak_hips
+from test_luxo_feats import _failed, _weakened
 
 from puppet.data.catalog import ROOT
 from puppet.testing import check, replay_log
-from helpers import with_weak_hips
-from test_luxo_feats import _failed, _weakened
 
 LOGS = ROOT / "assets" / "logs"
 NAME = "biped-auto-run"

@@ -6,13 +6,13 @@ import math
 from pathlib import Path
 
 import pytest
-
-from puppet.data.catalog import ROOT, find, load_setup
-from puppet.testing import check, replay_log
 from helpers import with_weak_hips
 from test_luxo_feats import _failed, _weakened
+
+from puppet.data.catalog import ROOT, find, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
+from puppet.testing import check, replay_log
 
 
 def _press(session, key):
@@ -130,7 +130,7 @@ def test_the_log_fails_on_slippery_ground(name, tmp_path):
 @pytest.mark.parametrize("at", [9.9, 10.5])
 def test_the_roll_up_stands_the_figure_up_pressed_earlier_or_later(at):
     """Not a one-millisecond performance: h anywhere once the feet are in works."""
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
     from puppet.timeline.script import compile_script, load_script
 
     spec = load_script(find("script", "biped-recover-forward"))

@@ -9,11 +9,11 @@ import json
 from pathlib import Path
 
 import pytest
+from helpers import with_weak_hips
+from test_luxo_feats import _failed, _weakened
 
 from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
-from helpers import with_weak_hips
-from test_luxo_feats import _failed, _weakened
 
 LOGS = ROOT / "assets" / "logs"
 
@@ -51,7 +51,8 @@ def test_the_march_parks_the_mouse_after_the_first_second():
 
 @pytest.mark.parametrize("name", ["biped-walk", "biped-march"])
 def test_the_log_fails_with_weak_hips(name, tmp_path):
-    assert {"never_fell", "x_at_end"} <= _failed(with_weak_hips(name, "biped-walk", tmp_path, 300.0, 75.0))
+    assert {"never_fell", "x_at_end"} <= _failed(with_weak_hips(name, "biped-walk", tmp_path,
+                                                                300.0, 75.0))
 
 
 @pytest.mark.parametrize("name", ["biped-walk", "biped-march"])

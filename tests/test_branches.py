@@ -107,3 +107,30 @@ def test_the_window_lists_takes_up_and_exports_a_branch(tmp_path, monkeypatch):
         [{"type": "action", "name": "take", "branch": 0}]
     assert replay(path).final_hash == log.end_hash
     assert exported.exists() and replay(exported).final_hash == read_log(exported).end_hash
+
+
+def _wiggle_hashing(session, frames, seed, hashes):
+    rng = random.Random(seed)
+    for _ in range(frames):
+        session.handle(ev.mouse(rng.random(), rng.random()))
+        session.advance(8)
+        hashes[session.steps] = session.sim.state_hash()
+
+
+def test_a_rewind_after_a_branch_shows_the_branch_not_the_abandoned_input():
+    s = Session(load_setup("luxo-mouse"))
+    first: dict[int, str] = {}
+    _wiggle_hashing(s, 250, 1, first)  # 2000 steps of the first take
+    s.handle(ev.action("rewind") | {"to_step": 600})
+    s.advance(4)  # new input lands between the abandoned events' steps
+    live: dict[int, str] = {}
+    _wiggle_hashing(s, 150, 2, live)  # the branch: steps 604..1804
+    head = s.steps
+    for step in (1404, 900, 1796):  # rewinds past the branch point, into the branch
+        s.handle(ev.action("rewind") | {"to_step": step})
+        assert s.steps == step
+        assert s.sim.state_hash() == live[step]
+    s.handle(ev.action("rewind") | {"to_step": 296})  # before the fork: the common past
+    assert s.sim.state_hash() == first[296]
+    s.handle(ev.action("rewind") | {"to_step": head})  # and forward again to the head
+    assert s.sim.state_hash() == live[head]

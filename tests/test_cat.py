@@ -8,7 +8,7 @@ from pathlib import Path
 import pygame
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import find, load_setup
 from puppet.data.characters import load_character
 from puppet.data.errors import DataError

@@ -6,7 +6,10 @@ from __future__ import annotations
 import math
 import threading
 
-from puppet.bench import channel_frames, channel_interface_text
+import pytest
+from helpers import session_of
+
+from puppet.commands.bench.channels import channel_frames, channel_interface_text
 from puppet.data.actions import ActionSpec
 from puppet.data.catalog import load_character_named, load_setup
 from puppet.input.live import LiveQueue
@@ -99,3 +102,35 @@ def test_a_live_thread_posts_through_the_queue_and_the_take_replays_exactly(tmp_
     log = read_log(path)
     assert len(log.events) == len(samples)
     assert replay(path).final_hash == log.end_hash == session.sim.state_hash()
+
+
+def deg(s) -> dict[str, float]:
+    return {n: round(math.degrees(sv.target), 6) for n, sv in s.character.servos.items()}
+
+
+LUXO_CHANNEL = """
+name: t
+description: a channel on the knee
+character: luxo
+maps:
+  - {input: channel.k, joint: knee, from: [0, 1], to: [0, 60]}
+"""
+
+
+def test_a_channel_moves_its_joint_after_a_restore_and_after_a_rewind(tmp_path):
+    s = session_of(tmp_path, LUXO_CHANNEL)
+    s.handle(ev.channels({"k": 0.5}))
+    s.advance(100)
+    s.handle(ev.action("checkpoint"))
+    s.handle(ev.channels({"k": 0.25}))
+    s.advance(100)
+    assert deg(s)["knee"] == pytest.approx(15)
+    s.handle(ev.action("restore"))
+    assert s.steps == 100 and deg(s)["knee"] == pytest.approx(30)
+    s.handle(ev.channels({"k": 1.0}))
+    s.advance(1)
+    assert deg(s)["knee"] == pytest.approx(60)
+    s.handle(ev.action("rewind") | {"to_step": 50})
+    s.handle(ev.channels({"k": 0.1}))
+    s.advance(1)
+    assert deg(s)["knee"] == pytest.approx(6)

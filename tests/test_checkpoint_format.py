@@ -292,3 +292,33 @@ def test_pymunk_typing_hook_is_gone_only_because_it_only_delegates():
     assert not pymunk_setattr.only_delegates(Logging.__setattr__)
     assert not pymunk_setattr.only_delegates(Renaming.__setattr__)
     assert not pymunk_setattr.only_delegates(None)
+
+
+def test_a_snapshot_keeps_a_kinematic_body_and_a_one_argument_constraint():
+    import pymunk
+
+    from puppet.physics import snapshot
+
+    def build():
+        space = pymunk.Space()
+        space.gravity = (0, -9.81)
+        wheel = pymunk.Body(1.0, 0.5)
+        belt = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        belt.angular_velocity = 2.0
+        space.add(wheel, belt, pymunk.Circle(wheel, 0.1), pymunk.SimpleMotor(belt, wheel, 3.0))
+        return space
+
+    live = build()
+    for _ in range(10):
+        live.step(0.01)
+    copy, _ = snapshot.rebuild(snapshot.capture(live, {}))
+    kinds = sorted(b.body_type for b in copy.bodies)
+    assert kinds == sorted(b.body_type for b in live.bodies) == [pymunk.Body.DYNAMIC,
+                                                                 pymunk.Body.KINEMATIC]
+    motor = next(c for c in copy.constraints if isinstance(c, pymunk.SimpleMotor))
+    assert motor.rate == 3.0
+    for _ in range(50):
+        live.step(0.01)
+        copy.step(0.01)
+    assert [(b.angle, b.angular_velocity) for b in copy.bodies] == \
+        [(b.angle, b.angular_velocity) for b in live.bodies]

@@ -57,7 +57,7 @@ def _main_error(capsys, *argv):
     """Run ``puppet ARGV`` in this process: (exit code, the last stderr line)."""
     import pytest
 
-    from puppet.cli import main
+    from puppet.commands import main
 
     try:
         code = main(list(argv))
@@ -144,7 +144,7 @@ def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
         (("bench", "--jsn"), "puppet bench: unrecognized arguments: --jsn"),
         (("nosuch",), "puppet: argument COMMAND: invalid choice: 'nosuch'"),
     ]
-    from puppet.cli import main
+    from puppet.commands import main
 
     for argv, start in cases:
         try:
@@ -159,7 +159,7 @@ def test_argparse_mistakes_are_one_line_naming_the_command_and_its_help(capsys):
 
 
 def test_list_and_check_describe_their_arguments(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     for argv, words in ((["list", "--help"], ["KIND", "only this kind", "recordings/"]),
                         (["check", "--help"], ["FILE", "YAML data file", "Exit 0"])):
@@ -173,7 +173,7 @@ def test_list_and_check_describe_their_arguments(capsys):
 
 
 def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     assert main(["list", "interface"]) == 0
     singular = capsys.readouterr().out
@@ -185,7 +185,8 @@ def test_list_takes_a_kind_singular_or_plural_as_its_headings_print_it(capsys):
     assert capsys.readouterr().out.startswith("scenes (assets/scenes/):\n")
     code, line = _main_error(capsys, "list", "interfacess")
     assert code == 2 and line.startswith("puppet list: argument KIND: invalid choice: "
-                                         "'interfacess' (choose from 'character'"), line
+                                         "'interfacess'; did you mean 'interface'? (choose "
+                                         "from 'character'"), line
 
 
 def test_a_script_on_a_copy_of_its_interface_is_not_warned_about(tmp_path):
@@ -207,7 +208,7 @@ def test_the_no_display_hint_names_a_log_by_name_only_if_the_name_finds_it(tmp_p
     shipped log also has is given by its path, which replays it, not the other one."""
     import types
 
-    from puppet.app import window
+    from puppet.app import display, window
 
     for sub, name in (("assets/logs", "hop"), ("recordings", "hop"), ("recordings", "mine")):
         (tmp_path / sub).mkdir(parents=True, exist_ok=True)
@@ -229,7 +230,7 @@ def test_the_no_display_hint_names_a_log_by_name_only_if_the_name_finds_it(tmp_p
     assert says("recordings/hop.jsonl") in hint("recordings/hop.jsonl")
     elsewhere = tmp_path / "my hop.jsonl"
     assert says(f"'{elsewhere}'") in hint(elsewhere)
-    monkeypatch.setattr(window, "os", types.SimpleNamespace(name="nt", environ=os.environ))
+    monkeypatch.setattr(display, "os", types.SimpleNamespace(name="nt", environ=os.environ))
     assert says(f'"{elsewhere}"') in hint(elsewhere)  # cmd.exe reads no single quotes
     assert says("hop") in hint(tmp_path / "assets/logs/hop.jsonl")
 
@@ -261,3 +262,61 @@ def test_one_function_cuts_a_long_path_for_every_message(tmp_path, capsys, monke
                              "--export-motion", str(out))
     assert line == (f"puppet replay: --export-motion {str(out)[:17]}...: cannot write: "
                     f"No space left on device"), line
+
+
+def _parsers(parser):
+    """The parser and every sub-command's parser under it, at any depth."""
+    import argparse
+
+    yield parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                yield from _parsers(sub)
+
+
+def test_no_parser_takes_an_abbreviation(capsys):
+    """``--headles`` is a mistake, not ``--headless``: a prefix is never taken for an
+    option, in any command (a prefix that fits one option today would quietly mean
+    another once a longer one is added)."""
+    from puppet.commands import build_parser
+
+    parsers = list(_parsers(build_parser()))
+    assert len(parsers) >= 10 and not [p.prog for p in parsers if p.allow_abbrev]
+    for argv, line in [
+        (("play", "luxo-mouse", "--headles", "--seconds", "0.1"),
+         "puppet play: unrecognized arguments: --headles; did you mean '--headless'? "
+         "(puppet play --help)"),
+        (("replay", "luxo-hop", "--headless", "--chec"),
+         "puppet replay: unrecognized arguments: --chec; did you mean '--check'? "
+         "(puppet replay --help)"),
+        (("mocap", "send", "cmu-131_01-walk", "--spe", "2"),
+         "puppet mocap send: unrecognized arguments: --spe 2; did you mean '--speed'? "
+         "(puppet mocap send --help)"),
+        (("check", "--qui", "luxo"), "puppet check: unrecognized arguments: --qui; did you "
+                                     "mean '--quiet'? (puppet check --help)"),
+    ]:
+        code, got = _main_error(capsys, *argv)
+        assert (code, got) == (2, line), argv
+
+
+def test_a_mistyped_name_gets_a_did_you_mean_in_its_one_line(capsys):
+    cases = [
+        (("play", "luxo-mous", "--headless"), "puppet play: luxo-mous: no interface named "
+                                              "'luxo-mous'; did you mean 'luxo-mouse'? Known: "),
+        (("replay", "luxo-hp", "--headless"), "puppet replay: luxo-hp: no log named 'luxo-hp'; "
+                                              "did you mean 'luxo-hop'? Known: "),
+        (("check", "luxo-mous"), "puppet check: luxo-mous: "),
+        (("ply", "luxo-mouse"), "puppet: argument COMMAND: invalid choice: 'ply'; did you "
+                                "mean 'play'? (choose from 'play', 'mocap', "),
+        (("list", "interfcs"), "puppet list: argument KIND: invalid choice: 'interfcs'; "
+                               "did you mean 'interface'? (choose from "),
+        (("mocap", "snd"), "puppet mocap: argument WHAT: invalid choice: 'snd'; did you mean "
+                           "'send'? (choose from 'info', 'mapping', 'send', 'listen')"),
+    ]
+    for argv, start in cases:
+        code, line = _main_error(capsys, *argv)
+        assert code == 2 and line.startswith(start), (argv, line)
+    code, line = _main_error(capsys, "play", "zzzz", "--headless")  # nothing near: no guess
+    assert code == 2 and "did you mean" not in line and "no interface named 'zzzz'; known: " \
+        in line, line

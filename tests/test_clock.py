@@ -2,8 +2,8 @@
 
 import math
 
-from puppet.interface.app_keys import SetSlowdown
 from puppet.app.clock import SLOWDOWNS, SimClock
+from puppet.interface.app_keys import SetSlowdown
 
 
 def test_slowdowns_are_log_spaced_from_1_to_100():
@@ -72,3 +72,17 @@ def test_cli_slowdown_out_of_range_is_a_one_line_error():
                               cwd=Path(__file__).resolve().parents[1])
         assert proc.returncode == 2 and "Traceback" not in proc.stderr
         assert "is not a slowdown from 0.1 to 100" in proc.stderr
+
+
+def test_the_slower_key_climbs_the_table_to_100x_and_stops_there():
+    clock = SimClock(1 / 480, 1.0)
+    seen = [clock.slowdown]
+    for _ in range(len(SLOWDOWNS) + 5):
+        clock.slower()
+        seen.append(clock.slowdown)
+    assert seen[:len(SLOWDOWNS)] == list(SLOWDOWNS)
+    assert seen[len(SLOWDOWNS):] == [100] * 6
+    steps = sum(clock.steps_for(0.05) for _ in range(200))  # 10 wall s at 100x: 0.1 sim s
+    assert steps == 48
+    clock.faster()
+    assert clock.slowdown == SLOWDOWNS[-2] < 100

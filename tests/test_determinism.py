@@ -5,7 +5,7 @@ import sys
 
 from puppet.data.catalog import find, load_setup
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script
 
 

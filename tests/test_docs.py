@@ -17,16 +17,17 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
-FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/([A-Za-z0-9_.-]+\.yaml)\s*$")
+FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/"
+                       r"([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
 SNIPPET = re.compile(r"# snippet for ([a-z0-9-]+)\s*$")
 

@@ -12,9 +12,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from puppet.checker import check_file
-from puppet.timeline.expectations import (Expectation, evaluate_all, load_expectations,
-                                          parse_expectations)
+from puppet.commands.check import check_file
+from puppet.timeline.expectations import (
+    Expectation,
+    evaluate_all,
+    load_expectations,
+    parse_expectations,
+)
 from puppet.timeline.trajectory import Trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -265,12 +269,12 @@ def test_weaker_hips_fail_the_push_step_the_docs_example():
     assert repr(weak).endswith(f"{len(weak.failed)} of {len(weak.outcomes)} failed)")
 
 
-# -- 8. every kind documented (docs/expectations.md), and the README points there ----------
-def test_every_kind_is_documented_and_the_readme_points_there():
+# -- 8. every kind documented (docs/expectations.md), and docs/testing.md points there -----
+def test_every_kind_is_documented_and_the_testing_page_points_there():
     doc = (ROOT / "docs" / "expectations.md").read_text(encoding="utf-8")
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    readme = (ROOT / "docs" / "testing.md").read_text(encoding="utf-8")
     start = readme.index("Expectations live in the log's header")
     listing = readme[start:readme.index("Test\nsuites use", start)]
     for kind in Expectation.__struct_fields__:
         assert f"\n### `{kind}`\n" in doc, kind
-    assert "(docs/expectations.md)" in listing
+    assert "(expectations.md)" in listing

@@ -85,7 +85,7 @@ def test_the_guide_and_the_readme_point_at_the_page_not_at_python():
 
 
 def test_the_pages_commands_run_as_written(capsys, monkeypatch):
-    from puppet.cli import main
+    from puppet.commands import main
 
     monkeypatch.chdir(ROOT)
     commands = [line.split("#")[0].split() for block in

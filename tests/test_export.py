@@ -9,13 +9,13 @@ import pytest
 
 from puppet.app.export import export_video
 from puppet.app.headless import run_headless
-from puppet.cli import main
+from puppet.app.plot import plot_joints, save_joint_plot
+from puppet.commands import main
 from puppet.data.catalog import find, load_setup
 from puppet.interface.app_keys import SetSlowdown
 from puppet.testing import record_script, replay_log
 from puppet.timeline.ghost import Ghost
 from puppet.timeline.log import read_log
-from puppet.app.plot import plot_joints, save_joint_plot
 from puppet.timeline.replay import replay
 from puppet.timeline.script import compile_script, load_script
 

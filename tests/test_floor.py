@@ -151,7 +151,7 @@ def test_bound_mode_drives_hips_knees_shoulders_and_elbows_together():
 
     from puppet.data.catalog import load_setup
     from puppet.session import Session
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
     from puppet.timeline.script import ScriptSpec, compile_script
 
     session = Session(load_setup("biped-floor"))
@@ -184,9 +184,9 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet():
     take-off (50 and 30 N*m*s/rad) the legs cannot straighten fast enough to fly."""
     from puppet.data.catalog import load_setup, setup_from_text
     from puppet.session import Session
-    from puppet.timeline.playback import play
-    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
+    from puppet.session.playback import play
     from puppet.timeline.script import compile_script, load_script, run_seconds
+    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
 
     def flip(text=None):
         setup = load_setup("biped-floor") if text is None else setup_from_text(

@@ -3,9 +3,10 @@ expectation files and logs end in acceptance or a clean one-line error, never an
 exception, never a hang (2 s) or runaway memory (200 MB); accepted data files and logs
 are played for 2 s of simulated time and must not crash.
 
-The default run is bounded (``PUPPET_FUZZ_CASES`` per test, 150 each by default, about 10 s in all); the
-long run is ``pytest -m fuzz`` (``PUPPET_FUZZ_LONG`` cases per test, default 7,000:
-over 20,000 cases in all). The counts per kind and outcome are printed at the end.
+The default run is bounded (``PUPPET_FUZZ_CASES`` per test, 150 each by default, about
+10 s in all); the long run is ``pytest -m fuzz`` (``PUPPET_FUZZ_LONG`` cases per test,
+default 7,000: over 20,000 cases in all). The counts per kind and outcome are printed at
+the end.
 """
 
 import atexit
@@ -15,11 +16,11 @@ import shutil
 import tempfile
 from pathlib import Path
 
-import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
-
 import fuzzing
+import pytest
 from fuzzing import KINDS, NASTY_JSON, data_case, log_case, log_lines, mutate_data, mutate_text
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 SHORT = int(os.environ.get("PUPPET_FUZZ_CASES", "150"))
 LONG = int(os.environ.get("PUPPET_FUZZ_LONG", "7000"))
@@ -161,3 +162,26 @@ def test_harness_sees_a_crash_and_a_hang():
             pass
 
     assert fuzzing.run_case("self-test", spin).outcome == "hang"
+
+
+def test_the_hang_bound_is_cpu_time_and_a_blocked_case_meets_the_wall_bound():
+    """A case is bounded by the CPU time it uses, not by the wall clock (a loaded
+    machine stretches that); a case that waits, using none, meets the wall bound."""
+    import resource
+    import time
+
+    def cpu():
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        return usage.ru_utime + usage.ru_stime
+
+    start = cpu()
+    with pytest.raises(fuzzing.Hang, match="CPU time"), fuzzing.time_limit(0.2, wall=30):
+        while True:
+            pass
+    assert cpu() - start >= 0.15  # (the timer counts in clock ticks)
+    slept = time.perf_counter()
+    with fuzzing.time_limit(0.05, wall=30):
+        time.sleep(0.3)  # 0.3 s of wall time, next to no CPU: not a hang
+    assert time.perf_counter() - slept >= 0.3
+    with pytest.raises(fuzzing.Hang, match="wall time"), fuzzing.time_limit(5, wall=0.2):
+        time.sleep(2)

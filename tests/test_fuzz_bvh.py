@@ -20,14 +20,15 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import fuzzing
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_mocap_bvh import SMALL, WALK
 
-import fuzzing
 from puppet.data.errors import DataError
 from puppet.mocap.bvh import PlanarJoint, read_bvh, write_planar_bvh
-from test_mocap_bvh import SMALL, WALK
 
 SHORT = int(os.environ.get("PUPPET_FUZZ_BVH_CASES", "300"))
 LONG = int(os.environ.get("PUPPET_FUZZ_BVH_LONG", "10000"))

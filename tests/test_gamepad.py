@@ -6,10 +6,12 @@ ships) and with injected pygame events."""
 
 import ctypes
 import glob
+import math
 import os
 
 import pygame
 import pytest
+from helpers import session_of
 
 from puppet.app.devices import Gamepads, controller_value, dead_zone, device_events
 from puppet.data.catalog import load_setup
@@ -182,3 +184,32 @@ def test_the_window_records_standard_gamepad_names_and_the_log_replays(tmp_path,
     assert pads[0][0] == "left_x" and pads[0][1] == pytest.approx((20000 / 32767 - 0.12) / 0.88)
     assert ("a", 1.0) in pads
     assert replay(path).final_hash == log.end_hash
+
+
+def deg(s) -> dict[str, float]:
+    return {n: round(math.degrees(sv.target), 6) for n, sv in s.character.servos.items()}
+
+
+def test_a_gamepad_button_is_down_above_half_way(tmp_path):
+    s = session_of(tmp_path, """
+    name: t
+    description: a gamepad button as a key
+    character: luxo
+    poses:
+      fold: {joints: {knee: 100}}
+      open: {joints: {knee: 10}}
+    keys:
+      - {key: gamepad.a, pose: fold}
+      - {key: o, pose: open}
+    """)
+    start = deg(s)["knee"]
+    steps = [("a", 0.5, start), ("a", 0.6, 100), ("o", None, 10), ("a", 0.55, 10),
+             ("a", 0.5, 10), ("a", 0.51, 100)]  # a press each time it passes 0.5 upward
+    for what, value, knee in steps:
+        if value is None:
+            s.handle(ev.key(what, True))
+            s.handle(ev.key(what, False))
+        else:
+            s.handle(ev.gamepad(what, value))
+        s.advance(1)
+        assert deg(s)["knee"] == pytest.approx(knee), (what, value)

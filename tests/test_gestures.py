@@ -7,7 +7,7 @@ import math
 import pytest
 
 from puppet.app.gestures import GestureRecorder
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup, parse_interface_text
 from puppet.data.errors import DataError
 from puppet.data.gesture_file import replace_gestures

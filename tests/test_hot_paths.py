@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from puppet.bench import channel_interface_text
+from puppet.commands.bench.channels import channel_interface_text
 from puppet.data.catalog import load_character_named, load_setup, setup_from_text
 from puppet.interface import events as ev
 from puppet.interface import maps as mapping
@@ -132,7 +132,7 @@ def _checked_ticks(session):
 
 
 def test_a_tick_that_only_waited_keeps_the_schedule_a_full_reschedule_gives():
-    from puppet.bench import gesture
+    from puppet.commands.bench.subjects import gesture
     from puppet.data.catalog import load_setup
 
     # luxo-keys: 13 s of key taps, a key a second (sequences, then poses that take a
@@ -182,7 +182,7 @@ def test_a_process_imports_only_what_its_command_needs():
     from puppet.data.catalog import ROOT
 
     probe = ("import sys, contextlib, io\n"
-             "from puppet.cli import main\n"
+             "from puppet.commands import main\n"
              "with contextlib.redirect_stdout(io.StringIO()):\n"
              "    try:\n"
              "        main(sys.argv[1:])\n"
@@ -247,7 +247,8 @@ def _support_by_pymunk(character):
         if restored is not None:
             xs += [x for x, _ in restored]
         else:
-            body.each_arbiter(lambda a: xs.extend(p.point_a.x for p in a.contact_point_set.points))
+            body.each_arbiter(lambda a, xs=xs: xs.extend(p.point_a.x
+                                                         for p in a.contact_point_set.points))
     return (min(xs), max(xs)) if xs else None
 
 
@@ -255,7 +256,7 @@ def test_the_support_extent_read_through_c_is_pymunks():
     """Character.support_extent reads the contact points with Chipmunk's call and the
     restored contacts once per space: the same extent as pymunk's objects give, while
     walking, lying and right after a checkpoint re-seats the space."""
-    from puppet.bench import Subject, gesture
+    from puppet.commands.bench.subjects import Subject, gesture
 
     subject = Subject("biped", "biped-floor")
     session = subject.session(keyframes=False)

@@ -3,8 +3,10 @@ rewind across it, and the window's file poller (no display needed)."""
 
 import math
 import os
+import textwrap
 
 import pytest
+from helpers import session_of, tap
 
 from puppet.app.reloader import Reloader
 from puppet.data.catalog import load_setup, parse_interface_text
@@ -247,3 +249,65 @@ def test_a_logged_reload_with_a_bad_text_names_the_log_line(tmp_path):
     with pytest.raises(DataError, match=r"bad.jsonl:2: cannot apply this event: .*"
                                         r"missing required key 'description'"):
         replay(log)
+
+
+LUXO = """
+name: t
+description: reaches and grasps in the pendulum scene
+character: luxo
+scene: pendulum
+gains:
+  ankle: {stiffness: 60, damping: 0.6, max_torque: 40}
+  knee: {stiffness: 40, damping: 0.4, max_torque: 30}
+chains:
+  shade: {joints: [ankle, knee], end: [0.0, 0.43]}
+keys:
+  - key: s
+    reach: {chain: shade, steer: {x: channel.hx, y: channel.hy, x_to: [-0.04, 0.06],
+            y_to: [0.32, 0.40]}, duration: 0.3}
+  - {key: g, reach: {chain: shade, point: {prop: rail}, duration: 0.4, hold: 0.4,
+                     grasp: true, tolerance: 0.03}}
+  - {key: u, release: all}
+"""
+
+
+HOP = """
+name: t
+description: a pose sequence to reload under
+character: luxo
+poses:
+  crouch: {joints: {ankle: -70, knee: 130}}
+  tall: {joints: {ankle: 0, knee: 0}}
+sequences:
+  hop: [{pose: crouch, hold: 0.2}, {pose: tall, hold: 0.3}]
+keys:
+  - {key: h, sequence: hop}
+"""
+
+
+def test_a_grasp_held_over_a_hot_reload_stays_held_unless_its_chain_changed(tmp_path):
+    s = session_of(tmp_path, LUXO)
+    s.advance(120)
+    tap(s, "g")
+    s.advance(600)
+    assert "shade" in s.runtime.grasped
+    held = s.runtime.grasped["shade"]
+    s.reload(textwrap.dedent(LUXO).replace("description: reaches", "description: Reaches"),
+             str(tmp_path / "iface.yaml"))
+    s.advance(60)
+    assert s.runtime.grasped.get("shade") == held  # the same chain: it holds on
+    s.reload(textwrap.dedent(LUXO).replace("end: [0.0, 0.43]", "end: [0.0, 0.42]"),
+             str(tmp_path / "iface.yaml"))
+    s.advance(2)
+    assert "shade" not in s.runtime.grasped  # the chain changed: it let go
+
+
+def test_a_reload_that_changes_the_running_sequence_ends_it(tmp_path):
+    s = session_of(tmp_path, HOP)
+    s.handle(ev.key("h", True))
+    s.advance(10)
+    assert s.runtime.sequence is not None
+    s.reload(textwrap.dedent(HOP).replace("hold: 0.2", "hold: 0.25"), str(tmp_path / "t.yaml"))
+    assert s.runtime.sequence is None  # another sequence now: it does not carry on
+    s.advance(200)
+    assert round(math.degrees(s.character.servos["ankle"].target)) == -70  # left there

@@ -5,11 +5,11 @@ that are news not drawn as errors."""
 import pygame
 import pytest
 
+from puppet.app.describe import app_lines, control_rows
 from puppet.app.headless import FrameRenderer
 from puppet.app.hud import ERROR, NEWS, layout_rows
 from puppet.data import catalog
 from puppet.data.catalog import load_setup
-from puppet.app.describe import app_lines, control_rows
 from puppet.session import Session
 
 INTERFACES = [n for n, _ in catalog.list_kind("interface")]
@@ -160,8 +160,8 @@ def test_the_hud_says_what_keys_changed_in_the_world():
 
 
 def test_where_line_names_each_machines_state():
-    from puppet.data.catalog import load_setup
     from puppet.app.describe import where_line
+    from puppet.data.catalog import load_setup
 
     spec = load_setup("luxo-keys").interface
     assert where_line(spec, "upright", None, {"main": "upright", "grasp": "open"}) == \

@@ -407,8 +407,8 @@ def test_perturbations_restore_from_a_checkpoint(tmp_path):
 
 
 def test_gamepad_channel_and_button_events_replay_from_a_log(tmp_path):
+    from puppet.session.playback import play
     from puppet.timeline.log import read_log, record_events
-    from puppet.timeline.playback import play
 
     body = """
     maps:
@@ -443,8 +443,8 @@ def test_pointer_for_pose_finds_where_the_mouse_maps_hold_the_start_pose(tmp_pat
 
 # -- designer feedback: two maps on one joint --------------------------------------------------
 def test_two_maps_writing_one_joint_in_one_mode_warn_at_load_naming_both(tmp_path, capsys):
-    from puppet.checker import check_file
-    from puppet.cli import main
+    from puppet.commands import main
+    from puppet.commands.check import check_file
 
     path = tmp_path / "interfaces" / "two.yaml"
     path.parent.mkdir()
@@ -466,3 +466,26 @@ def test_two_maps_writing_one_joint_in_one_mode_warn_at_load_naming_both(tmp_pat
     assert ankle.startswith(f"{path}:9:") and "line 8" in ankle
     assert main(["check", str(path)]) == 0  # a warning, not an error
     assert "warning: this map and the one at line 5" in capsys.readouterr().err
+
+
+def test_a_pose_key_stops_a_running_sequence_for_good(tmp_path):
+    s = make(tmp_path, """
+    poses:
+      crouch: {joints: {ankle: -70, knee: 130}}
+      tall: {joints: {ankle: 0, knee: 0}}
+      wide: {joints: {ankle: -15, knee: 35}}
+    sequences:
+      hop: [{pose: crouch, hold: 0.1}, {pose: tall, hold: 0.05}, {pose: crouch, hold: 0.1}]
+    keys:
+      - {key: h, sequence: hop}
+      - {key: w, pose: wide}
+    """)
+    press(s, "h")
+    s.advance(30)
+    assert s.runtime.sequence is not None
+    press(s, "w")
+    assert targets(s) == {"ankle": -15, "knee": 35}
+    for _ in range(6):  # past every later step of the sequence
+        s.advance(25)
+        assert targets(s) == {"ankle": -15, "knee": 35}
+    assert s.runtime.sequence is None

@@ -22,9 +22,8 @@ def test_start_angle_lays_the_figure_on_its_back_on_the_ground():
 
 
 # -- the log ------------------------------------------------------------------------------
-from tests.test_floor import LOGS, _variant  # noqa: E402
-
 from puppet.testing import replay_log  # noqa: E402
+from tests.test_floor import LOGS, _variant  # noqa: E402
 
 
 def test_kip_log_starts_on_its_back_flies_lands_on_its_feet_and_stands():

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.errors import DataError
 
 BROKEN = sorted((Path(__file__).parent / "broken").glob("*.yaml"))

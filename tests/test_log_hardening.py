@@ -152,6 +152,7 @@ def test_cli_malformed_lines_exit_2_without_internal_error(tmp_path):
         assert proc.returncode == 2, proc.stderr
         assert proc.stderr.startswith(f"{path}:3: ") or f" {path}:3: " in proc.stderr, \
             proc.stderr
+        assert fragment in proc.stderr, (fragment, proc.stderr)  # what the reader says, too
         assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
 
 
@@ -203,3 +204,59 @@ def test_an_empty_log_and_a_folder_are_one_line_each(tmp_path):
     with pytest.raises(DataError) as info:
         read_log(folder)
     assert str(info.value) == f"{folder}: is a folder; expected a log (.jsonl) or a log name"
+
+
+LOGS = ROOT / "assets" / "logs"
+
+
+def _log_with(tmp_path, edit) -> Path:
+    lines = (LOGS / "luxo-hop.jsonl").read_text().splitlines()
+    lines = edit(lines)
+    out = tmp_path / "edited.jsonl"
+    out.write_text("\n".join(lines) + "\n")
+    return out
+
+
+def test_an_unknown_action_in_a_log_lists_every_action_a_log_may_hold(tmp_path):
+    path = _log_with(tmp_path, lambda ls: ls[:2] + [
+        '{"step":10,"event":{"type":"action","name":"frobnicate"}}'] + ls[2:])
+    with pytest.raises(DataError) as info:
+        read_log(path)
+    msg = str(info.value)
+    assert msg.startswith(f"{path}:3:") and "unknown action 'frobnicate'" in msg
+    listed = msg.split("expected one of: ")[1].split(" (")[0].split(", ")
+    assert "rewind" in listed and "take" in listed and "checkpoint" in listed
+
+
+def test_a_log_of_another_format_version_names_the_file(tmp_path):
+    def bump(ls):
+        h = json.loads(ls[0])
+        h["version"] = 99
+        return [json.dumps(h)] + ls[1:]
+    path = _log_with(tmp_path, bump)
+    with pytest.raises(DataError) as info:
+        read_log(path)
+    assert str(info.value).startswith(f"{path}:1:")
+    assert "log format version 99 is not supported" in str(info.value)
+
+
+def test_a_log_path_through_a_file_says_why_it_cannot_be_read(tmp_path):
+    (tmp_path / "notes.txt").write_text("not a folder")
+    path = tmp_path / "notes.txt" / "run.jsonl"
+    with pytest.raises(DataError) as info:
+        read_log(path)
+    assert str(info.value) == f"{path}: cannot read log: Not a directory"
+
+
+@pytest.mark.parametrize("key", ["description", "puppet", "interface_hash"])
+def test_a_header_text_field_that_is_not_text_is_named(tmp_path, key):
+    from puppet.timeline.log import read_log
+
+    lines = (ROOT / "assets" / "logs" / "luxo-hop.jsonl").read_text().splitlines()
+    h = json.loads(lines[0])
+    h[key] = 5
+    path = tmp_path / "h.jsonl"
+    path.write_text("\n".join([json.dumps(h)] + lines[1:]) + "\n")
+    with pytest.raises(DataError) as info:
+        read_log(path)
+    assert str(info.value).startswith(f"{path}:1:") and key in str(info.value)

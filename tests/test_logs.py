@@ -12,20 +12,20 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from functools import lru_cache
+from functools import cache
 
 import pytest
 import yaml
+from helpers import copy_log
 
 from puppet.data.catalog import ROOT, find
 from puppet.testing import check, read_log, replay_log
 from puppet.timeline.expectations import load_expectations, parse_expectations
-from helpers import copy_log
 
 LOGS = sorted((ROOT / "assets" / "logs").glob("*.jsonl"))
 
 
-@lru_cache(maxsize=None)
+@cache
 def replayed(path: str):
     return replay_log(path)
 
@@ -116,7 +116,7 @@ def test_turned_and_landed_at_are_validated():
 def test_replay_command_checks_logs_in_parallel():
     """The command's own parts (names, --jobs, the summary) on one log per character:
     every log passes ``replay(check=True)`` above, the function ``puppet replay
-    --check`` runs for each log (timeline.report.replay_command)."""
+    --check`` runs for each log (commands.replay.replay_command)."""
     logs = [str(p) for p in LOGS if p.stem in ("luxo-hop", "cat-trot", "biped-walk")]
     assert len(logs) == 3
     proc = subprocess.run([sys.executable, "-m", "puppet", "replay", *logs, "--headless",

@@ -118,6 +118,7 @@ def test_run_up_measures_up_to_the_flight_took_off_and_first_touch_measure():
 
 def test_run_up_needs_flights_or_a_speed():
     import pytest
+
     from puppet.data.errors import DataError
 
     with pytest.raises(DataError, match="give 'min_flights', 'min_speed' or both"):
@@ -129,8 +130,8 @@ import json  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import yaml  # noqa: E402
-
 from helpers import copy_log, with_weak_hips  # noqa: E402
+
 from puppet.data.catalog import ROOT, find  # noqa: E402
 from puppet.testing import check, replay_log  # noqa: E402
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import shutil
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -17,7 +17,7 @@ from puppet.testing import check, replay_log
 LOGS = ROOT / "assets" / "logs"
 
 
-@lru_cache(maxsize=None)
+@cache
 def replayed(name: str):
     return replay_log(str(LOGS / f"{name}.jsonl"))
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 
 CMU = Path("assets/mappings/cmu-131.yaml").read_text(encoding="utf-8")
 
@@ -83,11 +83,14 @@ def test_the_shipped_mappings_name_their_character_and_pass(name, capsys):
 
 
 def test_play_with_a_clip_the_mapping_does_not_fit_suggests_the_one_info_picks(capsys):
+    """--mapping given, and it does not fit (without --mapping the interface's
+    mapping that does not fit gives way to the one info picks: test_mocap_rigs)."""
     from puppet.mocap.bvh import read_bvh
     from puppet.mocap.info import matching_mappings
 
     picked = matching_mappings(read_bvh("assets/mocap/cmu-01_01-jumps.bvh"))[0][0]
-    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-01_01-jumps"])
+    code = main(["play", "biped-mocap", "--headless", "--mocap", "cmu-01_01-jumps",
+                 "--mapping", "cmu-131"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and f"--mapping {picked} (shipped)" in err and picked == "cmu-01", err
     # what the source has: all of it (counted), not only the names the mapping reads
@@ -106,7 +109,7 @@ def test_a_mistyped_joint_of_a_mapping_gets_a_did_you_mean(tmp_path, capsys):
 
 def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
     """cmu-01 against cmu-131 with subject 1's joint names put back: every other field
-    that differs is one the README and the guide name, with its value."""
+    that differs is one the mocap page and the guide name, with its value."""
     import re
 
     from puppet.data.mappings import load_mapping
@@ -116,7 +119,7 @@ def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
     # (the fields that hold no joint names; the others differ by them)
     differ = [f for f in ("source", "plane", "size", "channels") if getattr(a, f) != getattr(b, f)]
     assert "plane" in differ and "size" in differ  # (what the files hold today)
-    for doc in ("README.md", "docs/interfaces.md"):
+    for doc in ("docs/mocap.md", "docs/interfaces.md"):
         text = " ".join(Path(doc).read_text(encoding="utf-8").split())
         said = re.search(r"`(?:assets/mappings/)?cmu-01\.yaml` is [^)]*?\)[^.;]*", text)
         assert said, doc

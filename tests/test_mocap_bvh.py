@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 from puppet.data.errors import DataError
-from puppet.mocap.bvh import (CMU_UNIT_METRES, PlanarJoint, parse_bvh, read_bvh,
-                              write_planar_bvh)
+from puppet.mocap.bvh import CMU_UNIT_METRES, PlanarJoint, parse_bvh, read_bvh, write_planar_bvh
 
 ROOT = Path(__file__).resolve().parents[1]
 WALK = ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"
@@ -128,13 +127,22 @@ def test_old_mac_line_ends_read_like_any_other():
     assert clip.names == parse_bvh(SMALL).names
 
 
-def test_a_chain_thousands_of_joints_deep_reads():
-    depth = 3000  # deeper than Python's recursion limit
+def test_a_chain_as_deep_as_the_limit_reads_without_recursion():
+    import sys
+
+    from puppet.mocap.bvh import MAX_JOINTS
+
+    depth = MAX_JOINTS - 1  # the root and a chain of joints to the limit
     chain = "".join(f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 1 Zrotation\n"
                     for i in range(depth))
     text = ("HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\n" + chain + "}\n" * (depth + 1)
             + f"MOTION\nFrames: 1\nFrame Time: 0.1\n{' '.join(['0.01'] * depth)}\n")
-    clip = parse_bvh(text)
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(150)  # far below the depth: the reader must not recurse
+    try:
+        clip = parse_bvh(text)
+    finally:
+        sys.setrecursionlimit(limit)
     assert len(clip.joints) == depth + 1 and clip.joint(f"j{depth - 1}").parent == depth - 1
     assert clip.motion.shape == (1, depth)
     # each joint turns 0.01 degrees more than its parent: the chain curls to the left
@@ -254,8 +262,10 @@ def test_counts_that_are_no_counts():
     msg = _error(SMALL.replace("Frames: 3", f"Frames: {huge}"))
     assert f"Frames: '{'9' * 30}': expected a whole number of frames (at most 12" in msg
     assert len(msg) < 200
-    assert "the file ends after 3 frames; 'Frames: 999999999999' expected" in _error(
-        SMALL.replace("Frames: 3", "Frames: 999999999999"))
+    assert "Frames: 999999999999 makes 999999999999 frames; a BVH clip may have at most" \
+        in _error(SMALL.replace("Frames: 3", "Frames: 999999999999"))
+    assert "the file ends after 3 frames; 'Frames: 5' expected 5" in _error(
+        SMALL.replace("Frames: 3", "Frames: 5"))
 
 
 def test_a_frame_time_whose_rate_overflows():

@@ -18,13 +18,14 @@ import os
 import random
 import struct
 
+import fuzzing
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-import fuzzing
-from puppet.mocap import mediapipe, puppet_osc, vmc
+from puppet.mocap import mediapipe, mediapipe_bridge, puppet_osc, vmc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.formats import DECODERS
 from puppet.mocap.osc import MAX_POSITION
@@ -33,13 +34,17 @@ from puppet.mocap.send import encoder, load_bones
 SHORT = int(os.environ.get("PUPPET_FUZZ_CASES", "150"))
 LONG = int(os.environ.get("PUPPET_FUZZ_LONG", "7000"))
 LOOP = int(os.environ.get("PUPPET_OSC_FUZZ", "10000"))
-KIND = {"vmc": "osc-vmc", "mediapipe": "osc-mp", "puppet": "osc-puppet"}
+KIND = {"vmc": "osc-vmc", "mediapipe": "osc-mp", "mediapipe-osc": "osc-mp-bridge",
+        "puppet": "osc-puppet"}
 FRAME_LEVEL = ("out_of_order", "stale")  # drops of a whole frame, not of a message
 
 _clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")
 _table = load_bones("assets/mocap/cmu-bones.yaml")
 _vmc, _mp = encoder(_clip, "vmc", _table), encoder(_clip, "mediapipe", _table)
-SEEDS = [_vmc(0, 0.0), _vmc(500, 4.1), _mp(0, 0.0), _mp(700, 5.8),
+_bridge = encoder(_clip, "mediapipe-osc", _table)
+SEEDS = [_vmc(0, 0.0), _vmc(500, 4.1), _mp(0, 0.0), _mp(700, 5.8), _bridge(300, 0.0),
+         mediapipe_bridge.encode_pose(None), mediapipe_bridge.encode_pose(
+             {"left_hip": (0.5, 0.5, 0.0)}, count=False),
          puppet_osc.encode_frame(1.0, {"lean": 0.5, "arm.x": -0.25}),
          puppet_osc.encode_frame(None, {f"c{i}": i / 10 for i in range(20)})]
 
@@ -231,5 +236,6 @@ def test_long_garbage_shaped_messages_and_bundles(datagrams):
 def test_the_fuzz_seeds_decode():
     decoders = fresh()
     made = {name: sum(len(d.feed(s)) for s in SEEDS) for name, d in decoders.items()}
-    assert made == {"vmc": 2, "mediapipe": 2, "puppet": 2}
+    # (the bridge's older form, no count, is 132 numbers as mediapipe's own: both read it)
+    assert made == {"vmc": 2, "mediapipe": 3, "mediapipe-osc": 2, "puppet": 2}
     assert MAX_POSITION == 100.0

@@ -9,17 +9,16 @@ import threading
 import time
 
 import pytest
+from helpers import ListenedPort
 
-from puppet.bench import channel_interface_text
-from puppet.cli import main
+from puppet.app.live import run_live
+from puppet.commands import main
+from puppet.commands.bench.channels import channel_interface_text
 from puppet.data.catalog import load_character_named, load_setup
 from puppet.mocap import puppet_osc
-from puppet.mocap.live import run_live
 from puppet.mocap.source import LOST_AFTER, OscSource
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import replay
-
-from helpers import ListenedPort
 
 
 class FakeClock:
@@ -39,8 +38,11 @@ def _cat_channels(tmp_path):
 
 def _sender(port, seconds, rate=120.0, stop=None, values_at=None):
     """Send /puppet/channels c0..c3 (slow sinusoids; or ``values_at(k)``) at ``rate`` Hz
-    for ``seconds`` to ``port`` (a number, or a ListenedPort to wait for)."""
+    for ``seconds`` to ``port`` (a number, or a ListenedPort to wait for). The thread's
+    ``sent[0]`` counts the datagrams sent so far."""
     import math
+
+    sent = [0]
 
     def run():
         nonlocal port
@@ -55,10 +57,49 @@ def _sender(port, seconds, rate=120.0, stop=None, values_at=None):
                           if values_at is None else values_at(k))
                 sock.sendto(puppet_osc.encode_frame(t, values), ("127.0.0.1", port))
                 k += 1
+                sent[0] = k
                 time.sleep(max(0.0, start + k / rate - time.perf_counter()))
     thread = threading.Thread(target=run, daemon=True)
+    thread.sent = sent
     thread.start()
     return thread
+
+
+# A live take runs on the wall clock, so what a busy machine delivers in it varies: the
+# sender (a thread of this process) sends fewer frames, the receiving thread decodes
+# them later, the live loop draws fewer frames. So the live tests hold a take to what
+# was delivered (issue 32: the suite holds at a load of 8 on 2 cores): every frame sent
+# before the take ended is received (waiting for the receiving thread as long again as
+# the take took), none dropped, and a channels event in the log for (about) every drawn
+# frame that had a new one (at a load of 20 on 2 cores a biped take drew 3 frames).
+MIN_FRAMES = 20  # frames a take must receive at all, however loaded the machine
+
+
+class Take:
+    """What a live take delivered: ``on_frame`` for ``run_live`` (the frames drawn, and
+    how many of them had a new frame from the source), ``ended`` after it."""
+
+    def __init__(self, source):
+        self.source, self.start = source, time.perf_counter()
+        self.drawn = self.fresh = self.seen = 0
+
+    def on_frame(self, session) -> None:
+        self.drawn += 1
+        frames = self.source.decoder.counts.frames
+        self.fresh += frames > self.seen
+        self.seen = frames
+
+    def check(self, sent_by_end: int, streamed: int) -> None:
+        took = time.perf_counter() - self.start
+        counts = self.source.decoder.counts
+        deadline = time.perf_counter() + took + 1.0  # the machine's pace, not a constant
+        while counts.frames < sent_by_end and time.perf_counter() < deadline:
+            time.sleep(0.01)
+        assert counts.frames >= max(MIN_FRAMES, sent_by_end), (counts, sent_by_end, took)
+        assert counts.total_dropped == 0, counts
+        # a loaded machine draws few frames (each advances the physics further): as
+        # many events as drawn frames that had a new one, give or take a merge
+        assert self.fresh >= 1 and streamed >= 0.5 * self.fresh, (streamed, self.fresh)
 
 
 def test_a_source_turns_frames_into_one_channels_event_per_drain_and_counts_drops():
@@ -113,14 +154,17 @@ def test_a_live_take_over_loopback_replays_to_the_recorded_hash(tmp_path):
     setup = load_setup(_cat_channels(tmp_path))
     record = tmp_path / "take.jsonl"
     with OscSource("puppet", port=0) as source:  # the system picks a free port
-        sender = _sender(source.port, seconds=1.6)
-        session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0)
+        stop = threading.Event()
+        take = Take(source)
+        sender = _sender(source.port, seconds=60, stop=stop)
+        session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0,
+                           on_frame=take.on_frame)
+        sent_by_end = sender.sent[0]  # ~180 (120 Hz for 1.5 s) on an idle machine
+        stop.set()
         sender.join()
-        assert source.decoder.counts.frames > 100  # ~120 Hz for 1.5 s
-        assert source.decoder.counts.total_dropped == 0
-    log = read_log(record)
-    streamed = [e for e in log.events if e.event["type"] == "channels"]
-    assert len(streamed) > 40  # about one event a frame (60 fps) while it streamed
+        log = read_log(record)
+        streamed = [e for e in log.events if e.event["type"] == "channels"]
+        take.check(sent_by_end, len(streamed))  # about one event a drawn frame
     assert all(set(e.event["values"]) <= {"c0", "c1", "c2", "c3"} for e in streamed)
     assert log.end_hash == session.sim.state_hash()
     result = replay(record)  # headless, no network
@@ -136,8 +180,8 @@ def test_a_live_take_over_loopback_replays_to_the_recorded_hash(tmp_path):
 def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp_path):
     """``puppet mocap send`` (VMC, the CMU walk) -> the shipped vmc-humanoid mapping ->
     biped-mocap's KD tracking, recorded live and replayed headless to the same hash."""
+    from puppet.commands.streams import source_for
     from puppet.mocap.bvh import read_bvh
-    from puppet.mocap.commands import source_for
     from puppet.mocap.send import encoder, load_bones, stream
 
     clip = read_bvh("assets/mocap/cmu-131_01-walk.bvh")
@@ -145,22 +189,27 @@ def test_the_walk_clip_streamed_over_vmc_drives_the_mocap_figure_and_replays(tmp
     setup = load_setup("biped-mocap")
     source = source_for("udp://127.0.0.1:0", "vmc", None, setup)
     record = tmp_path / "vmc-take.jsonl"
+    sent = [0]
     with source:
+        take = Take(source)
         stop = threading.Event()
         sender = threading.Thread(target=stream, args=(encode, 300, clip.frame_time,
                                                        (source.host, source.port)),
-                                  kwargs={"stop": stop}, daemon=True)
+                                  kwargs={"stop": stop,
+                                          "on_sent": lambda n: sent.__setitem__(0, n)},
+                                  daemon=True)
         sender.start()
         try:
-            session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0)
+            session = run_live(setup, [source], seconds=1.5, record=record, slowdown=1.0,
+                               on_frame=take.on_frame)
         finally:
+            sent_by_end = sent[0]  # ~180 on an idle machine
             stop.set()
             sender.join()
-        counts = source.decoder.counts
-    assert counts.frames >= 100 and counts.total_dropped == 0 and source.unmapped == 0
-    log = read_log(record)
-    streamed = [e.event["values"] for e in log.events if e.event["type"] == "channels"]
-    assert len(streamed) > 40
+        log = read_log(record)
+        streamed = [e.event["values"] for e in log.events if e.event["type"] == "channels"]
+        take.check(sent_by_end, len(streamed))
+    assert source.unmapped == 0
     assert {"hip_near", "knee_far", "root.x", "root.y"} <= set(streamed[-1])
     assert replay(record).final_hash == log.end_hash == session.sim.state_hash()
     assert session.character.upright()
@@ -188,10 +237,14 @@ def test_play_mocap_headless_records_and_replay_checks(tmp_path, capsys, monkeyp
 
 def test_a_live_take_that_blows_up_says_so_on_stderr_and_exits_3(capsys, monkeypatch):
     """A performer's wild stream (uniform +-180 deg on every channel at 120 Hz) into
-    biped-mocap blows the simulation up: the headless take says each recovery, as a
-    clip run does, not only exit 3."""
+    biped-mocap, with the guard that judges live samples turned off (it drops most of
+    them: test_mocap_guard), blows the simulation up: the headless take says each
+    recovery, as a clip run does, not only exit 3."""
     import random
 
+    import puppet.mocap.guard
+
+    monkeypatch.setattr(puppet.mocap.guard, "rules_for", lambda setup, mapping=None: {})
     rng = random.Random(7)
     names = ("hip_near", "hip_far", "knee_near", "knee_far", "root.x", "root.y", "root.angle")
     listened = ListenedPort(monkeypatch)
@@ -299,12 +352,17 @@ def test_listen_says_why_once_per_kind_of_drop(capsys, monkeypatch):
 
 def test_send_streams_a_clip_that_listen_counts(tmp_path, capsys):
     with OscSource("vmc", port=0) as source:
+        start = time.perf_counter()
         code = main(["mocap", "send", "assets/mocap/cmu-131_01-walk.bvh", "--to",
                      f"udp://127.0.0.1:{source.port}", "--speed", "5", "-q"])
-        time.sleep(0.2)
         assert code == 0
-        # UDP: a datagram can be lost if the receiving thread falls far behind (a loaded
-        # machine); none is on an idle one, and none may be dropped as bad
+        # the receiving thread may lag on a busy machine (the socket holds 4 MB): wait
+        # for it as long again as the send took, not a fixed time
+        deadline = time.perf_counter() + (time.perf_counter() - start) + 1.0
+        while source.decoder.counts.frames < 994 and time.perf_counter() < deadline:
+            time.sleep(0.01)
+        # UDP: a datagram can be lost if the receiving thread falls far behind; none is
+        # here, and none may be dropped as bad
         assert source.decoder.counts.frames >= 950
         assert source.decoder.counts.total_dropped == 0
         assert len(source.last_names) == 22

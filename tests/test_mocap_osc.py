@@ -12,12 +12,11 @@ import pytest
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, UsageError
 from puppet.mocap import mediapipe, puppet_osc, unity, vmc
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.formats import decoder, parse_udp
 from puppet.mocap.send import encoder, load_bones, mediapipe_points, schedule, vmc_world
-from puppet.data.errors import UsageError
 
 WALK = "assets/mocap/cmu-131_01-walk.bvh"
 BONES = "assets/mocap/cmu-bones.yaml"
@@ -141,8 +140,11 @@ def test_vmc_time_going_back_is_dropped_a_restart_is_not():
     t = lambda s: msg(vmc.TIME, float(s))  # noqa: E731
     assert d.feed(bundle(bone("Hips"), t(10.0)))
     assert d.feed(bundle(bone("Hips", (0, 1, 0)), t(9.9))) == []
-    assert d.feed(bundle(bone("Hips", (0, 1, 0)), t(10.0))) == []
+    assert d.feed(bundle(bone("Hips"), t(10.0))) == []  # the same time, nothing new
     assert d.counts.dropped == {"out_of_order": 1, "stale": 1}
+    # the same time with new bones: the frame's next bundle, not stale
+    assert d.feed(bundle(bone("Spine", (0, 0.5, 0)), t(10.0)))[0].points["Spine"] == (0, 0.5, 0)
+    assert d.counts.continued == 1 and d.counts.dropped["stale"] == 1
     # the dropped frames' bones were not kept
     assert d.feed(bundle(bone("Hips", (0, 3, 0)), t(10.1)))[0].points["Hips"] == (0, 3, 0)
     assert d.feed(bundle(bone("Hips"), t(0.5)))  # far back: the sender started again
@@ -279,7 +281,7 @@ def test_udp_addresses():
 
 
 def test_puppet_check_knows_bone_tables(tmp_path):
-    from puppet.checker import check_file
+    from puppet.commands.check import check_file
 
     assert check_file(BONES) == "bone table"
     assert check_file("assets/mocap/cmu-01-bones.yaml") == "bone table"

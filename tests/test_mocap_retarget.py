@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -74,7 +75,7 @@ def test_another_rig_needs_only_another_mapping_file():
     other = parse_bvh(_emit_bvh(clip, lambda n: names.get(n, "x_" + n), cm_per_unit, 2),
                       "other.bvh")
     assert round(other.fps) == 60
-    text = open(CMU, encoding="utf-8").read()
+    text = Path(CMU).read_text(encoding="utf-8")
     for old, new in sorted(names.items(), key=lambda kv: -len(kv[0])):
         text = re.sub(rf"\b{old}\b", new, text)
     text = text.replace("unit: 0.056444", "unit: 0.01")
@@ -219,7 +220,7 @@ def test_a_stream_faces_the_way_the_hips_say():
 
 
 def test_a_clip_with_no_frames_is_a_one_line_error():
-    text = open(WALK, encoding="utf-8").read()
+    text = Path(WALK).read_text(encoding="utf-8")
     head = text[:text.index("MOTION")]
     empty = parse_bvh(head + "MOTION\nFrames: 0\nFrame Time: 0.008333\n", "empty.bvh")
     with pytest.raises(DataError, match="no frames") as err:
@@ -250,3 +251,70 @@ def test_a_mapping_check_error_points_at_the_field_without_a_dump():
         mapping_from("root: {point: Hips}\nsegments:\n  a: {from: Hips, to: Knee}\n"
                      "plane: facing\n", "e4.yaml")
     assert str(err.value).startswith("e4.yaml:4:") and "(got" not in str(err.value)
+
+
+def _walk_points(names):
+    from puppet.mocap.bvh import read_bvh
+    from puppet.mocap.retarget import clip_points
+
+    clip = read_bvh(WALK)
+    return clip, clip_points(clip, names)
+
+
+def test_a_looped_clip_carries_root_x_on_by_its_lap_not_from_zero():
+    """The clip's root starts 1.5 m out and goes 1 m in its 2 s: each lap adds
+    end - start (1 m), not where it ends (2.5 m)."""
+    from puppet.mocap.clip_source import LAP_CHANNEL, ClipSource
+    from puppet.mocap.retarget import RetargetedClip
+
+    t = np.arange(61) / 30.0
+    clip = RetargetedClip(times=t, channels={LAP_CHANNEL: 1.5 + 0.5 * t, "hip": np.sin(t)})
+    source = ClipSource(clip, loop=True)
+    assert source.values_at(1.0)[LAP_CHANNEL] == pytest.approx(2.0)
+    assert source.values_at(5.0)[LAP_CHANNEL] == pytest.approx(2.0 + 2 * 1.0)
+
+
+def test_a_left_handed_z_up_source_retargets_as_the_right_handed_y_up_one():
+    """The walk's points rewritten as a left-handed, z-up rig writes them: (x, y, z)
+    -> (-x, -z, y). With a mapping saying so, the same channels come out."""
+    from puppet.mocap.retarget import Retargeter, load_mapping
+
+    mapping = load_mapping("assets/mappings/cmu-131.yaml").model_copy(
+        update={"plane": (0.0, 0.0, 1.0)})
+    clip, pts = _walk_points(mapping.point_names())
+    mine = Retargeter(mapping).clip(pts, clip.frame_time)
+    other = {n: np.stack([-p[:, 0], -p[:, 2], p[:, 1]], axis=1) for n, p in pts.items()}
+    source = mapping.source.model_copy(update={"up": "z", "handedness": "left"})
+    theirs_map = mapping.model_copy(update={"source": source, "plane": (0.0, -1.0, 0.0)})
+    theirs = Retargeter(theirs_map).clip(other, clip.frame_time)
+    assert set(theirs.channels) == set(mine.channels)
+    for name, values in theirs.channels.items():
+        ok = ~np.isnan(values)
+        assert np.abs(values[ok] - mine.channels[name][ok]).max() < 1e-6, name
+
+
+def test_a_take_that_stands_still_faces_the_way_its_hips_say():
+    """plane: travel, but the root does not move: the facing points give the plane
+    (their first frame), the same as plane: facing for a take that never turns."""
+    from puppet.mocap.retarget import Retargeter, load_mapping
+
+    travel = load_mapping("assets/mappings/cmu-131.yaml")
+    assert travel.plane == "travel" and travel.facing
+    clip, pts = _walk_points(travel.point_names())
+    still = {n: np.repeat(p[:1], 30, axis=0) for n, p in pts.items()}
+    a = Retargeter(travel).clip(still, clip.frame_time)
+    b = Retargeter(travel.model_copy(update={"plane": "facing"})).clip(still,
+                                                                       clip.frame_time)
+    assert a.channels.keys() == b.channels.keys()
+    for name in a.channels:
+        assert np.array_equal(a.channels[name], b.channels[name], equal_nan=True), name
+
+
+def test_facing_directions_missing_at_the_start_take_the_first_good_one():
+    from puppet.mocap.retarget import _filled
+
+    nan = [np.nan] * 3
+    forward = np.array([nan, nan, [1.0, 0, 0], nan, [0, 0, 1.0], nan])
+    got = _filled(forward)
+    assert got.tolist() == [[1, 0, 0], [1, 0, 0], [1, 0, 0], [1, 0, 0], [0, 0, 1],
+                            [0, 0, 1]]

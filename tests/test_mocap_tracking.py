@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from helpers import tap
 
 from puppet.data.catalog import find, load_setup, setup_from_text
 from puppet.data.errors import DataError
@@ -64,8 +65,18 @@ def test_kd_control_follows_the_clip_and_a_rewind_replays_it_to_the_bit(walk):
     assert s.runtime.tracker.status == "tracking kd with pulls"
 
 
+def _letting_go():
+    """biped-mocap without tracking.stand: a lost stream lets go of the joints."""
+    import dataclasses
+
+    setup = load_setup("biped-mocap")
+    tracking = setup.interface.tracking.model_copy(update={"stand": None})
+    return Session(dataclasses.replace(setup, interface=setup.interface.model_copy(
+        update={"tracking": tracking})))
+
+
 def test_the_stream_lost_lets_go_and_a_new_sample_takes_the_joints_back(walk):
-    s = Session(load_setup("biped-mocap"))
+    s = _letting_go()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 0.5)
     run(s, events, round(0.5 / dt))
@@ -104,7 +115,7 @@ def test_the_pulls_off_is_free_fall():
     dt = s.sim.dt
     pose = {"root.x": 0.0, "root.y": 1.25, "root.angle": 0.0, "clearance": 0.3}
     pose.update({j: 0.0 for j in s.character.servos})
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     lifted = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
@@ -112,7 +123,7 @@ def test_the_pulls_off_is_free_fall():
     assert lifted > 0.15
     s.handle(ev.key("f", True))
     assert "free fall" in s.runtime.tracker.status
-    for k in range(0, round(0.6 / dt), 8):
+    for _ in range(0, round(0.6 / dt), 8):
         s.handle(ev.channels(pose))
         s.advance(8)
     dropped = min(min(sh.cache_bb().bottom for sh in s.character.shapes[f])
@@ -158,14 +169,21 @@ def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, imp
     assert tracker._weight(s.steps) == pytest.approx(spec.weight)
     assert f"reacting to a {case} push" in tracker.status
     end = start + round((spec.hold + spec.recover) / dt) + 16
+    if case == "fall":  # a get-up after the hold, then the performer over the blend
+        get_up = tracker.spec.reaction.get_up
+        run(s, [e for e in events if e[0] >= s.steps], start + round(spec.hold / dt) + 16)
+        assert tracker.getup is not None and "getting up (hands_knees)" in tracker.status
+        end = start + round((spec.hold + sum(p.hold for p in get_up.steps)
+                             + tracker.spec.blend) / dt) + 16
     run(s, [e for e in events if e[0] >= s.steps], end)
     assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
+    assert tracker.getup is None and tracker.back is None
 
 
 def test_lost_then_off_then_on_tracks_again(walk):
     """A lost stream, then `o` (off) and `t` (KD): tracking starts afresh, not stuck
-    lost holding the joints at KD's weak gains."""
-    s = Session(load_setup("biped-mocap"))
+    lost holding the joints at KD's weak gains (blended in over tracking.blend)."""
+    s = _letting_go()
     dt = s.sim.dt
     run(s, ClipSource(walk).events(dt, 0.3), round(0.3 / dt))
     run(s, [], round(0.7 / dt))
@@ -174,8 +192,8 @@ def test_lost_then_off_then_on_tracks_again(walk):
     s.handle(ev.key("o", True))
     s.handle(ev.key("t", True))
     assert not tracker.lost and tracker.mode == "kd"
-    events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.2)]
-    run(s, events, round(1.2 / dt))
+    events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.3)]
+    run(s, events, round(1.3 / dt))
     assert not tracker.lost and "LOST" not in tracker.status
     assert s.character.servos["knee_far"].target == pytest.approx(
         math.radians(s.runtime.channels["knee_far"]))
@@ -225,7 +243,7 @@ def test_a_looped_clip_walks_on_and_samples_on_its_grid(walk):
 
 
 def test_a_mapping_that_cannot_feed_the_tracking_is_refused(tmp_path):
-    from puppet.checker import check_file
+    from puppet.commands.check import check_file
 
     folder = tmp_path / "interfaces"
     folder.mkdir()
@@ -285,3 +303,32 @@ def test_a_large_push_makes_a_protective_step(walk):
     assert c.link_position(foot)[0] > x0 + 0.05 and c.in_contact(foot)  # put down ahead
     run(s, [e for e in events if e[0] >= s.steps], s.steps + round(1.5 / dt))
     assert c.upright()
+
+
+def test_kinematic_on_and_off_switch_the_pulls_and_toggle_flips_them(tmp_path):
+    text = (load_setup("biped-mocap").interface_path).read_text()
+    text = text.replace("keys:\n", "keys:\n  - {key: '7', kinematic: 'on'}\n"
+                                   "  - {key: '8', kinematic: 'off'}\n", 1)
+    path = tmp_path / "biped-mocap.yaml"
+    path.write_text(text)
+    s = Session(load_setup(str(path)))
+    tracker = s.runtime.tracker
+    for key, want in (("7", True), ("7", True), ("8", False), ("8", False), ("f", True),
+                      ("f", False), ("7", True)):
+        tap(s, key)
+        s.advance(2)
+        assert tracker.kinematic is want, key
+
+
+def test_after_a_push_the_pulls_come_back_from_their_weight_to_full_over_recover():
+    s = Session(load_setup("biped-mocap"))
+    tracker = s.runtime.tracker
+    small = tracker.spec.reaction.small
+    dt = s.sim.dt
+    tracker.reaction = ("small", 0)
+    assert tracker._weight(0) == pytest.approx(small.weight)
+    half = round((small.hold + small.recover / 2) / dt)
+    assert tracker._weight(half) == pytest.approx(small.weight + (1 - small.weight) / 2,
+                                                  abs=0.01)
+    assert tracker._weight(round((small.hold + small.recover) / dt) + 1) == 1.0
+    assert tracker.reaction is None

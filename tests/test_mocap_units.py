@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import re
 import socket
+from pathlib import Path
 
 import pytest
 
-from puppet.cli import main
-from puppet.mocap.bvh import CMU_UNIT_METRES
+from puppet.commands import main
+from puppet.mocap.bvh import CMU_UNIT_METRES, read_bvh
 from puppet.mocap.info import performer_height
-from puppet.mocap.bvh import read_bvh
 
 WALK = "assets/mocap/cmu-131_01-walk.bvh"
 
@@ -20,7 +20,7 @@ WALK = "assets/mocap/cmu-131_01-walk.bvh"
 def _metres_walk(tmp_path, frames: int = 60) -> str:
     """The walk's first ``frames`` frames, its lengths in metres (offsets and the root's
     positions times the CMU unit), as a BVH exported in metres would be."""
-    hierarchy, motion = open(WALK).read().split("MOTION\n", 1)
+    hierarchy, motion = Path(WALK).read_text().split("MOTION\n", 1)
 
     def scaled(m):
         return "OFFSET " + " ".join(f"{float(v) * CMU_UNIT_METRES:.6f}" for v in m.group(1).split())

@@ -4,6 +4,7 @@ refused without being read (a log someone sends you cannot read your files)."""
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -15,8 +16,8 @@ from puppet.data.catalog import find, load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
+from puppet.session.playback import play
 from puppet.timeline.log import Recorder
-from puppet.timeline.playback import play
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -175,3 +176,20 @@ def test_cli_replay_of_a_hostile_log_is_one_line_exit_2(tmp_path, secret):
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1 and "not read" in proc.stderr, proc.stderr
     assert "top-secret" not in proc.stderr + proc.stdout
+
+
+LOGS = ROOT / "assets" / "logs"
+
+
+def test_a_bare_log_name_is_found_among_the_saved_recordings(tmp_path, monkeypatch):
+    """assets/logs/ first, then recordings/ (where the window saves its sessions)."""
+    from puppet.data import catalog
+    from puppet.timeline.replay import find_log
+
+    monkeypatch.setitem(catalog.FOLDERS, "recording", (str(tmp_path), ".jsonl"))
+    shutil.copy(LOGS / "luxo-hop.jsonl", tmp_path / "my-take.jsonl")
+    assert find_log("my-take") == str(tmp_path / "my-take.jsonl")
+    assert find_log("luxo-hop") == str(LOGS / "luxo-hop.jsonl")
+    with pytest.raises(DataError) as info:
+        find_log("no-such-take")
+    assert "no log named 'no-such-take'" in str(info.value)

@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.session import Session

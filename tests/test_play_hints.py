@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from puppet.cli import main
+from puppet.commands import main
 
 
 def _one_line_error(argv, capsys) -> str:
@@ -20,7 +20,8 @@ def _one_line_error(argv, capsys) -> str:
 def test_a_live_take_points_at_what_replay_offers(extra, capsys):
     err = _one_line_error(["play", "luxo-mouse", "--headless", "--mocap", "udp://127.0.0.1:1",
                            "--mocap-format", "puppet", *extra], capsys)
-    assert "--mocap udp://... goes without --input, --frames, --ghost and --loop" in err
+    assert ("--mocap udp://... goes without --input, --frames, --ghost, --loop and "
+            "--mocap-drop") in err
     assert "puppet replay LOG --video OUT" in err and "replay its log for those" not in err
 
 

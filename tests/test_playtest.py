@@ -19,8 +19,7 @@ from puppet.data.playtest import LEVELS, PARAMETERS, noise_at
 from puppet.interface import events as ev
 from puppet.session import Session
 from puppet.timeline.log import read_log, record_events
-from puppet.timeline.playtest import (judge, perturb, perturbation, perturbed_log, prepare,
-                                      run_try)
+from puppet.timeline.playtest import judge, perturb, perturbation, perturbed_log, prepare, run_try
 from puppet.timeline.playtest.slowdown import in_force
 
 DT = 1 / 480

@@ -1,6 +1,6 @@
 """What a playtest must see: a layout that holds poses forgives a novice's hands, and
 the back flip as shipped on 2026-12-06 (one key press that must land on its step) does
-not forgive a person's. The figures of every shipped log are in the README's feat table
+not forgive a person's. The figures of every shipped log are in the feat table of docs/testing.md
 (measured with ``puppet playtest assets/logs/*.jsonl --noise human``)."""
 
 from __future__ import annotations

@@ -14,6 +14,7 @@ import random
 import textwrap
 
 import pytest
+from helpers import session_of, tap
 
 from puppet.data.actions import ChainSpec
 from puppet.data.catalog import load_character_named, load_setup
@@ -21,8 +22,8 @@ from puppet.interface import events as ev
 from puppet.interface.ik import Chain, forward, hermite
 from puppet.physics.character import Character
 from puppet.session import Session
+from puppet.session.playback import play
 from puppet.timeline.log import read_log, record_events
-from puppet.timeline.playback import play
 from puppet.timeline.replay import replay
 
 CAT, _ = load_character_named("cat")
@@ -317,7 +318,8 @@ def test_a_hot_reload_naming_a_prop_the_scene_lacks_is_refused(tmp_path):
 # -- a three-joint arm of our own, in a session ----------------------------------------------
 ARM3 = """
 name: arm3
-description: a very heavy base (it hardly moves without gravity) and a three-link arm (test character)
+description: >-
+  a very heavy base (it hardly moves without gravity) and a three-link arm (test character)
 links:
   - name: base
     mass: 1000.0
@@ -412,3 +414,134 @@ def test_a_steered_reach_that_grasps_takes_hold_of_the_prop_it_is_steered_to(tmp
     s.advance(400)
     assert s.sim.grasps["shade"][1] == "rail"  # caught the rail (no point was named)
     assert math.dist(s.runtime.grasped["shade"], middle) < 0.012
+
+
+LUXO_HEADER = "name: t\ndescription: a test interface\ncharacter: luxo\n"
+
+
+def luxo_session(tmp_path, body: str) -> Session:
+    path = tmp_path / "iface.yaml"
+    path.write_text(LUXO_HEADER + textwrap.dedent(body))
+    return Session(load_setup(str(path)))
+
+
+GRASP = """
+chains:
+  shade: {{joints: [ankle, knee], end: [0.0, 0.43]}}
+keys:
+  - {{key: f, grasp: {{chain: shade, points: [[{fx}, {fy}]], tolerance: 0.03}}}}
+  - {{key: n, grasp: {{chain: shade, points: [[{nx}, {ny}]], tolerance: 0.03}}}}
+  - {{key: o, grasp: {{chain: shade, points: [[{ox}, {oy}]], tolerance: 0.03}}}}
+  - {{key: u, release: all}}
+"""
+
+
+PENDULUM = """
+name: t
+description: the pendulum scene, mouse on the knee
+character: luxo
+scene: pendulum
+maps:
+  - {input: mouse.y, joint: knee, from: [0, 1], to: [0, 90]}
+"""
+
+
+LUXO_STEERED = """
+name: t
+description: reaches and grasps in the pendulum scene
+character: luxo
+scene: pendulum
+gains:
+  ankle: {stiffness: 60, damping: 0.6, max_torque: 40}
+  knee: {stiffness: 40, damping: 0.4, max_torque: 30}
+chains:
+  shade: {joints: [ankle, knee], end: [0.0, 0.43]}
+keys:
+  - key: s
+    reach: {chain: shade, steer: {x: channel.hx, y: channel.hy, x_to: [-0.04, 0.06],
+            y_to: [0.32, 0.40]}, duration: 0.3}
+  - {key: g, reach: {chain: shade, point: {prop: rail}, duration: 0.4, hold: 0.4,
+                     grasp: true, tolerance: 0.03}}
+  - {key: u, release: all}
+"""
+
+
+def test_a_grasp_catches_only_within_its_tolerance(tmp_path):
+    probe = luxo_session(tmp_path, GRASP.format(fx=5, fy=5, nx=5, ny=5, ox=5, oy=5))
+    probe.advance(240)  # standing still: the shade's end stays where it is
+    x, y = probe.runtime.chains["shade"].end_world(probe.character)
+    s = luxo_session(tmp_path, GRASP.format(fx=x + 5.0, fy=y + 5.0, nx=x + 0.02, ny=y,
+                                    ox=x, oy=y + 0.045))
+    s.advance(240)
+    assert s.runtime.chains["shade"].end_world(s.character) == pytest.approx((x, y), abs=1e-6)
+    tap(s, "f")  # 5 m away (7 m, in fact), 3 cm tolerance
+    s.advance(60)
+    assert not s.sim.grasps and s.runtime.grasped == {}
+    tap(s, "o")  # 4.5 cm away: still outside 3 cm
+    s.advance(60)
+    assert not s.sim.grasps
+    tap(s, "n")  # 2 cm away: within 3 cm, caught at once and pinned there
+    s.advance(1)
+    assert "shade" in s.sim.grasps
+    assert s.sim.grasp_point("shade") == pytest.approx((x + 0.02, y), abs=1e-9)
+
+
+def test_a_luxo_reach_keeps_the_knee_bent_the_way_it_stands(tmp_path):
+    s = luxo_session(tmp_path, """
+    chains:
+      shade: {joints: [ankle, knee], end: [0.0, 0.43]}
+    keys:
+      - {key: e, reach: {chain: shade, target: [0.12, 0.30], duration: 0.3, hold: 0.3}}
+    """)
+    s.advance(240)
+    knee = s.character.servos["knee"]
+    assert knee.target > 0.2  # Luxo stands with the knee bent forward
+    tap(s, "e")
+    for _ in range(12):
+        s.advance(25)
+        assert knee.target > 0.05, math.degrees(knee.target)
+
+
+def test_a_grasping_reach_uses_its_own_tolerance(tmp_path):
+    """A reach with ``grasp: true`` catches its point once the end is within the reach's
+    tolerance (here 20 cm: at once), not the grasp's default 4 cm."""
+    reach = """
+    chains:
+      shade: {{joints: [ankle, knee], end: [0.0, 0.43]}}
+    keys:
+      - {{key: q, reach: {{chain: shade, target: [{x}, {y}], duration: 0.4, grasp: true,
+                          tolerance: {tol}}}}}
+    """
+    probe = luxo_session(tmp_path, reach.format(x=0, y=0, tol=0.2))
+    probe.advance(240)
+    x, y = probe.runtime.chains["shade"].end_world(probe.character)
+    for tol, caught in ((0.2, True), (0.05, False)):
+        s = luxo_session(tmp_path, reach.format(x=x + 0.10, y=y, tol=tol))
+        s.advance(240)
+        tap(s, "q")
+        s.advance(2)  # the end has hardly moved: 10 cm from the point
+        assert ("shade" in s.sim.grasps) is caught, tol
+
+
+def test_the_nearest_place_on_a_grasp_segment_is_the_foot_of_the_perpendicular(tmp_path):
+    s = session_of(tmp_path, PENDULUM)
+    swing = s.sim.props["swing"]
+    (a, b), = swing.segments
+    pa, pb = swing.body.local_to_world(a), swing.body.local_to_world(b)  # the bar, slanted
+    mid = ((pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2)
+    ux, uy = (pb[0] - pa[0]) / math.dist(pa, pb), (pb[1] - pa[1]) / math.dist(pa, pb)
+    beside = (mid[0] - 0.02 * uy, mid[1] + 0.02 * ux)  # 2 cm off the bar's middle
+    distance, point, name = swing.nearest(beside)
+    assert distance == pytest.approx(0.02) and point == pytest.approx(mid) and name is None
+
+
+def test_a_steering_input_not_sent_yet_counts_as_the_middle_of_its_range(tmp_path):
+    s = session_of(tmp_path, LUXO_STEERED)
+    s.advance(120)
+    s.handle(ev.channels({"hx": 1.0}))  # hy never sent
+    tap(s, "s")
+    s.advance(2)
+    x, y = s.runtime.reaching.target_now(s.runtime.reaches["shade"].target)
+    base = s.character.bodies["base"]
+    want = base.local_to_world((0.06, 0.36))  # x at its top, y in the middle of [0.32, 0.40]
+    assert math.dist((x, y), want) < 1e-9

@@ -7,10 +7,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session, world_box
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,7 +62,7 @@ def test_a_nan_is_caught_within_a_frame():
 
 def test_a_doomed_run_goes_back_step_by_step_then_halts_once(tmp_path):
     session = Session(load_setup(str(_tilted(tmp_path))))
-    for i in range(60 * 60):  # a minute of frames
+    for _ in range(60 * 60):  # a minute of frames
         session.handle(ev.mouse(0.5, 0.5))
         session.advance(8)
     notes = session.blowup_messages
@@ -108,3 +110,23 @@ def test_recovery_is_the_same_after_a_rewind_across_it(tmp_path):
     session.rewind_to(480)
     session.rewind_to(480 * 12)  # re-simulates the recoveries: none is new
     assert session.blowup_messages == notes and session.sim.state_hash() == end
+
+
+@pytest.mark.parametrize("linear, angular", [(250.0, 0.0), (0.0, 2.0e4), (150.0, 5000.0)])
+def test_a_runaway_linear_or_angular_speed_alone_is_a_blow_up(linear, angular):
+    from puppet.physics.simulation import MAX_SPEED
+
+    s = Session(load_setup("luxo-mouse"))
+    assert not s.sim.blown_up()
+    body = s.character.bodies["upper_arm"]
+    body.velocity = (linear, 0.0)
+    body.angular_velocity = angular
+    runaway = linear > MAX_SPEED or angular > 50 * MAX_SPEED
+    assert s.sim.blown_up() is runaway
+
+
+@pytest.mark.parametrize("vy", [250.0, -250.0])
+def test_a_runaway_vertical_speed_alone_is_a_blow_up(vy):
+    s = Session(load_setup("luxo-mouse"))
+    s.character.bodies["upper_arm"].velocity = (0.0, vy)
+    assert s.sim.blown_up()

@@ -15,8 +15,8 @@ import pytest
 
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
+from puppet.session.playback import play
 from puppet.timeline.log import read_log, record_events
-from puppet.timeline.playback import play
 from puppet.timeline.replay import replay
 from tests.test_checkpoint_format import _drive, _sim
 from tests.test_reach_grasp import LUXO, play_on, press, session

@@ -3,10 +3,9 @@ the swing, the hands stay on; without the mouse or the grasps it fails."""
 
 from __future__ import annotations
 
-from tests.test_floor import _variant
-
 from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
+from tests.test_floor import _variant
 
 LOG = ROOT / "assets" / "logs" / "biped-rope-swing.jsonl"
 

@@ -72,13 +72,13 @@ def test_the_fast_sampler_reads_the_same_numbers_as_the_plain_one(name, monkeypa
 
 def test_the_fast_sampler_follows_a_rewind_and_a_restore():
     """A window-recorded log with a checkpoint and a rewind (fresh bodies after each)."""
+    import tempfile
+    from pathlib import Path
+
     from puppet.data.catalog import load_setup
     from puppet.interface import events as ev
     from puppet.session import Session
     from puppet.timeline.log import Recorder
-
-    import tempfile
-    from pathlib import Path
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "rw.jsonl"

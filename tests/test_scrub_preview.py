@@ -1,7 +1,8 @@
-"""Scrubbing shows cached poses of the history (puppet.timeline.preview): each the pose
+"""Scrubbing shows cached poses of the history (puppet.session.preview): each the pose
 an exact rewind gives, without restoring the live space each frame; the one exact
 rewind comes on release."""
 
+import math
 import random
 
 import pytest
@@ -9,7 +10,7 @@ import pytest
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.history import Scrubber
+from puppet.session.history import Scrubber
 
 
 def _played(interface, seed=4):
@@ -79,3 +80,38 @@ def test_the_preview_uses_the_sessions_own_step_and_interval():
     assert live.steps < 960
     reference.rewind_to(live.steps)
     assert _pose(live) == _pose(reference)
+
+
+def test_the_preview_after_a_branch_shows_the_new_branch_not_the_cached_old_one():
+    from puppet.session.history import Scrubber
+
+    def played():
+        s = Session(load_setup("luxo-mouse"))
+        for k in range(180):
+            s.handle(ev.mouse(0.5 + 0.4 * math.sin(k / 9), 0.5 + 0.3 * math.cos(k / 7)))
+            s.advance(8)
+        return s
+
+    live, ref = played(), played()
+    scrub = Scrubber(live)
+    scrub.start()
+    for _ in range(40):  # back about 0.7 s, filling the preview's cache on the way
+        scrub.update(1 / 60)
+    scrub.release()
+    at = live.steps
+    for k in range(40):  # new input: the history branches here
+        for s in (live, ref):
+            if k == 0:
+                s.rewind_to(at) if s is ref else None
+            s.handle(ev.mouse(0.1, 0.9))
+            s.advance(8)
+    scrub.start()
+    checked = 0
+    for frame in range(30):  # back into the new branch (the old one's steps, new poses)
+        scrub.update(1 / 60)
+        if live.steps > at and frame % 5 == 0:
+            ref.rewind_to(live.steps)
+            assert _pose(live) == _pose(ref), live.steps
+            checked += 1
+    scrub.release()
+    assert checked >= 2

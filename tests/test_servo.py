@@ -68,3 +68,18 @@ def test_hopping_gains_stay_stable_under_random_targets(session):
             servo.target = math.radians(rng.uniform(-85, 160))
         session.advance(96)
         assert not session.sim.blown_up()
+
+
+@pytest.mark.parametrize("offset", [0.6, -0.6])
+def test_the_servo_torque_has_the_sign_of_the_push_toward_its_target(offset):
+    s = Session(load_setup("luxo-mouse"))
+    s.advance(240)
+    servo = s.character.servos["knee"]
+    servo.target = servo.angle + offset
+    before = servo.velocity
+    s.advance(1)
+    torque = servo.torque(s.sim.dt)
+    assert abs(torque) > 0.5
+    assert math.copysign(1, torque) == math.copysign(1, offset)
+    # and the joint speeds up that way
+    assert math.copysign(1, servo.velocity - before) == math.copysign(1, offset)

@@ -12,8 +12,8 @@ from puppet.timeline.script import DEFAULT_SECONDS, ScriptSpec, run_seconds
 
 
 def test_key_map_shows_what_a_key_does_in_the_state():
-    from puppet.app.keymap import pose_key_bindings
     from puppet.app.describe import control_rows
+    from puppet.app.keymap import pose_key_bindings
 
     spec, _ = load_interface(find("interface", "luxo-keys"))
     assert dict(pose_key_bindings(spec, "upright"))["1"] == "stand_low"
@@ -41,9 +41,9 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
     the runtime would run, in every state of every shipped interface."""
     from pathlib import Path
 
+    from puppet.app.describe import live_keys
     from puppet.data.catalog import load_setup
     from puppet.data.keys import normalize_key
-    from puppet.app.describe import live_keys
     from puppet.session import Session
 
     for path in sorted((Path(__file__).resolve().parents[1] / "interfaces").glob("*.yaml")):
@@ -52,7 +52,7 @@ def test_live_keys_are_what_the_runtime_binds_in_every_state_of_every_interface(
         for state in spec.states or [None]:
             if state is not None:
                 runtime.machine.enter(state, session.steps)
-            for k in live_keys(spec, state):
+            for k in live_keys(spec, state, session.setup.scene.name):
                 assert runtime.binding(normalize_key(k.key)) is k, (path.stem, state, k.key)
 
 

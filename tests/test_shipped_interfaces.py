@@ -4,10 +4,10 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.app.describe import control_rows, live_keys
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
-from puppet.app.describe import control_rows, live_keys
 from puppet.session import Session
 
 INTERFACES = sorted((Path(__file__).parents[1] / "interfaces").glob("*.yaml"))
@@ -43,8 +43,8 @@ def test_luxo_keys_hop_key_rolls_luxo_over_when_it_lies_on_its_back():
 def test_key_map_names_the_live_state_and_lists_each_key_once():
     """The HUD's controls panel, compact and on the help key, lists each key live in a
     state once (a state's own key, not the top level's it rebinds)."""
-    from puppet.data.catalog import load_setup
     from puppet.app.describe import where_line
+    from puppet.data.catalog import load_setup
 
     spec = load_setup("luxo-keys").interface
     assert spec.states, "luxo-keys has a state machine"

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data.catalog import load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
@@ -243,7 +243,7 @@ machines:
 
 
 def test_every_controller_running_at_once_comes_back_exactly_from_a_checkpoint(tmp_path):
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     events = [(10, ev.key("q")), (20, ev.key("w")), (30, ev.key("g")), (40, ev.key("t"))]
     events += [(50 + 16 * i, ev.channels({"px": (i % 7) / 6, "py": (i % 5) / 4}))
@@ -352,3 +352,43 @@ keys:
             press(s, "s")
             assert knee.max_torque == 40
     assert moved["w"] > math.radians(10) and moved["s"] < moved["w"] / 10, moved
+
+
+ALL_OF = """
+name: t
+description: a transition on two conditions at once
+character: luxo
+poses:
+  fold: {joints: {knee: 120}}
+keys:
+  - {key: k, pose: fold}
+states:
+  idle:
+    transitions:
+      - to: both
+        when: [{sensor: joint.knee, above: 100}, {sensor: contact.base, is: true}]
+  both: {}
+"""
+
+
+def test_a_transition_with_a_list_of_conditions_fires_only_when_all_hold(tmp_path):
+    s = session(tmp_path, ALL_OF)
+    s.advance(480)  # standing: the base is down but the knee is at 55
+    assert s.runtime.state == "idle"
+    press(s, "k")  # the knee folds past 100 with the base still down: both hold
+    for _ in range(240):
+        s.advance(1)
+        if s.runtime.state == "both":
+            break
+    knee = math.degrees(s.character.bodies["upper_arm"].angle
+                        - s.character.bodies["lower_arm"].angle)
+    assert s.runtime.state == "both" and knee > 100
+    assert s.character.in_contact("base")
+
+
+def test_a_list_of_conditions_fails_while_one_of_them_does(tmp_path):
+    text = ALL_OF.replace("{sensor: contact.base, is: true}", "{sensor: contact.base, is: false}")
+    s = session(tmp_path, text)
+    press(s, "k")
+    s.advance(480)  # the knee is folded but the base never leaves the floor
+    assert s.runtime.state == "idle"

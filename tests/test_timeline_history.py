@@ -8,9 +8,9 @@ import pytest
 from puppet.data.catalog import find, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.history import History, Scrubber
+from puppet.session.history import History, Scrubber
+from puppet.session.playback import play
 from puppet.timeline.log import Recorder
-from puppet.timeline.playback import play
 from puppet.timeline.replay import LogFeeder, new_session, read_log, replay
 from puppet.timeline.script import compile_script, load_script
 
@@ -247,3 +247,11 @@ def test_scrubbing_back_and_forward():
     scrub.release()
     # logged at the step the run was at (a replay plays on to there, then rewinds)
     assert listened == [(2400, rewind(shown))] and session.steps == shown
+
+
+def test_a_checkpoint_interval_of_zero_means_the_default():
+    from puppet.session.history import CHECKPOINT_EVERY, History
+
+    dt = 1 / 480
+    assert History(dt, 0).checkpoint_every == History(dt, CHECKPOINT_EVERY).checkpoint_every
+    assert History(dt, 0).checkpoint_every > 1

@@ -12,10 +12,10 @@ from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import Recorder, default_path, read_log
-from puppet.timeline.playback import play
-from puppet.timeline.replay import replay
+from puppet.session.playback import play
 from puppet.testing import record_script
+from puppet.timeline.log import Recorder, default_path, read_log
+from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -292,7 +292,7 @@ def test_record_never_overwrites_an_existing_file(tmp_path, monkeypatch):
     runs, headless or in the window; and the Recorder itself opens exclusively, so a
     file that appears between the check and the open is not overwritten either."""
     from puppet.app import window
-    from puppet.cli import main
+    from puppet.commands import main
 
     taken = tmp_path / "rec.jsonl"
     taken.write_text("precious, not even a log\n")

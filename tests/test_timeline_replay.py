@@ -4,6 +4,7 @@ import json
 import re
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -13,8 +14,9 @@ from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
 from puppet.interface import events as ev
 from puppet.session import Session
+from puppet.session.playback import play
 from puppet.testing import check, record_script, replay_log
-from puppet.timeline.playback import play
+from puppet.timeline.log import read_log, record_events
 from puppet.timeline.replay import replay
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -272,7 +274,7 @@ def test_a_log_that_ends_elsewhere_is_not_ok_in_table_summary_or_exit_code(hop, 
 
 def test_replay_takes_a_log_by_name_from_the_logs_or_recordings_folder(hop, tmp_path,
                                                                        monkeypatch, capsys):
-    from puppet.cli import main
+    from puppet.commands import main
     from puppet.data import catalog
 
     assert main(["replay", "luxo-hop", "--headless", "--until-step", "50"]) == 0
@@ -336,3 +338,28 @@ def test_headless_play_and_replay_report_each_blow_up(tmp_path):
     proc = _cli("replay", log, calm, "--headless")
     assert proc.returncode == 3 and "2 logs: 2 ok, 0 differ, 0 errors, 1 blow-up" in proc.stdout
     assert proc.stderr.splitlines() == [f"{log}: {note}"]
+
+
+VIEWER_IFACE = """
+name: t
+description: the ankle on the mouse
+character: luxo
+maps:
+  - {input: mouse.x, joint: ankle, from: [0, 1], to: [60, -60]}
+"""
+
+
+def test_the_viewer_is_told_only_of_the_app_actions_a_log_asks_for(tmp_path):
+    from puppet.timeline.replay import LogFeeder
+
+    iface = tmp_path / "t.yaml"
+    iface.write_text(textwrap.dedent(VIEWER_IFACE))
+    log = tmp_path / "a.jsonl"
+    s = Session(load_setup(str(iface)))
+    record_events(s, [(0, ev.mouse(0.2, 0.5)), (10, ev.action("checkpoint")),
+                      (20, ev.mouse(0.8, 0.5))], 60, log)
+    told = []
+    feeder = LogFeeder(Session(load_setup(str(iface))), read_log(log), on_action=told.append)
+    feeder.advance(100)
+    assert None not in told
+    assert np.isfinite(feeder.session.time)

@@ -104,7 +104,7 @@ def test_a_bad_spec_is_one_line_at_its_place(tmp_path, case):
 
 
 def test_the_command_says_a_bad_spec_in_one_line_and_exits_2(tmp_path, capsys):
-    from puppet.cli import main
+    from puppet.commands import main
 
     path = spec_file(tmp_path, (HOP % {"tries": 2, "refine": 0}).replace(
         "- {t: 0.05, mouse: [cx, cy], over: 0.15}", "- {t: 0.05, key: $cx}"))
@@ -360,7 +360,7 @@ def test_the_worked_example_runs_as_the_docs_say(tmp_path, capsys, monkeypatch):
     import re
     import shlex
 
-    from puppet.cli import main
+    from puppet.commands import main
 
     text = DOCS.read_text(encoding="utf-8")
     block = re.search(r"```yaml\n# file: assets/tune/luxo-first-hop.yaml\n(.*?)```", text,

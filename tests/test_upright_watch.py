@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
-from puppet.cli import main
+from puppet.commands import main
 from puppet.physics.upright_watch import UprightWatch
 
 

@@ -74,7 +74,7 @@ def test_the_mocap_search_writes_a_script_whose_recording_does_what_it_saw(tmp_p
     arms; the written script, played by `puppet play --mocap` and recorded, meets the
     search's criteria (the search merged the clip's events as the command does)."""
     sys.path.insert(0, str(ROOT))
-    from puppet.cli import main as puppet
+    from puppet.commands import main as puppet
     from tools import tune_walk
 
     script, log = tmp_path / "two-strides.yaml", tmp_path / "two-strides.jsonl"

@@ -3,12 +3,13 @@ control characters, odd tags) with one line naming file:line:col, and the C pars
 (libyaml) and the pure-Python one give the same data, positions and errors."""
 
 import glob
+import textwrap
 from pathlib import Path
 
 import pytest
 import yaml
 
-from puppet.checker import check_file
+from puppet.commands.check import check_file
 from puppet.data import yamlfile
 from puppet.data.errors import DataError
 
@@ -243,7 +244,7 @@ links:
 joints:
   - {{name: j, parent: base, child: arm, anchor: [0, 0], pd: {{stiffness: {k}, damping: 1, max_torque: 5}}}}
 start: {{angle: {angle}, joints: {{j: 0}}}}
-"""
+"""  # noqa: E501 - one joint a line: the cases name their line numbers
 GOOD = dict(mass=1, radius=0.1, cx=0.1, k=10, angle=0)
 
 
@@ -300,3 +301,29 @@ def test_scene_script_interface_numbers_are_finite_and_in_range(tmp_path, text, 
     with pytest.raises(DataError) as info:
         check_file(path)  # the folder tells the kind
     assert fragment in str(info.value) and "\n" not in str(info.value), str(info.value)
+
+
+@pytest.mark.parametrize("mass", ["-0.5", "0"])
+def test_puppet_check_refuses_a_character_with_a_mass_not_above_zero(tmp_path, capsys, mass):
+    from puppet.commands import main
+
+    path = tmp_path / "c.yaml"
+    path.write_text(textwrap.dedent(f"""\
+        name: x
+        description: y
+        links:
+          - name: base
+            mass: 1
+            shapes: [{{type: circle, radius: 0.1}}]
+          - name: arm
+            mass: {mass}
+            shapes: [{{type: box, size: [0.1, 0.02], center: [0.1, 0]}}]
+        joints:
+          - {{name: j, parent: base, child: arm, anchor: [0, 0],
+              pd: {{stiffness: 10, damping: 1, max_torque: 5}}}}
+        start: {{angle: 0, joints: {{j: 0}}}}
+        """))
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f" {path}:8:11: bad value" in err[0], err
+    assert "links.1.mass" in err[0] and "kg" in err[0]

@@ -19,7 +19,7 @@ import numpy as np
 from puppet.data.catalog import load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.script import ScriptSpec, compile_script
 
 SAMPLE = 8  # steps between samples in searches (60 Hz)

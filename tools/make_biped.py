@@ -108,7 +108,7 @@ def character_text(name: str, h: float, m: float, description: str, extra_notes:
     table = body_table(h, m)
     k_scale = (m / M) * s          # stiffness and torque ~ m g L
     c_scale = (m / M) * s ** 1.5   # damping ~ sqrt(k * I): same damping ratio
-    out = [f"# Written by tools/make_biped.py: edit the numbers there and run it.",
+    out = ["# Written by tools/make_biped.py: edit the numbers there and run it.",
            f"name: {name}", f"description: {description}", "notes: >"]
     notes = (
         f"A planar human, {h:g} m and {m:g} kg, thirteen links: pelvis (the root) and "

@@ -23,6 +23,9 @@ NO_TESTS = {5, 33}
 TIMEOUT = {36, 24, -24, 152, 255}
 
 
+BATCH = 10  # mutants per mutmut call: the budget is checked between calls
+
+
 def mutant_codes() -> dict[str, int | None]:
     codes: dict[str, int | None] = {}
     for meta in sorted(Path("mutants").rglob("*.py.meta")):
@@ -51,8 +54,11 @@ def main() -> int:
     ap.add_argument("--mutmut", required=True)
     ap.add_argument("--sample", type=int, default=250)
     ap.add_argument("--seed", type=int, default=17)
+    ap.add_argument("--budget", type=float, default=0.0,
+                    help="minutes for running the sample (0: no limit); the mutants are "
+                         "run in batches of BATCH, and none is started once it is spent")
     args = ap.parse_args()
-    log = open("mutmut.log", "w")
+    log = open("mutmut.log", "w")  # noqa: SIM115 - every mutmut run of main() writes here
     t0 = time.monotonic()
     # 1. Generate the mutants and collect which tests reach each function. Given a name
     # that matches no mutant, mutmut does just that and then stops (an assertion).
@@ -70,8 +76,14 @@ def main() -> int:
           f" running a sample of {len(sample)} (seed {args.seed})", flush=True)
     # 2. Run the sample (mutmut reuses the stats; each mutant runs only the tests that
     # reach its function, stopping at the first failure).
-    subprocess.run([args.mutmut, "run", "--max-children", "1", *sample],
-                   stdout=log, stderr=subprocess.STDOUT)
+    started = time.monotonic()
+    for at in range(0, len(sample), BATCH):  # mutmut keeps the stats: each batch reuses them
+        if args.budget and time.monotonic() - started > args.budget * 60:
+            print(f"budget of {args.budget:g} min spent: {at} of {len(sample)} mutants run",
+                  flush=True)
+            break
+        subprocess.run([args.mutmut, "run", "--max-children", "1", *sample[at:at + BATCH]],
+                       stdout=log, stderr=subprocess.STDOUT)
     codes = mutant_codes()
     result = {n: codes.get(n) for n in sample}
     kinds = collections.Counter()
@@ -83,15 +95,16 @@ def main() -> int:
         kinds[kind] += 1
         rows[package_of(n)][kind] += 1
     killed = kinds["killed"] + kinds["timeout"]  # a mutant that hangs the tests is caught
+    ran = len(sample) - kinds["not run"]  # (the budget may stop the run early)
     lines = [f"mutation run: {len(sample)} of {len(names)} mutants (seed {args.seed}), "
              f"{time.monotonic() - t0:.0f} s",
-             f"killed {killed} of {len(sample)} ({100.0 * killed / max(1, len(sample)):.1f} %); "
+             f"killed {killed} of the {ran} run ({100.0 * killed / max(1, ran):.1f} %); "
              + ", ".join(f"{k} {v}" for k, v in sorted(kinds.items()))]
     for package, counter in sorted(rows.items()):
         lines.append(f"  {package}: " + ", ".join(f"{k} {v}" for k, v in sorted(counter.items())))
     lines.append("")
     for n, code in result.items():
-        if code in KILLED or code in TIMEOUT:
+        if code in KILLED or code in TIMEOUT or code is None:
             continue
         shown = subprocess.run([args.mutmut, "show", n], capture_output=True, text=True).stdout
         lines.append(shown.rstrip())
@@ -99,7 +112,8 @@ def main() -> int:
     report = "\n".join(lines) + "\n"
     Path("report.txt").write_text(report)
     print(report)
-    print(f"report: {Path('report.txt').resolve()}; mutmut's output: {Path('mutmut.log').resolve()}")
+    print(f"report: {Path('report.txt').resolve()}; "
+          f"mutmut's output: {Path('mutmut.log').resolve()}")
     return 0
 
 

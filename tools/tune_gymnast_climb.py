@@ -54,8 +54,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, load_setup  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.testing import record_script, replay_log  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.ladder_rungs import rung  # noqa: E402
 

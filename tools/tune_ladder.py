@@ -45,8 +45,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, load_setup  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.testing import record_script, replay_log  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
 from tools.ladder_rungs import rung  # noqa: E402
 
@@ -119,7 +119,7 @@ def ranked(entries: list[dict], t: float, limb: str, end_too: bool) -> list[tupl
         seen = []
         play(s, [e for e in compile_script(script(entries + row, end), dt)
                  if e[0] > round(t / dt)], round(end / dt), every=every,
-             on_tick=lambda s: seen.append(posture(s.character)))
+             on_tick=lambda s, seen=seen: seen.append(posture(s.character)))
         now = {n: rung(s.sim, n) for n in LIMBS}
         if not all(now[n] for n in LIMBS if before[n]) or now[limb] <= before[limb]:
             continue

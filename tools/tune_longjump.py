@@ -25,8 +25,9 @@ the start (the poses are the interface's data: there is no checkpoint to start f
 A try is scored by how far past 1.0 m the first foot lands, how far behind the line
 the last foot leaves (both capped), the jump's length, the flight time, feet first,
 and sitting up at the end (the chest within 40 deg of upright, the head above
-0.35 m), the chest never more than 70 deg from upright (no dive, no roll), at its worst over the press and the press 5 ms
-earlier and later; the best is printed as YAML to paste into the interface. Seeded: the same arguments find the same numbers.
+0.35 m), the chest never more than 70 deg from upright (no dive, no roll), at its worst
+over the press and the press 5 ms earlier and later; the best is printed as YAML to
+paste into the interface. Seeded: the same arguments find the same numbers.
 
 The run-up (the log biped-longjump-run, scene biped-longjump-run, judged by its sidecar
 assets/logs/biped-longjump-run.expect.yaml): the mouse parked at (--mouse-x, 0.9) -
@@ -79,12 +80,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from puppet.data.catalog import ROOT, setup_from_text  # noqa: E402
 from puppet.interface import events as ev  # noqa: E402
 from puppet.session import Session  # noqa: E402
-from puppet.timeline.expectations import (  # noqa: E402
-    evaluate_all, load_expectations)
+from puppet.session.playback import play  # noqa: E402
+from puppet.timeline.expectations import evaluate_all, load_expectations  # noqa: E402
 from puppet.timeline.expectations.measure import runs as _runs  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
-from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
+from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler  # noqa: E402
 from tools.tune_walk import stride_entries  # noqa: E402
 
 INTERFACE = ROOT / "interfaces" / "biped-longjump.yaml"
@@ -310,8 +310,8 @@ def shaped(text: str, press_offset: float) -> tuple[float, str]:
              + min(flight, 0.35) + (0.5 if feet_first else 0.0) - 0.05 * max(0.0, tilt - 40)
              - 5 * max(0.0, 0.35 - head) - 0.05 * max(0.0, most - 70))
     return value, (f"off at x {took:.3f}, down at {landed:.3f} ({', '.join(touching)}), "
-                   f"flight {flight:.2f} s, chest {tilt:.0f} deg (at most {most:.0f}), head {head:.2f} m "
-                   "at the end")
+                   f"flight {flight:.2f} s, chest {tilt:.0f} deg (at most {most:.0f}), "
+                   f"head {head:.2f} m at the end")
 
 
 def worst(base: dict, p: dict) -> tuple[float, str]:

@@ -54,9 +54,9 @@ import yaml
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from puppet.physics.simulation import DEFAULT_DT  # noqa: E402
-from puppet.timeline.playback import play  # noqa: E402
-from tools.gestures import SessionRunner  # noqa: E402
+from puppet.session.playback import play  # noqa: E402
 from puppet.timeline.script import ScriptSpec, compile_script  # noqa: E402
+from tools.gestures import SessionRunner  # noqa: E402
 
 START = 1.0  # s standing before the first press
 FIRST = {"period": 0.5, "lx": 0.65, "ly": 0.65, "lift": 0.12, "reach_at": 0.22,
@@ -222,7 +222,7 @@ def main(argv=None) -> int:
     if a.march:
         entries_of, bounds, first = march_entries, MARCH_BOUNDS, {"period": 0.55}
         best_park = None
-        for i in range(a.parks):  # where to park the mouse: 6 even strides from standing
+        for _ in range(a.parks):  # where to park the mouse: 6 even strides from standing
             q = [round(rng.uniform(*PARK_BOUNDS["mx"]), 3),
                  round(rng.uniform(*PARK_BOUNDS["my"]), 3)]
             per = round(rng.uniform(*MARCH_BOUNDS["period"]), 3)

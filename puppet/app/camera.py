@@ -61,7 +61,7 @@ def subject_of(session) -> Subject:
     return Subject(character.com(), box, ground)
 
 
-def camera_for(setup) -> "Camera":
+def camera_for(setup) -> Camera:
     """The camera the window and the video export frame a setup with: the character's
     view height, or what the scene's ``view`` asks for (an apparatus in the frame)."""
     view = setup.scene.view
@@ -81,14 +81,32 @@ class Camera:
         self.width = self.height = 1
         self.scale = 1.0
         self.ground: float | None = None  # the last ground seen under the character
+        self.top_px = 0  # a scene's fixed view: the band the HUD's top panels take
 
     def resize(self, width: int, height: int) -> None:
         self.width, self.height = width, height
-        self.scale = height / self.view_height
+        self.scale = self._band() / self.view_height
+
+    def reserve_top(self, px: int | None) -> None:
+        """The HUD's top panels reach ``px`` pixels down: a scene's fixed view (an
+        apparatus) is framed in the band below them, so that no bar or rung is under a
+        panel; a view that follows the character keeps the whole window."""
+        px = max(0, min(int(px or 0), self.height // 2)) if self.fixed_y is not None else 0
+        if px != self.top_px:
+            self.top_px = px
+            self.scale = self._band() / self.view_height
+
+    def _band(self) -> int:
+        """Pixels of height the view maps its view_height onto."""
+        return max(1, self.height - self.top_px)
+
+    def _middle(self) -> float:
+        """The screen row of the view's middle."""
+        return self.top_px + self._band() / 2
 
     def _bottom_reserved(self, view_height: float) -> float:
         """Metres of the view's bottom hidden by the timeline bar, plus the margin."""
-        px = BOTTOM_RESERVED_PX / max(1, self.height)
+        px = BOTTOM_RESERVED_PX / self._band()
         return (px + BOTTOM_MARGIN) * view_height
 
     def target_for(self, subject: Subject) -> tuple[float, float, float]:
@@ -98,7 +116,7 @@ class Camera:
         if self.fixed_x is not None:
             x = self.fixed_x
         else:
-            x += LEAD_X * self.width / max(self.height, 1) * self.view_height
+            x += LEAD_X * self.width / self._band() * self.view_height
         if subject.ground is not None:
             self.ground = subject.ground
         ground = self.ground
@@ -133,7 +151,7 @@ class Camera:
             self.cx += (tx - self.cx) * (1.0 - math.exp(-EASE_X * wall_dt))
             self.cy += (ty - self.cy) * (1.0 - math.exp(-EASE_Y * wall_dt))
             self.view_height += (tvh - self.view_height) * (1.0 - math.exp(-EASE_ZOOM * wall_dt))
-        self.scale = self.height / self.view_height
+        self.scale = self._band() / self.view_height
         if subject.box is not None and wall_dt is not None:  # the dead zone is hard,
             left, bottom, right, top = subject.box  # whatever the easing
             vh = self.view_height
@@ -147,11 +165,11 @@ class Camera:
 
     def to_screen(self, p) -> tuple[float, float]:
         return (self.width / 2 + (p[0] - self.cx) * self.scale,
-                self.height / 2 - (p[1] - self.cy) * self.scale)
+                self._middle() - (p[1] - self.cy) * self.scale)
 
     def to_world(self, s) -> tuple[float, float]:
         return (self.cx + (s[0] - self.width / 2) / self.scale,
-                self.cy - (s[1] - self.height / 2) / self.scale)
+                self.cy - (s[1] - self._middle()) / self.scale)
 
     def visible_x(self) -> tuple[float, float]:
         half = self.width / 2 / self.scale

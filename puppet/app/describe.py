@@ -25,6 +25,9 @@ def input_words(name: str) -> tuple[str, str, str]:
     """(what the input is, its low end, its high end) in a player's words:
     mouse.x -> ("mouse left-right", "left", "right")."""
     device, _, part = name.partition(".")
+    if device == "pointer" and part in _AXES:
+        what, lo, hi = _AXES[part]
+        return f"mouse or stick {what}", lo, hi
     if device == "mouse" and part in _AXES:
         what, lo, hi = _AXES[part]
         return f"mouse {what}", lo, hi
@@ -91,6 +94,10 @@ def map_line(m) -> tuple[str, str]:
     """(input, what it does) in plain words, e.g. ("mouse", "near hip and knee: blends 6
     poses") or ("mouse left-right", "ankle +80 deg at the left .. -80 at the right").
     A map's own ``description`` is what it does, when the file gives one."""
+    if getattr(m, "add", None) is not None:  # a constant offset while it is active
+        gains = m.gains()
+        who = joint_words(gains) if len(gains) > 1 else next(iter(gains)).replace("_", " ")
+        return "(balance) offset", m.description or f"{who} {m.add:+g} deg while active"
     if getattr(m, "description", ""):
         names = (m.x, m.y) if getattr(m, "grid", None) is not None else (m.input,)
         return input_label(names), _unprefixed(m.description, names)
@@ -178,14 +185,17 @@ def action_text(k) -> str:
     return " ".join(parts)
 
 
-def live_keys(spec: InterfaceSpec, state: str | None = None) -> list[ActionSpec]:
+def live_keys(spec: InterfaceSpec, state: str | None = None,
+              scene: str | None = None) -> list[ActionSpec]:
     """The key actions live in ``state`` (default: the start state): the state's own keys,
     then the top level's it does not rebind. The order ``InterfaceRuntime.binding``
-    looks them up in, so the HUD and the key map show what a key would do."""
-    keys = list(spec.keys)
+    looks them up in, so the HUD and the key map show what a key would do. ``scene``
+    (a scene's name): a key meant for other scenes (``scenes:``) is left out."""
+    keys = [k for k in spec.keys if k.plays_on(scene)]
     if not spec.states:
         return keys
-    own = spec.states[state if state is not None else spec.start_state].keys
+    own = [k for k in spec.states[state if state is not None else spec.start_state].keys
+           if k.plays_on(scene)]
     bound = {normalize_key(k.key) for k in own}
     return list(own) + [k for k in keys if normalize_key(k.key) not in bound]
 
@@ -212,8 +222,9 @@ def app_lines(spec: InterfaceSpec) -> list[tuple[str, str]]:
 
 
 def reads_sensors(m) -> bool:
-    """A map driven by the body's own sensors (balance feedback), not by the player."""
-    return any(n.startswith("sensor.") for n in m.inputs)
+    """A map driven by the body's own sensors (balance feedback), or a constant offset,
+    not by the player: it acts by itself."""
+    return any(n.startswith("sensor.") for n in m.inputs) or getattr(m, "add", None) is not None
 
 
 def _live_maps(spec: InterfaceSpec, state: str | None, mode: str | None) -> list:
@@ -314,16 +325,16 @@ SENSORS = "sensors"  # the key column of the sensor maps' folded row
 
 
 def control_rows(spec: InterfaceSpec, state: str | None = None, mode: str | None = None,
-                 more: str | None = None) -> list[tuple[str, str]]:
+                 more: str | None = None, scene: str | None = None) -> list[tuple[str, str]]:
     """The HUD's controls: the player's maps live now, then the player's maps of the
     other modes and states (with when they apply), the keys and gestures, and last the
     maps on the body's own sensors. ``more`` (e.g. "f1: all"): the compact list (maps
     on one input in one row, the sensor maps in one row); None: all of them, the sensor
-    maps under a heading of their own."""
+    maps under a heading of their own. ``scene``: the scene's name (its keys only)."""
     maps = _live_maps(spec, state, mode)
     user = [map_line(m) for m in maps if not reads_sensors(m)]
     sensed = [map_line(m) for m in maps if reads_sensors(m)]
-    keys = [(k.key, action_text(k)) for k in live_keys(spec, state)]
+    keys = [(k.key, action_text(k)) for k in live_keys(spec, state, scene)]
     keys += [(g.key, g.description or f"gesture {g.duration:.1f} s") for g in spec.gestures]
     if more is not None:
         later = _compact_elsewhere(spec, state, mode, {k for k, _ in user}, more)

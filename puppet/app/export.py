@@ -120,7 +120,8 @@ def export_video(log: Log | str | Path, out: str | Path, fps: float = 30.0,
     in the window; ``size`` is the window size drawn, ``scale`` shrinks the frames
     written (e.g. 0.5 for a small gif); ``hold`` seconds of the last frame are added
     at the end, showing the replay's verdict ("replay finished ... the same as
-    recorded"), so that a player or a looping gif does not cut the last move short. ``progress``: a tqdm bar (None: only when stderr is a terminal).
+    recorded"), so that a player or a looping gif does not cut the last move short.
+    ``progress``: a tqdm bar (None: only when stderr is a terminal).
     ``overlay``: draw the balance overlay (centre of mass, support, xcom) as F4 does.
     """
     from tqdm import tqdm
@@ -199,7 +200,7 @@ def _pixels(pygame, surface):
 # -- ``puppet replay LOG --headless --video OUT --plot PNG`` ---------------------------
 def export_command(args) -> int:
     """The replay command with --video and/or --plot (one log, headless). The options'
-    ranges and the output names are checked by the command line (``puppet.cli``)."""
+    ranges and the output names are checked by the command line (``puppet.commands.replay``)."""
     from puppet.data.errors import UsageError
     from puppet.timeline.replay import find_log, replay
     from puppet.timeline.report import exit_code, print_one, verdict

@@ -12,7 +12,7 @@ from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.physics.upright_watch import UprightWatch
 from puppet.session import Session
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 
 DEFAULT_SIZE = (1280, 720)
 
@@ -47,9 +47,11 @@ class FrameRenderer:
         """``wall_dt``: wall seconds since the last frame, for the camera's easing as in
         the window (None snaps to the character). ``ghost``: a session drawn
         translucently beside the live one (see ``puppet.timeline.ghost``)."""
-        from puppet.app.hud import draw_hud
+        from puppet.app.hud import draw_hud, frame_under_panels
         from puppet.app.render import draw_world
 
+        frame_under_panels(self.surface, self.camera, session, self.info, self.font,
+                           self.small)
         self.camera.follow(subject_of(session), wall_dt)
         draw_world(self.surface, session, self.camera, self.small, ghost=ghost,
                    overlay=self.info.overlay)
@@ -61,6 +63,44 @@ class FrameRenderer:
              ghost: Session | None = None) -> None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         self.pygame.image.save(self.render(session, hud, ghost=ghost), str(path))
+
+
+class Images:
+    """The images of a headless run, drawn as the window draws them: every frame at
+    ``fps`` into ``frames_dir`` (frame_00000.png, ...) and/or the last one into
+    ``screenshot``. One path for ``puppet play --headless`` and ``puppet replay
+    --headless``: ``every(dt)`` and ``frame`` go to ``playback.play`` as its ``every``
+    and ``on_tick``, ``finish`` writes the screenshot. Drawing reads the session only:
+    the run, its log and its state hash are those of a run without images."""
+
+    def __init__(self, screenshot: str | Path | None = None, frames_dir: str | Path | None = None,
+                 fps: float = 30.0, size=DEFAULT_SIZE, slowdown: float = 1.0,
+                 overlay: bool = False, ghost=None):
+        self.screenshot, self.frames_dir, self.fps = screenshot, frames_dir, fps
+        self.size, self.slowdown, self.overlay, self.ghost = size, slowdown, overlay, ghost
+        self.renderer: FrameRenderer | None = None
+        self.written = 0  # frames written to frames_dir
+
+    def every(self, dt: float) -> int:
+        """Steps between two frames (0: no frames asked for)."""
+        return max(1, round(1.0 / (self.fps * dt))) if self.frames_dir else 0
+
+    def _draw(self, session: Session, path: Path | str) -> None:
+        if self.renderer is None:  # made for the first session drawn (its scene's camera)
+            self.renderer = FrameRenderer(session, self.size, self.slowdown,
+                                          overlay=self.overlay)
+        _follow(self.renderer, session)
+        self.renderer.save(session, path, ghost=_synced(self.ghost, session))
+
+    def frame(self, session: Session) -> None:
+        """Write the next frame (``play``'s ``on_tick``)."""
+        self._draw(session, Path(self.frames_dir) / f"frame_{self.written:05d}.png")
+        self.written += 1
+
+    def finish(self, session: Session) -> None:
+        """Write the screenshot: the last frame, where the run ended."""
+        if self.screenshot:
+            self._draw(session, self.screenshot)
 
 
 def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
@@ -81,33 +121,26 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
     last second."""
     session = Session(setup)
     until = round(seconds / session.sim.dt)
-    renderer = None
-    if screenshot or frames_dir:
-        renderer = FrameRenderer(session, size, slowdown or setup.interface.slowdown,
-                                 overlay=overlay)
-    session.frames_written = 0  # how many frames went to frames_dir (the CLI says so)
-    # the end line's upright=: over the last second, not the last step (UprightWatch)
-    watch = session.upright_watch = UprightWatch()
-    watch_every = frame_every = UprightWatch.every(session.sim.dt)
-    if frames_dir:
-        frame_every = max(1, round(1.0 / (fps * session.sim.dt)))
-    every = math.gcd(frame_every, watch_every)  # (the steps do not depend on it)
-
-    def on_tick(s: Session) -> None:
-        if s.steps % watch_every == 0:
-            watch(s)
-        if frames_dir and s.steps % frame_every == 0:
-            _follow(renderer, s)
-            renderer.save(s, Path(frames_dir) / f"frame_{session.frames_written:05d}.png",
-                          ghost=_synced(ghost, s))
-            session.frames_written += 1
-
+    images = Images(screenshot, frames_dir, fps, size, slowdown or setup.interface.slowdown,
+                    overlay, ghost)
     recording = contextlib.nullcontext()
     if record:
         from puppet.timeline.log import Recorder
 
         recording = Recorder(session, record, slowdown=slowdown, description=description,
                              script=script if rules is not None else None)
+    # the end line's upright=: over the last second, not the last step (UprightWatch)
+    watch = session.upright_watch = UprightWatch()
+    watch_every = UprightWatch.every(session.sim.dt)
+    frame_every = images.every(session.sim.dt)
+    every = math.gcd(frame_every, watch_every)  # (the steps do not depend on it)
+
+    def on_tick(s: Session) -> None:
+        if s.steps % watch_every == 0:
+            watch(s)
+        if frame_every and s.steps % frame_every == 0:
+            images.frame(s)
+
     with recording:
         watch(session)
         if rules is not None:
@@ -118,9 +151,8 @@ def run_headless(setup: Setup, events: list[tuple[int, Event]], seconds: float,
             play_script(session, player, every, on_tick)
         else:
             play(session, events, until, every, on_tick)
-    if screenshot:
-        _follow(renderer, session)
-        renderer.save(session, screenshot, ghost=_synced(ghost, session))
+    images.finish(session)
+    session.frames_written = images.written  # how many frames went to frames_dir (the CLI says so)
     return session
 
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import pygame
 
 from puppet.app.describe import app_lines, control_rows, where_line
 from puppet.app.keymap import draw_keymap
+from puppet.app.render import text as text_surface
 from puppet.session import Session
 
 TEXT = (40, 44, 52)
@@ -31,6 +33,9 @@ class HudInfo:
     replaying: str = ""  # the log a window replay plays (its events, not the devices)
     overlay: bool = False  # the centre-of-mass overlay is on (see render.draw_balance)
     branch: int | None = None  # the branch selected (history.branches index), listed
+    # pixels from the window's top to below the compact top panels (the last drawn): a
+    # scene's fixed view is framed under them (camera.reserve_top)
+    top_band: int | None = None
     sources: list = field(default_factory=list)  # status lines of the input sources
     playtest: str = ""  # the last playtest figure of this interface (puppet playtest)
     _seen_serial: int = 0
@@ -39,6 +44,7 @@ class HudInfo:
     # that a frame that changes nothing measures no text again
     _rows: tuple = field(default=(None, None), repr=False, compare=False)
     _laid: dict = field(default_factory=dict, repr=False, compare=False)
+    _keymap: dict = field(default_factory=dict, repr=False, compare=False)  # F1's pictures
 
     def follow_messages(self, session: Session, now: float) -> None:
         """Show the session's newest message (e.g. a recovered blow-up) for
@@ -64,9 +70,20 @@ COMPACT_SHARE = 0.4  # of the window's width: the compact key panel at most (lon
 # camera puts the character (camera.LEAD_X), stays free
 
 
+_PANELS: dict[tuple[int, int], pygame.Surface] = {}  # size -> a filled panel (kept)
+PANELS_KEPT = 32  # sizes kept: the HUD draws a handful a frame, a few sizes each
+
+
 def _panel(surface, rect) -> None:
-    panel = pygame.Surface(rect.size, pygame.SRCALPHA)
-    panel.fill(PANEL)
+    """The translucent panel under a block of text: one surface per size, filled
+    once (making and filling a new one each frame cost more than blitting it)."""
+    size = (rect.width, rect.height)
+    panel = _PANELS.get(size)
+    if panel is None:
+        if len(_PANELS) >= PANELS_KEPT:
+            del _PANELS[next(iter(_PANELS))]  # the oldest
+        panel = _PANELS[size] = pygame.Surface(size, pygame.SRCALPHA)
+        panel.fill(PANEL)
     surface.blit(panel, rect.topleft)
 
 
@@ -115,8 +132,9 @@ def wrap_rows(font: pygame.font.Font, rows: list[tuple[str, str]],
     room = max(60, max_width - 16 - key_w - font.size("  ")[0])
     out: list[tuple[str, str]] = []
     for k, t in rows:
-        if not t:
-            out.append((k, t))
+        if not t:  # a heading: across the panel, wrapped too (a state per machine)
+            out += [(line, "") for line in wrap(font, k, max(60, max_width - 16))] if k \
+                else [(k, t)]
             continue
         first, *rest = wrap(font, t, room)
         out.append((k, first))
@@ -245,32 +263,38 @@ def world_changes(session: Session) -> str:
     return "world: " + ", ".join(parts) if parts else ""
 
 
-def _control_panel(session: Session, info: HudInfo) -> tuple[tuple[str, str], ...]:
+def _control_panel(session: Session, info: HudInfo,
+                   show_help: bool | None = None) -> tuple[tuple[str, str], ...]:
     """The controls panel's rows: a function of the interface (a hot reload brings a
     new one), its live state and mode, each state machine's state and the help key's
-    toggle, kept in ``info`` while those stay the same."""
+    toggle (``show_help``: the rows for that toggle, default the HUD's), kept in
+    ``info`` while those stay the same."""
     spec, runtime = session.setup.interface, session.runtime
     states = runtime.states
+    show_help = info.show_help if show_help is None else show_help
     key = (spec, runtime.state, runtime.mode, tuple(states.items()) if states else (),
-           info.show_help)  # (the state is the first machine's, in states too)
+           show_help)  # (the state is the first machine's, in states too)
     kept_key, kept = info._rows
     if kept_key == key:  # (the interface the same object, or one equal to it)
         return kept
     where = where_line(spec, runtime.state, runtime.mode, states)
     rows = [(f"controls  ({where})" if where else "controls", "")]
     help_key = spec.app_key_table()["help"]
-    if info.show_help:  # the player's controls, the sensors' maps, the app's keys
-        rows += control_rows(spec, runtime.state, runtime.mode)
+    scene = session.setup.scene.name  # (keys meant for other scenes are left out)
+    if show_help:  # the player's controls, the sensors' maps, the app's keys
+        rows += control_rows(spec, runtime.state, runtime.mode, scene=scene)
         rows += [("", ""), ("app keys", "")] + app_lines(spec)
     else:  # compact: the maps on one input in one row, a few keys; the rest on help
-        rows += control_rows(spec, runtime.state, runtime.mode, f"{help_key}: all")
+        rows += control_rows(spec, runtime.state, runtime.mode, f"{help_key}: all", scene)
         rows += [(help_key, "all keys, pose pictures, what the marks mean")]
     info._rows = (key, tuple(rows))  # (not to be changed by the caller)
     return info._rows[1]
 
 
-def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
-             font: pygame.font.Font, small: pygame.font.Font) -> None:
+def _left_panel(width: int, session: Session, info: HudInfo, font: pygame.font.Font,
+                small: pygame.font.Font) -> tuple[list[str], int, list, int]:
+    """The top-left panel laid out for a window ``width`` wide: (its lines, its width,
+    the how-to-play rows rendered, its height)."""
     setup = session.setup
     keys = session.app_keys
     lines = [
@@ -296,13 +320,46 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         lines.append(status)
     if info.playtest:
         lines.append(info.playtest)
-    height = 8 + len(lines) * 22
-    left_w = min(surface.get_width() // 2 - 16,
+    left_w = min(width // 2 - 16,
                  max(300, 16 + max(font.size(text)[0] for text in lines)))  # never clipped
+    how = setup.interface.how_to_play  # a newcomer's one line, wrapped under the title
+    # (in the panel's width: the character stands just right of it)
+    told = _wrapped(small, "how to play: " + how, left_w - 16, info) if how else []
+    height = 8 + len(lines) * 22 + len(told) * ROW + (6 if told else 0)
+    return lines, left_w, told, height
+
+
+def _compact_room(width: int, left_w: int) -> int:
+    """Pixels the compact controls panel may take: beside the top-left panel, and at
+    most COMPACT_SHARE of the window (the character's place stays free)."""
+    return min(width - (left_w + 8) - 24, int(COMPACT_SHARE * width))
+
+
+def top_band(surface: pygame.Surface, session: Session, info: HudInfo,
+             font: pygame.font.Font, small: pygame.font.Font) -> int:
+    """Pixels from the window's top to below the compact top panels, as ``draw_hud``
+    lays them out (without drawing them)."""
+    width = surface.get_width()
+    _, left_w, _, height = _left_panel(width, session, info, font, small)
+    rows = _control_panel(session, info, show_help=False)
+    per = max(1, (surface.get_height() - BAR_HEIGHT - 16 - 8 - 8) // ROW)
+    _, controls, _ = _lay_out(small, tuple(rows), per, _compact_room(width, left_w))
+    return max(8 + height, 8 + controls) + 8
+
+
+def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
+             font: pygame.font.Font, small: pygame.font.Font) -> None:
+    setup = session.setup
+    lines, left_w, told, height = _left_panel(surface.get_width(), session, info, font,
+                                              small)
     _panel(surface, pygame.Rect(8, 8, left_w, height))
-    for i, text in enumerate(lines):
-        surface.blit(font.render(fit(font, text, left_w - 16), True, TEXT if i else TITLE),
-                     (16, 12 + i * 22))
+    surface.blit(text_surface(font, fit(font, lines[0], left_w - 16), TITLE), (16, 12))
+    for i, text in enumerate(told):
+        surface.blit(text, (16, 12 + 22 + i * ROW))
+    below = 12 + len(told) * ROW + (6 if told else 0)
+    for i, text in enumerate(lines[1:], start=1):
+        surface.blit(text_surface(font, fit(font, text, left_w - 16), TEXT),
+                     (16, below + i * 22))
 
     rows = _control_panel(session, info)
     bottom = surface.get_height() - BAR_HEIGHT - 16
@@ -311,26 +368,91 @@ def draw_hud(surface: pygame.Surface, session: Session, info: HudInfo,
         legend = legend_rows(session)  # keys as pictures, laid out like the keyboard
         drawn = draw_rows(surface, small, legend, None, bottom - 8 - len(legend) * ROW,
                           bottom, surface.get_width() // 2, info._laid)
+        space = (surface.get_width() // 2 - 16, drawn.top - 8 - (16 + height))
         keymap = draw_keymap(surface, setup.interface, setup.character, small,
-                             (8, 16 + height), state=session.runtime.state, scene=setup.scene)
+                             (8, 16 + height), state=session.runtime.state, scene=setup.scene,
+                             room=space, cache=info._keymap)  # the pictures as large as fit
         # the controls beside them, not over them (room for two columns at least)
         left = max([left, drawn.right] + ([keymap.right] if keymap is not None else []))
         left = min(left, surface.get_width() // 2)
     room = surface.get_width() - left - 24
     if not info.show_help:  # compact: narrow enough to leave the character's place free
-        room = min(room, int(COMPACT_SHARE * surface.get_width()))
+        room = _compact_room(surface.get_width(), left_w)
     # (room: the window's width less the top-left panel's - its lines, tracking and
     # sources among them - or, on help, the legend's and the key map's; draw_rows keeps
     # a layout by the room it was laid out for)
-    draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room, info._laid)
+    controls = draw_rows(surface, small, rows, surface.get_width() - 8, 8, bottom, room,
+                         info._laid)
+    if not info.show_help:  # (the help's panels are taller, and only for a while)
+        info.top_band = max(8 + height, controls.bottom) + 8
     draw_timeline(surface, session, info, small)
     if info.message:
-        msg = font.render(fit(font, info.message, surface.get_width() - 48), True,
-                          ERROR if info.message_error else NEWS)
-        rect = msg.get_rect(midbottom=(surface.get_width() / 2,
-                                       surface.get_height() - BAR_HEIGHT - 10))
-        _panel(surface, rect.inflate(16, 8))
-        surface.blit(msg, rect)
+        draw_message(surface, font, info.message, info.message_error)
+
+
+MESSAGE_LINES = 8  # a message wraps onto at most this many lines (a long file:line error)
+
+
+@functools.lru_cache(maxsize=16)
+def message_lines(font: pygame.font.Font, text: str, width: int) -> tuple[str, ...]:
+    """A message as the HUD lays it out: broken at spaces into lines of at most ``width``
+    pixels (a word wider than that - a long path - is broken inside), at most
+    MESSAGE_LINES lines. Kept by its arguments: the window draws it every frame."""
+    lines, rest = [], text
+    while rest and len(lines) < MESSAGE_LINES:
+        if font.size(rest)[0] <= width:
+            lines.append(rest)
+            break
+        lo, hi = 1, len(rest)  # the longest prefix that fits
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            lo, hi = (mid, hi) if font.size(rest[:mid])[0] <= width else (lo, mid - 1)
+        cut = rest.rfind(" ", 0, lo + 1)
+        cut = cut if cut > 0 else lo
+        lines.append(rest[:cut].rstrip())
+        rest = rest[cut:].lstrip()
+    return tuple(lines)
+
+
+def draw_message(surface: pygame.Surface, font: pygame.font.Font, text: str,
+                 error: bool) -> pygame.Rect:
+    """The session's message (a blow-up, a reload error) above the timeline bar, in the
+    middle, wrapped so that nothing of it is cut off."""
+    width = surface.get_width() - 48
+    lines = message_lines(font, text, width)
+    rendered = [font.render(line, True, ERROR if error else NEWS) for line in lines]
+    w = max(r.get_width() for r in rendered)
+    h = 22 * len(rendered)
+    rect = pygame.Rect(0, 0, w, h)
+    rect.midbottom = (surface.get_width() // 2, surface.get_height() - BAR_HEIGHT - 10)
+    _panel(surface, rect.inflate(16, 8))
+    for i, r in enumerate(rendered):
+        surface.blit(r, (rect.x, rect.y + i * 22))
+    return rect
+
+
+def _wrapped(small, text: str, width: int, info: HudInfo) -> list:
+    """``text`` wrapped to ``width`` and rendered in the news colour, kept in ``info``
+    by the text and width (the how-to-play line is drawn every frame)."""
+    key = ("how", text, width, small)
+    got = info._laid.get(key)
+    if got is None:
+        got = [small.render(line, True, NEWS) for line in wrap(small, text, width)]
+        if len(info._laid) >= LAID_KEPT:
+            del info._laid[next(iter(info._laid))]
+        info._laid[key] = got
+    return got
+
+
+def frame_under_panels(surface, camera, session: Session, info: HudInfo, font,
+                       small) -> None:
+    """Give ``camera`` the band the top panels take (a scene's fixed view is framed
+    below them); before the first frame, the HUD's panels are laid out to know it."""
+    if camera.fixed_y is None:
+        return
+    if info.top_band is None:  # (then draw_hud keeps it, from what it draws)
+        info.top_band = top_band(surface, session, info, font, small)
+    camera.reserve_top(info.top_band)
 
 
 def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
@@ -349,11 +471,11 @@ def draw_timeline(surface: pygame.Surface, session: Session, info: HudInfo,
                + [b.head for b in branches])
     end = max(last * dt, 1.0)
     w, h = surface.get_size()
-    end_label = small.render(f"{end:.1f} s", True, DIM)
+    end_label = text_surface(small, f"{end:.1f} s", DIM)
     x0, x1, y = 90, w - 24 - end_label.get_width(), h - 18
     _panel(surface, pygame.Rect(8, y - 12, w - 16, 24))
     label = "REWIND" if info.scrubbing else f"{session.time:6.1f} s"
-    surface.blit(small.render(label, True, TITLE if info.scrubbing else TEXT), (16, y - 7))
+    surface.blit(text_surface(small, label, TITLE if info.scrubbing else TEXT), (16, y - 7))
     surface.blit(end_label, (x1 + 8, y - 7))
 
     def px(step: int) -> int:

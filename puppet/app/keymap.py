@@ -73,16 +73,24 @@ def _shape_points(shape) -> list[tuple[float, float]]:
 
 def pose_extent(spec: CharacterSpec, pose_joints_deg: dict[str, float]) -> float:
     """Largest distance (m) from the pivot to any point of the moved links."""
-    moved, _, pivot = pose_links(spec, pose_joints_deg)
+    left, bottom, right, top = pose_box(spec, pose_joints_deg)
+    return max(math.hypot(x, y) for x in (left, right) for y in (bottom, top))
+
+
+def pose_box(spec: CharacterSpec, pose_joints_deg: dict[str, float]) -> tuple:
+    """(left, bottom, right, top) m of what a pose's picture draws (the moved links and
+    their context), relative to its pivot: what must fit in the keycap."""
+    moved, context, pivot = pose_links(spec, pose_joints_deg)
     frames = _frames_for(spec, pose_joints_deg)
-    best = 0.0
-    for name in moved:
+    xs, ys = [0.0], [0.0]
+    for name in moved + context:
         for shape in spec.link(name).shapes:
             r = getattr(shape, "radius", 0.0) or 0.0
             for p in _shape_points(shape):
                 x, y = _apply(frames[name], p)
-                best = max(best, math.hypot(x - pivot[0], y - pivot[1]) + r)
-    return best
+                xs += [x - pivot[0] - r, x - pivot[0] + r]
+                ys += [y - pivot[1] - r, y - pivot[1] + r]
+    return min(xs), min(ys), max(xs), max(ys)
 
 
 def _frames_for(spec: CharacterSpec, pose_joints_deg: dict[str, float]):
@@ -92,17 +100,23 @@ def _frames_for(spec: CharacterSpec, pose_joints_deg: dict[str, float]):
 
 
 def draw_pose_icon(surface: pygame.Surface, rect: pygame.Rect, spec: CharacterSpec,
-                   pose_joints_deg: dict[str, float], extent: float | None = None) -> None:
-    """Draw the links a pose moves, the pivot centred a third down the rect, scaled
-    so ``extent`` metres (default: this pose's) fit."""
+                   pose_joints_deg: dict[str, float], extent: float | None = None,
+                   box: tuple | None = None) -> None:
+    """Draw the links a pose moves, filled as the window draws them (far links darker,
+    behind), with the link they hang from in grey for orientation and their hinges as
+    dots. ``box``: the (left, bottom, right, top) around the pivot that all the key
+    map's pictures fit (one scale, so they compare; default: this pose's own box);
+    ``extent``: instead, metres from the pivot that fit (the pivot a third down)."""
     moved, context, pivot = pose_links(spec, pose_joints_deg)
     if not moved:
         return
     frames = _frames_for(spec, pose_joints_deg)
-    extent = extent or pose_extent(spec, pose_joints_deg) or 1.0
-    # the pivot a third down from the top: limbs mostly hang below their joint
-    scale = min(0.5 * rect.width, 0.68 * rect.height) / extent * 0.95
-    cx, cy = rect.centerx, rect.top + round(0.3 * rect.height)
+    if extent is not None and box is None:
+        box = (-extent, -1.4 * extent, extent, 0.6 * extent)
+    left, bottom, right, top = box or pose_box(spec, pose_joints_deg)
+    scale = min(rect.width / max(1e-6, right - left), rect.height / max(1e-6, top - bottom))
+    cx = rect.centerx - (left + right) / 2 * scale  # the pivot's place: the box centred
+    cy = rect.centery + (bottom + top) / 2 * scale
 
     def to_px(p):
         return (round(cx + (p[0] - pivot[0]) * scale), round(cy - (p[1] - pivot[1]) * scale))
@@ -111,30 +125,50 @@ def draw_pose_icon(surface: pygame.Surface, rect: pygame.Rect, spec: CharacterSp
     surface.set_clip(rect)
     for name in context:
         for shape in spec.link(name).shapes:
-            pts = [to_px(_apply(frames[name], p)) for p in _shape_points(shape)]
-            _draw_stick(surface, shape, pts, CONTEXT, 1, scale)
+            _fill(surface, shape, [to_px(_apply(frames[name], p)) for p in _shape_points(shape)],
+                  CONTEXT, scale)
     for name in sorted(moved, key=lambda n: LAYER_ORDER[spec.link(n).layer]):
         link = spec.link(name)
-        far = link.layer == "far"
-        color = tuple(int(c * FAR_SHADE) for c in link.color) if far else link.color
-        width = 2 if far else 3
+        color = tuple(int(c * FAR_SHADE) for c in link.color) if link.layer == "far" \
+            else tuple(link.color)
         for shape in link.shapes:
-            pts = [to_px(_apply(frames[name], p)) for p in _shape_points(shape)]
-            _draw_stick(surface, shape, pts, color, width, scale)
+            _fill(surface, shape, [to_px(_apply(frames[name], p)) for p in _shape_points(shape)],
+                  color, scale)
+    dot = max(2, round(0.012 * scale))
     for joint in spec.joints:
         if joint.child in moved:
-            p = to_px(_apply(frames[joint.parent], joint.anchor))
-            pygame.draw.circle(surface, (60, 64, 72), p, 2)
+            pygame.draw.circle(surface, (60, 64, 72), to_px(_apply(frames[joint.parent],
+                                                                    joint.anchor)), dot)
     surface.set_clip(clip)
 
 
-def _draw_stick(surface, shape, pts, color, width, scale) -> None:
+MIN_STROKE = 3  # pixels: the thinnest limb a picture draws (a thin limb stays visible)
+
+
+def _fill(surface, shape, pts, color, scale) -> None:
+    """A shape filled as the world view draws it: a segment as a capsule of its radius
+    (at least MIN_STROKE wide), a circle a disc, a box or polygon a filled outline."""
+    edge = tuple(max(0, int(c * 0.55)) for c in color)
     if shape.type == "segment":
-        pygame.draw.line(surface, color, pts[0], pts[1], width)
+        r = max(MIN_STROKE / 2, shape.radius * scale)
+        a, b = pts
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        n = math.hypot(dx, dy) or 1.0
+        ox, oy = -dy / n * r, dx / n * r
+        quad = [(a[0] + ox, a[1] + oy), (b[0] + ox, b[1] + oy),
+                (b[0] - ox, b[1] - oy), (a[0] - ox, a[1] - oy)]
+        pygame.draw.polygon(surface, color, quad)
+        for p in (a, b):
+            pygame.draw.circle(surface, color, p, r)
+        pygame.draw.line(surface, edge, quad[0], quad[1], 1)
+        pygame.draw.line(surface, edge, quad[2], quad[3], 1)
     elif shape.type == "circle":
-        pygame.draw.circle(surface, color, pts[0], max(2, round(shape.radius * scale)))
+        r = max(2, round(shape.radius * scale))
+        pygame.draw.circle(surface, color, pts[0], r)
+        pygame.draw.circle(surface, edge, pts[0], r, 1)
     else:
-        pygame.draw.polygon(surface, color, pts, width)
+        pygame.draw.polygon(surface, color, pts)
+        pygame.draw.polygon(surface, edge, pts, 1)
 
 
 def _split_chord(chord: str) -> tuple[str, str]:
@@ -151,16 +185,19 @@ def _key_place(key: str) -> tuple[int, float] | None:
     return None
 
 
-def pose_key_bindings(interface, state: str | None = None) -> list[tuple[str, str]]:
-    """(key chord, pose name) for the keys live in ``state`` that set a pose."""
-    return [(normalize_key(k.key), k.pose) for k in live_keys(interface, state)
+def pose_key_bindings(interface, state: str | None = None,
+                      scene: str | None = None) -> list[tuple[str, str]]:
+    """(key chord, pose name) for the keys live in ``state`` that set a pose (on the
+    scene named ``scene``: see ``live_keys``)."""
+    return [(normalize_key(k.key), k.pose) for k in live_keys(interface, state, scene)
             if k.pose is not None]
 
 
-def reach_key_bindings(interface, state: str | None = None) -> list[tuple[str, object]]:
+def reach_key_bindings(interface, state: str | None = None,
+                       scene: str | None = None) -> list[tuple[str, object]]:
     """(key chord, reach) for the keys live in ``state`` that reach for a prop's grasp
     point (``point: {prop, offset}``) and set no pose: the key map draws their target."""
-    return [(normalize_key(k.key), k.reach) for k in live_keys(interface, state)
+    return [(normalize_key(k.key), k.reach) for k in live_keys(interface, state, scene)
             if k.pose is None and k.reach is not None and k.reach.point is not None]
 
 
@@ -213,20 +250,20 @@ def draw_reach_icon(surface: pygame.Surface, rect: pygame.Rect, points, offset: 
         pygame.draw.lines(surface, TARGET, False, [start, bend, target], 1)
 
 
-def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
-                font: pygame.font.Font, topleft: tuple[int, int], cap: int = 58,
-                state: str | None = None, scene=None) -> pygame.Rect | None:
-    """Draw the pose keys as keycaps in their keyboard places, each with its pose's
-    picture; one strip per modifier (none, ctrl, ...). With the ``scene``, keys that
-    reach for a prop's grasp point are drawn too, as the bar or rung they go for.
-    Returns the rect drawn (None if no key sets a pose)."""
-    bindings = pose_key_bindings(interface, state)
-    reaches = dict(reach_key_bindings(interface, state)) if scene is not None else {}
+CAPS = (120, 108, 96, 84, 72, 64, 58)  # keycap sizes tried, largest first, to fit the room
+GAP, LABEL_H = 4, 16  # pixels between caps; a strip's heading
+
+
+def _blocks(interface, state: str | None, scene):
+    """(strips, reaches, poses): the pose keys (and reach keys, with the ``scene``) in
+    strips - one per modifier, then gamepad buttons, then other keys - each a
+    (label, [(chord, pose, (column, row))], rows) with places counted in keys."""
+    named = scene.name if scene is not None else None
+    bindings = pose_key_bindings(interface, state, named)
+    reaches = dict(reach_key_bindings(interface, state, named)) if scene is not None else {}
     reaches = {k: r for k, r in reaches.items() if r.point.prop in scene.props} \
         if reaches else {}
     bindings += [(chord, "") for chord in reaches]
-    if not bindings:
-        return None
     strips: dict[str, list] = {}
     loose: list = []
     for chord, pose in bindings:
@@ -236,57 +273,142 @@ def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
             loose.append((chord, pose))
         else:
             strips.setdefault(mods, []).append((chord, pose, place))
-    # one scale for every picture, so the poses compare
-    by_pose = {p: _pose_joints(interface, p, state) for _, p in bindings if p}
-    extent = max((pose_extent(character, j) for j in by_pose.values()), default=0) or 1.0
-    gap, label_h = 4, 16
-    x0, y = topleft
-    blocks = []  # (label, [(chord, pose, (px, py))]) laid out relative to the block
+    blocks = []
     for mods in sorted(strips, key=lambda m: (m != "", m)):
         items = strips[mods]
-        cols = [c for _, _, (r, c) in items]
+        cmin = min(c for _, _, (r, c) in items)
         rows = sorted({r for _, _, (r, c) in items})
-        cmin = min(cols)
-        placed = [(chord, pose, ((c - cmin) * (cap + gap), rows.index(r) * (cap + gap)))
-                  for chord, pose, (r, c) in items]
-        blocks.append((mods + "+" if mods else "", placed, len(rows)))
+        blocks.append((mods + "+" if mods else "",
+                       [(chord, pose, (c - cmin, rows.index(r)))
+                        for chord, pose, (r, c) in items], len(rows)))
     pads = [(ch, p) for ch, p in loose if ch.startswith("gamepad.")]
     loose = [(ch, p) for ch, p in loose if not ch.startswith("gamepad.")]
     if pads:  # gamepad buttons, labelled by their own name (a, b, start ...)
-        blocks.append(("gamepad", [(ch, p, (i * (cap + gap), 0)) for i, (ch, p) in
-                                   enumerate(pads)], 1))
+        blocks.append(("gamepad", [(ch, p, (i, 0)) for i, (ch, p) in enumerate(pads)], 1))
     if loose:
-        blocks.append(("other", [(ch, p, (i * (cap + gap), 0)) for i, (ch, p) in
-                                 enumerate(loose)], 1))
-    width = max(max(px for _, _, (px, _) in placed) + cap for _, placed, _ in blocks) + 16
-    height = sum(label_h + n * (cap + gap) for _, _, n in blocks) + 12
-    rect = pygame.Rect(x0, y, max(width, 120), height)
-    panel = pygame.Surface(rect.size, pygame.SRCALPHA)
+        blocks.append(("other", [(ch, p, (i, 0)) for i, (ch, p) in enumerate(loose)], 1))
+    poses = {p: _pose_joints(interface, p, state) for _, p in bindings if p}
+    return blocks, reaches, poses
+
+
+def _size(blocks, cap: int) -> tuple[int, int]:
+    """The panel's (width, height) with keycaps ``cap`` pixels wide."""
+    width = max(max(c for _, _, (c, _) in placed) * (cap + GAP) + cap
+                for _, placed, _ in blocks) + 16
+    height = sum(LABEL_H + n * (cap + GAP) for _, _, n in blocks) + 12
+    return max(width, 120), height
+
+
+KEYBOARD_ENOUGH = 84  # pixels: keycaps this large on the keyboard's layout are legible;
+# smaller, the keys go in rows (keyboard order) with larger pictures if that fits
+
+
+def _as_rows(blocks, cap: int, width: int):
+    """``blocks`` with each strip's keys in keyboard order (its rows top to bottom, each
+    left to right), as many to a row as fit ``width`` pixels."""
+    per = max(1, (width - 16 + GAP) // (cap + GAP))
+    out = []
+    for label, placed, _ in blocks:
+        ordered = sorted(placed, key=lambda item: (item[2][1], item[2][0]))
+        out.append((label, [(chord, pose, (i % per, i // per))
+                            for i, (chord, pose, _) in enumerate(ordered)],
+                    (len(ordered) + per - 1) // per))
+    return out
+
+
+def keymap_layout(blocks, room: tuple[int, int] | None) -> tuple[int, list]:
+    """(keycap size, blocks placed): the largest of CAPS whose panel fits ``room``
+    (width, height) on the keyboard's layout; if that is under KEYBOARD_ENOUGH, the
+    keys in rows instead when that fits larger pictures. None: the smallest caps."""
+    if room is None:
+        return CAPS[-1], blocks
+    keyboard = next((cap for cap in CAPS if _fits(blocks, cap, room)), CAPS[-1])
+    if keyboard >= KEYBOARD_ENOUGH:
+        return keyboard, blocks
+    for cap in CAPS:
+        if cap <= keyboard:
+            break
+        rows = _as_rows(blocks, cap, room[0])
+        if _fits(rows, cap, room):
+            return cap, rows
+    return keyboard, blocks
+
+
+def _fits(blocks, cap: int, room: tuple[int, int]) -> bool:
+    w, h = _size(blocks, cap)
+    return w <= room[0] and h <= room[1]
+
+
+KEYMAPS_KEPT = 8  # key map panels kept (draw_keymap's cache): one per state of a gait
+
+
+def draw_keymap(surface: pygame.Surface, interface, character: CharacterSpec,
+                font: pygame.font.Font, topleft: tuple[int, int], cap: int | None = None,
+                state: str | None = None, scene=None, room: tuple[int, int] | None = None,
+                cache: dict | None = None) -> pygame.Rect | None:
+    """Draw the pose keys as keycaps in their keyboard places, each with its pose's
+    picture; one strip per modifier (none, ctrl, ...). With the ``scene``, keys that
+    reach for a prop's grasp point are drawn too, as the bar or rung they go for.
+    ``cap``: the keycaps' size in pixels; default the largest that fits ``room`` (the
+    pixels the panel may take). ``cache``: a dict that keeps the panel drawn, by all it
+    depends on, so that a frame with the key map shown costs one blit.
+    Returns the rect drawn (None if no key sets a pose)."""
+    # (the specs by identity, checked on a hit: they are not hashable)
+    key = (id(interface), state, scene.name if scene is not None else None, cap, room,
+           font, id(character))
+    got = cache.get(key) if cache is not None else None
+    if got is not None and got[0] is interface and got[1] is character:
+        panel = got[2]
+    else:
+        panel = _render_keymap(interface, character, font, cap, state, scene, room)
+        if cache is not None:  # one panel per state: a gait goes round its states
+            if len(cache) >= KEYMAPS_KEPT:
+                del cache[next(iter(cache))]  # the oldest
+            cache[key] = (interface, character, panel)
+    if panel is None:
+        return None
+    surface.blit(panel, topleft)
+    return panel.get_rect(topleft=topleft)
+
+
+def _render_keymap(interface, character, font, cap, state, scene, room):
+    """The key map's panel, drawn on a surface of its own (None: no pose keys)."""
+    blocks, reaches, by_pose = _blocks(interface, state, scene)
+    if not blocks:
+        return None
+    if cap is None:
+        cap, blocks = keymap_layout(blocks, room)
+    width, height = _size(blocks, cap)
+    panel = pygame.Surface((width, height), pygame.SRCALPHA)
     panel.fill((255, 255, 255, 215))
-    surface.blit(panel, rect.topleft)
-    y += 6
+    # one box for every picture, so the poses compare
+    boxes = [pose_box(character, j) for j in by_pose.values()]
+    box = (min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes),
+           max(b[3] for b in boxes)) if boxes else None
+    y = 6
     for label, placed, nrows in blocks:
         heading = {"": "pose keys" + (" and reach targets" if reaches else ""),
                    "gamepad": "gamepad buttons"}.get(label, label)
-        surface.blit(font.render(heading, True, (20, 60, 120)), (x0 + 8, y))
-        y += label_h
-        for chord, pose, (px, py) in placed:
-            cap_rect = pygame.Rect(x0 + 8 + px, y + py, cap, cap)
-            pygame.draw.rect(surface, CAP, cap_rect, border_radius=5)
-            pygame.draw.rect(surface, CAP_EDGE, cap_rect, 1, border_radius=5)
-            if pose:
-                draw_pose_icon(surface, cap_rect.inflate(-6, -6).move(3, 4), character,
-                               by_pose[pose], extent)
+        panel.blit(font.render(heading, True, (20, 60, 120)), (8, y))
+        y += LABEL_H
+        for chord, pose, (col, row) in placed:
+            cap_rect = pygame.Rect(8 + col * (cap + GAP), y + row * (cap + GAP), cap, cap)
+            pygame.draw.rect(panel, CAP, cap_rect, border_radius=5)
+            pygame.draw.rect(panel, CAP_EDGE, cap_rect, 1, border_radius=5)
+            if pose:  # the picture below the key's name
+                draw_pose_icon(panel, pygame.Rect(cap_rect.x + 4, cap_rect.y + 16,
+                                                  cap - 8, cap - 20), character,
+                               by_pose[pose], box=box)
             else:
                 point = reaches[chord].point
                 spots = list(scene.props[point.prop].grasp_points.values())
-                draw_reach_icon(surface, cap_rect.inflate(-8, -14).move(0, 6), spots,
+                draw_reach_icon(panel, cap_rect.inflate(-8, -14).move(0, 6), spots,
                                 point.offset)
-            key = chord.removeprefix("gamepad.") if label == "gamepad" else \
+            name = chord.removeprefix("gamepad.") if label == "gamepad" else \
                 _split_chord(chord)[1] if label != "other" else chord
-            text = font.render(key, True, LABEL)
+            text = font.render(name, True, LABEL)
             if text.get_width() > cap - 6:  # a long name: as much as fits the cap
                 text = text.subsurface((0, 0, cap - 6, text.get_height()))
-            surface.blit(text, (cap_rect.x + 4, cap_rect.y + 2))
-        y += nrows * (cap + gap)
-    return rect
+            panel.blit(text, (cap_rect.x + 4, cap_rect.y + 2))
+        y += nrows * (cap + GAP)
+    return panel

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import pygame
@@ -9,6 +10,13 @@ import pymunk
 
 from puppet.app.camera import BOTTOM_RESERVED_PX, Camera
 from puppet.session import Session
+
+
+@functools.lru_cache(maxsize=512)
+def text(font: pygame.font.Font, words: str, color: tuple) -> pygame.Surface:
+    """``font.render(words, True, color)``, kept: most of what a frame writes (a
+    ruler's labels, the HUD's lines) is what the frame before wrote. Blitted only."""
+    return font.render(words, True, color)
 
 LAYER_ORDER = {"far": 0, "mid": 1, "near": 2}
 
@@ -36,6 +44,7 @@ def draw_world(surface: pygame.Surface, session: Session, camera: Camera,
     _draw_grid(surface, camera, font, labels_only=True, scene=scene, taken=taken)
     for marker in scene.markers:
         _draw_marker(surface, camera, marker, scene.ground_height(marker.x) or 0.0, font)
+    draw_stands(surface, session, camera)
     _draw_props(surface, session, camera)
     if ghost is not None and not ghost.sim.blown_up():
         draw_character(surface, ghost, camera, GHOST_ALPHA)
@@ -104,7 +113,7 @@ def _draw_grid(surface, camera: Camera, font, labels_only: bool = False,
             pygame.draw.line(surface, (205, 212, 222) if whole else (215, 221, 230),
                              (sx, 0), (sx, surface.get_height()), 1)
         if labels_only and whole and font is not None:  # on the ground, on a light
-            label = font.render(f"{x:.0f} m", True, (40, 44, 52))  # tag: legible on any
+            label = text(font, f"{x:.0f} m", (40, 44, 52))  # tag: legible on any
             ground = scene.ground_height(x) if scene is not None else None  # ground
             top = camera.to_screen((x, ground))[1] + 6 if ground is not None else 0
             top = min(top, surface.get_height() - BOTTOM_RESERVED_PX - 22)  # above the bar
@@ -148,12 +157,71 @@ def _draw_ruler(surface, camera: Camera, scene, ruler, font,
         pygame.draw.line(surface, _shade(ruler.color, 0.55), (a[0] + 1, a[1]), (b[0] + 1, b[1]), 1)
         pygame.draw.line(surface, ruler.color, a, b, 2 if labelled else 1)
         if labelled and font is not None:
-            text = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
-                    else f"{distance * 100:.0f} cm")
-            label = font.render(text, True, ruler.color)
+            words = (f"{distance:g} m" if abs(distance) >= 1 or distance == 0
+                     else f"{distance * 100:.0f} cm")
+            label = text(font, words, tuple(ruler.color))
             rect = label.get_rect(midtop=(a[0], a[1] + 4))
             if _free(rect, taken):
                 surface.blit(label, rect)
+
+
+STAND_CLEAR = 1.0  # m: a static prop this far above the ground (out of reach, an
+# apparatus) is drawn on a stand; a handhold lower down reads as it is
+STAND_NARROW = 0.3  # m: a prop narrower than this stands on one post and two stays
+STAY_SPREAD = 0.45  # of the post's height: how far out the stays reach the ground
+
+
+def prop_stands(session: Session) -> list[tuple[tuple, tuple, int]]:
+    """The stands the window draws under floating static props, as (world point,
+    world point, width in mm) lines: a post under each end of a wide prop (the monkey
+    bars), one post and two stays under a narrow one (a high bar seen end-on). For the
+    eye only: nothing of them collides or is held."""
+    scene = session.setup.scene
+    out = []
+    for name, prop in session.sim.props.items():
+        spec = scene.props[name]
+        if spec.body != "static" or not prop.shapes:
+            continue
+        points = []
+        for shape in prop.shapes:
+            if isinstance(shape, pymunk.Circle):
+                c = prop.body.local_to_world(shape.offset)
+                points += [(c.x - shape.radius, c.y - shape.radius),
+                           (c.x + shape.radius, c.y - shape.radius)]
+            else:
+                a, b = (prop.body.local_to_world(p) for p in (shape.a, shape.b))
+                points += [(a.x, a.y - shape.radius), (b.x, b.y - shape.radius)]
+        post = round(2000 * max(shape.radius for shape in prop.shapes))  # mm: as thick
+        # as the bar it holds
+        left, right = min(p[0] for p in points), max(p[0] for p in points)
+        bottom = min(p[1] for p in points)
+        middle = (left + right) / 2
+        ground = scene.ground_height(middle)
+        if ground is None or bottom - ground < STAND_CLEAR:
+            continue
+        if right - left < STAND_NARROW:
+            top = (middle, bottom)
+            out.append((top, (middle, ground), post))
+            spread = STAY_SPREAD * (bottom - ground)
+            for side in (-1, 1):
+                foot = middle + side * spread
+                if scene.ground_height(foot) is not None:
+                    out.append((top, (foot, scene.ground_height(foot)), max(1, post // 4)))
+        else:
+            for x in (left, right):
+                under = [p[1] for p in points if abs(p[0] - x) < 1e-9]
+                floor = scene.ground_height(x)
+                if floor is not None:
+                    out.append(((x, min(under)), (x, floor), post))
+    return out
+
+
+def draw_stands(surface, session: Session, camera: Camera) -> None:
+    """``prop_stands`` drawn pale, behind the props and the character."""
+    pale = _shade(session.setup.scene.sky, 0.82)
+    for a, b, mm in prop_stands(session):
+        width = max(1, round(mm / 1000 * camera.scale))
+        pygame.draw.line(surface, pale, camera.to_screen(a), camera.to_screen(b), width)
 
 
 def _draw_props(surface, session: Session, camera: Camera) -> None:

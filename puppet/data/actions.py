@@ -9,12 +9,24 @@ seconds, lengths metres.
 from __future__ import annotations
 
 import re
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from puppet.data.ranges import (Angle, AngleChange, Damping, Duration, Friction, Gravity,
-                                ModelXY, Num, PositiveDuration, Seed, Stiffness, Torque,
-                                WorldXY)
 from puppet.data.keys import APP_KEYS, GAMEPAD_BUTTONS
+from puppet.data.ranges import (
+    Angle,
+    AngleChange,
+    Damping,
+    Duration,
+    Friction,
+    Gravity,
+    ModelXY,
+    Num,
+    PositiveDuration,
+    Seed,
+    Stiffness,
+    Torque,
+    WorldXY,
+)
 from puppet.data.validate import Meta, Spec, at, field
 
 InputXY = tuple[Num("input"), Num("input")]
@@ -26,6 +38,8 @@ INPUT_PATTERNS = (
     ("mouse.x", r"mouse\.x"),
     ("mouse.y", r"mouse\.y"),
     ("mouse.left / mouse.middle / mouse.right", r"mouse\.(left|middle|right)"),
+    ("pointer.x / pointer.y (the mouse, or the gamepad's pointer stick read as 0..1)",
+     r"pointer\.[xy]"),
     ("gamepad.left_x / left_y / right_x / right_y (-1..1, y up)",
      r"gamepad\.(left|right)_[xy]"),
     ("gamepad.left_trigger / right_trigger (0..1)", r"gamepad\.(left|right)_trigger"),
@@ -86,7 +100,7 @@ class FrameTargetSpec(Spec, kw_only=True):
 
 
 # degrees (a number) or a frame target (a mapping): msgspec tells them apart by type
-Target = Union[Angle, FrameTargetSpec]
+Target = Angle | FrameTargetSpec
 
 
 class PoseSpec(Spec, kw_only=True):
@@ -251,6 +265,7 @@ class ActionSpec(Spec, kw_only=True):
 
     pose: str | None = None  # set a named pose absolutely
     set: dict[str, Target] = field(default_factory=dict)  # joint -> deg, or {world: deg} ...
+    over: PositiveDuration | None = None  # s: the pose's and set's targets travel there
     adjust: dict[str, AngleChange] = field(default_factory=dict)  # joint -> +deg
     sequence: str | None = None  # start a named pose sequence
     # play the sequence this many times (or until preempted)
@@ -279,6 +294,9 @@ class ActionSpec(Spec, kw_only=True):
         if self.app is not None and self.app not in META_APP_ACTIONS:
             raise at("app", f"unknown app action '{self.app}'; expected one of: "
                             f"{', '.join(META_APP_ACTIONS)}")
+        if self.over is not None and self.pose is None and not self.set:
+            raise at("over", "'over' (s) is how long the targets of 'pose' or 'set' take "
+                             "to get there, but this action has neither")
         if self.repeat is not None:
             if self.sequence is None:
                 raise ValueError("'repeat' repeats a sequence, but this action starts none")
@@ -290,9 +308,21 @@ class ActionSpec(Spec, kw_only=True):
 
 
 class KeyActionSpec(ActionSpec, kw_only=True):
-    """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed."""
+    """What a key (or gamepad/mouse button, e.g. ``gamepad.button0``) does when pressed.
+
+    ``buffer`` (a state's key only): this binding also takes a press of its key made up
+    to that many seconds before its state was entered, while no binding took the key
+    (an input buffer, as fighting games keep a press made a little early)."""
 
     key: str
+    buffer: PositiveDuration | None = None  # s a press may come before the state
+    # the scenes (their names) this key is for: on any other it does nothing and the HUD and
+    # the key map leave it out (default: every scene)
+    scenes: list[str] = field(default_factory=list)
+
+    def plays_on(self, scene: str | None) -> bool:
+        """Whether the key acts on the scene named ``scene`` (None: any scene)."""
+        return not self.scenes or scene is None or scene in self.scenes
 
 
 class PerturbSpec(Spec, kw_only=True):

@@ -7,11 +7,15 @@ Names resolve to ``<root>/<folder>/<name>.yaml``; the root is the checkout (or
   catalog name;
 - a name inside a file (an interface's ``character:`` / ``scene:``, a log header's
   ``interface`` / ``character`` / ``scene``): a catalog name, or a file of that kind's
-  extension inside one of the folders the user named on the command line (the
+  extension directly in one of the folders the user named on the command line (the
   folders of the files given there: ``puppet play DIR/x.yaml`` trusts ``DIR``,
-  ``puppet replay DIR/x.jsonl`` trusts ``DIR``), after resolving symbolic links.
-  An absolute path into the catalog's own folder is that catalog file. Anything else
-  is refused without being read, so a file someone sends you cannot read yours.
+  ``puppet replay DIR/x.jsonl`` trusts ``DIR``): beside that file, not in a folder
+  under it, not hidden (``.name``), also after resolving symbolic links. An absolute
+  path into the catalog's own folder is that catalog file. Anything else is refused
+  by its spelling alone, without looking at the disk, so a file someone sends you
+  cannot read yours, nor tell whether one exists (``Folders.found`` lists what such
+  names did reach: a log's replay quotes nothing of those files, see
+  ``puppet.timeline.replay.setup_for_log``).
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from puppet.data.characters import CharacterSpec, parse_character
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, did_you_mean
 from puppet.data.interface_refs import check_scene_refs, map_conflicts
 from puppet.data.interfaces import InterfaceSpec, check_against_character, parse_interface
 from puppet.data.scenes import SceneSpec, parse_scene
@@ -60,14 +64,68 @@ def short_path(path) -> str:
     return text if len(text) <= SHORT_PATH else text[:SHORT_PATH - 3] + "..."
 
 
-def _inside(path: Path, folders) -> bool:
-    for f in folders:
+class Folders(tuple):
+    """The folders names written in a file may reach besides the catalog (resolved),
+    and ``found``: the files such names reached there (not catalog files), in order."""
+
+    def __new__(cls, folders=()):
+        self = super().__new__(cls, (Path(f).resolve() for f in folders))
+        self.found = []
+        return self
+
+
+def _beside(name: str, ext: str, catalog: Path, within) -> Path | None:
+    """The file a name written in a file reaches: directly in the catalog folder or in
+    one of ``within`` (a bare file name is looked for in each of ``within``; an
+    absolute path must be one of these folders' files), with ``ext``, not hidden, and
+    still so once symbolic links are resolved. None: refused, decided from the name's
+    spelling (and the links of the folder's own entry), never from whether a file
+    exists elsewhere. A path that is allowed but names no file is returned as is."""
+    folders = [catalog.resolve(), *(Path(f).resolve() for f in within)]
+    written = Path(name)
+    if written.is_absolute():
+        if ".." in written.parts:
+            return None
+        spelled = {str(f): f for f in folders}
+        spelled.update({str(Path(os.path.abspath(f))): Path(f).resolve()
+                        for f in [catalog, *within]})
+        base = spelled.get(str(written.parent))
+        if base is None:
+            return None
+        bases = [base]
+    elif len(written.parts) == 1:
+        bases = folders[1:]
+    else:  # a folder under the trusted one ('sub/x.yaml', '../x.yaml')
+        return None
+    leaf = written.name
+    if leaf.startswith(".") or not leaf.endswith(ext) or leaf == ext:
+        return None
+    missing = None
+    for base in bases:
+        candidate = base / leaf
         try:
-            if path.is_relative_to(Path(f).resolve()):
-                return True
+            resolved = candidate.resolve()
+        except (OSError, RuntimeError):  # a symlink loop
+            return None
+        if (resolved.parent not in folders or resolved.name.startswith(".")
+                or resolved.suffix != ext):
+            return None  # a link beside the trusted file that leads elsewhere
+        try:
+            if resolved.is_file():
+                return resolved
         except OSError:
-            continue
-    return False
+            pass
+        missing = missing or candidate
+    return missing
+
+
+def in_catalog(path) -> bool:
+    """Whether ``path`` is a file directly in one of the catalog's folders."""
+    try:
+        parent = Path(path).resolve().parent
+    except (OSError, RuntimeError):
+        return False
+    return any(parent == (ROOT / sub).resolve() for sub, _ in FOLDERS.values())
 
 
 def find(kind: str, name: str, within=None) -> Path:
@@ -75,9 +133,9 @@ def find(kind: str, name: str, within=None) -> Path:
 
     ``within=None``: ``name`` was typed by the user: an existing file path is taken as
     is, else it is a catalog name. ``within`` (folders): ``name`` was written in a file:
-    a catalog name, or a file with the kind's extension inside the catalog folder or
-    one of ``within`` (a relative path is relative to each of them). Anything else is
-    a DataError, and is not read."""
+    a catalog name, or a file with the kind's extension directly in the catalog folder
+    or in one of ``within`` (``_beside``; a ``Folders`` records what it reached).
+    Anything else is a DataError, and is not read."""
     sub, ext = FOLDERS[kind]
     shown = short_path(name)
     if not isinstance(name, str) or not name or len(name) > MAX_NAME or "\x00" in name:
@@ -102,26 +160,28 @@ def find(kind: str, name: str, within=None) -> Path:
         if candidate.is_file():
             return candidate
     if within is not None:
-        as_path = Path(name + ext if plain and not name.endswith(ext) else name)
-        refused = False
-        for base in [None] if as_path.is_absolute() else within:
-            candidate = as_path if base is None else Path(base) / as_path
-            try:
-                resolved = candidate.resolve()
-                if resolved.suffix != ext or not _inside(resolved, [catalog, *within]):
-                    refused = True
-                elif resolved.is_file():
-                    return resolved
-            except (OSError, RuntimeError):  # too long, a symlink loop...
-                refused = True
-        if refused:
+        reached = _beside(name + ext if plain and not name.endswith(ext) else name, ext,
+                          catalog, within)
+        if reached is None:
             places = ", ".join(str(f) for f in within) or "none"
             raise DataError(shown, None, None,
                             f"'{shown}' is neither a {kind} of the catalog ({sub}/NAME{ext}) "
-                            f"nor a {ext} file inside a folder named on the command line "
-                            f"({places}); it was not read")
-    known = ", ".join(n for n, _ in list_kind(kind)) or "none"
-    raise DataError(shown, None, None, f"no {kind} named '{shown}'; known: {known}")
+                            f"nor a {ext} file beside the file that names it, in a folder "
+                            f"named on the command line ({places}; not in a folder under "
+                            f"it, not hidden); it was not read")
+        try:
+            exists = reached.is_file()
+        except OSError:  # a name too long for the file system
+            exists = False
+        if exists:
+            if reached.parent != catalog.resolve() and hasattr(within, "found"):
+                within.found.append(reached)
+            return reached
+    names = [n for n, _ in list_kind(kind)]
+    hint = did_you_mean(name, names)  # "; did you mean 'luxo-mouse'?"
+    raise DataError(shown, None, None, f"no {kind} named '{shown}'{hint}"
+                                       f"{' Known' if hint else '; known'}: "
+                                       f"{', '.join(names) or 'none'}")
 
 
 def _a(word: str) -> str:
@@ -215,7 +275,9 @@ def reference_folders(interface_path: str | Path, within=None) -> tuple:
     """The folders an interface's ``character:`` and ``scene:`` may name files in:
     ``within`` if given (the folders named on the command line), else the interface
     file's own folder (the user named that file)."""
-    return tuple(within) if within is not None else (Path(interface_path).parent,)
+    if within is None:
+        return (Path(interface_path).parent,)
+    return within if isinstance(within, Folders) else tuple(within)  # (what it found)
 
 
 def check_interface(located: Located, character: CharacterSpec | None = None,

@@ -7,10 +7,22 @@ degrees); everything inside puppet is radians.
 
 from __future__ import annotations
 
-from typing import Annotated, ClassVar, Literal, Union
+from typing import Annotated, ClassVar, Literal
 
-from puppet.data.ranges import (Angle, Color, Corner, Damping, Elasticity, Friction, Mass,
-                                ModelXY, Num, Size, Stiffness, Torque)
+from puppet.data.ranges import (
+    Angle,
+    Color,
+    Corner,
+    Damping,
+    Elasticity,
+    Friction,
+    Mass,
+    ModelXY,
+    Num,
+    Size,
+    Stiffness,
+    Torque,
+)
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
@@ -44,7 +56,7 @@ class PolygonShape(Spec, kw_only=True, tag_field="type", tag="polygon"):
     radius: Corner = 0.0
 
 
-Shape = Union[BoxShape, CircleShape, SegmentShape, PolygonShape]  # by their 'type:' key
+Shape = BoxShape | CircleShape | SegmentShape | PolygonShape  # by their 'type:' key
 
 
 class LinkSpec(Spec, kw_only=True):

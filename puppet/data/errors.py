@@ -33,6 +33,15 @@ def one_line(text: str) -> str:
     return text.translate(_CONTROL)
 
 
+def did_you_mean(name, known, cutoff: float = 0.6) -> str:
+    """``; did you mean 'x'?`` naming the one of ``known`` closest to a mistyped
+    ``name`` (difflib's ratio at least ``cutoff``), else nothing."""
+    import difflib  # only for a mistake (process start)
+
+    close = difflib.get_close_matches(str(name), [str(k) for k in known], n=1, cutoff=cutoff)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
 class UsageError(Exception):
     """A command used wrongly (a bad option, a path that is not there, no display).
 

@@ -57,6 +57,11 @@ def machine_actions(spec) -> Iterator[tuple[str | None, tuple, ActionSpec]]:
                 yield mname, where + ("states", name, "keys", i), k
         for i, k in enumerate(machine.any_state.keys):
             yield mname, where + ("any_state", "keys", i), k
+    tracking = spec.tracking
+    if tracking is not None:  # what tracking runs: when lost, found, after a fall
+        for name in ("lost", "found"):
+            if getattr(tracking, name) is not None:
+                yield None, ("tracking", name), getattr(tracking, name)
 
 
 def transitions(spec) -> Iterator[tuple[str, str | None, tuple, object]]:
@@ -109,9 +114,9 @@ def check_names(spec, located: Located) -> None:
             if state.roles is not None:
                 need(where + ("states", name, "roles"), "role binding", state.roles, bindings)
     if spec.states and MAIN_MACHINE in spec.machines:
-        raise located.error(("machines", MAIN_MACHINE), f"machine name '{MAIN_MACHINE}' is the top-level "
-                                                  "'states'; name this machine otherwise",
-                            prefer_key=True)
+        raise located.error(("machines", MAIN_MACHINE),
+                            f"machine name '{MAIN_MACHINE}' is the top-level 'states'; name "
+                            "this machine otherwise", prefer_key=True)
     for mname, machine in spec.machines.items():
         if machine.initial is not None:
             need(("machines", mname, "initial"), "state", machine.initial, machine.states)
@@ -198,7 +203,7 @@ def _check_reachable(spec, located: Located) -> None:
                 edges.setdefault((machine, state), set()).add(to)
             else:
                 anywhere.add(to)  # a key in one machine moving another: live while there
-    for machine, state, loc, t in transitions(spec):
+    for machine, state, _loc, t in transitions(spec):
         to = spec.resolve_goto(t.to, machine)
         if state is None:
             anywhere.add(to)
@@ -336,10 +341,12 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                                     f"'{first.child}' (the child of '{first.name}'), but its "
                                     f"parent is '{second.parent}'")
     for _, _, loc, t in transitions(spec):
-        if t.when is not None:
-            problem = sensor_problem(t.when.sensor, character, spec.roles)
+        several = isinstance(t.when, list)
+        for i, condition in enumerate(t.conditions):
+            problem = sensor_problem(condition.sensor, character, spec.roles)
             if problem:
-                raise located.error(loc + ("when", "sensor"), problem)
+                where = loc + (("when", i, "sensor") if several else ("when", "sensor"))
+                raise located.error(where, problem)
 
 
 def _check_tracking(spec, character, located, need, need_link) -> None:
@@ -359,6 +366,25 @@ def _check_tracking(spec, character, located, need, need_link) -> None:
                                                   "channels that place the performed pose)")
     if tracking is None:
         return
+    tracked_poses = [(("tracking", "stand"), tracking.stand)] if tracking.stand else []
+    get_up = tracking.reaction.get_up if tracking.reaction is not None else None
+    if get_up is not None:
+        tracked_poses += [(("tracking", "reaction", "get_up", "steps", i, "pose"), s.pose)
+                          for i, s in enumerate(get_up.steps)]
+        for i, name in enumerate(get_up.hands):
+            need_link(("tracking", "reaction", "get_up", "hands", i), name)
+    for loc, name in tracked_poses:  # poses KD control stands the figure in: joint angles
+        pose = spec.poses.get(name)
+        if pose is None:
+            raise located.error(loc, unknown("pose", name, list(spec.poses)))
+        framed = [j for j, v in pose.joints.items() if not isinstance(v, (int, float))]
+        if framed:
+            raise located.error(loc, f"pose '{name}' holds {', '.join(framed)} in a frame; "
+                                     f"a pose tracking stands the figure in is joint "
+                                     f"angles (degrees), as a performer's frame is")
+        if tracking.root is None:
+            raise located.error(loc, "KD control stands the figure in this pose: it needs "
+                                     "'tracking.root'")
     if tracking.start == "kd" and tracking.root is None:
         raise located.error(("tracking", "start"), "'start: kd' needs 'tracking.root' (the "
                                                    "channels that place the performed pose)")

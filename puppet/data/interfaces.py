@@ -11,13 +11,25 @@ friction...) and rebindable app keys. The actions themselves are in
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from puppet.data.actions import (ActionSpec, ChainSpec, ConditionSpec,
-                                 KeyActionSpec, PerturbSpec, PoseSpec, SequenceStepSpec,
-                                 check_inputs)
-from puppet.data.bounds import (CHECKPOINT_EVERY, CHECKPOINT_MAX,  # noqa: F401 (re-exported)
-                                CHECKPOINT_MIN, MAX_SLOWDOWN, MIN_SLOWDOWN)
+from puppet.data.actions import (
+    ActionSpec,
+    ChainSpec,
+    ConditionSpec,
+    KeyActionSpec,
+    PerturbSpec,
+    PoseSpec,
+    SequenceStepSpec,
+    check_inputs,
+)
+from puppet.data.bounds import (  # noqa: F401 (re-exported)
+    CHECKPOINT_EVERY,
+    CHECKPOINT_MAX,
+    CHECKPOINT_MIN,
+    MAX_SLOWDOWN,
+    MIN_SLOWDOWN,
+)
 from puppet.data.characters import CharacterSpec
 from puppet.data.errors import DataError
 from puppet.data.keys import APP_KEYS, key_problem, normalize_key
@@ -44,7 +56,7 @@ class PowerCurve(Spec, kw_only=True):
     power: Num("power")
 
 
-Curve = Union[Literal["linear", "smoothstep"], PowerCurve]
+Curve = Literal["linear", "smoothstep"] | PowerCurve
 
 
 class MapSpec:
@@ -61,12 +73,15 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
 
     # mouse.x (0 left .. 1 right), mouse.y (0 bottom .. 1 top), mouse.left, gamepad.axisN,
     # channel.NAME ...
-    input: str
+    input: str | None = None
     joint: str | None = None
     # coupling: joint -> gain (sign = mirror)
     joints: dict[str, Num("coupling")] = field(default_factory=dict)
     from_: tuple[Num("input"), Num("input")] = field(name="from", default=(0.0, 1.0))
-    to: tuple[AngleChange, AngleChange]  # degrees at from[0] and from[1]
+    to: tuple[AngleChange, AngleChange] | None = None  # degrees at from[0] and from[1]
+    # a constant offset, degrees, added to the joints' targets while the map is active (its
+    # mode or state): no input, no 'to'
+    add: AngleChange | None = None
     clamp: bool = True
     curve: Curve = "linear"
     # joint: the value is the joint's angle; world: the angle of the joint's child link in the
@@ -79,7 +94,20 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
     description: str = ""  # what it does, in the player's words
 
     def __post_init__(self):
-        check_inputs(self, "input")
+        if self.add is not None:
+            if self.input is not None or self.to is not None:
+                raise ValueError("an 'add' map adds a constant (degrees) while it is "
+                                 "active; it has no 'input' or 'to' (for an input's value "
+                                 "added, write 'combine: add')")
+            if self.frame != "joint" or self.curve != "linear":
+                raise ValueError("an 'add' map adds degrees of the joint: no 'frame' or "
+                                 "'curve'")
+            self.combine = "add"
+        elif self.input is None or self.to is None:
+            raise ValueError("a map needs 'input' and 'to' (the input's values as degrees), "
+                             "or 'add' (a constant, degrees, added while it is active)")
+        else:
+            check_inputs(self, "input")
         if self.from_[0] == self.from_[1]:
             raise ValueError("'from' must be two different input values")
         if (self.joint is None) == (not self.joints):
@@ -103,7 +131,7 @@ class LinearMapSpec(Spec, MapSpec, kw_only=True):
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        return (self.input,)
+        return () if self.input is None else (self.input,)
 
 
 class GridMapSpec(Spec, MapSpec, kw_only=True):
@@ -157,16 +185,32 @@ dispatch(MapSpec, _map_kind)
 
 
 class TransitionSpec(Spec, kw_only=True):
-    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds."""
+    """Leave the state for ``to`` after ``after`` s in it and/or when ``when`` holds:
+    one condition, or a list of conditions that must all hold at once (the swing foot
+    down *and* the body past the take-off board)."""
 
     to: str
     after: Num("time") | None = None  # s since entering the state
-    when: ConditionSpec | None = None
+    when: ConditionSpec | list[ConditionSpec] | None = None
+    # s the `when` must have held without a break (a flickering contact is no take-off)
+    held: Num("time") | None = field(name="for", default=None)
 
     def __post_init__(self):
         if self.after is None and self.when is None:
             raise ValueError("a transition needs 'after' (s) and/or 'when' (a condition); "
                              "key transitions are keys with 'goto'")
+        if isinstance(self.when, list) and not self.when:
+            raise ValueError("'when' is an empty list: give one condition, or several "
+                             "that must all hold")
+        if self.held is not None and self.when is None:
+            raise at("for", "'for' (s) is how long 'when' must have held: it needs 'when'")
+
+    @property
+    def conditions(self) -> list[ConditionSpec]:
+        """The conditions that must all hold (none without ``when``)."""
+        if self.when is None:
+            return []
+        return list(self.when) if isinstance(self.when, list) else [self.when]
 
 
 class StateSpec(Spec, kw_only=True):
@@ -226,12 +270,16 @@ class GamepadSpec(Spec, kw_only=True):
 
     dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.12  # sticks (-1..1)
     trigger_dead_zone: Annotated[float, Meta(ge=0.0, lt=1.0)] = 0.05  # triggers (0..1)
+    # the stick that moves the inputs pointer.x / pointer.y, as the mouse does
+    pointer: Literal["left", "right"] = "left"
 
 
 class InterfaceSpec(Spec, kw_only=True):
     name: str
     description: str
     character: str
+    # one line for a newcomer, shown on the HUD: where to hold the mouse, which keys, what rhythm
+    how_to_play: str = ""
     scene: str = "flat"
     slowdown: Annotated[float, Meta(ge=1.0, le=100.0)] = 1.0
     app_keys: dict[str, str] = field(default_factory=dict)  # rebind the app's keys: action -> key
@@ -364,6 +412,7 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
     for loc, key in named:
         if key_problem(key):
             raise located.error(loc, key_problem(key))
+    _check_buffers(spec, located)
     app_table = spec.app_key_table()
     by_key: dict[str, str] = {}
     for action, key in app_table.items():
@@ -399,6 +448,24 @@ def _check_keys(spec: InterfaceSpec, located: Located) -> None:
                 raise located.error(loc, f"key '{key}' is bound twice{scope} (also "
                                          f"{'.'.join(map(str, where))}[{seen[key]}])")
             seen[key] = i
+
+
+def _check_buffers(spec: InterfaceSpec, located: Located) -> None:
+    """``buffer`` keeps a press for a state entered later: a key bound in every state
+    (top-level ``keys``, ``any_state``) never waits for one."""
+    always = [(("keys", i, "buffer"), k) for i, k in enumerate(spec.keys)]
+    always += [(("any_state", "keys", i, "buffer"), k)
+               for i, k in enumerate(spec.any_state.keys)]
+    always += [(("machines", m, "any_state", "keys", i, "buffer"), k)
+               for m, machine in spec.machines.items()
+               for i, k in enumerate(machine.any_state.keys)]
+    for loc, k in always:
+        if k.buffer is not None:
+            where = "top-level keys" if loc[0] == "keys" else "any_state keys"
+            raise located.error(loc, f"'buffer' keeps an early press for a state's key, "
+                                     f"but {where} are bound in every state: move key "
+                                     f"'{k.key}' into the states that take it, or drop "
+                                     f"'buffer'", prefer_key=True)
 
 
 def machine_keys(spec: InterfaceSpec):

@@ -43,6 +43,14 @@ BUTTON_KEYS = ("mouse.left", "mouse.middle", "mouse.right")  # bindable like key
 # the bottom face button). Sticks read -1..1 with y up, triggers 0..1, buttons 0/1.
 GAMEPAD_STICKS = ("left_x", "left_y", "right_x", "right_y")
 GAMEPAD_TRIGGERS = ("left_trigger", "right_trigger")
+POINTER = ("pointer.x", "pointer.y")  # the mouse, or a stick: one input for either
+
+
+def pointer_value(stick: float) -> float:
+    """A stick's -1..1 as the pointer's 0..1 (centred: the middle of the window)."""
+    return (stick + 1.0) / 2.0
+
+
 GAMEPAD_BUTTONS = ("a", "b", "x", "y", "back", "guide", "start", "left_stick",
                    "right_stick", "left_shoulder", "right_shoulder", "dpad_up",
                    "dpad_down", "dpad_left", "dpad_right")

@@ -16,13 +16,16 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-
-from puppet.data.errors import DataError
+from puppet.data.errors import DataError, did_you_mean
 from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Axis = Literal["x", "y", "z", "-x", "-y", "-z"]
+# Limits besides the YAML file's own (2 MB, 48 levels): what a mapping lists, each
+# worked out for every frame of a clip and every datagram of a stream (the shipped ones
+# list up to 19 points and 12 segments; a BVH rig has at most 512 joints)
+MAX_POINTS = 256
 REST = {"forward": 0.0, "up": 90.0, "back": 180.0, "down": -90.0}
 
 
@@ -31,20 +34,38 @@ class SourceSpec(Spec, kw_only=True):
     unit: Num("source_unit") = 1.0  # metres per source length unit (CMU BVH: 0.056444, cm: 0.01)
     # the source's axes: right-handed (BVH) or left-handed (Unity, so VMC)
     handedness: Literal["right", "left"] = "right"
+    # each axis's length in units, before unit: a picture's normalised landmarks have x in
+    # widths and y in heights ([1.3333, 1, 0] for 4:3; 0 drops an axis: a webcam's depth)
+    scale: tuple[Num("axis_scale"), Num("axis_scale"), Num("axis_scale")] = (1.0, 1.0, 1.0)
 
 
 class FacingSpec(Spec, kw_only=True):
-    """Two points across the body (the hips), left and right: the performer faces
-    forward of the line between them."""
+    """Two points across the body (the hips), ``left`` and ``right``: the performer
+    faces forward of the line between them; or two along it, ``back`` and ``front``
+    (an ankle and its toe tip): the performer faces from one to the other (what a
+    camera that sees the performer side-on can tell)."""
 
-    left: str
-    right: str
+    left: str | None = None
+    right: str | None = None
+    back: str | None = None
+    front: str | None = None
+
+    def __post_init__(self):
+        across, along = (self.left, self.right), (self.back, self.front)
+        if not ((None not in across and along == (None, None))
+                or (None not in along and across == (None, None))):
+            raise ValueError("facing: give left and right (points across the body) or back "
+                             "and front (points along the way it faces), one pair")
+
+    @property
+    def points(self) -> list[str]:
+        return [p for p in (self.left, self.right, self.back, self.front) if p is not None]
 
 
 class RootSpec(Spec, kw_only=True):
     # the source point the figure's root follows, or several: their mean (the two hip joints: the
     # figure's hip hinge)
-    point: str | list[str]
+    point: str | Annotated[list[str], Meta(max_length=MAX_POINTS)]
     # the floor's height in source units, or 'lowest': the lowest point a clip reaches (a stream: so
     # far)
     floor: Num("world_xy") | Literal["lowest"] = "lowest"
@@ -60,7 +81,7 @@ class ClearanceSpec(Spec, kw_only=True):
     centimetres up), never below 0. Channel ``clearance``, m: 0 while a foot is down,
     the height of a jump in flight, so a tracked figure leaves the ground then."""
 
-    points: Annotated[list[str], Meta(min_length=1)]
+    points: Annotated[list[str], Meta(min_length=1, max_length=MAX_POINTS)]
     standing: Num("size")  # m above the floor with the foot down
 
 
@@ -90,6 +111,16 @@ class ChannelSpec(Spec, kw_only=True):
     scale: Num("coupling") = 1.0
 
 
+class FilterSpec(Spec, kw_only=True):
+    """The 1-euro filter of a live stream's channels (``puppet.mocap.smoothing``): a
+    low-pass at ``cutoff`` Hz while the performer is still, rising by ``beta`` Hz per
+    deg/s (a centimetre a second counts as a degree) as they move. ``cutoff: 0``: no
+    filter. A clip is never filtered."""
+
+    cutoff: Num("cutoff") = 4.0
+    beta: Num("cutoff_slope") = 0.02
+
+
 class MappingSpec(Spec, kw_only=True):
     name: str = ""
     description: str = ""
@@ -105,13 +136,18 @@ class MappingSpec(Spec, kw_only=True):
     # the figure's size over the performer's (lengths: root motion, effectors)
     size: Num("ratio") = 1.0
     root: RootSpec
-    segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1)]
-    channels: dict[str, ChannelSpec] = field(default_factory=dict)
+    segments: Annotated[dict[str, SegmentSpec], Meta(min_length=1, max_length=MAX_POINTS)]
+    channels: Annotated[dict[str, ChannelSpec], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
     # name -> source point: channels NAME.x and NAME.y, m from the centre of mass, in the plane
-    effectors: dict[str, str] = field(default_factory=dict)
+    effectors: Annotated[dict[str, str], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
     clearance: ClearanceSpec | None = None
     # source point -> weight: the centre of mass (absent: the root point)
-    com: dict[str, Num("ratio")] = field(default_factory=dict)
+    com: Annotated[dict[str, Num("ratio")], Meta(max_length=MAX_POINTS)] = field(
+        default_factory=dict)
+    # a live stream's filter (a webcam's jitter: more; a suit: less); a clip is not filtered
+    filter: FilterSpec = field(default_factory=FilterSpec)
 
     def __post_init__(self):
         if not isinstance(self.plane, str) and sum(v * v for v in self.plane) == 0:
@@ -129,7 +165,7 @@ class MappingSpec(Spec, kw_only=True):
                 if seg is not None and seg not in self.segments:
                     yield (("channels", name, key),
                            f"channel '{name}' names segment '{seg}', which 'segments' does "
-                           f"not define{_did_you_mean(seg, self.segments)} (known: "
+                           f"not define{did_you_mean(seg, self.segments)} (known: "
                            f"{', '.join(self.segments)})")
         if isinstance(self.plane, str) and self.facing is None:
             yield (("plane",),
@@ -143,7 +179,7 @@ class MappingSpec(Spec, kw_only=True):
         for seg in self.segments.values():
             names |= {seg.start, seg.to}
         if self.facing is not None:
-            names |= {self.facing.left, self.facing.right}
+            names |= set(self.facing.points)
         if self.clearance is not None:
             names |= set(self.clearance.points)
         return names
@@ -167,13 +203,6 @@ def _beside(located: Located) -> tuple:
     return (path.resolve().parent,) if path.is_file() else ()
 
 
-def _did_you_mean(name: str, known) -> str:
-    import difflib  # only for a mistake
-
-    close = difflib.get_close_matches(str(name), list(known), n=1)
-    return f"; did you mean '{close[0]}'?" if close else ""
-
-
 # channels a mapping may make that are no joint: the root's angle in the world (tracking.root)
 ROOT_ANGLE = "root.angle"
 
@@ -194,7 +223,7 @@ def channel_problem(mapping: MappingSpec, joints, character: str,
                       f"nothing; expected a mapping written for {character}")
     for name in mapping.channels:
         if name not in allowed:
-            hint = _did_you_mean(name, joints)
+            hint = did_you_mean(name, joints)
             return name, (f"channel '{name}' of {label} is no joint of {character}"
                           f"{hint + ' ' if hint else '; '}expected one of: "
                           f"{', '.join([*joints, ROOT_ANGLE])}")

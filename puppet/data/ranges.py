@@ -20,8 +20,8 @@ RANGES: dict[str, tuple[float, float, str, bool]] = {
     "mass": (0.001, 1000.0, "kg", False),
     "inertia": (1.0e-7, 1.0e4, "kg*m^2", False),  # a link's moment about its centre
     "size": (0.001, 10.0, "m", False),  # a shape's width, height or radius
-    "corner": (0.0, 10.0, "m", False),
-    "slop": (0.0, 0.01, "m", True),  # collision slop: overlap allowed in contact  # a rounded corner or polygon radius (>= 0)
+    "corner": (0.0, 10.0, "m", False),  # a rounded corner or polygon radius (>= 0)
+    "slop": (0.0, 0.01, "m", True),  # collision slop: overlap allowed in contact
     "model_xy": (-10.0, 10.0, "m", False),  # a point in a character's model frame
     "world_xy": (-10000.0, 10000.0, "m", False),  # a point in the world (10 km)
     "lift": (-10.0, 100.0, "m", False),
@@ -54,6 +54,10 @@ RANGES: dict[str, tuple[float, float, str, bool]] = {
     "ratio": (0.01, 1000.0, "", False),  # a mocap mapping's size, a gain's multiplier
     "gain": (0.0, 1.0e6, "", False),  # a tracking gain (kp, dp, kq, dq)
     "fraction": (0.0, 1.0, "", False),  # a reaction's weight
+    "speed": (0.0, 100.0, "m/s", False),  # a get-up's largest rise
+    "axis_scale": (0.0, 1000.0, "", False),  # a mocap source axis's length in its units
+    "cutoff": (0.0, 1000.0, "Hz", False),  # a stream filter's cutoff (0: no filter)
+    "cutoff_slope": (0.0, 10.0, "Hz per deg/s", False),  # how a filter's cutoff rises with speed
 }
 
 

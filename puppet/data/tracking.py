@@ -12,16 +12,19 @@ Two ways to follow a performer, selected by the ``track`` action (a key, a state
   keep the figure up and walking where the performer walks). ``kinematic: off`` drops the pulls
   (free fall) and keeps the joint tracking.
 
-A sample older than ``lost_after`` seconds is tracking lost: the tracker lets go of its
-joints (what the keys and maps say holds them) until samples come again.
+A sample older than ``lost_after`` seconds is tracking lost: the tracker stands the
+figure in the ``stand`` pose (or, without one, lets go of its joints: what the keys and
+maps say holds them; ``lost``, an action, runs then) until samples come again, when it
+takes them back over ``blend`` seconds (``found`` runs then). A push judged a fall is
+followed by ``reaction.get_up``: the recovery poses, then the performer again.
 """
 
 from __future__ import annotations
 
 from typing import Annotated, Literal
 
-
-from puppet.data.ranges import Num
+from puppet.data.actions import ActionSpec
+from puppet.data.ranges import AngleChange, Num
 from puppet.data.validate import Meta, Spec, field
 
 Gain = Num("gain")
@@ -56,6 +59,29 @@ class ReactionCaseSpec(Spec, kw_only=True):
     recover: Num("positive_duration") = 0.6
 
 
+class GetUpStepSpec(Spec, kw_only=True):
+    """One pose of a get-up: the interface's pose ``pose`` (joint angles), the root link
+    at ``angle`` degrees in the world (the pelvis level on hands and knees: -90),
+    reached from the last over ``hold`` s."""
+
+    pose: str
+    angle: AngleChange = 0.0
+    hold: Num("positive_duration") = 1.0
+
+
+class GetUpSpec(Spec, kw_only=True):
+    """A get-up after a fall (Oshita 2006's stand-up, through Laszlo et al.'s recovery
+    poses): KD control of ``steps`` in turn, where the figure lies (its lowest point on
+    the ground), each blended in from the last, then back to the performer over the
+    tracking's ``blend``. No levitation: while no foot (``tracking.feet``) nor one of
+    ``hands`` touches the ground, no pull lifts a link (the body rises only by pushing
+    on the ground), and none lifts one faster than ``rise``."""
+
+    hands: list[str] = field(default_factory=list)  # links that push as the feet do
+    rise: Num("speed") = 0.5  # m/s: the pulls lift no link faster than this
+    steps: Annotated[list[GetUpStepSpec], Meta(min_length=1)]
+
+
 class ReactionSpec(Spec, kw_only=True):
     """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
     way so the figure reacts, then come back. The case is judged at the next control
@@ -64,8 +90,8 @@ class ReactionSpec(Spec, kw_only=True):
     ``small_margin`` m of it, ``small`` (a dip, then recover); beyond it by up to
     ``step_margin`` m, ``large`` (longer and weaker, and one foot of ``feet`` makes a
     protective step: lifted and put down ``step_past`` beyond the extrapolated centre
-    of mass, then back to the performance as the pulls come back); further, ``fall`` (the pulls let go, the figure falls, then they bring
-    it back up: the get-up)."""
+    of mass, then back to the performance as the pulls come back); further, ``fall``
+    (the pulls let go, the figure falls, then they bring it back up: the get-up)."""
 
     small_margin: Num("corner") = 0.05  # m beyond the support: still small
     step_margin: Num("size") = 0.3  # m beyond the support: large, not a fall
@@ -80,6 +106,9 @@ class ReactionSpec(Spec, kw_only=True):
         default_factory=lambda: ReactionCaseSpec(weight=0.1, hold=0.5, recover=1.0))
     fall: ReactionCaseSpec = field(
         default_factory=lambda: ReactionCaseSpec(weight=0.0, hold=1.5, recover=2.0))
+    # after a fall (and fall.hold), the figure gets up through these poses, then follows the
+    # performer again (Oshita's stand-up); absent, the pulls come back over fall.recover
+    get_up: GetUpSpec | None = None
 
 
 class RootChannelsSpec(Spec, kw_only=True):
@@ -112,6 +141,21 @@ class TrackingSpec(Spec, kw_only=True):
     reaction: ReactionSpec | None = field(default_factory=ReactionSpec)
     start: Literal["off", "angles", "kd"] = "off"  # tracking at the start
     lost_after: Num("positive_duration") = 0.25  # s without a sample: tracking lost
+    # a pose of the interface (joint angles) the tracker stands the figure in while the stream
+    # is lost: KD control of that pose where the figure is (the root over the middle of its feet,
+    # the pelvis upright), blended in from the last frame over 'blend' s, and back to the
+    # performer over as long when the stream returns; absent, tracking lets go of the joints
+    stand: str | None = None
+    # what the figure does when tracking is lost (its balance: a pose, a state of the interface);
+    # the keys drive it too
+    lost: ActionSpec | None = None
+    # what is done when the stream comes back and tracking takes the joints again (leave the
+    # balance state)
+    found: ActionSpec | None = None
+    # s over which tracking takes the joints back - from their targets then to the performer's,
+    # the pulls from none to full - when the stream comes back, or a 'track' action starts it
+    # (not at the interface's start)
+    blend: Num("duration") = 0.0
 
     @property
     def preset(self) -> GainsSpec:

@@ -33,7 +33,8 @@ error (process start).
 from __future__ import annotations
 
 import copy
-from typing import Any, Callable, TypeVar
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import msgspec
 

@@ -6,7 +6,7 @@ the step the simulation is at. What differs is only *when* a source's events arr
 
 * devices (``puppet.app.devices``: keys, mouse, gamepads) are translated from pygame's
   events in the window's frame loop;
-* scripts and logs (``puppet.timeline.script``, ``puppet.timeline.playback``) carry the
+* scripts and logs (``puppet.timeline.script``, ``puppet.session.playback``) carry the
   step each event acts at, and are played by ``playback.play``;
 * live sources on other threads (a motion-capture stream, a network plugin) post into
   a ``LiveQueue`` (``puppet.input.live``), which the frame loop drains once a frame, so

@@ -13,6 +13,7 @@ from __future__ import annotations
 import collections
 import threading
 
+from puppet.interface.event_checks import event_problem
 from puppet.interface.events import Event
 
 DEFAULT_CAPACITY = 4096  # events held between two drains before the oldest are dropped
@@ -29,12 +30,11 @@ class LiveQueue:
         self.posted = 0
         self.dropped_bad = 0  # malformed or non-finite
         self.dropped_overflow = 0  # the frame loop did not drain in time
+        self.merged = 0  # channels frames merged into one still waiting (post_merged)
         self.last_problem = ""
 
     def post(self, event: Event) -> bool:
         """Queue an event (any thread). False, and counted, if it is malformed."""
-        from puppet.timeline.log import event_problem
-
         problem = event_problem(event)
         with self._lock:
             self.posted += 1
@@ -47,6 +47,36 @@ class LiveQueue:
                 self.dropped_overflow += 1
             self._events.append(event)
         return True
+
+    def post_merged(self, event: Event) -> bool:
+        """``post`` a ``channels`` event, merged into one still waiting at the end of the
+        queue (its values updated by these: the newest value of each channel), so a
+        stream faster than the frame loop keeps at most one frame here. What a drain
+        that merges its events hands over is the same either way."""
+        problem = event_problem(event)
+        with self._lock:
+            self.posted += 1
+            if problem is not None:
+                self.dropped_bad += 1
+                self.last_problem = problem
+                return False
+            events = self._events
+            if events and events[-1].get("type") == "channels" == event.get("type"):
+                values = dict(events[-1]["values"])
+                values.update(event["values"])
+                events[-1] = {**event, "values": values}
+                self.merged += 1
+                return True
+            if len(events) >= self.capacity:
+                events.popleft()
+                self.dropped_overflow += 1
+            events.append(event)
+        return True
+
+    def pending(self) -> int:
+        """How many events wait for the next drain."""
+        with self._lock:
+            return len(self._events)
 
     def drain(self, now: float | None = None) -> list[Event]:
         """Every event posted since the last drain (the frame loop's thread). ``now``

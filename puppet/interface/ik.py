@@ -1,4 +1,4 @@
-"""Inverse kinematics for limbs of any length, solved every step of a reach.
+"""Inverse kinematics for limbs of any length, solved at every control step of a reach.
 
 A chain is two or more actuated joints in a row (Luxo's ankle and knee; an arm with
 shoulder and elbow; a leg with hip, knee and ankle) and an end point on the last
@@ -21,10 +21,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.actions import ChainSpec
 from puppet.data.characters import CharacterSpec
 
 Vec = tuple[float, float]
+_to_world, _angle = _cp.cpBodyLocalToWorld, _cp.cpBodyGetAngle  # what pymunk's Body calls
 DAMPING = 0.02  # m: the DLS damping lambda (small: accurate; larger: smoother near singular)
 MAX_ITERATIONS = 40
 TOLERANCE = 1e-5  # m: close enough
@@ -48,8 +51,14 @@ def solve_two_link(a1: Vec, a2: Vec, d: Vec, prefer_q2: float = 0.0) -> tuple[fl
     targets give the straightest (or most folded) reach toward them. Of the two
     bends, the one nearer ``prefer_q2`` is chosen (continuity with the current pose).
     """
-    l1, l2 = math.hypot(*a1), math.hypot(*a2)
-    p1, p2 = math.atan2(a1[1], a1[0]), math.atan2(a2[1], a2[0])
+    return _two_link(math.hypot(*a1), math.hypot(*a2), math.atan2(a1[1], a1[0]),
+                     math.atan2(a2[1], a2[0]), d, prefer_q2)
+
+
+def _two_link(l1: float, l2: float, p1: float, p2: float, d: Vec,
+              prefer_q2: float) -> tuple[float, float]:
+    """``solve_two_link`` with the links' lengths and directions worked out already
+    (a Chain keeps them: a reach solves at every control step)."""
     dist = math.hypot(*d)
     c = (dist * dist - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
     c = min(1.0, max(-1.0, c))
@@ -143,6 +152,13 @@ class Chain:
     end: Vec
     limits: tuple[tuple[float, float] | None, ...]
 
+    def __post_init__(self):
+        # a two-joint chain's lengths and zero-angle directions, for the closed form
+        if len(self.links) == 2:
+            (x1, y1), (x2, y2) = self.links
+            object.__setattr__(self, "_closed", (math.hypot(x1, y1), math.hypot(x2, y2),
+                                                 math.atan2(y1, x1), math.atan2(y2, x2)))
+
     @classmethod
     def from_spec(cls, name: str, spec: ChainSpec, character: CharacterSpec) -> Chain:
         joints = [character.joint(j) for j in spec.joints]
@@ -160,13 +176,14 @@ class Chain:
     def solve(self, character, target: Vec, current) -> tuple[float, ...]:
         """Joint targets (radians, within limits) reaching for a world point, starting
         from ``current`` (the joints' targets now)."""
-        parent = character.bodies[self.parent_link]
-        base = parent.local_to_world(self.anchor)
-        c, s = math.cos(-parent.angle), math.sin(-parent.angle)
-        dx, dy = target[0] - base[0], target[1] - base[1]
+        parent = character.bodies[self.parent_link]._body  # (pymunk's own C calls)
+        base = _to_world(parent, self.anchor)
+        angle = -_angle(parent)
+        c, s = math.cos(angle), math.sin(angle)
+        dx, dy = target[0] - base.x, target[1] - base.y
         d = (c * dx - s * dy, s * dx + c * dy)
         if len(self.links) == 2:
-            q = solve_two_link(self.links[0], self.links[1], d, current[1])
+            q = _two_link(*self._closed, d, current[1])
             clamped = tuple(_clamp(v, lim) for v, lim in zip(q, self.limits))
             if clamped == q:
                 return q

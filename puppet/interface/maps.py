@@ -242,9 +242,13 @@ def _unit(spec, channels=None):
 
 
 def compile_contribution(spec, channels=None):
-    """An 'add' map: ``contribution(values) -> [(joint, radians)]`` to add to targets."""
-    value = _unit(spec, channels)
+    """An 'add' map: ``contribution(values) -> [(joint, radians)]`` to add to targets (a
+    constant ``add:`` map: the same offset at every control step)."""
     gains = list(spec.gains().items())
+    if getattr(spec, "add", None) is not None:
+        constant = [(j, g * math.radians(spec.add)) for j, g in gains]
+        return lambda values: constant  # noqa: E731
+    value = _unit(spec, channels)
 
     def contribution(values):
         v = value(values)

@@ -6,7 +6,6 @@ capture them. Random motion is a controller (``controllers/perturbation.py``).
 from __future__ import annotations
 
 
-
 def set_gravity(sim, gravity: tuple[float, float]) -> None:
     sim.space.gravity = tuple(gravity)
 

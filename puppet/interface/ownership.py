@@ -15,7 +15,7 @@ class Owner(NamedTuple):
     """A controller that can own joints: its kind and, for reaches, the chain. (A named
     tuple: owners are compared on every tick, and tuples compare in C.)"""
 
-    kind: str  # "sequence", "gesture", "reach", "frame" or "feedback"
+    kind: str  # "sequence", "gesture", "reach", "frame", "feedback" or "blend"
     name: str = ""
 
     def __str__(self) -> str:
@@ -26,6 +26,7 @@ SEQUENCE = Owner("sequence")
 GESTURE = Owner("gesture")
 FRAME = Owner("frame")  # a target held in another frame (controllers/frame.py)
 FEEDBACK = Owner("feedback")  # a map that reads the figure's sensors
+BLEND = Owner("blend")  # a pose or set reached over time (controllers/blend.py)
 
 
 def reach_owner(chain: str) -> Owner:

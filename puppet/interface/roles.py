@@ -57,7 +57,8 @@ class RoleBinding:
             if m.joints is not None:
                 update["joints"] = [r(j) for j in m.joints]
             return m.model_copy(update=update)
-        update = {"input": rs(m.input), "joints": {r(j): g for j, g in m.joints.items()},
+        update = {"input": rs(m.input) if m.input is not None else None,
+                  "joints": {r(j): g for j, g in m.joints.items()},
                   "frame": r(m.frame)}
         if m.joint is not None:
             update["joint"] = r(m.joint)

@@ -1,9 +1,10 @@
 """Run an interface file: input events in, PD targets and gains out.
 
 The runtime is an arbiter over controllers (``puppet.interface.controllers``): it
-holds the bindings, the continuous maps and the joint owner table, runs the action a
-key stands for, and asks its controllers (pose sequences, gestures, reaches, grasps,
-random motion, state machines) to do their time-driven work.
+holds the key bindings (``interface.bindings``: who owns a press, decided there once),
+the active maps (``interface.active_maps``) and the joint owner table, runs the action
+a key stands for (``interface.actions``), and asks its controllers (pose sequences,
+gestures, reaches, grasps, random motion, state machines) to do their time-driven work.
 
 It is event driven: targets change when an input changes, so between events the
 physics steps at full speed with nothing to do in Python. Time-driven work announces
@@ -22,23 +23,23 @@ per joint (``puppet.interface.ownership``):
     ends when it has none;
   * gains (stiffness/damping) are not owned: the latest write wins.
 An action's parts run in this order, later ones winning on shared joints: app/meta
-(slowdown, gravity, friction, perturb, push), track/kinematic, mode, goto (the new state's maps, then its
-``enter`` action), stiffness/damping, pose, set, adjust, sequence, release, grasp,
-reach.
+(slowdown, gravity, friction, perturb, push), track/kinematic, mode, goto (the new
+state's maps, then its ``enter`` action), stiffness/damping, pose, set, adjust,
+sequence, release, grasp, reach.
 """
 
 from __future__ import annotations
 
-import math
-
 from puppet.data.actions import ActionSpec
 from puppet.data.interfaces import InterfaceSpec
-from puppet.data.keys import normalize_key
+from puppet.data.keys import POINTER, pointer_value
 from puppet.interface import maps as mapping
-from puppet.interface import meta
-from puppet.interface.app_keys import AppAction, SetSlowdown
-from puppet.interface.conditions import map_reader
+from puppet.interface.actions import MAX_CHAINED_GOTOS, Actions
+from puppet.interface.active_maps import ActiveMaps, every_map
+from puppet.interface.bindings import KeyBindings, Resolved
+from puppet.interface.buffer import InputBuffer
 from puppet.interface.controllers.base import WAITED
+from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.gesture import GestureController
@@ -50,15 +51,16 @@ from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.controllers.tracking import OFF, Tracker
 from puppet.interface.events import Event, is_analog
 from puppet.interface.ik import Chain
-from puppet.interface.ownership import FEEDBACK, FRAME, JointOwners
-from puppet.interface.poses import apply_pose, frame_target
+from puppet.interface.ownership import JointOwners
 from puppet.interface.roles import RoleBinding
 from puppet.physics.character import Character
 
-MAX_CHAINED_GOTOS = 16
 
+class InterfaceRuntime(ActiveMaps, Actions):
+    """The arbiter: composes the key bindings (``interface.bindings``), the active maps
+    (``interface.active_maps``) and the actions (``interface.actions``) over the
+    controllers and state machines it holds."""
 
-class InterfaceRuntime:
     def __init__(self, spec: InterfaceSpec, character: Character, sim=None,
                  dt: float | None = None, start: bool = True):
         """``start=False``: touch no servo (no gains, no state entry); the caller then
@@ -72,7 +74,9 @@ class InterfaceRuntime:
         # (the stance leg and the swing leg); poses and maps are resolved per binding.
         self.roles = RoleBinding(spec)
         self._use_binding(spec.start_binding)
-        self.bindings = {normalize_key(k.key): k for k in spec.keys}
+        # a key for other scenes (``scenes:``) is not bound here
+        scene = sim.scene_spec.name if sim is not None else None
+        self.key_bindings = KeyBindings(spec, scene)
         machines = spec.state_machines()
         self.channels: dict[str, float] = {}  # channel.NAME inputs, by bare NAME
         self.inputs: dict[str, float] = {}  # one dict for the runtime's life (shared)
@@ -82,12 +86,7 @@ class InterfaceRuntime:
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
-        # (machine, state) -> chord -> action; machine -> chord -> action (any_state)
-        self.state_bindings = {(mname, sname): {normalize_key(k.key): k for k in s.keys}
-                               for mname, m in machines.items()
-                               for sname, s in m.states.items()}
-        self.any_bindings = {mname: {normalize_key(k.key): k for k in m.any_state.keys}
-                             for mname, m in machines.items()}
+        self.buffer = InputBuffer(self.key_bindings.state, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
         self.owners = JointOwners()
@@ -103,22 +102,42 @@ class InterfaceRuntime:
         every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
+        self.blends = BlendController(character, self.owners, self.frames, every)
         self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
                                None if sim is None else sim.ground_surface)
+        tracking = spec.tracking
+        if tracking is not None:  # the poses tracking stands the figure in, as its channels
+            joints = self.tracker.joints
+            used = [tracking.stand] if tracking.stand is not None else []
+            if tracking.reaction is not None and tracking.reaction.get_up is not None:
+                used += [step.pose for step in tracking.reaction.get_up.steps]
+            self.tracker.poses = {name: {joints[j]: v for j, v in
+                                         spec.poses[name].joint_degrees().items()
+                                         if j in joints} for name in used}
+            if tracking.stand is not None:
+                self.tracker.stand = self.tracker.poses[tracking.stand]
         self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
-                            self.perturber, self.tracker, self.frames, self.feedback)
+                            self.perturber, self.tracker, self.blends, self.frames,
+                            self.feedback)
         self._watched = [(c, c.BUSY) for c in self.controllers]
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self._controllers_wake: int | None = None  # the earliest of theirs
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._active_cache: dict[tuple, tuple] = {}  # (binding, active maps) -> compiled
         self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
+        # pointer.x / pointer.y: the mouse, or the gamepad's pointer stick (only kept when
+        # a map reads them)
+        self._pointer = any(n in POINTER for m in every_map(spec) for n in m.inputs)
+        stick = spec.gamepad.pointer
+        self._pointer_axes = {f"gamepad.{stick}_x": "pointer.x",
+                              f"gamepad.{stick}_y": "pointer.y"}
         self.mode = spec.start_mode
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
@@ -200,6 +219,7 @@ class InterfaceRuntime:
         for _, values in old._pending:  # stored, as old's flush would (its maps are gone)
             self.channels.update(values)
         self.held = set(old.held)
+        self.buffer.set_state(old.buffer.get_state())
         spec, was = self.spec, old.spec
         self.mode = old.mode if old.mode in spec.modes else spec.start_mode
         if old.role_binding in spec.bindings:
@@ -249,183 +269,38 @@ class InterfaceRuntime:
             if roles is not None and roles != self.role_binding:
                 self._use_binding(roles)  # entering a state selects its roles, the first too
         self._refresh_active_maps()
-        for applier, joints in self.feedback.setters:  # sensor maps own their joints
+        for _, joints in self.feedback.setters:  # sensor maps own their joints
             self.feedback.claim(joints)
         tracking = self.spec.tracking
         if tracking is not None and tracking.start != OFF:
-            self.tracker.switch(tracking.start, now)
+            self.tracker.switch(tracking.start, now, blend=False)
         for name in self.machines:
             self._run_entry(name, now, 0)
         self._reschedule(now)
-
-    def _refresh_active_maps(self) -> None:
-        if self._pending:
-            self.flush()  # with the maps that were active when their events came
-        spec = self.spec
-        active = list(spec.maps)
-        if self.mode is not None:
-            active += spec.modes[self.mode]
-        for machine in self.machines.values():
-            active += machine.spec.states[machine.current].maps
-        self.active_maps = active
-        self._mouse_maps = mapping.fused(self._compiled(("mouse.x", "mouse.y")))
-        self._channel_maps = {}
-        self._push_feedback(active)
-        joints: set[str] = set()
-        for m in active:
-            if "mouse.x" in m.inputs or "mouse.y" in m.inputs:
-                joints |= self._map_joints(m)
-        self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
-        self.gestures.mouse_joints = joints
-
-    def _compiled(self, inputs) -> list:
-        """Compiled appliers of the active device maps reading any of ``inputs``, in
-        order (feedback maps run at the control rate instead)."""
-        return [self._applier(m) for m in self.active_maps
-                if not m.feedback and any(i in inputs for i in m.inputs)]
-
-    def _push_feedback(self, active) -> None:
-        """Hand the active feedback maps (sensor inputs, ``add``) to their controller."""
-        readers, setters, adders = {}, [], []
-        for m in active:
-            if not m.feedback:
-                continue
-            for name in self.roles.map(m).inputs:
-                if name.startswith("sensor.") and name not in readers:
-                    read = self._readers.get(name)
-                    if read is None:
-                        read = self._readers[name] = map_reader(name[7:], self.character)
-                    readers[name] = read
-            if getattr(m, "combine", "set") == "add":
-                adders.append(self._applier(m))
-            else:
-                setters.append((self._applier(m), tuple(sorted(self._map_joints(m)))))
-        self.feedback.set_maps(list(readers.items()), setters, adders)
-
-    def _map_joints(self, m) -> set[str]:
-        m = self.roles.map(m)
-        if getattr(m, "grid", None) is not None:
-            these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
-            return these if m.joints is None else these & set(m.joints)
-        return set(m.gains())
-
-    def _applier(self, m):
-        """The compiled form of map ``m`` (compiled once per runtime)."""
-        key = (id(m), self.role_binding)
-        applier = self._map_cache.get(key)
-        if applier is None:
-            m = self.roles.map(m)
-            if getattr(m, "combine", "set") == "add":
-                applier = mapping.compile_contribution(m, self.channels)
-            else:
-                applier = mapping.compile_map(m, self.character.servos, self.pose_targets,
-                                              self.channels, self.frames,
-                                              FEEDBACK if m.feedback else None)
-            self._map_cache[key] = applier
-        return applier
-
-    def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
-        """The mouse position (x, y in 0..1) at which the active mouse maps give the
-        targets the joints have now (at the start: the start pose), or None if no
-        position comes within ``tolerance_deg`` on every joint they drive. The window
-        puts the pointer there when it opens, so its first mouse event does not snap
-        the character out of its pose (the middle of luxo-mouse throws Luxo over).
-        A grid search, then a pattern search; the targets are left as they were."""
-        if self._pending:
-            self.flush()
-        mouse_joints = self.gestures.mouse_joints
-        if not self._mouse_maps or not mouse_joints:
-            return None
-        servos = self.character.servos
-        want = {j: servos[j].target for j in mouse_joints}
-        values = dict(self.inputs)
-
-        def score(x: float, y: float) -> tuple[float, float]:
-            values["mouse.x"], values["mouse.y"] = x, y
-            for apply in self._mouse_maps:
-                apply(values)  # written straight to the servos; put back below
-            error = max(abs(servos[j].target - t) for j, t in want.items())
-            return error, abs(x - 0.5) + abs(y - 0.5)  # ties: nearer the middle
-
-        try:
-            n = 20
-            best, x, y = min((score(i / n, k / n), i / n, k / n)
-                             for i in range(n + 1) for k in range(n + 1))
-            step = 1.0 / n
-            while step > 1e-4:
-                moves = [(min(1.0, max(0.0, x + dx * step)), min(1.0, max(0.0, y + dy * step)))
-                         for dx in (-1, 0, 1) for dy in (-1, 0, 1) if dx or dy]
-                found = min((score(*p), *p) for p in moves)
-                if found[0] < best:
-                    best, x, y = found
-                else:
-                    step /= 2
-        finally:
-            for joint, target in want.items():
-                servos[joint].target = target
-        return (x, y) if best[0] <= math.radians(tolerance_deg) else None
-
-    def _gains_of(self, name: str) -> tuple[float, float, float]:
-        """(stiffness, damping, max torque) the interface gives a joint's servo, each
-        the character's where the interface says nothing."""
-        k, d, t = self.character.servos[name].default_gains
-        gain = self.spec.gains.get(name)
-        if gain is not None:
-            k = gain.stiffness if gain.stiffness is not None else k
-            d = gain.damping if gain.damping is not None else d
-            t = gain.max_torque if gain.max_torque is not None else t
-        return k, d, t
-
-    def apply_gains(self) -> None:
-        """Interface gains override the character's defaults."""
-        for name, servo in self.character.servos.items():
-            servo.stiffness, servo.damping, servo.max_torque = self._gains_of(name)
-
-    def restore_gains(self, joints) -> None:
-        """The interface's gains (else the character's) back on ``joints``."""
-        servos = self.character.servos
-        for name in joints:
-            servos[name].stiffness, servos[name].damping, _ = self._gains_of(name)
-
-    def apply_maps(self, inputs=None) -> None:
-        """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
-        inputs = self.input_names() if inputs is None else inputs
-        for apply in self._compiled(set(inputs)):
-            self.owners.take(apply(self.inputs))
-
-    def _activate(self, maps) -> None:
-        """Maps that just became active (a mode or state entered) act at once with the
-        inputs as they are; the maps that were active already leave their joints be. A
-        sensor map takes its joints, and writes them at the next control step."""
-        for m in maps:
-            if not m.feedback:
-                self.owners.take(self._applier(m)(self.inputs))
-            elif getattr(m, "combine", "set") != "add":
-                self.feedback.claim(self._map_joints(m))
 
     # -- input -------------------------------------------------------------------
     def _lookup(self, chord: str) -> tuple[ActionSpec | None, str | None]:
         """The action bound to a chord now and the machine it belongs to: each machine's
         current state's keys, then its any_state keys, then the top level's."""
-        for name, machine in self.machines.items():
-            found = self.state_bindings[(name, machine.current)].get(chord)
-            if found is None:
-                found = self.any_bindings[name].get(chord)
-            if found is not None:
-                return found, name
-        return self.bindings.get(chord), None
+        return self.key_bindings.lookup(chord, self.machines)
+
+    def resolve(self, chord: str) -> Resolved:
+        """Who owns ``chord`` now, the interface or the app (``interface.bindings``: the
+        one place that decides it)."""
+        return self.key_bindings.resolve(chord, self.machines, self.gestures.paths)
 
     def binding(self, chord: str) -> ActionSpec | None:
         """The action bound to a chord in the current states (state keys first)."""
         return self._lookup(chord)[0]
 
     def handles_key(self, chord: str) -> bool:
-        return self.binding(chord) is not None or chord in self.gestures.paths
+        return self.resolve(chord).interface
 
-    def on_event(self, event: Event):
+    def on_event(self, event: Event, resolved: Resolved | None = None):
         """Apply an input event at the current step. Returns an app action the event
         asks for (an ``AppAction`` or ``SetSlowdown``), for the session to perform or
-        pass on."""
+        pass on. ``resolved``: a key press's owner, when the caller has resolved it
+        already at this step (a press is resolved once)."""
         kind = event["type"]
         if kind == "channels":
             self._on_channels(event["values"])
@@ -435,6 +310,8 @@ class InterfaceRuntime:
         if kind == "mouse":
             self.inputs["mouse.x"] = event["x"]
             self.inputs["mouse.y"] = event["y"]
+            if self._pointer:
+                self.inputs["pointer.x"], self.inputs["pointer.y"] = event["x"], event["y"]
             values, table = self.inputs, self.owners.table
             for apply in self._mouse_maps:  # the hot path: no lookups, no allocation
                 written = apply(values)
@@ -448,7 +325,7 @@ class InterfaceRuntime:
         now = self.step_now()
         result = None
         if kind == "key":
-            result = self._press(event["key"], event["down"], now)
+            result = self._press(event["key"], event["down"], now, resolved)
         elif kind in ("mouse_button", "gamepad", "channel"):
             if kind == "mouse_button":
                 name, value = f"mouse.{event['button']}", 1.0 if event["down"] else 0.0
@@ -461,9 +338,14 @@ class InterfaceRuntime:
                 self.channels[event["name"]] = value
                 if self.tracker.mode != OFF:
                     self.tracker.sampled(now)
+                    if self.tracker.due:
+                        self._tracking_due(now)
             else:
                 self.inputs[name] = value
-            self.apply_maps((name,))
+            pointer = self._pointer and self._pointer_axes.get(name)
+            if pointer:  # the pointer stick moves the pointer, as the mouse does
+                self.inputs[pointer] = pointer_value(value)
+            self.apply_maps((name, pointer) if pointer else (name,))
             if kind != "channel" and not is_analog(name) \
                     and (was > 0.5) != (value > 0.5):  # buttons also act as keys
                 result = self._press(name, value > 0.5, now)
@@ -490,6 +372,8 @@ class InterfaceRuntime:
             if self.tracker.lost:  # the stream is back: the tracker takes its joints
                 self.channels.update(values)  # by these values (stored again at flush)
             self.tracker.sampled(self.step_now())
+            if self.tracker.due:  # found: the stream is back
+                self._tracking_due(self.step_now())
         pending = self._pending
         if pending and pending[-1][0] is entry:
             pending[-1][1] = values
@@ -512,131 +396,6 @@ class InterfaceRuntime:
         if self.frames.held and self.frames not in self._active:
             self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
 
-    def _press(self, chord: str, down: bool, now: int):
-        if not down:
-            self.held.discard(chord)
-            restore = self.gain_holds.pop(chord, None)
-            if restore:
-                servos = self.character.servos
-                for joint, (k, d) in restore.items():
-                    servos[joint].stiffness, servos[joint].damping = k, d
-            return None
-        self.held.add(chord)
-        binding, machine = self._lookup(chord)
-        if binding is None:
-            if chord in self.gestures.paths:
-                self.gestures.start(chord, now)
-            return None
-        return self.run_action(binding, now, chord, machine=machine)
-
-    # -- actions -----------------------------------------------------------------
-    def run_action(self, a: ActionSpec, now: int, chord: str | None = None,
-                   depth: int = 0, machine: str | None = None):
-        """Run one action (a key's, a state's entry). ``machine``: the state machine the
-        action belongs to (its ``goto`` names that machine's states first)."""
-        if self._pending:
-            self.flush()  # a stream's samples came first: they act first
-        result = None
-        if a.app is not None:
-            result = AppAction(a.app)
-        if a.slowdown is not None:
-            result = SetSlowdown(a.slowdown)
-        if self.sim is not None:
-            if a.gravity is not None:
-                meta.set_gravity(self.sim, a.gravity)
-            if a.friction is not None:
-                meta.set_friction(self.sim, a.friction)
-        if a.perturb is not None:
-            self.perturber.switch(a.perturb, now)
-        if a.push is not None and self.sim is not None:
-            self.sim.push(self.roles.rename(a.push.link), a.push.impulse, a.push.point)
-            self.tracker.impact(now)
-        if a.track is not None and self.spec.tracking is not None:
-            if self._pending:
-                self.flush()
-            self.tracker.switch(a.track, now)
-            for joint in self.tracker.joints:
-                self.frames.forget(joint)
-        if a.kinematic is not None:
-            self.tracker.set_kinematic(a.kinematic)
-        if a.mode is not None and a.mode != self.mode:
-            self.mode = a.mode
-            self._refresh_active_maps()
-            self._activate(self.spec.modes[a.mode])
-        if a.goto is not None and self.machines:
-            to = self.spec.resolve_goto(a.goto, machine)
-            if to is not None:
-                self._enter_state(to[0], to[1], now, depth)
-        servos = self.character.servos
-        r = self.roles.rename
-        if a.stiffness or a.damping:
-            if a.while_held and chord is not None:
-                saved = self.gain_holds.setdefault(chord, {})
-                for joint in set(a.stiffness) | set(a.damping):
-                    saved.setdefault(r(joint), [servos[r(joint)].stiffness,
-                                                servos[r(joint)].damping])
-            for joint, k in a.stiffness.items():
-                servos[r(joint)].stiffness = k
-            for joint, d in a.damping.items():
-                servos[r(joint)].damping = d
-        frames = self.frames
-        if a.pose is not None:
-            pose = self.poses[a.pose]
-            self.owners.take(pose.targets)
-            apply_pose(servos, pose, frames=frames, owner=FRAME)
-        held = []
-        for joint, deg in a.set.items():
-            joint = r(joint)
-            if isinstance(deg, (int, float)):
-                servos[joint].target = math.radians(deg)
-                frames.forget(joint)
-            else:
-                t = frame_target(deg)
-                held.append((joint, t if t.ref is None else
-                             type(t)(r(t.ref), t.angle, t.hold_parent)))
-        for joint, deg in a.adjust.items():
-            servos[r(joint)].target += math.radians(deg)
-            frames.forget(r(joint))
-        self.owners.take([r(j) for j in a.touched_joints()])
-        for joint, target in held:  # after the take: a frame target is held (owned)
-            frames.hold(joint, target)
-        if a.sequence is not None:
-            self.sequences.start(a.sequence, now, a.repeat)
-        if a.release is not None:
-            self.release(a.release)
-        if a.grasp is not None:
-            self.grasping.arm(a.grasp, now)
-        if a.reach is not None:
-            self.reaching.start(a.reach, now)
-        return result
-
-    def release(self, which: str) -> None:
-        """Let go: unpin the chain ("all": every chain) and disarm its grasp, also
-        a running reach's."""
-        self.grasping.release(which)
-        self.reaching.let_go(which)
-
-    def _enter_state(self, machine: str, state: str, now: int, depth: int) -> None:
-        if depth >= MAX_CHAINED_GOTOS:
-            return
-        self.machines[machine].enter(state, now)
-        roles = self.machines[machine].spec.states[state].roles
-        rebound = roles is not None and roles != self.role_binding
-        if rebound:
-            self._use_binding(roles)
-        self._refresh_active_maps()
-        if rebound:  # a device map on a role now means another joint: it acts there
-            self._activate([m for m in self.active_maps if not m.feedback
-                            and self.roles.names_role(m)])
-        self._activate(self.machines[machine].spec.states[state].maps)
-        self._run_entry(machine, now, depth + 1)
-
-    def _run_entry(self, machine: str, now: int, depth: int) -> None:
-        m = self.machines[machine]
-        enter = m.spec.states[m.current].enter
-        if enter is not None:
-            self.run_action(enter, now, None, depth, machine)
-
     # -- time --------------------------------------------------------------------
     def tick(self, step: int) -> None:
         """Do the time-driven work due at ``step`` (called before stepping from it)."""
@@ -648,6 +407,8 @@ class InterfaceRuntime:
         for controller in active:
             if controller.tick(step) is not WAITED:
                 waited = False
+        if self.tracker.due:  # lost, or a fall: the interface's balance, its get-up
+            self._tracking_due(step)
         moved = False
         for machine in self._machine_list:
             to = machine.due(step)
@@ -699,6 +460,7 @@ class InterfaceRuntime:
             controller.stop()
         self.owners.table = {}
         self.gain_holds = {}
+        self.buffer.set_state(None)
         self.mode = self.spec.start_mode
         self._use_binding(self.spec.start_binding)
         self.apply_gains()
@@ -715,7 +477,7 @@ class InterfaceRuntime:
                 "controllers": [c.get_state() for c in self.controllers],
                 "machines": {n: m.get_state() for n, m in self.machines.items()},
                 "gain_holds": _copy_holds(self.gain_holds), "binding": self.role_binding,
-                "next_wakeup": self.next_wakeup}
+                "next_wakeup": self.next_wakeup, "buffer": self.buffer.get_state()}
 
     def set_state(self, state: dict) -> None:
         self.inputs.clear()
@@ -731,6 +493,7 @@ class InterfaceRuntime:
             if name in self.machines:
                 self.machines[name].set_state(s)
         self.gain_holds = _copy_holds(state["gain_holds"])
+        self.buffer.set_state(state.get("buffer"))
         if state["binding"] != self.role_binding:
             self._use_binding(state["binding"])
         self._pending = []

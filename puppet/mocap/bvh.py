@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,6 +50,18 @@ _AXIS = {"X": 0, "Y": 1, "Z": 2}
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)  # words float() reads
 _COUNT = re.compile(r"[0-9]{1,12}")  # a count (ASCII digits; 12 of them are plenty)
+
+# Limits, as a YAML data file has them (puppet.data.yamlfile): a file from anyone cannot
+# make puppet read, hold or compute without bound. The shipped clips are 0.7-2 MB, 31
+# joints (+5 End Sites), 994-2752 frames; CMU's longest are under 10 MB, rigs with
+# fingers about 150 joints.
+MAX_BYTES = 32_000_000  # a BVH file's largest size, checked before it is read
+MAX_JOINTS = 512  # joints and End Sites
+MAX_NAME = 200  # characters of a joint's name
+MAX_FRAMES = 1_000_000  # 'Frames: N' (2.3 h at 120 fps)
+MAX_VALUES = 8_000_000  # frames x channels: the motion table (64 MB of numbers)
+MAX_JOINT_FRAMES = 2_000_000  # frames x joints: the world transforms of every joint
+# (96 bytes each: 192 MB at most; playing a clip computes only the joints it reads)
 
 
 @dataclass
@@ -157,6 +170,31 @@ class Clip:
                 pos[:, i] = pos[:, j.parent] + np.einsum("fab,fb->fa", pr, local_t)
         return rot, pos
 
+    def positions_of(self, names, scale: float = 1.0) -> dict[str, np.ndarray]:
+        """(frames, 3) world positions of the named joints and End Sites (the unknown
+        names left out), times ``scale``: the forward kinematics of their chains only,
+        so that playing a clip through a mapping that reads a few of a big rig's
+        joints holds a few joints' transforms, not all of them."""
+        wanted = [n for n in names if n in self._index]
+        keep: set[int] = set()
+        for n in wanted:
+            i = self._index[n]
+            while i >= 0 and i not in keep:
+                keep.add(i)
+                i = self.joints[i].parent
+        rot: dict[int, np.ndarray] = {}
+        pos: dict[int, np.ndarray] = {}
+        for i in sorted(keep):  # parents come first in the hierarchy's order
+            j = self.joints[i]
+            local_r, local_t = self.local_rotations(i), self.local_translations(i)
+            if j.parent < 0:
+                rot[i], pos[i] = local_r, local_t
+            else:
+                pr = rot[j.parent]
+                rot[i] = pr @ local_r
+                pos[i] = pos[j.parent] + np.einsum("fab,fb->fa", pr, local_t)
+        return {n: pos[self._index[n]] * scale for n in wanted}
+
     def world_positions(self, scale: float = 1.0) -> np.ndarray:
         """(frames, joints, 3) every joint's and End Site's world position, times
         ``scale`` (e.g. ``CMU_UNIT_METRES``); columns in ``names`` order."""
@@ -219,10 +257,21 @@ def read_bvh(path: str | Path) -> Clip:
     """Read a BVH file; ``DataError`` (one line, with where) if it is malformed."""
     path = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
+        with open(path, "rb") as fh:
+            size = os.fstat(fh.fileno()).st_size
+            if size > MAX_BYTES:  # said before reading any of it
+                raise DataError(path, None, None, _too_big(size))
+            raw = fh.read(MAX_BYTES + 1)
     except OSError as exc:
         raise DataError(path, None, None, f"cannot read: {exc.strerror or exc}") from None
-    return parse_bvh(text, path)
+    if len(raw) > MAX_BYTES:  # (a file that grew, or no size: a pipe)
+        raise DataError(path, None, None, _too_big(len(raw)))
+    return parse_bvh(raw.decode("utf-8", errors="replace"), path)
+
+
+def _too_big(size: int) -> str:
+    return (f"the file is {size / 1e6:.1f} MB; a BVH file may be at most "
+            f"{MAX_BYTES / 1e6:.0f} MB (cut the clip into shorter takes)")
 
 
 def parse_bvh(text: str, path: str = "<bvh>") -> Clip:
@@ -287,6 +336,9 @@ def _hierarchy(toks: _Tokens) -> list[Joint]:
 def _joint(toks: _Tokens, joints: list[Joint], names: set[str], parent: int,
            kw: tuple[str, int, int], first_channel: int) -> Joint:
     """Read a joint's name, OFFSET and CHANNELS (an End Site's OFFSET and '}'); append it."""
+    if len(joints) >= MAX_JOINTS:
+        toks.fail(kw, f"a BVH file may have at most {MAX_JOINTS} joints and End Sites; "
+                      f"this one has more")
     if kw[0] == "End":
         site = toks.expect("Site", " after 'End'")
         name = joints[parent].name + "_end"  # made unique when the hierarchy is read
@@ -296,6 +348,9 @@ def _joint(toks: _Tokens, joints: list[Joint], names: set[str], parent: int,
         if name_tok[0] == "{":
             toks.fail(name_tok, f"expected the joint's name after {kw[0]}")
         name, line = name_tok[0], kw[1]
+        if len(name) > MAX_NAME:
+            toks.fail((name[:30] + "...", *name_tok[1:]),
+                      f"a joint name of {len(name)} characters; expected at most {MAX_NAME}")
         if name in names:
             toks.fail(name_tok, "a second joint with this name; expected unique joint names")
         names.add(name)
@@ -348,6 +403,15 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
         raise DataError(path, frames_line, None, f"Frames: '{frames_text[:30]}': expected a "
                         f"whole number of frames (at most 12 digits)")
     frames = int(frames_text)
+    n_nodes = len(joints)
+    for what, got, most in (("frames", frames, MAX_FRAMES),
+                            ("values (frames x channels)", frames * n_ch, MAX_VALUES),
+                            ("joint positions (frames x joints and End Sites)",
+                             frames * n_nodes, MAX_JOINT_FRAMES)):
+        if got > most:
+            raise DataError(path, frames_line, None,
+                            f"Frames: {frames} makes {got} {what}; a BVH clip may have at "
+                            f"most {most} (cut the clip into shorter takes)")
     ft_text, ft_line = header["Frame Time:"]
     frame_time = float(ft_text) if _NUMBER.fullmatch(ft_text) else math.nan
     if not (math.isfinite(frame_time) and frame_time > 0 and math.isfinite(1 / frame_time)):
@@ -355,6 +419,7 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
                         f"per frame, a number > 0 (and not so small that frames per second "
                         f"overflow)")
     first = line0 + k  # file line of the first frame
+    _count_frames(path, lines[k:], first, frames)  # before a number is read: cheap
     body = "\n".join(lines[k:])
     motion = None
     if n_ch > 0 and body.strip():  # (numpy warns about an empty table)
@@ -368,6 +433,37 @@ def _motion(path: str, rest: str, line0: int, joints: list[Joint]) -> tuple[np.n
     if motion is None:  # find and name the first bad line
         motion = _motion_slow(path, lines[k:], first, frames, n_ch)
     return motion, frame_time
+
+
+def _column(line: str, words: list[str], word: str) -> int:
+    """1-based column of ``word`` (one of ``line.split()``) in ``line``."""
+    at = 0
+    for w in words:
+        at = line.index(w, at)
+        if w is word:
+            return at + 1
+        at += len(w)
+    return 1
+
+
+def _count_frames(path: str, lines: list[str], first: int, frames: int) -> None:
+    """The frame lines (not blank) against 'Frames: N', before any number is read:
+    a file with the wrong count is refused without converting its table."""
+    count = 0
+    for i, line in enumerate(lines):
+        if line and not line.isspace():
+            count += 1
+            if count == frames + 1:
+                raise DataError(path, first + i, None,
+                                f"more frames than 'Frames: {frames}' says; expected the "
+                                f"file to end after frame {frames}")
+    if count < frames:
+        last = first + len(lines) - 1 if lines else first - 1
+        while last >= first and not lines[last - first].strip():
+            last -= 1
+        raise DataError(path, max(last, first - 1), None,
+                        f"the file ends after {count} frames; 'Frames: {frames}' "
+                        f"expected {frames}")
 
 
 def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int) -> np.ndarray:
@@ -385,9 +481,10 @@ def _motion_slow(path: str, lines: list[str], first: int, frames: int, n_ch: int
             raise DataError(path, last, None,
                             f"frame {len(rows) + 1} has {len(words)} values; expected "
                             f"{n_ch}, one per channel of the hierarchy")
-        bad = next((w for w in words if not _NUMBER.fullmatch(w)), None)
-        if bad is not None and not _NOT_FINITE.fullmatch(bad):
-            raise DataError(path, last, line.index(bad) + 1,
+        bad = next((w for w in words if not _NUMBER.fullmatch(w)
+                    and not _NOT_FINITE.fullmatch(w)), None)  # ('inf abc': the abc)
+        if bad is not None:
+            raise DataError(path, last, _column(line, words, bad),
                             f"'{bad[:30]}' in frame {len(rows) + 1}: expected a number")
         row = [float(w) for w in words]
         if not all(math.isfinite(v) for v in row):

@@ -7,7 +7,8 @@ them all for a headless run, and ``drain(now)`` gives the window the newest grid
 sample ``now`` has reached, once - the session records it at the step it acts, so the
 log replays with no clip at all. Looping carries the distance on: each lap's
 ``root.x`` starts where the last one ended, so a tracked figure walks on instead of
-being pulled back to the start.
+being pulled back to the start. ``drop`` (``play --mocap-drop FROM:UNTIL``) leaves out
+the samples of a stretch of time, as a stream that stops does: tracking is lost then.
 """
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ LAP_CHANNEL = "root.x"  # the channel a loop carries on from lap to lap
 
 class ClipSource:
     def __init__(self, clip: RetargetedClip, rate: float = 60.0, start: float = 0.0,
-                 speed: float = 1.0, loop: bool = False, name: str = "clip"):
+                 speed: float = 1.0, loop: bool = False, name: str = "clip",
+                 drop: tuple[float, float] | None = None):
         self.clip = clip
         self.period = 1.0 / rate
         self.start = start  # session time at which the clip's first frame plays
@@ -30,6 +32,7 @@ class ClipSource:
         self.loop = loop and clip.duration > 0
         self.name = name
         self.posted = 0
+        self.drop = drop  # (from, until) s of session time with no sample: tracking lost
         self._last_k: int | None = None  # the grid sample given last
         self._lap_x = clip.at(clip.duration).get(LAP_CHANNEL, 0.0) - \
             clip.at(0.0).get(LAP_CHANNEL, 0.0)
@@ -50,7 +53,7 @@ class ClipSource:
         """The newest grid sample at or before session time ``now``, if not given yet
         (a rewind, ``now`` gone back, gives it again from there)."""
         k = math.floor((now - self.start) / self.period + 1e-9)
-        if k < 0 or k == self._last_k:
+        if k < 0 or k == self._last_k or self._dropped(self.start + k * self.period):
             return []
         self._last_k = k
         self.posted += 1
@@ -65,9 +68,13 @@ class ClipSource:
             now = self.start + k * self.period
             if now > seconds:
                 break
-            out.append((round(now / dt), channels_event(self.values_at(now))))
+            if not self._dropped(now):
+                out.append((round(now / dt), channels_event(self.values_at(now))))
             k += 1
         return out
+
+    def _dropped(self, now: float) -> bool:
+        return self.drop is not None and self.drop[0] <= now < self.drop[1]
 
     def status(self) -> str:
         return f"{self.name}: {self.posted} samples"

@@ -6,8 +6,13 @@ from pathlib import Path
 
 from puppet.data.catalog import find, list_kind
 from puppet.data.errors import DataError
-from puppet.data.mappings import (MappingSpec, channel_error, channel_problem,
-                                  interface_reads, load_mapping)
+from puppet.data.mappings import (
+    MappingSpec,
+    channel_error,
+    channel_problem,
+    interface_reads,
+    load_mapping,
+)
 from puppet.mocap.bvh import read_bvh
 from puppet.mocap.retarget import RetargetedClip, retarget_clip
 
@@ -67,6 +72,46 @@ def find_mapping(name: str | None, interface, interface_path=None,
         if error is not None:
             raise error
     return mapping, path
+
+
+def choose_mapping(clip: str, name: str | None, interface, interface_path,
+                   character) -> tuple[MappingSpec, str, str | None]:
+    """The mapping a clip (a path or a catalog name) plays through on ``interface``:
+    ``--mapping NAME`` if given; else the interface's ``tracking.mapping`` if the clip
+    has every joint it names; else the shipped mapping that names them all (the one
+    ``puppet mocap info`` picks) if it fits the character; else the clip's rig
+    recognised as a humanoid (``puppet.mocap.rigs``). Returns (the mapping, where it
+    came from, a note saying which was taken when it was not the interface's)."""
+    if name is not None or interface.tracking is None or interface.tracking.mapping is None:
+        mapping, path = find_mapping(name, interface, interface_path, character)
+        return mapping, str(path), None
+    mapping, path = find_mapping(None, interface, interface_path, character)
+    clip_path = find("clip", clip)
+    bvh = read_bvh(clip_path)
+    if mapping.point_names() <= set(bvh.names):
+        return mapping, str(path), None
+    from puppet.mocap.info import matching_mappings
+    from puppet.mocap.rigs import NotHumanoid, recognise
+
+    joints = [j.name for j in character.joints]
+    stem = Path(clip_path).stem
+    for other, spec in matching_mappings(bvh):
+        if channel_problem(spec, joints, character.name) is None:
+            return spec, str(find("mapping", other)), (
+                f"{stem}: mapping '{mapping.name}' (the interface's) names joints the clip "
+                f"has not; playing it through '{other}', which names them all")
+    try:
+        rig = recognise(bvh, character)
+    except NotHumanoid as exc:
+        try:
+            retarget_clip(bvh, mapping, str(clip_path))
+        except DataError as missing:
+            raise DataError(missing.path, missing.line, missing.col,
+                            f"{missing.message}; and {exc.message}") from None
+        raise
+    return rig.mapping, f"the rig recognised in {clip_path}", (
+        f"{stem}: no mapping names its joints; recognised {rig.summary()} (puppet mocap "
+        f"mapping {clip} writes the mapping out)")
 
 
 def open_clip(clip: str, mapping: MappingSpec) -> RetargetedClip:

@@ -6,11 +6,13 @@ import ipaddress
 
 from puppet.data.errors import UsageError
 from puppet.mocap.mediapipe import MediaPipeDecoder
+from puppet.mocap.mediapipe_bridge import MediaPipeBridgeDecoder
 from puppet.mocap.osc import Decoder
 from puppet.mocap.puppet_osc import PuppetDecoder
 from puppet.mocap.vmc import VmcDecoder
 
 DECODERS: dict[str, type[Decoder]] = {"vmc": VmcDecoder, "mediapipe": MediaPipeDecoder,
+                                      "mediapipe-osc": MediaPipeBridgeDecoder,
                                       "puppet": PuppetDecoder}
 FORMATS = tuple(DECODERS)
 LOCALHOST = "127.0.0.1"

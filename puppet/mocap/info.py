@@ -83,11 +83,22 @@ def describe(clip_name: str, mapping_name: str | None = None,
     else:
         chosen = matching_mappings(clip)[:1]
         mapping_path = find("mapping", chosen[0][0]) if chosen else None
-        if not chosen:
-            out.append("planar angles: no mapping of assets/mappings/ names all its joints "
-                       "(write one, see docs/interfaces.md, 'Motion capture'; then "
-                       "--mapping NAME)")
-            return "\n".join(out)
+        if not chosen:  # a rig no mapping names: recognised as a humanoid, if it is one
+            from puppet.mocap.rigs import NotHumanoid, recognise
+
+            try:
+                rig = recognise(clip)
+            except NotHumanoid as exc:
+                out.append(f"planar angles: no mapping of assets/mappings/ names all its "
+                           f"joints, and it is no humanoid rig puppet recognises (no joint "
+                           f"named for {exc.missing}); write a mapping (docs/interfaces.md, "
+                           f"'Motion capture'), then --mapping NAME")
+                return "\n".join(out)
+            out.append(f"recognised {rig.summary()}")
+            out.append(f"  (puppet mocap mapping {clip_name} writes this mapping out, "
+                       f"for editing)")
+            chosen = [(rig.mapping.name, rig.mapping)]
+            mapping_path = f"the rig recognised in {path}"
     name, mapping = chosen[0]
     note = mapping_unit_note(clip, mapping, mapping_path)
     if note and notes is not None:

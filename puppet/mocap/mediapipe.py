@@ -40,6 +40,10 @@ class MediaPipeDecoder(Decoder):
     def message(self, address: str, args: list) -> Frame | None:
         if address != ADDRESS:
             raise Drop("unknown_address", f"'{address[:40]}' is not {ADDRESS}")
+        if args and isinstance(args[0], int) and not isinstance(args[0], bool):
+            raise Drop("bad_arguments", f"{ADDRESS}: a leading count of poses ({args[0]}): "
+                                        f"the MediaPipe-to-OSC bridge's picture landmarks "
+                                        f"(--mocap-format mediapipe-osc reads them)")
         if len(args) not in (VALUES, VALUES + 1):
             raise Drop("bad_arguments", f"{ADDRESS}: {VALUES} numbers (or a time and "
                                         f"{VALUES}) expected, got {len(args)} arguments")

@@ -12,7 +12,11 @@ Reasons (``DROP_REASONS``):
 * ``not_finite``: a NaN or an infinity;
 * ``out_of_range``: a number beyond what the format allows (``MAX_POSITION`` ...);
 * ``out_of_order``: the frame's time is before the last frame's;
-* ``stale``: the frame's time is the last frame's (a repeated frame: nothing new).
+* ``stale``: the frame's time is the last frame's and it brings nothing new (a repeated
+  frame). A frame with the last one's time that does bring something (VMC bones, puppet
+  channels the last did not have or had otherwise) goes on with it: a sender that
+  spreads one frame over several bundles (one time, many bones) is counted in
+  ``continued``, its parts handed out as they come.
 
 The first five judge a datagram (``malformed`` when it does not parse, or one element
 of a bundle that does not) or one message of it (the others of a bundle still count);
@@ -73,6 +77,8 @@ class Counts:
     frames: int = 0
     ignored: int = 0
     restarts: int = 0
+    continued: int = 0  # frames that went on with the last one's time (several bundles)
+    no_pose: int = 0  # "no pose" messages (a pose tracker that lost the performer)
     skipped: int = 0  # bundle elements python-osc could not read (each a malformed drop)
     dropped: collections.Counter = field(default_factory=collections.Counter)
     last_problem: str = ""
@@ -274,6 +280,12 @@ class Decoder:
     def _accept(self, frame: Frame | None, frames: list[Frame]) -> None:
         if frame is None:
             return
+        if frame.time is not None and frame.time == self.clock.last and self.novel(frame):
+            self.counts.continued += 1  # the same frame, its next part
+            self.committed()
+            self.counts.frames += 1
+            frames.append(self.finish(frame))
+            return
         try:
             self.clock.check(frame.time, self.counts)
         except Drop as drop:
@@ -295,6 +307,12 @@ class Decoder:
 
     def rejected(self) -> None:
         """The frame just made was dropped (its time): forget what it staged."""
+
+    def novel(self, frame: Frame) -> bool:
+        """Whether a frame with the last one's time brings something new (then it goes
+        on with that frame; else it is ``stale``). A format whose frames come whole
+        says no."""
+        return False
 
     def committed(self) -> None:
         """The frame just made was accepted: keep what it staged."""

@@ -27,6 +27,24 @@ class PuppetDecoder(Decoder):
     format = "puppet"
     default_port = DEFAULT_PORT
 
+    def __init__(self):
+        super().__init__()
+        self.last: dict[str, float] = {}  # the channels of the frames at the last time
+
+    def novel(self, frame: Frame) -> bool:
+        """Channels at the last frame's time that it had not (or had otherwise): the
+        frame's next part (a frame of more channels than one datagram holds)."""
+        return any(self.last.get(n) != v for n, v in frame.channels.items())
+
+    def finish(self, frame: Frame) -> Frame:
+        if frame.time is not None and frame.time != self._time:
+            self.last = {}
+        self._time = frame.time
+        self.last.update(frame.channels)
+        return frame
+
+    _time: float | None = None
+
     def message(self, address: str, args: list) -> Frame | None:
         if address != ADDRESS:
             raise Drop("unknown_address", f"'{address[:40]}' is not {ADDRESS}")

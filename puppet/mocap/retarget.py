@@ -10,10 +10,14 @@ for a whole clip (vectorised over its frames) and for a live stream (a frame at 
    clip, the way the performer faces (from two points across the hips), or given - and
    each point becomes (forward, up) in metres (``unit``, then ``size``);
 3. angles: a segment's direction in the plane less its rest direction; a joint angle is
-   one segment's less another's, wrapped to [-180, 180) (a planar human joint never
-   turns further; a running sum would drift by turns where a limb is seen nearly
-   end-on); a segment seen end-on (projected to less than a fifth of its length)
-   holds its last good angle;
+   one segment's less another's. Angles are continuous, never jumping by a turn (an
+   ankle or an elbow seen near +-180 wobbles across without flipping): each frame's
+   is the one of its whole turns nearest the last frame's, starting in -180..180. An
+   angle in the world (``root.angle``) is unwrapped for good (a somersault reaches
+   360); a joint angle goes back a turn if it passes ``TURN_LIMIT`` (225: past the
+   wobble at +-180, and short of the turns a running sum would drift by where a limb
+   seen nearly end-on spins in the projection); a segment seen end-on (projected to
+   less than a fifth of its length) holds its last good angle;
 4. the root: ``root.x`` is the forward distance travelled since the first frame (the
    sum of each frame's move along that frame's forward, so a performer who turns
    still walks the figure forward), ``root.y`` the root point's height above the floor;
@@ -24,6 +28,7 @@ Channel values are degrees and metres, as interface files write them.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -33,12 +38,14 @@ from puppet.data.errors import DataError
 from puppet.data.mappings import MappingSpec, load_mapping  # noqa: F401 (re-exported)
 
 END_ON = 0.2  # a segment projected to less than this fraction of its length is end-on
+TURN_LIMIT = 225.0  # deg: a joint angle further than this from its rest goes a turn back
 MIN_TRAVEL = 0.05  # m: less root travel than this over a clip, and 'travel' uses facing
 
 
 def _axes(mapping: MappingSpec) -> tuple[np.ndarray, np.ndarray]:
-    """(mirror, up): a diagonal that makes the source's frame right-handed, and the up
-    unit vector (in the mirrored frame)."""
+    """(mirror, up): a diagonal that makes the source's frame right-handed (and each
+    axis as long as the others: ``source.scale``), and the up unit vector (in the
+    mirrored frame)."""
     axis = mapping.source.up
     index = "xyz".index(axis[-1])
     up = np.zeros(3)
@@ -46,7 +53,7 @@ def _axes(mapping: MappingSpec) -> tuple[np.ndarray, np.ndarray]:
     mirror = np.ones(3)
     if mapping.source.handedness == "left":
         mirror[(index + 1) % 3] = -1.0  # flip an axis that is not up: now right-handed
-    return mirror, up
+    return mirror * np.asarray(mapping.source.scale, float), up
 
 
 def _horizontal(v: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -120,6 +127,13 @@ class Retargeter:
         self._floor: float | None = None
         self._forward: np.ndarray | None = self.fixed_forward
 
+    def rebase(self) -> None:
+        """The stream's root jumped to a place it kept (a sender that re-placed its
+        origin): the travel goes on from here (no jump in ``root.x``) and the floor is
+        found again (``floor: lowest``)."""
+        self._root_prev = None
+        self._floor = None
+
     # -- the math, on (frames, 3) arrays -----------------------------------------------
     def _points(self, points: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
         return {n: np.asarray(p, float) * self.mirror for n, p in points.items()}
@@ -132,8 +146,10 @@ class Retargeter:
 
     def _facing(self, pts) -> np.ndarray | None:
         face = self.mapping.facing
-        if face is None or face.left not in pts or face.right not in pts:
+        if face is None or any(n not in pts for n in face.points):
             return None
+        if face.back is not None:  # along the way it faces (a foot seen side-on)
+            return _unit(_horizontal(pts[face.front] - pts[face.back], self.up))
         across = pts[face.left] - pts[face.right]
         return _unit(_horizontal(np.cross(across, self.up), self.up))
 
@@ -228,7 +244,8 @@ class Retargeter:
         floor = self._clip_floor(pts)
         channels["root.y"] = (root @ up - floor) * self.metres
         for name, (a, ch) in self._joint_values(self._angles(pts, forward)).items():
-            channels[name] = _held(_wrap(a)) * ch.scale + ch.offset
+            channels[name] = _continuous(_held(_wrap(a)), ch.relative_to is None) \
+                * ch.scale + ch.offset
         channels.update(self._effectors(pts, forward))
         clear = self._clearance(pts, floor)
         if clear is not None:
@@ -313,7 +330,7 @@ class Retargeter:
                     continue
                 out[name] = prev * ch.scale + ch.offset
                 continue
-            value = _wrap(value)
+            value = _continued(prev, _wrap(value), ch.relative_to is None)
             last[name] = value
             out[name] = value * ch.scale + ch.offset
         for name, v in self._effectors(pts, forward).items():
@@ -324,6 +341,33 @@ class Retargeter:
 def _wrap(a):
     """Degrees into [-180, 180) (an array or a number)."""
     return (a + 180.0) % 360.0 - 180.0
+
+
+def _continued(prev: float | None, wrapped: float, world: bool) -> float:
+    """``wrapped`` (in -180..180) by the whole turns that put it nearest ``prev``; a
+    joint angle (not ``world``) that would pass +-``TURN_LIMIT`` goes a turn back."""
+    if prev is None:
+        return wrapped
+    value = wrapped + 360.0 * round((prev - wrapped) / 360.0)
+    if not world and abs(value) > TURN_LIMIT:
+        value -= math.copysign(360.0, value)
+    return value
+
+
+def _continuous(a: np.ndarray, world: bool) -> np.ndarray:
+    """A clip's angles (in -180..180, NaN before the first seen) made continuous as
+    ``_continued`` does frame by frame; unchanged (the same array) where no frame's
+    turns by more than half a turn from the last."""
+    step = np.abs(np.diff(a[~np.isnan(a)]))
+    if not (step > 180.0).any():
+        return a
+    out = a.copy()
+    prev = None
+    for i, v in enumerate(a.tolist()):
+        if v != v:
+            continue
+        prev = out[i] = _continued(prev, v, world)
+    return out
 
 
 def _filled(forward: np.ndarray) -> np.ndarray:
@@ -354,9 +398,7 @@ def _held(a: np.ndarray) -> np.ndarray:
 
 def clip_points(clip, names) -> dict[str, np.ndarray]:
     """A BVH clip's world positions (source units) of the named joints and end sites."""
-    xyz = clip.world_positions(1.0)
-    index = {n: i for i, n in enumerate(clip.names)}
-    return {n: xyz[:, index[n]] for n in names if n in index}
+    return clip.positions_of(names)
 
 
 def retarget_clip(clip, mapping: MappingSpec, name: str = "<clip>") -> RetargetedClip:

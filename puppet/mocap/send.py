@@ -11,6 +11,9 @@ rig needs a new table, never new code. The frames sent reproduce the clip:
 * ``mediapipe``: the listed joints' world positions in metres in MediaPipe's world
   landmark axes (y down: a half turn about x), not re-centred on the hips, so a
   walk's travel is kept;
+* ``mediapipe-osc``: as the common MediaPipe-to-OSC bridge sends a camera's pose: the
+  landmarks normalised to a picture of the clip filmed side-on (``picture_points``),
+  a leading count, mirrored as its selfie view is, no time;
 * ``puppet``: the channels a mapping's Retargeter makes of the clip's joint
   positions, sent on puppet's own address (no mapping needed at the receiver).
 
@@ -22,16 +25,16 @@ from __future__ import annotations
 
 import socket
 import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Iterator
 
 import numpy as np
 
 from puppet.data.errors import DataError
 from puppet.data.yamlfile import load_file
 from puppet.mocap import mediapipe, puppet_osc, unity, vmc
-from puppet.mocap.bvh import Clip
+from puppet.mocap.bvh import MAX_NAME, Clip
 
 MIRROR = np.diag([-1.0, 1.0, 1.0])  # right-handed -> Unity's left-handed (x mirrored)
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
@@ -88,8 +91,9 @@ def parse_bones(doc) -> BoneTable:
             if name not in names:
                 what = "a Unity humanoid bone" if part == "vmc" else "a MediaPipe landmark"
                 raise doc.error((part, name), f"'{name}' is not {what}", prefer_key=True)
-            if not isinstance(joint, str) or not joint:
-                raise doc.error((part, name), f"{part}.{name}: expected a BVH joint name")
+            if not isinstance(joint, str) or not joint or len(joint) > MAX_NAME:
+                raise doc.error((part, name), f"{part}.{name}: expected a BVH joint name "
+                                              f"(1 to {MAX_NAME} characters)")
             getattr(table, part)[str(name)] = joint
             table.where[(part, name)] = doc.where((part, name)) or (None, None)
     return table
@@ -178,6 +182,39 @@ def mediapipe_points(clip: Clip, table: BoneTable) -> dict[str, np.ndarray]:
             for name, j in table.mediapipe.items()}
 
 
+PICTURE_HEIGHT = 2.2  # m a side-on picture of the clip is high (mediapipe-image's unit)
+PICTURE_ASPECT = 4.0 / 3.0  # its width over its height (mediapipe-image's x scale)
+PICTURE_TOP = 2.0  # m above the clip's lowest point: the picture's top edge
+
+
+def picture_points(clip: Clip, table: BoneTable) -> dict[str, np.ndarray]:
+    """Landmark -> (frames, 3) normalised picture landmarks of the clip filmed side-on
+    (the camera looking across the way the clip travels, the performer's right side
+    to it: x the way it travels, in picture widths, 0.5 at the middle of its travel; y
+    down from the top edge, in picture heights; z the depth across, in widths), as the
+    MediaPipe-to-OSC bridge's tracker would see them before its selfie flip."""
+    if not table.mediapipe:
+        raise table.error((), "the bone table lists no mediapipe landmarks")
+    _, pos = _world(clip, table)
+    hips = pos[:, [_joint_index(clip, table, "mediapipe", n, table.mediapipe[n])
+                   for n in ("left_hip", "right_hip")]].mean(axis=1)
+    way = hips[-1] - hips[0]
+    way[1] = 0.0
+    if np.linalg.norm(way) < 0.05:
+        way = np.array([0.0, 0.0, 1.0])
+    way /= np.linalg.norm(way)
+    across = np.cross(way, [0.0, 1.0, 0.0])  # to the performer's right
+    middle = 0.5 * (np.min(hips @ way) + np.max(hips @ way))
+    top = float(np.min(pos[..., 1])) + PICTURE_TOP
+    width = PICTURE_HEIGHT * PICTURE_ASPECT
+    out = {}
+    for name, joint in table.mediapipe.items():
+        p = pos[:, _joint_index(clip, table, "mediapipe", name, joint)]
+        out[name] = np.stack([0.5 + (p @ way - middle) / width, (top - p[:, 1]) / PICTURE_HEIGHT,
+                              -(p @ across) / width], axis=1)
+    return out
+
+
 def encoder(clip: Clip, fmt: str, table: BoneTable | None = None,
             retargeter=None) -> Callable[[int, float], bytes]:
     """``encode(frame, time) -> datagram`` for one of the clip's frames."""
@@ -195,6 +232,14 @@ def encoder(clip: Clip, fmt: str, table: BoneTable | None = None,
 
         def encode(k: int, t: float) -> bytes:
             return mediapipe.encode_frame(t, {n: tuple(p[k]) for n, p in points.items()})
+        return encode
+    if fmt == "mediapipe-osc":  # as the bridge sends it: a count, mirrored, no time
+        from puppet.mocap.mediapipe_bridge import encode_pose
+
+        points = picture_points(clip, table)
+
+        def encode(k: int, t: float) -> bytes:
+            return encode_pose({n: tuple(p[k]) for n, p in points.items()})
         return encode
     if fmt == "puppet":
         names = [n for n in retargeter.point_names if n in clip.names]

@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import collections
 import math
+import select
 import socket
 import threading
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from puppet.data.errors import UsageError
 from puppet.input.live import LiveQueue
@@ -41,6 +42,8 @@ from puppet.mocap.osc import Frame
 LOST_AFTER = 0.25  # seconds without a fresh sample: tracking is lost
 RATE_WINDOW = 1.0  # seconds of arrivals the rate is measured over
 RECEIVE_BUFFER = 4 << 20  # bytes of datagrams the socket holds until the thread reads them
+MAX_DATAGRAM = 65535  # bytes: the largest UDP datagram
+MAX_BACKLOG = 256  # datagrams read in one go before they are decoded (then the next go)
 
 
 class OscSource:
@@ -48,10 +51,13 @@ class OscSource:
 
     def __init__(self, fmt: str, host: str = LOCALHOST, port: int | None = None,
                  retargeter=None, lost_after: float = LOST_AFTER,
-                 clock: Callable[[], float] = time.perf_counter):
+                 clock: Callable[[], float] = time.perf_counter, guard=None,
+                 smoother=None):
         self.decoder = decoder(fmt)
         self.format = fmt
         self.retargeter = retargeter
+        self.guard = guard  # judges points and channels against the figure (guard.py)
+        self.smoother = smoother  # filters what the guard kept (smoothing.py)
         self.host = host
         self.port = self.decoder.default_port if port is None else port
         self.lost_after = lost_after
@@ -65,6 +71,8 @@ class OscSource:
         self.unmapped = 0  # frames that gave no channels (no mapping, or no point it reads)
         self.unmapped_reason = ""  # why the first of them gave none (``reasons``)
         self.last_names: tuple[str, ...] = ()  # the points (or channels) of the last frame
+        self.skipped = 0  # pose frames a newer one in the same backlog made stale
+        self._stop = threading.Event()
         self.lost_count = 0
         self.fresh = False  # a sample came within lost_after (wall time) of the last drain
         self._arrivals: collections.deque = collections.deque()
@@ -74,21 +82,48 @@ class OscSource:
     # -- the receiving side (the server's thread, or a test calling it directly)
     def receive(self, dgram: bytes, arrival: float | None = None) -> int:
         """Decode one datagram; post its frames. Returns how many were posted."""
+        return self.receive_many([dgram], arrival)
+
+    def receive_many(self, dgrams: list[bytes], arrival: float | None = None) -> int:
+        """Decode datagrams that came together (the socket's backlog) and post the newest
+        of their frames: a frame of points (a whole pose) makes the ones before it stale,
+        so only it is retargeted (the others are counted in ``skipped``); channel frames
+        (which may carry a few channels each) are all taken. What a drain hands over is
+        the same as if each had been posted: the newest value of each channel."""
         arrival = self.clock() if arrival is None else arrival
         with self._lock:
-            frames = self.decoder.feed(dgram)
+            frames = [f for dgram in dgrams for f in self.decoder.feed(dgram)]
+            if frames and frames[-1].points:
+                newest = [f for f in frames if f.channels] + frames[-1:]
+                self.skipped += len(frames) - len(newest)
+                self._arrivals.extend([arrival] * (len(frames) - len(newest)))
+                frames = newest
             posted = 0
             for frame in frames:
                 self.last_names = tuple(frame.points or frame.channels)
                 self.last_frame = arrival
                 self._arrivals.append(arrival)
+                guard = self.guard
+                if guard is not None and frame.points and guard.pose is not None:
+                    how = guard.pose.judge(frame.points, arrival)
+                    if how == "drop":
+                        continue
+                    if how == "rejoin" and self.retargeter is not None:
+                        self.retargeter.rebase()  # the root jumped: no travel, a new floor
                 values = self._channels(frame)
                 if not values:
                     self.unmapped += 1
                     if not self.unmapped_reason and self.retargeter is not None:
                         self.unmapped_reason = self._unmapped_why(frame)
                     continue
-                if self.queue.post(ev.channels(values)):
+                if guard is not None:
+                    values = guard.channels.judge(values, arrival)
+                    if not values:  # every channel absurd: no sample
+                        continue
+                if self.smoother is not None:  # on the sender's clock if it sends one
+                    values = self.smoother.apply(
+                        values, frame.time if frame.time is not None else arrival)
+                if self.queue.post_merged(ev.channels(values)):
                     posted += 1
                     self.last_arrival = arrival
                     self._times.append((frame.time, arrival))
@@ -124,11 +159,15 @@ class OscSource:
     def reasons(self) -> list[tuple[str, str]]:
         """(kind, what the first of its drops said) for each kind of drop seen so far,
         in ``DROP_REASONS`` order, then ``unmapped`` (with a mapping)."""
+        from puppet.mocap.guard import GUARD_REASONS
         from puppet.mocap.osc import DROP_REASONS
 
         with self._lock:
             first = dict(self.decoder.counts.first_detail)
             out = [(r, first[r]) for r in DROP_REASONS if r in first]
+            if self.guard is not None:
+                judged = self.guard.tally.first_detail
+                out += [(r, judged[r]) for r in GUARD_REASONS if r in judged]
             if self.unmapped and self.unmapped_reason:
                 out.append(("unmapped", self.unmapped_reason))
         return out
@@ -178,6 +217,13 @@ class OscSource:
             if self.lost_count and not self.fresh:
                 text += ", LOST"
             text += f", {c.drops_text()}"
+            if c.no_pose:
+                text += f", {c.no_pose} no pose"
+            if c.continued:
+                text += f", {c.continued} continued"
+            judged = self.guard.tally.text() if self.guard is not None else ""
+            if judged:
+                text += f", {judged}"
             dropped = self.queue.dropped_bad + self.queue.dropped_overflow
             if dropped:
                 text += f", {dropped} events refused"
@@ -192,55 +238,70 @@ class OscSource:
             c = self.decoder.counts
             recent = sum(1 for a in self._arrivals if a >= now - RATE_WINDOW)
             last = self.last_frame
+            judged = self.guard.tally.text() if self.guard is not None else ""
         age = "waiting" if last is None else f"{now - last:.2f} s ago"
         text = f"mocap {self.format} :{self.port}  {recent / RATE_WINDOW:.0f} Hz  {age}"
         if self.lost_count and not self.fresh:
             text += "  LOST"
-        return f"{text}  {c.drops_text()}"
+        return f"{text}  {c.drops_text()}" + (f"  {judged}" if judged else "")
 
     # -- the server
     def start(self) -> "OscSource":
-        from pythonosc.dispatcher import Dispatcher
-        from pythonosc.osc_server import BlockingOSCUDPServer
-
-        source = self
-
-        class _Raw(Dispatcher):
-            """Hands each datagram, as bytes, to the decoder (which judges it)."""
-
-            def call_handlers_for_packet(self, data, client_address):
-                source.receive(data)
-                return []
-
-        class _Server(BlockingOSCUDPServer):
-            def verify_request(self, request, client_address) -> bool:
-                return True  # every datagram is judged and counted, garbage too
-
+        """Listen on a thread of its own, which reads every datagram the socket holds
+        at once and decodes them (``receive_many``): the frame loop never decodes, and
+        a backlog built while the interpreter was busy elsewhere is caught up in one go
+        instead of datagram by datagram behind the stream."""
+        sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
-            self._server = _Server((self.host, self.port), _Raw())
+            sock.bind((self.host, self.port))
         except OSError as exc:
+            sock.close()
             raise UsageError(f"cannot listen on udp://{self.host}:{self.port}: "
                              f"{exc.strerror or exc}") from None
-        self.port = self._server.server_address[1]  # port 0: the one the system chose
+        self.port = sock.getsockname()[1]  # port 0: the one the system chose
         try:  # room for a burst while the frame loop holds the interpreter (the system
             # may cap it): datagrams beyond the buffer are lost before anyone sees them
-            self._server.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
         except OSError:
             pass
-        self._thread = threading.Thread(target=self._server.serve_forever,
-                                        kwargs={"poll_interval": 0.05},
+        sock.setblocking(False)
+        self._server = sock
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._serve, args=(sock,),
                                         name=f"mocap-{self.format}", daemon=True)
         self._thread.start()
         return self
 
+    def _serve(self, sock: socket.socket) -> None:
+        while not self._stop.is_set():
+            try:
+                ready, _, _ = select.select([sock], [], [], 0.05)
+            except (OSError, ValueError):  # closed under us
+                return
+            if not ready:
+                continue
+            dgrams = []
+            while len(dgrams) < MAX_BACKLOG:
+                try:
+                    dgrams.append(sock.recv(MAX_DATAGRAM))
+                except (BlockingIOError, InterruptedError):
+                    break
+                except OSError:  # an ICMP error on some systems: the datagram is gone
+                    break
+            if dgrams:
+                try:
+                    self.receive_many(dgrams)
+                except Exception as exc:  # noqa: BLE001 - a live stream never stops the app
+                    self.decoder.counts.last_problem = f"{type(exc).__name__}: {exc}"
+
     def close(self) -> None:
-        if self._server is not None:
-            self._server.shutdown()
-            self._server.server_close()
-            self._server = None
+        self._stop.set()
         if self._thread is not None:
             self._thread.join(timeout=2.0)
             self._thread = None
+        if self._server is not None:
+            self._server.close()
+            self._server = None
 
     def __enter__(self) -> "OscSource":
         return self.start()

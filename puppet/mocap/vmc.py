@@ -14,22 +14,42 @@ All in Unity's frame: left-handed, Y up, metres. A bone keeps its last local
 transform until it is sent again; a frame's points are the world positions of every
 bone received so far (``puppet.mocap.unity.world_positions``), named by bone, in
 Unity's frame (a mapping says ``handedness: left``, ``up: y``).
+
+Senders as people use them:
+
+* **rotation only**: when every bone but the hips is sent at position 0 0 0 (VRM-based
+  webcam trackers send rotations alone, for the receiver's own avatar), each is placed
+  where the avatar of ``assets/mocap/vmc-avatar.yaml`` has it (the hips too, if sent at
+  0 0 0) - a T-pose with the biped's proportions, all rotations the identity at rest,
+  as VRM's normalised bones are - so the rotations give positions through the avatar's
+  bone lengths;
+* **a frame in several bundles** with one ``/VMC/Ext/T``: each bundle after the first
+  goes on with the frame (``Counts.continued``), not dropped as ``stale``.
 """
 
 from __future__ import annotations
 
+import functools
+from pathlib import Path
+from typing import Annotated
+
 from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
 from pythonosc.osc_message_builder import OscMessageBuilder
 
+from puppet.data.ranges import Num
+from puppet.data.validate import Meta, Spec, validate
 from puppet.mocap import unity
 from puppet.mocap.osc import MAX_POSITION, Decoder, Drop, Frame, bounded, frame_time, text
+
+AVATAR = Path(__file__).resolve().parents[2] / "assets" / "mocap" / "vmc-avatar.yaml"
 
 DEFAULT_PORT = 39539
 ROOT = "/VMC/Ext/Root/Pos"
 BONE = "/VMC/Ext/Bone/Pos"
 TIME = "/VMC/Ext/T"
 OK = "/VMC/Ext/OK"
-QUAT_NORM = (0.5, 2.0)  # a rotation's quaternion length outside this is garbage
+QUAT_NORM = (0.9, 1.1)  # a rotation's quaternion length outside this is garbage (senders
+# write unit quaternions as float32: 1 within 1e-6; a length of 2 is no rotation)
 
 
 def _transform(args: list, what: str) -> tuple[unity.Vec, unity.Quat]:
@@ -37,7 +57,8 @@ def _transform(args: list, what: str) -> tuple[unity.Vec, unity.Quat]:
     q = tuple(bounded(v, f"{what} rotation", 2.0) for v in args[3:7])
     norm = sum(c * c for c in q) ** 0.5
     if not QUAT_NORM[0] <= norm <= QUAT_NORM[1]:
-        raise Drop("out_of_range", f"{what} rotation: a quaternion of length {norm:.3g}")
+        raise Drop("out_of_range", f"{what} rotation: a quaternion of length {norm:.3g} "
+                                   f"(expected 1, a unit quaternion)")
     return p, unity.normalised(q)  # type: ignore[arg-type]
 
 
@@ -104,9 +125,57 @@ class VmcDecoder(Decoder):
             self.root = self._root
         self.rejected()
 
+    def novel(self, frame: Frame) -> bool:
+        """A bundle at the last frame's time with bones (or a root) it had otherwise:
+        the frame's next part."""
+        return (any(self.bones.get(n) != v for n, v in self._bones.items())
+                or (self._root is not None and self._root != self.root))
+
     def finish(self, frame: Frame) -> Frame:
-        frame.points = unity.world_positions(self.root, self.bones)
+        local = self.bones
+        if self.rotation_only():  # the avatar's bones, turned as the sender says
+            rest = avatar()
+            local = {name: (rest.get(name, p), q) for name, (p, q) in local.items()}
+        frame.points = unity.world_positions(self.root, local)
         return frame
+
+    def rotation_only(self) -> bool:
+        """Every bone but the hips is at 0 0 0 in its parent (a sender of rotations
+        alone; a real skeleton has some bones away from their parents)."""
+        others = [p for name, (p, _) in self.bones.items() if name != "Hips"]
+        return len(others) >= 3 and all(p == (0.0, 0.0, 0.0) for p in others)
+
+
+Place = tuple[Num("model_xy"), Num("model_xy"), Num("model_xy")]
+
+
+class AvatarSpec(Spec, kw_only=True):
+    description: str = ""
+    unit: Num("source_unit") = 1.0
+    bones: Annotated[dict[str, Place], Meta(min_length=1)]
+
+
+def parse_avatar(located) -> dict[str, unity.Vec]:
+    """The rotation-only avatar file (``puppet check`` reads it too): Unity bone -> its
+    place in its parent's frame at rest, metres."""
+    spec = validate(located, AvatarSpec)
+    for name in spec.bones:
+        if name not in unity.PARENTS:
+            import difflib
+
+            close = difflib.get_close_matches(name, unity.BONES, n=1)
+            raise located.error(("bones", name), f"'{name}' is not a Unity humanoid bone"
+                                f"{'; did you mean ' + repr(close[0]) + '?' if close else ''}",
+                                prefer_key=True)
+    return {n: tuple(c * spec.unit for c in v) for n, v in spec.bones.items()}
+
+
+@functools.lru_cache(maxsize=1)
+def avatar() -> dict[str, unity.Vec]:
+    """The shipped rotation-only avatar (``AVATAR``)."""
+    from puppet.data.yamlfile import load_file
+
+    return parse_avatar(load_file(AVATAR))
 
 
 # -- encoding (what ``puppet mocap send`` writes) -----------------------------------------

@@ -13,6 +13,7 @@ import pymunk
 from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec, LinkSpec
+from puppet.physics.body_state import BodyReader
 from puppet.physics.servo import PDServo
 from puppet.physics.snapshot import restored_contacts, restored_touching
 
@@ -176,17 +177,6 @@ class Character:
             servo.bind(next(it))
 
     # -- sensors (named after what they measure; also used by conditions and checks)
-    def _mass_points(self) -> list:
-        """(C body, mass, centre of gravity) per link, for the centre-of-mass sensors:
-        the very C calls pymunk's ``local_to_world`` and ``velocity_at_local_point``
-        make, without building a Vec2d per body (they run at the control rate)."""
-        bodies = self.bodies
-        cached = self.__dict__.get("_points")
-        if cached is None or cached[0] is not bodies:
-            cached = self._points = (bodies, [(b._body, b.mass, tuple(b.center_of_gravity))
-                                              for b in bodies.values()])
-        return cached[1]
-
     def sample(self, readers, values: dict) -> None:
         """``values[name] = read()`` for each (name, read) of ``readers``, at one instant:
         the centre of mass and its velocity are worked out once for all of them (two
@@ -217,19 +207,50 @@ class Character:
         return got
 
     def _com(self) -> tuple[float, float]:
-        return self._mass_mean(_cp.cpBodyLocalToWorld)  # each link's centre, in the world
+        """The mass-weighted mean of each link's centre of gravity in the world
+        (``cpBodyLocalToWorld`` of it, worked out from the bulk reading)."""
+        values, rows = self._read()
+        sx = sy = 0.0
+        cos, sin = math.cos, math.sin
+        for i, mass, gx, gy in rows:
+            a = values[i + 2]
+            c, s = cos(a), sin(a)
+            sx += mass * (c * gx + -s * gy + values[i])
+            sy += mass * (s * gx + c * gy + values[i + 1])
+        return (sx / self.mass, sy / self.mass)
 
     def _com_velocity(self) -> tuple[float, float]:
-        return self._mass_mean(_cp.cpBodyGetVelocityAtLocalPoint)  # ... and its velocity
-
-    def _mass_mean(self, at) -> tuple[float, float]:
-        """The mass-weighted mean of ``at(body, centre of gravity)`` over the links."""
+        """... and of their velocities (a body's velocity at its centre of gravity is
+        its velocity)."""
+        values, rows = self._read()
         sx = sy = 0.0
-        for body, mass, cog in self._mass_points():
-            v = at(body, cog)
-            sx += mass * v.x
-            sy += mass * v.y
+        for i, mass, _, _ in rows:
+            sx += mass * values[i + 3]
+            sy += mass * values[i + 4]
         return (sx / self.mass, sy / self.mass)
+
+    def _read(self) -> tuple[list[float], list]:
+        """Every body's state in one call (``body_state``), once per ``sample``, and
+        per link (where its values start, mass, centre of gravity), in link order."""
+        memo = self._memo
+        if memo is not None:
+            got = memo.get("bodies")
+            if got is not None:
+                return got
+        bodies = self.bodies
+        cached = self.__dict__.get("_rows")
+        root = bodies[self.root]
+        space = root.space
+        if cached is None or cached[0] is not bodies or cached[1] is not space:
+            reader = self.__dict__.get("_reader") or BodyReader()
+            self._reader = reader
+            rows = [(reader.offset(space, b), b.mass, *b.center_of_gravity)
+                    for b in bodies.values()]
+            cached = self._rows = (bodies, space, rows)
+        got = (self._reader.read(space), cached[2])
+        if memo is not None:
+            memo["bodies"] = got
+        return got
 
     def root_angle(self) -> float:
         """Angle of the root link (radians, counter-clockwise, 0 = as in the model)."""

@@ -17,10 +17,16 @@ as indices, ``rebuild`` hands back the new objects under the same names.
 
 from __future__ import annotations
 
+import ctypes
+import weakref
 from operator import attrgetter
 
 import pymunk
+from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp  # the C calls pymunk's own pickle uses
+
+_libc_free = ctypes.CDLL(None).free  # Chipmunk allocates with the process's calloc
+_libc_free.argtypes, _libc_free.restype = [ctypes.c_void_p], None
 
 
 def capture(space: pymunk.Space, named: dict[str, list]) -> tuple:
@@ -74,15 +80,43 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
     made = [_make_arbiter(r, objects) for r in arbiters]
     for arb in made:
         _cp.cpSpaceAddCachedArbiter(cp_space, arb)
-    # The arbiters made here are not freed, as pymunk's own unpickling does not free
-    # them: about 0.2 kB per cached arbiter per restore. Freeing them when their space
-    # went (after cpSpaceFree, or after emptying the space by hand) corrupted the heap:
-    # glibc's malloc check (LD_PRELOAD=libc_malloc_debug.so.0,
-    # GLIBC_TUNABLES=glibc.malloc.check=3) stops in that free() on the first replays of
-    # the shipped logs, and a plain run aborted in malloc about one bench in five.
+    if made:
+        _free_with_space(space, made)
     # the captured step's contacts, worked out when first asked (restored_contacts)
     space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
     return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+def _free_with_space(space: pymunk.Space, made: list) -> None:
+    """Free the arbiters ``rebuild`` made (``cpArbiterNew``: Chipmunk's calloc, about
+    0.2 kB each) right after Chipmunk frees their space, as pymunk's own unpickling
+    never does (it leaked them: 115-220 bytes per contact per restore, issue 32).
+
+    Chipmunk never frees an arbiter itself: the ones it makes live in blocks the space
+    frees whole, and one it is handed stays in its cache, its list of the step's
+    arbiters or its pool (reused for any later pair) until the space goes. Their
+    contacts are copied into the space's own buffers at once (pymunk's
+    ``cpSpaceAddCachedArbiter`` frees the array it is given), so the arbiter itself is
+    all that is left. Freeing it any earlier corrupts the heap: pymunk's destructor
+    (``Space.__init__``'s ``spacefree``) removes every shape first, which unthreads
+    each cached arbiter from its bodies, writing into it; so does freeing what
+    ``arb.contacts`` points to by then (the space's buffer). So the space's handle is
+    wrapped: when the Space goes, the wrapper lets go of pymunk's own handle (its
+    destructor runs then, the space is freed) and then frees the arbiters. Were that
+    handle still held elsewhere (its destructor not run), they are left, as before."""
+    original = space._space
+    addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
+    holder = [original]
+
+    def release(_ptr) -> None:
+        handle = holder.pop()
+        gone = weakref.ref(handle)
+        del handle  # the last reference: pymunk's spacefree runs here
+        if gone() is None:
+            for address in addresses:
+                _libc_free(address)
+
+    space._space = _ffi.gc(_ffi.cast("cpSpace *", original), release)
 
 
 def _touching(made, records, objects, stamp) -> tuple[dict, dict]:

@@ -15,7 +15,7 @@ from collections import deque
 WATCH_SECONDS = 1.0  # s at the end the root must stay upright
 WATCH_HZ = 60.0  # samples a second (the session's frame check's rate)
 # s of samples kept: a rewind goes back at most as far as the session's history keeps
-# (timeline.history.KEEP_SECONDS, 180 s), and its last second must still be known
+# (session.history.KEEP_SECONDS, 180 s), and its last second must still be known
 KEEP_SECONDS = 200.0
 
 

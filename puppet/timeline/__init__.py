@@ -1,1 +1,2 @@
-"""Time lines of input: scripted performances, recorded logs, checkpoints, replay."""
+"""Time lines of input on top of the Session: scripted performances, recorded logs,
+their replay and expectations, the ghost, motion export."""

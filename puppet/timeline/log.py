@@ -34,35 +34,24 @@ from pathlib import Path
 from typing import Any
 
 from puppet import __version__
-from puppet.data.catalog import FOLDERS, ROOT, Setup
-from puppet.data.interfaces import (CHECKPOINT_EVERY, CHECKPOINT_MAX, CHECKPOINT_MIN,
-                                    MAX_SLOWDOWN, MIN_SLOWDOWN)
 from puppet.data import ranges
+from puppet.data.catalog import FOLDERS, ROOT, Setup
 from puppet.data.errors import DataError
-from puppet.data.keys import (APP_KEYS, GAMEPAD_BUTTONS, GAMEPAD_STICKS, GAMEPAD_TRIGGERS,
-                              key_problem, normalize_key)
-from puppet.interface.app_keys import SIM_ACTIONS
+from puppet.data.interfaces import (
+    CHECKPOINT_EVERY,
+    CHECKPOINT_MAX,
+    CHECKPOINT_MIN,
+    MAX_SLOWDOWN,
+    MIN_SLOWDOWN,
+)
+from puppet.data.keys import APP_KEYS, normalize_key
+from puppet.interface.event_checks import MAX_PATH, event_problem, is_number, short
 from puppet.interface.events import Event
-
-GAMEPAD_NAMES = frozenset(GAMEPAD_STICKS + GAMEPAD_TRIGGERS + GAMEPAD_BUTTONS)
 
 FORMAT = "puppet-log"
 VERSION = 1
 RECORDINGS = FOLDERS["recording"][0]  # where (under the root) the window records to
 
-EVENT_FIELDS = {  # event type -> required fields (besides "type")
-    "mouse": ("x", "y"),
-    "key": ("key", "down"),
-    "action": ("name",),
-    "drag": ("phase",),
-    "push": ("link", "impulse"),  # a shove: an impulse at a point of a link
-    "mouse_button": ("button", "down"),  # interface inputs (puppet/interface/events.py)
-    "gamepad": ("name", "value"),
-    "channel": ("name", "value"),
-    "channels": ("values",),  # many named channels at one step (a mocap frame)
-    "reload": ("text",),  # a hot reload: the interface's whole new text
-    "gesture": ("key", "path"),  # bind a recorded mouse path to a key
-}
 
 
 def _name(path: Path, kind: str) -> str:
@@ -257,11 +246,6 @@ DT_MIN, DT_MAX = 1.0e-5, 0.05  # s: a log's simulation step (puppet's is 1/480 s
 MAX_SECONDS = 24 * 3600.0  # s of simulated time a log may reach (its steps are bounded)
 MAX_LOG_BYTES = 256 << 20  # a log file's largest size (30 minutes of mouse are ~10 MB)
 MAX_LINE = 8_000_000  # characters in one line (an embedded interface is at most 2 MB)
-MAX_NAME = 200  # characters in a key, link, action, device or channel name
-MAX_PATH = 4096  # characters in a file name in a header or a reload event
-MAX_GESTURE_POINTS = 200_000
-MAX_CHANNELS = 4096  # named values in one channels event (a mocap frame has a few hundred)
-MAX_STEP = 10 ** 12  # a rewind's step when no log bounds it (a live source)
 # how a refused cut log (a bad line, or under --check no end line) says what to do
 TRUNCATED_HINT = " (--allow-truncated replays the lines before it)"
 
@@ -291,14 +275,15 @@ def _check_header(path: str, header: Any) -> dict:
                                            f"1..{MAX_PATH} characters")
     if not DT_MIN <= header["dt"] <= DT_MAX:
         raise DataError(path, 1, None, f"header: 'dt' must be a finite number in "
-                                       f"{ranges.fmt(DT_MIN)}..{ranges.fmt(DT_MAX)} s, got {header['dt']!r}")
+                                       f"{ranges.fmt(DT_MIN)}..{ranges.fmt(DT_MAX)} s, "
+                                       f"got {header['dt']!r}")
     ci = header.setdefault("checkpoint_interval", CHECKPOINT_EVERY)
-    if not _is_number(ci) or not CHECKPOINT_MIN <= ci <= CHECKPOINT_MAX:
+    if not is_number(ci) or not CHECKPOINT_MIN <= ci <= CHECKPOINT_MAX:
         raise DataError(path, 1, None, f"header: 'checkpoint_interval' must be a number of "
                                        f"seconds, {CHECKPOINT_MIN:g}..{CHECKPOINT_MAX:g}; "
                                        f"got {ci!r}")
     slowdown = header.setdefault("slowdown", 1.0)
-    if not _is_number(slowdown) or not MIN_SLOWDOWN <= slowdown <= MAX_SLOWDOWN:
+    if not is_number(slowdown) or not MIN_SLOWDOWN <= slowdown <= MAX_SLOWDOWN:
         raise DataError(path, 1, None, f"header: 'slowdown' must be a number, "
                                        f"{MIN_SLOWDOWN:g}..{MAX_SLOWDOWN:g}; got {slowdown!r}")
     if "interface_text" in header and not isinstance(header["interface_text"], str):
@@ -312,160 +297,8 @@ def _check_header(path: str, header: Any) -> dict:
     for key in ("interface_hash", "character_hash", "scene_hash"):
         if key in header and not HASH.fullmatch(header[key]):
             raise DataError(path, 1, None, f"header: '{key}' must be a hash of 16 hex digits "
-                                           f"(0-9, a-f), got {_short(header[key])}")
+                                           f"(0-9, a-f), got {short(header[key])}")
     return header
-
-
-def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _is_name(v) -> bool:
-    return isinstance(v, str) and 0 < len(v) <= MAX_NAME
-
-
-def _number_problem(what: str, v, range_name: str) -> str | None:
-    message = ranges.problem(range_name, v)
-    return None if message is None else f"{what} {message}, got {_short(v)}"
-
-
-def _short(v) -> str:
-    text = repr(v)
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _point_problem(what: str, v, range_name: str) -> str | None:
-    if not (isinstance(v, list) and len(v) == 2):
-        return f"{what} must be [x, y], got {_short(v)}"
-    return (_number_problem(what + " x", v[0], range_name)
-            or _number_problem(what + " y", v[1], range_name))
-
-
-def _check_mouse(e):
-    return _number_problem("mouse event: 'x'", e["x"], "mouse") \
-        or _number_problem("mouse event: 'y'", e["y"], "mouse")
-
-
-def _check_key(e):
-    if not (_is_name(e["key"]) and isinstance(e["down"], bool)):
-        return (f"key event: 'key' must be a name of 1..{MAX_NAME} characters and 'down' "
-                "true or false")
-    problem = key_problem(e["key"])  # the names a file may bind (a device sends no other)
-    return None if problem is None else f"key event: {problem}"
-
-
-def _check_action(e, last_step):
-    name = e["name"]
-    if name == "rewind":
-        to = e.get("to_step")
-        if not (isinstance(to, int) and not isinstance(to, bool) and 0 <= to <= last_step):
-            return f"rewind action needs a whole-number 'to_step', 0..{last_step}"
-        return None
-    if name == "take":  # an abandoned future taken up again (a kept branch)
-        branch = e.get("branch")
-        if not (isinstance(branch, int) and not isinstance(branch, bool) and 0 <= branch):
-            return "take action needs a whole-number 'branch' >= 0"
-        return None
-    if name not in SIM_ACTIONS:
-        return (f"action event: unknown action {_short(name)}; expected one of: "
-                f"{', '.join(sorted(SIM_ACTIONS | {'rewind', 'take'}))}")
-    return None
-
-
-def _check_drag(e):
-    phase = e["phase"]
-    if phase not in ("start", "move", "end"):
-        return f"drag event: unknown phase {_short(phase)}; expected start, move or end"
-    if phase == "start":
-        if not _is_name(e.get("link")):
-            return f"drag start: 'link' must be a link name of 1..{MAX_NAME} characters"
-        return (_point_problem("drag start: 'point'", e.get("point"), "model_xy")
-                or _point_problem("drag start: 'target'", e.get("target"), "world_xy"))
-    if phase == "move":
-        return _point_problem("drag move: 'target'", e.get("target"), "world_xy")
-    return None
-
-
-def _check_button(e):
-    if e["button"] not in ("left", "middle", "right") or not isinstance(e["down"], bool):
-        return "mouse_button event: 'button' must be left, middle or right and 'down' " \
-               "true or false"
-    return None
-
-
-def _check_device(e):
-    kind = e["type"]
-    name = e["name"]
-    if kind == "gamepad":
-        if not (isinstance(name, str) and (re.fullmatch(r"(axis|button)\d{1,3}", name)
-                                           or name in GAMEPAD_NAMES)):
-            return (f"gamepad event: 'name' must be a standard name (left_x, a, ...), axisN "
-                    f"or buttonN, got {_short(name)}")
-    elif not (_is_name(name) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", name)):
-        return f"channel event: 'name' must be a channel name, got {_short(name)}"
-    return _number_problem(f"{kind} event: 'value'", e["value"], "input")
-
-
-def _check_reload(e):
-    if not (isinstance(e["text"], str) and isinstance(e.get("path", ""), str)
-            and len(e.get("path", "")) <= MAX_PATH):
-        return "reload event: 'text' (and 'path') must be strings"
-    return None
-
-
-def _check_gesture(e):
-    path = e["path"]
-    if not (_is_name(e["key"]) and isinstance(path, list)
-            and 0 < len(path) <= MAX_GESTURE_POINTS
-            and isinstance(e.get("description", ""), str)):
-        return "gesture event: 'key' must be a string and 'path' a list of [t, x, y]"
-    problem = key_problem(e["key"])
-    if problem is not None:
-        return f"gesture event: {problem}"
-    for p in path:
-        if not (isinstance(p, list) and len(p) == 3):
-            return "gesture event: 'path' must be a list of [t, x, y]"
-        for v in p:
-            problem = _number_problem("gesture event: a path value", v, "input")
-            if problem:
-                return problem
-    return None
-
-
-def _check_channels(e):
-    values = e["values"]
-    if not isinstance(values, dict) or len(values) > MAX_CHANNELS:
-        return f"channels event: 'values' must map at most {MAX_CHANNELS} channel names to numbers"
-    for name, value in values.items():
-        if not (_is_name(name) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", name)):
-            return f"channels event: {_short(name)} is not a channel name"
-        problem = _number_problem(f"channels event: '{name}'", value, "input")
-        if problem:
-            return problem
-    return None
-
-
-def _check_push(e):
-    if not _is_name(e["link"]):
-        return f"push event: 'link' must be a link name of 1..{MAX_NAME} characters"
-    return (_point_problem("push event: 'impulse'", e["impulse"], "shove")
-            or ("point" in e and _point_problem("push event: 'point'", e["point"], "model_xy"))
-            or None)
-
-
-EVENT_CHECKS = {  # event type -> what is wrong with it, or None (required fields present)
-    "mouse": _check_mouse,
-    "key": _check_key,
-    "action": _check_action,
-    "drag": _check_drag,
-    "mouse_button": _check_button,
-    "gamepad": _check_device,
-    "channel": _check_device,
-    "reload": _check_reload,
-    "gesture": _check_gesture,
-    "channels": _check_channels,
-    "push": _check_push,
-}
 
 
 def _check_event(obj: Any, last_step: int) -> str | None:
@@ -475,25 +308,8 @@ def _check_event(obj: Any, last_step: int) -> str | None:
     step, event = obj["step"], obj["event"]
     if not isinstance(step, int) or isinstance(step, bool) or not 0 <= step <= last_step:
         return (f"'step' must be a whole number 0..{last_step} ({MAX_SECONDS / 3600:g} h at "
-                f"this log's dt), got {_short(step)}")
+                f"this log's dt), got {short(step)}")
     return event_problem(event, last_step)
-
-
-def event_problem(event: Any, last_step: int | None = None) -> str | None:
-    """What is wrong with an input event (from a log line or a live source), or None.
-    ``last_step``: the last step a rewind may name (None: any)."""
-    if not isinstance(event, dict):
-        return "'event' must be an object"
-    kind = event.get("type")
-    if not isinstance(kind, str) or kind not in EVENT_FIELDS:
-        return f"unknown event type {_short(kind)}; expected one of: {', '.join(EVENT_FIELDS)}"
-    missing = [f for f in EVENT_FIELDS[kind] if f not in event]
-    if missing:
-        return f"{kind} event without {', '.join(repr(m) for m in missing)}"
-    check = EVENT_CHECKS[kind]
-    if kind == "action":
-        return check(event, MAX_STEP if last_step is None else last_step)
-    return check(event)
 
 
 def _json_problem(exc: ValueError) -> str:
@@ -582,7 +398,7 @@ def read_log(path: str | Path, allow_truncated: bool = False) -> Log:
                            f'0..{last_step}')
             elif "hash" in obj and not HASH.fullmatch(obj["hash"]):
                 problem = (f"bad end line: 'hash' must be a state hash of 16 hex digits "
-                           f"(0-9, a-f), got {_short(obj['hash'])}")
+                           f"(0-9, a-f), got {short(obj['hash'])}")
             else:
                 log.end = obj
                 continue
@@ -657,7 +473,7 @@ class _StepOrder:
 def record_events(session, events, until_step: int, path: str | Path, **header) -> Path:
     """Play scripted ``(step, event)`` pairs into a session while recording a log
     (how test and example logs are made without a window)."""
-    from puppet.timeline.playback import play
+    from puppet.session.playback import play
 
     with Recorder(session, path, **header) as rec:
         play(session, events, until_step)

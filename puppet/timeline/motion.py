@@ -188,7 +188,7 @@ def write_motion(motion: Motion, path: str | Path) -> None:
 
 def export_motion_command(args) -> int:
     """``puppet replay LOG --headless --export-motion OUT.bvh|OUT.csv [--fps N]``.
-    The command line (``puppet.cli``) has checked OUT (a file name ending in .bvh or
+    The command line (``puppet.commands.replay``) has checked OUT (a file name ending in .bvh or
     .csv, not a folder) before this runs; a missing folder is created, as --video,
     --plot, --screenshot and --record do."""
     import sys

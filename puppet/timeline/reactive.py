@@ -304,8 +304,12 @@ class Speed:
         return self.value
 
     def apply(self, action) -> None:
-        from puppet.data.bounds import (MAX_SLOWDOWN, MIN_SLOWDOWN, nearest_slowdown_index,
-                                        stepped_slowdown)
+        from puppet.data.bounds import (
+            MAX_SLOWDOWN,
+            MIN_SLOWDOWN,
+            nearest_slowdown_index,
+            stepped_slowdown,
+        )
         from puppet.interface.app_keys import SetSlowdown
 
         if action in ("slower", "faster"):

@@ -18,11 +18,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from puppet import __version__
-from puppet.data.catalog import Setup, file_hash, find, load_setup, setup_from_text
+from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, setup_from_text
 from puppet.data.errors import DataError
 from puppet.session import Session
+from puppet.session.playback import next_move, play, ticks
 from puppet.timeline.log import Log, embedded_problem, read_log
-from puppet.timeline.playback import next_move, play
+from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
 
 if TYPE_CHECKING:  # the expectations are imported only by a checked replay
@@ -183,13 +184,16 @@ def copy_note(log: Log, refused: bool) -> str:
     return f"{log.path}: note: interface file '{name}' {why}; the copy recorded in the log plays"
 
 
-def differs_warning(log: Log, kind: str, path: Path, found: str, has_copy: bool) -> str:
+def differs_warning(log: Log, kind: str, path: Path, found: str | None,
+                    has_copy: bool) -> str:
     """The one words (replay and ``puppet check`` alike) for a file the header names
     whose content is not the one recorded: ``path`` is the file the name found now
     (today's version, or a variant of that name in the log's folder), ``found`` its
-    hash; ``has_copy``: the header keeps the recorded interface."""
+    hash (None: not shown, a file beside the log: its hash would tell of its content);
+    ``has_copy``: the header keeps the recorded interface."""
     name = log.header.get(kind, str(path))
-    return (f"{log.path}: warning: {kind} '{name}': the file found ({path}, hash {found}) "
+    shown = f"{path}, hash {found}" if found is not None else str(path)
+    return (f"{log.path}: warning: {kind} '{name}': the file found ({shown}) "
             f"differs from the one recorded (hash {log.header.get(f'{kind}_hash')}); the "
             "replay may end elsewhere"
             + (" (puppet replay --as-recorded replays the recorded interface)" if has_copy
@@ -212,7 +216,7 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     if as_recorded and embedded is None:
         raise DataError(log.path, 1, None, "header: no recorded copy of the interface "
                                            "(interface_text) to replay --as-recorded")
-    within = (Path(log.path).resolve().parent,)  # names resolve to the catalog or here
+    within = Folders((Path(log.path).resolve().parent,))  # the catalog, or beside the log
     refused = False  # the header names a file outside the catalog and the log's folder
     try:
         where = find("interface", h["interface"], within)
@@ -231,10 +235,12 @@ def setup_for_log(log: Log, as_recorded: bool = False,
     except DataError as exc:
         if exc.line is None and exc.path in (h["interface"], h["scene"]):  # not found
             raise DataError(log.path, 1, None, f"header: {exc.message}") from None
-        if not from_copy and embedded is not None and exc.path == str(where):
-            raise DataError(exc.path, exc.line, exc.col,
-                            f"{exc.message} ({as_recorded_option} replays the log's own "
-                            f"copy of the interface)") from None
+        hint = (f" ({as_recorded_option} replays the log's own copy of the interface)"
+                if not from_copy and embedded is not None and exc.path == str(where) else "")
+        if within.found:
+            raise unquoted_error(log, within.found, hint) from None
+        if hint:
+            raise DataError(exc.path, exc.line, exc.col, exc.message + hint) from None
         raise
     warnings = []
     if h.get("puppet") != __version__:
@@ -258,8 +264,9 @@ def setup_for_log(log: Log, as_recorded: bool = False,
             continue  # replayed from the header's copy
         recorded = h.get(f"{kind}_hash")
         if recorded is not None and (found := file_hash(Path(path))) != recorded:
-            warnings.append(differs_warning(log, kind, Path(path), found,
-                                            kind == "interface" and embedded is not None))
+            warnings.append(differs_warning(
+                log, kind, Path(path), None if Path(path).resolve() in within.found else found,
+                kind == "interface" and embedded is not None))
     if h.get("character") and Path(str(h["character"])).stem != Path(setup.character_path).stem:
         warnings.append(f"{log.path}: warning: recorded with character '{h['character']}', "
                         f"the interface now uses '{Path(setup.character_path).stem}'")
@@ -285,7 +292,7 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
     except DataError as exc:  # a reload event whose interface text is invalid
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
-        raise DataError(log.path, line, None, f"cannot apply this event: {exc}") from None
+        raise reload_error(log, line, session.setup, exc) from None
     except (ValueError, KeyError, TypeError) as exc:
         i = current["i"]
         line = log.events[i].line if 0 <= i < len(log.events) else None
@@ -296,14 +303,17 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True, as_recorded: bool = False,
-           adjust=None, expect: list | None = None) -> ReplayResult:
+           adjust=None, expect: list | None = None,
+           frames: tuple[int, Callable[[Session], None]] | None = None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
     evaluate its expectations (``check``; a log without its end line is then refused
     unless ``allow_truncated``: ``require_end``). ``expect``: expectation dicts to check
     instead of the log's (a test's; no end-state check is added), under the same rule.
     ``as_recorded``: see ``setup_for_log``. ``adjust``: a function of the Setup
     returning the one to replay on instead (a tool asking what the log does on other
-    physics: tools/solver_sensitivity.py)."""
+    physics: tools/solver_sensitivity.py). ``frames``: (every, on_frame), on_frame
+    called with the session every ``every`` steps (the images of ``puppet replay
+    --frames``; reading the session only, they leave the replay as it is)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
     check = check or expect is not None
@@ -315,8 +325,12 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     warnings += cut_warnings(log, check)
     expectations = None
     if check:  # a plain replay does not import numpy or the expectations (process start)
-        from puppet.timeline.expectations import (Outcome, evaluate_all, load_expectations,
-                                                  parse_expectations)
+        from puppet.timeline.expectations import (
+            Outcome,
+            evaluate_all,
+            load_expectations,
+            parse_expectations,
+        )
 
         expectations = (load_expectations(path, log.header) if expect is None
                         else parse_expectations(expect, f"{path} (expect=)"))
@@ -327,7 +341,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                if (trajectory or expectations) else None)
     if sampler is not None:
         sampler(session)
-    apply_log(session, log, until_step, sample_every if sampler else 0, sampler)
+    every, on_tick = ticks((sample_every if sampler else 0, sampler), frames or (0, None))
+    apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):
         sampler(session)
     traj = sampler.trajectory() if sampler is not None else None

@@ -1,24 +1,23 @@
 """The ``puppet replay`` command's report: what it prints and exits with.
 
-The replay itself is ``puppet.timeline.replay`` (the engine); here are the command
-(``replay_command``: one log or many, headless or in the window), each log's state line
-and checks, the many-log table and summary line, the verdict words and the exit codes,
-and the line the window and a video show when a replay ends (``finished_message``).
+The replay itself is ``puppet.timeline.replay`` (the engine) and the command is
+``puppet.commands.replay``; here are one headless replay as a plain dict
+(``replay_one``, run in worker processes), each log's state line and checks, the
+many-log table and summary line, the verdict words and the exit codes, and the line
+the window and a video show when a replay ends (``finished_message``).
 """
 
 from __future__ import annotations
 
-import re
-
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.timeline.log import Log, read_log
-from puppet.timeline.replay import cut_warnings, find_log, replay, setup_for_log
+from puppet.timeline.replay import find_log, replay
 
 EXIT_FAILED, EXIT_DATA_ERROR, EXIT_BLOWUP = 1, 2, 3
 
 
-def _replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
+def replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
                 as_recorded: bool = False) -> dict:
     """One headless replay, as a plain dict (runs in a worker process). ``path`` may
     be a log's name (``find_log``)."""
@@ -91,7 +90,9 @@ def print_notes(res: dict) -> None:
 
     for w in res.get("warnings", []):
         print(w, file=sys.stderr)
-    for note in res.get("blowups", []):
+    from puppet.timeline.blowups import fold
+
+    for note in fold(res.get("blowups", [])):
         print(f"{res['log']}: {note}", file=sys.stderr)
 
 
@@ -117,7 +118,7 @@ def print_one(res: dict, check: bool) -> None:
     print_notes(res)
 
 
-def _table(results: list[dict], check: bool) -> str:
+def results_table(results: list[dict], check: bool) -> str:
     rows = [("log", "steps", "state", "checks", "result")]
     for r in results:
         if "error" in r:
@@ -139,76 +140,3 @@ def summary_line(results: list[dict], check: bool) -> str:
     blowups = sum(len(r.get("blowups", [])) for r in results)
     return (f"{len(results)} logs: {words.count('ok')} ok, {middle}, "
             f"{words.count('ERROR')} errors, {blowups} blow-up{'' if blowups == 1 else 's'}")
-
-
-def replay_command(args) -> int:
-    """``puppet replay LOG... [--headless] [--check] [--until-step N] [--allow-truncated]
-    [--jobs N]``. Exit 2 if a log cannot be replayed, 1 if one fails its expectations
-    (--check) or ends in another state than recorded, else 0."""
-    import sys
-
-    from puppet.data.errors import UsageError
-
-    logs = list(args.logs)
-    if not args.headless:
-        if len(logs) > 1:
-            raise UsageError("several logs need --headless")
-        if args.check:
-            raise UsageError("--check needs --headless")
-        from puppet.app.window import run_window
-
-        log = read_log(find_log(logs[0]), args.allow_truncated)
-        setup, warnings = setup_for_log(log, args.as_recorded)
-        warnings += cut_warnings(log)
-        note = until_note(log, args.until_step)
-        if note:
-            warnings.append(note)
-        for w in warnings:
-            print(w, file=sys.stderr)
-        slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)
-        return run_window(setup, slowdown, replay=log, until_step=args.until_step,
-                          slowdown_chosen=args.slowdown is not None,
-                          overlay=getattr(args, "overlay", None) == "com",
-                          note=" / ".join(re.sub(r"^.*?: (warning|note): ", "", w)
-                                          for w in warnings))
-
-    if len(logs) == 1 and args.jobs <= 1:
-        res = _replay_one(logs[0], args.until_step, args.allow_truncated, args.check,
-                          args.as_recorded)
-        if "error" in res:
-            print(f"puppet replay: {res['error']}", file=sys.stderr)
-            return EXIT_DATA_ERROR
-        print_one(res, args.check)
-        return exit_code([verdict(res)], bool(res.get("blowups")))
-
-    from tqdm import tqdm
-
-    params = (args.until_step, args.allow_truncated, args.check, args.as_recorded)
-    results: dict[int, dict] = {}
-    # disable=None: a bar on a terminal, nothing when stderr is a file or a pipe
-    bar = tqdm(total=len(logs), unit="log", desc="replay", file=sys.stderr, disable=None)
-    if args.jobs > 1:
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-            futures = {pool.submit(_replay_one, p, *params): i for i, p in enumerate(logs)}
-            for fut in as_completed(futures):
-                results[futures[fut]] = fut.result()
-                bar.update(1)
-    else:
-        for i, p in enumerate(logs):
-            results[i] = _replay_one(p, *params)
-            bar.update(1)
-    bar.close()
-    ordered = [results[i] for i in range(len(logs))]
-    for r in ordered:
-        if "error" in r:
-            print(f"puppet replay: {r['error']}", file=sys.stderr)
-    for r in ordered:
-        print_notes(r)
-        if args.check and "error" not in r:
-            for line in r["failed"]:
-                print(f"{r['log']}: {line}")
-    print(_table(ordered, args.check))
-    print(summary_line(ordered, args.check))
-    return exit_code([verdict(r) for r in ordered], any(r.get("blowups") for r in ordered))

@@ -11,6 +11,8 @@ recorded log replays from.
       - {t: 2.5, key: a, hold: 0.4}              # hold for 0.4 s
       - {t: 3.0, action: reset}
       - {t: 4.0, drag: {link: base, point: [0, 0], to: [1.0, 0.5], over: 0.5}}
+      - {t: 5.0, gamepad: {left_x: 0.8, left_y: -0.5}, over: 0.2}   # glide a stick
+      - {t: 5.5, key: gamepad.a}                 # a pad button, pressed and released
 
 It may also hold *rules*, for a performance played by watching rather than by the
 clock: when a condition (in the interface language's sensor and state vocabulary)
@@ -26,9 +28,14 @@ from __future__ import annotations
 
 from typing import Annotated
 
-
 from puppet.data.actions import ConditionSpec
-from puppet.data.keys import key_problem, normalize_key
+from puppet.data.keys import (
+    GAMEPAD_BUTTONS,
+    GAMEPAD_STICKS,
+    GAMEPAD_TRIGGERS,
+    key_problem,
+    normalize_key,
+)
 from puppet.data.ranges import Duration, Num, Time, WorldXY
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file
@@ -58,6 +65,30 @@ class PushSpec(Spec, kw_only=True):
     point: Vec2 | None = None  # model frame, m; default the link's centre of mass
 
 
+def gamepad_problem(name: str, value: float) -> str | None:
+    """Why a script's ``gamepad: {name: value}`` cannot be sent, or None: a stick reads
+    -1..1, a trigger 0..1, a button 0 or 1 (raw ``axisN`` -1..1, ``buttonN`` 0 or 1)."""
+    if name in GAMEPAD_STICKS or (name.startswith("axis") and name[4:].isdigit()):
+        low, high = -1.0, 1.0
+    elif name in GAMEPAD_TRIGGERS:
+        low, high = 0.0, 1.0
+    elif name in GAMEPAD_BUTTONS or (name.startswith("button") and name[6:].isdigit()):
+        if value not in (0.0, 1.0):
+            return f"gamepad button '{name}' is 0 (up) or 1 (pressed), got {value:g}"
+        return None
+    else:
+        return (f"unknown gamepad input '{name}'; expected a stick ({', '.join(GAMEPAD_STICKS)}"
+                f"), a trigger ({', '.join(GAMEPAD_TRIGGERS)}), a button ("
+                f"{', '.join(GAMEPAD_BUTTONS)}), axisN or buttonN")
+    if not low <= value <= high:
+        return f"gamepad '{name}' reads {low:g}..{high:g}, got {value:g}"
+    return None
+
+
+def _analog(name: str) -> bool:
+    return not (name in GAMEPAD_BUTTONS or name.startswith("button"))
+
+
 class ScriptEntry(Spec, kw_only=True):
     t: Time  # s of simulated time
     mouse: tuple[Num("mouse"), Num("mouse")] | None = None
@@ -67,13 +98,22 @@ class ScriptEntry(Spec, kw_only=True):
     action: str | None = None
     drag: DragSpec | None = None
     push: PushSpec | None = None
+    # gamepad inputs by name (left_x: -1..1, right_trigger: 0..1, a: 0/1): sticks and
+    # triggers glide there with 'over'; with 'hold', all go back to rest after it
+    gamepad: dict[str, Num("input")] | None = None
 
     def __post_init__(self):
-        given = [n for n in ("mouse", "key", "action", "drag", "push")
+        given = [n for n in ("mouse", "key", "action", "drag", "push", "gamepad")
                  if getattr(self, n) is not None]
         if len(given) != 1:
-            raise ValueError("each entry needs exactly one of mouse, key, action, drag, push; "
-                             f"got {', '.join(given) or 'none'}")
+            raise ValueError("each entry needs exactly one of mouse, key, action, drag, push, "
+                             f"gamepad; got {', '.join(given) or 'none'}")
+        for name, value in (self.gamepad or {}).items():
+            problem = gamepad_problem(name, value)
+            if problem:
+                raise ValueError(problem)
+        if self.gamepad is not None and not self.gamepad:
+            raise ValueError("'gamepad' names no input; expected e.g. {left_x: 0.5}")
         if self.action is not None and self.action not in SIM_ACTIONS:
             raise ValueError(f"unknown action '{self.action}'; a script can perform "
                              f"{', '.join(sorted(SIM_ACTIONS))} (window actions such as "
@@ -187,6 +227,8 @@ def entry_end(e: ScriptEntry) -> float:
         return e.t + e.over
     if e.key is not None:
         return e.t + e.hold
+    if e.gamepad is not None:
+        return e.t + e.over + e.hold
     if e.drag is not None:
         return e.t + e.drag.over + e.drag.hold
     return e.t
@@ -226,6 +268,7 @@ def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
     """(step, event) pairs in the order they act."""
     out: list[tuple[int, int, Event]] = []  # (step, entry order, event)
     mouse = (0.5, 0.5)
+    pad: dict[str, float] = {}  # each gamepad input's last value (at rest: 0)
     order = 0
 
     def add(t: float, event: Event) -> None:
@@ -244,10 +287,31 @@ def compile_script(spec: ScriptSpec, dt: float) -> list[tuple[int, Event]]:
             else:
                 add(e.t, ev.mouse(*e.mouse))
             mouse = e.mouse
+        elif e.key is not None and normalize_key(e.key).startswith("gamepad."):
+            button = normalize_key(e.key)[len("gamepad."):]  # as a pad sends it: an input
+            add(e.t, ev.gamepad(button, 1.0))  # that also acts as a key
+            add(e.t + max(e.hold, dt), ev.gamepad(button, 0.0))
+            pad[button] = 0.0
         elif e.key is not None:
             chord = normalize_key(e.key)
             add(e.t, ev.key(chord, True))
             add(e.t + max(e.hold, dt), ev.key(chord, False))
+        elif e.gamepad is not None:
+            glide = [n for n in e.gamepad if _analog(n)] if e.over > 0 else []
+            for name, value in e.gamepad.items():
+                if name not in glide:
+                    add(e.t, ev.gamepad(name, value))
+            n = max(1, round(e.over * GLIDE_RATE))
+            for i in range(1, n + 1) if glide else ():
+                u = i / n
+                for name in glide:
+                    start = pad.get(name, 0.0)
+                    add(e.t + u * e.over, ev.gamepad(name, start + u * (e.gamepad[name] - start)))
+            pad.update(e.gamepad)
+            if e.hold > 0:  # then every input it named back at rest
+                for name in e.gamepad:
+                    add(e.t + e.over + e.hold, ev.gamepad(name, 0.0))
+                    pad[name] = 0.0
         elif e.action is not None:
             add(e.t, ev.action(e.action))
         elif e.push is not None:

@@ -44,8 +44,11 @@ class GestureController:
             servos = self.servos
             others = [(servos[j], servos[j].target) for j in self.mouse_joints - owned]
             values = dict(self.inputs)
+            pointer = "pointer.x" in values  # the layout reads the mouse as the pointer
             while index < len(path) and start + path[index][0] <= step:
                 values["mouse.x"], values["mouse.y"] = path[index][1], path[index][2]
+                if pointer:
+                    values["pointer.x"], values["pointer.y"] = path[index][1], path[index][2]
                 for apply in self.mouse_maps:
                     apply(values)
                 index += 1

@@ -118,9 +118,9 @@ class ReachController:
                                       r.max_torque)
         self.owners_table.claim(chain.joints, owner)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
         if not self.reaches:
-            return
+            return None
         servos, owners = self.servos, self.owners_table
         for name, reach in list(self.reaches.items()):
             owner = reach_owner(name)
@@ -150,6 +150,10 @@ class ReachController:
                 del self.reaches[name]
 
     def next_wakeup(self, earliest: int) -> int | None:
+        # every step, on the way and holding: at the control rate (60 Hz) the ladder
+        # climb passed 9-10 of 20 human playtest tries against its bar of 14 (17 with
+        # the IK solved every step), so the rate is the feat's, not a setting to change
+        # under it (README, Benchmark)
         return earliest if self.reaches else None
 
     def owners(self) -> set[Owner]:

@@ -15,6 +15,21 @@ from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
 
+def _all_of(tests):
+    """A reader that is 1.0 when every (reader, test) holds, else 0.0 (in order, so a
+    cheap contact test written first spares the others)."""
+    def read() -> float:
+        for read_one, test in tests:
+            if not test(read_one()):
+                return 0.0
+        return 1.0
+    return read
+
+
+def _HOLDS(value: float) -> bool:
+    return value > 0.5
+
+
 class StateMachine:
     def __init__(self, name: str, machine, interface, character, dt: float,
                  channels: dict | None = None, inputs: dict | None = None):
@@ -28,6 +43,9 @@ class StateMachine:
         self.initial = machine.start_state
         self.interface, self.character, self.dt = interface, character, dt
         self._tables: dict = {}  # role binding -> (transitions, first_due)
+        # state -> per transition (in ``transitions`` order), the steps its `for` asks
+        # its condition to have held (0: fires at once); ``_since``: when it began to
+        self._holds = self._hold_steps()
         self.use_renamer(None, lambda sensor: sensor)
         self.current = self.initial
         self.entered = 0
@@ -51,23 +69,40 @@ class StateMachine:
         # then reads that sensor and compares, nothing else: ``_one_sensor`` is the
         # reader and the (state to go to, lo, hi) in order.
         self._one_sensor = None
-        if ts and all(after == 0 and read is ts[0][2] and test is None
-                      for _, after, read, test, _, _ in ts):
+        self._held, self._since = self._holds[state], {}
+        if ts and not any(self._held) and all(after == 0 and read is ts[0][2] and test is None
+                                              for _, after, read, test, _, _ in ts):
             self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
+
+    def _hold_steps(self) -> dict[str, list[int]]:
+        """Per state, each transition's `for` in steps, in the order ``_compile`` lists
+        them (the state's own, then any_state's that lead elsewhere)."""
+        name, machine, dt = self.name, self.spec, self.dt
+        shared = list(machine.any_state.transitions)
+        return {sname: [round((t.held or 0.0) / dt) for t in state.transitions]
+                + [round((t.held or 0.0) / dt) for t in shared
+                   if self.interface.resolve_goto(t.to, name) != (name, sname)]
+                for sname, state in machine.states.items()}
 
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
         shared = list(machine.any_state.transitions)
-        readers = {t.when.sensor: reader(rename(t.when.sensor), self.character,
-                                         self.channels, self.inputs)
+        readers = {c.sensor: reader(rename(c.sensor), self.character,
+                                    self.channels, self.inputs)
                    for state in machine.states.values()
-                   for t in [*state.transitions, *shared] if t.when is not None}
+                   for t in [*state.transitions, *shared] for c in t.conditions}
 
         def compiled(t):
-            bounds = compile_bounds(t.when) if t.when is not None else None
+            conditions = t.conditions
+            if len(conditions) > 1:  # all must hold: one reading of 1.0 or 0.0
+                return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
+                        _all_of([(readers[c.sensor], compile_test(c)) for c in conditions]),
+                        _HOLDS, None, None)
+            when = conditions[0] if conditions else None
+            bounds = compile_bounds(when) if when is not None else None
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
-                    readers[t.when.sensor] if t.when is not None else None,
-                    compile_test(t.when) if t.when is not None and bounds is None else None,
+                    readers[when.sensor] if when is not None else None,
+                    compile_test(when) if when is not None and bounds is None else None,
                     *(bounds or (None, None)))
         # state -> [((machine, to), min steps in state, sensor reader or None, test, lo,
         # hi)]: a sensor's test is lo < value < hi (compared here, not called) or, for
@@ -120,7 +155,8 @@ class StateMachine:
         polling = now % every == 0
         last = value = None
         since = now - self.entered
-        for to, after, read, test, lo, hi in self._transitions:
+        held = self._held
+        for k, (to, after, read, test, lo, hi) in enumerate(self._transitions):
             if since < after:
                 continue
             if read is None:
@@ -128,8 +164,15 @@ class StateMachine:
             if polling:
                 if read is not last:
                     value, last = read(), read
-                if (lo < value < hi) if test is None else test(value):
-                    return to
+                holds = (lo < value < hi) if test is None else test(value)
+                if not held[k]:
+                    if holds:
+                        return to
+                elif holds:  # `for`: held since the first poll that found it true
+                    if now - self._since.setdefault(k, now) >= held[k]:
+                        return to
+                else:
+                    self._since.pop(k, None)
         self.wake_after = self.next_wakeup(now + 1)
         return None
 
@@ -137,11 +180,15 @@ class StateMachine:
         return set()
 
     def get_state(self) -> list:
+        if self._since:  # a `for` condition holding now: when each began, kept too
+            return [self.current, self.entered, dict(self._since)]
         return [self.current, self.entered]
 
     def set_state(self, state) -> None:
-        self.current, self.entered = state
+        self.current, self.entered = state[0], state[1]
         self._now_in(self.current)
+        if len(state) > 2:
+            self._since = {int(k): v for k, v in state[2].items()}
 
     def stop(self) -> None:
         self.current, self.entered = self.initial, 0

@@ -19,17 +19,26 @@ it.
 Everything runs on absolute multiples of the control period and reads only the
 channels, the figure's state and its own plain state, so a replay (or a restored
 checkpoint) does the same to the bit. A stream with no sample for ``lost_after`` s is
-lost: the tracker lets go of its joints (and the figure's gains go back) until samples
-come again, when it takes its joints back as a new action would.
+lost: with ``tracking.stand`` the tracker stands the figure where it is in that pose
+(KD control of it, blended in from the last frame); without, it lets go of its joints
+(and the figure's gains go back). When samples come again it takes its joints back,
+blended over ``tracking.blend``. What it follows at a step is ``_view``: the performer's
+channels, the stand, a get-up's poses (``tracking_getup``), or a blend between them.
+Impact reactions are ``tracking_reaction``'s.
 """
 
 from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.data.tracking import TrackingSpec
+from puppet.interface.controllers.kd_pull import FigureRows, joint_chain, performed_pose
+from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
+from puppet.interface.controllers.tracking_reaction import Reactions
 from puppet.interface.ownership import JointOwners, Owner
-from puppet.physics.kinematics import beyond, joint_order, link_poses
+from puppet.physics.kinematics import beyond, joint_order
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
@@ -37,7 +46,7 @@ PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the groun
 # the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
-class Tracker:
+class Tracker(Reactions):
     BUSY = "busy"
 
     def __init__(self, spec: TrackingSpec | None, character, owners: JointOwners,
@@ -51,8 +60,13 @@ class Tracker:
         self.dt = dt
         self.restore_gains = restore_gains  # puts the interface's gains back
         self.lost_steps = 0 if spec is None else max(1, round(spec.lost_after / dt))
+        self.blend_steps = 0 if spec is None else round(spec.blend / dt)
+        self.stand: dict[str, float] | None = None  # channel -> value: tracking.stand's pose
+        self.poses: dict[str, dict[str, float]] = {}  # pose -> channels: the get-up's poses
+        self.due: list[str] = []  # what the runtime is to run: "lost", "found", "get_up"
         cs = character.spec
         self.order = joint_order(cs)
+        self._chain = joint_chain(self.order)  # (the performed pose, kd_pull)
         self.limits = {j.name: (None if j.limits is None else
                                 (math.radians(j.limits[0]), math.radians(j.limits[1])))
                        for j in cs.actuated}
@@ -62,6 +76,7 @@ class Tracker:
             self.joints = {j: spec.channels.get(j, j) for j in names}
         self.inertia = {j: _inertia_beyond(character, j) for j in self.joints}
         self.pulled = [link.name for link in cs.links]
+        self._figure = FigureRows(character, self.pulled)  # the pulled links, read in bulk
         self.joint_of = {j.child: j.name for j in cs.joints}  # link -> the joint above it
         self.scale = {} if spec is None else dict(spec.scale)
         self.ground_at = ground_at  # x -> the ground's surface height (None: no lift)
@@ -69,13 +84,15 @@ class Tracker:
         self.stop()
 
     # -- actions ---------------------------------------------------------------------
-    def switch(self, mode: str, now: int) -> None:
+    def switch(self, mode: str, now: int, blend: bool = True) -> None:
         """``track: off | angles | kd``: start (taking the tracked joints, as any
-        action takes the joints it drives) or stop following the performer."""
-        if self.mode != OFF and not self.lost:  # (lost: let go already)
-            self._let_go()
+        action takes the joints it drives, over ``tracking.blend`` s unless ``blend``
+        is False: the interface's start) or stop following the performer."""
+        if self.mode != OFF and (not self.lost or self.hold is not None):  # (lost: let go
+            self._let_go()  # already, unless it stands the figure)
         self.mode = mode
         self.lost = False
+        self.hold = self.back = self.getup = None
         self.impact_at = None
         self.reaction = self.step = None
         self.prev = None
@@ -84,7 +101,7 @@ class Tracker:
             return
         self.kinematic = mode == KD
         self.last_sample = now  # a first sample is awaited for lost_after
-        self._take(now)
+        self._take(now, blend)
         self.busy = True
 
     def set_kinematic(self, how: str) -> None:
@@ -97,14 +114,20 @@ class Tracker:
     def sampled(self, now: int) -> None:
         """A channels frame arrived (the runtime's fast path calls this)."""
         self.last_sample = now
-        if self.lost:
+        if self.lost and self.hold is not None:  # back from standing: blend to the performer
+            came = self._view(now)
+            self.hold, self.lost = None, False
+            self._back_from(came, now)
+            self.due.append("found")
+        elif self.lost:  # the stream is back: the joints again, blended, and 'found'
             self.lost = False
-            self._take(now)
+            self._take(now, True)
+            self.due.append("found")
 
     def impact(self, now: int) -> None:
         """A push or a drag has struck the figure: react at the next control step."""
         if self.mode == KD and self.kinematic and self.spec.reaction is not None \
-                and not self.lost:
+                and not self.lost and self.getup is None:
             self.impact_at = now
 
     @property
@@ -113,76 +136,25 @@ class Tracker:
         if self.mode == OFF:
             return ""
         if self.lost:
-            return f"tracking {self.mode}: LOST (no sample for {self.spec.lost_after:g} s)"
+            held = ", standing" if self.hold is not None else ""
+            return (f"tracking {self.mode}: LOST (no sample for {self.spec.lost_after:g} s)"
+                    f"{held}")
         pulls = "" if self.mode == ANGLES else (" with pulls" if self.kinematic else
                                                 " (pulls off: free fall)")
-        if self.reaction is not None and self.mode == KD:
+        if self.getup is not None:
+            pulls += f", getting up ({self.getup.pose_name(self.getup_step)})"
+        elif self.reaction is not None and self.mode == KD:
             pulls += f", reacting to a {self.reaction[0]} push"
         return f"tracking {self.mode}{pulls}"
 
-    def _react(self, step: int, performed_com, performed_vx: float) -> None:
-        """Judge the push just taken and start its reaction. The extrapolated centre
-        of mass (xcom = x + v sqrt(l / g)) is measured against the support - the feet's
-        contacts, widened to the performance's own xcom, since a walking performer's
-        lies ahead of their feet and a step catches it: inside (or within
-        ``small_margin``), small; beyond by up to ``step_margin``, large; further, a
-        fall."""
-        from puppet.physics.balance import balance
-
-        c = self.character
-        space = c.bodies[c.spec.root].space
-        gravity = tuple(space.gravity) if space is not None else (0.0, -9.81)
-        b = balance(c, gravity, self.ground_at or (lambda x: None))
-        r = self.spec.reaction
-        if b.support is None:
-            beyond = r.step_margin  # in the air: not a fall yet
-        else:
-            g = math.hypot(*gravity) or 9.81
-            height = max(1e-3, performed_com[1] - b.ground_y)
-            mine = performed_com[0] + performed_vx * math.sqrt(height / g)
-            lo, hi = min(b.support[0], mine), max(b.support[1], mine)
-            beyond = max(lo - b.xcom, b.xcom - hi, 0.0)
-        case = ("small" if beyond <= r.small_margin else
-                "large" if beyond <= r.step_margin else "fall")
-        self.reaction = (case, step)
-        self.impact_at = None
-        self.step = None
-        if case == "large" and self.soles and b.support is not None and beyond > 0:
-            self.step = self._protective_step(step, b, 1.0 if b.xcom > b.support[1]
-                                              else -1.0)
-
-    def _protective_step(self, step: int, b, way: float) -> list:
-        """[foot, start step, from x, from y, to x, to y]: the foot off the ground (else
-        the one behind, going ``way``) steps to just past the extrapolated centre of
-        mass (Oshita's protective step), its centre of mass where a flat foot's is."""
-        c, r = self.character, self.spec.reaction
-        feet = list(self.soles)
-        free = [f for f in feet if not c.in_contact(f)]
-        foot = free[0] if free else min(feet, key=lambda f: way * c.link_position(f)[0])
-        x0, y0 = c.link_position(foot)
-        x1 = b.xcom + way * r.step_past
-        ground = self.ground_at(x1) if self.ground_at is not None else None
-        y1 = (ground if ground is not None else b.ground_y) + c.bodies[foot].center_of_gravity[1]
-        return [foot, step, x0, y0, x1, y1]
-
-    def _weight(self, step: int) -> float:
-        """How much of the pulls acts now (1 without a reaction)."""
-        if self.reaction is None:
-            return 1.0
-        case, start = self.reaction
-        spec = getattr(self.spec.reaction, case)
-        t = (step - start) * self.dt
-        if t < spec.hold:
-            return spec.weight
-        t -= spec.hold
-        if t >= spec.recover:
-            self.reaction = self.step = None
-            return 1.0
-        return spec.weight + (1.0 - spec.weight) * t / spec.recover
-
     # -- the work ----------------------------------------------------------------------
-    def _take(self, now: int) -> None:
+    def _take(self, now: int, blend: bool = False) -> None:
         mine = [j for j in self.joints if self.joints[j] in self.channels] or list(self.joints)
+        self.blend_at = None
+        if blend and self.blend_steps > 0:  # from where the joints' targets are now
+            servos = self.character.servos
+            self.blend_at = now
+            self.blend_from = {j: servos[j].target for j in mine}
         self.owners_table.take(mine)
         self.owners_table.claim(mine, TRACK)
         if self.mode == KD:
@@ -193,7 +165,19 @@ class Tracker:
             hinge = self._hinge_world()
             x = self.channels.get(root.x)
             self.x0 = hinge[0] - (x if x is not None else 0.0)
-        self._write_targets()
+        self._write_targets(now)
+
+    def _blend(self, step: int) -> float:
+        """How far the blend into tracking has come: 0 at its start, 1 when done (and
+        without one)."""
+        if self.blend_at is None:
+            return 1.0
+        w = (step - self.blend_at) / self.blend_steps
+        if w >= 1.0:
+            self.blend_at = None
+            self.blend_from = {}
+            return 1.0
+        return w if w > 0.0 else 0.0
 
     def scale_gains(self, joints) -> None:
         """KD control's inertia-scaled gains on ``joints`` (remembered, to give back)."""
@@ -224,13 +208,98 @@ class Tracker:
         p = body.local_to_world(joint.anchor)
         return (p[0], p[1])
 
-    def _write_targets(self) -> None:
-        table, servos, channels = self.owners_table.table, self.character.servos, self.channels
+    def _start_standing(self, step: int) -> None:
+        """Lost: the stand pose where the figure is (the root over the middle of its
+        feet, the pelvis upright), blended in from the last frame over ``blend`` s."""
+        came = dict(self._view(step))
+        held = dict(came)
+        held.update(self.stand)
+        root = self.spec.root
+        if self.soles and self.x0 is not None:
+            c = self.character
+            middle = sum(c.link_position(f)[0] for f in self.soles) / len(self.soles)
+            held[root.x] = middle - self.x0
+        held[root.angle] = 0.0
+        held[root.clearance] = 0.0
+        self.hold = [came, held, step]
+        self.prev, self.vel, self.spin = None, {}, {}
+
+    def _start_get_up(self, step: int) -> None:
+        """The get-up from where the figure lies (its own joint angles, root place and
+        angle), its root kept where it is along the ground."""
+        root, c = self.spec.root, self.character
+        hx, hy = self._hinge_world()
+        if self.x0 is None:
+            self.x0 = hx
+        came = joint_degrees(c, self.joints)
+        came.update({root.x: hx - self.x0, root.y: hy, root.clearance: 0.0,
+                     root.angle: math.degrees(c.bodies[c.spec.root].angle)})
+        self._getup_from(came, step, hx - self.x0)
+
+    def _getup_from(self, came: dict, step: int, x: float, fresh: bool = True) -> None:
+        root = self.spec.root
+        self.getup = GetUp(self.spec.reaction.get_up, self.poses, came,
+                           (root.x, root.y, root.angle, root.clearance), x, step, self.dt)
+        self.getup_x = x
+        self.getup_step = step
+        if fresh:
+            self.prev, self.vel, self.spin = None, {}, {}
+
+    def _back_from(self, came: dict, now: int) -> None:
+        """Blend from ``came`` (what was followed) to the performer's frames, the root
+        staying where it is (``x0`` taken again, as at a take)."""
+        root = self.spec.root
+        x = self.channels.get(root.x)
+        x0 = self.x0
+        came = dict(came)
+        if x is not None and x0 is not None and root.x in came:
+            self.x0 = self._hinge_world()[0] - x
+            came[root.x] += x0 - self.x0
+        self.back = [came, now]
+        self.prev, self.vel, self.spin = None, {}, {}
+
+    def _view(self, step: int) -> dict:
+        """The channels followed now: the performer's; while lost and standing, the
+        stand blended in from the last frame; getting up, the get-up's poses; back
+        from either, the blend from what was followed to the performer's."""
+        if self.getup is not None:
+            self.getup_step = step
+            came = self.getup.view(step)
+            if step < self.getup.done_at:
+                return came
+            self.getup = self.reaction = self.step = None  # up: the performer again
+            self._back_from(came, step)
+        if self.hold is not None:
+            came, held, at = self.hold
+            return _mix(came, held, self._fraction(step, at))
+        if self.back is not None:
+            came, at = self.back
+            w = self._fraction(step, at)
+            if w >= 1.0:
+                self.back = None
+                return self.channels
+            return _mix(came, self.channels, w)
+        return self.channels
+
+    def _fraction(self, step: int, at: int) -> float:
+        if self.blend_steps <= 0:
+            return 1.0
+        w = (step - at) / self.blend_steps
+        return 1.0 if w >= 1.0 else w if w > 0.0 else 0.0
+
+    def _write_targets(self, step: int) -> None:
+        table, servos = self.owners_table.table, self.character.servos
+        channels = self._view(step)
+        w = self._blend(step)
+        start = self.blend_from
         for joint, channel in self.joints.items():
             value = channels.get(channel)
             if value is None or table.get(joint) != TRACK:
                 continue
-            servos[joint].target = self._clamped(joint, math.radians(value))
+            target = self._clamped(joint, math.radians(value))
+            if w < 1.0 and joint in start:  # blending in: part way from where it was
+                target = start[joint] + (target - start[joint]) * w
+            servos[joint].target = target
 
     def _clamped(self, joint: str, q: float) -> float:
         lim = self.limits.get(joint)
@@ -241,12 +310,18 @@ class Tracker:
     def tick(self, step: int) -> None:
         if step % self.every or self.mode == OFF:
             return
-        if not self.lost and step - self.last_sample > self.lost_steps:
+        if not self.lost and self.getup is None and step - self.last_sample > self.lost_steps:
             self.lost = True
-            self._let_go()
-            self.prev = None
-            return
-        if self.lost:
+            self.blend_at = self.back = None
+            self.due.append("lost")  # the interface's balance takes the figure
+            if self.stand is not None and self.mode == KD and self.kinematic \
+                    and self.spec.root is not None:
+                self._start_standing(step)  # the tracker holds it up: the stand pose
+            else:
+                self._let_go()
+                self.prev = None
+                return
+        if self.lost and self.hold is None:
             return
         table = self.owners_table.table
         taken = [j for j in self.scaled if table.get(j) != TRACK]
@@ -255,7 +330,7 @@ class Tracker:
         if not self.owners_table.holds_any(TRACK):  # every joint taken by later actions
             self.impact_at = None
             return
-        self._write_targets()
+        self._write_targets(step)
         if self.mode == KD and self.kinematic and self.spec.root is not None:
             self._pull(step)
         else:
@@ -264,7 +339,12 @@ class Tracker:
     def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
         pose's (implicit PD over one control period), weaker while reacting to a push."""
-        spec, ch, c = self.spec, self.channels, self.character
+        reaction = self.reaction
+        if reaction is not None and reaction[0] == "fall" and self.getup is None \
+                and self.spec.reaction.get_up is not None \
+                and (step - reaction[1]) * self.dt >= self.spec.reaction.fall.hold:
+            self._start_get_up(step)  # lain long enough: up, through the poses
+        spec, ch, c = self.spec, self._view(step), self.character
         root = spec.root
         x, y, a = ch.get(root.x), ch.get(root.y), ch.get(root.angle)
         if x is None or y is None or a is None:
@@ -276,18 +356,19 @@ class Tracker:
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        q = {j: self._clamped(j, math.radians(ch[n])) for j, n in self.joints.items() if n in ch}
-        poses = link_poses(c.spec, self.order, origin, angle, q)
-        lift = self._lift(poses, hx, ch.get(root.clearance, 0.0))
+        clamped, radians = self._clamped, math.radians
+        q = {j: clamped(j, radians(ch[n])) for j, n in self.joints.items() if n in ch}
+        # the performed pose, each link's turn's cosine and sine with it (kd_pull)
+        poses = performed_pose(self._chain, c.spec.root, origin, angle, cos, sin, q)
+        lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
+                          self._all_points() if self.getup is not None else self.soles)
         T = self.period
         preset, scale = spec.preset, self.scale
         prev = self.prev
+        rows = self._figure.rows()
         targets = {}
-        for name in self.pulled:
-            body = c.bodies[name]
-            ox, oy, la = poses[name]
-            gx, gy = body.center_of_gravity
-            cl, sl = math.cos(la), math.sin(la)
+        for name, _, _, _, gx, gy in rows:
+            ox, oy, _, cl, sl = poses[name]
             targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
@@ -311,14 +392,20 @@ class Tracker:
                    sum(c.bodies[n].mass * p[1] for n, p in targets.items()) / mass)
             vx = sum(c.bodies[n].mass * v[0] for n, v in vel.items()) / mass
             self._react(step, com, vx)
-        weight = self._weight(step)
+        weight = self._weight(step) * self._blend(step)
         stepping = self.step[0] if self.step is not None else None
-        table, joint_of = self.owners_table.table, self.joint_of
-        for name in self.pulled:
+        getting_up = self.getup is not None
+        if getting_up:
+            get_up = self.spec.reaction.get_up
+            no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
+            rise = get_up.rise
+        table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
+        state = self._figure.read()  # every body in one call: what each link is now
+        set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
+        for name, cb, i, m, gx, gy in rows:
             joint = joint_of.get(name)
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            body = c.bodies[name]
             px, py = targets[name][0], targets[name][1]
             s = scale.get(name, 1.0)
             w = weight
@@ -329,51 +416,47 @@ class Tracker:
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, (0.0, 0.0))
-            m = body.mass
-            p = body.local_to_world(body.center_of_gravity)
-            vx, vy = body.velocity
+            bx, by, ba, vx, vy, spin = state[i:i + 6]
+            cb_, sb = math.cos(ba), math.sin(ba)  # its centre: cpBodyLocalToWorld's sums
+            wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
             den = m / T + k * T + d
-            body.velocity = ((m * vx / T + k * (px - p[0]) + d * tvx) / den,
-                             (m * vy / T + k * (py - p[1]) + d * tvy) / den)
-            if name in self.soles:  # a foot is also turned flat as performed (its sole
+            new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
+            if getting_up and new_vy > vy:  # no levitation: a link rises only by pushing
+                new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
+                # and no faster than a body pushes itself up
+            set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den, new_vy))
+            if name in soles:  # a foot is also turned flat as performed (its sole
                 # stands on the ground; the ankle's inertia-scaled gain alone is weak)
-                inertia = body.moment
+                inertia = c.bodies[name].moment
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
                 want = poses[name][2]
-                turn = want - body.angle
+                turn = want - ba
                 turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                w = body.angular_velocity
-                body.angular_velocity = ((inertia * w / T + kt * turn
-                                          + dt_ * self.spin.get(name, 0.0))
-                                         / (inertia / T + kt * T + dt_))
+                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * self.spin.get(name, 0.0))
+                         / (inertia / T + kt * T + dt_))
 
-    def _stepped(self, step: int, weight: float, px: float, py: float):
-        """The stepping foot's target: along the step (lifted in the middle), then held
-        where it landed, and blended back to the performance (``px``, ``py``) as the
-        pulls come back."""
-        foot, start, x0, y0, x1, y1 = self.step
-        r = self.spec.reaction
-        u = min(1.0, (step - start) * self.dt / r.step_time)
-        sx = x0 + (x1 - x0) * u
-        sy = y0 + (y1 - y0) * u + r.step_lift * math.sin(math.pi * u)
-        low = r.large.weight
-        back = 0.0 if weight <= low else (weight - low) / (1.0 - low)
-        return sx + (px - sx) * back, sy + (py - sy) * back
+    def _all_points(self) -> dict:
+        """Every link's lowest points (a get-up's pose stands on knees, hands...)."""
+        if not hasattr(self, "_every_point"):
+            c = self.character
+            self._every_point = {link.name: _lowest_points(c, link.name)
+                                 for link in c.spec.links}
+        return self._every_point
 
-    def _lift(self, poses, x: float, clearance: float) -> float:
+    def _lift(self, poses, x: float, clearance: float, soles=None) -> float:
         """How far up (or down) the performed pose must go for its lowest foot to stand
         on the ground - or to be ``clearance`` above it, in a performer's jump: the
         performer's proportions differ from the figure's, and a foot held in the air by
         the pulls would leave the figure hanging on them."""
-        if not self.soles or self.ground_at is None:
+        soles = self.soles if soles is None else soles
+        if not soles or self.ground_at is None:
             return 0.0
         ground = self.ground_at(x)
         if ground is None:
             return 0.0
         lowest = math.inf
-        for link, points in self.soles.items():
-            _, oy, la = poses[link]
-            cl, sl = math.cos(la), math.sin(la)
+        for link, points in soles.items():
+            _, oy, _, cl, sl = poses[link]  # (performed_pose: its cosine and sine)
             for px, py, r in points:
                 y = oy + sl * px + cl * py - r
                 if y < lowest:
@@ -395,11 +478,26 @@ class Tracker:
         reaction = None if self.reaction is None else list(self.reaction)
         return [self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
                 self.impact_at, reaction, {j: list(g) for j, g in self.scaled.items()},
-                None if self.step is None else list(self.step)]
+                None if self.step is None else list(self.step),
+                [self.blend_at, dict(self.blend_from),
+                 None if self.getup is None else [*self.getup.state(), self.getup_x],
+                 list(self.due),
+                 None if self.hold is None else [dict(self.hold[0]), dict(self.hold[1]),
+                                                 self.hold[2]],
+                 None if self.back is None else [dict(self.back[0]), self.back[1]]]]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
-         self.impact_at, reaction, scaled, step) = state
+         self.impact_at, reaction, scaled, step) = state[:10]
+        more = state[10] if len(state) > 10 else [None, {}, False, [], None, None]
+        self.blend_at, self.blend_from = more[0], dict(more[1])
+        self.getup = None
+        if more[2] is not None:
+            self._getup_from(dict(more[2][0]), more[2][1], more[2][2], fresh=False)
+        self.due = list(more[3])  # (older snapshots have none of these)
+        self.hold = None if more[4] is None else [dict(more[4][0]), dict(more[4][1]),
+                                                  more[4][2]]
+        self.back = None if more[5] is None else [dict(more[5][0]), more[5][1]]
         self.step = None if step is None else list(step)
         self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
@@ -433,7 +531,27 @@ class Tracker:
         self.impact_at: int | None = None  # a push to judge at the next control step
         self.reaction: tuple[str, int] | None = None  # (case, step it began)
         self.step: list | None = None  # a large push's protective step (_protective_step)
+        self.blend_at: int | None = None  # the step a blend into tracking began
+        self.blend_from: dict[str, float] = {}  # ... the joints' targets then
+        self.getup: GetUp | None = None  # after a fall: the get-up under way
+        self.getup_x = 0.0  # ... the root's travel it keeps
+        self.getup_step = 0  # ... the step last followed (the HUD's pose)
+        self.hold: list | None = None  # lost, standing: [channels then, the stand's, step]
+        self.back: list | None = None  # back from standing: [channels followed, step]
+        self.due = []
         self.busy = False
+
+
+def _mix(a: dict, b: dict, w: float) -> dict:
+    """``b``'s channels, a fraction ``w`` of the way from ``a``'s (a channel ``a``
+    lacks is ``b``'s)."""
+    if w >= 1.0:
+        return b
+    out = {}
+    for name, v in b.items():
+        u = a.get(name, v)
+        out[name] = u + (v - u) * w
+    return out
 
 
 def _lowest_points(character, link: str) -> list[tuple[float, float, float]]:

@@ -16,9 +16,13 @@ The run itself is ``puppet.timeline.trajectory.Trajectory``.
 from __future__ import annotations
 
 from puppet.timeline.expectations.base import KINDS, Check, Checking
-from puppet.timeline.expectations.entry import ExpectFile, Expectation, Expectations
-from puppet.timeline.expectations.files import (load_expectations, parse_expectations,
-                                                sidecar_path, validate_expect_file)
+from puppet.timeline.expectations.entry import Expectation, Expectations, ExpectFile
+from puppet.timeline.expectations.files import (
+    load_expectations,
+    parse_expectations,
+    sidecar_path,
+    validate_expect_file,
+)
 from puppet.timeline.expectations.outcome import NOTHING, Outcome
 
 __all__ = ["KINDS", "Check", "Checking", "ExpectFile", "Expectation", "Expectations",

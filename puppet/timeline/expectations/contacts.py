@@ -17,10 +17,17 @@ import numpy as np
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (at_least_most, longest_flight,
-                                                  longest_run, samples_in, seconds_of,
-                                                  short_of, signed_deg, tilt_deg,
-                                                  until_text)
+from puppet.timeline.expectations.measure import (
+    at_least_most,
+    longest_flight,
+    longest_run,
+    samples_in,
+    seconds_of,
+    short_of,
+    signed_deg,
+    tilt_deg,
+    until_text,
+)
 from puppet.timeline.expectations.outcome import NOTHING
 
 Links = Annotated[list[str], Meta(min_length=1, max_length=64)]

@@ -11,13 +11,13 @@ from dataclasses import field as dc_field
 
 import msgspec
 
-# the theme modules register their kinds in KINDS as they are imported
-from puppet.timeline.expectations import (contacts, flight, grasps, position,  # noqa: F401
-                                          posture, states)
 from puppet.data.errors import DataError
 from puppet.data.playtest_bar import PlaytestBar
 from puppet.data.validate import Spec
 from puppet.data.yamlfile import Located
+
+# the theme modules register their kinds in KINDS as they are imported
+from puppet.timeline.expectations import contacts, flight, grasps, position, posture, states  # noqa: F401
 from puppet.timeline.expectations.base import KINDS, Check, Checking
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 from puppet.data.errors import DataError
 from puppet.data.validate import validate
 from puppet.data.yamlfile import Located, load_file
-from puppet.timeline.expectations.entry import ExpectFile, Expectation, Expectations
+from puppet.timeline.expectations.entry import Expectation, Expectations, ExpectFile
 
 
 def sidecar_path(log_path: str | Path) -> Path:

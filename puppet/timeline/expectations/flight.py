@@ -16,9 +16,15 @@ import numpy as np
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, at, field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (at_least_most, longest_flight,
-                                                  longest_run, runs, samples_in,
-                                                  until_text, within)
+from puppet.timeline.expectations.measure import (
+    at_least_most,
+    longest_flight,
+    longest_run,
+    runs,
+    samples_in,
+    until_text,
+    within,
+)
 from puppet.timeline.expectations.outcome import NOTHING
 
 Links = Annotated[list[str], Meta(min_length=1, max_length=64)]

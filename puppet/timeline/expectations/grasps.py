@@ -15,8 +15,14 @@ import numpy as np
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (held_at, holds, samples_in, seconds_of,
-                                                  until_text, window_text)
+from puppet.timeline.expectations.measure import (
+    held_at,
+    holds,
+    samples_in,
+    seconds_of,
+    until_text,
+    window_text,
+)
 
 Chains = Annotated[list[str], Meta(min_length=1, max_length=64)]
 
@@ -222,7 +228,7 @@ class Revolutions(Check, kw_only=True):
                     i0 = i
                 else:
                     u = prev_u + (np.remainder(a - prev + np.pi, 2 * np.pi) - np.pi)  # noqa: F821
-                prev, prev_u = a, u
+                prev, prev_u = a, u  # noqa: F841 (read on the next sample)
                 s = sign * u
                 if s > top:
                     top = s

@@ -8,8 +8,7 @@ import numpy as np
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (min_max, samples_in, until_text,
-                                                  within)
+from puppet.timeline.expectations.measure import min_max, samples_in, until_text, within
 
 Measure = Num("measure")
 

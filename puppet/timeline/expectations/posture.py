@@ -15,9 +15,16 @@ import numpy as np
 from puppet.data.ranges import Num, Time
 from puppet.data.validate import Meta, at, field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (at_least_most, interval, runs,
-                                                  samples_in, short_of, tilt_deg,
-                                                  until_text, within)
+from puppet.timeline.expectations.measure import (
+    at_least_most,
+    interval,
+    runs,
+    samples_in,
+    short_of,
+    tilt_deg,
+    until_text,
+    within,
+)
 from puppet.timeline.expectations.outcome import NOTHING
 
 UPRIGHT_DEG = 45.0  # upright_at_end tolerance (Character.upright's default)

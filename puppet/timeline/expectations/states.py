@@ -17,8 +17,7 @@ import numpy as np
 from puppet.data.ranges import Time
 from puppet.data.validate import field
 from puppet.timeline.expectations.base import Check, Checking
-from puppet.timeline.expectations.measure import (named, samples_in, seconds_of,
-                                                  window_text)
+from puppet.timeline.expectations.measure import named, samples_in, seconds_of, window_text
 
 
 class StayedIn(Check, kw_only=True):

@@ -12,8 +12,14 @@ from puppet.data.playtest import LEVELS, Noise, noise_at
 from puppet.data.playtest_bar import PlaytestBar
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.runner import LogPlaytest, Plan, load_bar, playtest, run
-from puppet.timeline.playtest.trial import (TryResult, judge, perturbation, perturbed_log,
-                                            prepare, run_try)
+from puppet.timeline.playtest.trial import (
+                                            TryResult,
+                                            judge,
+                                            perturbation,
+                                            perturbed_log,
+                                            prepare,
+                                            run_try,
+)
 
 __all__ = ["LEVELS", "LogPlaytest", "Noise", "Perturbation", "Plan", "PlaytestBar",
            "TryResult", "judge", "load_bar", "noise_at", "perturb", "perturbation",

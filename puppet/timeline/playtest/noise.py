@@ -123,10 +123,7 @@ def _strokes(indices: list[int], pairs, slowdowns, dt: float, gap_ms: float,
         if strokes:
             last = strokes[-1][-1]
             pause = (pairs[i][0] - pairs[last][0]) * dt * slowdowns[i] * 1000.0
-            if kind == "drag":
-                new = pairs[i][1].get("phase") == "start"
-            else:
-                new = pause >= gap_ms
+            new = pairs[i][1].get("phase") == "start" if kind == "drag" else pause >= gap_ms
             if not new:
                 strokes[-1].append(i)
                 continue

@@ -14,7 +14,7 @@ import json
 import os
 from pathlib import Path
 
-from puppet.data.catalog import ROOT, FOLDERS
+from puppet.data.catalog import FOLDERS, ROOT
 
 STORE = Path(os.environ.get("PUPPET_PLAYTESTS") or ROOT / FOLDERS["recording"][0]
              / "playtests.json")

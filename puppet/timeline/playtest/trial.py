@@ -24,8 +24,7 @@ from pathlib import Path
 from puppet.data.catalog import Setup
 from puppet.data.errors import DataError
 from puppet.data.playtest import Noise
-from puppet.timeline.expectations import (Expectations, evaluate_all, load_expectations,
-                                          sidecar_path)
+from puppet.timeline.expectations import Expectations, evaluate_all, load_expectations, sidecar_path
 from puppet.timeline.log import Log, LogEvent, read_log
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.slowdown import in_force

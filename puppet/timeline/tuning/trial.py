@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 from puppet.data.catalog import Setup
 from puppet.interface import events as ev
-from puppet.timeline.playback import play
+from puppet.session.playback import play
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
 from puppet.timeline.tuning.scoring import BLOWUP_PENALTY, Judged, Term, judge, stretch
 

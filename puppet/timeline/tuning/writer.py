@@ -88,8 +88,8 @@ def _text(path: Path, text: str) -> None:
 def _record(loaded: Loaded, result: TuneResult, log_path: Path) -> str:
     """The kept input played into a fresh session with a Recorder; the end state hash."""
     from puppet.session import Session
+    from puppet.session.playback import play
     from puppet.timeline.log import Recorder
-    from puppet.timeline.playback import play
     from puppet.timeline.tuning.trial import _setup
 
     start = result.start

@@ -1,0 +1,160 @@
+"""The active maps of an interface runtime: which continuous maps the current mode and
+states make active, what they compile to (once per binding and set of active maps),
+and the feedback maps the control rate runs.
+
+A mixin of ``puppet.interface.runtime.InterfaceRuntime``, which holds the state these
+methods read (its inputs, channels, owners, roles, controllers)."""
+
+from __future__ import annotations
+
+import math
+
+from puppet.data.interfaces import InterfaceSpec
+from puppet.data.keys import POINTER
+from puppet.interface import maps as mapping
+from puppet.interface.conditions import map_reader
+from puppet.interface.ownership import FEEDBACK
+
+
+class ActiveMaps:
+    """The maps part of the runtime (see the module docstring)."""
+
+    def _refresh_active_maps(self) -> None:
+        if self._pending:
+            self.flush()  # with the maps that were active when their events came
+        spec = self.spec
+        active = list(spec.maps)
+        if self.mode is not None:
+            active += spec.modes[self.mode]
+        for machine in self.machines.values():
+            active += machine.spec.states[machine.current].maps
+        self.active_maps = active
+        # What a set of active maps compiles to, under a binding, is worked out once (a
+        # gait enters a state every step): the appliers are plain functions of the inputs
+        key = (self.role_binding, tuple(map(id, active)))
+        compiled = self._active_cache.get(key)
+        if compiled is None:
+            joints: set[str] = set()
+            for m in active:
+                if any(n in ("mouse.x", "mouse.y") + POINTER for n in m.inputs):
+                    joints |= self._map_joints(m)
+            compiled = self._active_cache[key] = (
+                mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER)),
+                self._feedback_maps(active), frozenset(joints), {})
+        self._mouse_maps, (readers, setters, adders), joints, self._channel_maps = compiled
+        self.feedback.set_maps(list(readers), list(setters), list(adders))
+        self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
+        self.gestures.mouse_joints = set(joints)
+
+    def _compiled(self, inputs) -> list:
+        """Compiled appliers of the active device maps reading any of ``inputs``, in
+        order (feedback maps run at the control rate instead)."""
+        return [self._applier(m) for m in self.active_maps
+                if not m.feedback and any(i in inputs for i in m.inputs)]
+
+    def _feedback_maps(self, active) -> tuple:
+        """The active feedback maps (sensor inputs, ``add``) as their controller takes
+        them: (readers, setters, adders)."""
+        readers, setters, adders = {}, [], []
+        for m in active:
+            if not m.feedback:
+                continue
+            for name in self.roles.map(m).inputs:
+                if name.startswith("sensor.") and name not in readers:
+                    read = self._readers.get(name)
+                    if read is None:
+                        read = self._readers[name] = map_reader(name[7:], self.character)
+                    readers[name] = read
+            if getattr(m, "combine", "set") == "add":
+                adders.append(self._applier(m))
+            else:
+                setters.append((self._applier(m), tuple(sorted(self._map_joints(m)))))
+        return tuple(readers.items()), tuple(setters), tuple(adders)
+
+    def _map_joints(self, m) -> set[str]:
+        m = self.roles.map(m)
+        if getattr(m, "grid", None) is not None:
+            these = {j for row in m.grid for p in row for j in self.pose_targets[p]}
+            return these if m.joints is None else these & set(m.joints)
+        return set(m.gains())
+
+    def _applier(self, m):
+        """The compiled form of map ``m`` (compiled once per runtime)."""
+        key = (id(m), self.role_binding)
+        applier = self._map_cache.get(key)
+        if applier is None:
+            m = self.roles.map(m)
+            if getattr(m, "combine", "set") == "add":
+                applier = mapping.compile_contribution(m, self.channels)
+            else:
+                applier = mapping.compile_map(m, self.character.servos, self.pose_targets,
+                                              self.channels, self.frames,
+                                              FEEDBACK if m.feedback else None)
+            self._map_cache[key] = applier
+        return applier
+
+    def pointer_for_pose(self, tolerance_deg: float = 2.0) -> tuple[float, float] | None:
+        """The mouse position (x, y in 0..1) at which the active mouse maps give the
+        targets the joints have now (at the start: the start pose), or None if no
+        position comes within ``tolerance_deg`` on every joint they drive. The window
+        puts the pointer there when it opens, so its first mouse event does not snap
+        the character out of its pose (the middle of luxo-mouse throws Luxo over).
+        A grid search, then a pattern search; the targets are left as they were."""
+        if self._pending:
+            self.flush()
+        mouse_joints = self.gestures.mouse_joints
+        if not self._mouse_maps or not mouse_joints:
+            return None
+        servos = self.character.servos
+        want = {j: servos[j].target for j in mouse_joints}
+        values = dict(self.inputs)
+
+        def score(x: float, y: float) -> tuple[float, float]:
+            values["mouse.x"], values["mouse.y"] = x, y
+            values["pointer.x"], values["pointer.y"] = x, y
+            for apply in self._mouse_maps:
+                apply(values)  # written straight to the servos; put back below
+            error = max(abs(servos[j].target - t) for j, t in want.items())
+            return error, abs(x - 0.5) + abs(y - 0.5)  # ties: nearer the middle
+
+        try:
+            n = 20
+            best, x, y = min((score(i / n, k / n), i / n, k / n)
+                             for i in range(n + 1) for k in range(n + 1))
+            step = 1.0 / n
+            while step > 1e-4:
+                moves = [(min(1.0, max(0.0, x + dx * step)), min(1.0, max(0.0, y + dy * step)))
+                         for dx in (-1, 0, 1) for dy in (-1, 0, 1) if dx or dy]
+                found = min((score(*p), *p) for p in moves)
+                if found[0] < best:
+                    best, x, y = found
+                else:
+                    step /= 2
+        finally:
+            for joint, target in want.items():
+                servos[joint].target = target
+        return (x, y) if best[0] <= math.radians(tolerance_deg) else None
+
+    def apply_maps(self, inputs=None) -> None:
+        """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
+        inputs = self.input_names() if inputs is None else inputs
+        for apply in self._compiled(set(inputs)):
+            self.owners.take(apply(self.inputs))
+
+    def _activate(self, maps) -> None:
+        """Maps that just became active (a mode or state entered) act at once with the
+        inputs as they are; the maps that were active already leave their joints be. A
+        sensor map takes its joints, and writes them at the next control step."""
+        for m in maps:
+            if not m.feedback:
+                self.owners.take(self._applier(m)(self.inputs))
+            elif getattr(m, "combine", "set") != "add":
+                self.feedback.claim(self._map_joints(m))
+
+
+
+def every_map(spec: InterfaceSpec):
+    """Every map of an interface: the top level's, each mode's, each state's."""
+    from puppet.data.interface_refs import all_maps
+
+    return (m for _, m in all_maps(spec))

@@ -1,0 +1,71 @@
+"""What KD tracking's pulls read at each control step, read fast and to the bit.
+
+The pulls (``tracking.Tracker._pull``) need the performed pose's links (forward
+kinematics of the channels) and every pulled link's centre of gravity and velocity
+in the world. ``performed_pose`` is ``physics.kinematics.link_poses`` with each link's
+turn's cosine and sine kept (worked out once, for its children, its centre and its
+sole, as the same calls on the same angle give the same values); ``FigureRows`` reads
+the figure in one call (``physics.body_state``) and says where each link's values are.
+Each link's centre is then ``body_state.to_world``'s sums: Chipmunk's own.
+"""
+
+from __future__ import annotations
+
+import math
+
+from puppet.physics.body_state import BodyReader
+
+
+def joint_chain(order) -> list[tuple]:
+    """``kinematics.joint_order``'s joints as plain values: (name, parent, child, anchor
+    x, anchor y)."""
+    return [(j.name, j.parent, j.child, j.anchor[0], j.anchor[1]) for j in order]
+
+
+def performed_pose(chain, root: str, origin, angle: float, cos: float, sin: float,
+                   q: dict) -> dict:
+    """link -> (x, y, angle, cos angle, sin angle): ``link_poses`` (the same arithmetic)
+    with the root link at ``origin``/``angle`` (``cos``, ``sin`` its cosine and sine)
+    and the joints at ``q`` (radians; a joint not given is 0)."""
+    poses = {root: (origin[0], origin[1], angle, cos, sin)}
+    mcos, msin = math.cos, math.sin
+    for name, parent, child, ax, ay in chain:
+        px, py, pa, c, s = poses[parent]
+        wx, wy = px + c * ax - s * ay, py + s * ax + c * ay  # the hinge in the world
+        a = pa + q.get(name, 0.0)
+        c, s = mcos(a), msin(a)
+        poses[child] = (wx - (c * ax - s * ay), wy - (s * ax + c * ay), a, c, s)
+    return poses
+
+
+class FigureRows:
+    """The pulled links of a character, read in bulk: ``rows()`` gives per link (name,
+    C body, where its six values start in ``read()``, mass, centre of gravity x, y),
+    worked out again when a restore re-binds the bodies."""
+
+    def __init__(self, character, links: list[str]):
+        self.character = character
+        self.links = links
+        self.reader = BodyReader()
+        self._cached: tuple | None = None
+
+    def _space(self):
+        return self.character.bodies[self.character.root].space
+
+    def rows(self) -> list[tuple]:
+        bodies = self.character.bodies
+        space = self._space()
+        cached = self._cached
+        if cached is None or cached[0] is not bodies or cached[1] is not space:
+            rows = []
+            for name in self.links:
+                body = bodies[name]
+                gx, gy = body.center_of_gravity
+                rows.append((name, body._body, self.reader.offset(space, body), body.mass,
+                             gx, gy))
+            cached = self._cached = (bodies, space, rows)
+        return cached[2]
+
+    def read(self) -> list[float]:
+        """Every body's ``x, y, angle, vx, vy, spin`` (``BodyReader.read``)."""
+        return self.reader.read(self._space())
