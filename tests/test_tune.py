@@ -16,6 +16,7 @@ import pytest
 from puppet.data.errors import DataError
 from puppet.timeline.executor import Executor, make_executor
 from puppet.timeline.tuning import Interrupted, Search, load_tune_spec
+from puppet.timeline.tuning.trial import TryResult
 from puppet.timeline.tuning.writer import write_all
 
 HOP = """
@@ -112,6 +113,22 @@ def test_the_command_says_a_bad_spec_in_one_line_and_exits_2(tmp_path, capsys):
     assert err.count("\n") == 0 and "'$cx': 'cx' is not a 'choose' parameter" in err, err
 
 
+def test_a_playtest_term_scores_how_often_the_simulated_player_still_lands_it(tmp_path):
+    text = (HOP % {"tries": 6, "refine": 6}).replace(
+        "    score:\n", "    playtest: {noise: human, tries: 3, weight: 20}\n    score:\n")
+    loaded = load_tune_spec(spec_file(tmp_path, text))
+    search = Search(loaded)
+    result = search.run()
+    tries = [TryResult.from_dict(d) for d in search.state.tries.values()]
+    kept = result.kept[0].result
+    assert kept.accepted and kept.pass_rate in (0.0, 1 / 3, 2 / 3, 1.0)
+    # only a try that meets what it requires is played by the simulated player
+    assert all(t.pass_rate is not None for t in tries if t.accepted)
+    assert all(t.pass_rate is None for t in tries if not t.accepted)
+    again = Search(load_tune_spec(spec_file(tmp_path, text, "again.yaml"))).run()
+    assert again.kept[0].result.pass_rate == kept.pass_rate  # the same draws each time
+
+
 # -- a search, resumed, on other engines: the same log ---------------------------------
 def run_search(loaded, out: Path, executor=None, stop_after=None):
     state = out.with_name(out.stem + ".tune.json")
@@ -159,11 +176,34 @@ def test_an_interrupted_search_resumes_where_it_stopped(tmp_path):
     assert search.played == whole.played - 5
     assert search.looked_up == whole.looked_up + 5
     assert events_of(out) == events_of(tmp_path / "whole.jsonl")
-    # a changed spec is another search: its old tries are set aside
+    # a stage edited is other tries: none of the old ones is looked up
     changed = load_tune_spec(spec_file(tmp_path, (HOP % {"tries": 6, "refine": 6}).replace(
         "weight: 10", "weight: 11")))
     again = Search(changed, Executor(), out.with_name("resumed.tune.json"))
-    assert again.state.tries == {} and "starting afresh" in again.state.note
+    before = len(again.state.tries)
+    again.run()
+    assert again.looked_up == 0 and len(again.state.tries) == before + again.played
+
+
+def test_a_later_stage_edited_finds_the_earlier_stages_tries(tmp_path):
+    text = STEPS.replace("times: 4", "times: 1").replace(
+        "    until:\n      - x_at_end: {link: base, min: 0.12}\n", "") + """  - name: lean
+    vary: {x: [0.6, 0.95]}
+    events:
+      - {t: 0, mouse: [x, 0.5], over: 0.1}
+    length: 0.5
+    search: {tries: 2, refine: 0}
+    score:
+      - expect: {mean_speed: {min: 0.0}}
+"""
+    state = tmp_path / "two.tune.json"
+    first = Search(load_tune_spec(spec_file(tmp_path, text, "two.yaml")), Executor(), state)
+    first.run()
+    assert first.played == 3 + 2
+    edited = text[:text.rindex("mean_speed: {min: 0.0}")] + "mean_speed: {min: 0.1}}\n"
+    second = Search(load_tune_spec(spec_file(tmp_path, edited, "two.yaml")), Executor(), state)
+    second.run()
+    assert second.looked_up == 3 and second.played == 2  # the first stage's, looked up
 
 
 # -- stages from checkpoints, repeated until, backtracking -----------------------------
@@ -346,3 +386,35 @@ def test_every_shipped_spec_is_valid_and_names_a_shipped_feat(name):
     loaded = load_tune_spec(SPECS / f"{name}.yaml")
     Search(loaded)  # its names checked against the character, its start prepared
     assert loaded.spec.feat is not None and loaded.spec.feat.expect
+
+
+def test_a_search_can_begin_at_a_logs_checkpoint(tmp_path):
+    text = """
+start: {log: luxo-shuffle, checkpoint: 1}
+stages:
+  - name: lean
+    vary: {x: [0.6, 0.9]}
+    events:
+      - {t: 0, mouse: [x, 0.4], over: 0.1}
+    length: 0.5
+    search: {tries: 2, refine: 0}
+    score:
+      - expect: {mean_speed: {min: 0.0}}
+"""
+    loaded = load_tune_spec(spec_file(tmp_path, text, "from-log.yaml"))
+    search = Search(loaded)
+    result = search.run()
+    written = write_all(loaded, result, tmp_path / "from-log.jsonl", tmp_path / "x.yaml")
+    from puppet.timeline.log import read_log
+
+    source = read_log(SPECS.parents[0] / "logs" / "luxo-shuffle.jsonl")
+    ours = read_log(written.log)
+    assert ours.header["interface"] == source.header["interface"] == "luxo-mouse"
+    cut = [i for i, e in enumerate(source.events) if e.event.get("name") == "checkpoint"][0]
+    assert [(e.step, e.event) for e in ours.events[:cut + 1]] == \
+        [(e.step, e.event) for e in source.events[:cut + 1]]
+    assert result.kept[0].t0 == 0.3 and written.same_as_search
+    assert written.script is None and "began from a log" in written.notes[0]
+    bad = text.replace("checkpoint: 1", "checkpoint: 3")
+    with pytest.raises(DataError, match="luxo-shuffle has 1 checkpoint"):
+        Search(load_tune_spec(spec_file(tmp_path, bad, "bad.yaml")))

@@ -18,7 +18,7 @@ from puppet.data.yamlfile import Located, load_file
 # check does not build the interface, scene and script models (process start).
 
 KIND_BY_FOLDER = {"characters": "character", "interfaces": "interface", "scenes": "scene",
-                  "scripts": "script", "mappings": "mapping"}
+                  "scripts": "script", "mappings": "mapping", "tune": "tuning spec"}
 
 
 YAML_EXTS = (".yaml", ".yml")
@@ -30,8 +30,8 @@ _PARSERS = {"character": ("puppet.data.characters", "parse_character"),
             "humanoid rig": ("puppet.mocap.rigs", "parse_humanoid"),
             "vmc avatar": ("puppet.mocap.vmc", "parse_avatar")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
-                    "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml), .jsonl "
-                    "logs and .bvh clips, or their names")
+                    "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml, tuning "
+                    "specs), .jsonl logs and .bvh clips, or their names")
 
 
 def find_target(name: str) -> Path:
@@ -166,6 +166,8 @@ def guess_kind(path: Path, located: Located) -> str:
     if kind:
         return kind
     data = located.data if isinstance(located.data, dict) else {}
+    if "stages" in data:  # (before script: a tuning spec may have fixed events)
+        return "tuning spec"
     if "links" in data:
         return "character"
     if "ground" in data:
@@ -227,6 +229,11 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
         if not validate_expect_file(located).expect and warnings is not None:
             warnings.append(f"{path}: warning: 'expect' is an empty list: no expectation "
                             "is checked")
+        return kind
+    if kind == "tuning spec":  # puppet tune's (docs/tuning.md)
+        from puppet.timeline.tuning import load_tune_spec
+
+        load_tune_spec(path)
         return kind
     if kind == "bone table":  # puppet mocap send's: BVH joints as bones, landmarks
         from puppet.mocap.send import parse_bones

@@ -99,8 +99,10 @@ class Search:
         self.templates = [StageTemplate(loaded, i) for i in range(len(self.spec.stages))]
         self.terms = [self._terms(i) for i in range(len(self.spec.stages))]
         self.start.check_names(loaded, self.terms)
-        self.state = State(state_path, digest(loaded.text, self.seed, scale,
-                                              self.start.fingerprint()))
+        # a try's result depends on the files played and this code (the fingerprint),
+        # its stage's spec and the input before it (its key): a spec edited in a later
+        # stage, another seed or budget still finds the tries it asks again
+        self.state = State(state_path, self.start.fingerprint())
         if self.state.note:
             self.reporter.line(self.state.note)
         self.played = self.looked_up = 0
@@ -115,6 +117,16 @@ class Search:
             gate = stage.times == 1 and not stage.until
             terms += [Term.feat_entry(e, gate) for e in self.spec.feat.expect]
         return terms
+
+    def _stage_digest(self, si: int) -> str:
+        """What a try's result depends on in the spec: its stage (and the feat, where
+        the stage judges it)."""
+        import msgspec
+
+        stage = self.spec.stages[si]
+        feat = any(t.feat for t in self.terms[si])
+        return digest(msgspec.to_builtins(stage), [t.required for t in self.terms[si]],
+                      msgspec.to_builtins(self.spec.feat) if feat else None)
 
     def _scaled(self, n: int) -> int:
         return n if self.scale == 1.0 or n == 0 else max(1, round(n * self.scale))
@@ -139,7 +151,8 @@ class Search:
             if e["type"] == "mouse":
                 mouse = (e["x"], e["y"])
                 break
-        ctx_key = digest(st.setup_from, st.dt, st.interval, prefix, si, rep)
+        ctx_key = digest(st.setup_from, st.dt, st.interval, prefix, self._stage_digest(si),
+                         playtest and (playtest[1], playtest[2], self.seed))
         return Context(ctx_key, st.setup_from, st.dt, st.interval, prefix, s0, t0, terms,
                        list(stage.until), touches, playtest, self.seed, stage.generator,
                        mouse)

@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Literal
 
-from puppet.data.playtest import LevelName
+from puppet.data.playtest_bar import LevelName
 from puppet.data.ranges import Seed
 from puppet.data.validate import Meta, Spec, field, validate
 from puppet.data.yamlfile import Located, load_file

@@ -4,10 +4,13 @@ interrupted search goes on where it stopped.
 The search is deterministic: from the same spec and seed it asks for the same tries
 in the same order. So the state is only the tries already played - each try's key (a
 hash of its stage's starting input and its parameters) and its result - and resuming
-is running the search again with those results looked up instead of played. The file
-is written after every batch (to a temporary file, then renamed: a kill never leaves
-half of one). A spec, seed, budget or interface that changed makes the old results
-another search's: they are set aside and the search starts afresh (and says so).
+is running the search again with those results looked up instead of played. A try's key
+holds what its result depends on - its stage as written and the input before it - so a
+spec edited in a later stage, another seed or budget still finds the tries it asks
+again. The file is written after every batch (to a temporary file, then renamed: a kill
+never leaves half of one). Other interface, character or scene files, another puppet
+version or tuning code make the old results another search's: they are set aside and
+the search starts afresh (and says so).
 """
 
 from __future__ import annotations
@@ -46,8 +49,8 @@ class State:
             if not isinstance(data, dict) or data.get("format") != FORMAT:
                 self.note = f"{path}: not a search's state file: starting afresh"
             elif data.get("fingerprint") != fingerprint:
-                self.note = (f"{path}: from another spec, seed, budget or interface: "
-                             "starting afresh")
+                self.note = (f"{path}: from other interface, character or scene files or "
+                             "another puppet: starting afresh")
             else:
                 self.tries = dict(data.get("tries") or {})
                 self.note = f"resuming: {len(self.tries)} tries already played ({path})"
