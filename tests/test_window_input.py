@@ -116,3 +116,22 @@ def test_ctrl_held_neither_drives_the_maps_nor_moves_the_camera(tmp_path, desk, 
     assert len(mouse) == 1  # the move after Ctrl was released, none while it was held
     assert not [f for f in follows if 10 <= f < 45]  # the camera held still
     assert [f for f in follows if f >= 45]
+
+
+def test_the_window_draws_its_frames_as_headless_runs_do(tmp_path, desk, monkeypatch):
+    """One drawing path: every window frame goes through ``frame.FrameRenderer`` into the
+    screen, the renderer that screenshots, video export and the bench use."""
+    import puppet.app.frame as frame_mod
+
+    drawn = []
+    real = frame_mod.FrameRenderer.render
+
+    def spy(self, session, *args, **kw):
+        drawn.append((self.surface is pygame.display.get_surface(), session.steps))
+        return real(self, session, *args, **kw)
+
+    monkeypatch.setattr(frame_mod.FrameRenderer, "render", spy)
+    desk["at"] = {20: lambda p: p["queue"].append(pygame.event.Event(pygame.QUIT))}
+    assert window.run_window(load_setup("luxo-mouse"), record=str(tmp_path / "f.jsonl")) == 0
+    assert len(drawn) >= 19 and all(on_screen for on_screen, _ in drawn)
+    assert drawn[-1][1] > drawn[0][1]  # the frames followed the simulation

@@ -16,7 +16,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from puppet.app.headless import DEFAULT_SIZE, FrameRenderer
+from puppet.app.frame import DEFAULT_SIZE, FrameRenderer
 from puppet.session import Session
 from puppet.timeline.log import Log, read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log

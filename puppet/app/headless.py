@@ -1,68 +1,18 @@
-"""Run the app without a window: scripted input in, images of what the window shows out."""
+"""Run the app without a window: scripted input in, images of what the window shows out
+(``frame.FrameRenderer``, the window's own drawing)."""
 
 from __future__ import annotations
 
 import contextlib
 import math
-import os
 from pathlib import Path
 
-from puppet.app.camera import camera_for, subject_of
+from puppet.app.frame import DEFAULT_SIZE, FrameRenderer
 from puppet.data.catalog import Setup
 from puppet.interface.events import Event
 from puppet.physics.upright_watch import UprightWatch
 from puppet.session import Session
 from puppet.session.playback import play
-
-DEFAULT_SIZE = (1280, 720)
-
-
-def _pygame():
-    os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
-    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-    import pygame
-
-    pygame.font.init()
-    return pygame
-
-
-class FrameRenderer:
-    """Draws what the window would show (world and HUD) into an off-screen surface."""
-
-    def __init__(self, session: Session, size=DEFAULT_SIZE, slowdown: float = 1.0,
-                 overlay: bool = False):
-        pygame = _pygame()
-        from puppet.app.hud import HudInfo
-
-        self.pygame = pygame
-        self.surface = pygame.Surface(size)
-        self.camera = camera_for(session.setup)
-        self.camera.resize(*size)
-        self.font = pygame.font.Font(None, 24)
-        self.small = pygame.font.Font(None, 20)
-        self.info = HudInfo(slowdown=slowdown, measured=slowdown, overlay=overlay)
-
-    def render(self, session: Session, hud: bool = True, wall_dt: float | None = None,
-               ghost: Session | None = None):
-        """``wall_dt``: wall seconds since the last frame, for the camera's easing as in
-        the window (None snaps to the character). ``ghost``: a session drawn
-        translucently beside the live one (see ``puppet.timeline.ghost``)."""
-        from puppet.app.hud import draw_hud, frame_under_panels
-        from puppet.app.render import draw_world
-
-        frame_under_panels(self.surface, self.camera, session, self.info, self.font,
-                           self.small)
-        self.camera.follow(subject_of(session), wall_dt)
-        draw_world(self.surface, session, self.camera, self.small, ghost=ghost,
-                   overlay=self.info.overlay)
-        if hud:
-            draw_hud(self.surface, session, self.info, self.font, self.small)
-        return self.surface
-
-    def save(self, session: Session, path: str | Path, hud: bool = True,
-             ghost: Session | None = None) -> None:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        self.pygame.image.save(self.render(session, hud, ghost=ghost), str(path))
 
 
 class Images:

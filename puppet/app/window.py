@@ -58,8 +58,9 @@ class Window:
     def __init__(self, setup: Setup, slowdown, size, record, no_record, replay,
                  until_step, ghost, note, slowdown_chosen, overlay, sources,
                  virtual_pad, script, script_text):
-        from puppet.app.camera import camera_for, subject_of
+        from puppet.app.camera import subject_of
         from puppet.app.clock import SimClock
+        from puppet.app.frame import FrameRenderer
         from puppet.app.hud import HudInfo
 
         self.setup, self.replay, self.ghost, self.sources = setup, replay, ghost, sources
@@ -67,8 +68,6 @@ class Window:
                                                  headless_hint(replay))
         pygame = self.pygame
         self.gamepads = Gamepads(pygame)
-        self.font = pygame.font.Font(None, 24)
-        self.small = pygame.font.Font(None, 20)
         self.feeder = self.recorder = None
         self.slowdown = slowdown = slowdown or setup.interface.slowdown
         if replay is not None:  # events come from a log; the devices only drive the window
@@ -99,11 +98,13 @@ class Window:
         from puppet.session.history import Scrubber
 
         self.scrub = Scrubber(session)
-        self.camera = camera_for(setup)
-        self.camera.resize(*self.screen.get_size())
+        info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
+                       overlay=overlay)
+        # the frame is drawn as headless runs draw it, into the screen
+        self.renderer = FrameRenderer(session, surface=self.screen, info=info)
+        self.camera, self.info = self.renderer.camera, info
+        self.font, self.small = self.renderer.font, self.renderer.small
         self.camera.follow(subject_of(session), None)
-        self.info = HudInfo(replaying=Path(replay.path).name if replay is not None else "",
-                            overlay=overlay)
         from puppet.timeline.playtest.store import figure_line, last_for
 
         self.info.playtest = figure_line(last_for(setup.interface.name))  # how forgiving
@@ -474,12 +475,9 @@ class Window:
             clock.toggle_pause()  # even the start blew up: pause on its one message
 
     def draw(self, wall_dt: float) -> None:
-        """The HUD's figures, the world and the HUD, then the frame on screen."""
-        from puppet.app.camera import subject_of
-        from puppet.app.hud import draw_hud, frame_under_panels
-        from puppet.app.render import draw_world
-
-        info, session, clock, screen = self.info, self.session, self.clock, self.screen
+        """The HUD's figures, then the frame (``FrameRenderer``: the world under the
+        panels and the HUD, as headless runs draw it) on screen."""
+        info, session, clock = self.info, self.session, self.clock
         info.follow_messages(session, time.perf_counter())
         if self.reload_error:
             info.message, info.message_error = self.reload_error, True
@@ -492,17 +490,12 @@ class Window:
                         for s in self.sources]  # a live stream's line is the short one
         info.paused = clock.paused
         ghost = self.ghost
-        if not session.sim.blown_up():  # else (until the next health check recovers
-            if not (self.dragging or self.ctrl_held()):  # it) the last world drawn stays;
-                frame_under_panels(screen, self.camera, session, info, self.font,
-                                   self.small)
-                self.camera.follow(subject_of(session), wall_dt)  # (holds for a drag)
-            if ghost is not None:
-                ghost.sync(session)
-            draw_world(screen, session, self.camera, self.small,
-                       ghost=ghost.session if ghost is not None else None,
-                       overlay=info.overlay)
-        draw_hud(screen, session, info, self.font, self.small)
+        world = not session.sim.blown_up()  # else (until the next health check recovers
+        if world and ghost is not None:      # it) the last world drawn stays
+            ghost.sync(session)
+        self.renderer.render(session, wall_dt=wall_dt,
+                             ghost=ghost.session if ghost is not None else None,
+                             hold_camera=self.dragging or self.ctrl_held(), world=world)
         self.pygame.display.flip()
 
 

@@ -291,7 +291,7 @@ def _live_take(args, setup) -> int | None:
     if args.record and not args.no_record:
         print(f"recorded {args.record}")
     if args.screenshot:
-        from puppet.app.headless import FrameRenderer
+        from puppet.app.frame import FrameRenderer
 
         renderer = FrameRenderer(session)
         renderer.info.sources = (source.hud_line(),)

@@ -27,7 +27,7 @@ def _pct(values: list[float], p: float) -> float:
 def measure_frames(frames: int) -> list[dict]:
     """Per subject: frame, physics and drawing times (ms: median, 99th percentile,
     worst) over its first ``frames`` frames (after ten to warm the caches)."""
-    from puppet.app.headless import FrameRenderer
+    from puppet.app.frame import FrameRenderer
     from puppet.data.catalog import folder
     from puppet.timeline.log import read_log
     from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
