@@ -1,6 +1,7 @@
 """The designer docs' examples are valid, and the worked example does what it says.
 
-docs/interfaces.md and docs/scripts.md mark their YAML examples on the first line:
+The guide (docs/interfaces.md and its chapters) and docs/scripts.md mark their YAML
+examples on the first line:
   ``# file: interfaces/NAME.yaml`` / ``# file: assets/scripts/NAME.yaml`` /
   ``# file: assets/scenes/NAME.yaml``  a complete file;
   ``# snippet for luxo``  part of an interface: valid under a three-line header naming
@@ -25,7 +26,13 @@ from puppet.session.playback import play
 from puppet.timeline.script import compile_script, load_script
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
-DOC_FILES = [DOCS / "interfaces.md", DOCS / "scripts.md"]
+
+def guide_pages() -> list[Path]:
+    """The designer's guide: its front page, then its chapters (docs/interfaces/)."""
+    return [DOCS / "interfaces.md", *sorted((DOCS / "interfaces").glob("*.md"))]
+
+
+DOC_FILES = [*guide_pages(), DOCS / "scripts.md"]
 FILE_MARK = re.compile(r"# file: (interfaces|assets/scripts|assets/scenes|assets/mappings)/"
                        r"([A-Za-z0-9_.-]+\.yaml)\s*$")
 SNIPPET_MARK = "# snippet for luxo"
@@ -52,6 +59,11 @@ def yaml_blocks(path: Path) -> list[tuple[int, str]]:
             blocks.append((start + 1, "\n".join(body) + "\n"))
         i += 1
     return blocks
+
+
+def guide_blocks() -> list[tuple[int, str]]:
+    """Every ```yaml block of the guide's pages, in reading order."""
+    return [block for page in guide_pages() for block in yaml_blocks(page)]
 
 
 def marked_blocks():
@@ -98,7 +110,7 @@ def test_doc_example_is_valid(tmp_path, doc, line, text):
 
 def worked_example(tmp_path: Path) -> Path:
     """The worked example's final file (the last block of that name), written out."""
-    last = [(line, t) for line, t in yaml_blocks(DOCS / "interfaces.md")
+    last = [(line, t) for line, t in guide_blocks()
             if t.startswith(f"# file: interfaces/{WORKED}")][-1]
     return write_block(tmp_path, *last)
 
@@ -158,7 +170,7 @@ def test_worked_example_script_falls_and_restarts(tmp_path):
 # -- the guide's examples of chains, props, steering, machines, repeat, channels ---------
 def doc_session(tmp_path: Path, contains: str) -> Session:
     """A session of the one marked block of docs/interfaces.md containing ``contains``."""
-    found = [(line, t) for line, t in yaml_blocks(DOCS / "interfaces.md")
+    found = [(line, t) for line, t in guide_blocks()
              if contains in t and (FILE_MARK.match(t.splitlines()[0])
                                    or SNIPPET.match(t.splitlines()[0].strip()))]
     assert len(found) == 1, f"{len(found)} blocks contain {contains!r}"
@@ -311,7 +323,7 @@ def test_guide_cat_lunge_reaches_when_the_back_paws_leave_the_ground(tmp_path):
 
 def test_the_climbing_example_catches_the_next_bar(tmp_path):
     """Section 16: mounted on the first bar, `w` then `d` put the far hand on bar 2."""
-    text = [t for _, t in yaml_blocks(DOCS / "interfaces.md")
+    text = [t for _, t in guide_blocks()
             if t.startswith("# file: interfaces/bars-example.yaml")][-1]
     path = tmp_path / "interfaces" / "bars-example.yaml"
     path.parent.mkdir()

@@ -81,7 +81,9 @@ def test_the_guides_posture_expectations_are_the_logs():
 
     import yaml
 
-    guide = (ROOT / "docs" / "interfaces.md").read_text(encoding="utf-8")
+    from tests.test_docs import guide_pages
+
+    guide = "\n".join(p.read_text(encoding="utf-8") for p in guide_pages())
     shown = [yaml.safe_load(line[2:]) for line in re.findall(r"^- mostly_within: .*$", guide,
                                                              re.M)]
     sidecar = yaml.safe_load(LOG.with_name("biped-ladder-climb.expect.yaml").read_text())

@@ -119,8 +119,12 @@ def test_what_the_docs_say_cmu_01_differs_in_is_what_it_differs_in():
     # (the fields that hold no joint names; the others differ by them)
     differ = [f for f in ("source", "plane", "size", "channels") if getattr(a, f) != getattr(b, f)]
     assert "plane" in differ and "size" in differ  # (what the files hold today)
-    for doc in ("docs/mocap.md", "docs/interfaces.md"):
-        text = " ".join(Path(doc).read_text(encoding="utf-8").split())
+    from tests.test_docs import guide_pages
+
+    guide = " ".join(p.read_text(encoding="utf-8") for p in guide_pages())
+    for doc, text in (("docs/mocap.md", Path("docs/mocap.md").read_text(encoding="utf-8")),
+                      ("the guide", guide)):
+        text = " ".join(text.split())
         said = re.search(r"`(?:assets/mappings/)?cmu-01\.yaml` is [^)]*?\)[^.;]*", text)
         assert said, doc
         for field in differ:
