@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 import statistics
 
-from puppet.commands.bench.config import FRAME_HZ, target
-from puppet.commands.bench.speed import fed, in_turns
+from puppet.commands.bench.config import FRAME_HZ, in_turns, target
+from puppet.commands.bench.speed import CHUNK_FRAMES, fed
 
 CHANNEL_HZ = 120.0
 CHANNEL_COUNT = 40
@@ -95,7 +95,8 @@ def measure_channels(seconds: float, repeats: int, character_name: str = "cat",
     ratios, walls = [], []
     identical = True
     for _ in range(repeats):
-        wall, last = in_turns({"streamed": streamed(), "written": written()}, frames)
+        wall, last = in_turns({"streamed": streamed(), "written": written()}, frames,
+                              CHUNK_FRAMES)
         ratios.append(wall["streamed"] / wall["written"])
         walls.append(wall["streamed"])
         identical = identical and last["streamed"].sim.state_hash() == \

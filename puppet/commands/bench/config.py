@@ -8,6 +8,7 @@ whole-process figures show both, always).
 
 from __future__ import annotations
 
+import gc
 import statistics
 import time
 
@@ -66,3 +67,23 @@ def target(name: str, value: float, op: str, limit: float, unit: str) -> dict:
     ok = value >= limit if op == ">=" else value <= limit if op == "<=" else value < limit
     return {"name": name, "value": value, "op": op, "limit": limit, "unit": unit,
             "pass": bool(ok)}
+
+
+def in_turns(runs: dict, units: int, chunk: int) -> tuple[dict, dict]:
+    """Play the runs (name -> a primed generator that takes how many units to play:
+    steps or frames) in turns, ``chunk`` units each, the order rotating so that none
+    always goes first; the clock's seconds each took and what each yielded last."""
+    last = {name: next(run) for name, run in runs.items()}
+    spent = dict.fromkeys(runs, 0.0)
+    order = list(runs)
+    gc.collect()
+    done = 0
+    while done < units:
+        k = min(chunk, units - done)
+        for name in order:
+            t0 = clock()
+            last[name] = runs[name].send(k)
+            spent[name] += clock() - t0
+        order.append(order.pop(0))
+        done += k
+    return spent, last

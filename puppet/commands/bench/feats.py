@@ -20,14 +20,13 @@ does), so the overhead is the control layer's work alone.
 
 from __future__ import annotations
 
-import gc
 import statistics
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from pymunk._chipmunk_cffi import lib as _cp
 
-from puppet.commands.bench.config import clock
+from puppet.commands.bench.config import in_turns
 
 CHUNK_STEPS = 240  # half a simulated second at 1/480 s: the runs' turns
 _GETV, _GETW = _cp.cpBodyGetVelocity, _cp.cpBodyGetAngularVelocity
@@ -204,25 +203,6 @@ def bare_run(log, setup, trace: Trace):
         k = yield sim
 
 
-def in_turns(runs: dict, steps: int, chunk: int = CHUNK_STEPS) -> tuple[dict, dict]:
-    """Play the runs in turns, ``chunk`` steps each, the order rotating; the time
-    each took (the bench's clock) and what each yielded last."""
-    last = {name: next(run) for name, run in runs.items()}
-    spent = dict.fromkeys(runs, 0.0)
-    order = list(runs)
-    gc.collect()
-    done = 0
-    while done < steps:
-        k = min(chunk, steps - done)
-        for name in order:
-            t0 = clock()
-            last[name] = runs[name].send(k)
-            spent[name] += clock() - t0
-        order.append(order.pop(0))
-        done += k
-    return spent, last
-
-
 def measure_feat(path, rounds: int, seconds: float | None = None) -> dict:
     """One log: the rounds' overheads (median, range), time per step with control
     and bare, and whether the bare run ended in the controlled run's state (and the
@@ -239,7 +219,8 @@ def measure_feat(path, rounds: int, seconds: float | None = None) -> dict:
     control_s = bare_s = 0.0
     for _ in range(rounds):
         spent, last = in_turns({"control": control_run(log, setup),
-                                "bare": bare_run(log, setup, trace)}, trace.steps)
+                                "bare": bare_run(log, setup, trace)}, trace.steps,
+                               CHUNK_STEPS)
         ratios.append(spent["control"] / spent["bare"])
         control_s += spent["control"]
         bare_s += spent["bare"]

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import statistics
 
-from puppet.commands.bench.config import FRAME_HZ, target
-from puppet.commands.bench.speed import fed, in_turns
+from puppet.commands.bench.config import FRAME_HZ, in_turns, target
+from puppet.commands.bench.speed import CHUNK_FRAMES, fed
 from puppet.commands.bench.subjects import gesture
 
 FEEDBACK_TARGET_PCT = 10.0
@@ -42,7 +42,8 @@ def measure_feedback(name: str, seconds: float, repeats: int) -> dict:
     ratios = []
     for _ in range(repeats):
         wall, _ = in_turns({"with": fed(Session(setup, keyframes=False), inputs, n),
-                            "without": fed(Session(bare, keyframes=False), inputs, n)}, frames)
+                            "without": fed(Session(bare, keyframes=False), inputs, n)},
+                           frames, CHUNK_FRAMES)
         ratios.append(wall["with"] / wall["without"])
     pct = (statistics.median(ratios) - 1.0) * 100.0
     return {"interface": name, "overhead_pct": pct,

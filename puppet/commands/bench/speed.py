@@ -10,10 +10,9 @@ speed drifts (a shared VM) slows them alike; their order rotates every chunk.
 
 from __future__ import annotations
 
-import gc
 import statistics
 
-from puppet.commands.bench.config import clock
+from puppet.commands.bench.config import in_turns
 from puppet.commands.bench.subjects import Subject, gesture
 
 CHUNK_FRAMES = 30
@@ -150,31 +149,12 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
         k = yield sim
 
 
-def in_turns(runs: dict, frames: int, chunk: int = CHUNK_FRAMES) -> tuple[dict, dict]:
-    """Play the runs (name -> primed-to-be generator) in turns, ``chunk`` frames each;
-    wall seconds of each and what each yielded last."""
-    last = {name: next(run) for name, run in runs.items()}
-    wall = dict.fromkeys(runs, 0.0)
-    order = list(runs)
-    gc.collect()
-    done = 0
-    while done < frames:
-        k = min(chunk, frames - done)
-        for name in order:
-            t0 = clock()
-            last[name] = runs[name].send(k)
-            wall[name] += clock() - t0
-        order.append(order.pop(0))
-        done += k
-    return wall, last
-
-
 def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
     frames = subject.frames(seconds)
     sim_seconds = frames * subject.steps_per_frame * subject.dt
     inputs = gesture(frames, subject.interface_spec)
     trace = target_trace(subject, inputs)
-    in_turns({"warm-up": control_run(subject, inputs)}, max(1, frames // 10))
+    in_turns({"warm-up": control_run(subject, inputs)}, max(1, frames // 10), CHUNK_FRAMES)
     samples: dict[str, list[float]] = {"control": [], "with_keyframes": [],
                                        "bare_same_motion": [], "bare_at_rest": []}
     ratios, ratios_keyframes = [], []
@@ -184,7 +164,7 @@ def measure_speed(subject: Subject, seconds: float, repeats: int) -> dict:
             "control": control_run(subject, inputs),
             "with_keyframes": control_run(subject, inputs, keyframes=True),
             "bare_same_motion": bare_run(subject, trace, with_targets=True),
-            "bare_at_rest": bare_run(subject, trace, with_targets=False)}, frames)
+            "bare_at_rest": bare_run(subject, trace, with_targets=False)}, frames, CHUNK_FRAMES)
         for name, value in wall.items():
             samples[name].append(value)
         ratios.append(wall["control"] / wall["bare_same_motion"])
