@@ -6,20 +6,12 @@ from __future__ import annotations
 
 import argparse
 
-
-def _whole(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if not 1 <= value <= 256:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number of processes from 1 "
-                                         "to 256")
-    return value
+from puppet.commands.options import in_range
 
 
 def add_jobs_option(p: argparse.ArgumentParser, default: int) -> None:
-    p.add_argument("--jobs", "-j", type=_whole, default=default, metavar="N",
+    p.add_argument("--jobs", "-j", type=in_range(int, "number of processes", 1, 256),
+                   default=default, metavar="N",
                    help=f"run the tries in N local processes (default {default}); the "
                         "results do not depend on it")
 

@@ -20,32 +20,35 @@ IMAGE_EXTS = (".png", ".jpg", ".jpeg", ".bmp", ".tga")  # what pygame.image.save
 PLOT_EXTS = (".png", ".pdf", ".svg", ".jpg", ".jpeg")  # what matplotlib's Agg writes
 
 
-def number_in(what: str, lo: float, hi: float, hint: str):
-    """An argparse type: a number lo..hi, else a one-line usage error (exit 2)."""
-    def parse(text: str) -> float:
+def _shown(value) -> str:
+    return str(value) if isinstance(value, int) else f"{value:g}"
+
+
+def in_range(kind, what: str, lo, hi=None, hint: str = "", unit: str = ""):
+    """An argparse type: a ``kind`` (int or float) from lo to hi (no hi: lo or more),
+    else a one-line usage error (exit 2) that says what was expected."""
+    def parse(text: str):
         try:
-            value = float(text)
+            value = kind(text)
         except ValueError:
-            value = float("nan")
-        if not lo <= value <= hi:
-            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo:g} to {hi:g} "
-                                             f"({hint})")
+            value = None
+        if value is None or not lo <= value <= (hi if hi is not None else value):
+            bound = (f"from {_shown(lo)} to {_shown(hi)}{unit}" if hi is not None
+                     else f"of {_shown(lo)} or more")
+            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} {bound}"
+                                             + (f" ({hint})" if hint else ""))
         return value
     return parse
+
+
+def number_in(what: str, lo: float, hi: float, hint: str):
+    """A number lo..hi (``in_range``)."""
+    return in_range(float, what, float(lo), float(hi), hint)
 
 
 def whole_in(what: str, lo: int, hint: str):
-    """An argparse type: a whole number >= lo, else a one-line usage error (exit 2)."""
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = lo - 1
-        if value < lo:
-            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} of {lo} or more "
-                                             f"({hint})")
-        return value
-    return parse
+    """A whole number of lo or more (``in_range``)."""
+    return in_range(int, what, lo, None, hint)
 
 
 def size(text: str) -> tuple[int, int]:

@@ -17,6 +17,7 @@ from collections import Counter
 from pathlib import Path
 
 from puppet.commands.engine import add_cluster_option, executor_for
+from puppet.commands.options import in_range
 from puppet.data.playtest import LEVELS, PARAMETERS
 
 EXIT_MISSED, EXIT_ERROR = 1, 2
@@ -24,31 +25,9 @@ DEFAULT_TRIES = 20
 DEFAULT_LEVEL = "human"
 
 
-def _whole(what: str, lo: int, hi: int):
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = lo - 1
-        if not lo <= value <= hi:
-            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo} to {hi}")
-        return value
-    return parse
-
-
 def _number(name: str):
     lo, hi, unit, _ = PARAMETERS[name]
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not lo <= value <= hi:
-            raise argparse.ArgumentTypeError(
-                f"'{text}' is not a number from {lo:g} to {hi:g}{' ' + unit if unit else ''}")
-        return value
-    return parse
+    return in_range(float, "number", float(lo), float(hi), unit=" " + unit if unit else "")
 
 
 def register(subparsers) -> argparse.ArgumentParser:
@@ -67,12 +46,12 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("logs", nargs="+", metavar="LOG",
                    help="log file(s) (.jsonl), or names (assets/logs/NAME.jsonl, else "
                         "recordings/NAME.jsonl)")
-    p.add_argument("--tries", "-n", type=_whole("number of tries", 1, 10000),
+    p.add_argument("--tries", "-n", type=in_range(int, "number of tries", 1, 10000),
                    help=f"tries per log (default: the log's bar's, else {DEFAULT_TRIES})")
-    p.add_argument("--seed", type=_whole("seed", 0, 2 ** 32 - 1), default=0,
+    p.add_argument("--seed", type=in_range(int, "seed", 0, 2 ** 32 - 1), default=0,
                    help="the random seed (default 0): the same seed gives the same "
                         "tries, bit for bit")
-    p.add_argument("--jobs", "-j", type=_whole("number of processes", 1, 256), default=1,
+    p.add_argument("--jobs", "-j", type=in_range(int, "number of processes", 1, 256), default=1,
                    metavar="N", help="run the tries in N processes (the figures do not "
                                      "depend on it)")
     add_cluster_option(p)

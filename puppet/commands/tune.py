@@ -16,20 +16,9 @@ import sys
 from pathlib import Path
 
 from puppet.commands.engine import add_cluster_option, add_jobs_option, default_jobs, executor_for
+from puppet.commands.options import in_range
 
 EXIT_NOT_FOUND, EXIT_ERROR, EXIT_INTERRUPTED = 1, 2, 130
-
-
-def _positive(kind, what: str, lo, hi):
-    def parse(text: str):
-        try:
-            value = kind(text)
-        except ValueError:
-            value = None
-        if value is None or not lo <= value <= hi:
-            raise argparse.ArgumentTypeError(f"'{text}' is not a {what} from {lo:g} to {hi:g}")
-        return value
-    return parse
 
 
 def register(subparsers) -> argparse.ArgumentParser:
@@ -50,12 +39,12 @@ def register(subparsers) -> argparse.ArgumentParser:
                         "its sidecar, state and tuned interface go beside it")
     p.add_argument("--script", metavar="FILE",
                    help="also write the performance as a script (.yaml)")
-    p.add_argument("--seed", type=_positive(int, "seed", 0, 2 ** 32 - 1),
+    p.add_argument("--seed", type=in_range(int, "seed", 0, 2 ** 32 - 1),
                    help="the random seed (default: the spec's): the same seed gives the "
                         "same log, whatever --jobs or --cluster")
-    p.add_argument("--scale", type=_positive(float, "budget scale", 0.001, 100), default=1.0,
+    p.add_argument("--scale", type=in_range(float, "budget scale", 0.001, 100.0), default=1.0,
                    help="multiply every stage's tries (0.1: a tenth, for a quick look)")
-    p.add_argument("--max-tries", type=_positive(int, "number of tries", 1, 10 ** 9),
+    p.add_argument("--max-tries", type=in_range(int, "number of tries", 1, 10 ** 9),
                    metavar="N", help="stop after playing N tries (run again to go on)")
     p.add_argument("--fresh", action="store_true",
                    help="forget the tries of an earlier run of this search")
