@@ -52,13 +52,15 @@ def register(subparsers) -> None:
     play.add_argument("--ghost", metavar="LOG",
                       help="replay this log as a translucent ghost beside the character, "
                            "in step with its time (the ghost does not touch the live run)")
-    play.add_argument("--mocap", metavar="CLIP|udp://HOST:PORT",
+    play.add_argument("--mocap", metavar="CLIP|udp://HOST:PORT|webcam:N|video:PATH",
                       help="drive the figure with a motion-capture clip (.bvh, or a name: "
                            "assets/mocap/NAME.bvh), played in sim time through the "
                            "interface's mapping; headless runs last the clip's length "
                            "unless --seconds says otherwise. Or a live OSC stream, "
                            "udp://127.0.0.1:39539 (see --mocap-format), paced in real "
-                           "time and recorded")
+                           "time and recorded; or a camera (webcam:0) or a film "
+                           "(video:PATH) through MediaPipe's pose landmarker, side-on "
+                           "(pip install 'puppet[webcam]')")
     play.add_argument("--loop", action="store_true",
                       help="play the --mocap clip over and over (headless: needs --seconds, "
                            "a looping clip has no end)")
@@ -269,8 +271,7 @@ def _live_take(args, setup) -> int | None:
                          "and play --ghost LOG shows it beside another run)")
     source = source_for(args.mocap, args.mocap_format, args.mapping, setup)
     source.start()
-    print(f"mocap: listening for {args.mocap_format} on udp://{source.host}:{source.port}",
-          flush=True)
+    print(source.listening_line(), flush=True)
     try:
         if not args.headless:
             from puppet.app.window import run_window
@@ -284,7 +285,7 @@ def _live_take(args, setup) -> int | None:
         session = run_live(setup, [source], seconds,
                            record=None if args.no_record else args.record,
                            slowdown=args.slowdown,
-                           description=f"a live {args.mocap_format} take from {args.mocap}")
+                           description=f"a live {source.format} take from {args.mocap}")
     finally:
         source.close()
     print(source.status())

@@ -84,7 +84,8 @@ def encode_pose(points: dict[str, tuple[float, float, float]] | None,
                 mirrored: bool = True, count: bool = True) -> bytes:
     """One message as the bridge sends it: ``points`` (normalised picture landmarks of
     the performer, unmirrored) mirrored as its selfie view is, the landmarks not in
-    ``points`` invisible; None: the "no pose" message."""
+    ``points`` invisible (a point of four values carries its visibility, else 1);
+    None: the "no pose" message."""
     builder = OscMessageBuilder(address=ADDRESS)
     if points is None:
         builder.add_arg(0, "i")
@@ -97,7 +98,7 @@ def encode_pose(points: dict[str, tuple[float, float, float]] | None,
             builder.add_arg(0.0, "f"), builder.add_arg(0.0, "f"), builder.add_arg(0.0, "f")
             builder.add_arg(0.0, "f")
             continue
-        x, y, z = p
-        for v in (1.0 - x if mirrored else x, y, z, 1.0):
+        x, y, z, seen = (*p, 1.0) if len(p) == 3 else p
+        for v in (1.0 - x if mirrored else x, y, z, seen):
             builder.add_arg(float(v), "f")
     return builder.build().dgram

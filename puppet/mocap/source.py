@@ -211,7 +211,7 @@ class OscSource:
             c = self.decoder.counts
             recent = sum(1 for a in self._arrivals if a >= now - RATE_WINDOW)
             last = self.last_frame
-            text = (f"mocap {self.format} {self.host}:{self.port}: {c.packets} packets, "
+            text = (f"mocap {self.format} {self.where_text()}: {c.packets} packets, "
                     f"{c.frames} frames, {recent / RATE_WINDOW:.0f} Hz")
             text += ", no sample yet" if last is None else f", last {now - last:.2f} s ago"
             if self.lost_count and not self.fresh:
@@ -231,6 +231,14 @@ class OscSource:
                 text += f", {self.unmapped} unmapped"
         return text
 
+    def where_text(self, short: bool = False) -> str:
+        """Where the stream comes to: ``HOST:PORT`` (short: ``:PORT``)."""
+        return f":{self.port}" if short else f"{self.host}:{self.port}"
+
+    def listening_line(self) -> str:
+        """What ``play --mocap`` says when the source has started."""
+        return f"mocap: listening for {self.format} on udp://{self.host}:{self.port}"
+
     def hud_line(self, now: float | None = None) -> str:
         """The status, short enough for the HUD: rate, sample age, drops."""
         now = self.clock() if now is None else now
@@ -240,7 +248,7 @@ class OscSource:
             last = self.last_frame
             judged = self.guard.tally.text() if self.guard is not None else ""
         age = "waiting" if last is None else f"{now - last:.2f} s ago"
-        text = f"mocap {self.format} :{self.port}  {recent / RATE_WINDOW:.0f} Hz  {age}"
+        text = f"mocap {self.format} {self.where_text(True)}  {recent / RATE_WINDOW:.0f} Hz  {age}"
         if self.lost_count and not self.fresh:
             text += "  LOST"
         return f"{text}  {c.drops_text()}" + (f"  {judged}" if judged else "")
