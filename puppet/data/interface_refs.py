@@ -13,6 +13,7 @@ from collections.abc import Iterator
 
 from puppet.data.actions import ActionSpec, check_input_name
 from puppet.data.characters import CharacterSpec
+from puppet.data.errors import DataError
 from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
 
@@ -385,6 +386,18 @@ def _check_tracking(spec, character, located, need, need_link) -> None:
         if tracking.root is None:
             raise located.error(loc, "KD control stands the figure in this pose: it needs "
                                      "'tracking.root'")
+    library = tracking.reaction.library if tracking.reaction is not None else None
+    if library is not None:
+        from puppet.data.motion_library import library_named
+
+        try:
+            library_named(library.file, character.name)
+        except DataError as exc:
+            raise located.error(("tracking", "reaction", "library", "file"),
+                                exc.message) from None
+        if tracking.root is None:
+            raise located.error(("tracking", "reaction", "library"), "a library window is "
+                                "placed where the figure is: it needs 'tracking.root'")
     if tracking.start == "kd" and tracking.root is None:
         raise located.error(("tracking", "start"), "'start: kd' needs 'tracking.root' (the "
                                                    "channels that place the performed pose)")

@@ -82,6 +82,36 @@ class GetUpSpec(Spec, kw_only=True):
     steps: Annotated[list[GetUpStepSpec], Meta(min_length=1)]
 
 
+class SearchWeightsSpec(Spec, kw_only=True):
+    """How much each feature counts in a library search's distance (squared
+    differences): the trunk's angle (per rad) and turning rate (per rad/s) high, as
+    Zordan et al. weigh the root's orientation and angular velocity; the centre of
+    mass's velocity (per m/s); each joint's angle (per rad)."""
+
+    trunk: Gain = 10.0
+    spin: Gain = 2.0
+    com: Gain = 1.0
+    joints: Gain = 0.3
+
+
+class LibrarySpec(Spec, kw_only=True):
+    """A motion-library reaction (Zordan et al. 2005): ``after`` s into a reaction of
+    one of ``cases`` the tracker searches the library ``file`` (assets/mocap/NAME.json,
+    written by ``puppet mocap library FOLDER``) for the window whose first frame best
+    matches the figure's state (``weights``), follows it - blended in from the
+    performer over ``blend`` s, placed where the figure is - to its end, then blends
+    back to the performer over the tracking's ``blend``. The search reads only the
+    figure's state and the file: a replay finds the same window."""
+
+    file: str
+    cases: list[Literal["small", "large", "fall"]] = field(default_factory=lambda: ["large"])
+    after: Num("duration") = 0.1  # s after the push is judged: the state searched with
+    blend: Num("duration") = 0.2  # s: from the performer into the window
+    # how much of the pulls acts on the window (from the case's weight, over 'blend')
+    weight: Num("fraction") = 1.0
+    weights: SearchWeightsSpec = field(default_factory=SearchWeightsSpec)
+
+
 class ReactionSpec(Spec, kw_only=True):
     """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
     way so the figure reacts, then come back. The case is judged at the next control
@@ -109,6 +139,9 @@ class ReactionSpec(Spec, kw_only=True):
     # after a fall (and fall.hold), the figure gets up through these poses, then follows the
     # performer again (Oshita's stand-up); absent, the pulls come back over fall.recover
     get_up: GetUpSpec | None = None
+    # a reaction of library.cases follows a window of a motion library found by a search
+    # (Zordan 2005) instead of the performer (and takes no protective step)
+    library: LibrarySpec | None = None
 
 
 class RootChannelsSpec(Spec, kw_only=True):

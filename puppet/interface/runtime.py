@@ -118,6 +118,11 @@ class InterfaceRuntime(ActiveMaps, Actions):
                                          if j in joints} for name in used}
             if tracking.stand is not None:
                 self.tracker.stand = self.tracker.poses[tracking.stand]
+            if tracking.reaction is not None and tracking.reaction.library is not None:
+                from puppet.data.motion_library import library_named
+
+                self.tracker.library = library_named(tracking.reaction.library.file,
+                                                     character.spec.name)
         self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.

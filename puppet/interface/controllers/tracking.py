@@ -36,6 +36,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.tracking import TrackingSpec
 from puppet.interface.controllers.kd_pull import FigureRows, joint_chain, performed_pose
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
+from puppet.interface.controllers.tracking_library import LibraryReactions
 from puppet.interface.controllers.tracking_reaction import Reactions
 from puppet.interface.ownership import JointOwners, Owner
 from puppet.physics.kinematics import beyond, joint_order
@@ -46,7 +47,7 @@ PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the groun
 # the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
-class Tracker(Reactions):
+class Tracker(Reactions, LibraryReactions):
     BUSY = "busy"
 
     def __init__(self, spec: TrackingSpec | None, character, owners: JointOwners,
@@ -95,6 +96,7 @@ class Tracker(Reactions):
         self.hold = self.back = self.getup = None
         self.impact_at = None
         self.reaction = self.step = None
+        self.search_at = self.lib = None
         self.prev = None
         if mode == OFF:
             self.busy = False
@@ -110,6 +112,7 @@ class Tracker(Reactions):
         self.prev = None
         if not self.kinematic:
             self.impact_at = self.reaction = self.step = None
+            self.search_at = self.lib = None
 
     def sampled(self, now: int) -> None:
         """A channels frame arrived (the runtime's fast path calls this)."""
@@ -144,7 +147,7 @@ class Tracker(Reactions):
         if self.getup is not None:
             pulls += f", getting up ({self.getup.pose_name(self.getup_step)})"
         elif self.reaction is not None and self.mode == KD:
-            pulls += f", reacting to a {self.reaction[0]} push"
+            pulls += f", reacting to a {self.reaction[0]} push{self.library_status()}"
         return f"tracking {self.mode}{pulls}"
 
     # -- the work ----------------------------------------------------------------------
@@ -272,6 +275,10 @@ class Tracker(Reactions):
         if self.hold is not None:
             came, held, at = self.hold
             return _mix(came, held, self._fraction(step, at))
+        if self.lib is not None or self.search_at is not None:  # a motion library's window
+            seen = self._library_view(step, self.channels)
+            if seen is not None:
+                return seen
         if self.back is not None:
             came, at = self.back
             w = self._fraction(step, at)
@@ -341,7 +348,8 @@ class Tracker(Reactions):
         pose's (implicit PD over one control period), weaker while reacting to a push."""
         reaction = self.reaction
         if reaction is not None and reaction[0] == "fall" and self.getup is None \
-                and self.spec.reaction.get_up is not None \
+                and self.spec.reaction.get_up is not None and self.lib is None \
+                and self.search_at is None \
                 and (step - reaction[1]) * self.dt >= self.spec.reaction.fall.hold:
             self._start_get_up(step)  # lain long enough: up, through the poses
         spec, ch, c = self.spec, self._view(step), self.character
@@ -484,7 +492,8 @@ class Tracker(Reactions):
                  list(self.due),
                  None if self.hold is None else [dict(self.hold[0]), dict(self.hold[1]),
                                                  self.hold[2]],
-                 None if self.back is None else [dict(self.back[0]), self.back[1]]]]
+                 None if self.back is None else [dict(self.back[0]), self.back[1]],
+                 self.library_state()]]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
@@ -498,6 +507,7 @@ class Tracker(Reactions):
         self.hold = None if more[4] is None else [dict(more[4][0]), dict(more[4][1]),
                                                   more[4][2]]
         self.back = None if more[5] is None else [dict(more[5][0]), more[5][1]]
+        self.set_library_state(more[6] if len(more) > 6 else [None, None, 0])
         self.step = None if step is None else list(step)
         self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
@@ -538,6 +548,9 @@ class Tracker(Reactions):
         self.getup_step = 0  # ... the step last followed (the HUD's pose)
         self.hold: list | None = None  # lost, standing: [channels then, the stand's, step]
         self.back: list | None = None  # back from standing: [channels followed, step]
+        self.search_at: int | None = None  # a library search due at this step
+        self.lib: list | None = None  # a library window followed: [index, step, x offset]
+        self.searches = 0  # library searches made (tests read it)
         self.due = []
         self.busy = False
 
