@@ -66,7 +66,7 @@ def test_the_shipped_library_is_the_index_of_the_shipped_clips():
     shipped = load_library(find("library", "cmu-library"))
     fresh = index_folder(find("clip", "cmu-131_01-walk").parent)
     assert [c["name"] for c in fresh["clips"]] == [c[0] for c in shipped.clips]
-    assert len(fresh["windows"]) == len(shipped.windows) == 586
+    assert len(fresh["windows"]) == len(shipped.windows) == 768
     worst = max(abs(a - b) for w, s in zip(fresh["windows"], shipped.windows)
                 for a, b in zip([w["trunk"], w["spin"], *w["com"], *w["q"]], s.features))
     assert worst < 1e-4

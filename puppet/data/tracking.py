@@ -144,6 +144,28 @@ class ReactionSpec(Spec, kw_only=True):
     library: LibrarySpec | None = None
 
 
+class WalkInPlaceSpec(Spec, kw_only=True):
+    """Walking in place (Oshita 2006): a performer stepping on the spot - the feet
+    lifted by turns, read from the performed pose (one of ``tracking.feet`` ``lift`` m
+    above the other) - makes the figure walk forward at the rhythm's speed. The walk
+    is an example gait cycle (``cycle``: from, until, s of the clip ``clip`` of the
+    motion library ``library``), played at the performer's step rate and phase-locked
+    to their lifts; its ``joints`` (channels: the legs, the pelvis) replace the
+    performer's, blended in over ``blend`` s, the rest (arms, trunk, head) stay the
+    performer's; ``root.x`` goes on by the cycle's travel. Step periods outside
+    ``steps`` (s) are not a rhythm; no step for ``stop_after`` s stops the walk (blended
+    out: the figure stands where it got to, following the performer again)."""
+
+    library: str  # a motion library (assets/mocap/NAME.json)
+    clip: str  # the name of its clip that holds the example walk
+    cycle: tuple[Num("time"), Num("time")]  # s: one gait cycle of it (two steps)
+    joints: list[str]  # channels taken from the walk
+    lift: Num("corner") = 0.05
+    steps: tuple[Num("positive_duration"), Num("positive_duration")] = (0.25, 1.2)
+    stop_after: Num("positive_duration") = 1.2
+    blend: Num("duration") = 0.4
+
+
 class RootChannelsSpec(Spec, kw_only=True):
     """The channels that place the performed pose in the world, and the joint whose
     hinge is the root point (the mapping's ``root.point``)."""
@@ -189,6 +211,9 @@ class TrackingSpec(Spec, kw_only=True):
     # the pulls from none to full - when the stream comes back, or a 'track' action starts it
     # (not at the interface's start)
     blend: Num("duration") = 0.0
+    # stepping on the spot walks the figure forward (Oshita 2006; null: the performer's
+    # steps are followed as they are)
+    walk_in_place: WalkInPlaceSpec | None = None
 
     @property
     def preset(self) -> GainsSpec:
