@@ -400,6 +400,11 @@ def _check_tracking(spec, character, located, need, need_link) -> None:
                                 "placed where the figure is: it needs 'tracking.root'")
     if tracking.walk_in_place is not None:
         _check_walk(tracking, character, located)
+    if tracking.contacts is not None:  # intentional contacts: grasp chains of the interface
+        for chain in tracking.contacts.hands:
+            if chain not in spec.chains:
+                raise located.error(("tracking", "contacts", "hands", chain),
+                                    unknown("chain", chain, list(spec.chains)))
     if tracking.start == "kd" and tracking.root is None:
         raise located.error(("tracking", "start"), "'start: kd' needs 'tracking.root' (the "
                                                    "channels that place the performed pose)")

@@ -166,6 +166,24 @@ class WalkInPlaceSpec(Spec, kw_only=True):
     blend: Num("duration") = 0.4
 
 
+class ContactsSpec(Spec, kw_only=True):
+    """Intentional contacts (Ishigaki et al. 2009): while a grasp chain of ``hands``
+    holds (the hand held to a bar by the grasp's pin joint), the figure's centre of
+    mass is driven about it by a damped linear spring and a swing PD: the relative
+    vector r (the hand less the centre of mass) follows the performer's (the effector
+    channels ``NAME.x``, ``NAME.y``: m from their centre of mass) - its angle's change
+    since the grasp (``swing``, N*m/rad) and its turning rate (``swing_damping``,
+    N*m*s/rad: Ishigaki's monkey bars track the user's angular velocity only), its
+    length's change (``spring``, N/m; ``damping``, N*s/m). The forces act on the centre
+    of mass alone (every link the same acceleration: no turn)."""
+
+    hands: dict[str, str]  # grasp chain -> the performer's effector channel (NAME.x/.y)
+    swing: Num("gain") = 0.0
+    swing_damping: Num("gain") = 150.0
+    spring: Num("gain") = 0.0
+    damping: Num("gain") = 0.0
+
+
 class RootChannelsSpec(Spec, kw_only=True):
     """The channels that place the performed pose in the world, and the joint whose
     hinge is the root point (the mapping's ``root.point``)."""
@@ -214,6 +232,9 @@ class TrackingSpec(Spec, kw_only=True):
     # stepping on the spot walks the figure forward (Oshita 2006; null: the performer's
     # steps are followed as they are)
     walk_in_place: WalkInPlaceSpec | None = None
+    # a held hand moves the centre of mass as the performer's hand moves about theirs
+    # (Ishigaki 2009; null: none)
+    contacts: ContactsSpec | None = None
 
     @property
     def preset(self) -> GainsSpec:

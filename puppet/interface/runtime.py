@@ -123,6 +123,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
 
                 self.tracker.library = library_named(tracking.reaction.library.file,
                                                      character.spec.name)
+            if tracking.contacts is not None:  # Ishigaki's intentional contacts: the grasps
+                self.tracker.held_points = lambda: self.grasping.held
             if tracking.walk_in_place is not None:  # the example walk (Oshita 2006)
                 from puppet.data.motion_library import library_named
                 from puppet.interface.controllers.tracking_walk import GaitCycle

@@ -42,6 +42,7 @@ from puppet.interface.controllers.kd_pull import (
     mix,
     performed_pose,
 )
+from puppet.interface.controllers.tracking_contact import IntentionalContacts
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
 from puppet.interface.controllers.tracking_library import LibraryReactions
 from puppet.interface.controllers.tracking_reaction import Reactions
@@ -55,7 +56,7 @@ PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the groun
 # the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
-class Tracker(Reactions, LibraryReactions, WalkInPlace):
+class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
     BUSY = "busy"
 
     def __init__(self, spec: TrackingSpec | None, character, owners: JointOwners,
@@ -352,6 +353,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace):
             self._pull(step)
         else:
             self.impact_at = None
+        self._contacts(step)  # a held hand swings the body as the performer's moves
 
     def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
@@ -503,7 +505,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace):
                  None if self.hold is None else [dict(self.hold[0]), dict(self.hold[1]),
                                                  self.hold[2]],
                  None if self.back is None else [dict(self.back[0]), self.back[1]],
-                 self.library_state(), self.walk_state()]]
+                 self.library_state(), self.walk_state(), self.contacts_state()]]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
@@ -519,6 +521,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace):
         self.back = None if more[5] is None else [dict(more[5][0]), more[5][1]]
         self.set_library_state(more[6] if len(more) > 6 else [None, None, 0])
         self.set_walk_state(more[7] if len(more) > 7 else None)
+        self.set_contacts_state(more[8] if len(more) > 8 else None)
         self.step = None if step is None else list(step)
         self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
@@ -563,6 +566,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace):
         self.lib: list | None = None  # a library window followed: [index, step, x offset]
         self.searches = 0  # library searches made (tests read it)
         self._walk_reset()  # walking in place (tracking_walk)
+        self._contacts_reset()  # intentional contacts (tracking_contact)
         self.due = []
         self.busy = False
 
