@@ -14,8 +14,8 @@ from puppet.timeline.log import text_hash
 HOP = ROOT / "assets" / "logs" / "luxo-hop.jsonl"
 WALK = ROOT / "assets" / "mocap" / "cmu-131_01-walk.bvh"
 READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, scripts, "
-         "mocap mappings, bone tables, logs' NAME.expect.yaml, tuning specs), .jsonl logs "
-         "and .bvh clips, or their names")
+         "mocap mappings, bone tables, logs' NAME.expect.yaml, tuning specs), .jsonl logs, "
+         ".bvh clips and .json motion libraries, or their names")
 
 
 def run(capsys, *argv):

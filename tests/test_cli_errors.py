@@ -312,7 +312,7 @@ def test_a_mistyped_name_gets_a_did_you_mean_in_its_one_line(capsys):
         (("list", "interfcs"), "puppet list: argument KIND: invalid choice: 'interfcs'; "
                                "did you mean 'interface'? (choose from "),
         (("mocap", "snd"), "puppet mocap: argument WHAT: invalid choice: 'snd'; did you mean "
-                           "'send'? (choose from 'info', 'mapping', 'send', 'listen')"),
+                           "'send'? (choose from 'info', 'mapping', 'library', 'send', 'listen')"),
     ]
     for argv, start in cases:
         code, line = _main_error(capsys, *argv)

@@ -39,7 +39,7 @@ def test_send_takes_a_clip_name_as_mocap_info_does_and_says_it_is_send(capsys):
     assert main(["mocap", "send", "nosuch-walk"]) == 2
     assert capsys.readouterr().err == ("puppet mocap send: nosuch-walk: no clip named "
                                        "'nosuch-walk'; known: cmu-01_01-jumps, "
-                                       "cmu-131_01-walk\n")
+                                       "cmu-131_01-walk-in-place, cmu-131_01-walk\n")
     assert main(["mocap", "send", "gone/walk.bvh"]) == 2
     assert capsys.readouterr().err.startswith("puppet mocap send: gone/walk.bvh: no such "
                                               "file")

@@ -31,7 +31,7 @@ _PARSERS = {"character": ("puppet.data.characters", "parse_character"),
             "vmc avatar": ("puppet.mocap.vmc", "parse_avatar")}
 WHAT_CHECK_READS = ("puppet check reads .yaml data files (characters, interfaces, scenes, "
                     "scripts, mocap mappings, bone tables, logs' NAME.expect.yaml, tuning "
-                    "specs), .jsonl logs and .bvh clips, or their names")
+                    "specs), .jsonl logs, .bvh clips and .json motion libraries, or their names")
 
 
 def find_target(name: str) -> Path:
@@ -50,7 +50,7 @@ def find_target(name: str) -> Path:
             return p
     except OSError:  # a name too long for the file system
         pass
-    if len(p.parts) > 1 or p.suffix.lower() in YAML_EXTS + (".jsonl", ".bvh"):
+    if len(p.parts) > 1 or p.suffix.lower() in YAML_EXTS + (".jsonl", ".bvh", ".json"):
         raise DataError(name, None, None, "no such file")
     from puppet.data import catalog
 
@@ -207,6 +207,11 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
 
         read_bvh(path)
         return "mocap clip"
+    if suffix == ".json":  # a motion library, as tracking.reaction.library reads it
+        from puppet.data.motion_library import load_library
+
+        load_library(path)
+        return "motion library"
     if suffix not in YAML_EXTS:
         got = f"'{path.suffix}' files" if path.suffix else "a file with no extension"
         raise DataError(str(path), None, None, f"cannot check {got}; {WHAT_CHECK_READS}")

@@ -82,6 +82,9 @@ def register(subparsers) -> None:
     from puppet.commands.mocap_mapping import register as register_rig_mapping
 
     register_rig_mapping(msub)  # puppet mocap mapping CLIP: a recognised rig's mapping
+    from puppet.commands.mocap_library import register as register_library
+
+    register_library(msub)  # puppet mocap library FOLDER: a motion library
     send = msub.add_parser("send", help="stream a BVH clip over OSC in real time",
                            description="Stream a BVH clip over OSC/UDP in real time "
                                        "(VMC bones, MediaPipe landmarks, or puppet "

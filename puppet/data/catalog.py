@@ -43,6 +43,7 @@ FOLDERS = {
     "recording": ("recordings", ".jsonl"),  # the window's own logs (not shipped)
     "mapping": ("assets/mappings", ".yaml"),  # mocap retargeting
     "clip": ("assets/mocap", ".bvh"),  # motion capture
+    "library": ("assets/mocap", ".json"),  # a motion library (puppet mocap library)
 }
 
 
@@ -211,6 +212,11 @@ def describe(path: Path) -> str:
             with path.open(encoding="utf-8") as fh:
                 header = json.loads(fh.readline() or "{}")
             text = header.get("description") or f"log of {header.get('interface', '?')}"
+        elif path.suffix == ".json":  # a motion library
+            import json
+
+            data = json.loads(path.read_text(encoding="utf-8"))
+            text = data.get("description", "") if isinstance(data, dict) else ""
         else:
             data = load_file(path).data
             text = data.get("description", "") if isinstance(data, dict) else ""

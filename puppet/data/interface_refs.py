@@ -13,6 +13,7 @@ from collections.abc import Iterator
 
 from puppet.data.actions import ActionSpec, check_input_name
 from puppet.data.characters import CharacterSpec
+from puppet.data.errors import DataError
 from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
 
@@ -385,6 +386,25 @@ def _check_tracking(spec, character, located, need, need_link) -> None:
         if tracking.root is None:
             raise located.error(loc, "KD control stands the figure in this pose: it needs "
                                      "'tracking.root'")
+    library = tracking.reaction.library if tracking.reaction is not None else None
+    if library is not None:
+        from puppet.data.motion_library import library_named
+
+        try:
+            library_named(library.file, character.name)
+        except DataError as exc:
+            raise located.error(("tracking", "reaction", "library", "file"),
+                                exc.message) from None
+        if tracking.root is None:
+            raise located.error(("tracking", "reaction", "library"), "a library window is "
+                                "placed where the figure is: it needs 'tracking.root'")
+    if tracking.walk_in_place is not None:
+        _check_walk(tracking, character, located)
+    if tracking.contacts is not None:  # intentional contacts: grasp chains of the interface
+        for chain in tracking.contacts.hands:
+            if chain not in spec.chains:
+                raise located.error(("tracking", "contacts", "hands", chain),
+                                    unknown("chain", chain, list(spec.chains)))
     if tracking.start == "kd" and tracking.root is None:
         raise located.error(("tracking", "start"), "'start: kd' needs 'tracking.root' (the "
                                                    "channels that place the performed pose)")
@@ -403,6 +423,35 @@ def _check_tracking(spec, character, located, need, need_link) -> None:
                                 f"joint '{tracking.root.at}' hangs from '{parent}'; "
                                 f"expected a joint on the root link '{character.root}' "
                                 f"(the hips: its hinge is the root point)")
+
+
+def _check_walk(tracking, character, located) -> None:
+    """walking in place: its library, clip and cycle exist; it needs two feet and the
+    root channels."""
+    from puppet.data.motion_library import library_named
+
+    walk, at = tracking.walk_in_place, ("tracking", "walk_in_place")
+    try:
+        library = library_named(walk.library, character.name)
+    except DataError as exc:
+        raise located.error(at + ("library",), exc.message) from None
+    clips = {name: len(frames) for name, frames in library.clips}
+    if walk.clip not in clips:
+        raise located.error(at + ("clip",), unknown("clip", walk.clip, list(clips),
+                                                    f" in motion library '{walk.library}'"))
+    end = (clips[walk.clip] - 1) / library.rate
+    if not walk.cycle[0] < walk.cycle[1] <= end:
+        raise located.error(at + ("cycle",), f"expected from < until <= {end:.2f} s (the "
+                                             f"clip's length)")
+    for i, name in enumerate(walk.joints):
+        if name not in library.channels:
+            raise located.error(at + ("joints", i), unknown("channel", name,
+                                                            list(library.channels)))
+    if tracking.root is None or len(tracking.feet) < 2:
+        raise located.error(at, "walking in place reads the performer's feet and places "
+                                "the walk: it needs 'tracking.root' and two 'tracking.feet'")
+    if not walk.steps[0] < walk.steps[1]:
+        raise located.error(at + ("steps",), "expected [shortest, longest] step periods")
 
 
 def _in_limits(located, loc, name, deg, character) -> None:

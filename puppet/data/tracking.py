@@ -82,6 +82,36 @@ class GetUpSpec(Spec, kw_only=True):
     steps: Annotated[list[GetUpStepSpec], Meta(min_length=1)]
 
 
+class SearchWeightsSpec(Spec, kw_only=True):
+    """How much each feature counts in a library search's distance (squared
+    differences): the trunk's angle (per rad) and turning rate (per rad/s) high, as
+    Zordan et al. weigh the root's orientation and angular velocity; the centre of
+    mass's velocity (per m/s); each joint's angle (per rad)."""
+
+    trunk: Gain = 10.0
+    spin: Gain = 2.0
+    com: Gain = 1.0
+    joints: Gain = 0.3
+
+
+class LibrarySpec(Spec, kw_only=True):
+    """A motion-library reaction (Zordan et al. 2005): ``after`` s into a reaction of
+    one of ``cases`` the tracker searches the library ``file`` (assets/mocap/NAME.json,
+    written by ``puppet mocap library FOLDER``) for the window whose first frame best
+    matches the figure's state (``weights``), follows it - blended in from the
+    performer over ``blend`` s, placed where the figure is - to its end, then blends
+    back to the performer over the tracking's ``blend``. The search reads only the
+    figure's state and the file: a replay finds the same window."""
+
+    file: str
+    cases: list[Literal["small", "large", "fall"]] = field(default_factory=lambda: ["large"])
+    after: Num("duration") = 0.1  # s after the push is judged: the state searched with
+    blend: Num("duration") = 0.2  # s: from the performer into the window
+    # how much of the pulls acts on the window (from the case's weight, over 'blend')
+    weight: Num("fraction") = 1.0
+    weights: SearchWeightsSpec = field(default_factory=SearchWeightsSpec)
+
+
 class ReactionSpec(Spec, kw_only=True):
     """Impact reactions (Oshita 2006): after a push or a drag, KD control's pulls give
     way so the figure reacts, then come back. The case is judged at the next control
@@ -109,6 +139,49 @@ class ReactionSpec(Spec, kw_only=True):
     # after a fall (and fall.hold), the figure gets up through these poses, then follows the
     # performer again (Oshita's stand-up); absent, the pulls come back over fall.recover
     get_up: GetUpSpec | None = None
+    # a reaction of library.cases follows a window of a motion library found by a search
+    # (Zordan 2005) instead of the performer (and takes no protective step)
+    library: LibrarySpec | None = None
+
+
+class WalkInPlaceSpec(Spec, kw_only=True):
+    """Walking in place (Oshita 2006): a performer stepping on the spot - the feet
+    lifted by turns, read from the performed pose (one of ``tracking.feet`` ``lift`` m
+    above the other) - makes the figure walk forward at the rhythm's speed. The walk
+    is an example gait cycle (``cycle``: from, until, s of the clip ``clip`` of the
+    motion library ``library``), played at the performer's step rate and phase-locked
+    to their lifts; its ``joints`` (channels: the legs, the pelvis) replace the
+    performer's, blended in over ``blend`` s, the rest (arms, trunk, head) stay the
+    performer's; ``root.x`` goes on by the cycle's travel. Step periods outside
+    ``steps`` (s) are not a rhythm; no step for ``stop_after`` s stops the walk (blended
+    out: the figure stands where it got to, following the performer again)."""
+
+    library: str  # a motion library (assets/mocap/NAME.json)
+    clip: str  # the name of its clip that holds the example walk
+    cycle: tuple[Num("time"), Num("time")]  # s: one gait cycle of it (two steps)
+    joints: list[str]  # channels taken from the walk
+    lift: Num("corner") = 0.05
+    steps: tuple[Num("positive_duration"), Num("positive_duration")] = (0.25, 1.2)
+    stop_after: Num("positive_duration") = 1.2
+    blend: Num("duration") = 0.4
+
+
+class ContactsSpec(Spec, kw_only=True):
+    """Intentional contacts (Ishigaki et al. 2009): while a grasp chain of ``hands``
+    holds (the hand held to a bar by the grasp's pin joint), the figure's centre of
+    mass is driven about it by a damped linear spring and a swing PD: the relative
+    vector r (the hand less the centre of mass) follows the performer's (the effector
+    channels ``NAME.x``, ``NAME.y``: m from their centre of mass) - its angle's change
+    since the grasp (``swing``, N*m/rad) and its turning rate (``swing_damping``,
+    N*m*s/rad: Ishigaki's monkey bars track the user's angular velocity only), its
+    length's change (``spring``, N/m; ``damping``, N*s/m). The forces act on the centre
+    of mass alone (every link the same acceleration: no turn)."""
+
+    hands: dict[str, str]  # grasp chain -> the performer's effector channel (NAME.x/.y)
+    swing: Num("gain") = 0.0
+    swing_damping: Num("gain") = 150.0
+    spring: Num("gain") = 0.0
+    damping: Num("gain") = 0.0
 
 
 class RootChannelsSpec(Spec, kw_only=True):
@@ -156,6 +229,12 @@ class TrackingSpec(Spec, kw_only=True):
     # the pulls from none to full - when the stream comes back, or a 'track' action starts it
     # (not at the interface's start)
     blend: Num("duration") = 0.0
+    # stepping on the spot walks the figure forward (Oshita 2006; null: the performer's
+    # steps are followed as they are)
+    walk_in_place: WalkInPlaceSpec | None = None
+    # a held hand moves the centre of mass as the performer's hand moves about theirs
+    # (Ishigaki 2009; null: none)
+    contacts: ContactsSpec | None = None
 
     @property
     def preset(self) -> GainsSpec:

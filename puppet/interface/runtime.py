@@ -118,6 +118,20 @@ class InterfaceRuntime(ActiveMaps, Actions):
                                          if j in joints} for name in used}
             if tracking.stand is not None:
                 self.tracker.stand = self.tracker.poses[tracking.stand]
+            if tracking.reaction is not None and tracking.reaction.library is not None:
+                from puppet.data.motion_library import library_named
+
+                self.tracker.library = library_named(tracking.reaction.library.file,
+                                                     character.spec.name)
+            if tracking.contacts is not None:  # Ishigaki's intentional contacts: the grasps
+                self.tracker.held_points = lambda: self.grasping.held
+            if tracking.walk_in_place is not None:  # the example walk (Oshita 2006)
+                from puppet.data.motion_library import library_named
+                from puppet.interface.controllers.tracking_walk import GaitCycle
+
+                walk = tracking.walk_in_place
+                self.tracker.walk_cycle = GaitCycle(
+                    library_named(walk.library, character.spec.name), walk)
         self._readers: dict[str, object] = {}  # sensor.X -> reader (file units)
         # Tick order (the state machines tick after them): what runs writes its targets,
         # then the frame targets are re-solved, then feedback maps set and add.

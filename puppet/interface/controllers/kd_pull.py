@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 from puppet.physics.body_state import BodyReader
+from puppet.physics.kinematics import beyond
 
 
 def joint_chain(order) -> list[tuple]:
@@ -69,3 +70,44 @@ class FigureRows:
     def read(self) -> list[float]:
         """Every body's ``x, y, angle, vx, vy, spin`` (``BodyReader.read``)."""
         return self.reader.read(self._space())
+
+
+def mix(a: dict, b: dict, w: float) -> dict:
+    """``b``'s channels, a fraction ``w`` of the way from ``a``'s (a channel ``a``
+    lacks is ``b``'s)."""
+    if w >= 1.0:
+        return b
+    out = {}
+    for name, v in b.items():
+        u = a.get(name, v)
+        out[name] = u + (v - u) * w
+    return out
+
+
+def lowest_points(character, link: str) -> list[tuple[float, float, float]]:
+    """A link's shape points (model frame) with the radius to take off: polygon
+    vertices, segment ends, circle centres."""
+    import pymunk
+
+    out = []
+    for shape in character.shapes[link]:
+        if isinstance(shape, pymunk.Poly):
+            out += [(v.x, v.y, shape.radius) for v in shape.get_vertices()]
+        elif isinstance(shape, pymunk.Segment):
+            out += [(shape.a.x, shape.a.y, shape.radius), (shape.b.x, shape.b.y, shape.radius)]
+        elif isinstance(shape, pymunk.Circle):
+            out.append((shape.offset.x, shape.offset.y, shape.radius))
+    return out
+
+
+def inertia_beyond(character, joint: str) -> float:
+    """kg*m^2: the links a joint moves, about its hinge, with the figure straight (the
+    tracker's gain scale; ZH02 and Nguyen use a constant)."""
+    spec = character.spec
+    ax, ay = spec.joint(joint).anchor
+    total = 0.0
+    for link in beyond(spec, joint):
+        body = character.bodies[link]
+        gx, gy = body.center_of_gravity  # model frame: the link's frame at rest
+        total += body.moment + body.mass * ((gx - ax) ** 2 + (gy - ay) ** 2)
+    return total

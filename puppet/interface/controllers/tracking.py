@@ -34,11 +34,21 @@ import math
 from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.tracking import TrackingSpec
-from puppet.interface.controllers.kd_pull import FigureRows, joint_chain, performed_pose
+from puppet.interface.controllers.kd_pull import (
+    FigureRows,
+    inertia_beyond,
+    joint_chain,
+    lowest_points,
+    mix,
+    performed_pose,
+)
+from puppet.interface.controllers.tracking_contact import IntentionalContacts
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
+from puppet.interface.controllers.tracking_library import LibraryReactions
 from puppet.interface.controllers.tracking_reaction import Reactions
+from puppet.interface.controllers.tracking_walk import WalkInPlace
 from puppet.interface.ownership import JointOwners, Owner
-from puppet.physics.kinematics import beyond, joint_order
+from puppet.physics.kinematics import joint_order
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
@@ -46,7 +56,7 @@ PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the groun
 # the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
-class Tracker(Reactions):
+class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
     BUSY = "busy"
 
     def __init__(self, spec: TrackingSpec | None, character, owners: JointOwners,
@@ -74,13 +84,13 @@ class Tracker(Reactions):
         if spec is not None:
             names = [j.name for j in cs.actuated] if spec.joints == "all" else spec.joints
             self.joints = {j: spec.channels.get(j, j) for j in names}
-        self.inertia = {j: _inertia_beyond(character, j) for j in self.joints}
+        self.inertia = {j: inertia_beyond(character, j) for j in self.joints}
         self.pulled = [link.name for link in cs.links]
         self._figure = FigureRows(character, self.pulled)  # the pulled links, read in bulk
         self.joint_of = {j.child: j.name for j in cs.joints}  # link -> the joint above it
         self.scale = {} if spec is None else dict(spec.scale)
         self.ground_at = ground_at  # x -> the ground's surface height (None: no lift)
-        self.soles = {} if spec is None else {f: _lowest_points(character, f) for f in spec.feet}
+        self.soles = {} if spec is None else {f: lowest_points(character, f) for f in spec.feet}
         self.stop()
 
     # -- actions ---------------------------------------------------------------------
@@ -95,7 +105,9 @@ class Tracker(Reactions):
         self.hold = self.back = self.getup = None
         self.impact_at = None
         self.reaction = self.step = None
+        self.search_at = self.lib = None
         self.prev = None
+        self._walk_reset()
         if mode == OFF:
             self.busy = False
             return
@@ -110,6 +122,7 @@ class Tracker(Reactions):
         self.prev = None
         if not self.kinematic:
             self.impact_at = self.reaction = self.step = None
+            self.search_at = self.lib = None
 
     def sampled(self, now: int) -> None:
         """A channels frame arrived (the runtime's fast path calls this)."""
@@ -144,8 +157,9 @@ class Tracker(Reactions):
         if self.getup is not None:
             pulls += f", getting up ({self.getup.pose_name(self.getup_step)})"
         elif self.reaction is not None and self.mode == KD:
-            pulls += f", reacting to a {self.reaction[0]} push"
-        return f"tracking {self.mode}{pulls}"
+            pulls += f", reacting to a {self.reaction[0]} push{self.library_status()}"
+        walking = ", walking in place" if self.walking else ""
+        return f"tracking {self.mode}{pulls}{walking}"
 
     # -- the work ----------------------------------------------------------------------
     def _take(self, now: int, blend: bool = False) -> None:
@@ -163,7 +177,7 @@ class Tracker(Reactions):
         self.x0 = None
         if root is not None:
             hinge = self._hinge_world()
-            x = self.channels.get(root.x)
+            x = self._performer(now).get(root.x)
             self.x0 = hinge[0] - (x if x is not None else 0.0)
         self._write_targets(now)
 
@@ -249,7 +263,7 @@ class Tracker(Reactions):
         """Blend from ``came`` (what was followed) to the performer's frames, the root
         staying where it is (``x0`` taken again, as at a take)."""
         root = self.spec.root
-        x = self.channels.get(root.x)
+        x = self._performer(now).get(root.x)
         x0 = self.x0
         came = dict(came)
         if x is not None and x0 is not None and root.x in came:
@@ -271,15 +285,19 @@ class Tracker(Reactions):
             self._back_from(came, step)
         if self.hold is not None:
             came, held, at = self.hold
-            return _mix(came, held, self._fraction(step, at))
+            return mix(came, held, self._fraction(step, at))
+        if self.lib is not None or self.search_at is not None:  # a motion library's window
+            seen = self._library_view(step, self._performer(step))
+            if seen is not None:
+                return seen
         if self.back is not None:
             came, at = self.back
             w = self._fraction(step, at)
             if w >= 1.0:
                 self.back = None
-                return self.channels
-            return _mix(came, self.channels, w)
-        return self.channels
+                return self._performer(step)
+            return mix(came, self._performer(step), w)
+        return self._performer(step)
 
     def _fraction(self, step: int, at: int) -> float:
         if self.blend_steps <= 0:
@@ -335,13 +353,15 @@ class Tracker(Reactions):
             self._pull(step)
         else:
             self.impact_at = None
+        self._contacts(step)  # a held hand swings the body as the performer's moves
 
     def _pull(self, step: int) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
         pose's (implicit PD over one control period), weaker while reacting to a push."""
         reaction = self.reaction
         if reaction is not None and reaction[0] == "fall" and self.getup is None \
-                and self.spec.reaction.get_up is not None \
+                and self.spec.reaction.get_up is not None and self.lib is None \
+                and self.search_at is None \
                 and (step - reaction[1]) * self.dt >= self.spec.reaction.fall.hold:
             self._start_get_up(step)  # lain long enough: up, through the poses
         spec, ch, c = self.spec, self._view(step), self.character
@@ -439,7 +459,7 @@ class Tracker(Reactions):
         """Every link's lowest points (a get-up's pose stands on knees, hands...)."""
         if not hasattr(self, "_every_point"):
             c = self.character
-            self._every_point = {link.name: _lowest_points(c, link.name)
+            self._every_point = {link.name: lowest_points(c, link.name)
                                  for link in c.spec.links}
         return self._every_point
 
@@ -484,7 +504,8 @@ class Tracker(Reactions):
                  list(self.due),
                  None if self.hold is None else [dict(self.hold[0]), dict(self.hold[1]),
                                                  self.hold[2]],
-                 None if self.back is None else [dict(self.back[0]), self.back[1]]]]
+                 None if self.back is None else [dict(self.back[0]), self.back[1]],
+                 self.library_state(), self.walk_state(), self.contacts_state()]]
 
     def set_state(self, state) -> None:
         (self.mode, self.kinematic, self.lost, self.last_sample, self.x0, prev,
@@ -498,6 +519,9 @@ class Tracker(Reactions):
         self.hold = None if more[4] is None else [dict(more[4][0]), dict(more[4][1]),
                                                   more[4][2]]
         self.back = None if more[5] is None else [dict(more[5][0]), more[5][1]]
+        self.set_library_state(more[6] if len(more) > 6 else [None, None, 0])
+        self.set_walk_state(more[7] if len(more) > 7 else None)
+        self.set_contacts_state(more[8] if len(more) > 8 else None)
         self.step = None if step is None else list(step)
         self.scaled = {j: tuple(g) for j, g in scaled.items()}
         self.reaction = None if reaction is None else tuple(reaction)
@@ -538,46 +562,11 @@ class Tracker(Reactions):
         self.getup_step = 0  # ... the step last followed (the HUD's pose)
         self.hold: list | None = None  # lost, standing: [channels then, the stand's, step]
         self.back: list | None = None  # back from standing: [channels followed, step]
+        self.search_at: int | None = None  # a library search due at this step
+        self.lib: list | None = None  # a library window followed: [index, step, x offset]
+        self.searches = 0  # library searches made (tests read it)
+        self._walk_reset()  # walking in place (tracking_walk)
+        self._contacts_reset()  # intentional contacts (tracking_contact)
         self.due = []
         self.busy = False
 
-
-def _mix(a: dict, b: dict, w: float) -> dict:
-    """``b``'s channels, a fraction ``w`` of the way from ``a``'s (a channel ``a``
-    lacks is ``b``'s)."""
-    if w >= 1.0:
-        return b
-    out = {}
-    for name, v in b.items():
-        u = a.get(name, v)
-        out[name] = u + (v - u) * w
-    return out
-
-
-def _lowest_points(character, link: str) -> list[tuple[float, float, float]]:
-    """A link's shape points (model frame) with the radius to take off: polygon
-    vertices, segment ends, circle centres."""
-    import pymunk
-
-    out = []
-    for shape in character.shapes[link]:
-        if isinstance(shape, pymunk.Poly):
-            out += [(v.x, v.y, shape.radius) for v in shape.get_vertices()]
-        elif isinstance(shape, pymunk.Segment):
-            out += [(shape.a.x, shape.a.y, shape.radius), (shape.b.x, shape.b.y, shape.radius)]
-        elif isinstance(shape, pymunk.Circle):
-            out.append((shape.offset.x, shape.offset.y, shape.radius))
-    return out
-
-
-def _inertia_beyond(character, joint: str) -> float:
-    """kg*m^2: the links a joint moves, about its hinge, with the figure straight (the
-    tracker's gain scale; ZH02 and Nguyen use a constant)."""
-    spec = character.spec
-    ax, ay = spec.joint(joint).anchor
-    total = 0.0
-    for link in beyond(spec, joint):
-        body = character.bodies[link]
-        gx, gy = body.center_of_gravity  # model frame: the link's frame at rest
-        total += body.moment + body.mass * ((gx - ax) ** 2 + (gy - ay) ** 2)
-    return total

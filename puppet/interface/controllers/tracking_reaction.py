@@ -36,6 +36,10 @@ class Reactions:
         self.reaction = (case, step)
         self.impact_at = None
         self.step = None
+        self.search_at = self.lib = None
+        if self._library_case(case):  # Zordan's search, not a protective step
+            self._schedule_search(step)
+            return
         if case == "large" and self.soles and b.support is not None and beyond > 0:
             self.step = self._protective_step(step, b, 1.0 if b.xcom > b.support[1]
                                               else -1.0)
@@ -60,6 +64,8 @@ class Reactions:
             return 1.0
         case, start = self.reaction
         spec = getattr(self.spec.reaction, case)
+        if self.lib is not None or self.search_at is not None:  # a library window's
+            return self._library_weight(step, spec.weight)
         t = (step - start) * self.dt
         if t < spec.hold:
             return spec.weight
