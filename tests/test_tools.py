@@ -1,7 +1,7 @@
-"""The tools left in tools/ still run against today's code: each imports, and the
-ones that build scripts from plain entries build scripts the player compiles (a data
+"""The tools left in tools/ still run against today's code: each imports (a data
 library's change broke three of them without a test noticing). The searches that are
-a product feature are tuning specs now (assets/tune/, puppet tune: tests/test_tune.py)."""
+a product feature are tuning specs now (assets/tune/, puppet tune: tests/test_tune.py,
+tests/test_tune_climbs.py)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from puppet.timeline.script import compile_script
 
 TOOLS = Path(__file__).resolve().parents[1] / "tools"
 
@@ -26,13 +24,6 @@ def tools_on_path():
 @pytest.mark.parametrize("name", sorted(p.stem for p in TOOLS.glob("*.py")))
 def test_each_tool_imports(name):
     importlib.import_module(name)
-
-
-@pytest.mark.parametrize("name", ["tune_ladder", "tune_gymnast_climb"])
-def test_a_tools_script_from_plain_entries_compiles(name):
-    tool = importlib.import_module(name)
-    spec = tool.script([{"t": 0.1, "key": "g"}, {"t": 0.5, "action": "checkpoint"}], 1.0)
-    assert len(compile_script(spec, 1 / 480)) == 3  # the key down and up, the checkpoint
 
 
 def test_solver_sensitivity_replays_on_the_changed_solver():

@@ -151,3 +151,61 @@ def giant_swings(run: GeneratorRun, p: dict) -> None:
             choice = want
             target = pike if up else arch
             run.add({"t": r(t), "mouse": [r(target[0]), r(target[1])], "over": r(p["glide"])})
+
+
+NONE = "none"  # a key choice that presses nothing
+
+
+@register("key-turn")
+def key_turn(run: GeneratorRun, p: dict) -> None:
+    """One turn of a key-driven climb (biped-ladder's g and t): the turn's key ``key``
+    ``lead`` s after the checkpoint, with an optional posture key ``pre`` (a key, or
+    ``none``) ``pre_gap`` s before it and an optional ``post`` ``post_gap`` s after it;
+    the stage ends ``phase`` (+ ``settle``) s after the turn's key, so its length
+    depends on whether ``pre`` is pressed - what a template cannot say. A gap of an
+    absent key changes nothing (the same try under another name)."""
+    at = run.t0 + p.get("lead", 0.01)
+    pre, post = p.get("pre", NONE), p.get("post", NONE)
+    if pre != NONE:
+        run.add({"t": round(at, 4), "key": str(pre)})
+        at += p["pre_gap"]
+    run.add({"t": round(at, 4), "key": str(p["key"])})
+    if post != NONE:
+        run.add({"t": round(at + p["post_gap"], 4), "key": str(post)})
+    run.end_at(round(at + p["phase"], 4) + p.get("settle", 0.0))
+
+
+GRIP_KEYS = {"hand_near": "z", "hand_far": "x", "foot_near": "a", "foot_far": "s"}
+
+
+@register("grip-stroke")
+def grip_stroke(run: GeneratorRun, p: dict) -> None:
+    """One regrasp phase of the gymnast's rigid grips (biped-gymnast: z, x, a, s grip
+    and let go of a hand or foot): the limbs whose ``let:`` flag is 1 (``hand_near``,
+    ``hand_far``, ``foot_near``, ``foot_far``) move. Optionally (``preload`` 1) the mouse
+    first goes to (``x``, ``pre_y``) in ``preload_s`` s while every limb still holds;
+    then the moving limbs that hold let go (a foot on the floor holds nothing: it is
+    only armed), the mouse strokes to (``x``, ``y``) in ``duration`` s, and each moving
+    limb's key comes again ``rearm_hand`` / ``rearm_foot`` s after the let-go (armed: it
+    catches the first rung within reach). The stage ends ``settle`` (+ ``tail``) s after
+    the stroke. Which keys let go depends on what holds at the checkpoint, and the
+    preload on a choice moves every time after it: what a template cannot say."""
+    sim = run.session.sim
+    limbs = [n for n in GRIP_KEYS if p.get(n)]  # hands first, near before far
+    t0 = run.t0
+    x, duration = p["x"], p["duration"]
+    loaded = bool(p.get("preload", 0))
+    lead = p.get("preload_s", 0.4) + 0.05
+    if loaded:
+        run.add({"t": round(t0 + 0.01, 4), "mouse": [x, p["pre_y"]],
+                 "over": p.get("preload_s", 0.4)})
+        t0 += lead
+    for limb in limbs:
+        if limb in sim.grasps:
+            run.add({"t": round(t0 + 0.01, 4), "key": GRIP_KEYS[limb]})  # let go
+    run.add({"t": round(t0 + 0.01, 4), "mouse": [x, p["y"]], "over": duration})
+    rearm = {n: p["rearm_hand"] if n.startswith("hand") else p["rearm_foot"] for n in limbs}
+    for limb in sorted(limbs, key=lambda n: rearm[n]):
+        run.add({"t": round(t0 + 0.01 + rearm[limb], 4), "key": GRIP_KEYS[limb]})  # armed
+    end = run.t0 + 0.01 + duration + p.get("settle", 0.8) + (lead if loaded else 0.0)
+    run.end_at(round(end, 4) + p.get("tail", 0.0))

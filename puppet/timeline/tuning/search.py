@@ -132,10 +132,10 @@ class Search:
         return n if self.scale == 1.0 or n == 0 else max(1, round(n * self.scale))
 
     # -- one stage ---------------------------------------------------------------------
-    def _context(self, si: int, rep: int, t0: float, before: Pairs) -> Context:
+    def _context(self, si: int, rep: int, t0: float, kept: list[Kept]) -> Context:
         st = self.start
         s0 = round(t0 / st.dt)
-        prefix = before + [(s0, ev.action("checkpoint"))]
+        prefix = self._before(kept) + [(s0, ev.action("checkpoint"))]
         stage = self.spec.stages[si]
         terms = self.terms[si]
         touches = any(type(t.expect.value).touches for t in terms) or any(
@@ -146,11 +146,7 @@ class Search:
 
             p = stage.playtest
             playtest = (LEVELS[p.noise], self._scaled(p.tries), p.weight)
-        mouse = (0.5, 0.5)
-        for _, e in reversed(prefix):
-            if e["type"] == "mouse":
-                mouse = (e["x"], e["y"])
-                break
+        mouse = _mouse_from(prefix, self.spec.events, kept)
         ctx_key = digest(st.setup_from, st.dt, st.interval, prefix, self._stage_digest(si),
                          playtest and (playtest[1], playtest[2], self.seed))
         return Context(ctx_key, st.setup_from, st.dt, st.interval, prefix, s0, t0, terms,
@@ -345,7 +341,7 @@ class Search:
             if si >= len(self.spec.stages):
                 break
             t0 = self._t0(si, kept)
-            ctx = self._context(si, rep, t0, self._before(kept))
+            ctx = self._context(si, rep, t0, kept)
             label = self._label(si, rep)
             tried = self._search_stage(si, rep, ctx, label)
             accepted = [item for item in tried if item[1].accepted]
@@ -362,7 +358,7 @@ class Search:
                 backtracks += 1
                 k = kept.pop()
                 params, result = k.alternatives[0]
-                ctx_k = self._context(k.stage, k.rep, k.t0, self._before(kept))
+                ctx_k = self._context(k.stage, k.rep, k.t0, kept)
                 kept.append(self._keep(ctx_k, k.stage, k.rep, params, result,
                                        k.alternatives[1:]))
                 self.reporter.line(f"{label}: no try met what it requires; back to "
@@ -396,8 +392,30 @@ class Search:
             self.reporter.line(f"    {j.line}")
 
 
+def _mouse_from(prefix: Pairs, events: list, kept: list[Kept]) -> tuple[float, float]:
+    """Where the mouse is at a stage's checkpoint, for the stage's first glide to start
+    from: the last mouse event before it, or - when that is where an entry sent the
+    mouse - the entry's own point. A glide's last step lands on its point only to the
+    last bit of a float; the script compiler glides on from the point itself, so the
+    written script and the searched run stay the same input."""
+    mouse = (0.5, 0.5)
+    for _, e in reversed(prefix):
+        if e["type"] == "mouse":
+            mouse = (e["x"], e["y"])
+            break
+    points = [tuple(e.mouse) for e in events if e.mouse is not None]
+    points += [tuple(e["mouse"]) for k in kept for e in k.entries if "mouse" in e]
+    for point in reversed(points):
+        if max(abs(point[0] - mouse[0]), abs(point[1] - mouse[1])) < 1e-9:
+            return (float(point[0]), float(point[1]))
+    return mouse
+
+
 def _distinct(items: list, n: int) -> list:
+    """The first ``n`` of ``items`` with distinct parameters (none for ``n`` = 0)."""
     out, seen = [], set()
+    if n <= 0:
+        return out
     for params, result in items:
         mark = tuple(sorted(params.items()))
         if mark not in seen:
