@@ -16,6 +16,10 @@ the rear hand and hangs. The presses are exact steps; they are written as a scri
 temporary folder and replayed with assets/logs/biped-monkey-bars.expect.yaml. A
 ``lead`` passes or fails as a whole; the best is the one that passes and finishes
 first. Deterministic: the same interface gives the same script.
+
+The shipped script is now played by watching (rules on the same cues: the body
+under the support hand, the forward swing slowing; see its comments), so that a
+playtest's tries follow the swing; ``--write`` would replace it with a timed one.
 """
 
 from __future__ import annotations
