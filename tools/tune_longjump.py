@@ -394,7 +394,7 @@ def read_run(spec: dict, mouse_x: float, press: float) -> dict:
              to_swing_hip=to["swing_hip"]["world"], to_swing_knee=to["swing_knee"],
              to_k=tk["stance_hip"], to_swing_k=tk["swing_hip"],
              to_hold=st["leap_near"]["transitions"][0]["after"],
-             sail_hold=st["rsail"]["transitions"][0]["after"])
+             sail_hold=st["rsail"]["transitions"][-1]["after"])  # the tuck's longest
     return p
 
 
@@ -408,10 +408,11 @@ def with_run(base: dict, p: dict) -> dict:
     for k, pose in RUN_WAIST.items():
         P[pose]["joints"]["waist"] = r(p[k])
     for side in ("near", "far"):
-        st[f"run_{side}"]["transitions"][-1]["after"] = r(p["run_hold"])
-        st[f"rpush_{side}"]["transitions"][0]["after"] = r(p["rpush_hold"])
+        for armed in ("", "a"):  # the run and its armed copy (l pressed) keep one rhythm
+            st[f"{armed}run_{side}"]["transitions"][-1]["after"] = r(p["run_hold"])
+            st[f"{armed}rpush_{side}"]["transitions"][0]["after"] = r(p["rpush_hold"])
         st[f"leap_{side}"]["transitions"][0]["after"] = r(p["to_hold"])
-    st["rsail"]["transitions"][0]["after"] = r(p["sail_hold"])
+    st["rsail"]["transitions"][-1]["after"] = r(p["sail_hold"])
     P["run_stance"]["stiffness"]["stance_knee"] = r(p["run_knee_k"])
     P["run_push"]["stiffness"].update(stance_knee=r(p["run_push_k"]),
                                       stance_ankle=r(p["run_push_k"]))
