@@ -13,7 +13,7 @@ from helpers import with_weak_hips
 from test_luxo_feats import _failed, _weakened
 
 from puppet.data.catalog import ROOT
-from puppet.testing import check, replay_log
+from puppet.testing import check, replay_log, replay_script_text
 
 LOGS = ROOT / "assets" / "logs"
 NAME = "biped-auto-walk"
@@ -50,6 +50,18 @@ def test_the_walk_is_faster_than_the_march_and_is_no_run(replayed):
     # walk is not the run (over 2.5 m/s)
     assert check(replayed, [{"mean_speed": {"from": 1.0, "until": 5.0, "min": 0.2}}])
     assert check(replayed, [{"mean_speed": {"from": 25.0, "min": 2.5}}])
+
+
+def test_the_mouse_height_does_nothing_so_the_path_is_a_band():
+    # only the mouse's x drives the walk: the log's glide played at other heights
+    # (low, and high then low) walks the same (the sidecar's expectations all met)
+    script = (ROOT / "assets" / "scripts" / f"{NAME}.yaml").read_text(encoding="utf-8")
+    side = LOGS / f"{NAME}.expect.yaml"
+    for a, b in (("0.2", "0.2"), ("0.95", "0.3")):
+        text = script.replace("[0.5, 0.55]", f"[0.5, {a}]").replace("0.879]", f"{b}]")
+        assert text != script
+        played = replay_script_text(text, ROOT / "interfaces" / "biped-auto.yaml", side)
+        assert not played.failed, [str(o) for o in played.failed]
 
 
 def test_the_log_fails_with_weak_hips(tmp_path):
