@@ -51,9 +51,9 @@ def test_stayed_in_state_fails_naming_the_transition(somersaults):
         {"stayed_in_state": {"state": "upright", "from": 60}},
     ])
     assert [str(o) for o in failed] == [
-        "FAIL stayed_in_state upright: left 'upright' for 'on_back' at t = 1.14 s",
+        "FAIL stayed_in_state upright: left 'upright' for 'on_back' at t = 1.16 s",
         "FAIL stayed_in_state on_back from 1.0 s: in 'upright', not 'on_back', at t = 1.00 s",
-        "FAIL in_state_at_end sitting: in 'upright' at the end (since t = 3.98 s)",
+        "FAIL in_state_at_end sitting: in 'upright' at the end (since t = 3.99 s)",
         "FAIL stayed_in_state upright from 60.0 s: no samples in the window "
         "(the run is 6.00 s)",
     ]

@@ -47,8 +47,10 @@ def test_bvh_reads_back_to_the_same_angles_within_a_hundredth_of_a_degree(flip, 
     assert np.abs(clip.channel("base", "Xposition") - flip.root_xy[:, 0]).max() < 1e-5
     assert np.abs(clip.channel("base", "Yposition") - flip.root_xy[:, 1]).max() < 1e-5
     # a back flip: the root's angle accumulates to a full backward turn, no wrap-around
+    # (a wrap would jump 360 deg; luxo-flip's opening whips the base round at up to
+    # 3600 deg/s, about 120 deg between two frames)
     assert clip.channel("base", "Zrotation")[-1] > 330
-    assert np.abs(np.diff(clip.channel("base", "Zrotation"))).max() < 90
+    assert np.abs(np.diff(clip.channel("base", "Zrotation"))).max() < 180
 
 
 def test_the_exported_angles_are_the_replays_link_angles(flip, flip_replay):

@@ -99,7 +99,9 @@ def test_with_noise_the_presses_follow_the_condition_not_the_clock():
         assert len(presses) >= 4
         for p in presses[1:]:
             delays = [p - land for land in landings if land <= p]
-            assert delays and low <= min(delays) <= high, (index, p, landings)
+            # a landing's bounce (the base touching again within the delay) is a later
+            # landing the rule already saw: the press follows one of them
+            assert any(low <= d <= high for d in delays), (index, p, landings)
         drift.append(max(abs(p - c) for p, c in zip(presses[1:], clock[1:])))
     # the landings moved (each hop started elsewhere) and the presses went with them,
     # further than a clock's presses moved by the same error could go
