@@ -51,23 +51,3 @@ def test_solver_sensitivity_moves_every_event_to_the_same_time_on_another_step()
         assert abs(new.step / 240 - old.step / 480) <= 0.5 / 240
     assert coarse.end["end"] == round(log.end["end"] / 2)
     assert tool.failures(path, 36, None, 1 / 240) == []
-
-
-def test_press_sweep_moves_the_press_and_everything_after_it():
-    """tools/press_sweep.py: the first press of the key and all that follows move by the
-    same steps (the end too); at its own step the back flip lands, a press 48 steps
-    later (0.1 s, the figure still at rest) does not: the timed flip the sweep measures
-    (issue 28: 1 of 10 presses from rest)."""
-    from puppet.data.catalog import ROOT
-    from puppet.timeline.log import read_log
-
-    tool = importlib.import_module("press_sweep")
-    path = ROOT / "assets" / "logs" / "biped-backflip.jsonl"
-    log = read_log(path)
-    at = tool.press_step(log, "f")
-    later = tool.moved(log, "f", at + 48)
-    assert [e.step for e in later.events] == [e.step + 48 for e in log.events]
-    assert later.end["end"] == log.end["end"] + 48
-    assert tool.steps_between(1 / 480, 0.5, 1.0, 3) == [240, 361, 482]
-    assert tool.failures(path, "f", at) == []
-    assert tool.failures(path, "f", at + 48)  # the flip fails 0.1 s later

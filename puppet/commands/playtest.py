@@ -64,6 +64,17 @@ def register(subparsers) -> argparse.ArgumentParser:
         p.add_argument("--" + name.replace("_", "-"), type=_number(name), dest=name,
                        metavar=unit.upper() or "X",
                        help=f"{what} ({lo:g}..{hi:g}; replaces the level's)")
+    p.add_argument("--from-rest", metavar="KEY",
+                   help="instead of a person's noise: move the log's first press of KEY "
+                        "(and all after it) to --count moments of --between, each copy "
+                        "judged by the feat expectations; exit 1 when fewer than 9 in 10 "
+                        "land (a single-key move must not depend on when it starts)")
+    p.add_argument("--between", nargs=2, type=in_range(float, "time", 0.0, 3600.0),
+                   metavar=("FROM", "TO"), default=(0.5, 3.0),
+                   help="--from-rest: the stretch of the log, in s, in which the "
+                        "character stands still in the move's start pose (default 0.5 3)")
+    p.add_argument("--count", type=in_range(int, "number of presses", 1, 1000), default=10,
+                   help="--from-rest: how many presses (default 10)")
     p.add_argument("--json", action="store_true", help="print the results as JSON")
     p.add_argument("--no-save", action="store_true",
                    help="do not keep the figures for the window's HUD "
@@ -172,8 +183,54 @@ def _save(results) -> None:
         save(figures)
 
 
+def from_rest(args) -> int:
+    """``--from-rest KEY``: each log's press of KEY at --count moments; a line a press,
+    then how many landed."""
+    from puppet.data.errors import DataError
+    from puppet.timeline.log import read_log
+    from puppet.timeline.playtest.from_rest import LAND_SHARE, failures, press_step, steps_between
+    from puppet.timeline.replay import find_log
+
+    start, stop = args.between
+    short = []
+    for name in args.logs:
+        try:
+            path = find_log(name)
+            log = read_log(path)
+            press_step(log, args.from_rest)
+        except DataError as exc:
+            print(f"puppet playtest: {exc}", file=sys.stderr)
+            return EXIT_ERROR
+        dt = float(log.header["dt"])
+        steps = steps_between(dt, min(start, stop), max(start, stop), args.count)
+        try:
+            with executor_for(args) as executor:
+                found = executor.map(failures, [(path, args.from_rest, s) for s in steps])
+        except DataError as exc:
+            print(f"puppet playtest: {exc}", file=sys.stderr)
+            return EXIT_ERROR
+        out = []
+        for step, failed in zip(steps, found):
+            words = "lands" if not failed else "fails: " + ", ".join(failed)
+            out.append({"step": step, "t": round(step * dt, 4), "failed": failed})
+            if not args.json:
+                print(f"  {args.from_rest} at {step * dt:.3f} s (step {step}): {words}")
+        landed = sum(1 for f in found if not f)
+        if args.json:
+            print(json.dumps({"log": name, "key": args.from_rest, "landed": landed,
+                              "presses": out}, indent=1))
+        else:
+            print(f"{Path(path).stem}: {landed}/{len(steps)} presses of "
+                  f"{args.from_rest} from rest land")
+        if landed < LAND_SHARE * len(steps) - 1e-9:
+            short.append(name)
+    return EXIT_MISSED if short else 0
+
+
 def run(args) -> int:
     """The command: plans, the tries (with a progress bar), the table or JSON."""
+    if args.from_rest:
+        return from_rest(args)
     from tqdm import tqdm
 
     from puppet.timeline.playtest import run as run_plans

@@ -1,0 +1,66 @@
+"""``puppet playtest LOG --from-rest KEY``: a single-key move pressed at other moments
+from rest, each copy judged by the log's feat expectations (issue 28: a move that
+starts from rest must not depend on when it starts)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from puppet.commands import main
+from puppet.data.catalog import ROOT
+from puppet.data.errors import DataError
+from puppet.timeline.log import read_log
+from puppet.timeline.playtest.from_rest import failures, moved, press_step, steps_between
+
+BACKFLIP = ROOT / "assets" / "logs" / "biped-backflip.jsonl"
+
+
+def test_the_press_and_everything_after_it_move_together():
+    """The first press of the key and all that follows move by the same steps (the end
+    too); at its own step the back flip lands, a press 48 steps later (0.1 s, the figure
+    still at rest) does not: the timed flip the sweep measures."""
+    log = read_log(BACKFLIP)
+    at = press_step(log, "f")
+    later = moved(log, "f", at + 48)
+    assert [e.step for e in later.events] == [e.step + 48 for e in log.events]
+    assert later.end["end"] == log.end["end"] + 48
+    assert steps_between(1 / 480, 0.5, 1.0, 3) == [240, 361, 482]
+    assert failures((str(BACKFLIP), "f", at)) == []
+    assert failures((str(BACKFLIP), "f", at + 48))  # the flip fails 0.1 s later
+
+
+def test_a_press_at_the_start_or_before_earlier_input_is_refused():
+    log = read_log(ROOT / "assets" / "logs" / "luxo-keys-sit-stand.jsonl")
+    with pytest.raises(DataError, match="before an event"):
+        moved(log, "z", 0)
+    first = log.events[0].step
+    if first < press_step(log, "z"):  # input before the press: a press may not pass it
+        with pytest.raises(DataError, match="before an event"):
+            moved(log, "z", first)
+
+
+def test_the_command_counts_the_landings_and_exits_1_below_nine_in_ten(capsys):
+    code = main(["playtest", "biped-backflip", "--from-rest", "f", "--count", "2",
+                 "--between", "0.5", "1.5", "--jobs", "1"])
+    out = capsys.readouterr().out
+    assert code == 1  # 1 of 2 lands: the timed flip
+    assert "f at 0.500 s (step 240): lands" in out
+    assert "biped-backflip: 1/2 presses of f from rest land" in out
+
+
+def test_a_move_that_follows_the_body_lands_every_time(capsys):
+    """Luxo's back somersault (d, its phases from the body) lands from every moment:
+    exit 0, JSON."""
+    code = main(["playtest", "luxo-keys-somersaults", "--from-rest", "d", "--count", "2",
+                 "--between", "0.3", "0.8", "--jobs", "1", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["landed"] == 2 and out["key"] == "d"
+
+
+def test_a_key_the_log_never_presses_is_one_line(capsys):
+    code = main(["playtest", "biped-backflip", "--from-rest", "q"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.count("\n") == 1 and "no press of 'q' in the log" in err
