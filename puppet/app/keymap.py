@@ -18,7 +18,7 @@ import math
 import pygame
 
 from puppet.app.describe import live_keys
-from puppet.app.render import LAYER_ORDER
+from puppet.app.render import LAYER_ORDER, draw_capsule
 from puppet.data.characters import CharacterSpec
 from puppet.data.keys import MODIFIERS, normalize_key
 from puppet.physics.kinematics import joint_order, link_poses
@@ -150,18 +150,7 @@ def _fill(surface, shape, pts, color, scale) -> None:
     (at least MIN_STROKE wide), a circle a disc, a box or polygon a filled outline."""
     edge = tuple(max(0, int(c * 0.55)) for c in color)
     if shape.type == "segment":
-        r = max(MIN_STROKE / 2, shape.radius * scale)
-        a, b = pts
-        dx, dy = b[0] - a[0], b[1] - a[1]
-        n = math.hypot(dx, dy) or 1.0
-        ox, oy = -dy / n * r, dx / n * r
-        quad = [(a[0] + ox, a[1] + oy), (b[0] + ox, b[1] + oy),
-                (b[0] - ox, b[1] - oy), (a[0] - ox, a[1] - oy)]
-        pygame.draw.polygon(surface, color, quad)
-        for p in (a, b):
-            pygame.draw.circle(surface, color, p, r)
-        pygame.draw.line(surface, edge, quad[0], quad[1], 1)
-        pygame.draw.line(surface, edge, quad[2], quad[3], 1)
+        draw_capsule(surface, color, edge, *pts, max(MIN_STROKE / 2, shape.radius * scale))
     elif shape.type == "circle":
         r = max(2, round(shape.radius * scale))
         pygame.draw.circle(surface, color, pts[0], r)

@@ -324,6 +324,21 @@ def _draw_character(surface, session: Session, camera: Camera, com_mark: bool = 
     pygame.draw.line(surface, (230, 120, 30), (cx, cy - 5), (cx, cy + 5), 2)
 
 
+def draw_capsule(surface, color, edge, a, b, r: float) -> None:
+    """A segment of radius ``r`` pixels from ``a`` to ``b`` (screen points): a filled
+    quad with round ends, its two long sides outlined in ``edge``."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    n = math.hypot(dx, dy) or 1.0
+    ox, oy = -dy / n * r, dx / n * r
+    quad = [(a[0] + ox, a[1] + oy), (b[0] + ox, b[1] + oy),
+            (b[0] - ox, b[1] - oy), (a[0] - ox, a[1] - oy)]
+    pygame.draw.polygon(surface, color, quad)
+    for p in (a, b):
+        pygame.draw.circle(surface, color, p, r)
+    pygame.draw.line(surface, edge, quad[0], quad[1], 1)
+    pygame.draw.line(surface, edge, quad[2], quad[3], 1)
+
+
 def _draw_shape(surface, camera: Camera, body: pymunk.Body, shape, color, edge) -> None:
     if isinstance(shape, pymunk.Circle):
         c = camera.to_screen(body.local_to_world(shape.offset))
@@ -334,17 +349,7 @@ def _draw_shape(surface, camera: Camera, body: pymunk.Body, shape, color, edge) 
     if isinstance(shape, pymunk.Segment):
         a = camera.to_screen(body.local_to_world(shape.a))
         b = camera.to_screen(body.local_to_world(shape.b))
-        r = max(1.0, shape.radius * camera.scale)
-        dx, dy = b[0] - a[0], b[1] - a[1]
-        n = math.hypot(dx, dy) or 1.0
-        ox, oy = -dy / n * r, dx / n * r
-        quad = [(a[0] + ox, a[1] + oy), (b[0] + ox, b[1] + oy),
-                (b[0] - ox, b[1] - oy), (a[0] - ox, a[1] - oy)]
-        pygame.draw.polygon(surface, color, quad)
-        for p in (a, b):
-            pygame.draw.circle(surface, color, p, r)
-        pygame.draw.line(surface, edge, quad[0], quad[1], 1)
-        pygame.draw.line(surface, edge, quad[2], quad[3], 1)
+        draw_capsule(surface, color, edge, a, b, max(1.0, shape.radius * camera.scale))
         return
     pts = [camera.to_screen(body.local_to_world(v)) for v in shape.get_vertices()]
     pygame.draw.polygon(surface, color, pts)

@@ -27,6 +27,7 @@ from pathlib import Path
 from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.commands.bench.config import in_turns
+from puppet.commands.bench.speed import grasp_changes
 
 CHUNK_STEPS = 240  # half a simulated second at 1/480 s: the runs' turns
 _GETV, _GETW = _cp.cpBodyGetVelocity, _cp.cpBodyGetAngularVelocity
@@ -69,25 +70,6 @@ def _world(sim) -> tuple:
     return (tuple(sim.space.gravity), tuple(s.friction for s in sim.ground))
 
 
-def _grasp_changes(sim, held: dict) -> list:
-    """The grasps made or let go since ``held`` (updated), as ``Simulation.attach``
-    arguments (None: let go)."""
-    if not held and not sim.grasps:
-        return []
-    link_of = {id(b): n for n, b in sim.character.bodies.items()}
-    out = [(name, None) for name in held if name not in sim.grasps]
-    for name, (joint, prop) in sim.grasps.items():
-        if held.get(name) is not joint:
-            gear = sim.rigid.get(name)
-            out.append((name, (link_of[id(joint.a)], tuple(joint.anchor_a),
-                               sim.grasp_point(name), prop, gear is not None,
-                               None if gear is None or gear.max_force == float("inf")
-                               else gear.max_force)))
-    held.clear()
-    held.update({name: joint for name, (joint, _) in sim.grasps.items()})
-    return out
-
-
 def record(log, setup, until: int | None = None) -> Trace:
     """Play ``log`` one step at a time (its events, the runtime's ticks, then a step,
     as ``Session.advance`` orders them) and note what changed in the physics before
@@ -125,7 +107,7 @@ def record(log, setup, until: int | None = None) -> Trace:
         now_servos, now_motion, now_world = _servos(sim), _motion(sim), _world(sim)
         servo_ch = [(k, p) for k, (p, q) in enumerate(zip(now_servos, servos)) if p != q]
         motion_ch = [(n, m[:3]) for n, m in now_motion.items() if m != motion.get(n)]
-        grasps = _grasp_changes(sim, held)
+        grasps = grasp_changes(sim, held)
         world_ch = now_world if now_world != world else None
         if reseat or servo_ch or motion_ch or grasps or world_ch:
             trace.ops.append((session.steps, reseat, servo_ch, motion_ch, grasps, world_ch))

@@ -81,7 +81,7 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
                 runtime.tick(session.steps)
             now = [_servo_params(sp) for sp in springs()]
             changed = [(i, p) for i, (p, q) in enumerate(zip(now, last)) if p != q]
-            grasps = _grasp_changes(session.sim, held)
+            grasps = grasp_changes(session.sim, held)
             if changed or grasps:
                 frame.append((k, changed, grasps))
             last = now
@@ -90,7 +90,7 @@ def target_trace(subject: Subject, inputs: list[list[dict]]) -> list[list[tuple]
     return trace
 
 
-def _grasp_changes(sim, held: dict) -> list[tuple]:
+def grasp_changes(sim, held: dict) -> list[tuple]:
     """The grasps made or let go since ``held`` (updated): ``(name, None)`` for a
     release, ``(name, (link, local point, world point, prop))`` for a grasp, to make
     again on a bare Simulation (``Simulation.attach``): a figure holding a bar or a
