@@ -146,3 +146,26 @@ class ListenedPort:
     def wait(self, timeout: float = 10.0) -> int:
         assert self._ready.wait(timeout), "the live source never started"
         return self.port
+
+
+ANKLE_IFACE = """
+name: t
+description: the ankle on the mouse
+character: luxo
+maps:
+  - {input: mouse.x, joint: ankle, from: [0, 1], to: [60, -60]}
+"""
+
+
+def recorded_then_edited(tmp_path: Path) -> tuple[Path, Path]:
+    """(interface, log): a second of the ankle on the mouse recorded in ``tmp_path``,
+    then the interface file edited (its map's slope) after the recording."""
+    from puppet.timeline.log import record_events
+
+    iface = tmp_path / "t.yaml"
+    iface.write_text(textwrap.dedent(ANKLE_IFACE))
+    log = tmp_path / "t.jsonl"
+    s = Session(load_setup(str(iface)))
+    record_events(s, [(0, ev.mouse(1.0, 0.5)), (240, ev.mouse(0.0, 0.5))], 480, log)
+    iface.write_text(textwrap.dedent(ANKLE_IFACE).replace("to: [60, -60]", "to: [10, -10]"))
+    return iface, log

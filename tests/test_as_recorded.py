@@ -3,37 +3,17 @@ command's ``--as-recorded`` and a ghost (which always shows the session as it wa
 
 from __future__ import annotations
 
-import textwrap
-from pathlib import Path
+from helpers import recorded_then_edited
 
 from puppet.data.catalog import load_setup
-from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.timeline.log import read_log, record_events
-
-IFACE = """
-name: t
-description: the ankle on the mouse
-character: luxo
-maps:
-  - {input: mouse.x, joint: ankle, from: [0, 1], to: [60, -60]}
-"""
-
-
-def _recorded(tmp_path) -> tuple[Path, Path]:
-    iface = tmp_path / "t.yaml"
-    iface.write_text(textwrap.dedent(IFACE))
-    log = tmp_path / "t.jsonl"
-    s = Session(load_setup(str(iface)))
-    record_events(s, [(0, ev.mouse(1.0, 0.5)), (240, ev.mouse(0.0, 0.5))], 480, log)
-    iface.write_text(textwrap.dedent(IFACE).replace("to: [60, -60]", "to: [10, -10]"))
-    return iface, log
+from puppet.timeline.log import read_log
 
 
 def test_a_ghost_plays_the_session_as_played_not_todays_interface(tmp_path):
     from puppet.timeline.ghost import Ghost
 
-    _, log = _recorded(tmp_path)
+    _, log = recorded_then_edited(tmp_path)
     ghost = Ghost(log)
     assert ghost.setup.interface.maps[0].to == (60, -60)  # the recorded copy
     live = Session(load_setup("luxo-mouse"))
@@ -45,7 +25,7 @@ def test_a_ghost_plays_the_session_as_played_not_todays_interface(tmp_path):
 def test_the_replay_command_replays_todays_interface_unless_asked_for_the_recorded(tmp_path):
     from puppet.timeline.report import replay_one
 
-    _, log = _recorded(tmp_path)
+    _, log = recorded_then_edited(tmp_path)
     today = replay_one(str(log), None, False, False)
     recorded = replay_one(str(log), None, False, False, as_recorded=True)
     assert today["same_end"] is False and any("differs from the one recorded" in w

@@ -5,18 +5,16 @@ warnings about the files a header names (one wording for check and replay)."""
 from __future__ import annotations
 
 import json
-import textwrap
 from pathlib import Path
 
 import pytest
+from helpers import recorded_then_edited
 
 from puppet.commands import main
-from puppet.data.catalog import ROOT, file_hash, load_setup
+from puppet.data.catalog import ROOT, file_hash
 from puppet.data.errors import DataError
-from puppet.interface import events as ev
-from puppet.session import Session
 from puppet.testing import record_script
-from puppet.timeline.log import read_log, record_events, text_hash
+from puppet.timeline.log import read_log, text_hash
 from puppet.timeline.replay import replay, setup_for_log
 
 LOGS = ROOT / "assets" / "logs"
@@ -231,27 +229,10 @@ def test_record_script_names_a_path_as_the_cli_records_it_and_the_replay_says_wh
     assert "not found" not in result.warnings[0]
 
 
-IFACE = """
-name: t
-description: the ankle on the mouse
-character: luxo
-maps:
-  - {input: mouse.x, joint: ankle, from: [0, 1], to: [60, -60]}
-"""
-
-
-def _recorded(tmp_path) -> tuple[Path, Path]:
-    iface = tmp_path / "t.yaml"
-    iface.write_text(textwrap.dedent(IFACE))
-    log = tmp_path / "t.jsonl"
-    s = Session(load_setup(str(iface)))
-    record_events(s, [(0, ev.mouse(1.0, 0.5)), (240, ev.mouse(0.0, 0.5))], 480, log)
-    iface.write_text(textwrap.dedent(IFACE).replace("to: [60, -60]", "to: [10, -10]"))
-    return iface, log
 
 
 def test_a_recorded_log_is_compact_json_one_object_per_line(tmp_path):
-    _, log = _recorded(tmp_path)
+    _, log = recorded_then_edited(tmp_path)
     lines = log.read_text().splitlines()
     assert all(", " not in ln.split('"interface_text"')[0] and '": ' not in ln
                for ln in lines[1:])
