@@ -73,7 +73,7 @@ def events_of(log: Path) -> list[str]:
 
 
 # -- specs refused in one line --------------------------------------------------------
-@pytest.mark.parametrize("case", range(6))
+@pytest.mark.parametrize("case", range(9))
 def test_a_bad_spec_is_one_line_at_its_place(tmp_path, case):
     text = HOP % {"tries": 2, "refine": 0}
     if case == 0:
@@ -92,9 +92,21 @@ def test_a_bad_spec_is_one_line_at_its_place(tmp_path, case):
     elif case == 4:
         text = text.replace("search: {tries:", "search: {trys:")
         want = "trys"
-    else:
+    elif case == 5:
         text = text.replace("cx: [0.8, 1.0]", "cx: [1.0, 0.8]")
         want = "the high end is under the low one"
+    elif case == 6:  # a clip that is not there
+        text = text.replace("seed: 3\n", "seed: 3\nmocap: {clip: no-such-clip}\n")
+        want = "no-such-clip"
+    elif case == 7:  # a clip plays from the first step: not from a log's middle
+        text = text.replace("seed: 3\n", "seed: 3\nmocap: {clip: cmu-01_01-jumps}\n"
+                            "start: {log: luxo-hop}\n")
+        want = "starts from the scene"
+    else:  # a generator's input would miss the clip's samples
+        text = text.replace("seed: 3\n", "seed: 3\nmocap: {clip: cmu-01_01-jumps}\n")
+        text = text.replace("    length: push + 1.6", "    generator: key-turn\n"
+                            "    length: push + 1.6")
+        want = "a generator plays its own input"
     path = spec_file(tmp_path, text)
     with pytest.raises(DataError) as exc:
         Search(load_tune_spec(path))

@@ -2,13 +2,12 @@
 (assets/logs/biped-walk-mocap-arms): biped-walk.yaml's walk on the mouse and space, its
 arm joints tracking a mocap clip after one press of A. The log replays and meets its
 expectations in tests/test_logs.py; here: it is driven as it says, its arms' bound
-fails without the tracking, and tools/tune_walk.py's mocap search writes a script
-whose recording does what the search saw."""
+fails without the tracking, and the mocap search (assets/tune/biped-walk-mocap-arms.yaml)
+writes a script whose recording does what the search saw."""
 
 from __future__ import annotations
 
 import json
-import sys
 
 from puppet.data.catalog import ROOT
 from puppet.testing import replay_log
@@ -70,19 +69,31 @@ def test_without_the_a_press_the_arms_miss_the_bound(tmp_path):
 
 
 def test_the_mocap_search_writes_a_script_whose_recording_does_what_it_saw(tmp_path):
-    """tools/tune_walk.py --mocap --arms in miniature: three strides with the jumps clip's
-    arms; the written script, played by `puppet play --mocap` and recorded, meets the
-    search's criteria (the search merged the clip's events as the command does)."""
-    sys.path.insert(0, str(ROOT))
+    """assets/tune/biped-walk-mocap-arms.yaml in miniature (a few strides, 4 tries each):
+    the clip plays along every try (the spec's ``mocap``), and the written script,
+    played by `puppet play --mocap` and recorded, is the search's log to the bit (the
+    search merged the clip's samples as the command does) and meets its criteria."""
     from puppet.commands import main as puppet
-    from tools import tune_walk
 
-    script, log = tmp_path / "two-strides.yaml", tmp_path / "two-strides.jsonl"
+    spec = (ROOT / "assets" / "tune" / "biped-walk-mocap-arms.yaml").read_text("utf-8")
+    spec = (spec.replace("times: 80", "times: 5").replace("min: 18.5}", "min: 0.3}")
+            .replace("x_at_end: {com: true, min: 18.0}", "x_at_end: {com: true, min: 0.3}")
+            .replace("search: {tries: 32,", "search: {tries: 4,"))
+    assert spec.count("min: 0.3}") == 2 and "tries: 4," in spec
+    mini = tmp_path / "mini.yaml"
+    mini.write_text(spec, encoding="utf-8")
+    out, script, log = tmp_path / "tuned.jsonl", tmp_path / "mini-script.yaml", \
+        tmp_path / "played.jsonl"
+    assert puppet(["tune", str(mini), "--out", str(out), "--script", str(script),
+                   "-j", "1"]) == 0
+    assert "--mocap cmu-01_01-jumps --mapping cmu-01" in script.read_text("utf-8")
     clip = ["--mocap", "cmu-01_01-jumps", "--mapping", "cmu-01"]
-    assert tune_walk.main(clip + ["--arms", "--finish", "0.3", "--tries", "4",
-                                  "--max-strides", "3", "--write", str(script)]) == 0
     assert puppet(["play", "biped-walk", "--headless", *clip, "--input", str(script),
                    "--record", str(log)]) == 0
+    tuned, played = (p.read_text("utf-8").splitlines()[1:] for p in (out, log))
+    assert played == tuned  # every event and the end hash
+    frames = [r for r in map(json.loads, played) if r.get("event", {}).get("type") == "channels"]
+    assert len(frames) > 60 * 2  # the clip all along (60 a second, over 2 s)
     result = replay_log(log, expect=[
         {"never_fell": True}, {"x_at_end": {"com": True, "min": 0.3}},
         {"tilt_never_above": {"links": ["pelvis", "chest"], "max": 45}},

@@ -68,6 +68,24 @@ fps = number_in("frame rate", 1.0, 240.0, "frames per second")
 scale = number_in("scale", 0.05, 4.0, "0.5 halves the frames")
 jobs = whole_in("number of processes", 1, "1 replays in this process")
 step = whole_in("step", 0, "simulation steps from the start")
+solver_passes = in_range(int, "number of solver passes", 1, 200,
+                         "constraint-solver iterations a step, e.g. 36")
+
+
+def sim_step(text: str) -> float:
+    """A simulation step in seconds, written 0.0041667 or 1/240: 1/2000 to 1/30 s."""
+    try:
+        if "/" in text:
+            num, den = text.split("/", 1)
+            value = float(num) / float(den)
+        else:
+            value = float(text)
+    except (ValueError, ZeroDivisionError):
+        value = None
+    if value is None or not 1 / 2000 <= value <= 1 / 30:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a simulation step from 1/2000 "
+                                         "to 1/30 s (e.g. 1/240 or 0.0041667)")
+    return value
 slowdown = number_in("slowdown", MIN_SLOWDOWN, MAX_SLOWDOWN,
                      "wall s per simulated s: 4 = four times slower, 0.5 = twice as fast")
 checkpoint_every = number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT_MAX,

@@ -304,18 +304,25 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
            check: bool = True, sample_every: int = SAMPLE_EVERY,
            trajectory: bool = True, as_recorded: bool = False,
            adjust=None, expect: list | None = None,
-           frames: tuple[int, Callable[[Session], None]] | None = None) -> ReplayResult:
+           frames: tuple[int, Callable[[Session], None]] | None = None,
+           physics=None) -> ReplayResult:
     """Replay a log (a path, or one already read) headless, as fast as it goes;
     evaluate its expectations (``check``; a log without its end line is then refused
     unless ``allow_truncated``: ``require_end``). ``expect``: expectation dicts to check
     instead of the log's (a test's; no end-state check is added), under the same rule.
     ``as_recorded``: see ``setup_for_log``. ``adjust``: a function of the Setup
-    returning the one to replay on instead (a tool asking what the log does on other
-    physics: tools/solver_sensitivity.py). ``frames``: (every, on_frame), on_frame
-    called with the session every ``every`` steps (the images of ``puppet replay
-    --frames``; reading the session only, they leave the replay as it is)."""
+    returning the one to replay on instead (a test's weaker servos). ``physics``: an
+    ``OtherPhysics`` (other solver passes, slop or step: ``puppet replay
+    --solver-passes/--step``): the log replayed on it, its end state not compared.
+    ``frames``: (every, on_frame), on_frame called with the session every ``every``
+    steps (the images of ``puppet replay --frames``; reading the session only, they
+    leave the replay as it is)."""
     log = path if isinstance(path, Log) else read_log(path, allow_truncated)
     path = log.path
+    if physics:
+        log = physics.log(log)
+        adjust = physics.adjust if adjust is None else (
+            lambda setup, first=adjust: physics.adjust(first(setup)))
     check = check or expect is not None
     if check:  # before anything is loaded: the log itself cannot be checked
         require_end(log, allow_truncated)
@@ -348,7 +355,7 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
     traj = sampler.trajectory() if sampler is not None else None
     final = session.sim.state_hash()
     same_end = None
-    if log.end_hash and until_step is None and log.truncated_at is None:
+    if log.end_hash and until_step is None and log.truncated_at is None and not physics:
         same_end = final == log.end_hash
     outcomes: list[Outcome] = []
     if expectations is not None:

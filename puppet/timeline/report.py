@@ -18,13 +18,13 @@ EXIT_FAILED, EXIT_DATA_ERROR, EXIT_BLOWUP = 1, 2, 3
 
 
 def replay_one(path: str, until_step: int | None, allow_truncated: bool, check: bool,
-                as_recorded: bool = False) -> dict:
+                as_recorded: bool = False, physics=None) -> dict:
     """One headless replay, as a plain dict (runs in a worker process). ``path`` may
-    be a log's name (``find_log``)."""
+    be a log's name (``find_log``); ``physics``: an ``OtherPhysics`` to replay on."""
     try:
         log = read_log(find_log(path), allow_truncated)
         result = replay(log, until_step, allow_truncated, check=check, trajectory=check,
-                        as_recorded=as_recorded)
+                        as_recorded=as_recorded, physics=physics)
     except DataError as exc:
         return {"log": path, "error": str(exc)}
     except Exception as exc:  # noqa: BLE001 - one bad log must not stop the others

@@ -29,6 +29,11 @@ def check_spec(loaded: Loaded) -> None:
                 raise loaded.error(("stages", i, "generator"),
                                    f"no candidate generator '{stage.generator}'; the "
                                    f"generators: {', '.join(sorted(GENERATORS))}")
+            if spec.mocap is not None:
+                raise loaded.error(("stages", i, "generator"),
+                                   "a generator plays its own input from the session; with "
+                                   "'mocap' the clip's samples would not be merged into it: "
+                                   "expected the stage's 'events' (or 'repeat') instead")
     if any(p.interface for ps in loaded.params for p in ps):
         _check_interface_places(loaded)
 

@@ -23,6 +23,7 @@ from pathlib import Path
 from puppet.interface import events as ev
 from puppet.timeline.executor import Executor
 from puppet.timeline.tuning.candidates import Climb, complete, draw, grid, rounds
+from puppet.timeline.tuning.performer import merged
 from puppet.timeline.tuning.scoring import Term
 from puppet.timeline.tuning.spec import Loaded
 from puppet.timeline.tuning.start import Start
@@ -126,7 +127,8 @@ class Search:
         stage = self.spec.stages[si]
         feat = any(t.feat for t in self.terms[si])
         return digest(msgspec.to_builtins(stage), [t.required for t in self.terms[si]],
-                      msgspec.to_builtins(self.spec.feat) if feat else None)
+                      msgspec.to_builtins(self.spec.feat) if feat else None,
+                      msgspec.to_builtins(self.spec.mocap))
 
     def _scaled(self, n: int) -> int:
         return n if self.scale == 1.0 or n == 0 else max(1, round(n * self.scale))
@@ -135,7 +137,7 @@ class Search:
     def _context(self, si: int, rep: int, t0: float, kept: list[Kept]) -> Context:
         st = self.start
         s0 = round(t0 / st.dt)
-        prefix = self._before(kept) + [(s0, ev.action("checkpoint"))]
+        prefix = self._before(kept, s0) + [(s0, ev.action("checkpoint"))]
         stage = self.spec.stages[si]
         terms = self.terms[si]
         touches = any(type(t.expect.value).touches for t in terms) or any(
@@ -170,6 +172,9 @@ class Search:
         span = end_step - ctx.stage_step
         for k in range(1, stage.lookahead_repeats + 1):
             look += [(s + k * span, e) for s, e in pairs if s + k * span <= look_step]
+        if st.performer is not None:  # the clip plays along: its samples, merged
+            pairs = merged(pairs, st.performer.between(ctx.stage_step, end_step))
+            look = merged(look, st.performer.between(end_step, look_step + 1))
         if text is not None:
             pairs = [(ctx.stage_step, ev.reload(text))] + pairs
         return Task(ctx, pairs, end_step, look_step, look, tpl.values(params)), entries, \
@@ -285,10 +290,19 @@ class Search:
                     alternatives, text)
 
     # -- the whole performance ---------------------------------------------------------
-    def _before(self, kept: list[Kept]) -> Pairs:
-        out = list(self.start.pairs)
+    def _before(self, kept: list[Kept], until: int | None = None) -> Pairs:
+        """The input of the start and the kept stages (and, with ``mocap``, the clip's
+        samples between a stage's end and a later start: up to step ``until``)."""
+        st = self.start
+        out = list(st.pairs)
+        done = round(st.t0 / st.dt)
         for k in kept:
+            if st.performer is not None:
+                out += st.performer.between(done, round(k.t0 / st.dt))
+                done = round(k.end / st.dt)
             out += k.pairs
+        if st.performer is not None and until is not None:
+            out += st.performer.between(done, until)
         return out
 
     def _label(self, si: int, rep: int) -> str:
@@ -373,6 +387,9 @@ class Search:
             break
         pairs = self._before(kept)
         end = kept[-1].end if kept else self.start.t0
+        if self.start.performer is not None:  # the command's samples at the last step too
+            last = round(end / self.start.dt)
+            pairs += self.start.performer.between(last, last + 1)
         last_feat = [j for j in kept[-1].result.judged if j.feat] if kept else []
         if found and any(not j.passed for j in last_feat):
             found, message = False, "the feat's expectations do not all hold"

@@ -191,6 +191,15 @@ class StartSpec(Spec, kw_only=True):
             raise ValueError("a start has 'until' or 'checkpoint', not both")
 
 
+class MocapSpec(Spec, kw_only=True):
+    """A clip that plays along every try (``puppet play --mocap CLIP [--mapping M]
+    [--loop]``): a performer's channels beside the searched keys and mouse."""
+
+    clip: str
+    mapping: str | None = None
+    loop: bool = False
+
+
 class TuneSpec(Spec, kw_only=True):
     description: str = ""
     interface: str | None = None
@@ -201,11 +210,16 @@ class TuneSpec(Spec, kw_only=True):
     stages: Annotated[list[StageSpec], Meta(min_length=1, max_length=200)]
     feat: ExpectFile | None = None
     max_backtracks: Whole = 30
+    mocap: MocapSpec | None = None
 
     def __post_init__(self):
         if self.interface is None and self.start is None:
             raise ValueError("a spec names its 'interface' (or a 'start: {log: ...}' to "
                              "take it from)")
+        if self.mocap is not None and self.start is not None:
+            raise ValueError("'mocap' plays a clip from the performance's first step: a "
+                             "spec with it starts from the scene (its 'interface' and "
+                             "'events'), not from a log")
 
 
 class Param:
@@ -280,6 +294,6 @@ def load_tune_spec(path: str | Path) -> Loaded:
     return loaded
 
 
-__all__ = ["EntryTemplate", "Expr", "ExprError", "Loaded", "Param", "ParamSpec",
+__all__ = ["EntryTemplate", "Expr", "ExprError", "Loaded", "MocapSpec", "Param", "ParamSpec",
            "PlaytestTerm", "RepeatSpec", "SearchSpec", "StageSpec", "StartSpec", "TermSpec",
            "TuneSpec", "load_tune_spec", "params_of"]

@@ -47,6 +47,12 @@ class Start:
                                        "come before the stages")
         self.interface_path = self.setup.interface_path
         self._interface_text = None
+        self.performer = None
+        if spec.mocap is not None:  # the clip's samples before the first stage, merged
+            self.performer = _performer(loaded, self.setup, self.dt)
+            from puppet.timeline.tuning.performer import merged
+
+            self.pairs = merged(self.pairs, self.performer.between(0, round(self.t0 / self.dt)))
 
     def _from_log(self, loaded: Loaded) -> None:
         from puppet.timeline.log import read_log
@@ -125,7 +131,8 @@ class Start:
 
     def fingerprint(self) -> str:
         """What the results depend on besides the spec: the interface, scene and
-        character files' text, the start log, puppet's version and this package's code."""
+        character files' text, the start log, the clip and its mapping (``mocap``),
+        puppet's version and this package's code."""
         h = hashlib.sha1()
         for p in (self.setup.interface_path, self.setup.character_path,
                   getattr(self.setup, "scene_path", None), self.log_path):
@@ -135,6 +142,8 @@ class Start:
                         h.update(f.read())
                 except OSError:
                     h.update(str(p).encode())
+        if self.performer is not None:
+            h.update(self.performer.fingerprint())
         from puppet import __version__
 
         h.update(__version__.encode())
@@ -156,6 +165,27 @@ class Start:
                              ("stages", i, "score", j, "expect")).check_links(links)
             if stage.until:
                 Expectations(stage.until, loaded.located, ("stages", i, "until")).check_links(links)
+
+
+def _performer(loaded: Loaded, setup, dt: float):
+    """The spec's ``mocap`` clip through its mapping (as ``puppet play --mocap`` takes
+    them); a clip or mapping that cannot play is said at the spec's ``mocap`` line."""
+    from puppet.data.errors import DataError
+    from puppet.timeline.tuning.performer import Performer
+
+    mocap = loaded.spec.mocap
+    try:
+        performer = Performer(mocap, setup, dt)
+    except DataError as exc:
+        raise loaded.error(("mocap", "clip"), str(exc)) from None
+    if setup.interface.tracking is not None:
+        from puppet.data.tracking import mapping_problem
+
+        problem = mapping_problem(setup.interface.tracking, performer.mapping,
+                                  [j.name for j in setup.character.actuated])
+        if problem:
+            raise loaded.error(("mocap",), f"{problem} ({performer.mapping_where})")
+    return performer
 
 
 def _plain(e) -> dict:

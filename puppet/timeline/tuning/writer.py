@@ -126,6 +126,9 @@ def script_text(loaded: Loaded, result: TuneResult, log_path: Path) -> str:
     lines = [yaml.safe_dump(head, width=100).rstrip()] if head else []
     lines.append(f"# Found by puppet tune {loaded.path.as_posix()} (seed {spec.seed}); "
                  f"recorded as {log_path.name}.")
+    if start.performer is not None:  # the clip is not in the script: the command adds it
+        lines.append(f"# A clip plays along: puppet play {spec.interface} --headless "
+                     f"{start.performer.command} --input SCRIPT")
     lines += [f"interface: {spec.interface}"]
     if spec.scene:
         lines.append(f"scene: {spec.scene}")
