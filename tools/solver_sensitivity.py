@@ -13,7 +13,12 @@ which, before anyone changes ``solver:`` in a character file. (Measured 2026-12-
 iteration fewer breaks 8 of the biped's 23 logs, the walk and the march among them.)
 ``--dt`` replays on another simulation step too (1/240 s: ``0.0041667``), every event
 moved to the step nearest its recorded time (``rescaled``): the other setting that
-makes a run cheaper. Exit 1 if a log fails at some setting, 0 if all hold.
+makes a run cheaper. (The servos' damping means the same on any step: puppet/physics/
+servo.py. Before that, every Luxo and cat log failed at 1/240 s, because the engine's
+damping grows exponentially with the step on light links; measured 2026-12-07 with it:
+Luxo and cat 5/18 logs hold at 1/240 s, 9/18 at 1/360 s, 8/18 at 1/960 s, against 1, 3
+and 3; the rest fail at 1/960 s or with their events on 1/240 s steps at 1/480 s too.)
+Exit 1 if a log fails at some setting, 0 if all hold.
 """
 
 from __future__ import annotations
