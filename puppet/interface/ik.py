@@ -173,8 +173,8 @@ class Chain:
                    points[0], links, tuple(spec.end), lim)
 
     def end_world(self, character) -> Vec:
-        p = character.bodies[self.end_link].local_to_world(self.end)
-        return (p[0], p[1])
+        p = _to_world(character.bodies[self.end_link]._body, self.end)  # (local_to_world's)
+        return (p.x, p.y)
 
     def solve(self, character, target: Vec, current) -> tuple[float, ...]:
         """Joint targets (radians, within limits) reaching for a world point, starting

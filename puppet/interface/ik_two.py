@@ -51,17 +51,14 @@ class TwoLink:
         c = (dist * dist - self.l1sq - self.l2sq) / self.den
         c = c if c > -1.0 else -1.0  # min(1.0, max(-1.0, c))
         c = c if c < 1.0 else 1.0
-        phi = _atan2(d1, d0)
-        beta = _acos(c)
-        qa2 = _rem(beta + p1 - self.p2, _TWO_PI)
-        qa1 = _rem(phi - (p1 + _atan2(l2 * _sin(beta), l1 + l2 * _cos(beta))), _TWO_PI)
-        beta = -_acos(c)
-        qb2 = _rem(beta + p1 - self.p2, _TWO_PI)
-        qb1 = _rem(phi - (p1 + _atan2(l2 * _sin(beta), l1 + l2 * _cos(beta))), _TWO_PI)
-        if abs(_rem(qb2 - prefer_q2, _TWO_PI)) < abs(_rem(qa2 - prefer_q2, _TWO_PI)):
-            q1, q2 = qb1, qb2
-        else:
-            q1, q2 = qa1, qa2
+        beta = _acos(c)  # the bend nearer prefer_q2 (the first of equals); only its q1
+        q2 = _rem(beta + p1 - self.p2, _TWO_PI)
+        other = -_acos(c)
+        q2b = _rem(other + p1 - self.p2, _TWO_PI)
+        if abs(_rem(q2b - prefer_q2, _TWO_PI)) < abs(_rem(q2 - prefer_q2, _TWO_PI)):
+            beta, q2 = other, q2b
+        q1 = _rem(_atan2(d1, d0) - (p1 + _atan2(l2 * _sin(beta), l1 + l2 * _cos(beta))),
+                  _TWO_PI)
         lim0, lim1 = self.limits
         same = True
         c1, c2 = q1, q2

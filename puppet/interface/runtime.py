@@ -144,6 +144,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._input_maps: dict[tuple, list] = {}  # (binding, input names) -> their maps
         self._active_cache: dict[tuple, tuple] = {}  # (binding, active maps) -> compiled
         self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
         # pointer.x / pointer.y: the mouse, or the gamepad's pointer stick (only kept when
