@@ -422,22 +422,24 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
         state = self._figure.read()  # every body in one call: what each link is now
         set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
+        kp, dp, sqrt, mcos, msin, still = preset.kp, preset.dp, math.sqrt, math.cos, \
+            math.sin, (0.0, 0.0)  # (hoisted: the loop runs 13 links at 120 Hz)
         for name, cb, i, m, gx, gy in rows:
             joint = joint_of.get(name)
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            px, py = targets[name][0], targets[name][1]
+            px, py = targets[name][:2]
             s = scale.get(name, 1.0)
             w = weight
             if name == stepping:  # the protective step, then back to the performance
                 px, py = self._stepped(step, weight, px, py)
                 w = 1.0
-            k, d = preset.kp * s * w, preset.dp * math.sqrt(s) * w  # same ratio
+            k, d = kp * s * w, dp * sqrt(s) * w  # same ratio
             if k == 0.0 and d == 0.0:
                 continue
-            tvx, tvy = vel.get(name, (0.0, 0.0))
+            tvx, tvy = vel.get(name, still)
             bx, by, ba, vx, vy, spin = state[i:i + 6]
-            cb_, sb = math.cos(ba), math.sin(ba)  # its centre: cpBodyLocalToWorld's sums
+            cb_, sb = mcos(ba), msin(ba)  # its centre: cpBodyLocalToWorld's sums
             wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
             den = m / T + k * T + d
             new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
