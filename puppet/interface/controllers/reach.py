@@ -131,7 +131,13 @@ class ReachController:
             chain = self.chains[name]
             joints = chain.joints
             get = table.get
-            owned = [j for j in joints if get(j) == owner]  # (a reach claims its chain's)
+            two = len(joints) == 2
+            if two:  # (a reach claims its chain's joints: what it owns is among them)
+                j0, j1 = joints
+                own0, own1 = get(j0) == owner, get(j1) == owner
+                owned = own0 or own1
+            else:
+                owned = [j for j in joints if get(j) == owner]
             if not owned and not owners.holds_any(owner):
                 del self.reaches[name]
                 continue
@@ -143,14 +149,19 @@ class ReachController:
             h = u * u * (3.0 - 2.0 * u)
             p0 = reach.p0
             point = (p0[0] + h * (goal[0] - p0[0]), p0[1] + h * (goal[1] - p0[1]))
-            if len(joints) == 2:  # the closed form reads the bend it keeps, only
-                current = (None, _target(servos[joints[1]].spring._constraint))
+            if two:  # the closed form reads the bend it keeps, only
+                spring = servos[j1].spring._constraint
+                q0, q1 = chain.solve(character, point, (None, _target(spring)))
+                if own0:
+                    _set_target(servos[j0].spring._constraint, q0)
+                if own1:
+                    _set_target(spring, q1)
             else:
-                current = [_target(servos[j].spring._constraint) for j in joints]
-            q = chain.solve(character, point, current)
-            for joint, angle in zip(joints, q):
-                if joint in owned:
-                    _set_target(servos[joint].spring._constraint, angle)
+                q = chain.solve(character, point,
+                                [_target(servos[j].spring._constraint) for j in joints])
+                for joint, angle in zip(joints, q):
+                    if joint in owned:
+                        _set_target(servos[joint].spring._constraint, angle)
             if reach.grasp:
                 hold = (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":

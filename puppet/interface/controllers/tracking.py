@@ -41,6 +41,7 @@ from puppet.interface.controllers.kd_pull import (
     lowest_points,
     mix,
     performed_pose,
+    radians_clamped,
 )
 from puppet.interface.controllers.tracking_contact import IntentionalContacts
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
@@ -49,6 +50,7 @@ from puppet.interface.controllers.tracking_reaction import Reactions
 from puppet.interface.controllers.tracking_walk import WalkInPlace
 from puppet.interface.ownership import JointOwners, Owner
 from puppet.physics.kinematics import joint_order
+from puppet.physics.servo import SET_TARGET as _set_target
 
 TRACK = Owner("track")
 OFF, ANGLES, KD = "off", "angles", "kd"
@@ -309,17 +311,20 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         table, servos = self.owners_table.table, self.character.servos
         channels = self._view(step)
         w = self._blend(step)
-        start = self.blend_from
+        start, limits, radians = self.blend_from, self.limits, math.radians
         for joint, channel in self.joints.items():
             value = channels.get(channel)
             if value is None or table.get(joint) != TRACK:
                 continue
-            target = self._clamped(joint, math.radians(value))
+            target = radians(value)
+            lim = limits.get(joint)  # _clamped, inlined
+            if lim is not None:
+                target = lim[0] if target < lim[0] else lim[1] if target > lim[1] else target
             if w < 1.0 and joint in start:  # blending in: part way from where it was
                 target = start[joint] + (target - start[joint]) * w
-            servos[joint].target = target
+            _set_target(servos[joint].spring._constraint, target)
 
-    def _clamped(self, joint: str, q: float) -> float:
+    def _clamped(self, joint: str, q: float) -> float:  # (radians_clamped, for many)
         lim = self.limits.get(joint)
         if lim is None:
             return q
@@ -376,8 +381,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        clamped, radians = self._clamped, math.radians
-        q = {j: clamped(j, radians(ch[n])) for j, n in self.joints.items() if n in ch}
+        q = radians_clamped(self.joints, ch, self.limits)
         # the performed pose, each link's turn's cosine and sine with it (kd_pull)
         poses = performed_pose(self._chain, c.spec.root, origin, angle, cos, sin, q)
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
