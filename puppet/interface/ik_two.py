@@ -78,7 +78,9 @@ class TwoLink:
         """``ik.solve_dls`` for two links from a start within the limits."""
         ax0, ay0, ax1, ay1 = self.links
         lim0, lim1 = self.limits
-        lam2 = self.lam2
+        lo0, hi0 = lim0 if lim0 is not None else (None, None)
+        lo1, hi1 = lim1 if lim1 is not None else (None, None)
+        lam2, tol2 = self.lam2, self.tol2
         angle = 0.0 + q0  # forward(links, q)
         c, s = _cos(angle), _sin(angle)
         jx = 0.0 + (c * ax0 - s * ay0)
@@ -90,16 +92,16 @@ class TwoLink:
         rx, ry = d0 - ex, d1 - ey
         err2 = rx * rx + ry * ry
         for _ in range(self.iterations):
-            if err2 < self.tol2:
+            if err2 < tol2:
                 break
             c0x, c0y, c1x, c1y = -ey, ex, -(ey - jy), ex - jx  # the Jacobian's columns
             if lim0 is not None:  # at a limit and the error pushes past it: left out
                 push = c0x * rx + c0y * ry
-                if (q0 <= lim0[0] and push < 0) or (q0 >= lim0[1] and push > 0):
+                if (q0 <= lo0 and push < 0) or (q0 >= hi0 and push > 0):
                     c0x = c0y = 0.0
             if lim1 is not None:
                 push = c1x * rx + c1y * ry
-                if (q1 <= lim1[0] and push < 0) or (q1 >= lim1[1] and push > 0):
+                if (q1 <= lo1 and push < 0) or (q1 >= hi1 and push > 0):
                     c1x = c1y = 0.0
             a = lam2 + (c0x * c0x + c1x * c1x)
             b = 0.0 + c0x * c0y + c1x * c1y
@@ -111,12 +113,12 @@ class TwoLink:
             while True:
                 n0 = q0 + scale * s0
                 if lim0 is not None:
-                    m = n0 if n0 > lim0[0] else lim0[0]
-                    n0 = m if m < lim0[1] else lim0[1]
+                    m = n0 if n0 > lo0 else lo0
+                    n0 = m if m < hi0 else hi0
                 n1 = q1 + scale * s1
                 if lim1 is not None:
-                    m = n1 if n1 > lim1[0] else lim1[0]
-                    n1 = m if m < lim1[1] else lim1[1]
+                    m = n1 if n1 > lo1 else lo1
+                    n1 = m if m < hi1 else hi1
                 angle = 0.0 + n0
                 c, s = _cos(angle), _sin(angle)
                 njx = 0.0 + (c * ax0 - s * ay0)
@@ -133,7 +135,8 @@ class TwoLink:
             if new_err2 >= err2:  # no step brings it nearer: as near as it gets
                 break
             moved = abs(n0 - q0) + abs(n1 - q1)
-            q0, q1, jx, jy, ex, ey, rx, ry, err2 = n0, n1, njx, njy, nx, ny, nrx, nry, new_err2
+            q0, q1, jx, jy = n0, n1, njx, njy
+            ex, ey, rx, ry, err2 = nx, ny, nrx, nry, new_err2
             if moved < 1e-9:  # stuck against limits: as near as it gets
                 break
         return q0, q1
