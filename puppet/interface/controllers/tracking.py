@@ -377,7 +377,8 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         if self.x0 is None:
             self.x0 = self._hinge_world()[0] - x
         angle = math.radians(a)
-        hinge = c.spec.joint(root.at).anchor
+        hinges = self.__dict__.setdefault("_hinges", {})  # (a search of the joints)
+        hinge = hinges.get(root.at) or hinges.setdefault(root.at, c.spec.joint(root.at).anchor)
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
