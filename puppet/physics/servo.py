@@ -36,6 +36,7 @@ _GET_REST_ANGLE = _cp.cpDampedRotarySpringGetRestAngle  # (what spring.rest_angl
 # ``SET_TARGET(servo.spring._constraint, radians)`` is ``servo.target = radians`` without
 # the property's call, for loops that write many servos (maps.fused)
 SET_TARGET = _SET_REST_ANGLE
+GET_TARGET = _GET_REST_ANGLE  # ``GET_TARGET(servo.spring._constraint)``: ``servo.target``
 
 REFERENCE_STEP = 1.0 / 480.0  # s; gains mean what they do on this step (the docstring)
 
