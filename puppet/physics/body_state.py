@@ -6,7 +6,8 @@ call per value; pymunk's batch API (``pymunk.batch``) hands every body of a spac
 over at once, through the iterator pymunk ships for it, into one float array:
 ``x, y, angle, vx, vy, spin`` per body, ``x, y`` being what ``Body.position`` gives.
 A space keeps its bodies in one order until one is added or removed (a restore builds
-a new space), so where each body's row is is worked out once per space.
+a new space, or re-seats it in place in that same order), so where each body's row is
+is worked out once per space.
 
 The values are the very floats the per-body calls return; what a caller works out
 from them must be done with the same arithmetic as Chipmunk (``to_world``), so that

@@ -25,6 +25,8 @@ import pymunk
 from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp  # the C calls pymunk's own pickle uses
 
+from puppet.physics import reseat
+
 _libc_free = ctypes.CDLL(None).free  # Chipmunk allocates with the process's calloc
 _libc_free.argtypes, _libc_free.restype = [ctypes.c_void_p], None
 
@@ -50,12 +52,37 @@ def capture(space: pymunk.Space, named: dict[str, list]) -> tuple:
             {name: [index[o] for o in objs] for name, objs in named.items()})
 
 
-def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
+def rebuild(state: tuple, into: pymunk.Space | None = None) -> tuple[pymunk.Space, dict[str, list]]:
     """A fresh space from ``capture``: the objects made, set up and added in the order
     (and with the values) that unpickling the space with pymunk would use; and the
-    named objects' new copies."""
+    named objects' new copies. ``into``: a live space to re-seat in place instead when
+    its objects match the snapshot's one for one (``reseat``: the same state, the same
+    objects; the named objects are then the ones it held)."""
     (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
      named) = state
+    objects = None if into is None else reseat.live_objects(into, state)
+    if objects is not None:
+        space = into
+        reseat.reseat(space, state, objects, _SPACE_SET, _BODY_SET, _SHAPE_SET,
+                      _CONSTRAINT_SET)
+    else:
+        space, objects = _fresh(state)
+    cp_space = space._space
+    _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
+    _cp.cpSpaceSetTimestamp(cp_space, stamp)
+    _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
+    made = [_make_arbiter(r, objects) for r in arbiters]
+    for arb in made:
+        _cp.cpSpaceAddCachedArbiter(cp_space, arb)
+    _own_arbiters(space, made)
+    # the captured step's contacts, worked out when first asked (restored_contacts)
+    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
+    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+def _fresh(state: tuple) -> tuple[pymunk.Space, list]:
+    """A new space and new objects (pymunk's unpickling order), without the arbiters."""
+    space_values, bodies, static, shapes, constraints = state[:5]
     objects = [_make_body(r) for r in bodies]
     static_body = None if static is None else _make_body(static)
     if static_body is not None:
@@ -73,24 +100,29 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
         space._setup_static_body(static_body)
     space.add(*objects[first_shape:first_constraint])
     space.add(*objects[first_constraint:])
-    cp_space = space._space
-    _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
-    _cp.cpSpaceSetTimestamp(cp_space, stamp)
-    _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
-    made = [_make_arbiter(r, objects) for r in arbiters]
-    for arb in made:
-        _cp.cpSpaceAddCachedArbiter(cp_space, arb)
-    if made:
-        _free_with_space(space, made)
-    # the captured step's contacts, worked out when first asked (restored_contacts)
-    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
-    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+    return space, objects
 
 
-def _free_with_space(space: pymunk.Space, made: list) -> None:
+def _own_arbiters(space: pymunk.Space, made: list) -> None:
+    """Free the arbiters ``rebuild`` made once nothing can reach them: the ones of an
+    earlier seat of a space re-seated in place now (``cpSpaceDestroy`` has dropped the
+    space's lists of them and every body was re-initialised), the new ones with the
+    space (``_free_with_space``)."""
+    held = getattr(space, "_puppet_made", None)
+    addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
+    if held is not None:
+        for address in held:
+            _libc_free(address)
+        held[:] = addresses
+    elif made:
+        _free_with_space(space, addresses)
+
+
+def _free_with_space(space: pymunk.Space, addresses: list) -> None:
     """Free the arbiters ``rebuild`` made (``cpArbiterNew``: Chipmunk's calloc, about
-    0.2 kB each) right after Chipmunk frees their space, as pymunk's own unpickling
-    never does (it leaked them: 115-220 bytes per contact per restore, issue 32).
+    0.2 kB each; ``addresses``, a list kept as ``space._puppet_made``) right after
+    Chipmunk frees their space, as pymunk's own unpickling never does (it leaked them:
+    115-220 bytes per contact per restore, issue 32).
 
     Chipmunk never frees an arbiter itself: the ones it makes live in blocks the space
     frees whole, and one it is handed stays in its cache, its list of the step's
@@ -102,11 +134,12 @@ def _free_with_space(space: pymunk.Space, made: list) -> None:
     each cached arbiter from its bodies, writing into it; so does freeing what
     ``arb.contacts`` points to by then (the space's buffer). So the space's handle is
     wrapped: when the Space goes, the wrapper lets go of pymunk's own handle (its
-    destructor runs then, the space is freed) and then frees the arbiters. Were that
+    destructor runs then, the space is freed) and then frees the arbiters listed then
+    (a re-seat in place frees its earlier ones itself: ``_own_arbiters``). Were that
     handle still held elsewhere (its destructor not run), they are left, as before."""
     original = space._space
-    addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
     holder = [original]
+    space._puppet_made = addresses
 
     def release(_ptr) -> None:
         handle = holder.pop()

@@ -1,0 +1,165 @@
+"""A snapshot re-seated into the live space: the space ``snapshot.rebuild`` would make,
+made out of the objects already there.
+
+``rebuild`` makes a fresh space - every body, shape and constraint made again through
+pymunk's Python, added, and the old space freed: most of a checkpoint's time. A fresh
+space is needed for the bits (it drops the solver's warm starts, the spatial index's
+history and the contact graph), not fresh Python objects. So when the live space holds
+objects that match the snapshot one for one (the same classes, each shape on the same
+body, each constraint between the same bodies - always so at a checkpoint), this runs
+Chipmunk's own sequence of a fresh build on them, in the same order and with the same
+values:
+
+* the space: ``cpSpaceDestroy`` then ``cpSpaceInit`` on its own memory - new arrays,
+  spatial indexes, contact cache and buffers, stamp 0, as ``cpSpaceNew`` makes them;
+* each body, shape and constraint: its ``...Init`` again (what ``...New`` runs after
+  ``calloc``), with the snapshot's constructor arguments, then the same setters as
+  ``rebuild``, then the adds in the snapshot's order. The few fields an ``Init`` leaves
+  to ``calloc``'s zeros are put back to zero (a body's centre of gravity, and the
+  transform worked out from it); a shape's bounding box and hash id and a joint's
+  solver terms are written by the add or the next step before anything reads them.
+  pymunk's user data (the handle back to the Python object) is kept.
+
+What stays different from ``rebuild`` is where things are in memory, which Chipmunk's
+results do not depend on (a replay gives the same bits in any process). Anything else
+(another class, a shape moved to another body, a grasp made or let go since the
+snapshot, collision handlers, a threaded space) goes through ``rebuild``.
+tests/test_reseat.py checks both ways agree bit for bit.
+"""
+
+from __future__ import annotations
+
+import pymunk
+from pymunk._chipmunk_cffi import ffi as _ffi
+from pymunk._chipmunk_cffi import lib as _cp
+
+_DYNAMIC, _KINEMATIC, _STATIC = pymunk.Body.DYNAMIC, pymunk.Body.KINEMATIC, pymunk.Body.STATIC
+_IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)  # pymunk's Transform.identity(), a Poly's default
+_cast = _ffi.cast
+
+
+def _poly(h, body, args):
+    verts, _transform, radius = args  # pymunk's pickle passes no transform (identity)
+    _cp.cpPolyShapeInit(_cast("cpPolyShape *", h), body, len(verts), verts, _IDENTITY, radius)
+
+
+# A shape's or constraint's ``Init`` from the constructor arguments ``snapshot`` records
+# (the arguments pymunk's constructor passes to the ``...New`` that runs this ``Init``).
+_SHAPE_INIT = {
+    pymunk.Circle: lambda h, body, a: _cp.cpCircleShapeInit(
+        _cast("cpCircleShape *", h), body, a[0], a[1]),
+    pymunk.Segment: lambda h, body, a: _cp.cpSegmentShapeInit(
+        _cast("cpSegmentShape *", h), body, a[0], a[1], a[2]),
+    pymunk.Poly: _poly,
+}
+_CONSTRAINT_INIT = {
+    pymunk.PivotJoint: lambda h, a, b, x: _cp.cpPivotJointInit(
+        _cast("cpPivotJoint *", h), a, b, x[0], x[1]),
+    pymunk.RotaryLimitJoint: lambda h, a, b, x: _cp.cpRotaryLimitJointInit(
+        _cast("cpRotaryLimitJoint *", h), a, b, x[0], x[1]),
+    pymunk.DampedRotarySpring: lambda h, a, b, x: _cp.cpDampedRotarySpringInit(
+        _cast("cpDampedRotarySpring *", h), a, b, x[0], x[1], x[2]),
+    pymunk.GearJoint: lambda h, a, b, x: _cp.cpGearJointInit(
+        _cast("cpGearJoint *", h), a, b, x[0], x[1]),
+    pymunk.DampedSpring: lambda h, a, b, x: _cp.cpDampedSpringInit(
+        _cast("cpDampedSpring *", h), a, b, x[0], x[1], x[2], x[3], x[4]),
+}
+
+
+def live_objects(space: pymunk.Space, state: tuple) -> list | None:
+    """The space's objects in the snapshot's index order (bodies, static body, shapes,
+    constraints) if they match ``state``'s records one for one; else None."""
+    if (space.threaded or space._handlers or space._locked or space._add_later
+            or space._remove_later or space._post_step_callbacks):
+        return None
+    _values, bodies, static, shapes, constraints = state[:5]
+    static_body = space._static_body
+    if (static is None) != (static_body is None):
+        return None
+    live_shapes, live_constraints = space._shapes, space._constraints
+    if (len(space._bodies) != len(bodies) or len(live_shapes) != len(shapes)
+            or len(live_constraints) != len(constraints)):
+        return None
+    objects = [*space._bodies, *(() if static_body is None else (static_body,))]
+    for shape, record in zip(live_shapes, shapes):
+        if type(shape) is not record[0] or record[0] not in _SHAPE_INIT \
+                or shape._body() is not objects[record[1]]:
+            return None
+    objects += live_shapes
+    for constraint, record in zip(live_constraints, constraints):
+        if type(constraint) is not record[0] or record[0] not in _CONSTRAINT_INIT \
+                or constraint._a is not objects[record[1]] \
+                or constraint._b is not objects[record[2]]:
+            return None
+    objects += live_constraints
+    return objects
+
+
+def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
+           body_setters, shape_setters, constraint_setters) -> None:
+    """Put ``space`` (whose objects ``live_objects`` matched to ``state``) in the state
+    ``rebuild(state)`` gives a fresh space, object by object; the cached arbiters are
+    left to the caller, as in ``rebuild``."""
+    space_values, bodies, static, shapes, constraints = state[:5]
+    n_bodies = len(bodies) + (static is not None)
+    body_records = [*bodies, static] if static is not None else bodies
+    cp_space = space._space
+    # a body re-initialised must read as dynamic (cpBodySetMass asserts it): turned so
+    # while the space still holds it (moving it between the space's lists, soon freed)
+    set_type = _cp.cpBodySetType
+    for body in objects[:n_bodies]:
+        if _cp.cpBodyGetType(body._body) != _DYNAMIC:
+            set_type(body._body, _DYNAMIC)
+    set_type(_cp.cpSpaceGetStaticBody(cp_space), _DYNAMIC)  # cpSpaceInit re-inits it
+    _cp.cpSpaceDestroy(cp_space)  # frees its arrays, indexes, contact cache, arbiters
+    _cp.cpSpaceInit(cp_space)
+
+    body_init, get_data, set_data = _cp.cpBodyInit, _cp.cpBodyGetUserData, _cp.cpBodySetUserData
+    set_cog, set_angle = _cp.cpBodySetCenterOfGravity, _cp.cpBodySetAngle
+    for body, (body_type, mass, moment, values) in zip(objects, body_records):
+        h = body._body
+        data = get_data(h)
+        if body_type == _DYNAMIC:  # cpBodyNew(mass, moment)
+            body_init(h, mass, moment)
+        else:  # cpBodyNewKinematic / cpBodyNewStatic: cpBodyNew(0, 0), then the type
+            body_init(h, 0.0, 0.0)
+            set_type(h, body_type)
+        set_cog(h, (0.0, 0.0))  # calloc's zero, and the transform made with it
+        set_angle(h, 0.0)
+        set_data(h, data)
+        for setter, value in zip(body_setters, values):
+            setter(h, value)
+
+    shape_get, shape_set = _cp.cpShapeGetUserData, _cp.cpShapeSetUserData
+    destroy, set_mass, set_density = _cp.cpShapeDestroy, _cp.cpShapeSetMass, _cp.cpShapeSetDensity
+    for shape, (cls, body, args, values, mass, density) in zip(objects[n_bodies:], shapes):
+        h = shape._shape
+        data = shape_get(h)
+        destroy(h)  # a polygon of more than 6 corners frees its planes (Init allocates)
+        _SHAPE_INIT[cls](h, objects[body]._body, args)
+        shape_set(h, data)
+        for setter, value in zip(shape_setters, values):
+            setter(h, value)
+        if mass > 0:  # as snapshot._make_shape: the mass before the density
+            set_mass(h, mass)
+        if density > 0:
+            set_density(h, density)
+
+    first_constraint = n_bodies + len(shapes)
+    for constraint, (cls, a, b, args, values) in zip(objects[first_constraint:], constraints):
+        h = constraint._constraint
+        _CONSTRAINT_INIT[cls](h, objects[a]._body, objects[b]._body, args)
+        for setter, value in zip(constraint_setters, values):
+            setter(h, value)
+
+    for setter, value in zip(space_setters, space_values):
+        setter(space, value)
+    add_body, add_shape, add_constraint = (_cp.cpSpaceAddBody, _cp.cpSpaceAddShape,
+                                           _cp.cpSpaceAddConstraint)
+    for body in objects[:n_bodies]:  # the static body last, as rebuild adds it
+        add_body(cp_space, body._body)
+    for shape in objects[n_bodies:first_constraint]:
+        add_shape(cp_space, shape._shape)
+    for constraint in objects[first_constraint:]:
+        add_constraint(cp_space, constraint._constraint)
+    space._removed_shapes.clear()

@@ -1,0 +1,108 @@
+"""A checkpoint re-seats the live space in place (``puppet.physics.reseat``): the same
+bits as building a fresh space from the snapshot (``snapshot.rebuild`` without a live
+space), right away and thousands of steps later, with grasps, the Ctrl+drag spring (a
+kinematic body), props pinned to the world, ground contacts and changed parameters;
+and a restore whose objects no longer match the live ones builds a fresh space."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from puppet.data.catalog import load_setup
+from puppet.physics import snapshot
+from puppet.physics.simulation import Simulation
+
+SETUPS = [("luxo-mouse", None), ("cat-bound", None), ("biped-walk", None),
+          ("biped-gymnast", "rope"), ("biped-bars", None)]
+
+
+def _sim(setup) -> Simulation:
+    s = load_setup(*setup)
+    return Simulation(s.character, s.scene)
+
+
+def _drive(sim: Simulation, steps: int) -> None:
+    start = sim.character.start_joint_angles()
+    for _ in range(0, steps, 24):
+        for i, (name, servo) in enumerate(sim.character.servos.items()):
+            servo.target = start.get(name, 0.0) + 0.6 * math.sin(3.0 * sim.time + i)
+        sim.step(24)
+
+
+def _busy(sim: Simulation) -> None:
+    _drive(sim, 480)
+    c = sim.character
+    held, dragged = c.bodies[c.link_order[0]], c.link_order[-1]
+    sim.attach("held", c.link_order[0], (0.0, 0.0), tuple(held.position), rigid=True,
+               max_torque=30.0)
+    x, y = c.bodies[dragged].position
+    sim.start_drag(dragged, (0.0, 0.0), (x + 0.05, y + 0.1))
+    sim.ground[0].friction = 0.4
+    sim.gravity = (0.3, -9.0)
+    _drive(sim, 240)
+
+
+class _Fresh:
+    """``snapshot.rebuild`` never re-seating in place (the reference)."""
+
+    def __enter__(self):
+        self.rebuild = snapshot.rebuild
+        snapshot.rebuild = lambda state, into=None: self.rebuild(state)
+
+    def __exit__(self, *exc):
+        snapshot.rebuild = self.rebuild
+
+
+@pytest.mark.parametrize("setup", SETUPS)
+def test_a_checkpoint_in_place_is_bit_identical_to_a_fresh_space(setup):
+    live, fresh = _sim(setup), _sim(setup)
+    for run in (live, fresh):
+        _busy(run)
+    space, bodies = live.space, dict(live.character.bodies)
+    for _ in range(3):
+        data = live.checkpoint()
+        with _Fresh():
+            assert fresh.checkpoint() == data
+        assert live.snapshot() == fresh.snapshot()
+        for run in (live, fresh):
+            run.move_drag((0.2, 0.5))
+            _drive(run, 720)
+        assert live.state_vector() == fresh.state_vector()
+    assert live.space is space and live.character.bodies == bodies  # re-seated in place
+    assert fresh.space is not space
+    assert live.seats == fresh.seats == 3
+
+
+@pytest.mark.parametrize("setup", SETUPS[:2])
+def test_a_restore_in_place_or_on_a_fresh_space_replays_the_same(setup):
+    sim = _sim(setup)
+    _busy(sim)
+    before_grasp = sim.checkpoint()  # still grasping: matches the live objects below
+    _drive(sim, 480)
+    straight = sim.state_vector()
+    space = sim.space
+    sim.restore(before_grasp)
+    assert sim.space is space
+    _drive(sim, 480)
+    assert sim.state_vector() == straight
+    # let go, then back: the snapshot's grasp joints are no longer in the space
+    sim.detach("held")
+    sim.end_drag()
+    sim.restore(before_grasp)
+    assert sim.space is not space and set(sim.grasps) == {"held"}
+    _drive(sim, 480)
+    assert sim.state_vector() == straight
+
+
+def test_reseating_in_place_frees_the_arbiters_it_made():
+    sim = _sim(SETUPS[2])
+    _drive(sim, 480)
+    sim.checkpoint()
+    made = sim.space._puppet_made
+    assert made, "a standing figure has cached contacts to restore"
+    first = list(made)
+    sim.step(24)
+    sim.checkpoint()
+    assert sim.space._puppet_made is made and made and made != first
