@@ -34,12 +34,14 @@ from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp
 
 _DYNAMIC, _KINEMATIC, _STATIC = pymunk.Body.DYNAMIC, pymunk.Body.KINEMATIC, pymunk.Body.STATIC
-_IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)  # pymunk's Transform.identity(), a Poly's default
+_IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+_ZERO = (0.0, 0.0)  # pymunk's Transform.identity(), a Poly's default
 _cast = _ffi.cast
 
 
 def _poly(h, body, args):
     verts, _transform, radius = args  # pymunk's pickle passes no transform (identity)
+    _cp.cpShapeDestroy(h)  # frees the planes of more than 6 corners (Init allocates them)
     _cp.cpPolyShapeInit(_cast("cpPolyShape *", h), body, len(verts), verts, _IDENTITY, radius)
 
 
@@ -114,43 +116,56 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
     _cp.cpSpaceDestroy(cp_space)  # frees its arrays, indexes, contact cache, arbiters
     _cp.cpSpaceInit(cp_space)
 
-    body_init, get_data, set_data = _cp.cpBodyInit, _cp.cpBodyGetUserData, _cp.cpBodySetUserData
+    # the setters unrolled (a loop over them costs about as much as the calls)
+    body_init, set_data = _cp.cpBodyInit, _cp.cpBodySetUserData
     set_cog, set_angle = _cp.cpBodySetCenterOfGravity, _cp.cpBodySetAngle
-    for body, (body_type, mass, moment, values) in zip(objects, body_records):
+    b0, b1, b2, b3, b4, b5, b6 = body_setters
+    for body, (body_type, mass, moment, v) in zip(objects, body_records):
         h = body._body
-        data = get_data(h)
         if body_type == _DYNAMIC:  # cpBodyNew(mass, moment)
             body_init(h, mass, moment)
         else:  # cpBodyNewKinematic / cpBodyNewStatic: cpBodyNew(0, 0), then the type
             body_init(h, 0.0, 0.0)
             set_type(h, body_type)
-        set_cog(h, (0.0, 0.0))  # calloc's zero, and the transform made with it
+        set_cog(h, _ZERO)  # calloc's zero, and the transform made with it
         set_angle(h, 0.0)
-        set_data(h, data)
-        for setter, value in zip(body_setters, values):
-            setter(h, value)
+        set_data(h, body._data_handle)  # pymunk's handle, as its constructor sets it
+        b0(h, v[0])
+        b1(h, v[1])
+        b2(h, v[2])
+        b3(h, v[3])
+        b4(h, v[4])
+        b5(h, v[5])
+        b6(h, v[6])
 
-    shape_get, shape_set = _cp.cpShapeGetUserData, _cp.cpShapeSetUserData
-    destroy, set_mass, set_density = _cp.cpShapeDestroy, _cp.cpShapeSetMass, _cp.cpShapeSetDensity
-    for shape, (cls, body, args, values, mass, density) in zip(objects[n_bodies:], shapes):
+    shape_set, set_mass, set_density = (_cp.cpShapeSetUserData, _cp.cpShapeSetMass,
+                                        _cp.cpShapeSetDensity)
+    # the hash id (the last setter) is left out: cpSpaceAddShape overwrites it
+    s0, s1, s2, s3, s4, s5 = shape_setters[:6]
+    for shape, (cls, body, args, v, mass, density) in zip(objects[n_bodies:], shapes):
         h = shape._shape
-        data = shape_get(h)
-        destroy(h)  # a polygon of more than 6 corners frees its planes (Init allocates)
         _SHAPE_INIT[cls](h, objects[body]._body, args)
-        shape_set(h, data)
-        for setter, value in zip(shape_setters, values):
-            setter(h, value)
+        shape_set(h, shape._h)
+        s0(h, v[0])
+        s1(h, v[1])
+        s2(h, v[2])
+        s3(h, v[3])
+        s4(h, v[4])
+        s5(h, v[5])
         if mass > 0:  # as snapshot._make_shape: the mass before the density
             set_mass(h, mass)
         if density > 0:
             set_density(h, density)
 
     first_constraint = n_bodies + len(shapes)
-    for constraint, (cls, a, b, args, values) in zip(objects[first_constraint:], constraints):
+    c0, c1, c2, c3 = constraint_setters
+    for constraint, (cls, a, b, args, v) in zip(objects[first_constraint:], constraints):
         h = constraint._constraint
         _CONSTRAINT_INIT[cls](h, objects[a]._body, objects[b]._body, args)
-        for setter, value in zip(constraint_setters, values):
-            setter(h, value)
+        c0(h, v[0])
+        c1(h, v[1])
+        c2(h, v[2])
+        c3(h, v[3])
 
     for setter, value in zip(space_setters, space_values):
         setter(space, value)
