@@ -34,9 +34,31 @@ from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp
 
 _DYNAMIC, _KINEMATIC, _STATIC = pymunk.Body.DYNAMIC, pymunk.Body.KINEMATIC, pymunk.Body.STATIC
-_IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
-_ZERO = (0.0, 0.0)  # pymunk's Transform.identity(), a Poly's default
+_IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)  # pymunk's Transform.identity(), a Poly's default
+_ZERO = (0.0, 0.0)
 _cast = _ffi.cast
+
+
+def _defaults() -> tuple[tuple, tuple]:
+    """What ``cpShapeInit`` writes for a shape's sensor flag, collision type and filter,
+    and ``cpConstraintInit`` for a constraint's max force, error bias, max bias and
+    collide flag, as ``snapshot`` records them (read off new objects). A setter
+    writing the same value changes nothing else (it wakes the bodies, awake already),
+    so the re-seat skips it. Integers, infinities and a non-zero bias: equal values
+    are equal bits."""
+    a, b = pymunk.Body(1.0, 1.0), pymunk.Body(1.0, 1.0)
+    h = pymunk.Circle(a, 1.0)._shape
+    f = _cp.cpShapeGetFilter(h)
+    c = pymunk.PivotJoint(a, b, (0.0, 0.0), (0.0, 0.0))._constraint
+    bias = _cp.cpConstraintGetErrorBias(c)
+    assert bias != 0.0
+    return ((bool(_cp.cpShapeGetSensor(h)), _cp.cpShapeGetCollisionType(h),
+             (f.group, f.categories, f.mask)),
+            (_cp.cpConstraintGetMaxForce(c), bias, _cp.cpConstraintGetMaxBias(c),
+             _cp.cpConstraintGetCollideBodies(c)))
+
+
+_SHAPE_DEFAULTS, _CONSTRAINT_DEFAULTS = _defaults()
 
 
 def _poly(h, body, args):
@@ -140,15 +162,17 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
 
     shape_set, set_mass, set_density = (_cp.cpShapeSetUserData, _cp.cpShapeSetMass,
                                         _cp.cpShapeSetDensity)
-    # the hash id (the last setter) is left out: cpSpaceAddShape overwrites it
+    # the hash id (the last setter) is left out: cpSpaceAddShape overwrites it; and
+    # sensor, collision type and filter when they are what the Init just wrote
     s0, s1, s2, s3, s4, s5 = shape_setters[:6]
     for shape, (cls, body, args, v, mass, density) in zip(objects[n_bodies:], shapes):
         h = shape._shape
         _SHAPE_INIT[cls](h, objects[body]._body, args)
         shape_set(h, shape._h)
-        s0(h, v[0])
-        s1(h, v[1])
-        s2(h, v[2])
+        if v[:3] != _SHAPE_DEFAULTS:
+            s0(h, v[0])
+            s1(h, v[1])
+            s2(h, v[2])
         s3(h, v[3])
         s4(h, v[4])
         s5(h, v[5])
@@ -162,10 +186,11 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
     for constraint, (cls, a, b, args, v) in zip(objects[first_constraint:], constraints):
         h = constraint._constraint
         _CONSTRAINT_INIT[cls](h, objects[a]._body, objects[b]._body, args)
-        c0(h, v[0])
-        c1(h, v[1])
-        c2(h, v[2])
-        c3(h, v[3])
+        if v != _CONSTRAINT_DEFAULTS:  # else the Init wrote these very values
+            c0(h, v[0])
+            c1(h, v[1])
+            c2(h, v[2])
+            c3(h, v[3])
 
     for setter, value in zip(space_setters, space_values):
         setter(space, value)

@@ -293,13 +293,18 @@ def _plain(values) -> tuple:
 # The records read and write through Chipmunk's own getters and setters (the calls
 # pymunk's properties make, in the order of the attribute lists below): a property adds a
 # Python call and a Vec2d per value, a third of a biped checkpoint's time.
+_B_TYPE, _B_MASS, _B_MOMENT = _cp.cpBodyGetType, _cp.cpBodyGetMass, _cp.cpBodyGetMoment
+_B_FORCE, _B_ANGLE, _B_POS = _cp.cpBodyGetForce, _cp.cpBodyGetAngle, _cp.cpBodyGetPosition
+_B_COG, _B_VEL = _cp.cpBodyGetCenterOfGravity, _cp.cpBodyGetVelocity
+_B_SPIN, _B_TORQUE = _cp.cpBodyGetAngularVelocity, _cp.cpBodyGetTorque
+
+
 def _body_record(b: pymunk.Body) -> tuple:
     h = b._body
-    f, p, c, v = (_cp.cpBodyGetForce(h), _cp.cpBodyGetPosition(h),
-                  _cp.cpBodyGetCenterOfGravity(h), _cp.cpBodyGetVelocity(h))
-    return (_cp.cpBodyGetType(h), _cp.cpBodyGetMass(h), _cp.cpBodyGetMoment(h),
-            ((f.x, f.y), _cp.cpBodyGetAngle(h), (p.x, p.y), (c.x, c.y), (v.x, v.y),
-             _cp.cpBodyGetAngularVelocity(h), _cp.cpBodyGetTorque(h)))
+    f, p, c, v = _B_FORCE(h), _B_POS(h), _B_COG(h), _B_VEL(h)
+    return (_B_TYPE(h), _B_MASS(h), _B_MOMENT(h),
+            ((f.x, f.y), _B_ANGLE(h), (p.x, p.y), (c.x, c.y), (v.x, v.y), _B_SPIN(h),
+             _B_TORQUE(h)))
 
 
 def _make_body(record) -> pymunk.Body:
@@ -311,14 +316,22 @@ def _make_body(record) -> pymunk.Body:
     return body
 
 
+_S_FILTER, _S_SURFACE, _S_SENSOR = (_cp.cpShapeGetFilter, _cp.cpShapeGetSurfaceVelocity,
+                                    _cp.cpShapeGetSensor)
+_S_TYPE, _S_E, _S_U, _S_ID = (_cp.cpShapeGetCollisionType, _cp.cpShapeGetElasticity,
+                              _cp.cpShapeGetFriction, _cp.cpShapeGetHashID)
+_S_MASS, _S_DENSITY = _cp.cpShapeGetMass, _cp.cpShapeGetDensity
+
+
 def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
     h = s._shape
-    f, sv = _cp.cpShapeGetFilter(h), _cp.cpShapeGetSurfaceVelocity(h)
-    return (type(s), index[s.body], _init_args(s, 1),
-            (bool(_cp.cpShapeGetSensor(h)), _cp.cpShapeGetCollisionType(h),
-             (f.group, f.categories, f.mask), _cp.cpShapeGetElasticity(h),
-             _cp.cpShapeGetFriction(h), (sv.x, sv.y), _cp.cpShapeGetHashID(h)),
-            _cp.cpShapeGetMass(h), _cp.cpShapeGetDensity(h))
+    f, sv = _S_FILTER(h), _S_SURFACE(h)
+    cls = type(s)
+    fast = _FAST_INIT.get(cls)
+    return (cls, index[s._body()], _init_args(s, 1) if fast is None else fast(h),
+            (bool(_S_SENSOR(h)), _S_TYPE(h), (f.group, f.categories, f.mask), _S_E(h),
+             _S_U(h), (sv.x, sv.y), _S_ID(h)),
+            _S_MASS(h), _S_DENSITY(h))
 
 
 def _make_shape(record, objects: list) -> pymunk.Shape:
@@ -334,11 +347,16 @@ def _make_shape(record, objects: list) -> pymunk.Shape:
     return shape
 
 
+_C_MAX_FORCE, _C_ERROR_BIAS = _cp.cpConstraintGetMaxForce, _cp.cpConstraintGetErrorBias
+_C_MAX_BIAS, _C_COLLIDE = _cp.cpConstraintGetMaxBias, _cp.cpConstraintGetCollideBodies
+
+
 def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
     h = c._constraint
-    return (type(c), index[c.a], index[c.b], _init_args(c, 2),
-            (_cp.cpConstraintGetMaxForce(h), _cp.cpConstraintGetErrorBias(h),
-             _cp.cpConstraintGetMaxBias(h), _cp.cpConstraintGetCollideBodies(h)))
+    cls = type(c)
+    fast = _FAST_INIT.get(cls)
+    return (cls, index[c._a], index[c._b], _init_args(c, 2) if fast is None else fast(h),
+            (_C_MAX_FORCE(h), _C_ERROR_BIAS(h), _C_MAX_BIAS(h), _C_COLLIDE(h)))
 
 
 def _make_constraint(record, objects: list) -> pymunk.Constraint:
