@@ -111,6 +111,9 @@ def _own_arbiters(space: pymunk.Space, made: list) -> None:
     held = getattr(space, "_puppet_made", None)
     addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
     if held is not None:
+        old = getattr(space, "_puppet_contacts", None)
+        if old is not None and old[2] is not None:  # never worked out: now it cannot be
+            old[1], old[2], old[3] = {}, None, {}
         for address in held:
             _libc_free(address)
         held[:] = addresses
