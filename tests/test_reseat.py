@@ -76,22 +76,53 @@ def test_a_checkpoint_in_place_is_bit_identical_to_a_fresh_space(setup):
 
 
 @pytest.mark.parametrize("setup", SETUPS[:2])
-def test_a_restore_in_place_or_on_a_fresh_space_replays_the_same(setup):
+def test_a_restore_in_place_replays_the_same_across_grasps_made_and_let_go(setup):
     sim = _sim(setup)
     _busy(sim)
-    before_grasp = sim.checkpoint()  # still grasping: matches the live objects below
+    grasping = sim.checkpoint()  # a rigid grasp (pivot and gear) and the drag spring
     _drive(sim, 480)
     straight = sim.state_vector()
     space = sim.space
-    sim.restore(before_grasp)
+    sim.restore(grasping)
     assert sim.space is space
     _drive(sim, 480)
     assert sim.state_vector() == straight
-    # let go, then back: the snapshot's grasp joints are no longer in the space
+    # let go and grasp with another link: the snapshot's joints are gone, others came
     sim.detach("held")
     sim.end_drag()
-    sim.restore(before_grasp)
-    assert sim.space is not space and set(sim.grasps) == {"held"}
+    c = sim.character
+    sim.attach("other", c.link_order[1], (0.0, 0.0), tuple(c.bodies[c.link_order[1]].position))
+    _drive(sim, 48)
+    sim.restore(grasping)
+    assert sim.space is space and set(sim.grasps) == {"held"} and sim.drag_spring is not None
+    # pymunk's list of constraints is Chipmunk's, in the same order
+    assert [c._constraint for c in sim.space.constraints] == _constraints(sim)
+    _drive(sim, 480)
+    assert sim.state_vector() == straight
+
+
+def _constraints(sim) -> list:
+    """The constraints Chipmunk holds, in its order."""
+    from pymunk._chipmunk_cffi import ffi, lib
+
+    out: list = []
+    handle = ffi.new_handle(out)
+    lib.cpSpaceEachConstraint(sim.space._space, lib.ext_cpSpaceConstraintIteratorFunc, handle)
+    return out
+
+
+def test_a_restore_whose_shapes_no_longer_match_builds_a_fresh_space():
+    import pymunk
+
+    sim = _sim(SETUPS[0])
+    _busy(sim)
+    data = sim.checkpoint()
+    _drive(sim, 480)
+    straight = sim.state_vector()
+    space = sim.space
+    space.add(pymunk.Circle(space.static_body, 0.1, (5.0, 5.0)))
+    sim.restore(data)
+    assert sim.space is not space
     _drive(sim, 480)
     assert sim.state_vector() == straight
 

@@ -5,10 +5,9 @@ made out of the objects already there.
 pymunk's Python, added, and the old space freed: most of a checkpoint's time. A fresh
 space is needed for the bits (it drops the solver's warm starts, the spatial index's
 history and the contact graph), not fresh Python objects. So when the live space holds
-objects that match the snapshot one for one (the same classes, each shape on the same
-body, each constraint between the same bodies - always so at a checkpoint), this runs
-Chipmunk's own sequence of a fresh build on them, in the same order and with the same
-values:
+bodies and shapes that match the snapshot one for one (the same classes, each shape on
+the same body - always so at a checkpoint), this runs Chipmunk's own sequence of a
+fresh build on them, in the same order and with the same values:
 
 * the space: ``cpSpaceDestroy`` then ``cpSpaceInit`` on its own memory - new arrays,
   spatial indexes, contact cache and buffers, stamp 0, as ``cpSpaceNew`` makes them;
@@ -20,11 +19,13 @@ values:
   solver terms are written by the add or the next step before anything reads them.
   pymunk's user data (the handle back to the Python object) is kept.
 
-What stays different from ``rebuild`` is where things are in memory, which Chipmunk's
-results do not depend on (a replay gives the same bits in any process). Anything else
-(another class, a shape moved to another body, a grasp made or let go since the
-snapshot, collision handlers, a threaded space) goes through ``rebuild``.
-tests/test_reseat.py checks both ways agree bit for bit.
+Constraints are matched by class and bodies: one the snapshot has and the space has
+not (a grasp let go since) is made anew, as ``rebuild`` makes it; one the space has
+and the snapshot has not (a grasp made since) is taken out first. What stays
+different from ``rebuild`` is where things are in memory, which Chipmunk's results do
+not depend on (a replay gives the same bits in any process). Anything else (another
+class, other bodies or shapes, collision handlers, a threaded space) goes through
+``rebuild``. tests/test_reseat.py checks both ways agree bit for bit.
 """
 
 from __future__ import annotations
@@ -90,9 +91,13 @@ _CONSTRAINT_INIT = {
 }
 
 
-def live_objects(space: pymunk.Space, state: tuple) -> list | None:
+def live_objects(space: pymunk.Space, state: tuple) -> tuple[list, list] | None:
     """The space's objects in the snapshot's index order (bodies, static body, shapes,
-    constraints) if they match ``state``'s records one for one; else None."""
+    constraints) if its bodies and shapes match ``state``'s records one for one (else
+    None); a constraint the snapshot has and the space has not (a grasp let go since)
+    is None there, and the space's constraints the snapshot has not (a grasp made
+    since) are listed apart: ``(objects, left over)``, left over None when the
+    constraints matched one for one in order."""
     if (space.threaded or space._handlers or space._locked or space._add_later
             or space._remove_later or space._post_step_callbacks):
         return None
@@ -100,9 +105,8 @@ def live_objects(space: pymunk.Space, state: tuple) -> list | None:
     static_body = space._static_body
     if (static is None) != (static_body is None):
         return None
-    live_shapes, live_constraints = space._shapes, space._constraints
-    if (len(space._bodies) != len(bodies) or len(live_shapes) != len(shapes)
-            or len(live_constraints) != len(constraints)):
+    live_shapes = space._shapes
+    if len(space._bodies) != len(bodies) or len(live_shapes) != len(shapes):
         return None
     objects = [*space._bodies, *(() if static_body is None else (static_body,))]
     for shape, record in zip(live_shapes, shapes):
@@ -110,20 +114,31 @@ def live_objects(space: pymunk.Space, state: tuple) -> list | None:
                 or shape._body() is not objects[record[1]]:
             return None
     objects += live_shapes
-    for constraint, record in zip(live_constraints, constraints):
-        if type(constraint) is not record[0] or record[0] not in _CONSTRAINT_INIT \
-                or constraint._a is not objects[record[1]] \
-                or constraint._b is not objects[record[2]]:
+    live = space._constraints
+    if len(live) == len(constraints) and all(
+            type(c) is r[0] and c._a is objects[r[1]] and c._b is objects[r[2]]
+            for c, r in zip(live, constraints)):
+        if not all(r[0] in _CONSTRAINT_INIT for r in constraints):
             return None
-    objects += live_constraints
-    return objects
+        return objects + list(live), None
+    free: dict = {}  # (class, body a, body b) -> the space's constraints, in its order
+    for c in live:
+        free.setdefault((type(c), c._a, c._b), []).append(c)
+    for cls, a, b, _args, _values in constraints:
+        if cls not in _CONSTRAINT_INIT:
+            return None
+        same = free.get((cls, objects[a], objects[b]))
+        objects.append(same.pop(0) if same else None)
+    return objects, [c for left in free.values() for c in left]
 
 
-def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
-           body_setters, shape_setters, constraint_setters) -> None:
+def reseat(space: pymunk.Space, state: tuple, match: tuple[list, list], space_setters,
+           body_setters, shape_setters, constraint_setters) -> list:
     """Put ``space`` (whose objects ``live_objects`` matched to ``state``) in the state
-    ``rebuild(state)`` gives a fresh space, object by object; the cached arbiters are
-    left to the caller, as in ``rebuild``."""
+    ``rebuild(state)`` gives a fresh space, object by object, and return its objects in
+    the snapshot's order (a constraint missing made anew, one left over taken out);
+    the cached arbiters are left to the caller, as in ``rebuild``."""
+    objects, left_over = match
     space_values, bodies, static, shapes, constraints = state[:5]
     n_bodies = len(bodies) + (static is not None)
     body_records = [*bodies, static] if static is not None else bodies
@@ -135,6 +150,8 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
         if _cp.cpBodyGetType(body._body) != _DYNAMIC:
             set_type(body._body, _DYNAMIC)
     set_type(_cp.cpSpaceGetStaticBody(cp_space), _DYNAMIC)  # cpSpaceInit re-inits it
+    for constraint in left_over or ():  # out of the space (and of pymunk's list, below)
+        _cp.cpSpaceRemoveConstraint(cp_space, constraint._constraint)
     _cp.cpSpaceDestroy(cp_space)  # frees its arrays, indexes, contact cache, arbiters
     _cp.cpSpaceInit(cp_space)
 
@@ -183,9 +200,14 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
 
     first_constraint = n_bodies + len(shapes)
     c0, c1, c2, c3 = constraint_setters
-    for constraint, (cls, a, b, args, v) in zip(objects[first_constraint:], constraints):
-        h = constraint._constraint
-        _CONSTRAINT_INIT[cls](h, objects[a]._body, objects[b]._body, args)
+    for i, (cls, a, b, args, v) in enumerate(constraints, first_constraint):
+        constraint = objects[i]
+        if constraint is None:  # pymunk's constructor: the ...New that runs this Init
+            constraint = objects[i] = cls(objects[a], objects[b], *args)
+            h = constraint._constraint
+        else:
+            h = constraint._constraint
+            _CONSTRAINT_INIT[cls](h, objects[a]._body, objects[b]._body, args)
         if v != _CONSTRAINT_DEFAULTS:  # else the Init wrote these very values
             c0(h, v[0])
             c1(h, v[1])
@@ -203,3 +225,6 @@ def reseat(space: pymunk.Space, state: tuple, objects: list, space_setters,
     for constraint in objects[first_constraint:]:
         add_constraint(cp_space, constraint._constraint)
     space._removed_shapes.clear()
+    if left_over is not None:  # pymunk's list in the snapshot's order, as a new space's
+        space._constraints = dict.fromkeys(objects[first_constraint:])
+    return objects

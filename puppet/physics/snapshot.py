@@ -60,11 +60,11 @@ def rebuild(state: tuple, into: pymunk.Space | None = None) -> tuple[pymunk.Spac
     objects; the named objects are then the ones it held)."""
     (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
      named) = state
-    objects = None if into is None else reseat.live_objects(into, state)
-    if objects is not None:
+    match = None if into is None else reseat.live_objects(into, state)
+    if match is not None:
         space = into
-        reseat.reseat(space, state, objects, _SPACE_SET, _BODY_SET, _SHAPE_SET,
-                      _CONSTRAINT_SET)
+        objects = reseat.reseat(space, state, match, _SPACE_SET, _BODY_SET, _SHAPE_SET,
+                                _CONSTRAINT_SET)
     else:
         space, objects = _fresh(state)
     cp_space = space._space
