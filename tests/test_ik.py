@@ -28,3 +28,37 @@ def test_the_ik_solver_answers_within_the_limits_even_from_a_start_outside_them(
     _, end = forward(links, start)
     q = solve_dls(links, end, start, limits)  # a target the start already reaches
     assert -1.0 <= q[0] <= 1.0 and -0.5 <= q[1] <= 0.5
+
+
+def _reference_two(chain, d, prefer):
+    """The general solvers' answer for a two-joint chain (what Chain.solve did)."""
+    from puppet.interface.ik import _clamp, _two_link, solve_dls
+
+    q = _two_link(*chain._closed, d, prefer)
+    clamped = tuple(_clamp(v, lim) for v, lim in zip(q, chain.limits))
+    if clamped == q:
+        return q
+    return tuple(solve_dls(list(chain.links), d, clamped, chain.limits))
+
+
+def test_the_unrolled_two_joint_solver_gives_the_general_solvers_bits():
+    """ik_two.TwoLink is a refactor: every recorded reach replays to the same bits only
+    if it answers exactly what _two_link and solve_dls answer, limits in the way or not."""
+    import random
+    import struct
+
+    from puppet.interface.ik import Chain
+
+    bits = lambda q: [struct.pack("<d", v) for v in q]  # noqa: E731 - -0.0 != 0.0 here
+    rng = random.Random(29)
+    limit_sets = [(None, None), ((-1.0, 1.2), (0.0, 2.4)), ((-0.3, 0.3), None),
+                  (None, (-2.5, -0.1)), ((0.0, 0.0), (-0.2, 0.2))]
+    for limits in limit_sets:
+        for _ in range(400):
+            links = ((rng.uniform(-0.1, 0.1), rng.uniform(0.1, 0.4)),
+                     (rng.uniform(-0.1, 0.1), rng.uniform(0.1, 0.4)))
+            chain = Chain("c", ("a", "b"), "p", "e", (0.0, 0.0), links, (0.0, 0.0), limits)
+            r = rng.choice([0.3, 0.8, 1.5])
+            d = (rng.uniform(-r, r), rng.uniform(-r, r))
+            prefer = rng.uniform(-3.0, 3.0)
+            assert bits(chain._two.solve(*d, prefer)) == bits(_reference_two(chain, d, prefer))

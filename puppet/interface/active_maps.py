@@ -42,6 +42,7 @@ class ActiveMaps:
                 mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER)),
                 self._feedback_maps(active), frozenset(joints), {})
         self._mouse_maps, (readers, setters, adders), joints, self._channel_maps = compiled
+        self._input_maps = {}  # (binding, input names) -> apply_maps' appliers
         self.feedback.set_maps(list(readers), list(setters), list(adders))
         self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
         self.gestures.mouse_joints = set(joints)
@@ -137,9 +138,14 @@ class ActiveMaps:
 
     def apply_maps(self, inputs=None) -> None:
         """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
-        inputs = self.input_names() if inputs is None else inputs
-        for apply in self._compiled(set(inputs)):
-            self.owners.take(apply(self.inputs))
+        inputs = tuple(self.input_names() if inputs is None else inputs)
+        key = (self.role_binding, inputs)  # (a button or stick event: the same few names)
+        compiled = self._input_maps.get(key)
+        if compiled is None:
+            compiled = self._input_maps[key] = self._compiled(set(inputs))
+        values, take = self.inputs, self.owners.take
+        for apply in compiled:
+            take(apply(values))
 
     def _activate(self, maps) -> None:
         """Maps that just became active (a mode or state entered) act at once with the

@@ -25,6 +25,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.actions import ChainSpec
 from puppet.data.characters import CharacterSpec
+from puppet.interface.ik_two import TwoLink as _TwoLink
 
 Vec = tuple[float, float]
 _to_world, _angle = _cp.cpBodyLocalToWorld, _cp.cpBodyGetAngle  # what pymunk's Body calls
@@ -158,6 +159,8 @@ class Chain:
             (x1, y1), (x2, y2) = self.links
             object.__setattr__(self, "_closed", (math.hypot(x1, y1), math.hypot(x2, y2),
                                                  math.atan2(y1, x1), math.atan2(y2, x2)))
+            object.__setattr__(self, "_two", _TwoLink(self._closed, self.links, self.limits,
+                                                      DAMPING, TOLERANCE, MAX_ITERATIONS))
 
     @classmethod
     def from_spec(cls, name: str, spec: ChainSpec, character: CharacterSpec) -> Chain:
@@ -170,8 +173,8 @@ class Chain:
                    points[0], links, tuple(spec.end), lim)
 
     def end_world(self, character) -> Vec:
-        p = character.bodies[self.end_link].local_to_world(self.end)
-        return (p[0], p[1])
+        p = _to_world(character.bodies[self.end_link]._body, self.end)  # (local_to_world's)
+        return (p.x, p.y)
 
     def solve(self, character, target: Vec, current) -> tuple[float, ...]:
         """Joint targets (radians, within limits) reaching for a world point, starting
@@ -181,11 +184,7 @@ class Chain:
         angle = -_angle(parent)
         c, s = math.cos(angle), math.sin(angle)
         dx, dy = target[0] - base.x, target[1] - base.y
+        if len(self.links) == 2:  # (ik_two: the same arithmetic, unrolled)
+            return self._two.solve(c * dx - s * dy, s * dx + c * dy, current[1])
         d = (c * dx - s * dy, s * dx + c * dy)
-        if len(self.links) == 2:
-            q = _two_link(*self._closed, d, current[1])
-            clamped = tuple(_clamp(v, lim) for v, lim in zip(q, self.limits))
-            if clamped == q:
-                return q
-            current = clamped  # a limit is in the way: the nearest point within limits
         return tuple(solve_dls(list(self.links), d, current, self.limits))

@@ -144,6 +144,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.next_wakeup: int | None = None
         self._map_cache: dict[tuple, object] = {}  # (map id, binding) -> applier
         self._channel_maps: dict[tuple, tuple] = {}  # channel names -> (names, their maps)
+        self._input_maps: dict[tuple, list] = {}  # (binding, input names) -> their maps
         self._active_cache: dict[tuple, tuple] = {}  # (binding, active maps) -> compiled
         self._pending: list[list] = []  # channel frames not yet applied (see _on_channels)
         # pointer.x / pointer.y: the mouse, or the gamepad's pointer stick (only kept when
@@ -433,8 +434,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     to = machine.due(step)
                     if to is None:
                         break
-        if moved or not waited:
-            self._reschedule(step + 1)
+        if moved or not waited:  # (no state entered: each machine's due() just worked
+            self._reschedule(step + 1, not moved)  # out its next_wakeup(step + 1))
         else:  # every controller idle or waiting, and no state entered: the controllers'
             earliest = step + 1  # wake-ups stand, only the machines' move on
             wake = self._controllers_wake
@@ -444,10 +445,11 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     wake = at
             self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
-    def _reschedule(self, earliest: int) -> None:
+    def _reschedule(self, earliest: int, machines_due: bool = False) -> None:
         """``next_wakeup``: the first step >= ``earliest`` at which something is due,
         None when idle; and which controllers have work. Runs after every tick and key,
-        so it is kept lean."""
+        so it is kept lean (``machines_due``: every machine's ``wake_after`` is its
+        ``next_wakeup(earliest)``, a tick's ``due`` having worked it out)."""
         wake = None
         active = []
         for controller, busy in self._watched:
@@ -457,8 +459,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     active.append(controller)
                     wake = at if wake is None or at < wake else wake
         self._controllers_wake = wake
-        for machine in self.machines.values():
-            at = machine.next_wakeup(earliest)
+        for machine in self._machine_list:
+            at = machine.wake_after if machines_due else machine.next_wakeup(earliest)
             if at is not None and (wake is None or at < wake):
                 wake = at
         self._active = active

@@ -121,6 +121,12 @@ class Character:
                 space.add(self.mass_shapes[name])
         space.add(*self.hinges, *(s.spring for s in self.servos.values()))
 
+    def set_step(self, dt: float) -> None:
+        """The step (s) the space is stepped with: the servos' damping is meant as at
+        1/480 s and handed to the engine for this one (puppet/physics/servo.py)."""
+        for servo in self.servos.values():
+            servo.set_step(dt)
+
     def place(self, x: float, y: float, angle: float, joint_angles: dict[str, float]) -> None:
         """Put the model origin at (x, y), root at ``angle``; joints at angles (radians)."""
         angles = {self.spec.root: angle}

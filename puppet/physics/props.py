@@ -16,6 +16,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.scenes import SceneSpec
 
 _to_world = _cp.cpBodyLocalToWorld  # what Body.local_to_world calls
+_get_position, _get_angle = _cp.cpBodyGetPosition, _cp.cpBodyGetAngle
 
 
 @dataclass
@@ -35,26 +36,52 @@ class Prop:
         """(distance, world point, point name or None) of the graspable place nearest
         ``world``: a named point or the nearest point on a grasp segment. (An armed grasp
         asks this of every prop at every step until it holds: the points go through
-        the C call pymunk's ``local_to_world`` makes, without its Vec2d.)"""
+        the C call pymunk's ``local_to_world`` makes, without its Vec2d; a static prop's
+        are worked out once for where it stands, ``_placed``.)"""
         wx, wy = world
         best = (math.inf, world, None)
-        body, hypot = self.body._body, math.hypot
-        for name, local in self.points.items():
-            p = _to_world(body, local)
-            d = hypot(p.x - wx, p.y - wy)
+        hypot = math.hypot
+        points, segments = self._placed()
+        for name, px, py in points:
+            d = hypot(px - wx, py - wy)
             if d < best[0]:
-                best = (d, (p.x, p.y), name)
-        for a, b in self.segments:
-            pa, pb = _to_world(body, a), _to_world(body, b)
-            ax, ay = pa.x, pa.y
-            vx, vy = pb.x - ax, pb.y - ay
-            u = ((wx - ax) * vx + (wy - ay) * vy) / (vx * vx + vy * vy)
+                best = (d, (px, py), name)
+        for ax, ay, vx, vy, vv in segments:
+            u = ((wx - ax) * vx + (wy - ay) * vy) / vv
             u = min(1.0, max(0.0, u))
             p = (ax + u * vx, ay + u * vy)
             d = hypot(p[0] - wx, p[1] - wy)
             if d < best[0]:
                 best = (d, p, None)
         return best
+
+    def _placed(self) -> tuple[list, list]:
+        """The grasp points ``(name, x, y)`` and segments ``(ax, ay, vx, vy, vx * vx +
+        vy * vy)`` in the world, by the C calls ``nearest`` made for each (the same
+        values); kept for a static body while its position and angle stay (its
+        transform is made of them alone: a restored copy in the same place gives the
+        same points)."""
+        body = self.body._body
+        static = self.body.body_type == pymunk.Body.STATIC
+        if static:
+            p = _get_position(body)
+            key = (p.x, p.y, _get_angle(body))
+            cached = self.__dict__.get("_placed_cache")
+            if cached is not None and cached[0] == key:
+                return cached[1]
+        points = []
+        for name, local in self.points.items():
+            w = _to_world(body, local)
+            points.append((name, w.x, w.y))
+        segments = []
+        for a, b in self.segments:
+            pa, pb = _to_world(body, a), _to_world(body, b)
+            ax, ay = pa.x, pa.y
+            vx, vy = pb.x - ax, pb.y - ay
+            segments.append((ax, ay, vx, vy, vx * vx + vy * vy))
+        if static:
+            self._placed_cache = (key, (points, segments))
+        return points, segments
 
 
 def build_props(spec: SceneSpec, space: pymunk.Space) -> dict[str, Prop]:

@@ -82,6 +82,7 @@ class Simulation:
         self.rigid: dict[str, pymunk.GearJoint] = {}
         self.character = Character(character)
         self.character.add_to(self.space)
+        self.character.set_step(dt)  # the servos' damping, the same at any step
         self._place_at_start()
         self.drag_body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.drag_spring: pymunk.DampedSpring | None = None

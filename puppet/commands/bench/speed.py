@@ -141,7 +141,7 @@ def bare_run(subject: Subject, trace: list[list[tuple]], with_targets: bool):
                     servo = servos[i]
                     servo.target = angle
                     servo.stiffness = stiffness
-                    servo.damping = damping
+                    servo.spring.damping = damping  # read off the spring: the engine's
                     servo.max_torque = torque
             for _ in range(n - done):
                 step(dt)

@@ -18,6 +18,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FRAME, JointOwners, Owner
 from puppet.interface.poses import FrameTarget
+from puppet.physics.servo import SET_TARGET as _set_target
 
 _TURN = 2.0 * math.pi
 _angle = _cp.cpBodyGetAngle
@@ -64,12 +65,22 @@ class FrameTargets:
     def tick(self, step: int) -> str | None:
         if step % self.every:
             return WAITED  # between control steps
-        table = self.owners_table.table
-        for joint, (target, owner) in list(self.held.items()):
+        table, held = self.owners_table.table, self.held
+        c = self.character
+        bodies, servos, joints = c.bodies, c.servos, self.joints
+        remainder = math.remainder
+        for joint, (target, owner) in list(held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go
-                del self.held[joint]
-            else:
-                self._solve(joint, target)
+                del held[joint]
+                continue
+            spec = joints[joint]  # _solve's arithmetic, inlined (a tick holds several)
+            parent = _angle(bodies[spec.parent]._body)
+            child = _angle(bodies[spec.child]._body)
+            ref = target.ref
+            want = target.angle + (0.0 if ref is None else _angle(bodies[ref]._body))
+            q = child - want if target.hold_parent else want - parent
+            now = child - parent
+            _set_target(servos[joint].spring._constraint, now + remainder(q - now, _TURN))
 
     def next_wakeup(self, earliest: int) -> int | None:
         if not self.held:

@@ -23,6 +23,19 @@ def joint_chain(order) -> list[tuple]:
     return [(j.name, j.parent, j.child, j.anchor[0], j.anchor[1]) for j in order]
 
 
+def radians_clamped(joints: dict, channels: dict, limits: dict) -> dict:
+    """joint -> its channel's value in radians within the joint's limits (``Tracker.
+    _clamped`` of ``math.radians``), for the joints whose channel has a value."""
+    radians, get = math.radians, limits.get
+    q = {}
+    for j, n in joints.items():
+        if n in channels:
+            v = radians(channels[n])
+            lim = get(j)
+            q[j] = v if lim is None else lim[0] if v < lim[0] else lim[1] if v > lim[1] else v
+    return q
+
+
 def performed_pose(chain, root: str, origin, angle: float, cos: float, sin: float,
                    q: dict) -> dict:
     """link -> (x, y, angle, cos angle, sin angle): ``link_poses`` (the same arithmetic)

@@ -13,8 +13,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from puppet.interface.ik import hermite
 from puppet.interface.ownership import JointOwners, Owner, reach_owner
+from puppet.physics.servo import GET_TARGET as _target
+from puppet.physics.servo import SET_TARGET as _set_target
+
+_OWNERS: dict[str, Owner] = {}  # chain -> its reach's owner (made once: a tick a step)
 
 
 @dataclass
@@ -122,29 +125,51 @@ class ReachController:
         if not self.reaches:
             return None
         servos, owners = self.servos, self.owners_table
+        table, character, grasps = owners.table, self.character, self.grasps
         for name, reach in list(self.reaches.items()):
-            owner = reach_owner(name)
-            owned = owners.owned(owner)
-            if not owned:
+            owner = _OWNERS.get(name) or _OWNERS.setdefault(name, reach_owner(name))
+            chain = self.chains[name]
+            joints = chain.joints
+            get = table.get
+            two = len(joints) == 2
+            if two:  # (a reach claims its chain's joints: what it owns is among them)
+                j0, j1 = joints
+                own0, own1 = get(j0) == owner, get(j1) == owner
+                owned = own0 or own1
+            else:
+                owned = [j for j in joints if get(j) == owner]
+            if not owned and not owners.holds_any(owner):
                 del self.reaches[name]
                 continue
-            chain = self.chains[name]
-            goal = self.target_now(reach.target)
-            h = hermite((step - reach.start) / reach.steps)
+            target = reach.target
+            kind = target[0]
+            goal = (target[1], target[2]) if kind == "point" else self.target_now(target)
+            u = (step - reach.start) / reach.steps  # hermite(u), inlined
+            u = min(1.0, max(0.0, u))
+            h = u * u * (3.0 - 2.0 * u)
             p0 = reach.p0
             point = (p0[0] + h * (goal[0] - p0[0]), p0[1] + h * (goal[1] - p0[1]))
-            q = chain.solve(self.character, point, [servos[j].target for j in chain.joints])
-            for joint, angle in zip(chain.joints, q):
-                if joint in owned:
-                    servos[joint].target = angle
+            if two:  # the closed form reads the bend it keeps, only
+                spring = servos[j1].spring._constraint
+                q0, q1 = chain.solve(character, point, (None, _target(spring)))
+                if own0:
+                    _set_target(servos[j0].spring._constraint, q0)
+                if own1:
+                    _set_target(spring, q1)
+            else:
+                q = chain.solve(character, point,
+                                [_target(servos[j].spring._constraint) for j in joints])
+                for joint, angle in zip(joints, q):
+                    if joint in owned:
+                        _set_target(servos[joint].spring._constraint, angle)
             if reach.grasp:
-                kind, hold = reach.target[0], (reach.tolerance, reach.rigid, reach.max_torque)
+                hold = (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":
-                    self.grasps.try_grasp(name, [goal], None, *hold)
+                    grasps.try_grasp(name, [goal], None, *hold)
                 elif kind == "prop":  # only the point aimed at: not the bar let go of
-                    self.grasps.try_grasp(name, [goal], reach.target[1], *hold)
+                    grasps.try_grasp(name, [goal], target[1], *hold)
                 elif self.sim is not None and self.sim.props:
-                    self.grasps.try_grasp(name, None, "any", *hold)
+                    grasps.try_grasp(name, None, "any", *hold)
             if reach.end is not None and step >= reach.end:
                 owners.drop(owner)
                 del self.reaches[name]

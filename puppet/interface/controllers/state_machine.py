@@ -143,6 +143,9 @@ class StateMachine:
         Sensors are polled on multiples of ``every``; conditions listed one after
         another on the same sensor share one reading. When none fires, ``wake_after``
         is ``next_wakeup(now + 1)`` (the arbiter's next schedule, without a call)."""
+        if not self._transitions:  # a state left by keys alone (a climb's holds)
+            self.wake_after = None
+            return None
         every = self.every
         one = self._one_sensor
         if one is not None and not now % every:  # (see _now_in)
