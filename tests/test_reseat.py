@@ -75,7 +75,7 @@ def test_a_checkpoint_in_place_is_bit_identical_to_a_fresh_space(setup):
     assert live.seats == fresh.seats == 3
 
 
-@pytest.mark.parametrize("setup", SETUPS[:2])
+@pytest.mark.parametrize("setup", SETUPS[:2] + SETUPS[3:])
 def test_a_restore_in_place_replays_the_same_across_grasps_made_and_let_go(setup):
     sim = _sim(setup)
     _busy(sim)
@@ -93,10 +93,12 @@ def test_a_restore_in_place_replays_the_same_across_grasps_made_and_let_go(setup
     c = sim.character
     sim.attach("other", c.link_order[1], (0.0, 0.0), tuple(c.bodies[c.link_order[1]].position))
     _drive(sim, 48)
+    view = sim.space.constraints
     sim.restore(grasping)
     assert sim.space is space and set(sim.grasps) == {"held"} and sim.drag_spring is not None
     # pymunk's list of constraints is Chipmunk's, in the same order
     assert [c._constraint for c in sim.space.constraints] == _constraints(sim)
+    assert list(view) == list(sim.space.constraints)  # the same dict, not a new one
     _drive(sim, 480)
     assert sim.state_vector() == straight
 
@@ -127,16 +129,32 @@ def test_a_restore_whose_shapes_no_longer_match_builds_a_fresh_space():
     assert sim.state_vector() == straight
 
 
-def test_reseating_in_place_frees_the_arbiters_it_made():
+def test_reseating_in_place_frees_the_arbiters_it_made(monkeypatch):
+    import gc
+
+    freed: list = []
+    free = snapshot._libc_free
+
+    def record(address):
+        freed.append(address)
+        free(address)
+
+    monkeypatch.setattr(snapshot, "_libc_free", record)
     sim = _sim(SETUPS[2])
     _drive(sim, 480)
     sim.checkpoint()
     made = sim.space._puppet_made
     assert made, "a standing figure has cached contacts to restore"
     first = list(made)
+    assert freed == []
     sim.step(24)
     sim.checkpoint()
-    assert sim.space._puppet_made is made and made and made != first
+    assert sim.space._puppet_made is made and freed == first  # the first seat's, once
+    second = list(made)
+    assert second and not set(second) & set(first)
+    del sim, made
+    gc.collect()
+    assert freed == first + second  # the last seat's with the space
 
 
 def _space_of_every_kind():
@@ -181,13 +199,14 @@ def _space_of_every_kind():
 def test_every_kind_of_object_reseats_in_place_as_a_fresh_space_is_built():
     from puppet.physics.simulation import step_space
 
-    live = _space_of_every_kind()
-    step_space(live, 1 / 480, 300)
-    fresh = live
+    live, fresh = _space_of_every_kind(), _space_of_every_kind()
+    for space in (live, fresh):
+        step_space(space, 1 / 480, 300)
     for _ in range(12):
         state = snapshot.capture(live, {})
         assert state[6], "the polygon should rest on the floor (cached contacts)"
-        fresh, _ = snapshot.rebuild(state)
+        assert snapshot.capture(fresh, {}) == state
+        fresh, _ = snapshot.rebuild(snapshot.capture(fresh, {}))  # its own snapshot
         same, _ = snapshot.rebuild(state, into=live)
         assert same is live and fresh is not live
         assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
@@ -217,3 +236,127 @@ def test_positions_not_made_by_a_step_come_back_to_the_same_bits():
         snapshot.rebuild(state, into=live)
         assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
         step_space(live, 1 / 480, 37)
+
+
+def test_the_pymunk_in_use_is_one_the_reseat_was_checked_against():
+    import pymunk
+
+    from puppet.physics import reseat
+
+    assert reseat.ENABLED, f"pymunk {pymunk.version}: re-verify reseat, then add it to VERIFIED"
+
+
+def _malformed(state: tuple) -> list:
+    """Copies of ``state`` with one record that does not unpack or convert."""
+    space_values, bodies, static, shapes, constraints, *rest = state
+    poly = next(i for i, r in enumerate(shapes) if len(r[2][0]) > 6)
+    cls, body, (verts, transform, radius), *v = shapes[poly]
+    bad_poly = [*shapes]
+    bad_poly[poly] = (cls, body, ((*verts[:-1], (0.1, "x")), transform, radius), *v)
+    bad_body = [*bodies]
+    kind, mass, moment, values = bodies[-1]
+    bad_body[-1] = (kind, mass, moment, (values[0], "angle", *values[2:]))
+    bad_joint = [*constraints]
+    cls, a, b, args, values = constraints[-1]
+    bad_joint[-1] = (cls, a, b, args, ("strong", *values[1:]))
+    bad_space = (*space_values[:-1], -1)  # a collision persistence below zero
+    return [(space_values, bodies, static, bad_poly, constraints, *rest),
+            (space_values, bad_body, static, shapes, constraints, *rest),
+            (space_values, bodies, static, shapes, bad_joint, *rest),
+            (bad_space, bodies, static, shapes, constraints, *rest)]
+
+
+def test_a_record_that_does_not_unpack_raises_before_the_space_is_touched():
+    """A malformed record, or a pymunk attribute gone or of another type, raises
+    before ``cpSpaceDestroy``: the space is as it was, steps, re-seats and is freed."""
+    import gc
+
+    from puppet.physics.simulation import step_space
+
+    live = _space_of_every_kind()
+    step_space(live, 1 / 480, 300)
+    state = snapshot.capture(live, {})
+    for bad in _malformed(state):
+        with pytest.raises((TypeError, ValueError, OverflowError)):
+            snapshot.rebuild(bad, into=live)
+        assert snapshot.capture(live, {}) == state
+    shape, body = list(live.shapes)[0], list(live.bodies)[0]
+    handle = shape._h
+    shape._h = 12345  # not a pointer: the user data setter would raise
+    with pytest.raises(TypeError):
+        snapshot.rebuild(state, into=live)
+    shape._h = handle
+    cp_body = body._body
+    body._body = None  # a body handle of the wrong type
+    with pytest.raises(TypeError):
+        snapshot.rebuild(state, into=live)
+    body._body = cp_body
+    assert snapshot.capture(live, {}) == state
+    step_space(live, 1 / 480, 37)  # untouched: steps as it would have
+    after = snapshot.capture(live, {})
+    fresh, _ = snapshot.rebuild(after)
+    assert snapshot.rebuild(after, into=live)[0] is live
+    for space in (live, fresh):
+        step_space(space, 1 / 480, 240)
+    assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
+    del live, fresh, shape, body
+    gc.collect()
+
+
+def test_a_ctrl_c_during_the_reseat_is_raised_once_the_space_is_whole(monkeypatch):
+    import signal
+
+    from puppet.physics import reseat
+    from puppet.physics.simulation import step_space
+
+    live, fresh = _space_of_every_kind(), _space_of_every_kind()
+    for space in (live, fresh):
+        step_space(space, 1 / 480, 300)
+    state = snapshot.capture(live, {})
+    set_iterations = reseat._SPACE_SET[0]
+
+    def interrupted(space, value):  # the user presses Ctrl+C mid-way through commit
+        signal.raise_signal(signal.SIGINT)
+        set_iterations(space, value)
+
+    monkeypatch.setattr(reseat, "_SPACE_SET", (interrupted, *reseat._SPACE_SET[1:]))
+    with pytest.raises(KeyboardInterrupt):
+        snapshot.rebuild(state, into=live)
+    monkeypatch.undo()
+    fresh, _ = snapshot.rebuild(state)
+    assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
+    for space in (live, fresh):
+        step_space(space, 1 / 480, 240)
+    assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
+
+
+def test_what_only_a_fresh_space_handles_falls_back_to_it():
+    """Sleeping bodies, a custom body velocity/position function, a constraint's
+    solve callback: ``live_objects`` says no, the checkpoint builds a fresh space."""
+    from puppet.physics import reseat
+
+    def sleepy(sim):
+        sim.space.sleep_time_threshold = 0.5
+
+    def velocity(sim):
+        body = list(sim.space.bodies)[0]
+        body.velocity_func = lambda b, g, damping, dt: None
+
+    def position(sim):
+        list(sim.space.bodies)[0].position_func = lambda b, dt: None
+
+    def pre_solve(sim):
+        next(iter(sim.space.constraints)).pre_solve = lambda c, s: None
+
+    def post_solve(sim):
+        next(iter(sim.space.constraints)).post_solve = lambda c, s: None
+
+    for change in (sleepy, velocity, position, pre_solve, post_solve):
+        sim = _sim(SETUPS[0])
+        _drive(sim, 48)
+        space = sim.space
+        assert reseat.live_objects(space, snapshot.capture(space, {})) is not None
+        change(sim)
+        assert reseat.live_objects(space, snapshot.capture(space, {})) is None
+        sim.checkpoint()
+        assert sim.space is not space, change.__name__

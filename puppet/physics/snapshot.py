@@ -61,23 +61,42 @@ def rebuild(state: tuple, into: pymunk.Space | None = None) -> tuple[pymunk.Spac
     (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
      named) = state
     match = None if into is None else reseat.live_objects(into, state)
-    if match is not None:
-        space = into
-        objects = reseat.reseat(space, state, match, _SPACE_SET, _BODY_SET, _SHAPE_SET,
-                                _CONSTRAINT_SET)
-    else:
+    if match is None:
         space, objects = _fresh(state)
+        made = [_make_arbiter(r, objects) for r in arbiters]
+        _seat_arbiters(space, made, (ids, stamp, dt))
+    else:  # all that can raise first (reseat.prepare), then only C calls on its values
+        space = into
+        plan = reseat.prepare(space, state, match)
+        objects = plan[0]
+        counters = (_fit("cpHashValue", ids), _fit("cpTimestamp", stamp), float(dt))
+        made = [_make_arbiter(r, objects) for r in arbiters]  # (they read shapes' bodies)
+        held = reseat.hold_interrupt()
+        try:
+            reseat.commit(plan, _BODY_SET, _SHAPE_SET, _CONSTRAINT_SET)
+            _seat_arbiters(space, made, counters)
+        finally:
+            reseat.release_interrupt(held)
+    # the captured step's contacts, worked out when first asked (restored_contacts)
+    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
+    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+def _fit(ctype: str, value):
+    return _ffi.new(ctype + " *", value)[0]
+
+
+def _seat_arbiters(space: pymunk.Space, made: list, counters: tuple) -> None:
+    """The space's counters and the cached arbiters ``made``, as pymunk's unpickling
+    leaves them (and the earlier seat's arbiters freed, ``_own_arbiters``)."""
+    ids, stamp, dt = counters
     cp_space = space._space
     _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
     _cp.cpSpaceSetTimestamp(cp_space, stamp)
     _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
-    made = [_make_arbiter(r, objects) for r in arbiters]
     for arb in made:
         _cp.cpSpaceAddCachedArbiter(cp_space, arb)
     _own_arbiters(space, made)
-    # the captured step's contacts, worked out when first asked (restored_contacts)
-    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
-    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
 
 
 def _fresh(state: tuple) -> tuple[pymunk.Space, list]:
@@ -114,9 +133,9 @@ def _own_arbiters(space: pymunk.Space, made: list) -> None:
         old = getattr(space, "_puppet_contacts", None)
         if old is not None and old[2] is not None:  # never worked out: now it cannot be
             old[1], old[2], old[3] = {}, None, {}
-        for address in held:
+        freed, held[:] = held[:], addresses  # listed first: never freed twice
+        for address in freed:
             _libc_free(address)
-        held[:] = addresses
     elif made:
         _free_with_space(space, addresses)
 
