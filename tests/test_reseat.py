@@ -330,6 +330,30 @@ def test_a_ctrl_c_during_the_reseat_is_raised_once_the_space_is_whole(monkeypatc
     assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
 
 
+def test_a_reader_made_before_a_seat_reads_the_rows_of_the_seated_space():
+    """The first re-seat puts the space's own static body last among the static ones
+    (a new space's order; the scene built it first): a body reader finds the rows
+    again (biped-bars: the bars' and the platform's bodies)."""
+    from puppet.physics.body_state import WIDTH, BodyReader
+
+    sim = _sim(SETUPS[4])
+    _drive(sim, 240)
+    space = sim.space
+    bodies = [*space.bodies, space.static_body]
+    reader = BodyReader()
+    before = {b: reader.offset(space, b) for b in bodies}
+    sim.checkpoint()
+    assert sim.space is space
+    fresh = BodyReader()
+    after = {b: fresh.offset(space, b) for b in bodies}
+    assert after != before, "the seat should change the body order (else no test)"
+    assert {b: reader.offset(space, b) for b in bodies} == after
+    rows = reader.read(space)
+    for b in bodies:
+        i = after[b]
+        assert rows[i:i + WIDTH][:3] == [*b.position, b.angle]
+
+
 def test_what_only_a_fresh_space_handles_falls_back_to_it():
     """Sleeping bodies, a custom body velocity/position function, a constraint's
     solve callback: ``live_objects`` says no, the checkpoint builds a fresh space."""
