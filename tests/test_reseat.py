@@ -384,3 +384,11 @@ def test_what_only_a_fresh_space_handles_falls_back_to_it():
         assert reseat.live_objects(space, snapshot.capture(space, {})) is None
         sim.checkpoint()
         assert sim.space is not space, change.__name__
+
+
+def test_the_space_setters_are_the_c_calls_behind_the_properties_the_snapshot_lists():
+    from puppet.physics import reseat
+
+    names = ["cpSpaceSet" + "".join(w.title() for w in a.split("_"))
+             for a in snapshot.SPACE_ATTRS]
+    assert [f.__name__ for f in reseat._SPACE_SET] == names
