@@ -107,40 +107,62 @@ def _fits(ctype: str, value):
     return _ffi.new(ctype + " *", value)[0]
 
 
+_INTEGERS: dict = {}  # (collision type, filter) -> the two in their C types
+
+
+def _integers(collision_type, shape_filter) -> tuple:
+    """A shape's collision type and filter, checked and in the types their setters
+    take (integers alone: equal keys are the same values; a few per scene)."""
+    got = _INTEGERS.get((collision_type, shape_filter))
+    if got is None:
+        got = (_fits("cpCollisionType", collision_type),
+               _ffi.new("cpShapeFilter *", shape_filter))
+        if len(_INTEGERS) > 256:
+            _INTEGERS.clear()
+        _INTEGERS[(collision_type, shape_filter)] = got
+    return got
+
+
 # A shape's init arguments (snapshot's records: pymunk's constructor arguments) in the
 # types ``...Init`` takes, and the Init: (kind, typed handle cast, arguments)
 def _circle(args):
-    radius, offset = args
-    return 0, "cpCircleShape *", (float(radius), _vec(offset))
+    radius, (x, y) = args
+    return 0, _CIRCLE, (float(radius), (float(x), float(y)))
 
 
 def _segment(args):
-    a, b, radius = args
-    return 1, "cpSegmentShape *", (_vec(a), _vec(b), float(radius))
+    (ax, ay), (bx, by), radius = args
+    return 1, _SEGMENT, ((float(ax), float(ay)), (float(bx), float(by)), float(radius))
 
 
 def _poly(args):
     verts, transform, radius = args  # pymunk's pickle passes no transform (identity)
     if transform is not None or len(verts) < 1:
         raise ValueError(f"polygon record {args!r}: a transform, or no corners")
-    return 2, "cpPolyShape *", (len(verts), _ffi.new("cpVect[]", [_vec(v) for v in verts]),
+    return 2, _POLY, (len(verts), _ffi.new("cpVect[]", [_vec(v) for v in verts]),
                                 float(radius))
 
 
+_CIRCLE, _SEGMENT, _POLY = (_ffi.typeof(t) for t in (
+    "cpCircleShape *", "cpSegmentShape *", "cpPolyShape *"))
 _SHAPE_ARGS = {pymunk.Circle: _circle, pymunk.Segment: _segment, pymunk.Poly: _poly}
 _SHAPE_INIT = (_cp.cpCircleShapeInit, _cp.cpSegmentShapeInit, _cp.cpPolyShapeInit)
 
+_T = {t: _ffi.typeof(t) for t in ("cpPivotJoint *", "cpRotaryLimitJoint *",
+                                  "cpDampedRotarySpring *", "cpGearJoint *",
+                                  "cpDampedSpring *")}
 # A constraint's: (Init, typed handle cast, its arguments in the types the Init takes)
 _CONSTRAINT_ARGS = {
-    pymunk.PivotJoint: (_cp.cpPivotJointInit, "cpPivotJoint *",
-                        lambda x: (_vec(x[0]), _vec(x[1]))),
-    pymunk.RotaryLimitJoint: (_cp.cpRotaryLimitJointInit, "cpRotaryLimitJoint *",
+    pymunk.PivotJoint: (_cp.cpPivotJointInit, _T["cpPivotJoint *"],
+                        lambda x: ((float(x[0][0]), float(x[0][1])),
+                                   (float(x[1][0]), float(x[1][1])))),
+    pymunk.RotaryLimitJoint: (_cp.cpRotaryLimitJointInit, _T["cpRotaryLimitJoint *"],
                               lambda x: (float(x[0]), float(x[1]))),
-    pymunk.DampedRotarySpring: (_cp.cpDampedRotarySpringInit, "cpDampedRotarySpring *",
+    pymunk.DampedRotarySpring: (_cp.cpDampedRotarySpringInit, _T["cpDampedRotarySpring *"],
                                 lambda x: (float(x[0]), float(x[1]), float(x[2]))),
-    pymunk.GearJoint: (_cp.cpGearJointInit, "cpGearJoint *",
+    pymunk.GearJoint: (_cp.cpGearJointInit, _T["cpGearJoint *"],
                        lambda x: (float(x[0]), float(x[1]))),
-    pymunk.DampedSpring: (_cp.cpDampedSpringInit, "cpDampedSpring *",
+    pymunk.DampedSpring: (_cp.cpDampedSpringInit, _T["cpDampedSpring *"],
                           lambda x: (_vec(x[0]), _vec(x[1]), float(x[2]), float(x[3]),
                                      float(x[4]))),
 }
@@ -213,25 +235,25 @@ def prepare(space: pymunk.Space, state: tuple, match: tuple[list, list]) -> tupl
                                                   strict=True):
         if body_type not in _BODY_TYPES:
             raise ValueError(f"body type {body_type!r}")
-        f, angle, p, c, vel, spin, torque = v
-        body_rows.append((body._body, body_type, float(mass), float(moment),
-                          body._data_handle, _vec(f), float(angle), _vec(p), _vec(c),
-                          _vec(vel), float(spin), float(torque)))
+        (fx, fy), angle, (px, py), (cx, cy), (vx, vy), spin, torque = v  # (inline: a
+        body_rows.append((body._body, body_type, float(mass), float(moment),  # call
+                          body._data_handle, (float(fx), float(fy)), float(angle),  # per
+                          (float(px), float(py)), (float(cx), float(cy)),  # value costs)
+                          (float(vx), float(vy)), float(spin), float(torque)))
     first_constraint = n_bodies + len(shapes)
     shape_rows = []
     for shape, (cls, body, args, v, mass, density) in zip(
             objects[n_bodies:first_constraint], shapes, strict=True):
         kind, typed, init_args = _SHAPE_ARGS[cls](args)
-        sensor, collision_type, shape_filter, e, u, surface, _hash_id = v
+        sensor, collision_type, shape_filter, e, u, (sx, sy), _hash_id = v
         if (bool(sensor), collision_type, shape_filter) == _SHAPE_DEFAULTS:
             own = None  # what the Init writes
         else:
-            own = (bool(sensor), _fits("cpCollisionType", collision_type),
-                   _ffi.new("cpShapeFilter *", shape_filter))
+            own = (bool(sensor), *_integers(collision_type, shape_filter))
         h = shape._shape
         shape_rows.append((kind, h, _cast(typed, h), objects[body]._body, init_args,
-                           shape._h, own, float(e), float(u), _vec(surface), float(mass),
-                           float(density)))
+                           shape._h, own, float(e), float(u), (float(sx), float(sy)),
+                           float(mass), float(density)))
     constraint_rows = []
     for i, (cls, a, b, args, v) in enumerate(constraints, first_constraint):
         init, typed, convert = _CONSTRAINT_ARGS[cls]
