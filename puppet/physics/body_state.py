@@ -5,8 +5,11 @@ velocity, links' places, KD tracking's pulls). Asking pymunk body by body costs 
 call per value; pymunk's batch API (``pymunk.batch``) hands every body of a space
 over at once, through the iterator pymunk ships for it, into one float array:
 ``x, y, angle, vx, vy, spin`` per body, ``x, y`` being what ``Body.position`` gives.
-A space keeps its bodies in one order until one is added or removed (a restore builds
-a new space), so where each body's row is is worked out once per space.
+A space keeps its bodies in one order until one is added or removed, or it is re-seated
+(a restore builds a new space, or re-seats the live one in place - in the order a new
+space gets, which need not be the one it had: the space's own static body comes last
+there, first when the scene was built), so where each body's row is is worked out once
+per space and seat (``space._puppet_seat``, counted by ``puppet.physics.reseat``).
 
 The values are the very floats the per-body calls return; what a caller works out
 from them must be done with the same arithmetic as Chipmunk (``to_world``), so that
@@ -37,12 +40,13 @@ class BodyReader:
         self._data = ffi.new("pmBatchedData *")
         self._data.floatArray = self._floats
         self._data.intArray = self._ints
-        self._space = None  # the space the offsets were worked out for
+        self._space = None  # the space the offsets were worked out for, and its seat
+        self._seat = 0
         self._offsets: dict[int, int] = {}
 
     def read(self, space) -> list[float]:
         """``[x, y, angle, vx, vy, spin, ...]`` of every body of ``space``, in its order."""
-        if space is not self._space:
+        if space is not self._space or space.__dict__.get("_puppet_seat", 0) != self._seat:
             self._index(space)
         floats = self._floats
         floats.num = 0
@@ -51,7 +55,7 @@ class BodyReader:
 
     def offset(self, space, body) -> int:
         """Where ``body``'s values start in ``read(space)``."""
-        if space is not self._space:
+        if space is not self._space or space.__dict__.get("_puppet_seat", 0) != self._seat:
             self._index(space)
         return self._offsets[body.id]
 
@@ -66,6 +70,7 @@ class BodyReader:
         ids = _UNPACK(ints.arr, ints.num)
         self._offsets = {body_id: WIDTH * i for i, body_id in enumerate(ids)}
         self._space = space
+        self._seat = space.__dict__.get("_puppet_seat", 0)
 
     def __del__(self):
         try:

@@ -6,7 +6,12 @@ bits. pymunk does not keep the solver's warm-start state across a copy or a pick
 copy drifts from the original; two restores of one snapshot agree exactly. Callers
 that need "restored == never restored" (checkpoints) re-seat the live run on a
 restored copy at the moment they snapshot: see ``checkpoint()``. Sessions do so at
-step 0, so every run's bits depend on exactly how ``restore`` builds the space.
+step 0, so every run's bits depend on exactly how ``restore`` builds the space. A
+checkpoint re-seats the run in place (``puppet.physics.reseat``: the space and the
+objects are kept, put in the state a fresh space built from the snapshot has); a
+restore does too when the live objects still match the snapshot's, else it builds a
+fresh space. Either way callers re-read the objects (``character.bodies``, grasps...),
+and ``seats`` counts the re-seats.
 
 The snapshot format itself is ``puppet.physics.snapshot``. The Simulation owns every
 constraint the interface adds to the world (grasps, the Ctrl+drag spring), so that
@@ -63,6 +68,7 @@ class Simulation:
         self.scene_spec = scene
         self.dt = dt
         self.steps = 0
+        self.seats = 0  # checkpoints and restores so far (each re-seats the run)
         self.space = pymunk.Space()
         self.space.gravity = scene.gravity
         solver = character.solver  # a character may need more passes or less slop
@@ -206,7 +212,8 @@ class Simulation:
         return pickle.dumps(self._state(), protocol=pickle.HIGHEST_PROTOCOL)
 
     def restore(self, data: bytes) -> None:
-        """Back to a ``snapshot``, on a fresh space (the objects callers held are replaced)."""
+        """Back to a ``snapshot``: re-seated in place, or on a fresh space (the objects
+        callers held are then replaced)."""
         self._rebuild(pickle.loads(data))
 
     def checkpoint(self) -> bytes:
@@ -232,7 +239,8 @@ class Simulation:
 
     def _rebuild(self, state: tuple) -> None:
         space_state, holders, steps = state
-        self.space, named = snapshot.rebuild(space_state)
+        self.space, named = snapshot.rebuild(space_state, into=self.space)
+        self.seats += 1
         self.character.bind(named["character"])
         self.ground = named["ground"]
         self.drag_body, *spring = named["drag"]

@@ -25,6 +25,8 @@ import pymunk
 from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp  # the C calls pymunk's own pickle uses
 
+from puppet.physics import reseat
+
 _libc_free = ctypes.CDLL(None).free  # Chipmunk allocates with the process's calloc
 _libc_free.argtypes, _libc_free.restype = [ctypes.c_void_p], None
 
@@ -50,12 +52,56 @@ def capture(space: pymunk.Space, named: dict[str, list]) -> tuple:
             {name: [index[o] for o in objs] for name, objs in named.items()})
 
 
-def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
+def rebuild(state: tuple, into: pymunk.Space | None = None) -> tuple[pymunk.Space, dict[str, list]]:
     """A fresh space from ``capture``: the objects made, set up and added in the order
     (and with the values) that unpickling the space with pymunk would use; and the
-    named objects' new copies."""
+    named objects' new copies. ``into``: a live space to re-seat in place instead when
+    its objects match the snapshot's one for one (``reseat``: the same state, the same
+    objects; the named objects are then the ones it held)."""
     (space_values, bodies, static, shapes, constraints, (ids, stamp, dt), arbiters,
      named) = state
+    match = None if into is None else reseat.live_objects(into, state)
+    if match is None:
+        space, objects = _fresh(state)
+        made = [_make_arbiter(r, objects) for r in arbiters]
+        _seat_arbiters(space, made, (ids, stamp, dt))
+    else:  # all that can raise first (reseat.prepare), then only C calls on its values
+        space = into
+        plan = reseat.prepare(space, state, match)
+        objects = plan[0]
+        counters = (_fit("cpHashValue", ids), _fit("cpTimestamp", stamp), float(dt))
+        made = [_make_arbiter(r, objects) for r in arbiters]  # (they read shapes' bodies)
+        held = reseat.hold_interrupt()
+        try:
+            reseat.commit(plan, _BODY_SET, _SHAPE_SET, _CONSTRAINT_SET)
+            _seat_arbiters(space, made, counters)
+        finally:
+            reseat.release_interrupt(held)
+    # the captured step's contacts, worked out when first asked (restored_contacts)
+    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
+    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+
+
+def _fit(ctype: str, value):
+    return _ffi.new(ctype + " *", value)[0]
+
+
+def _seat_arbiters(space: pymunk.Space, made: list, counters: tuple) -> None:
+    """The space's counters and the cached arbiters ``made``, as pymunk's unpickling
+    leaves them (and the earlier seat's arbiters freed, ``_own_arbiters``)."""
+    ids, stamp, dt = counters
+    cp_space = space._space
+    _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
+    _cp.cpSpaceSetTimestamp(cp_space, stamp)
+    _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
+    for arb in made:
+        _cp.cpSpaceAddCachedArbiter(cp_space, arb)
+    _own_arbiters(space, made)
+
+
+def _fresh(state: tuple) -> tuple[pymunk.Space, list]:
+    """A new space and new objects (pymunk's unpickling order), without the arbiters."""
+    space_values, bodies, static, shapes, constraints = state[:5]
     objects = [_make_body(r) for r in bodies]
     static_body = None if static is None else _make_body(static)
     if static_body is not None:
@@ -73,24 +119,32 @@ def rebuild(state: tuple) -> tuple[pymunk.Space, dict[str, list]]:
         space._setup_static_body(static_body)
     space.add(*objects[first_shape:first_constraint])
     space.add(*objects[first_constraint:])
-    cp_space = space._space
-    _cp.cpSpaceSetShapeIDCounter(cp_space, ids)
-    _cp.cpSpaceSetTimestamp(cp_space, stamp)
-    _cp.cpSpaceSetCurrentTimeStep(cp_space, dt)
-    made = [_make_arbiter(r, objects) for r in arbiters]
-    for arb in made:
-        _cp.cpSpaceAddCachedArbiter(cp_space, arb)
-    if made:
-        _free_with_space(space, made)
-    # the captured step's contacts, worked out when first asked (restored_contacts)
-    space._puppet_contacts = [stamp, None, (made, arbiters, objects), None]
-    return space, {name: [objects[i] for i in idx] for name, idx in named.items()}
+    return space, objects
 
 
-def _free_with_space(space: pymunk.Space, made: list) -> None:
+def _own_arbiters(space: pymunk.Space, made: list) -> None:
+    """Free the arbiters ``rebuild`` made once nothing can reach them: the ones of an
+    earlier seat of a space re-seated in place now (``cpSpaceDestroy`` has dropped the
+    space's lists of them and every body was re-initialised), the new ones with the
+    space (``_free_with_space``)."""
+    held = getattr(space, "_puppet_made", None)
+    addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
+    if held is not None:
+        old = getattr(space, "_puppet_contacts", None)
+        if old is not None and old[2] is not None:  # never worked out: now it cannot be
+            old[1], old[2], old[3] = {}, None, {}
+        freed, held[:] = held[:], addresses  # listed first: never freed twice
+        for address in freed:
+            _libc_free(address)
+    elif made:
+        _free_with_space(space, addresses)
+
+
+def _free_with_space(space: pymunk.Space, addresses: list) -> None:
     """Free the arbiters ``rebuild`` made (``cpArbiterNew``: Chipmunk's calloc, about
-    0.2 kB each) right after Chipmunk frees their space, as pymunk's own unpickling
-    never does (it leaked them: 115-220 bytes per contact per restore, issue 32).
+    0.2 kB each; ``addresses``, a list kept as ``space._puppet_made``) right after
+    Chipmunk frees their space, as pymunk's own unpickling never does (it leaked them:
+    115-220 bytes per contact per restore, issue 32).
 
     Chipmunk never frees an arbiter itself: the ones it makes live in blocks the space
     frees whole, and one it is handed stays in its cache, its list of the step's
@@ -102,11 +156,12 @@ def _free_with_space(space: pymunk.Space, made: list) -> None:
     each cached arbiter from its bodies, writing into it; so does freeing what
     ``arb.contacts`` points to by then (the space's buffer). So the space's handle is
     wrapped: when the Space goes, the wrapper lets go of pymunk's own handle (its
-    destructor runs then, the space is freed) and then frees the arbiters. Were that
+    destructor runs then, the space is freed) and then frees the arbiters listed then
+    (a re-seat in place frees its earlier ones itself: ``_own_arbiters``). Were that
     handle still held elsewhere (its destructor not run), they are left, as before."""
     original = space._space
-    addresses = [int(_ffi.cast("uintptr_t", arb)) for arb in made]
     holder = [original]
+    space._puppet_made = addresses
 
     def release(_ptr) -> None:
         handle = holder.pop()
@@ -260,13 +315,18 @@ def _plain(values) -> tuple:
 # The records read and write through Chipmunk's own getters and setters (the calls
 # pymunk's properties make, in the order of the attribute lists below): a property adds a
 # Python call and a Vec2d per value, a third of a biped checkpoint's time.
+_B_TYPE, _B_MASS, _B_MOMENT = _cp.cpBodyGetType, _cp.cpBodyGetMass, _cp.cpBodyGetMoment
+_B_FORCE, _B_ANGLE, _B_POS = _cp.cpBodyGetForce, _cp.cpBodyGetAngle, _cp.cpBodyGetPosition
+_B_COG, _B_VEL = _cp.cpBodyGetCenterOfGravity, _cp.cpBodyGetVelocity
+_B_SPIN, _B_TORQUE = _cp.cpBodyGetAngularVelocity, _cp.cpBodyGetTorque
+
+
 def _body_record(b: pymunk.Body) -> tuple:
     h = b._body
-    f, p, c, v = (_cp.cpBodyGetForce(h), _cp.cpBodyGetPosition(h),
-                  _cp.cpBodyGetCenterOfGravity(h), _cp.cpBodyGetVelocity(h))
-    return (_cp.cpBodyGetType(h), _cp.cpBodyGetMass(h), _cp.cpBodyGetMoment(h),
-            ((f.x, f.y), _cp.cpBodyGetAngle(h), (p.x, p.y), (c.x, c.y), (v.x, v.y),
-             _cp.cpBodyGetAngularVelocity(h), _cp.cpBodyGetTorque(h)))
+    f, p, c, v = _B_FORCE(h), _B_POS(h), _B_COG(h), _B_VEL(h)
+    return (_B_TYPE(h), _B_MASS(h), _B_MOMENT(h),
+            ((f.x, f.y), _B_ANGLE(h), (p.x, p.y), (c.x, c.y), (v.x, v.y), _B_SPIN(h),
+             _B_TORQUE(h)))
 
 
 def _make_body(record) -> pymunk.Body:
@@ -278,14 +338,22 @@ def _make_body(record) -> pymunk.Body:
     return body
 
 
+_S_FILTER, _S_SURFACE, _S_SENSOR = (_cp.cpShapeGetFilter, _cp.cpShapeGetSurfaceVelocity,
+                                    _cp.cpShapeGetSensor)
+_S_TYPE, _S_E, _S_U, _S_ID = (_cp.cpShapeGetCollisionType, _cp.cpShapeGetElasticity,
+                              _cp.cpShapeGetFriction, _cp.cpShapeGetHashID)
+_S_MASS, _S_DENSITY = _cp.cpShapeGetMass, _cp.cpShapeGetDensity
+
+
 def _shape_record(s: pymunk.Shape, index: dict) -> tuple:
     h = s._shape
-    f, sv = _cp.cpShapeGetFilter(h), _cp.cpShapeGetSurfaceVelocity(h)
-    return (type(s), index[s.body], _init_args(s, 1),
-            (bool(_cp.cpShapeGetSensor(h)), _cp.cpShapeGetCollisionType(h),
-             (f.group, f.categories, f.mask), _cp.cpShapeGetElasticity(h),
-             _cp.cpShapeGetFriction(h), (sv.x, sv.y), _cp.cpShapeGetHashID(h)),
-            _cp.cpShapeGetMass(h), _cp.cpShapeGetDensity(h))
+    f, sv = _S_FILTER(h), _S_SURFACE(h)
+    cls = type(s)
+    fast = _FAST_INIT.get(cls)
+    return (cls, index[s._body()], _init_args(s, 1) if fast is None else fast(h),
+            (bool(_S_SENSOR(h)), _S_TYPE(h), (f.group, f.categories, f.mask), _S_E(h),
+             _S_U(h), (sv.x, sv.y), _S_ID(h)),
+            _S_MASS(h), _S_DENSITY(h))
 
 
 def _make_shape(record, objects: list) -> pymunk.Shape:
@@ -301,11 +369,16 @@ def _make_shape(record, objects: list) -> pymunk.Shape:
     return shape
 
 
+_C_MAX_FORCE, _C_ERROR_BIAS = _cp.cpConstraintGetMaxForce, _cp.cpConstraintGetErrorBias
+_C_MAX_BIAS, _C_COLLIDE = _cp.cpConstraintGetMaxBias, _cp.cpConstraintGetCollideBodies
+
+
 def _constraint_record(c: pymunk.Constraint, index: dict) -> tuple:
     h = c._constraint
-    return (type(c), index[c.a], index[c.b], _init_args(c, 2),
-            (_cp.cpConstraintGetMaxForce(h), _cp.cpConstraintGetErrorBias(h),
-             _cp.cpConstraintGetMaxBias(h), _cp.cpConstraintGetCollideBodies(h)))
+    cls = type(c)
+    fast = _FAST_INIT.get(cls)
+    return (cls, index[c._a], index[c._b], _init_args(c, 2) if fast is None else fast(h),
+            (_C_MAX_FORCE(h), _C_ERROR_BIAS(h), _C_MAX_BIAS(h), _C_COLLIDE(h)))
 
 
 def _make_constraint(record, objects: list) -> pymunk.Constraint:

@@ -70,6 +70,12 @@ def _world(sim) -> tuple:
     return (tuple(sim.space.gravity), tuple(s.friction for s in sim.ground))
 
 
+def _seat(sim) -> tuple:
+    """Which seat of which space ``sim`` runs on: it changes at every checkpoint or
+    restore (a re-seat in place keeps the space, and counts in ``seats``)."""
+    return (id(sim.space), sim.seats)
+
+
 def record(log, setup, until: int | None = None) -> Trace:
     """Play ``log`` one step at a time (its events, the runtime's ticks, then a step,
     as ``Session.advance`` orders them) and note what changed in the physics before
@@ -86,7 +92,7 @@ def record(log, setup, until: int | None = None) -> Trace:
     held = {n: j for n, (j, _) in sim.grasps.items()}
     pending_reseat = False
     while True:
-        space = sim.space
+        seat = _seat(sim)
         while (move := next_move(session.steps, events[i][0] if i < len(events) else None,
                                  until, end)) == 0:
             session.handle(events[i][1])
@@ -101,8 +107,8 @@ def record(log, setup, until: int | None = None) -> Trace:
         wake = runtime.next_wakeup
         if wake is not None and wake <= session.steps:
             runtime.tick(session.steps)  # so advance(1) below does not tick again
-        reseat = pending_reseat or sim.space is not space
-        if sim.space is not space:
+        reseat = pending_reseat or _seat(sim) != seat
+        if _seat(sim) != seat:
             held = {n: j for n, (j, _) in sim.grasps.items()}
         now_servos, now_motion, now_world = _servos(sim), _motion(sim), _world(sim)
         servo_ch = [(k, p) for k, (p, q) in enumerate(zip(now_servos, servos)) if p != q]
@@ -111,10 +117,10 @@ def record(log, setup, until: int | None = None) -> Trace:
         world_ch = now_world if now_world != world else None
         if reseat or servo_ch or motion_ch or grasps or world_ch:
             trace.ops.append((session.steps, reseat, servo_ch, motion_ch, grasps, world_ch))
-        space = sim.space
+        seat = _seat(sim)
         session.advance(1)
         sim = session.sim
-        pending_reseat = sim.space is not space  # a keyframe re-seated it after the step
+        pending_reseat = _seat(sim) != seat  # a keyframe re-seated it after the step
         if pending_reseat:
             held = {n: j for n, (j, _) in sim.grasps.items()}
         servos, motion, world = _servos(sim), _motion(sim), _world(sim)
