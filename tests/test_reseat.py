@@ -320,8 +320,14 @@ def test_a_ctrl_c_during_the_reseat_is_raised_once_the_space_is_whole(monkeypatc
         set_iterations(space, value)
 
     monkeypatch.setattr(reseat, "_SPACE_SET", (interrupted, *reseat._SPACE_SET[1:]))
-    with pytest.raises(KeyboardInterrupt):
-        snapshot.rebuild(state, into=live)
+    # Python's own Ctrl+C handler, whatever this process started with (a job started in
+    # the background of a shell starts with SIGINT ignored, and Python keeps it so)
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            snapshot.rebuild(state, into=live)
+    finally:
+        signal.signal(signal.SIGINT, before)
     monkeypatch.undo()
     fresh, _ = snapshot.rebuild(state)
     assert snapshot.capture(live, {}) == snapshot.capture(fresh, {})
