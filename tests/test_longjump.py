@@ -251,3 +251,18 @@ def test_without_the_take_off_key_there_is_no_jump(tmp_path):
 
     broken = with_changed_interface(RUN_LOG, "biped-longjump", tmp_path, no_leap, "noleap")
     assert "took_off" in _failed(broken)  # runs on into the pit: no flight of 0.25 s
+
+
+def test_a_touch_down_a_stride_before_the_board_takes_the_early_take_off(tmp_path):
+    def early_only(spec):  # the near-board mark past the line: every take-off is early
+        for side in ("near", "far"):
+            spec["states"][f"afly_{side}"]["transitions"][0]["when"][1]["above"] = 5.0
+
+    changed = with_changed_interface(RUN_LOG, "biped-longjump", tmp_path, early_only, "early")
+    result = replay_log(changed)
+    states = list(dict.fromkeys(result.trajectory.state))
+    assert not [s for s in states if s.startswith("leap_") and "early" not in s]
+    assert [s for s in states if s.startswith("leap_early_")] and \
+        {"rsail_early", "rland_early"} <= set(states) and states[-1] == "rlanded"
+    kinds = {o.expectation.split()[0]: o.passed for o in result.outcomes}
+    assert kinds["took_off"]  # off the ground from its feet, behind the line
