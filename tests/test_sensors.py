@@ -59,3 +59,62 @@ def test_com_dx_support_is_the_offset_from_the_middle_of_the_feet():
         b.position = (b.position.x, b.position.y + 3.0)
     s.advance(1)
     assert reader("com.dx.support", c)() == 0.0
+
+
+def test_lead_is_how_far_one_link_is_ahead_of_another():
+    """``lead.LINK.OTHER``: LINK's centre of mass minus OTHER's, in x only (m); the
+    swing foot's lead over the stance foot in a walk."""
+    s = Session(load_setup("biped-stand"))
+    s.advance(120)
+    c = s.character
+    for a, b in (("foot_near", "foot_far"), ("head", "foot_near"), ("chest", "pelvis")):
+        got = reader(f"lead.{a}.{b}", c)()
+        assert got == pytest.approx(c.link_position(a)[0] - c.link_position(b)[0], abs=1e-12)
+        assert reader(f"lead.{b}.{a}", c)() == pytest.approx(-got, abs=1e-12)
+    assert abs(reader("lead.head.foot_near", c)()) < 0.3  # the head is 1.5 m up: x only
+
+
+def test_lead_with_roles_reads_the_bound_links(tmp_path):
+    """Both links of ``lead.`` may be roles: in the binding ``near`` the swing foot is
+    foot_far and the stance foot foot_near. Standing, the far foot is 12 cm behind the
+    near one: a transition on the lead past -0.09 m does not fire, one past -0.15 m does."""
+    text = """
+    name: t
+    description: a state whose exit waits for the far foot's lead over the near one
+    character: biped
+    roles:
+      stance_foot: {near: foot_near, far: foot_far}
+      swing_foot:  {near: foot_far, far: foot_near}
+    initial: near
+    states:
+      near:
+        roles: near
+        transitions:
+          - {to: ahead, when: {sensor: lead.swing_foot.stance_foot, above: LIMIT}}
+      ahead: {}
+    """
+    for limit, fires in ((-0.09, False), (-0.15, True)):
+        s = session_of(tmp_path, text.replace("LIMIT", str(limit)))
+        assert s.runtime.roles.sensor("lead.swing_foot.stance_foot") == "lead.foot_far.foot_near"
+        s.advance(240)
+        c = s.character
+        lead = c.link_position("foot_far")[0] - c.link_position("foot_near")[0]
+        assert -0.15 < lead < -0.09
+        assert (s.runtime.state == "ahead") == fires, limit
+
+
+def test_a_lead_sensor_naming_an_unknown_link_is_refused(tmp_path):
+    from puppet.data.errors import DataError
+
+    with pytest.raises(DataError, match="lead|link"):
+        session_of(tmp_path, """
+        name: t
+        description: a typo in a lead sensor
+        character: biped
+        initial: a
+        states:
+          a:
+            transitions:
+              - {to: b, when: {sensor: lead.foot_nare.foot_far, above: 0.1}}
+          b: {}
+        """)

@@ -54,6 +54,9 @@ def _sensor_words(sensor: str) -> str:
     kind, _, what = sensor.partition(".")
     if sensor.startswith("com.dx."):
         return f"body ahead of the {sensor[7:].replace('_', ' ')}"
+    if sensor.startswith("lead."):
+        link, _, other = sensor[5:].partition(".")
+        return f"{link.replace('_', ' ')} ahead of the {other.replace('_', ' ')}"
     words = {"angle": "tilt of the", "spin": "spin of the", "height": "height of the",
              "joint": "angle of the", "contact": "touch of the"}
     return f"{words.get(kind, kind)} {what.replace('_', ' ')}"

@@ -244,6 +244,8 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
         except ValueError as exc:
             return str(exc)
         return None
+    if sensor.startswith("lead."):  # lead.LINK.OTHER: either may be a role
+        return _lead_problem(sensor, character, roles)
     for role, targets in (roles or {}).items():
         if sensor.endswith("." + role):
             for name in targets.values():
@@ -265,8 +267,24 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
         return None if name in links else unknown("link", name, links,
                                                   f" for character '{character.name}'")
     forms = list(FIXED_SENSORS) + [f"{k}.JOINT" for k in JOINT_SENSORS] + \
-        [f"{k}.LINK" for k in LINK_SENSORS] + ["channel.NAME", "input.INPUT"]
+        [f"{k}.LINK" for k in LINK_SENSORS] + ["lead.LINK.LINK", "channel.NAME", "input.INPUT"]
     return unknown("sensor", sensor, forms)
+
+
+def _lead_problem(sensor: str, character: CharacterSpec, roles=None) -> str | None:
+    """``lead.LINK.OTHER``: two link names (or link roles), each checked."""
+    parts = sensor.split(".")[1:]
+    if len(parts) != 2 or not all(parts):
+        return f"'{sensor}': write lead.LINK.OTHER (how far LINK is ahead of OTHER), two links"
+    links = [link.name for link in character.links]
+    roles = roles or {}
+    for part in parts:
+        names = list(roles[part].values()) if part in roles else [part]
+        for name in names:
+            if name not in links:
+                where = f" (role '{part}')" if part in roles else ""
+                return unknown("link", name, links, f" for character '{character.name}'{where}")
+    return None
 
 
 def check_character_refs(spec, character: CharacterSpec, located: Located) -> None:

@@ -59,6 +59,13 @@ def _com_dx(c: Character, name: str) -> Reader:
     return lambda: c.com()[0] - c.link_position(name)[0]
 
 
+def _lead(c: Character, link: str, other: str) -> Reader:
+    """How far (m, + ahead in +x) a link's centre of mass is from another's: the swing
+    foot's lead over the stance foot (``lead.swing_foot.stance_foot``)."""
+    where = c.link_position
+    return lambda: where(link)[0] - where(other)[0]
+
+
 def _joint(c: Character, name: str) -> Reader:
     joint = c.spec.joint(name)
 
@@ -90,6 +97,9 @@ NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {
 }
 
 
+LEAD = "lead."  # lead.LINK.OTHER: two links' names
+
+
 def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
     if sensor in FIXED:
         make, is_angle = FIXED[sensor]
@@ -97,6 +107,10 @@ def _lookup(sensor: str) -> tuple[Callable, bool, tuple]:
     if sensor.startswith("com.dx."):
         make, is_angle = NAMED["com.dx"]
         return make, is_angle, (sensor[len("com.dx."):],)
+    if sensor.startswith(LEAD):
+        link, dot, other = sensor[len(LEAD):].partition(".")
+        if link and dot and other and "." not in other:
+            return _lead, False, (link, other)
     kind, _, name = sensor.partition(".")
     if kind in NAMED and name:
         make, is_angle = NAMED[kind]

@@ -29,7 +29,12 @@ class RoleBinding:
         return poses
 
     def sensor(self, sensor: str) -> str:
-        """A sensor name with a role in it (angle.swing_thigh) as the binding means it."""
+        """A sensor name with a role in it (angle.swing_thigh) as the binding means it;
+        both links of ``lead.LINK.OTHER`` may be roles."""
+        if sensor.startswith("lead."):
+            roles, rename = self.spec.roles, self.rename
+            parts = sensor.split(".")
+            return ".".join([parts[0]] + [rename(p) if p in roles else p for p in parts[1:]])
         for role in self.spec.roles:
             if sensor.endswith("." + role):
                 return sensor[:-len(role)] + self.rename(role)
