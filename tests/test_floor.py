@@ -122,10 +122,11 @@ def test_handstand_fails_with_the_characters_own_arms(tmp_path):
 
 
 def test_handstand_fails_without_its_balance_maps(tmp_path):
-    """The handstand state's maps gone (the pose alone): the figure topples off its
-    hands, so the balance is the shoulders' feedback, not a lucky pose."""
+    """The handstand state's sensor maps gone (the pose and the straight elbows alone):
+    the figure topples off its hands, so the balance is the feedback, not a lucky pose."""
     def no_balance(iface):
-        iface["states"]["handstand"]["maps"] = []
+        maps = iface["states"]["handstand"]["maps"]
+        iface["states"]["handstand"]["maps"] = [m for m in maps if "input" not in m]
 
     assert "balanced_on" in _variant("biped-handstand", tmp_path, no_balance)
 
@@ -134,14 +135,27 @@ def test_handstand_fails_on_a_slippery_floor(tmp_path):
     assert "balanced_on" in _variant("biped-handstand", tmp_path, friction=0.3)
 
 
-def test_handstand_fails_when_g_does_not_swing_the_legs_up(tmp_path):
-    """The legs-up key moved to j (the script presses g): the press alone stays piked."""
-    def no_key(iface):
-        for k in iface["keys"]:
-            if k["key"] == "g":
-                k["key"] = "j"
+def test_handstand_fails_when_the_press_does_not_hand_over_to_it(tmp_path):
+    """The press state's sensor transition gone (only a late timer left): the press
+    alone stays piked, so h's handstand is the state machine's doing."""
+    def no_handover(iface):
+        iface["states"]["hs_press"]["transitions"] = [{"to": "handstand", "after": 30.0}]
 
-    assert "balanced_on" in _variant("biped-handstand", tmp_path, no_key)
+    assert "balanced_on" in _variant("biped-handstand", tmp_path, no_handover)
+
+
+def test_handstand_is_on_straight_arms_with_the_head_clear_of_the_floor():
+    """While it balances (the pelvis at least 150 deg from upright), the elbows stay
+    within 15 deg of straight and the head's lowest point 0.15 m or more above the floor:
+    a handstand, not a bent-arm or forearm stand."""
+    result = replay_log(LOGS / "biped-handstand.jsonl")
+    tr = result.trajectory
+    up = np.abs(np.degrees(np.remainder(tr.root_angle + np.pi, 2 * np.pi) - np.pi)) >= 150
+    assert up.sum() * (tr.t[1] - tr.t[0]) > 2.0
+    for elbow in ("elbow_near", "elbow_far"):
+        bend = np.degrees(tr.joint_angle[up, tr.joints.index(elbow)])
+        assert bend.max() < 15, (elbow, bend.max())
+    assert tr.lowest[up, tr.index("head")].min() > 0.15
 
 
 def test_bound_mode_drives_hips_knees_shoulders_and_elbows_together():
@@ -266,9 +280,15 @@ def test_touched_before_flight_ignores_a_touch_after_the_longest_flight():
 
 # -- the back flips ----------------------------------------------------------------------
 def _weak_legs(iface: dict) -> None:
-    """Hips and knees at 150 N*m instead of 250 (a weaker figure's legs)."""
-    for j in ("hip_near", "hip_far", "knee_near", "knee_far"):
+    """Hips and knees at 150 N*m instead of 250 (a weaker figure's legs), the poses' own
+    caps (a take-off's) too."""
+    legs = ("hip_near", "hip_far", "knee_near", "knee_far")
+    for j in legs:
         iface["gains"][j] = {"stiffness": 1000, "damping": 50, "max_torque": 150}
+    for pose in iface["poses"].values():
+        for j in legs:
+            if j in pose.get("max_torque", {}):
+                pose["max_torque"][j] = 150
 
 
 def _moved_key(name: str):

@@ -18,7 +18,8 @@ from puppet.timeline.log import read_log, text_hash
 from puppet.timeline.replay import replay, setup_for_log
 
 LOGS = ROOT / "assets" / "logs"
-HANDSTAND = LOGS / "biped-handstand.jsonl"  # line 3: step 241, line 4: step 1292
+# the handstand log as shipped on 2026-12-06 (h, then g): line 3: step 241, line 4: step 1292
+HANDSTAND = Path(__file__).parent / "fixtures" / "log-integrity" / "biped-handstand-2026-12.jsonl"
 HOP = LOGS / "luxo-hop.jsonl"
 
 

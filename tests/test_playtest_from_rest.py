@@ -5,6 +5,8 @@ starts from rest must not depend on when it starts)."""
 from __future__ import annotations
 
 import json
+import shutil
+from pathlib import Path
 
 import pytest
 
@@ -14,21 +16,31 @@ from puppet.data.errors import DataError
 from puppet.timeline.log import read_log
 from puppet.timeline.playtest.from_rest import failures, moved, press_step, steps_between
 
-BACKFLIP = ROOT / "assets" / "logs" / "biped-backflip.jsonl"
+FIXTURES = Path(__file__).parent / "fixtures" / "playtest"
 
 
-def test_the_press_and_everything_after_it_move_together():
+def _timed_flip(tmp_path: Path) -> Path:
+    """The back flip as shipped on 2026-12-06 (tests/fixtures/playtest/: its log, its
+    sidecar and its interface, a timed sequence into ballistic motion) in ``tmp_path``."""
+    for name in ("biped-backflip-2026-12.jsonl", "biped-backflip-2026-12.expect.yaml",
+                 "biped-floor-2026-12.yaml"):
+        shutil.copy(FIXTURES / name, tmp_path / name)
+    return tmp_path / "biped-backflip-2026-12.jsonl"
+
+
+def test_the_press_and_everything_after_it_move_together(tmp_path):
     """The first press of the key and all that follows move by the same steps (the end
-    too); at its own step the back flip lands, a press 48 steps later (0.1 s, the figure
-    still at rest) does not: the timed flip the sweep measures."""
-    log = read_log(BACKFLIP)
+    too); at its own step the timed back flip of 2026-12 lands, a press 48 steps later
+    (0.1 s, the figure still at rest) does not: what the sweep measures."""
+    flip = _timed_flip(tmp_path)
+    log = read_log(flip)
     at = press_step(log, "f")
     later = moved(log, "f", at + 48)
     assert [e.step for e in later.events] == [e.step + 48 for e in log.events]
     assert later.end["end"] == log.end["end"] + 48
     assert steps_between(1 / 480, 0.5, 1.0, 3) == [240, 361, 482]
-    assert failures((str(BACKFLIP), "f", at)) == []
-    assert failures((str(BACKFLIP), "f", at + 48))  # the flip fails 0.1 s later
+    assert failures((str(flip), "f", at)) == []
+    assert failures((str(flip), "f", at + 48))  # the flip fails 0.1 s later
 
 
 def test_a_press_at_the_start_or_before_earlier_input_is_refused():
@@ -41,13 +53,13 @@ def test_a_press_at_the_start_or_before_earlier_input_is_refused():
             moved(log, "z", first)
 
 
-def test_the_command_counts_the_landings_and_exits_1_below_nine_in_ten(capsys):
-    code = main(["playtest", "biped-backflip", "--from-rest", "f", "--count", "2",
+def test_the_command_counts_the_landings_and_exits_1_below_nine_in_ten(tmp_path, capsys):
+    code = main(["playtest", str(_timed_flip(tmp_path)), "--from-rest", "f", "--count", "2",
                  "--between", "0.5", "1.5", "--jobs", "1"])
     out = capsys.readouterr().out
     assert code == 1  # 1 of 2 lands: the timed flip
     assert "f at 0.500 s (step 240): lands" in out
-    assert "biped-backflip: 1/2 presses of f from rest land" in out
+    assert "biped-backflip-2026-12: 1/2 presses of f from rest land" in out
 
 
 def test_a_move_that_follows_the_body_lands_every_time(capsys):
@@ -64,3 +76,12 @@ def test_a_key_the_log_never_presses_is_one_line(capsys):
     err = capsys.readouterr().err
     assert code == 2
     assert err.count("\n") == 1 and "no press of 'q' in the log" in err
+
+
+def test_the_handstand_whose_phases_follow_the_body_lands_from_any_moment(capsys):
+    """biped-handstand (h alone, its phases on sensors polled every step): pressed at
+    three moments of the stillness it lands each time (the sweep's 10: 10 of 10)."""
+    code = main(["playtest", "biped-handstand", "--from-rest", "h", "--count", "3",
+                 "--between", "0.5", "2.5", "--jobs", "1"])
+    out = capsys.readouterr().out
+    assert code == 0 and "biped-handstand: 3/3 presses of h from rest land" in out, out
