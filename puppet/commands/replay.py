@@ -124,8 +124,9 @@ def _physics(args):
     """The --solver-passes / --step settings (an ``OtherPhysics``, false when none)."""
     from puppet.timeline.other_physics import OtherPhysics
 
-    physics = OtherPhysics(iterations=args.solver_passes, dt=args.step)
-    if physics and args.until_step is not None:
+    physics = OtherPhysics(iterations=getattr(args, "solver_passes", None),
+                           dt=getattr(args, "step", None))
+    if physics and getattr(args, "until_step", None) is not None:
         raise UsageError("--until-step counts the log's steps: it does not go with "
                          "--solver-passes or --step")
     return physics
