@@ -100,3 +100,14 @@ def test_the_app_keys_table_of_playing_md_is_puppet_data_keys():
             key = key.replace("`+`", "+").strip("`")
             said.add({"esc": "escape"}.get(key, key))
     assert said == {chord for chord, _ in APP_KEYS.values()}
+
+
+def test_playing_md_has_a_row_for_every_shipped_interface():
+    """docs/playing.md is where a player looks an interface up: each shipped one has its
+    row (`| \\`NAME\\` | ...`), and no row names an interface that is not shipped."""
+    text = (ROOT / "docs" / "playing.md").read_text(encoding="utf-8")
+    shipped = {p.stem for p in (ROOT / "interfaces").glob("*.yaml")}
+    rows = set(re.findall(r"^\| `([a-z0-9-]+)` \|", text, re.M))
+    assert shipped - rows == set(), "no row in docs/playing.md"
+    named = {r for r in rows if r.startswith(("luxo", "cat", "biped"))}
+    assert named - shipped == set(), "rows for interfaces that are not shipped"
