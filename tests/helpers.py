@@ -169,3 +169,16 @@ def recorded_then_edited(tmp_path: Path) -> tuple[Path, Path]:
     record_events(s, [(0, ev.mouse(1.0, 0.5)), (240, ev.mouse(0.0, 0.5))], 480, log)
     iface.write_text(textwrap.dedent(ANKLE_IFACE).replace("to: [60, -60]", "to: [10, -10]"))
     return iface, log
+
+
+def swing_joints(sim, steps: int) -> None:
+    """Swing every joint of ``sim``'s character for ``steps`` steps, 24 at a time, the
+    targets a function of the time only (so two runs are comparable bit for bit): the
+    checkpoint and re-seat tests' busy motion."""
+    import math
+
+    start = sim.character.start_joint_angles()
+    for _ in range(0, steps, 24):
+        for i, (name, servo) in enumerate(sim.character.servos.items()):
+            servo.target = start.get(name, 0.0) + 0.6 * math.sin(3.0 * sim.time + i)
+        sim.step(24)

@@ -9,7 +9,6 @@ bit for bit, right after restoring and 2000 steps later.
 
 from __future__ import annotations
 
-import math
 import pickle
 import subprocess
 import sys
@@ -17,6 +16,7 @@ from pathlib import Path
 
 import pymunk
 import pytest
+from helpers import swing_joints
 
 from puppet.data.catalog import load_setup
 from puppet.physics import snapshot
@@ -48,13 +48,7 @@ def _sim(setup: str) -> Simulation:
     return Simulation(s.character, s.scene)
 
 
-def _drive(sim: Simulation, steps: int) -> None:
-    """Swing every joint, targets a function of the step only (so runs are comparable)."""
-    start = sim.character.start_joint_angles()
-    for _ in range(0, steps, 24):
-        for i, (name, servo) in enumerate(sim.character.servos.items()):
-            servo.target = start.get(name, 0.0) + 0.6 * math.sin(3.0 * sim.time + i)
-        sim.step(24)
+_drive = swing_joints  # tests/helpers.py
 
 
 def _grasps(sim: Simulation) -> list:

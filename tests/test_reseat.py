@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from helpers import swing_joints
 
 from puppet.data.catalog import load_setup
 from puppet.physics import snapshot
@@ -23,12 +24,7 @@ def _sim(setup) -> Simulation:
     return Simulation(s.character, s.scene)
 
 
-def _drive(sim: Simulation, steps: int) -> None:
-    start = sim.character.start_joint_angles()
-    for _ in range(0, steps, 24):
-        for i, (name, servo) in enumerate(sim.character.servos.items()):
-            servo.target = start.get(name, 0.0) + 0.6 * math.sin(3.0 * sim.time + i)
-        sim.step(24)
+_drive = swing_joints  # tests/helpers.py
 
 
 def _busy(sim: Simulation) -> None:
