@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import ANKLE_IFACE
 
 from puppet.data.catalog import load_setup
 from puppet.data.errors import DataError
@@ -340,20 +341,13 @@ def test_headless_play_and_replay_report_each_blow_up(tmp_path):
     assert proc.stderr.splitlines() == [f"{log}: {note}"]
 
 
-VIEWER_IFACE = """
-name: t
-description: the ankle on the mouse
-character: luxo
-maps:
-  - {input: mouse.x, joint: ankle, from: [0, 1], to: [60, -60]}
-"""
 
 
 def test_the_viewer_is_told_only_of_the_app_actions_a_log_asks_for(tmp_path):
     from puppet.timeline.replay import LogFeeder
 
     iface = tmp_path / "t.yaml"
-    iface.write_text(textwrap.dedent(VIEWER_IFACE))
+    iface.write_text(textwrap.dedent(ANKLE_IFACE))
     log = tmp_path / "a.jsonl"
     s = Session(load_setup(str(iface)))
     record_events(s, [(0, ev.mouse(0.2, 0.5)), (10, ev.action("checkpoint")),
