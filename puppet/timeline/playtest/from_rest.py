@@ -55,11 +55,13 @@ def steps_between(dt: float, start: float, stop: float, count: int) -> list[int]
     return [round((start + k * gap) / dt) + k % 8 for k in range(count)]
 
 
-def failures(task: tuple[str, str, int]) -> list[str]:
+def failures(task: tuple) -> list[str]:
     """The kinds of the feat expectations that fail with the press of ``key`` at
-    ``step`` (``task``: path, key, step; one process's work)."""
+    ``step`` (``task``: path, key, step, and optionally the ``OtherPhysics`` to replay
+    on; one process's work)."""
     from puppet.timeline.replay import replay
 
-    path, key, step = task
-    result = replay(moved(read_log(Path(path)), key, step))
+    path, key, step, *physics = task
+    result = replay(moved(read_log(Path(path)), key, step),
+                    physics=physics[0] if physics else None)
     return [o.kind for o in result.outcomes if not o.passed and o.kind != "same_end"]

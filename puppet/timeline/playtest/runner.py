@@ -15,19 +15,22 @@ from pathlib import Path
 from puppet.data.errors import DataError
 from puppet.data.playtest import Noise
 from puppet.data.playtest_bar import PlaytestBar
-from puppet.timeline.playtest.trial import TryResult, prepare, run_try
+from puppet.timeline.other_physics import OtherPhysics
+from puppet.timeline.playtest.trial import SHIPPED, TryResult, prepare, run_try
 
 
 @dataclass
 class Plan:
-    """What to run for one log: ``tries`` tries at ``noise`` from ``seed``; ``level``
-    names the noise as the table shows it ('human', 'human*' with a parameter changed)."""
+    """What to run for one log: ``tries`` tries at ``noise`` from ``seed``, on
+    ``physics`` (default: the log's own settings); ``level`` names the noise as the
+    table shows it ('human', 'human*' with a parameter changed)."""
 
     log: str
     noise: Noise
     level: str
     tries: int
     seed: int = 0
+    physics: OtherPhysics = SHIPPED
 
 
 @dataclass
@@ -63,9 +66,9 @@ def load_bar(log_path: str) -> PlaytestBar | None:
 def _task(args: tuple) -> TryResult | str:
     """A worker's try; an error as its one line (the log was prepared before, so this
     is rare: a file changed meanwhile)."""
-    log, noise, seed, index = args
+    log, noise, seed, index, physics = args
     try:
-        return run_try(log, noise, seed, index)
+        return run_try(log, noise, seed, index, physics)
     except DataError as exc:
         return str(exc)
 
@@ -81,7 +84,7 @@ def run(plans: list[Plan], jobs: int = 1,
     tasks: list[tuple[int, int]] = []  # (plan, try index)
     for k, p in enumerate(plans):
         try:
-            prepared = prepare(p.log)
+            prepared = prepare(p.log, p.physics)
         except DataError as exc:
             out[k].error = str(exc)
             if progress is not None:
@@ -90,7 +93,8 @@ def run(plans: list[Plan], jobs: int = 1,
         out[k].path = prepared.path
         out[k].warnings = list(prepared.warnings)
         tasks.extend((k, i) for i in range(p.tries))
-    args = [(out[k].path, plans[k].noise, plans[k].seed, i) for k, i in tasks]
+    args = [(out[k].path, plans[k].noise, plans[k].seed, i, plans[k].physics)
+            for k, i in tasks]
     if executor is not None:
         results = executor.map(_task, args, progress)
     else:
@@ -108,6 +112,6 @@ def run(plans: list[Plan], jobs: int = 1,
 
 
 def playtest(log: str | Path, noise: Noise, tries: int = 20, seed: int = 0, jobs: int = 1,
-             level: str = "") -> LogPlaytest:
+             level: str = "", physics: OtherPhysics = SHIPPED) -> LogPlaytest:
     """One log's playtest (a test's or a tool's entry point)."""
-    return run([Plan(str(log), noise, level, tries, seed)], jobs)[0]
+    return run([Plan(str(log), noise, level, tries, seed, physics)], jobs)[0]

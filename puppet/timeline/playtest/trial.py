@@ -26,6 +26,7 @@ from puppet.data.errors import DataError
 from puppet.data.playtest import Noise
 from puppet.timeline.expectations import Expectations, evaluate_all, load_expectations, sidecar_path
 from puppet.timeline.log import Log, LogEvent, read_log
+from puppet.timeline.other_physics import OtherPhysics
 from puppet.timeline.playtest.noise import Perturbation, perturb
 from puppet.timeline.playtest.slowdown import in_force
 from puppet.timeline.reactive import ScriptPlayer, Speed, play_script
@@ -66,6 +67,7 @@ class TryResult:
 
 
 _PREPARED: dict[tuple, Prepared] = {}
+SHIPPED = OtherPhysics()  # the log's own physics settings
 
 
 def _mtime(path: Path) -> int | None:
@@ -77,16 +79,20 @@ def _mtime(path: Path) -> int | None:
         return None
 
 
-def prepare(name: str) -> Prepared:
-    """The log called ``name`` (a path or a log's name) ready for tries; cached per
-    process. DataError for a log that cannot be replayed or has no feat to judge."""
+def prepare(name: str, physics: OtherPhysics = SHIPPED) -> Prepared:
+    """The log called ``name`` (a path or a log's name) ready for tries, on ``physics``
+    (other solver passes or another step: the log's events moved to the same times, as
+    ``puppet replay --step`` moves them); cached per process. DataError for a log that
+    cannot be replayed or has no feat to judge."""
     path = find_log(name)
-    key = (str(Path(path).resolve()), _mtime(Path(path)), _mtime(sidecar_path(path)))
+    key = (str(Path(path).resolve()), _mtime(Path(path)), _mtime(sidecar_path(path)),
+           physics)
     if key in _PREPARED:
         return _PREPARED[key]
     log = read_log(path)
     require_end(log, allow_truncated=False)
     setup, warnings = setup_for_log(log)
+    log, setup = physics.log(log), physics.adjust(setup)
     expectations = load_expectations(path, log.header)
     warnings += expectations.notes
     feats = [e for e in expectations.items if e.kind not in NOT_FEATS]
@@ -162,10 +168,12 @@ def judge(prepared: Prepared, log: Log | None = None, noise: Noise | None = None
     return TryResult(-1, not failed, failed, final, session.steps)
 
 
-def run_try(name: str, noise: Noise, seed: int, index: int) -> TryResult:
-    """Try ``index`` of the log called ``name`` at ``noise`` from ``seed``: the same
-    arguments give the same result, bit for bit, in any process."""
-    prepared = prepare(name)
+def run_try(name: str, noise: Noise, seed: int, index: int,
+            physics: OtherPhysics = SHIPPED) -> TryResult:
+    """Try ``index`` of the log called ``name`` at ``noise`` from ``seed`` (on
+    ``physics``): the same arguments give the same result, bit for bit, in any
+    process."""
+    prepared = prepare(name, physics)
     if prepared.script is not None:
         result = judge(prepared, None, noise, seed, index)
     else:
