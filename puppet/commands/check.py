@@ -265,7 +265,7 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
     check_scene_refs(spec, parse_scene(load_file(scene_path)), located, scene_path.stem)
     if spec.tracking is not None and spec.tracking.mapping is not None:
         from puppet.data.mappings import channel_error, interface_reads, load_mapping
-        from puppet.data.tracking import mapping_problem
+        from puppet.data.tracking import interface_mapping_problem
 
         try:
             mapping_path = catalog.find("mapping", spec.tracking.mapping,
@@ -277,7 +277,7 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
                               spec.character, interface_reads(spec))
         if error is not None:  # a channel no joint of this character (as play says)
             raise located.error(("tracking", "mapping"), str(error))
-        problem = mapping_problem(spec.tracking, mapping, [j.name for j in character.actuated])
+        problem = interface_mapping_problem(spec, character, mapping)
         if problem:
             raise located.error(("tracking", "mapping"), problem)
     return kind

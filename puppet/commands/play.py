@@ -157,13 +157,11 @@ def run(args: argparse.Namespace) -> int:
                                                      setup.interface_path, setup.character)
         if note:  # not the interface's: a shipped one that fits the clip, or its rig's
             print(f"puppet play: {note}", file=sys.stderr)
-        if setup.interface.tracking is not None:
-            from puppet.data.tracking import mapping_problem
+        from puppet.data.tracking import interface_mapping_problem
 
-            problem = mapping_problem(setup.interface.tracking, mapping,
-                                      [j.name for j in setup.character.actuated])
-            if problem:
-                raise UsageError(f"--mocap: {problem} ({mapping_path})")
+        problem = interface_mapping_problem(setup.interface, setup.character, mapping)
+        if problem:
+            raise UsageError(f"--mocap: {problem} ({mapping_path})")
         clip = ClipSource(open_clip(args.mocap, mapping), name=Path(args.mocap).stem,
                           loop=args.loop, drop=args.mocap_drop)
         from puppet.data.catalog import find

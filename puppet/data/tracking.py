@@ -264,3 +264,12 @@ def mapping_problem(tracking: TrackingSpec, mapping, actuated: list[str]) -> str
             return (f"mapping '{mapping.name}' makes no {', '.join(missing)}, which "
                     f"tracking.root reads to place the performed pose")
     return None
+
+
+def interface_mapping_problem(interface, character, mapping) -> str | None:
+    """``mapping_problem`` for an interface (its ``tracking``) on a character (its
+    actuated joints), the one check ``puppet play --mocap``, ``puppet tune``'s ``mocap``
+    and ``puppet check`` make; None when the interface tracks nothing."""
+    if interface.tracking is None:
+        return None
+    return mapping_problem(interface.tracking, mapping, [j.name for j in character.actuated])

@@ -178,13 +178,11 @@ def _performer(loaded: Loaded, setup, dt: float):
         performer = Performer(mocap, setup, dt)
     except DataError as exc:
         raise loaded.error(("mocap", "clip"), str(exc)) from None
-    if setup.interface.tracking is not None:
-        from puppet.data.tracking import mapping_problem
+    from puppet.data.tracking import interface_mapping_problem
 
-        problem = mapping_problem(setup.interface.tracking, performer.mapping,
-                                  [j.name for j in setup.character.actuated])
-        if problem:
-            raise loaded.error(("mocap",), f"{problem} ({performer.mapping_where})")
+    problem = interface_mapping_problem(setup.interface, setup.character, performer.mapping)
+    if problem:
+        raise loaded.error(("mocap",), f"{problem} ({performer.mapping_where})")
     return performer
 
 
