@@ -307,7 +307,9 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         w = (step - at) / self.blend_steps
         return 1.0 if w >= 1.0 else w if w > 0.0 else 0.0
 
-    def _write_targets(self, step: int) -> None:
+    def _write_targets(self, step: int) -> dict:
+        """The followed channels' joint targets; returns the channels (the pulls of the
+        same tick read them again)."""
         table, servos = self.owners_table.table, self.character.servos
         channels = self._view(step)
         w = self._blend(step)
@@ -323,6 +325,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
             if w < 1.0 and joint in start:  # blending in: part way from where it was
                 target = start[joint] + (target - start[joint]) * w
             _set_target(servos[joint].spring._constraint, target)
+        return channels
 
     def _clamped(self, joint: str, q: float) -> float:  # (radians_clamped, for many)
         lim = self.limits.get(joint)
@@ -353,23 +356,26 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         if not self.owners_table.holds_any(TRACK):  # every joint taken by later actions
             self.impact_at = None
             return
-        self._write_targets(step)
+        channels = self._write_targets(step)
         if self.mode == KD and self.kinematic and self.spec.root is not None:
-            self._pull(step)
+            self._pull(step, channels)
         else:
             self.impact_at = None
         self._contacts(step)  # a held hand swings the body as the performer's moves
 
-    def _pull(self, step: int) -> None:
+    def _pull(self, step: int, channels: dict | None = None) -> None:
         """Velocity changes that pull each link's centre of mass toward the performed
-        pose's (implicit PD over one control period), weaker while reacting to a push."""
+        pose's (implicit PD over one control period), weaker while reacting to a push.
+        ``channels``: this step's view, when the targets were just written from it."""
         reaction = self.reaction
         if reaction is not None and reaction[0] == "fall" and self.getup is None \
                 and self.spec.reaction.get_up is not None and self.lib is None \
                 and self.search_at is None \
                 and (step - reaction[1]) * self.dt >= self.spec.reaction.fall.hold:
             self._start_get_up(step)  # lain long enough: up, through the poses
-        spec, ch, c = self.spec, self._view(step), self.character
+            channels = None  # the view is the get-up's now
+        spec, c = self.spec, self.character
+        ch = self._view(step) if channels is None else channels
         root = spec.root
         x, y, a = ch.get(root.x), ch.get(root.y), ch.get(root.angle)
         if x is None or y is None or a is None:
