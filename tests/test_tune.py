@@ -141,6 +141,47 @@ def test_a_playtest_term_scores_how_often_the_simulated_player_still_lands_it(tm
     assert again.kept[0].result.pass_rate == kept.pass_rate  # the same draws each time
 
 
+def test_a_playtest_term_plays_its_tries_on_cheaper_physics_too(tmp_path):
+    """``physics:`` entries: the same simulated player's tries on each setting as well
+    (a feat that survives only the shipped physics scores less), from the stage's
+    checkpoint reached on that setting."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.tuning.trial import prepared, variant
+
+    text = (HOP % {"tries": 6, "refine": 6}).replace(
+        "    score:\n", "    playtest: {noise: human, tries: 2, weight: 20, physics: "
+                        "[{step: 1/240}, {solver_passes: 30}]}\n    score:\n")
+    search = Search(load_tune_spec(spec_file(tmp_path, text)))
+    kept = search.run().kept[0].result
+    assert kept.accepted and abs(kept.pass_rate * 6 - round(kept.pass_rate * 6)) < 1e-9  # 2x3
+    ctx = search._context(0, 0, 0.1, [])
+    coarse, ratio = variant(ctx, OtherPhysics(dt=1 / 240))
+    assert ratio == 0.5 and coarse.dt == 1 / 240
+    assert coarse.stage_step == round(ctx.stage_step / 2)
+    assert [s for s, _ in coarse.prefix] == [round(s / 2) for s, _ in ctx.prefix]
+    fewer, _ = variant(ctx, OtherPhysics(iterations=30))
+    prep = prepared(fewer, 4)
+    prep.back()  # (the search's tries played on from the checkpoint)
+    assert prep.session.steps == ctx.stage_step and prep.session.sim.space.iterations == 30
+
+
+@pytest.mark.parametrize("entry, words", [
+    ("{}", "changes 'solver_passes', 'step' or both"),
+    ("{step: 1/10}", "'1/10' is not a simulation step from 1/2000 to 1/30 s"),
+    ("{solver_passes: 0}", "solver_passes"),
+])
+def test_a_physics_entry_that_changes_nothing_or_is_out_of_range_is_one_line(
+        tmp_path, capsys, entry, words):
+    from puppet.commands import main
+
+    text = (HOP % {"tries": 2, "refine": 0}).replace(
+        "    score:\n", f"    playtest: {{tries: 2, physics: [{entry}]}}\n    score:\n")
+    path = spec_file(tmp_path, text)
+    assert main(["tune", str(path), "--out", str(tmp_path / "x.jsonl")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and words in err and "hop.yaml:" in err, err
+
+
 # -- a search, resumed, on other engines: the same log ---------------------------------
 def run_search(loaded, out: Path, executor=None, stop_after=None):
     state = out.with_name(out.stem + ".tune.json")

@@ -74,18 +74,12 @@ solver_passes = in_range(int, "number of solver passes", 1, 200,
 
 def sim_step(text: str) -> float:
     """A simulation step in seconds, written 0.0041667 or 1/240: 1/2000 to 1/30 s."""
+    from puppet.timeline.other_physics import parse_step
+
     try:
-        if "/" in text:
-            num, den = text.split("/", 1)
-            value = float(num) / float(den)
-        else:
-            value = float(text)
-    except (ValueError, ZeroDivisionError):
-        value = None
-    if value is None or not 1 / 2000 <= value <= 1 / 30:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a simulation step from 1/2000 "
-                                         "to 1/30 s (e.g. 1/240 or 0.0041667)")
-    return value
+        return parse_step(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 slowdown = number_in("slowdown", MIN_SLOWDOWN, MAX_SLOWDOWN,
                      "wall s per simulated s: 4 = four times slower, 0.5 = twice as fast")
 checkpoint_every = number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT_MAX,

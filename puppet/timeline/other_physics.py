@@ -17,6 +17,25 @@ from dataclasses import dataclass
 
 from puppet.timeline.log import Log, LogEvent
 
+STEP_RANGE = (1 / 2000, 1 / 30)  # s: the simulation steps a replay or a try may take
+
+
+def parse_step(text) -> float:
+    """A simulation step in seconds, written 0.0041667 or "1/240"; ValueError (what was
+    expected, in words) outside 1/2000..1/30 s or not a number."""
+    try:
+        if isinstance(text, str) and "/" in text:
+            num, den = text.split("/", 1)
+            value = float(num) / float(den)
+        else:
+            value = float(text)
+    except (ValueError, ZeroDivisionError, TypeError):
+        value = None
+    if value is None or not STEP_RANGE[0] <= value <= STEP_RANGE[1]:
+        raise ValueError(f"'{text}' is not a simulation step from 1/2000 to 1/30 s (e.g. "
+                         f"1/240 or 0.0041667)")
+    return value
+
 
 @dataclass(frozen=True)
 class OtherPhysics:
@@ -58,6 +77,17 @@ class OtherPhysics:
             setup, character=setup.character.model_copy(update={"solver": solver}))
 
 
+def rescaled_pairs(pairs, ratio: float) -> list:
+    """(step, event) pairs at ``ratio`` times their steps (the nearest step; a rewind's
+    target too), in their order: input on another simulation step."""
+    out = []
+    for step, event in pairs:
+        if "to_step" in event:
+            event = {**event, "to_step": round(event["to_step"] * ratio)}
+        out.append((round(step * ratio), event))
+    return out
+
+
 def rescaled(log: Log, dt: float) -> Log:
     """``log`` on a simulation step of ``dt`` s: each event (and a rewind's target, and
     the end) at the step nearest its recorded time, in the recorded order."""
@@ -76,4 +106,4 @@ def rescaled(log: Log, dt: float) -> Log:
     return dataclasses.replace(log, header={**log.header, "dt": dt}, events=events, end=end)
 
 
-__all__ = ["OtherPhysics", "rescaled"]
+__all__ = ["OtherPhysics", "parse_step", "rescaled", "rescaled_pairs"]

@@ -147,7 +147,8 @@ class Search:
             from puppet.data.playtest import LEVELS
 
             p = stage.playtest
-            playtest = (LEVELS[p.noise], self._scaled(p.tries), p.weight)
+            playtest = (LEVELS[p.noise], self._scaled(p.tries), p.weight,
+                        tuple(v.other() for v in p.physics))
         mouse = _mouse_from(prefix, self.spec.events, kept)
         ctx_key = digest(st.setup_from, st.dt, st.interval, prefix, self._stage_digest(si),
                          playtest and (playtest[1], playtest[2], self.seed))

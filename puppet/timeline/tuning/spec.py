@@ -128,13 +128,39 @@ class TermSpec(Spec, kw_only=True):
             raise ValueError(f"'cap' ({self.cap:g}) is under 'floor' ({self.floor:g})")
 
 
+class PhysicsVariant(Spec, kw_only=True):
+    """Other physics settings a playtest term also plays its tries on: ``solver_passes``
+    (constraint-solver iterations a step) and/or ``step`` (s, or "1/240")."""
+
+    solver_passes: Annotated[int, Meta(ge=1, le=200)] | None = None
+    step: float | str | None = None
+
+    def __post_init__(self):
+        if self.solver_passes is None and self.step is None:
+            raise ValueError("a physics entry changes 'solver_passes', 'step' or both")
+        if self.step is not None:
+            from puppet.timeline.other_physics import parse_step
+
+            parse_step(self.step)  # ValueError: said at the entry's line
+
+    def other(self):
+        """The ``OtherPhysics`` it names."""
+        from puppet.timeline.other_physics import OtherPhysics, parse_step
+
+        return OtherPhysics(iterations=self.solver_passes,
+                            dt=None if self.step is None else parse_step(self.step))
+
+
 class PlaytestTerm(Spec, kw_only=True):
     """A try that is kept is also played ``tries`` times by the simulated player at
-    ``noise`` (from the stage's checkpoint); ``weight`` points for a pass rate of 1."""
+    ``noise`` (from the stage's checkpoint), and as many again on each of ``physics``
+    (cheaper settings the feat must survive); ``weight`` points for a pass rate of 1
+    over them all."""
 
     noise: LevelName = "human"
     tries: Annotated[int, Meta(ge=1, le=200)] = 8
     weight: float = 20.0
+    physics: Annotated[list[PhysicsVariant], Meta(max_length=8)] = field(default_factory=list)
 
 
 class SearchSpec(Spec, kw_only=True):
@@ -295,5 +321,5 @@ def load_tune_spec(path: str | Path) -> Loaded:
 
 
 __all__ = ["EntryTemplate", "Expr", "ExprError", "Loaded", "MocapSpec", "Param", "ParamSpec",
-           "PlaytestTerm", "RepeatSpec", "SearchSpec", "StageSpec", "StartSpec", "TermSpec",
-           "TuneSpec", "load_tune_spec", "params_of"]
+           "PhysicsVariant", "PlaytestTerm", "RepeatSpec", "SearchSpec", "StageSpec",
+           "StartSpec", "TermSpec", "TuneSpec", "load_tune_spec", "params_of"]

@@ -13,12 +13,14 @@ a cluster, returns the same result for it.
 
 from __future__ import annotations
 
+import dataclasses
 from collections import OrderedDict
 from dataclasses import dataclass, field
 
 from puppet.data.catalog import Setup
 from puppet.interface import events as ev
 from puppet.session.playback import play
+from puppet.timeline.other_physics import OtherPhysics, rescaled_pairs
 from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
 from puppet.timeline.tuning.scoring import BLOWUP_PENALTY, Judged, Term, judge, stretch
 
@@ -43,10 +45,11 @@ class Context:
     terms: list[Term]
     until: list = field(default_factory=list)
     touches: bool = False
-    playtest: tuple | None = None  # (Noise, tries, weight)
+    playtest: tuple | None = None  # (Noise, tries, weight, (OtherPhysics, ...))
     seed: int = 0
     generator: str | None = None
     mouse_from: tuple[float, float] = (0.5, 0.5)
+    physics: OtherPhysics | None = None  # a playtest variant's settings (None: the spec's)
 
 
 @dataclass
@@ -87,8 +90,10 @@ class _Prepared:
     def __init__(self, ctx: Context):
         from puppet.session import Session
 
-        self.session = Session(_setup(ctx.setup_from), dt=ctx.dt,
-                               checkpoint_interval=ctx.interval)
+        setup = _setup(ctx.setup_from)
+        if ctx.physics is not None:
+            setup = ctx.physics.adjust(setup)
+        self.session = Session(setup, dt=ctx.dt, checkpoint_interval=ctx.interval)
         self.sampler = Sampler(self.session, touches=ctx.touches)
         self.sampler(self.session)
         play(self.session, ctx.prefix, ctx.stage_step, SAMPLE_EVERY, self.sampler)
@@ -122,14 +127,15 @@ def _setup(source: tuple) -> Setup:
     return _SETUPS[source]
 
 
-def prepared(ctx: Context) -> _Prepared:
+def prepared(ctx: Context, keep: int = KEEP_SESSIONS) -> _Prepared:
+    """The stage's session at its checkpoint (this process keeps the last ``keep``)."""
     prep = _PREPARED.get(ctx.key)
     if prep is not None and len(prep.session.versions) > MAX_VERSIONS:
         prep = None  # every try's reloaded interface kept: start again, lighter
     if prep is None:
         prep = _Prepared(ctx)
         _PREPARED[ctx.key] = prep
-        while len(_PREPARED) > KEEP_SESSIONS:
+        while len(_PREPARED) > keep:
             _PREPARED.popitem(last=False)
     _PREPARED.move_to_end(ctx.key)
     return prep
@@ -192,16 +198,35 @@ def run_try(task: Task) -> TryResult:
         ok = False
     result = TryResult(score, ok, until_ok, judged, blowups, None, entries, end)
     if ok and ctx.playtest is not None:
-        noise, tries, weight = ctx.playtest
-        passes = sum(_noisy_passes(prep, ctx, pairs, end_step, look_step, task, noise, i)
-                     for i in range(tries))
-        result.pass_rate = passes / tries
+        noise, tries, weight, variants = ctx.playtest
+        keep = KEEP_SESSIONS * (1 + len(variants))
+        passes = sum(_noisy_passes(prep, ctx, pairs, end_step, look_step, task.look_pairs,
+                                   noise, i) for i in range(tries))
+        for physics in variants:  # the same tries on cheaper physics: not a knife edge
+            vctx, ratio = variant(ctx, physics)
+            vprep = prepared(vctx, keep)
+            vpairs, vlook = rescaled_pairs(pairs, ratio), rescaled_pairs(task.look_pairs, ratio)
+            passes += sum(_noisy_passes(vprep, vctx, vpairs, round(end_step * ratio),
+                                        round(look_step * ratio), vlook, noise, i)
+                          for i in range(tries))
+        prepared(ctx, keep)  # (the stage's own session stays the most recent)
+        result.pass_rate = passes / (tries * (1 + len(variants)))
         result.score += weight * result.pass_rate
     return result
 
 
+def variant(ctx: Context, physics: OtherPhysics) -> tuple[Context, float]:
+    """The stage on other physics: its input up to the checkpoint at the steps nearest
+    their times, the same checkpoint; and the ratio of the steps (old step / new)."""
+    ratio = 1.0 if physics.dt is None else ctx.dt / physics.dt
+    return dataclasses.replace(
+        ctx, key=f"{ctx.key}|{physics.label()}", dt=physics.dt or ctx.dt,
+        prefix=rescaled_pairs(ctx.prefix, ratio), stage_step=round(ctx.stage_step * ratio),
+        playtest=None, physics=physics), ratio
+
+
 def _noisy_passes(prep: _Prepared, ctx: Context, pairs: Pairs, end_step: int,
-                  look_step: int, task: Task, noise, index: int) -> bool:
+                  look_step: int, look_pairs: Pairs, noise, index: int) -> bool:
     """The simulated player's try ``index`` of the stage: its input moved by a person's
     error (``playtest.noise.perturb``), judged by the required terms. Every candidate
     gets the same draws (the same seed and try numbers): their rates compare hands
@@ -214,7 +239,7 @@ def _noisy_passes(prep: _Prepared, ctx: Context, pairs: Pairs, end_step: int,
     slow = float(setup.interface.slowdown or 1.0)
     moved = perturb(rel, [slow] * len(rel), ctx.dt, end_step - s0, noise, ctx.seed,
                     index, setup.interface.app_key_table()).pairs
-    traj, blowups = _play(prep, [(s + s0, e) for s, e in moved] + task.look_pairs, look_step)
+    traj, blowups = _play(prep, [(s + s0, e) for s, e in moved] + look_pairs, look_step)
     _, ok, _ = judge([t for t in ctx.terms if t.required], stretch(traj, ctx.t0), traj)
     return ok and not blowups
 
