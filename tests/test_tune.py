@@ -462,7 +462,7 @@ stages:
 
     source = read_log(SPECS.parents[0] / "logs" / "luxo-shuffle.jsonl")
     ours = read_log(written.log)
-    assert ours.header["interface"] == source.header["interface"] == "luxo-mouse"
+    assert ours.header["interface"] == source.header["interface"] == "luxo-shuffle"
     cut = [i for i, e in enumerate(source.events) if e.event.get("name") == "checkpoint"][0]
     assert [(e.step, e.event) for e in ours.events[:cut + 1]] == \
         [(e.step, e.event) for e in source.events[:cut + 1]]
