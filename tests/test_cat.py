@@ -72,8 +72,8 @@ def test_cat_stands_still_at_the_default_step():
 
 
 @pytest.mark.parametrize("name", ["characters/cat.yaml", "interfaces/cat-bound.yaml",
-                                  "interfaces/cat-trot.yaml", "assets/scenes/cat-flat.yaml",
-                                  "assets/scenes/cat-gap.yaml"])
+                                  "interfaces/cat-trot.yaml", "interfaces/cat-gap.yaml",
+                                  "assets/scenes/cat-flat.yaml", "assets/scenes/cat-gap.yaml"])
 def test_cat_files_pass_puppet_check(name):
     assert check_file(ROOT / name)
 
