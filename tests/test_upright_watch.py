@@ -16,11 +16,11 @@ def _play(capsys, seconds: str) -> str:
 
 
 def test_a_lamp_mid_somersault_is_not_upright_though_its_base_is_level_now(capsys):
-    # at 1.6 s the base is 40 deg from level (within the 45 of Character.upright) on its
-    # way down from upside down (176 deg at 1.30 s); landed and settled by 3 s
+    # at 1.6 s the base has just landed, 24 deg from level (within the 45 of
+    # Character.upright), 0.4 s after upside down (175 deg at 1.20 s); settled by 3 s
     mid = _play(capsys, "1.6")
-    assert "upright=False (root 176 deg from upright at t=1.30s)" in mid, mid
-    assert mid.startswith("t=1.600s") and mid.endswith("state=f981a4e5cc361916")
+    assert "upright=False (root 175 deg from upright at t=1.20s)" in mid, mid
+    assert mid.startswith("t=1.600s") and mid.endswith("state=75c957a27575f865")
     assert "upright=True  state=" in _play(capsys, "3.0")
 
 

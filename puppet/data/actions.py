@@ -118,11 +118,6 @@ class PoseSpec(Spec, kw_only=True):
     description: str = ""
 
 
-class SequenceStepSpec(Spec, kw_only=True):
-    pose: str
-    hold: PositiveDuration  # s the pose is held before the next step
-
-
 class ConditionSpec(Spec, kw_only=True):
     """A test on one named sensor: ``above``/``below`` a threshold, or ``is`` for contact.
 
@@ -153,6 +148,39 @@ class ConditionSpec(Spec, kw_only=True):
             if self.above is not None and self.below is not None and self.above >= self.below:
                 raise ValueError(f"'above' ({self.above}) must be less than 'below' "
                                  f"({self.below})")
+
+
+class SequenceStepSpec(Spec, kw_only=True):
+    """One pose of a sequence, held ``hold`` s; with ``until`` (a condition, or a list
+    that must all hold, as a transition's ``when``) the step ends as soon as that
+    holds - tested every simulation step once ``after`` s have passed - and ``hold`` is
+    the longest it waits (a push until the base leaves the floor)."""
+
+    pose: str
+    hold: PositiveDuration  # s the pose is held before the next step (with until: at most)
+    until: ConditionSpec | list[ConditionSpec] | None = None
+    after: Duration | None = None  # s into the step before ``until`` is tested
+
+    def __post_init__(self):
+        if isinstance(self.until, list) and not self.until:
+            raise ValueError("'until' is an empty list: give one condition, or several "
+                             "that must all hold")
+        if self.after is not None:
+            if self.until is None:
+                raise at("after", "'after' (s) is when 'until' starts to be tested: it "
+                                  "needs 'until'")
+            if self.after >= self.hold:
+                raise at("after", f"'after' ({self.after} s) must be less than 'hold' "
+                                  f"({self.hold} s): the step would end before 'until' is "
+                                  f"tested")
+
+    @property
+    def conditions(self) -> list[ConditionSpec]:
+        """The conditions that must all hold to end the step early (none without
+        ``until``)."""
+        if self.until is None:
+            return []
+        return list(self.until) if isinstance(self.until, list) else [self.until]
 
 
 class ChainSpec(Spec, kw_only=True):

@@ -366,6 +366,15 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
             if problem:
                 where = loc + (("when", i, "sensor") if several else ("when", "sensor"))
                 raise located.error(where, problem)
+    for seq, steps in spec.sequences.items():
+        for k, step in enumerate(steps):
+            several = isinstance(step.until, list)
+            for i, condition in enumerate(step.conditions):
+                problem = sensor_problem(condition.sensor, character, spec.roles)
+                if problem:
+                    where = ("sequences", seq, k) + (("until", i, "sensor") if several
+                                                     else ("until", "sensor"))
+                    raise located.error(where, problem)
 
 
 def _check_tracking(spec, character, located, need, need_link) -> None:

@@ -38,6 +38,7 @@ from puppet.interface.actions import MAX_CHAINED_GOTOS, Actions
 from puppet.interface.active_maps import ActiveMaps, every_map
 from puppet.interface.bindings import KeyBindings, Resolved
 from puppet.interface.buffer import InputBuffer
+from puppet.interface.conditions import reader
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
@@ -91,8 +92,10 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.held: set[str] = set()
         self.owners = JointOwners()
         servos = character.servos
-        self.sequences = SequenceController(spec.sequences, self.poses, servos, self.owners,
-                                            self.dt)
+        self.sequences = SequenceController(
+            spec.sequences, self.poses, servos, self.owners, self.dt,
+            lambda name: reader(self.roles.sensor(name), character, self.channels,
+                                self.inputs))
         self.gestures = GestureController(spec.gestures, servos, self.owners, self.dt)
         self.gestures.inputs = self.inputs
         self.grasping = GraspController(self.chains, character, sim, self.dt)
@@ -166,6 +169,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.pose_targets = {n: p.targets for n, p in poses.items()}
         if "sequences" in self.__dict__:
             self.sequences.poses = poses
+            self.sequences.readers = {}  # ``until`` sensors named through roles
         for machine in self.__dict__.get("machines", {}).values():
             machine.use_renamer(binding, self.roles.sensor)
 
