@@ -356,8 +356,9 @@ def test_grasp_state_round_trip_adopt_and_stop():
     state_copy = plain(state)
     again = reach_setup()[0].grasps
     again.set_state(state)
-    state["shade"][0][0][0] = 0.0  # set_state copied: the caller's list is not shared
+    state["armed"]["shade"][0][0][0] = 0.0  # set_state copied: the caller's list is not shared
     assert again.get_state() == state_copy
+    assert state_copy["released"] == {}  # where each chain let go: nothing yet
     assert [again.next_wakeup(s) for s in (10, 40)] == [10, 40]
     again.tick(57)  # until = 10 + 48
     assert again.armed

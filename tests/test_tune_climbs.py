@@ -1,6 +1,7 @@
 """The ladder climbs as tuning specs (assets/tune/biped-ladder-climb.yaml,
 biped-gymnast-climb-bound.yaml, -trot.yaml) and their candidate generators
-(``key-turn``, ``grip-stroke``): each spec's first tries are the shipped performance,
+(``key-turn``, ``grip-stroke``; the bound climb's one-key strokes are templates): each
+spec's first tries are the shipped performance,
 entry for entry, and the generators write what their docstrings say."""
 
 from __future__ import annotations
@@ -81,10 +82,13 @@ def first_tries(name: str) -> tuple[list[dict], float]:
         if t is None:
             t = tpl.at({})
         params = complete(loaded.params[i], stage.first)
-        fixed, _ = tpl.entries(params, t)
-        held = ("hand_near", "hand_far") + (() if i == 0 else ("foot_near", "foot_far"))
-        entries, end = generate(stage.generator, fake_session(t, held), tpl.values(params),
-                                t, round(60 / DT), fixed)
+        fixed, length = tpl.entries(params, t)
+        if stage.generator is None:  # a template (the bound climb's one-key strokes)
+            entries, end = fixed, round(t + length, 4)
+        else:
+            held = ("hand_near", "hand_far") + (() if i == 0 else ("foot_near", "foot_far"))
+            entries, end = generate(stage.generator, fake_session(t, held),
+                                    tpl.values(params), t, round(60 / DT), fixed)
         out += [{"t": t, "action": "checkpoint"}] + entries
         t = end
     return sorted(out, key=lambda e: e["t"]), t

@@ -271,6 +271,9 @@ class GraspSpec(Spec, kw_only=True):
     # not turn about the point
     rigid: bool = False
     max_torque: Torque | None = None  # N*m a rigid grasp holds the angle with (default: no limit)
+    # not the place (within tolerance) this chain last let go of: the next rung, whenever
+    # the hand passes it; armed at the let-go, it cannot catch the rung it leaves
+    skip_released: bool = False
 
     def __post_init__(self):
         if (self.points is None) == (self.prop is None):

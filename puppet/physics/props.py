@@ -32,9 +32,11 @@ class Prop:
         p = _to_world(self.body._body, self.points[name])
         return (p.x, p.y)
 
-    def nearest(self, world: tuple[float, float]) -> tuple[float, tuple[float, float], str | None]:
+    def nearest(self, world: tuple[float, float], exclude=None
+                ) -> tuple[float, tuple[float, float], str | None]:
         """(distance, world point, point name or None) of the graspable place nearest
-        ``world``: a named point or the nearest point on a grasp segment. (An armed grasp
+        ``world``: a named point or the nearest point on a grasp segment; with
+        ``exclude`` (x, y, r) none closer than r to (x, y). (An armed grasp
         asks this of every prop at every step until it holds: the points go through
         the C call pymunk's ``local_to_world`` makes, without its Vec2d; a static prop's
         are worked out once for where it stands, ``_placed``.)"""
@@ -43,12 +45,18 @@ class Prop:
         hypot = math.hypot
         points, segments = self._placed()
         for name, px, py in points:
+            if exclude is not None and hypot(px - exclude[0], py - exclude[1]) < exclude[2]:
+                continue
             d = hypot(px - wx, py - wy)
             if d < best[0]:
                 best = (d, (px, py), name)
         for ax, ay, vx, vy, vv in segments:
             u = ((wx - ax) * vx + (wy - ay) * vy) / vv
             u = min(1.0, max(0.0, u))
+            if exclude is not None:
+                u = _outside(u, ax, ay, vx, vy, vv, exclude)
+                if u is None:
+                    continue
             p = (ax + u * vx, ay + u * vy)
             d = hypot(p[0] - wx, p[1] - wy)
             if d < best[0]:
@@ -82,6 +90,23 @@ class Prop:
         if static:
             self._placed_cache = (key, (points, segments))
         return points, segments
+
+
+def _outside(u, ax, ay, vx, vy, vv, exclude) -> float | None:
+    """The parameter nearest ``u`` (0..1) of a segment's point at least r from (x, y)
+    (``exclude``), or None if the whole segment is within r. The distance to a point
+    grows away from the nearest parameter, so the nearest allowed one is ``u`` itself
+    or an end of the part of the segment inside the circle."""
+    cx, cy, r = exclude
+    dx, dy = ax - cx, ay - cy
+    if (dx + u * vx) ** 2 + (dy + u * vy) ** 2 >= r * r:
+        return u
+    b = (dx * vx + dy * vy) / vv  # |d + s v|^2 = r^2: s^2 + 2 b s + c = 0
+    c = (dx * dx + dy * dy - r * r) / vv
+    root = math.sqrt(max(0.0, b * b - c))
+    inside = (-b - root, -b + root)
+    allowed = [s for s in inside if 0.0 <= s <= 1.0]
+    return min(allowed, key=lambda s: abs(s - u)) if allowed else None
 
 
 def build_props(spec: SceneSpec, space: pymunk.Space) -> dict[str, Prop]:

@@ -4,7 +4,9 @@ An armed grasp waits until the end comes within its tolerance of one of its poin
 (world points, or the grasp points and segments of a scene prop), then pins it there.
 The pin itself belongs to the Simulation (``attach`` / ``detach``), so checkpoints,
 rewinds and replays cover held grasps exactly; this controller keeps only what is
-armed.
+armed,
+and where each chain last let go (a grasp with ``skip_released`` catches any place but
+that one: a climber's "let go and take the next rung" on one press).
 """
 
 from __future__ import annotations
@@ -23,8 +25,11 @@ class GraspController:
         self.sim = sim
         self.dt = dt
         # chain -> [world points or None, prop name ("any") or None, tolerance, until|None,
-        #           rigid, max torque|None]
+        #           rigid, max torque|None, skip_released]
         self.armed: dict[str, list] = {}
+        # chain -> (prop name or None: the world, the point it held in the prop's frame)
+        # at its last let-go
+        self.released: dict[str, tuple[str | None, tuple[float, float]]] = {}
 
     @property
     def held(self) -> dict[str, tuple[float, float]]:
@@ -41,29 +46,34 @@ class GraspController:
         until = None if spec.within is None else now + round(spec.within / self.dt)
         points = None if spec.points is None else [list(p) for p in spec.points]
         self.armed[spec.chain] = [points, spec.prop, spec.tolerance, until, spec.rigid,
-                                  spec.max_torque]
+                                  spec.max_torque, spec.skip_released]
 
     def try_grasp(self, name: str, points=None, prop: str | None = None,
                   tolerance: float = 0.04, rigid: bool = False,
-                  max_torque: float | None = None) -> bool:
+                  max_torque: float | None = None, skip_released: bool = False) -> bool:
         """Hold the first of ``points`` (pinned to the world, or to ``prop`` if one is
         named with them: a reach's target point), or else the nearest graspable place of
         ``prop`` ("any": of every prop), that the chain's end is within ``tolerance`` m
-        of; ``rigid``: holding the end link's angle too (``Simulation.attach``). True if
-        the chain holds something now."""
+        of; ``rigid``: holding the end link's angle too (``Simulation.attach``);
+        ``skip_released``: not a place within ``tolerance`` of where the chain last let
+        go (``released_point``). True if the chain holds something now."""
         if self.sim is None or self.holds(name):
             return self.holds(name)
         chain = self.chains[name]
         ex, ey = chain.end_world(self.character)
+        skip = self.released_point(name) if skip_released else None
+        exclude = None if skip is None else (skip[0], skip[1], tolerance)
         if points is not None:
             for p in points:
+                if exclude is not None and math.hypot(p[0] - skip[0], p[1] - skip[1]) < tolerance:
+                    continue
                 if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
                     self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop,
                                     rigid, max_torque)
                     return True
             return False
         props = self.sim.props
-        found = [(*props[n].nearest((ex, ey))[:2], n)
+        found = [(*props[n].nearest((ex, ey), exclude)[:2], n)
                  for n in (props if prop == "any" else [prop])]
         if not found:
             return False
@@ -74,12 +84,28 @@ class GraspController:
             return True
         return False
 
+    def released_point(self, name: str) -> tuple[float, float] | None:
+        """Where (world, m) the chain last let go, following a moving prop; None if it
+        has not let go of anything (since the start or a reset)."""
+        if name not in self.released or self.sim is None:
+            return None
+        prop, (x, y) = self.released[name]
+        if prop is None or prop not in self.sim.props:
+            return (x, y)
+        p = self.sim.props[prop].body.local_to_world((x, y))
+        return (p[0], p[1])
+
     def release(self, which: str) -> None:
-        """Let go: unpin the chain ("all": every chain) and disarm its grasp."""
+        """Let go: unpin the chain ("all": every chain) and disarm its grasp; a chain
+        that held something remembers where (``released``)."""
         names = list(self.chains) if which == "all" else [which]
         for name in names:
             self.armed.pop(name, None)
             if self.sim is not None:
+                held = self.sim.grasps.get(name)
+                if held is not None:
+                    joint, prop = held
+                    self.released[name] = (prop, (joint.anchor_b[0], joint.anchor_b[1]))
                 self.sim.detach(name)
 
     def tick(self, step: int) -> None:
@@ -95,15 +121,19 @@ class GraspController:
         return set()  # a grasp pins a link; it owns no joint target
 
     def get_state(self):
-        return _copy(self.armed)
+        return {"armed": _copy(self.armed), "released": dict(self.released)}
 
     def set_state(self, state) -> None:
-        self.armed = _copy(state)
+        if "armed" not in state:  # a snapshot from before 'released' was kept
+            state = {"armed": state, "released": {}}
+        self.armed = _copy(state["armed"])
+        self.released = dict(state["released"])
 
     def adopt(self, old: GraspController, same, now: int) -> set[Owner]:
         """Armed and held grasps of chains defined the same way carry on; a chain that
         is gone or changed lets go."""
         self.armed = _copy({n: g for n, g in old.armed.items() if same("chain", n)})
+        self.released = {n: r for n, r in old.released.items() if same("chain", n)}
         for name in list(old.held):
             if not same("chain", name):
                 old.release(name)
@@ -111,6 +141,7 @@ class GraspController:
 
     def stop(self) -> None:
         self.armed = {}
+        self.released = {}
 
 
 def _copy(armed: dict) -> dict:
