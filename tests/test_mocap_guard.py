@@ -241,7 +241,11 @@ def _flooded(setup, walk, fmt, count):
     counts, tally = source.decoder.counts, source.guard.tally
     assert counts.packets >= 0.95 * count  # (UDP: the system may drop a few)
     assert session.blowups == 0 and not session.halted, session.blowup_messages
-    assert tally.total > count // 10, tally.dropped  # the absurd ones were judged
+    # the absurd ones were judged: most of the frames retargeted (those not passed over
+    # for a newer one: how many are depends on how the decoding thread was scheduled,
+    # so the share is asserted, not a count of the flood)
+    assert tally.total >= 20 and tally.total > 0.5 * (tally.total + source.queue.posted), \
+        (tally.dropped, source.queue.posted, source.skipped)
     assert counts.total_dropped > 0  # and the garbage dropped by the decoder
     # the walk's frames came through: handed to the session, or passed over for a newer
     # one of the same backlog (the source retargets only the newest: skip-to-newest)
