@@ -22,6 +22,18 @@ from puppet.timeline.log import Recorder, read_log
 from puppet.timeline.replay import apply_log, new_session, setup_for_log
 
 
+def _script(header: dict) -> tuple[str, str] | None:
+    """The reactive script a log was played by (its playtests play it again): today's
+    file of that name (assets/scripts/), else the text the header kept; None: none."""
+    name, text = header.get("script"), header.get("script_text")
+    if not isinstance(name, str) or not isinstance(text, str):
+        return None
+    from puppet.data.catalog import ROOT
+
+    today = ROOT / "assets" / "scripts" / f"{name}.yaml"
+    return name, today.read_text(encoding="utf-8") if today.is_file() else text
+
+
 def rerecord(path: Path, new_end: bool = False) -> str:
     log = read_log(path)
     setup, _ = setup_for_log(log)
@@ -30,7 +42,7 @@ def rerecord(path: Path, new_end: bool = False) -> str:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / path.name
         with Recorder(session, out, slowdown=h.get("slowdown"),
-                      description=h.get("description")):
+                      description=h.get("description"), script=_script(h)):
             apply_log(session, log)
         new = read_log(out)
         if new.end_hash != log.end_hash and not new_end:

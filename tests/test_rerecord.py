@@ -1,0 +1,28 @@
+"""``tools/rerecord.py``: a log re-recorded after a change its run does not see keeps
+what its playtests need - the reactive script that played it (a log without its
+``script_text`` is played by its recorded events instead, and measures another thing)."""
+
+from __future__ import annotations
+
+import importlib.util
+import shutil
+
+from puppet.data.catalog import ROOT
+from puppet.timeline.log import read_log
+
+SPEC = importlib.util.spec_from_file_location("rerecord", ROOT / "tools" / "rerecord.py")
+rerecord = importlib.util.module_from_spec(SPEC)
+SPEC.loader.exec_module(rerecord)
+
+
+def test_a_reactive_logs_script_stays_in_its_header(tmp_path):
+    log = tmp_path / "cat-bound.jsonl"
+    shutil.copy(ROOT / "assets" / "logs" / "cat-bound.jsonl", log)
+    before = read_log(log)
+    assert "script_text" in before.header  # (the premise: a log played by its script)
+    said = rerecord.rerecord(log)
+    after = read_log(log)
+    assert "same end" in said and after.end_hash == before.end_hash
+    assert after.header["script"] == before.header["script"] == "cat-bound"
+    today = (ROOT / "assets" / "scripts" / "cat-bound.yaml").read_text(encoding="utf-8")
+    assert after.header["script_text"] == today
