@@ -38,7 +38,7 @@ def test_the_mouse_alone_takes_it_from_the_march_through_the_walk_to_the_run(rep
     assert [(e["key"], e["down"]) for e in keys] == [("space", True), ("space", False)]
     traj = replayed.trajectory
     states = list(traj.state)
-    walked = {s for s, t in zip(states, traj.t) if t < 14.0}
+    walked = {s for s, t in zip(states, traj.t) if t < 12.0}
     ran = [s for s, t in zip(states, traj.t) if t > 20.0]
     assert {"on_near", "on_far"} <= walked and not walked & {"run_near", "run_far"}
     assert not set(ran) & {"on_near", "on_far", "down_near", "down_far"}
