@@ -139,7 +139,7 @@ def test_handstand_fails_when_the_press_does_not_hand_over_to_it(tmp_path):
     """The press state's sensor transition gone (only a late timer left): the press
     alone stays piked, so h's handstand is the state machine's doing."""
     def no_handover(iface):
-        iface["states"]["hs_press"]["transitions"] = [{"to": "handstand", "after": 30.0}]
+        iface["states"]["hs_press"]["transitions"] = [{"to": "hs_kick", "after": 30.0}]
 
     assert "balanced_on" in _variant("biped-handstand", tmp_path, no_handover)
 
