@@ -63,6 +63,8 @@ def test_the_command_says_what_it_changed_and_fails_a_knife_edge(capsys):
     (["--solver-passes", "36", "--until-step", "10", "--headless"],
      "--until-step counts the log's steps"),
     (["--step", "1/240"], "--solver-passes and --step need --headless"),
+    (["--step", "1/240", "--headless", "--video", "x.mp4"],
+     "go with --check, --frames and --screenshot"),
 ])
 def test_bad_settings_are_one_line_and_exit_2(capsys, argv, said):
     from puppet.commands import main
@@ -74,3 +76,15 @@ def test_bad_settings_are_one_line_and_exit_2(capsys, argv, said):
     assert code == 2
     err = capsys.readouterr().err.strip()
     assert said in err and "\n" not in err, err
+
+
+def test_frames_show_the_run_on_the_other_step(tmp_path, capsys):
+    """``--frames`` with ``--step``: the images of the replay on that step (a knife
+    edge's fall is something to look at), as many a second as on the recorded step."""
+    from puppet.commands import main
+
+    assert main(["replay", "--headless", "--step", "1/240", "--frames", str(tmp_path),
+                 "--fps", "2", "luxo-hop"]) == 0
+    out, err = capsys.readouterr()
+    assert "on a 1/240 s step" in err and "step 1080 " in out  # 4.5 s of 1/240 s steps
+    assert len(list(tmp_path.glob("*.png"))) == 9  # 2 a second over 4.5 s, and the first

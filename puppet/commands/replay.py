@@ -86,6 +86,10 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if _physics(args) and (args.export_motion or args.video or args.plot):
+        raise UsageError("--solver-passes and --step go with --check, --frames and "
+                         "--screenshot, not --export-motion, --video or --plot (those "
+                         "export the recorded run)")
     if args.export_motion:  # headless always: a file for animators, no window
         if args.video or args.plot or args.check or args.frames or args.screenshot:
             raise UsageError("--export-motion goes alone (no --video, --plot, --frames, "
@@ -152,14 +156,17 @@ def _images(args: argparse.Namespace) -> int:
     from puppet.timeline.replay import find_log, replay
     from puppet.timeline.report import exit_code, print_one, until_note, verdict
 
+    physics = _physics(args)  # the images of the run on other physics, if asked
+    if physics:
+        print(f"on {physics.label()}: the end state not compared", file=sys.stderr)
     log = read_log(find_log(args.logs[0]), args.allow_truncated)
     slowdown = args.slowdown or float(log.header.get("slowdown") or 1.0)  # the HUD's
     images = Images(args.screenshot, args.frames, args.fps, tuple(args.size), slowdown,
                     overlay=args.overlay == "com")
-    every = images.every(float(log.header["dt"]))
+    every = images.every(physics.dt or float(log.header["dt"]))
     result = replay(log, args.until_step, args.allow_truncated, check=args.check,
                     trajectory=args.check, as_recorded=args.as_recorded,
-                    frames=(every, images.frame) if every else None)
+                    frames=(every, images.frame) if every else None, physics=physics)
     images.finish(result.session)
     res = result.summary
     res["outcomes"] = [str(o) for o in result.outcomes]
