@@ -214,7 +214,8 @@ def from_rest(args) -> int:
     start, stop = args.between
     short = []
     if _physics(args) and not args.json:
-        print(f"on {_physics(args).label()}: each press judged by the feat's expectations")
+        print(f"on {_physics(args).label()}: each press judged by the feat's expectations",
+              file=sys.stderr)
     for name in args.logs:
         try:
             path = find_log(name)
