@@ -80,6 +80,15 @@ def sim_step(text: str) -> float:
         return parse_step(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
+def other_physics(args):
+    """The ``--solver-passes`` / ``--step`` settings asked for (an ``OtherPhysics``, false
+    when neither was given): ``puppet replay``'s and ``puppet playtest``'s."""
+    from puppet.timeline.other_physics import OtherPhysics
+
+    return OtherPhysics(iterations=getattr(args, "solver_passes", None),
+                        dt=getattr(args, "step", None))
+
+
 slowdown = number_in("slowdown", MIN_SLOWDOWN, MAX_SLOWDOWN,
                      "wall s per simulated s: 4 = four times slower, 0.5 = twice as fast")
 checkpoint_every = number_in("checkpoint interval", CHECKPOINT_MIN, CHECKPOINT_MAX,

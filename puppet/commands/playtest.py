@@ -93,14 +93,6 @@ def register(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _physics(args):
-    """The --solver-passes / --step settings (an ``OtherPhysics``, false when none)."""
-    from puppet.timeline.other_physics import OtherPhysics
-
-    return OtherPhysics(iterations=getattr(args, "solver_passes", None),
-                        dt=getattr(args, "step", None))
-
-
 def _plans(args) -> list:
     """One plan per log: the noise and tries asked for, else the log's bar's."""
     from puppet.data.errors import DataError, UsageError
@@ -109,7 +101,7 @@ def _plans(args) -> list:
     from puppet.timeline.replay import find_log
 
     overrides = {n: getattr(args, n) for n in PARAMETERS if getattr(args, n) is not None}
-    physics = _physics(args)
+    physics = options.other_physics(args)
     plans, bars = [], []
     for name in args.logs:
         try:
@@ -213,8 +205,9 @@ def from_rest(args) -> int:
 
     start, stop = args.between
     short = []
-    if _physics(args) and not args.json:
-        print(f"on {_physics(args).label()}: each press judged by the feat's expectations",
+    physics = options.other_physics(args)
+    if physics and not args.json:
+        print(f"on {physics.label()}: each press judged by the feat's expectations",
               file=sys.stderr)
     for name in args.logs:
         try:
@@ -226,7 +219,6 @@ def from_rest(args) -> int:
             return EXIT_ERROR
         dt = float(log.header["dt"])
         steps = steps_between(dt, min(start, stop), max(start, stop), args.count)
-        physics = _physics(args)
         try:
             with executor_for(args) as executor:
                 found = executor.map(failures, [(path, args.from_rest, s, physics)

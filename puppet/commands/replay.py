@@ -126,10 +126,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _physics(args):
     """The --solver-passes / --step settings (an ``OtherPhysics``, false when none)."""
-    from puppet.timeline.other_physics import OtherPhysics
-
-    physics = OtherPhysics(iterations=getattr(args, "solver_passes", None),
-                           dt=getattr(args, "step", None))
+    physics = options.other_physics(args)
     if physics and getattr(args, "until_step", None) is not None:
         raise UsageError("--until-step counts the log's steps: it does not go with "
                          "--solver-passes or --step")
