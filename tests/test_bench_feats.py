@@ -40,3 +40,13 @@ def test_the_trace_holds_the_push_and_the_checkpoints_and_replays_to_the_end():
     every = round(float(log.header["checkpoint_interval"]) / float(log.header["dt"]))
     reseats = [op[0] for op in trace.ops if op[1]]
     assert reseats[:2] == [every, 2 * every]  # the timeline's keyframes re-seat the run
+
+
+def test_log_picks_the_named_shipped_logs_and_refuses_an_unknown_one():
+    from puppet.commands.bench.feats import measure_feats
+    from puppet.data.errors import UsageError
+
+    report = measure_feats(1, 0.05, logs=["luxo-hop", "luxo-hop.jsonl"])
+    assert [i["log"] for i in report["items"]] == ["luxo-hop"]
+    with pytest.raises(UsageError, match="no shipped log named nope"):
+        measure_feats(1, 0.05, logs=["nope"])

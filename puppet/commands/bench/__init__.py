@@ -75,6 +75,9 @@ def register(subparsers) -> None:
     bench.add_argument("--feats", action="store_true",
                        help="only the control overhead on the shipped feat logs (each log "
                             "with control against bare Chipmunk fed the same writes)")
+    bench.add_argument("--log", action="append", metavar="NAME", dest="logs",
+                       help="with --feats: only this shipped log (its name, e.g. "
+                            "luxo-hop; repeat for more)")
     bench.add_argument("--soak", type=_minutes, metavar="MINUTES",
                        help="instead: scrub the cat and the biped for MINUTES each (30 for "
                             "the issue's soak) and report the growth of the resident memory "
@@ -104,9 +107,13 @@ def run(args: argparse.Namespace) -> int:
     from puppet.commands.bench.suite import run_bench, run_feats
 
     clock_name = "cpu" if args.cpu else "wall"
+    if args.logs and not args.feats:
+        from puppet.data.errors import UsageError
+
+        raise UsageError("--log picks feat logs: use it with --feats")
     if args.feats:
         report = run_feats(quick=args.quick, only=args.character or None,
-                           clock_name=clock_name)
+                           clock_name=clock_name, logs=args.logs)
     else:
         report = run_bench(quick=args.quick, only=args.character or None,
                            clock_name=clock_name)

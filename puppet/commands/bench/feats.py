@@ -228,14 +228,24 @@ def measure_feat(path, rounds: int, seconds: float | None = None) -> dict:
 
 
 def measure_feats(rounds: int, seconds: float | None = None,
-                  only: list[str] | None = None) -> dict:
+                  only: list[str] | None = None, logs: list[str] | None = None) -> dict:
     """Every shipped log (``assets/logs/*.jsonl``), or those of the characters in
-    ``only``."""
+    ``only``, or the shipped logs named in ``logs`` (a name like ``luxo-hop``)."""
     from puppet.data.catalog import folder
+    from puppet.data.errors import UsageError
     from puppet.timeline.log import read_log
 
+    shipped = sorted(folder("log").glob("*.jsonl"))
+    if logs:
+        names = {p.stem: p for p in shipped}
+        wanted = [n[:-len(".jsonl")] if n.endswith(".jsonl") else n for n in logs]
+        unknown = [n for n in wanted if n.rsplit("/", 1)[-1] not in names]
+        if unknown:
+            raise UsageError(f"no shipped log named {', '.join(unknown)}; known: "
+                             f"{', '.join(names)}")
+        shipped = [names[n.rsplit("/", 1)[-1]] for n in dict.fromkeys(wanted)]
     items = []
-    for path in sorted(folder("log").glob("*.jsonl")):
+    for path in shipped:
         try:
             if only and read_log(path).header.get("character") not in only:
                 continue

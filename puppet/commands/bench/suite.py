@@ -116,9 +116,11 @@ def measure_grasping(cfg: dict) -> list[dict]:
     return out
 
 
-def feat_section(cfg: dict, only: list[str] | None = None) -> dict:
-    """The control overhead on every shipped feat log, with its targets."""
-    feats = measure_feats(cfg["feat_rounds"], cfg["feat_seconds"], only)
+def feat_section(cfg: dict, only: list[str] | None = None,
+                 logs: list[str] | None = None) -> dict:
+    """The control overhead on every shipped feat log (or those named), with its
+    targets."""
+    feats = measure_feats(cfg["feat_rounds"], cfg["feat_seconds"], only, logs)
     feats["targets"] = [target(f"control overhead: {i['log']}", i["overhead_pct"], "<=",
                                FEAT_OVERHEAD_TARGET_PCT, "%")
                         for i in feats["items"] if "overhead_pct" in i]
@@ -145,12 +147,12 @@ def _header(cfg: dict, quick: bool, clock_name: str) -> dict:
 
 
 def run_feats(quick: bool = False, only: list[str] | None = None,
-              clock_name: str = "wall") -> dict:
+              clock_name: str = "wall", logs: list[str] | None = None) -> dict:
     """``puppet bench --feats``: the feat logs' section alone."""
     cfg = QUICK if quick else FULL
     config.use_clock(clock_name)
     report = _header(cfg, quick, clock_name)
-    report["feats"] = feat_section(cfg, only)
+    report["feats"] = feat_section(cfg, only, logs)
     if hasattr(os, "getloadavg"):
         report["load_average"] = ", ".join(f"{v:.2f}" for v in os.getloadavg())
     report["all_pass"] = all(t["pass"] for t in report["feats"]["targets"]) \
