@@ -39,6 +39,7 @@ from puppet.interface.active_maps import ActiveMaps, every_map
 from puppet.interface.bindings import KeyBindings, Resolved
 from puppet.interface.buffer import InputBuffer
 from puppet.interface.conditions import reader
+from puppet.interface.control_rate import ControlPeriod
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
@@ -102,7 +103,9 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
                                         self.grasping, self.read_input, self.dt)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
-        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
+        # the control period: the interface's control_rate, faster in a state that asks
+        self.period = ControlPeriod(spec, machines, self.dt)
+        every = self.period.base
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.blends = BlendController(character, self.owners, self.frames, every)
@@ -274,6 +277,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             else:  # a new state machine (or its state is gone): start it
                 machine.enter(machine.initial, now)
                 fresh.append(name)
+        self._follow_rate()
         self._refresh_active_maps()
         for name in fresh:
             self._run_entry(name, now, 0)
@@ -287,6 +291,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             roles = machine.spec.states[machine.initial].roles
             if roles is not None and roles != self.role_binding:
                 self._use_binding(roles)  # entering a state selects its roles, the first too
+        self._follow_rate()
         self._refresh_active_maps()
         for _, joints in self.feedback.setters:  # sensor maps own their joints
             self.feedback.claim(joints)
@@ -449,6 +454,20 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     wake = at
             self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
+    def _follow_rate(self) -> None:
+        """The control period the current states ask for (``interface.control_rate``),
+        on everything that keeps one: the machines, frame targets, blends, sensor maps.
+        Runs after a state is entered or restored; free without state rates."""
+        period = self.period
+        if not period.fast:
+            return
+        every = period.now(self.machines)
+        if every != period.every:
+            period.every = every
+            for machine in self._machine_list:
+                machine.every = every
+            self.frames.every = self.blends.every = self.feedback.every = every
+
     def _reschedule(self, earliest: int, machines_due: bool = False) -> None:
         """``next_wakeup``: the first step >= ``earliest`` at which something is due,
         None when idle; and which controllers have work. Runs after every tick and key,
@@ -512,6 +531,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         for name, s in state["machines"].items():
             if name in self.machines:
                 self.machines[name].set_state(s)
+        self._follow_rate()  # the period follows from the states (saved)
         self.gain_holds = _copy_holds(state["gain_holds"])
         self.buffer.set_state(state.get("buffer"))
         if state["binding"] != self.role_binding:
