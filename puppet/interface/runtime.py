@@ -88,6 +88,9 @@ class InterfaceRuntime(ActiveMaps, Actions):
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
+        # the machines with a state polling device inputs alone (an input event stirs them)
+        self._device_machines = tuple(m for m in self._machine_list
+                                      if any(m._device_only.values()))
         self.buffer = InputBuffer(self.key_bindings.state, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
@@ -343,8 +346,10 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     self.owners.take(written)
             if self.frames.held and self.frames not in self._active:
                 self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
-            # Maps write targets and take joints; nothing that sets a wake-up changes
-            # (an emptied sequence or gesture ends at its own next wake-up).
+            if self._device_machines:  # a state polling the mouse polls it again
+                self._stir(self.step_now())
+            # Maps write targets and take joints; nothing else that sets a wake-up
+            # changes (an emptied sequence or gesture ends at its own next wake-up).
             return None
         now = self.step_now()
         result = None
@@ -375,8 +380,22 @@ class InterfaceRuntime(ActiveMaps, Actions):
                 result = self._press(name, value > 0.5, now)
         else:
             return None
+        if self._device_machines:
+            self._stir(now)
         self._reschedule(now)
         return result
+
+    def _stir(self, now: int) -> None:
+        """An input event at ``now``: a machine in a state that polls device inputs
+        alone polls again at its next control step (``StateMachine.quiet``)."""
+        wake = self.next_wakeup
+        for machine in self._device_machines:
+            if machine.device_only:
+                machine.quiet = False
+                at = machine.next_wakeup(now)
+                if at is not None and (wake is None or at < wake):
+                    wake = at
+        self.next_wakeup = wake
 
     def _on_channels(self, values: dict[str, float]) -> None:
         """Many named channels at one step (a mocap frame): like the mouse, a compiled
