@@ -139,3 +139,80 @@ def test_a_bad_state_rate_is_one_line_at_the_field(tmp_path, value, message):
     assert message in said and "\n" not in said, said
     line = text.split("\n").index(f"    control_rate: {value}") + 1
     assert said.startswith(f"{path}:{line}:"), said
+
+
+MOUSE_ONLY = """
+name: t
+description: states that wait for the mouse, with timers, and one that reads the lamp
+character: luxo
+control_rate: 120
+states:
+  down:
+    control_rate: 480
+    enter: {set: {knee: 100}}
+    transitions:
+      - {to: up, when: {sensor: input.mouse.y, above: 0.6}}
+      - {to: rest, after: 0.05}
+  up:
+    enter: {set: {knee: 20}}
+    transitions:
+      - {to: down, when: [{sensor: input.mouse.y, below: 0.4}, {sensor: input.mouse.x, above: 0.2}]}
+  rest:
+    transitions:
+      - {to: down, when: {sensor: input.mouse.y, below: 0.3}, after: 0.05}
+      - {to: up, when: {sensor: joint.knee, above: 150}}
+"""
+
+
+def _run(tmp_path, quiet: bool) -> tuple[list, str, int]:
+    """A wandering mouse, events at irregular steps; the states entered (with their
+    steps), the end state and how many ticks ran."""
+    import random
+
+    s = session(tmp_path, MOUSE_ONLY)
+    if not quiet:  # poll every control step, as before
+        for m in s.runtime.machines.values():
+            m._device_only = dict.fromkeys(m._device_only, False)
+            m.device_only = False
+        s.runtime._device_machines = ()
+    ticks = []
+    tick = s.runtime.tick
+    s.runtime.tick = lambda step: (ticks.append(step), tick(step))
+    rng = random.Random(4)
+    seen = []
+    for _ in range(120):
+        s.handle(ev.mouse(rng.random(), rng.random()))
+        for _ in range(rng.choice([1, 2, 3, 7, 13, 40, 90])):
+            s.advance(1)
+            m = s.runtime.machines["main"]
+            if not seen or seen[-1] != (m.current, m.entered):
+                seen.append((m.current, m.entered))
+    return seen, s.sim.state_hash(), len(ticks)
+
+
+def test_a_state_reading_the_mouse_alone_polls_only_after_mouse_events(tmp_path):
+    """The same states at the same steps as testing at every control step, with far
+    fewer ticks."""
+    quiet, end, ticks = _run(tmp_path, quiet=True)
+    every, end_every, ticks_every = _run(tmp_path, quiet=False)
+    assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
+    assert quiet == every and end == end_every
+    assert ticks < ticks_every / 2, (ticks, ticks_every)
+
+
+def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):
+    from puppet.session.playback import play
+
+    events = [(0, ev.mouse(0.5, 0.5)), (30, ev.key("c")), (50, ev.mouse(0.5, 0.9)),
+              (80, ev.mouse(0.5, 0.1))]
+    straight = session(tmp_path, MOUSE_ONLY)
+    play(straight, events, 100)
+    assert straight.runtime.states["main"] == "down"
+    assert straight.runtime.machines["main"].entered == 80  # at 480: the event's step
+    s = session(tmp_path, MOUSE_ONLY)
+    play(s, events, 100)
+    s.handle(ev.action("restore"))
+    assert s.steps == 30
+    play(s, [e for e in events if e[0] > 30], 100)
+    assert s.runtime.machines["main"].entered == 80
+    assert s.sim.state_hash() == straight.sim.state_hash()
