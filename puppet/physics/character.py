@@ -29,6 +29,19 @@ def _count_arbiter(body, arbiter, data) -> None:
     _TOUCHING[0] = 1
 
 
+_XS: list[float] = []  # filled by _contact_xs: the contact points' x (support_extent)
+_point_set = _cp.cpArbiterGetContactPointSet  # what arbiter.contact_point_set reads
+
+
+@_ffi.callback("cpBodyArbiterIteratorFunc")
+def _contact_xs(body, arbiter, data) -> None:
+    """Each contact point's point_a.x, as pymunk's ``each_arbiter`` would hand them
+    (Chipmunk orders the arbiter for the body during the call, as for pymunk's)."""
+    got = _point_set(arbiter)
+    for i in range(got.count):
+        _XS.append(got.points[i].pointA.x)
+
+
 def _rot(p, angle):
     c, s = math.cos(angle), math.sin(angle)
     return (c * p[0] - s * p[1], s * p[0] + c * p[1])
@@ -293,20 +306,16 @@ class Character:
     def support_extent(self) -> tuple[float, float] | None:
         """(leftmost, rightmost) x of the points where the character touches anything
         outside itself (the support polygon, in the plane a segment), or None."""
-        xs: list[float] = []
-        point_set = _cp.cpArbiterGetContactPointSet  # what arbiter.contact_point_set reads
-
-        def collect(arbiter) -> None:  # (its point_a.x values, without building its objects)
-            got = point_set(arbiter._arbiter)
-            for i in range(got.count):
-                xs.append(got.points[i].pointA.x)
         bodies = self.bodies.values()
         restored = restored_touching(next(iter(bodies)).space)  # (one space for all)
-        for body in bodies:
-            if restored is not None:  # right after a restore: the snapshot's contacts
-                xs += [x for x, _ in restored.get(body, ())]
-            else:
-                body.each_arbiter(collect)
+        if restored is not None:  # right after a restore: the snapshot's contacts
+            xs = [x for body in bodies for x, _ in restored.get(body, ())]
+        else:  # each body's arbiters, through one callback made once (= each_arbiter)
+            xs = _XS
+            xs.clear()
+            each, collect, null = _cp.cpBodyEachArbiter, _contact_xs, _ffi.NULL
+            for body in bodies:
+                each(body._body, collect, null)
         return (min(xs), max(xs)) if xs else None
 
     def joint_angle(self, name: str) -> float:
