@@ -99,11 +99,7 @@ def test_a_checkpoint_restores_the_period_of_its_state(tmp_path, checkpoint_at):
               (37, ev.mouse(0.5, 0.2)), (70, ev.mouse(0.5, 0.8)), (93, ev.mouse(0.5, 0.2))]
     events.sort(key=lambda e: e[0])
     straight = session(tmp_path)
-    entered = []
-    for step, event in events:
-        play(straight, [(step, event)], step + 1)
-        entered.append(straight.runtime.machines["main"].entered)
-    play(straight, [], 160)
+    play(straight, events, 160)
     assert straight.runtime.machines["main"].entered == 93  # fast: at once
 
     s = session(tmp_path)
@@ -113,6 +109,9 @@ def test_a_checkpoint_restores_the_period_of_its_state(tmp_path, checkpoint_at):
     assert s.runtime.period.every == (1 if checkpoint_at < 37 else 8)
     play(s, [e for e in events if e[0] > checkpoint_at], 160)
     assert s.runtime.machines["main"].entered == 93
+    assert s.sim.state_hash() == straight.sim.state_hash()
+    s.rewind_to(checkpoint_at + 3)  # re-played from a keyframe, then on: the same again
+    play(s, [e for e in events if e[0] > checkpoint_at + 3], 160)
     assert s.sim.state_hash() == straight.sim.state_hash()
 
 
