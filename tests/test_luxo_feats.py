@@ -134,7 +134,9 @@ def test_double_back_flip_turns_twice_in_one_flight_and_lands_upright():
 @pytest.mark.parametrize("weaker", [{"servos": 0.8}, {"gravity": 1.2}])
 def test_double_back_flip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
     failed = _failed(_weakened("luxo-double-backflip", tmp_path, **weaker))
-    assert {"turned", "upright_at_end", "never_fell"} <= failed, failed
+    # (with its landing's tilt feedback at 60 a second, the weaker lamp turns short and
+    # ends on its side without a fall on the way: never_fell alone may hold)
+    assert {"turned", "upright_at_end"} <= failed, failed
 
 
 # -- the new expectation kinds are validated ---------------------------------------------

@@ -114,6 +114,12 @@ def check_names(spec, located: Located) -> None:
         for name, state in machine.states.items():
             if state.roles is not None:
                 need(where + ("states", name, "roles"), "role binding", state.roles, bindings)
+            rate = state.control_rate
+            if rate is not None and rate <= spec.control_rate:
+                raise located.error(where + ("states", name, "control_rate"),
+                                    f"a state's control_rate makes the control steps faster "
+                                    f"while it is active: {rate:g} is not above the "
+                                    f"interface's {spec.control_rate:g} (drop it, or raise it)")
     if spec.states and MAIN_MACHINE in spec.machines:
         raise located.error(("machines", MAIN_MACHINE),
                             f"machine name '{MAIN_MACHINE}' is the top-level 'states'; name "

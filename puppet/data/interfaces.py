@@ -221,6 +221,9 @@ class StateSpec(Spec, kw_only=True):
     maps: list[MapSpec] = field(default_factory=list)
     transitions: list[TransitionSpec] = field(default_factory=list)
     roles: str | None = None  # the role binding this state selects (which leg is the stance leg...)
+    # Hz of the control steps while this state is active (faster than the interface's
+    # control_rate: a take-off's, a landing's sensors polled every step); None: the interface's
+    control_rate: Annotated[float, Meta(ge=1.0, le=10000.0)] | None = None
     description: str = ""
 
 

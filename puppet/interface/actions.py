@@ -143,6 +143,7 @@ class Actions:
         if depth >= MAX_CHAINED_GOTOS:
             return
         self.machines[machine].enter(state, now)
+        self._follow_rate()  # a state may ask for faster control steps
         roles = self.machines[machine].spec.states[state].roles
         rebound = roles is not None and roles != self.role_binding
         if rebound:

@@ -39,6 +39,7 @@ from puppet.interface.active_maps import ActiveMaps, every_map
 from puppet.interface.bindings import KeyBindings, Resolved
 from puppet.interface.buffer import InputBuffer
 from puppet.interface.conditions import reader
+from puppet.interface.control_rate import ControlPeriod
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.controllers.blend import BlendController
 from puppet.interface.controllers.feedback import Feedback
@@ -87,6 +88,9 @@ class InterfaceRuntime(ActiveMaps, Actions):
         for machine in self.machines.values():
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
+        # the machines with a state polling device inputs alone (an input event stirs them)
+        self._device_machines = tuple(m for m in self._machine_list
+                                      if any(m._device_only.values()))
         self.buffer = InputBuffer(self.key_bindings.state, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
@@ -102,7 +106,9 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.reaching = ReachController(self.chains, character, sim, self.owners, servos,
                                         self.grasping, self.read_input, self.dt)
         self.perturber = Perturber(spec.perturbation, character, self.dt)
-        every = max(1, round(1.0 / (spec.control_rate * self.dt)))  # the control period
+        # the control period: the interface's control_rate, faster in a state that asks
+        self.period = ControlPeriod(spec, machines, self.dt)
+        every = self.period.base
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.blends = BlendController(character, self.owners, self.frames, every)
@@ -274,6 +280,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             else:  # a new state machine (or its state is gone): start it
                 machine.enter(machine.initial, now)
                 fresh.append(name)
+        self._follow_rate()
         self._refresh_active_maps()
         for name in fresh:
             self._run_entry(name, now, 0)
@@ -287,6 +294,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             roles = machine.spec.states[machine.initial].roles
             if roles is not None and roles != self.role_binding:
                 self._use_binding(roles)  # entering a state selects its roles, the first too
+        self._follow_rate()
         self._refresh_active_maps()
         for _, joints in self.feedback.setters:  # sensor maps own their joints
             self.feedback.claim(joints)
@@ -338,8 +346,10 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     self.owners.take(written)
             if self.frames.held and self.frames not in self._active:
                 self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
-            # Maps write targets and take joints; nothing that sets a wake-up changes
-            # (an emptied sequence or gesture ends at its own next wake-up).
+            if self._device_machines:  # a state polling the mouse polls it again
+                self._stir(self.step_now())
+            # Maps write targets and take joints; nothing else that sets a wake-up
+            # changes (an emptied sequence or gesture ends at its own next wake-up).
             return None
         now = self.step_now()
         result = None
@@ -370,8 +380,22 @@ class InterfaceRuntime(ActiveMaps, Actions):
                 result = self._press(name, value > 0.5, now)
         else:
             return None
+        if self._device_machines:
+            self._stir(now)
         self._reschedule(now)
         return result
+
+    def _stir(self, now: int) -> None:
+        """An input event at ``now``: a machine in a state that polls device inputs
+        alone polls again at its next control step (``StateMachine.quiet``)."""
+        wake = self.next_wakeup
+        for machine in self._device_machines:
+            if machine.device_only:
+                machine.quiet = False
+                at = machine.next_wakeup(now)
+                if at is not None and (wake is None or at < wake):
+                    wake = at
+        self.next_wakeup = wake
 
     def _on_channels(self, values: dict[str, float]) -> None:
         """Many named channels at one step (a mocap frame): like the mouse, a compiled
@@ -449,6 +473,20 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     wake = at
             self.next_wakeup = wake if wake is None or wake > earliest else earliest
 
+    def _follow_rate(self) -> None:
+        """The control period the current states ask for (``interface.control_rate``),
+        on everything that keeps one: the machines, frame targets, blends, sensor maps.
+        Runs after a state is entered or restored; free without state rates."""
+        period = self.period
+        if not period.fast:
+            return
+        every = period.now(self.machines)
+        if every != period.every:
+            period.every = every
+            for machine in self._machine_list:
+                machine.every = every
+            self.frames.every = self.blends.every = self.feedback.every = every
+
     def _reschedule(self, earliest: int, machines_due: bool = False) -> None:
         """``next_wakeup``: the first step >= ``earliest`` at which something is due,
         None when idle; and which controllers have work. Runs after every tick and key,
@@ -512,6 +550,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         for name, s in state["machines"].items():
             if name in self.machines:
                 self.machines[name].set_state(s)
+        self._follow_rate()  # the period follows from the states (saved)
         self.gain_holds = _copy_holds(state["gain_holds"])
         self.buffer.set_state(state.get("buffer"))
         if state["binding"] != self.role_binding:

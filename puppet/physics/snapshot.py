@@ -205,7 +205,7 @@ def _touching(made, records, objects, stamp) -> tuple[dict, dict]:
 def restored_contacts(body) -> list | None:
     """The world points where ``body`` touched something, as restored with its space,
     while that space has not stepped since (None once it has: ask the arbiters)."""
-    restored = restored_touching(body.space)
+    restored = restored_touching(body._space())  # (body.space, without its assert)
     return None if restored is None else restored.get(body, [])
 
 

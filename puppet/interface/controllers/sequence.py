@@ -140,8 +140,8 @@ class SequenceController:
             holds = self._until_holds(seq, step)
             if holds is None:
                 return WAITED  # (its next_wakeup stands)
-            if not holds:
-                return None  # tested: the next wake-up is the next step
+            if not holds:  # tested: the next wake-up is the next step, which is what the
+                return WAITED  # arbiter's schedule moves on to (base.WAITED)
             seq.until = step  # the condition holds: the next step begins now
         while seq is not None and step >= seq.until:
             pose_name = self._next_pose(seq)

@@ -14,6 +14,10 @@ from __future__ import annotations
 from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
+# Sensors that change only when an input event comes (the device's inputs): a state whose
+# polled conditions read nothing else need not poll again until one does.
+DEVICE = ("input.mouse.", "input.pointer.", "input.gamepad.")
+
 
 def _all_of(tests):
     """A reader that is 1.0 when every (reader, test) holds, else 0.0 (in order, so a
@@ -46,6 +50,7 @@ class StateMachine:
         # state -> per transition (in ``transitions`` order), the steps its `for` asks
         # its condition to have held (0: fires at once); ``_since``: when it began to
         self._holds = self._hold_steps()
+        self._device_only = self._device_states()
         self.use_renamer(None, lambda sensor: sensor)
         self.current = self.initial
         self.entered = 0
@@ -70,6 +75,9 @@ class StateMachine:
         # reader and the (state to go to, lo, hi) in order.
         self._one_sensor = None
         self._held, self._since = self._holds[state], {}
+        # a state polling device inputs alone (``_device_states``): after a poll that
+        # found nothing, the next is at the next input event (``stir``) - ``quiet``
+        self.device_only, self.quiet = self._device_only[state], False
         if ts and not any(self._held) and all(after == 0 and read is ts[0][2] and test is None
                                               for _, after, read, test, _, _ in ts):
             self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
@@ -83,6 +91,25 @@ class StateMachine:
                 + [round((t.held or 0.0) / dt) for t in shared
                    if self.interface.resolve_goto(t.to, name) != (name, sname)]
                 for sname, state in machine.states.items()}
+
+    def _device_states(self) -> dict[str, bool]:
+        """Per state: every transition it polls (its own, any_state's that lead
+        elsewhere) reads device inputs alone (``DEVICE``), all from the same ``after``
+        and none with a ``for``. Such a poll gives the same answer until an input event
+        comes, so the machine skips the polls in between (the same steps fire)."""
+        name, machine = self.name, self.spec
+        shared = list(machine.any_state.transitions)
+        found = {}
+        for sname, state in machine.states.items():
+            ts = [*state.transitions, *(t for t in shared
+                                        if self.interface.resolve_goto(t.to, name)
+                                        != (name, sname))]
+            polled = [t for t in ts if t.conditions]
+            found[sname] = bool(polled) and all(
+                not t.held and all(c.sensor.startswith(DEVICE) for c in t.conditions)
+                for t in polled) and len({round((t.after or 0.0) / self.dt)
+                                          for t in polled}) == 1
+        return found
 
     def _compile(self, rename):
         name, machine, interface, dt = self.name, self.spec, self.interface, self.dt
@@ -128,7 +155,7 @@ class StateMachine:
         """The first step >= earliest at which a transition could fire."""
         polled, timer = self._polled, self._timer
         best = None
-        if polled is not None:
+        if polled is not None and not self.quiet:
             at = self.entered + polled
             at = at if at > earliest else earliest
             best = -(-at // self.every) * self.every
@@ -153,6 +180,10 @@ class StateMachine:
             for to, lo, hi in one[1]:
                 if lo < value < hi:
                     return to
+            if self.device_only:  # the next poll after the next input event
+                self.quiet = True
+                self.wake_after = None
+                return None
             self.wake_after = now + every  # the next poll: next_wakeup(now + 1)
             return None
         polling = now % every == 0
@@ -176,6 +207,8 @@ class StateMachine:
                         return to
                 else:
                     self._since.pop(k, None)
+        if polling and self.device_only and since >= self._polled:
+            self.quiet = True  # every polled transition asked: none until an input event
         self.wake_after = self.next_wakeup(now + 1)
         return None
 
