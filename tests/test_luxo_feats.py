@@ -99,10 +99,12 @@ def test_kip_lies_on_its_back_then_gets_up_in_one_motion():
     assert check(result, [{"got_up": {"lay_seconds": 1.0, "within_seconds": 0.3}}])
 
 
-@pytest.mark.parametrize("weaker", [{"servos": 0.4}, {"gravity": 1.5}])
+@pytest.mark.parametrize("weaker", [{"servos": 0.6}, {"gravity": 1.5}])
 def test_kip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
-    # (at 0.6 of the servos' strength it still gets up: 0.67 s)
-    assert {"got_up", "upright_at_end"} <= _failed(_weakened("luxo-kip", tmp_path, **weaker))
+    # (luxo-kip's states still get the lamp onto its base then - at 0.4 of the servos'
+    # strength too - but by a roll, without the push up on the shade that lifts the base
+    # 12 cm: the kip is that push)
+    assert "reached_height" in _failed(_weakened("luxo-kip", tmp_path, **weaker))
 
 
 # -- headstand ---------------------------------------------------------------------------
