@@ -70,8 +70,10 @@ class StateMachine:
         # reader and the (state to go to, lo, hi) in order.
         self._one_sensor = None
         self._held, self._since = self._holds[state], {}
-        if ts and not any(self._held) and all(after == 0 and read is ts[0][2] and test is None
-                                              for _, after, read, test, _, _ in ts):
+        # (a state left only by `after: 0` timers has no sensor: the general loop's)
+        if ts and ts[0][2] is not None and not any(self._held) and all(
+                after == 0 and read is ts[0][2] and test is None
+                for _, after, read, test, _, _ in ts):
             self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
 
     def _hold_steps(self) -> dict[str, list[int]]:
