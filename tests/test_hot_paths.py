@@ -172,6 +172,24 @@ def test_a_one_sensor_state_polls_as_the_general_loop_does():
     machine._one_sensor = fast
 
 
+def test_a_state_left_by_an_immediate_timer_alone_is_not_a_one_sensor_state(tmp_path):
+    """A state whose only transition is `{to: X, after: 0}` reads no sensor: it takes the
+    general loop (it used to be taken for a one-sensor state and call a missing reader)."""
+    from puppet.data.catalog import load_setup
+
+    iface = tmp_path / "timer.yaml"
+    iface.write_text(
+        "name: timer\ndescription: an immediate timer\ncharacter: luxo\nscene: flat\n"
+        "keys:\n  - {key: g, goto: passing}\ninitial: resting\nstates:\n  resting: {}\n"
+        "  passing:\n    transitions:\n      - {to: done, after: 0}\n  done: {}\n",
+        encoding="utf-8")
+    session = Session(load_setup(str(iface)), keyframes=False)
+    session.handle({"type": "key", "key": "g", "down": True})
+    session.advance(2)
+    machine = session.runtime.machines["main"]
+    assert machine.current == "done" and machine._one_sensor is None
+
+
 def test_a_process_imports_only_what_its_command_needs():
     """Process start: --version imports no models, a character's check no interface
     models, a plain replay neither numpy nor the expectations (a fresh interpreter);

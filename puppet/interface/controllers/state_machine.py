@@ -78,8 +78,10 @@ class StateMachine:
         # a state polling device inputs alone (``_device_states``): after a poll that
         # found nothing, the next is at the next input event (``stir``) - ``quiet``
         self.device_only, self.quiet = self._device_only[state], False
-        if ts and not any(self._held) and all(after == 0 and read is ts[0][2] and test is None
-                                              for _, after, read, test, _, _ in ts):
+        # (a state left only by `after: 0` timers has no sensor: the general loop's)
+        if ts and ts[0][2] is not None and not any(self._held) and all(
+                after == 0 and read is ts[0][2] and test is None
+                for _, after, read, test, _, _ in ts):
             self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
 
     def _hold_steps(self) -> dict[str, list[int]]:
