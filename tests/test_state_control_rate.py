@@ -163,12 +163,51 @@ states:
 """
 
 
-def _run(tmp_path, quiet: bool) -> tuple[list, str, int]:
-    """A wandering mouse, events at irregular steps; the states entered (with their
-    steps), the end state and how many ticks ran."""
+DEVICES = """
+name: t
+description: states that wait for the gamepad and the mouse's buttons
+character: luxo
+control_rate: 120
+states:
+  down:
+    control_rate: 480
+    enter: {set: {knee: 100}}
+    transitions:
+      - {to: up, when: {sensor: input.gamepad.a, above: 0.5}}
+      - {to: rest, after: 0.3}
+  up:
+    enter: {set: {knee: 20}}
+    transitions:
+      - to: down
+        when: [{sensor: input.mouse.left, above: 0.5}, {sensor: input.gamepad.left_x, above: 0.2}]
+      - {to: rest, when: {sensor: input.gamepad.left_x, below: -0.5}}
+  rest:
+    transitions:
+      - {to: down, when: {sensor: input.mouse.left, below: 0.5}, after: 0.05}
+      - {to: up, when: {sensor: joint.knee, above: 150}}
+"""
+
+
+def _device_event(rng):
+    """A gamepad stick or button, a mouse button or a mouse move."""
+    kind = rng.choice(["stick", "button", "mouse_button", "mouse"])
+    if kind == "stick":
+        return ev.gamepad("left_x", rng.uniform(-1.0, 1.0))
+    if kind == "button":
+        return ev.gamepad("a", float(rng.random() < 0.5))
+    if kind == "mouse_button":
+        return ev.mouse_button("left", rng.random() < 0.5)
+    return ev.mouse(rng.random(), rng.random())
+
+
+def _run(tmp_path, quiet: bool, layout: str = MOUSE_ONLY,
+         devices: bool = False) -> tuple[list, str, int]:
+    """A wandering mouse (``devices``: and gamepad and mouse-button events), events at
+    irregular steps; the states entered (with their steps), the end state and how many
+    ticks ran."""
     import random
 
-    s = session(tmp_path, MOUSE_ONLY)
+    s = session(tmp_path, layout)
     if not quiet:  # poll every control step, as before
         for m in s.runtime.machines.values():
             m._device_only = dict.fromkeys(m._device_only, False)
@@ -180,7 +219,7 @@ def _run(tmp_path, quiet: bool) -> tuple[list, str, int]:
     rng = random.Random(4)
     seen = []
     for _ in range(120):
-        s.handle(ev.mouse(rng.random(), rng.random()))
+        s.handle(_device_event(rng) if devices else ev.mouse(rng.random(), rng.random()))
         for _ in range(rng.choice([1, 2, 3, 7, 13, 40, 90])):
             s.advance(1)
             m = s.runtime.machines["main"]
@@ -197,6 +236,16 @@ def test_a_state_reading_the_mouse_alone_polls_only_after_mouse_events(tmp_path)
     assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
     assert quiet == every and end == end_every
     assert ticks < ticks_every / 2, (ticks, ticks_every)
+
+
+def test_a_quiet_state_polls_again_after_gamepad_and_mouse_button_events(tmp_path):
+    """A key, a gamepad input, a mouse button or a channel stirs a quiet state as a
+    mouse move does: the same states at the same steps as polling every control step."""
+    quiet, end, ticks = _run(tmp_path, True, DEVICES, devices=True)
+    every, end_every, ticks_every = _run(tmp_path, False, DEVICES, devices=True)
+    assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
+    assert quiet == every and end == end_every
+    assert ticks < ticks_every, (ticks, ticks_every)
 
 
 def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):
