@@ -249,18 +249,32 @@ def test_a_quiet_state_polls_again_after_gamepad_and_mouse_button_events(tmp_pat
 
 
 def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):
+    """The checkpoint (and a rewind) lands in `up`, a state that polls the mouse alone
+    and has polled it: quiet. Restored, it still sees the next mouse moves."""
     from puppet.session.playback import play
 
-    events = [(0, ev.mouse(0.5, 0.5)), (30, ev.key("c")), (50, ev.mouse(0.5, 0.9)),
-              (80, ev.mouse(0.5, 0.1))]
+    events = [(0, ev.mouse(0.5, 0.5)), (10, ev.mouse(0.5, 0.7)), (30, ev.key("c")),
+              (50, ev.mouse(0.5, 0.9)), (81, ev.mouse(0.5, 0.1))]
     straight = session(tmp_path, MOUSE_ONLY)
-    play(straight, events, 100)
+    play(straight, events[:2], 30)
+    machine = straight.runtime.machines["main"]
+    assert machine.current == "up" and machine.entered == 10  # at 480: the event's step
+    assert machine.quiet  # polled the mouse once: nothing more until the next event
+    play(straight, events[2:], 100)
     assert straight.runtime.states["main"] == "down"
-    assert straight.runtime.machines["main"].entered == 80  # at 480: the event's step
+    assert machine.entered == 84  # `up` at 120: the next multiple of 4
+    end = straight.sim.state_hash()
+
     s = session(tmp_path, MOUSE_ONLY)
     play(s, events, 100)
     s.handle(ev.action("restore"))
-    assert s.steps == 30
+    assert s.steps == 30 and s.runtime.states["main"] == "up"
     play(s, [e for e in events if e[0] > 30], 100)
-    assert s.runtime.machines["main"].entered == 80
-    assert s.sim.state_hash() == straight.sim.state_hash()
+    assert s.runtime.machines["main"].entered == 84
+    assert s.sim.state_hash() == end
+    for at in (31, 45):  # rewound into the quiet state: re-played from a keyframe
+        s.rewind_to(at)
+        assert s.runtime.states["main"] == "up"
+        play(s, [e for e in events if e[0] > at], 100)
+        assert s.runtime.machines["main"].entered == 84
+        assert s.sim.state_hash() == end
