@@ -278,3 +278,15 @@ def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):
         play(s, [e for e in events if e[0] > at], 100)
         assert s.runtime.machines["main"].entered == 84
         assert s.sim.state_hash() == end
+
+
+def test_a_reload_in_the_fast_state_keeps_its_period(tmp_path):
+    """A hot reload while a state with its own rate is active: the new runtime takes
+    the state over and polls at its rate, so the state is left on the event's step."""
+    s = session(tmp_path)
+    assert entered_after(s, 3, 0.8, "fast") == 8
+    s.advance(12 - s.steps)
+    s.handle(ev.reload(textwrap.dedent(LAYOUT).replace("description: a", "description: the")))
+    assert "the state polled" in s.runtime.spec.description  # the new runtime
+    assert s.runtime.states["main"] == "fast" and s.runtime.period.every == 1
+    assert entered_after(s, 21, 0.2, "slow") == 21  # at once, not at 24
