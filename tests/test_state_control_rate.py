@@ -127,6 +127,8 @@ def test_without_state_rates_nothing_changes(tmp_path):
     ("fast", "control_rate"),
     ("60", "a state's control_rate makes the control steps faster while it is active: "
            "60 is not above the interface's 60"),
+    ("64", "a state's control_rate makes the control steps faster while it is active: "
+           "at 1/480 s 64 a second is one in 8 steps, as the interface's 60"),
 ])
 def test_a_bad_state_rate_is_one_line_at_the_field(tmp_path, value, message):
     path = tmp_path / "t.yaml"
