@@ -50,3 +50,14 @@ def test_log_picks_the_named_shipped_logs_and_refuses_an_unknown_one():
     assert [i["log"] for i in report["items"]] == ["luxo-hop"]
     with pytest.raises(UsageError, match="no shipped log named nope"):
         measure_feats(1, 0.05, logs=["nope"])
+
+
+def test_log_names_given_two_ways_are_one_and_a_filter_leaving_none_says_so():
+    from puppet.commands.bench.feats import measure_feats
+    from puppet.data.errors import UsageError
+
+    report = measure_feats(1, 0.05, logs=["assets/logs/luxo-hop", "luxo-hop",
+                                          "a/luxo-hop.jsonl"])
+    assert [i["log"] for i in report["items"]] == ["luxo-hop"]
+    with pytest.raises(UsageError, match="leave out every log named: luxo-hop is luxo's"):
+        measure_feats(1, 0.05, only=["biped"], logs=["luxo-hop"])

@@ -127,6 +127,8 @@ def test_without_state_rates_nothing_changes(tmp_path):
     ("fast", "control_rate"),
     ("60", "a state's control_rate makes the control steps faster while it is active: "
            "60 is not above the interface's 60"),
+    ("64", "a state's control_rate makes the control steps faster while it is active: "
+           "at 1/480 s 64 a second is one in 8 steps, as the interface's 60"),
 ])
 def test_a_bad_state_rate_is_one_line_at_the_field(tmp_path, value, message):
     path = tmp_path / "t.yaml"
@@ -163,12 +165,51 @@ states:
 """
 
 
-def _run(tmp_path, quiet: bool) -> tuple[list, str, int]:
-    """A wandering mouse, events at irregular steps; the states entered (with their
-    steps), the end state and how many ticks ran."""
+DEVICES = """
+name: t
+description: states that wait for the gamepad and the mouse's buttons
+character: luxo
+control_rate: 120
+states:
+  down:
+    control_rate: 480
+    enter: {set: {knee: 100}}
+    transitions:
+      - {to: up, when: {sensor: input.gamepad.a, above: 0.5}}
+      - {to: rest, after: 0.3}
+  up:
+    enter: {set: {knee: 20}}
+    transitions:
+      - to: down
+        when: [{sensor: input.mouse.left, above: 0.5}, {sensor: input.gamepad.left_x, above: 0.2}]
+      - {to: rest, when: {sensor: input.gamepad.left_x, below: -0.5}}
+  rest:
+    transitions:
+      - {to: down, when: {sensor: input.mouse.left, below: 0.5}, after: 0.05}
+      - {to: up, when: {sensor: joint.knee, above: 150}}
+"""
+
+
+def _device_event(rng):
+    """A gamepad stick or button, a mouse button or a mouse move."""
+    kind = rng.choice(["stick", "button", "mouse_button", "mouse"])
+    if kind == "stick":
+        return ev.gamepad("left_x", rng.uniform(-1.0, 1.0))
+    if kind == "button":
+        return ev.gamepad("a", float(rng.random() < 0.5))
+    if kind == "mouse_button":
+        return ev.mouse_button("left", rng.random() < 0.5)
+    return ev.mouse(rng.random(), rng.random())
+
+
+def _run(tmp_path, quiet: bool, layout: str = MOUSE_ONLY,
+         devices: bool = False) -> tuple[list, str, int]:
+    """A wandering mouse (``devices``: and gamepad and mouse-button events), events at
+    irregular steps; the states entered (with their steps), the end state and how many
+    ticks ran."""
     import random
 
-    s = session(tmp_path, MOUSE_ONLY)
+    s = session(tmp_path, layout)
     if not quiet:  # poll every control step, as before
         for m in s.runtime.machines.values():
             m._device_only = dict.fromkeys(m._device_only, False)
@@ -180,7 +221,7 @@ def _run(tmp_path, quiet: bool) -> tuple[list, str, int]:
     rng = random.Random(4)
     seen = []
     for _ in range(120):
-        s.handle(ev.mouse(rng.random(), rng.random()))
+        s.handle(_device_event(rng) if devices else ev.mouse(rng.random(), rng.random()))
         for _ in range(rng.choice([1, 2, 3, 7, 13, 40, 90])):
             s.advance(1)
             m = s.runtime.machines["main"]
@@ -199,19 +240,55 @@ def test_a_state_reading_the_mouse_alone_polls_only_after_mouse_events(tmp_path)
     assert ticks < ticks_every / 2, (ticks, ticks_every)
 
 
+def test_a_quiet_state_polls_again_after_gamepad_and_mouse_button_events(tmp_path):
+    """A key, a gamepad input, a mouse button or a channel stirs a quiet state as a
+    mouse move does: the same states at the same steps as polling every control step."""
+    quiet, end, ticks = _run(tmp_path, True, DEVICES, devices=True)
+    every, end_every, ticks_every = _run(tmp_path, False, DEVICES, devices=True)
+    assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
+    assert quiet == every and end == end_every
+    assert ticks < ticks_every, (ticks, ticks_every)
+
+
 def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):
+    """The checkpoint (and a rewind) lands in `up`, a state that polls the mouse alone
+    and has polled it: quiet. Restored, it still sees the next mouse moves."""
     from puppet.session.playback import play
 
-    events = [(0, ev.mouse(0.5, 0.5)), (30, ev.key("c")), (50, ev.mouse(0.5, 0.9)),
-              (80, ev.mouse(0.5, 0.1))]
+    events = [(0, ev.mouse(0.5, 0.5)), (10, ev.mouse(0.5, 0.7)), (30, ev.key("c")),
+              (50, ev.mouse(0.5, 0.9)), (81, ev.mouse(0.5, 0.1))]
     straight = session(tmp_path, MOUSE_ONLY)
-    play(straight, events, 100)
+    play(straight, events[:2], 30)
+    machine = straight.runtime.machines["main"]
+    assert machine.current == "up" and machine.entered == 10  # at 480: the event's step
+    assert machine.quiet  # polled the mouse once: nothing more until the next event
+    play(straight, events[2:], 100)
     assert straight.runtime.states["main"] == "down"
-    assert straight.runtime.machines["main"].entered == 80  # at 480: the event's step
+    assert machine.entered == 84  # `up` at 120: the next multiple of 4
+    end = straight.sim.state_hash()
+
     s = session(tmp_path, MOUSE_ONLY)
     play(s, events, 100)
     s.handle(ev.action("restore"))
-    assert s.steps == 30
+    assert s.steps == 30 and s.runtime.states["main"] == "up"
     play(s, [e for e in events if e[0] > 30], 100)
-    assert s.runtime.machines["main"].entered == 80
-    assert s.sim.state_hash() == straight.sim.state_hash()
+    assert s.runtime.machines["main"].entered == 84
+    assert s.sim.state_hash() == end
+    for at in (31, 45):  # rewound into the quiet state: re-played from a keyframe
+        s.rewind_to(at)
+        assert s.runtime.states["main"] == "up"
+        play(s, [e for e in events if e[0] > at], 100)
+        assert s.runtime.machines["main"].entered == 84
+        assert s.sim.state_hash() == end
+
+
+def test_a_reload_in_the_fast_state_keeps_its_period(tmp_path):
+    """A hot reload while a state with its own rate is active: the new runtime takes
+    the state over and polls at its rate, so the state is left on the event's step."""
+    s = session(tmp_path)
+    assert entered_after(s, 3, 0.8, "fast") == 8
+    s.advance(12 - s.steps)
+    s.handle(ev.reload(textwrap.dedent(LAYOUT).replace("description: a", "description: the")))
+    assert "the state polled" in s.runtime.spec.description  # the new runtime
+    assert s.runtime.states["main"] == "fast" and s.runtime.period.every == 1
+    assert entered_after(s, 21, 0.2, "slow") == 21  # at once, not at 24

@@ -22,6 +22,12 @@ JOINT_SENSORS = ("joint",)
 LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 
 
+
+def _period(rate: float) -> int:
+    """Steps between control steps at ``rate`` on the simulation's 1/480 s step
+    (``interface.control_rate.control_period`` at ``physics.simulation.DEFAULT_DT``)."""
+    return max(1, round(1.0 / (rate * (1.0 / 480.0))))
+
 def unknown(kind: str, name: str, known, owner: str = "") -> str:
     """Message for a name that is not one of ``known``, with a did-you-mean."""
     import difflib  # only for a mistake (process start)
@@ -120,6 +126,12 @@ def check_names(spec, located: Located) -> None:
                                     f"a state's control_rate makes the control steps faster "
                                     f"while it is active: {rate:g} is not above the "
                                     f"interface's {spec.control_rate:g} (drop it, or raise it)")
+            if rate is not None and _period(rate) >= _period(spec.control_rate):
+                raise located.error(where + ("states", name, "control_rate"),
+                                    f"a state's control_rate makes the control steps faster "
+                                    f"while it is active: at 1/480 s {rate:g} a second is "
+                                    f"one in {_period(rate)} steps, as the interface's "
+                                    f"{spec.control_rate:g} (drop it, or raise it)")
     if spec.states and MAIN_MACHINE in spec.machines:
         raise located.error(("machines", MAIN_MACHINE),
                             f"machine name '{MAIN_MACHINE}' is the top-level 'states'; name "

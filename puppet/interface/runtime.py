@@ -89,8 +89,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             machine.use_renamer(self.role_binding, self.roles.sensor)
         self._machine_list = tuple(self.machines.values())  # (tick)
         # the machines with a state polling device inputs alone (an input event stirs them)
-        self._device_machines = tuple(m for m in self._machine_list
-                                      if any(m._device_only.values()))
+        self._device_machines = tuple(m for m in self._machine_list if m.has_quiet_states)
         self.buffer = InputBuffer(self.key_bindings.state, self.dt)  # presses a state takes later
         self.chains = {n: Chain.from_spec(n, c, character.spec) for n, c in spec.chains.items()}
         self.held: set[str] = set()
@@ -452,6 +451,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
                 waited = False
         if self.tracker.due:  # lost, or a fall: the interface's balance, its get-up
             self._tracking_due(step)
+            waited = False  # (a goto, a blend: the controllers' wake-ups are stale)
         moved = False
         for machine in self._machine_list:
             to = machine.due(step)

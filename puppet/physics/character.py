@@ -18,10 +18,11 @@ from puppet.physics.body_state import BodyReader
 from puppet.physics.servo import PDServo
 from puppet.physics.snapshot import restored_contacts, restored_touching
 
+# Scratch shared by the callbacks below: module globals, so single-threaded (the
+# physics and its sensors run on one thread).
 _TOUCHING = [0]  # set by _count_arbiter: the body has an arbiter (it touches something)
 
 
-@_ffi.callback("cpBodyArbiterIteratorFunc")
 def _count_arbiter(body, arbiter, data) -> None:
     """Chipmunk's arbiter iterator, made once: a third of the cost of pymunk's
     ``each_arbiter`` (which wraps every arbiter in an object) for a contact sensor read
@@ -33,13 +34,37 @@ _XS: list[float] = []  # filled by _contact_xs: the contact points' x (support_e
 _point_set = _cp.cpArbiterGetContactPointSet  # what arbiter.contact_point_set reads
 
 
-@_ffi.callback("cpBodyArbiterIteratorFunc")
 def _contact_xs(body, arbiter, data) -> None:
     """Each contact point's point_a.x, as pymunk's ``each_arbiter`` would hand them
     (Chipmunk orders the arbiter for the body during the call, as for pymunk's)."""
     got = _point_set(arbiter)
     for i in range(got.count):
         _XS.append(got.points[i].pointA.x)
+
+
+def _arbiter_callbacks(make=_ffi.callback):
+    """The two iterators as C callbacks, or None where they cannot be made: an old-style
+    cffi callback needs write+execute memory, which some systems forbid (macOS arm64
+    hardened runtime, SELinux deny_execmem: MemoryError "Cannot allocate write+execute
+    memory"). Then the sensors go through pymunk's ``each_arbiter`` (its callbacks are
+    compiled ones): the same arbiters in the same order, the same readings."""
+    try:
+        kind = make("cpBodyArbiterIteratorFunc")
+        return kind(_count_arbiter), kind(_contact_xs)
+    except (MemoryError, SystemError, RuntimeError, _ffi.error):
+        return None
+
+
+_COUNT, _COLLECT = _arbiter_callbacks() or (None, None)
+
+
+def _touched(arbiter) -> None:  # (without C callbacks: for each_arbiter)
+    _TOUCHING[0] = 1
+
+
+def _arbiter_xs(arbiter) -> None:  # (without C callbacks: for each_arbiter)
+    for point in arbiter.contact_point_set.points:
+        _XS.append(point.point_a.x)
 
 
 def _rot(p, angle):
@@ -295,7 +320,10 @@ class Character:
         """True if the link touches anything outside the character (the ground)."""
         body = self.bodies[name]
         _TOUCHING[0] = 0
-        _cp.cpBodyEachArbiter(body._body, _count_arbiter, _ffi.NULL)  # = body.each_arbiter
+        if _COUNT is not None:
+            _cp.cpBodyEachArbiter(body._body, _COUNT, _ffi.NULL)  # = body.each_arbiter
+        else:
+            body.each_arbiter(_touched)
         if _TOUCHING[0]:
             return True
         # none listed: also so right after a restore, until the space steps (its
@@ -313,9 +341,13 @@ class Character:
         else:  # each body's arbiters, through one callback made once (= each_arbiter)
             xs = _XS
             xs.clear()
-            each, collect, null = _cp.cpBodyEachArbiter, _contact_xs, _ffi.NULL
-            for body in bodies:
-                each(body._body, collect, null)
+            each, collect, null = _cp.cpBodyEachArbiter, _COLLECT, _ffi.NULL
+            if collect is None:  # (no C callbacks here)
+                for body in bodies:
+                    body.each_arbiter(_arbiter_xs)
+            else:
+                for body in bodies:
+                    each(body._body, collect, null)
         return (min(xs), max(xs)) if xs else None
 
     def joint_angle(self, name: str) -> float:

@@ -238,12 +238,20 @@ def measure_feats(rounds: int, seconds: float | None = None,
     shipped = sorted(folder("log").glob("*.jsonl"))
     if logs:
         names = {p.stem: p for p in shipped}
-        wanted = [n[:-len(".jsonl")] if n.endswith(".jsonl") else n for n in logs]
-        unknown = [n for n in wanted if n.rsplit("/", 1)[-1] not in names]
+        # a name given two ways (a/luxo-hop, luxo-hop.jsonl, luxo-hop) is one log
+        wanted = [n.rsplit("/", 1)[-1] for n in logs]
+        wanted = [n[:-len(".jsonl")] if n.endswith(".jsonl") else n for n in wanted]
+        unknown = [n for n in wanted if n not in names]
         if unknown:
             raise UsageError(f"no shipped log named {', '.join(unknown)}; known: "
                              f"{', '.join(names)}")
-        shipped = [names[n.rsplit("/", 1)[-1]] for n in dict.fromkeys(wanted)]
+        shipped = [names[n] for n in dict.fromkeys(wanted)]
+        if only:
+            of = {p.stem: read_log(p).header.get("character") for p in shipped}
+            if not any(c in only for c in of.values()):
+                raise UsageError(f"the characters named ({', '.join(only)}) leave out every "
+                                 "log named: " + ", ".join(f"{n} is {c}'s"
+                                                           for n, c in of.items()))
     items = []
     for path in shipped:
         try:

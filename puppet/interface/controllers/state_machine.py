@@ -55,6 +55,12 @@ class StateMachine:
         self.current = self.initial
         self.entered = 0
 
+    @property
+    def has_quiet_states(self) -> bool:
+        """Some state polls device inputs alone (``_device_states``): an input event
+        must stir this machine (``InterfaceRuntime._stir``)."""
+        return any(self._device_only.values())
+
     def use_renamer(self, binding, rename) -> None:
         """Read the sensors as role ``binding`` names them (``rename``: a sensor name
         with a role in it -> the one it means now)."""
