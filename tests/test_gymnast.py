@@ -89,6 +89,19 @@ def test_giant_swings_fail_when_the_pump_pikes_on_the_fall(tmp_path):
     assert "revolutions" in _failed(_variant(tmp_path, swapped))
 
 
+@pytest.mark.parametrize("physics", [{"iterations": 36}, {"dt": 1 / 240}],
+                         ids=["36-passes", "1-240-step"])
+def test_the_pumped_giant_swings_are_not_a_knife_edge(physics):
+    """Issue 28: the pump's phases come from the centre of mass, so the recorded `5`
+    goes round on 36 solver passes and on a 1/240 s step too (a recorded schedule of
+    mouse sweeps did not on the 1/240 s step)."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.replay import replay
+
+    result = replay(LOG, physics=OtherPhysics(**physics))
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
 def _traj(com, held, t=None):
     """A minimal trajectory for the expectation kinds: com rows and held rows."""
     from types import SimpleNamespace
