@@ -69,13 +69,37 @@ def test_giant_swings_fail_with_weaker_shoulders(tmp_path, stiffness, damping, m
     assert "revolutions" in _failed(_variant(tmp_path, weak))
 
 
-def test_giant_swings_fail_when_the_mouse_does_nothing(tmp_path):
-    """The swing mode's maps gone: the figure just hangs, so the turns are the mouse's
-    pumping."""
-    def no_mouse(spec):
-        spec["modes"]["swing"] = []
+def test_giant_swings_fail_when_the_pump_does_not_pike(tmp_path):
+    """The pump's pike made its stretch (key 5 then only holds the body stretched): the
+    figure just hangs, so the turns are the pumping's."""
+    def no_pike(spec):
+        spec["poses"]["pike"]["joints"] = dict(spec["poses"]["stretch"]["joints"])
 
-    assert "revolutions" in _failed(_variant(tmp_path, no_mouse))
+    assert "revolutions" in _failed(_variant(tmp_path, no_pike))
+
+
+def test_giant_swings_fail_when_the_pump_pikes_on_the_fall(tmp_path):
+    """The pump's poses swapped (stretched on the rise, piked on the fall): pumping out of
+    phase never builds the swing, so it is the sensor cues' order that pumps."""
+    def swapped(spec):
+        poses = spec["poses"]
+        poses["pike"]["joints"], poses["stretch"]["joints"] = (
+            poses["stretch"]["joints"], poses["pike"]["joints"])
+
+    assert "revolutions" in _failed(_variant(tmp_path, swapped))
+
+
+@pytest.mark.parametrize("physics", [{"iterations": 36}, {"dt": 1 / 240}],
+                         ids=["36-passes", "1-240-step"])
+def test_the_pumped_giant_swings_are_not_a_knife_edge(physics):
+    """Issue 28: the pump's phases come from the centre of mass, so the recorded `5`
+    goes round on 36 solver passes and on a 1/240 s step too (a recorded schedule of
+    mouse sweeps did not on the 1/240 s step)."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.replay import replay
+
+    result = replay(LOG, physics=OtherPhysics(**physics))
+    assert not result.failed, [str(o) for o in result.outcomes]
 
 
 def _traj(com, held, t=None):

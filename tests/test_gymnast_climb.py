@@ -73,3 +73,30 @@ def test_with_the_arms_gathering_with_their_diagonal_legs_the_trot_climbs_nothin
                                                "elbow_far"}:
                 row["to"] = list(reversed(row["to"]))
     assert CLIMB & _failed(tmp_path, LOGS[1], old_trot)
+
+
+@pytest.mark.parametrize("physics", [{"iterations": 36}, {"dt": 1 / 240}],
+                         ids=["36-passes", "1-240-step"])
+def test_the_trot_climb_is_not_a_knife_edge(physics):
+    """Issue 28: one key a regrasp (t / g, skip_released) and the hands seeking the
+    ladder: the trot climb meets its feat on 36 solver passes and a 1/240 s step too."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.replay import replay
+
+    result = replay(LOGS[1], physics=OtherPhysics(**physics))
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
+def test_without_the_seek_the_trot_climb_misses_on_a_1_240_step(tmp_path):
+    """The hands' stepping states without their seek map: on a 1/240 s step the near
+    hand swings up behind rung 9 and the climb stops there."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.replay import replay
+
+    def no_seek(spec):
+        for hand in ("near_hand", "far_hand"):
+            spec["machines"][hand]["states"]["stepping"].pop("maps")
+    copy = with_changed_interface(LOGS[1], "biped-gymnast", tmp_path, no_seek)
+    failed = {o.expectation.split(" ")[0]
+              for o in replay(copy, physics=OtherPhysics(dt=1 / 240)).failed}
+    assert CLIMB & failed
