@@ -394,7 +394,6 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
                           self._all_points() if self.getup is not None else self.soles)
         T = self.period
-        preset, scale = spec.preset, self.scale
         prev = self.prev
         rows = self._figure.rows()
         targets = {}
@@ -430,29 +429,26 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
             get_up = self.spec.reaction.get_up
             no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
             rise = get_up.rise
-        table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
+        table, soles, spins = self.owners_table.table, self.soles, self.spin
         state = self._figure.read()  # every body in one call: what each link is now
         set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
-        kp, dp, sqrt, mcos, msin, still = preset.kp, preset.dp, math.sqrt, math.cos, \
-            math.sin, (0.0, 0.0)  # (hoisted: the loop runs 13 links at 120 Hz)
-        for name, cb, i, m, gx, gy in rows:
-            joint = joint_of.get(name)
+        mcos, msin, still = math.cos, math.sin, (0.0, 0.0)  # (hoisted: 13 links at 120 Hz)
+        for name, cb, i, m, gx, gy, joint, ks, ds, m_T in self._link_plan(rows):
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
             px, py = targets[name][:2]
-            s = scale.get(name, 1.0)
             w = weight
             if name == stepping:  # the protective step, then back to the performance
                 px, py = self._stepped(step, weight, px, py)
                 w = 1.0
-            k, d = kp * s * w, dp * sqrt(s) * w  # same ratio
+            k, d = ks * w, ds * w  # kp * s * w, dp * sqrt(s) * w: the same ratio
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, still)
             bx, by, ba, vx, vy, spin = state[i:i + 6]
             cb_, sb = mcos(ba), msin(ba)  # its centre: cpBodyLocalToWorld's sums
             wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
-            den = m / T + k * T + d
+            den = m_T + k * T + d
             new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
             if getting_up and new_vy > vy:  # no levitation: a link rises only by pushing
                 new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
@@ -465,8 +461,25 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
                 want = poses[name][2]
                 turn = want - ba
                 turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * self.spin.get(name, 0.0))
+                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * spins.get(name, 0.0))
                          / (inertia / T + kt * T + dt_))
+
+    def _link_plan(self, rows) -> list[tuple]:
+        """``rows`` (``FigureRows``) with what the pulls work out per link that does
+        not change: the joint above it, ``kp * scale``, ``dp * sqrt(scale)``, mass /
+        control period (the same products and quotient: the same bits); again for new
+        rows (a restore re-binds the bodies)."""
+        cached = self.__dict__.get("_plan")
+        if cached is None or cached[0] is not rows:
+            preset, scale, joint_of, T = self.spec.preset, self.scale, self.joint_of, \
+                self.period
+            plan = []
+            for name, cb, i, m, gx, gy in rows:
+                s = scale.get(name, 1.0)
+                plan.append((name, cb, i, m, gx, gy, joint_of.get(name), preset.kp * s,
+                             preset.dp * math.sqrt(s), m / T))
+            cached = self._plan = (rows, plan)
+        return cached[1]
 
     def _all_points(self) -> dict:
         """Every link's lowest points (a get-up's pose stands on knees, hands...)."""
