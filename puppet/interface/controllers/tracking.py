@@ -36,12 +36,12 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.tracking import TrackingSpec
 from puppet.interface.controllers.kd_pull import (
     FigureRows,
+    channel_pose,
     inertia_beyond,
     joint_chain,
     lowest_points,
     mix,
-    performed_pose,
-    radians_clamped,
+    tracked_chain,
 )
 from puppet.interface.controllers.tracking_contact import IntentionalContacts
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
@@ -388,9 +388,11 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        q = radians_clamped(self.joints, ch, self.limits)
         # the performed pose, each link's turn's cosine and sine with it (kd_pull)
-        poses = performed_pose(self._chain, c.spec.root, origin, angle, cos, sin, q)
+        tracked = self.__dict__.get("_tracked")
+        if tracked is None:
+            tracked = self._tracked = tracked_chain(self._chain, self.joints, self.limits)
+        poses = channel_pose(tracked, c.spec.root, origin, angle, cos, sin, ch)
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
                           self._all_points() if self.getup is not None else self.soles)
         T = self.period
