@@ -259,7 +259,7 @@ def compile_contribution(spec, channels=None):
 def _compile_frame(spec, frames, channels, owner=None):
     """A map whose value is a link's angle in the world (``frame: world``) or relative
     to a link: it holds frame targets (re-solved at the control rate), claiming them."""
-    from puppet.interface.poses import FrameTarget
+    from puppet.interface.poses import made_frame_target
 
     value = _unit(spec, channels)
     ref = None if spec.frame == "world" else spec.frame
@@ -270,7 +270,7 @@ def _compile_frame(spec, frames, channels, owner=None):
         v = value(values)
         if v is not None:
             for joint, g in gains:
-                frames.hold(joint, FrameTarget(ref, g * v, parent), owner)
+                frames.hold(joint, made_frame_target(ref, g * v, parent), owner)
         return ()  # held under the frame owner: nothing for the caller to take
     return apply_frame
 
