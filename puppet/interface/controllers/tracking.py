@@ -397,16 +397,17 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
                           self._all_points() if self.getup is not None else self.soles)
         T = self.period
         prev = self.prev
-        rows = self._figure.rows()
+        plan = self._link_plan(self._figure.rows())
         targets = {}
-        for name, _, _, _, gx, gy in rows:
-            ox, oy, _, cl, sl = poses[name]
-            targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
+        for name, _, _, _, gx, gy, _, _, _, _, sole in plan:
+            ox, oy, oa, cl, sl = poses[name]
+            if sole:  # the feet's performed angles ride along
+                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift, oa)
+            else:
+                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
         sample = self.last_sample
-        for name in self.soles:  # the feet's performed angles ride along
-            targets[name] = targets[name] + (poses[name][2],)
         if prev is None or sample != self.prev_step:
             if prev is not None and sample > self.prev_step:
                 h = (sample - self.prev_step) * self.dt
@@ -431,14 +432,15 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
             get_up = self.spec.reaction.get_up
             no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
             rise = get_up.rise
-        table, soles, spins = self.owners_table.table, self.soles, self.spin
+        table, spins = self.owners_table.table, self.spin
         state = self._figure.read()  # every body in one call: what each link is now
         set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
         mcos, msin, still = math.cos, math.sin, (0.0, 0.0)  # (hoisted: 13 links at 120 Hz)
-        for name, cb, i, m, gx, gy, joint, ks, ds, m_T in self._link_plan(rows):
+        for name, cb, i, m, gx, gy, joint, ks, ds, m_T, sole in plan:
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            px, py = targets[name][:2]
+            target = targets[name]
+            px, py = target[0], target[1]
             w = weight
             if name == stepping:  # the protective step, then back to the performance
                 px, py = self._stepped(step, weight, px, py)
@@ -456,7 +458,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
                 new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
                 # and no faster than a body pushes itself up
             set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den, new_vy))
-            if name in soles:  # a foot is also turned flat as performed (its sole
+            if sole:  # a foot is also turned flat as performed (its sole
                 # stands on the ground; the ankle's inertia-scaled gain alone is weak)
                 inertia = c.bodies[name].moment
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
@@ -469,8 +471,8 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
     def _link_plan(self, rows) -> list[tuple]:
         """``rows`` (``FigureRows``) with what the pulls work out per link that does
         not change: the joint above it, ``kp * scale``, ``dp * sqrt(scale)``, mass /
-        control period (the same products and quotient: the same bits); again for new
-        rows (a restore re-binds the bodies)."""
+        control period (the same products and quotient: the same bits), whether it is
+        one of the feet; again for new rows (a restore re-binds the bodies)."""
         cached = self.__dict__.get("_plan")
         if cached is None or cached[0] is not rows:
             preset, scale, joint_of, T = self.spec.preset, self.scale, self.joint_of, \
@@ -479,7 +481,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
             for name, cb, i, m, gx, gy in rows:
                 s = scale.get(name, 1.0)
                 plan.append((name, cb, i, m, gx, gy, joint_of.get(name), preset.kp * s,
-                             preset.dp * math.sqrt(s), m / T))
+                             preset.dp * math.sqrt(s), m / T, name in self.soles))
             cached = self._plan = (rows, plan)
         return cached[1]
 
