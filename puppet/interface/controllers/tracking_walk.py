@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 
 from puppet.data.errors import DataError
-from puppet.interface.controllers.kd_pull import performed_pose
+from puppet.interface.controllers.kd_pull import channel_pose, tracked_chain
 
 
 class GaitCycle:
@@ -120,10 +120,8 @@ class WalkInPlace:
             return None
         chain, feet = self._feet_chain()
         angle = math.radians(ch[root.angle])
-        radians = math.radians
-        q = {j: radians(ch[n]) for j, n in self.joints.items() if n in ch}
-        poses = performed_pose(chain, self.character.spec.root, (0.0, 0.0), angle,
-                               math.cos(angle), math.sin(angle), q)
+        poses = channel_pose(chain, self.character.spec.root, (0.0, 0.0), angle,
+                             math.cos(angle), math.sin(angle), ch)  # (not clamped)
         ys = []
         for foot, gx, gy in feet:
             _, oy, _, c, s = poses[foot]
@@ -132,8 +130,8 @@ class WalkInPlace:
 
     def _feet_chain(self) -> tuple[list, list]:
         """The joints from the root down to the first two of ``tracking.feet`` (the
-        rest of the pose does not move them), and each foot's centre of gravity: found
-        once."""
+        rest of the pose does not move them) with their channels (``channel_pose``), and
+        each foot's centre of gravity: found once."""
         got = self.__dict__.get("_feet_rows")
         if got is None:
             feet = self.spec.feet[:2]
@@ -143,7 +141,8 @@ class WalkInPlace:
                 while link in by_child:
                     link = by_child[link][1]
                     needed.add(link)
-            chain = [row for row in self._chain if row[2] in needed]
+            chain = tracked_chain([row for row in self._chain if row[2] in needed],
+                                  self.joints, {})  # each joint's channel, no limits
             bodies = self.character.bodies
             got = self._feet_rows = (chain, [(f, *bodies[f].center_of_gravity) for f in feet])
         return got
