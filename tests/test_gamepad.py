@@ -220,7 +220,7 @@ def test_a_stick_event_leaves_the_wake_ups_as_a_reschedule_would(tmp_path):
     controllers it ticks stay what re-scheduling at that step would give."""
     session = session_of(tmp_path, """
     name: t
-    description: a stick on the knee, a button blending the ankle, a polling state
+    description: a stick on the knee, a button blending the ankle, polling states
     character: luxo
     control_rate: 120
     modes:
@@ -234,6 +234,10 @@ def test_a_stick_event_leaves_the_wake_ups_as_a_reschedule_would(tmp_path):
       level:
         transitions:
           - {to: tipped, when: {sensor: root.angle, above: 60}}
+          - {to: pushed, when: {sensor: input.gamepad.left_x, above: 0.5}}
+      pushed:
+        transitions:
+          - {to: level, when: {sensor: input.gamepad.left_x, below: -0.5}}
       tipped:
         transitions:
           - {to: level, after: 0.5}
@@ -241,6 +245,7 @@ def test_a_stick_event_leaves_the_wake_ups_as_a_reschedule_would(tmp_path):
     runtime = session.runtime
     session.handle(ev.gamepad("a", 1.0))  # the ankle's blend runs, the state polls
     assert runtime.next_wakeup is not None and runtime._active
+    seen = [runtime.machine.current]
     for k in range(60):
         session.handle(ev.gamepad("left_x", (k % 7) / 3.5 - 1.0))
         kept = (runtime.next_wakeup, list(runtime._active), runtime._controllers_wake)
@@ -248,3 +253,7 @@ def test_a_stick_event_leaves_the_wake_ups_as_a_reschedule_would(tmp_path):
         assert (runtime.next_wakeup, list(runtime._active), runtime._controllers_wake) \
             == kept, k
         session.advance(1 + k % 4)
+        if runtime.machine.current != seen[-1]:
+            seen.append(runtime.machine.current)
+    # a state polling the stick alone (quiet between events) polls again at each event
+    assert seen.count("pushed") >= 3 and seen.count("level") >= 3, seen

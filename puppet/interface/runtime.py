@@ -380,6 +380,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
             elif kind == "gamepad":  # a stick: maps only, as the mouse's (no wake-up
                 if self.frames.held and self.frames not in self._active:  # changes)
                     self._reschedule(now)  # a map holds a frame target: re-solve it
+                if self._device_machines:  # a state polling the stick polls it again
+                    self._stir(now)
                 return None
         else:
             return None
