@@ -80,6 +80,19 @@ def channel_pose(chain, root: str, origin, angle: float, cos: float, sin: float,
     return poses
 
 
+def link_plan(rows, preset, scale: dict, joint_of: dict, period: float, feet) -> list:
+    """``FigureRows.rows()`` with what the pulls work out per link that does not change:
+    the joint above it, ``kp * scale``, ``dp * sqrt(scale)``, mass / control period
+    (the same products and quotient as worked out each time: the same bits), and
+    whether it is one of ``feet``."""
+    plan = []
+    for name, cb, i, m, gx, gy in rows:
+        s = scale.get(name, 1.0)
+        plan.append((name, cb, i, m, gx, gy, joint_of.get(name), preset.kp * s,
+                     preset.dp * math.sqrt(s), m / period, name in feet))
+    return plan
+
+
 class FigureRows:
     """The pulled links of a character, read in bulk: ``rows()`` gives per link (name,
     C body, where its six values start in ``read()``, mass, centre of gravity x, y),

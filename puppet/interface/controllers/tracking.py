@@ -39,6 +39,7 @@ from puppet.interface.controllers.kd_pull import (
     channel_pose,
     inertia_beyond,
     joint_chain,
+    link_plan,
     lowest_points,
     mix,
     tracked_chain,
@@ -469,20 +470,12 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
                          / (inertia / T + kt * T + dt_))
 
     def _link_plan(self, rows) -> list[tuple]:
-        """``rows`` (``FigureRows``) with what the pulls work out per link that does
-        not change: the joint above it, ``kp * scale``, ``dp * sqrt(scale)``, mass /
-        control period (the same products and quotient: the same bits), whether it is
-        one of the feet; again for new rows (a restore re-binds the bodies)."""
+        """``kd_pull.link_plan`` of ``rows``, again for new rows (a restore re-binds the
+        bodies)."""
         cached = self.__dict__.get("_plan")
         if cached is None or cached[0] is not rows:
-            preset, scale, joint_of, T = self.spec.preset, self.scale, self.joint_of, \
-                self.period
-            plan = []
-            for name, cb, i, m, gx, gy in rows:
-                s = scale.get(name, 1.0)
-                plan.append((name, cb, i, m, gx, gy, joint_of.get(name), preset.kp * s,
-                             preset.dp * math.sqrt(s), m / T, name in self.soles))
-            cached = self._plan = (rows, plan)
+            cached = self._plan = (rows, link_plan(rows, self.spec.preset, self.scale,
+                                                   self.joint_of, self.period, self.soles))
         return cached[1]
 
     def _all_points(self) -> dict:
