@@ -213,3 +213,47 @@ def test_a_gamepad_button_is_down_above_half_way(tmp_path):
             s.handle(ev.gamepad(what, value))
         s.advance(1)
         assert deg(s)["knee"] == pytest.approx(knee), (what, value)
+
+
+def test_a_stick_event_leaves_the_wake_ups_as_a_reschedule_would(tmp_path):
+    """A stick runs its maps only (as the mouse does): the runtime's wake-ups and the
+    controllers it ticks stay what re-scheduling at that step would give."""
+    session = session_of(tmp_path, """
+    name: t
+    description: a stick on the knee, a button blending the ankle, polling states
+    character: luxo
+    control_rate: 120
+    modes:
+      pad:
+        - {input: gamepad.left_x, joint: knee, from: [-1, 1], to: [100, 10]}
+    mode: pad
+    keys:
+      - {key: gamepad.a, set: {ankle: 40}, over: 0.2}
+    initial: level
+    states:
+      level:
+        transitions:
+          - {to: tipped, when: {sensor: root.angle, above: 60}}
+          - {to: pushed, when: {sensor: input.gamepad.left_x, above: 0.5}}
+      pushed:
+        transitions:
+          - {to: level, when: {sensor: input.gamepad.left_x, below: -0.5}}
+      tipped:
+        transitions:
+          - {to: level, after: 0.5}
+    """)
+    runtime = session.runtime
+    session.handle(ev.gamepad("a", 1.0))  # the ankle's blend runs, the state polls
+    assert runtime.next_wakeup is not None and runtime._active
+    seen = [runtime.machine.current]
+    for k in range(60):
+        session.handle(ev.gamepad("left_x", (k % 7) / 3.5 - 1.0))
+        kept = (runtime.next_wakeup, list(runtime._active), runtime._controllers_wake)
+        runtime._reschedule(session.steps)
+        assert (runtime.next_wakeup, list(runtime._active), runtime._controllers_wake) \
+            == kept, k
+        session.advance(1 + k % 4)
+        if runtime.machine.current != seen[-1]:
+            seen.append(runtime.machine.current)
+    # a state polling the stick alone (quiet between events) polls again at each event
+    assert seen.count("pushed") >= 3 and seen.count("level") >= 3, seen

@@ -119,3 +119,46 @@ def test_two_add_maps_on_one_joint_add_up(tmp_path):
     s.handle(ev.channels({"a": 1.0, "b": 0.5}))
     s.advance(1)
     assert deg(s)["knee"] == pytest.approx(base + 25)
+
+
+def _grid_by_corners(spec, pose_targets, x, y) -> dict[str, float]:
+    """A grid map's targets as the general applier sums them: corner by corner."""
+    from puppet.interface.maps import _grid_corners
+
+    rows, cols = len(spec.grid), len(spec.grid[0])
+    acc: dict[str, float] = {}
+    for r, c, w in _grid_corners(rows, cols, spec.mirror, x, y):
+        for joint, angle in pose_targets[spec.grid[r][c]].items():
+            if spec.joints is None or joint in spec.joints:
+                acc[joint] = acc.get(joint, 0.0) + w * angle
+    return acc
+
+
+def test_a_grid_whose_poses_give_every_joint_sums_them_to_the_bit():
+    """The cat's grids (every pose has each leg joint) take the unrolled applier: the
+    same sums, corner by corner from 0.0, for any input, in or out of range, mirrored
+    or not."""
+    import random
+
+    import msgspec
+
+    from puppet.data.interfaces import GridMapSpec
+    from puppet.interface.active_maps import every_map
+    from puppet.interface.maps import compile_map
+
+    session = Session(load_setup("cat-trot"))
+    runtime, servos = session.runtime, session.character.servos
+    grids = [m for m in every_map(runtime.spec) if isinstance(m, GridMapSpec)]
+    assert grids
+    rng = random.Random(7)
+    inputs = [(0.0, 0.0), (1.0, 1.0), (0.5, 0.5), (-0.3, 1.4), (1.0, 0.0)] + [
+        (rng.uniform(-0.2, 1.2), rng.uniform(-0.2, 1.2)) for _ in range(150)]
+    for spec in grids:
+        for mirror in ([], ["x"], ["y"], ["x", "y"]):
+            grid = msgspec.structs.replace(spec, mirror=mirror)
+            apply = compile_map(grid, servos, runtime.pose_targets)
+            assert apply.__name__ == "apply_full_grid"
+            for x, y in inputs:
+                written = apply({grid.x: x, grid.y: y})
+                got = {j: servos[j].target for j in written}
+                assert got == _grid_by_corners(grid, runtime.pose_targets, x, y), (x, y)

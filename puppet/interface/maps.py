@@ -100,6 +100,11 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
                         pairs.append((joints.index(joint), angle))
                 cells[-1].append(tuple(pairs))
         targets = [servos[j] for j in joints]
+        if all(sorted(i for i, _ in cell) == list(range(len(joints)))
+               for row in cells for cell in row):  # every pose has every joint
+            return _full_grid(x_name, y_name, rows, cols, mirror, targets, tuple(joints),
+                              [[tuple(a for _, a in sorted(cell)) for cell in row]
+                               for row in cells])
 
         def apply_grid(values):
             x, y = values.get(x_name), values.get(y_name)
@@ -118,6 +123,39 @@ def compile_map(spec, servos, pose_targets: dict[str, dict[str, float]], channel
             return written
         return apply_grid
     return _compile_linear(spec, servos)
+
+
+def _full_grid(x_name, y_name, rows, cols, mirror, servos, joints, cells):
+    """``apply_grid`` when each grid pose gives every joint (``cells[r][c]``: the
+    angles in ``joints`` order): each target is the same sum, corner by corner from
+    0.0, without the accumulator's list and checks (a cat's legs: four grids a mouse
+    event)."""
+    flip_x, flip_y = bool(mirror) and "x" in mirror, bool(mirror) and "y" in mirror
+    last_col, last_row = cols - 1, rows - 1
+
+    def apply_full_grid(values):
+        x, y = values.get(x_name), values.get(y_name)
+        if x is None or y is None:
+            return ()
+        if flip_x:  # _grid_corners, inlined (max(0.0, v) is v if v > 0.0 else 0.0, and
+            x = 1.0 - x  # min(1.0, m) is m if m < 1.0 else 1.0: the same values)
+        if flip_y:
+            y = 1.0 - y
+        m = x if x > 0.0 else 0.0
+        fx = (m if m < 1.0 else 1.0) * last_col
+        m = y if y > 0.0 else 0.0
+        fy = (1.0 - (m if m < 1.0 else 1.0)) * last_row
+        c0 = min(int(fx), cols - 2) if cols > 1 else 0
+        r0 = min(int(fy), rows - 2) if rows > 1 else 0
+        tx, ty = fx - c0, fy - r0
+        c1, r1 = min(c0 + 1, last_col), min(r0 + 1, last_row)
+        w0, w1, w2, w3 = (1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty
+        for servo, a0, a1, a2, a3 in zip(servos, cells[r0][c0], cells[r0][c1],
+                                         cells[r1][c0], cells[r1][c1]):
+            SET_TARGET(servo.spring._constraint,  # servo.target =
+                       0.0 + w0 * a0 + w1 * a1 + w2 * a2 + w3 * a3)
+        return joints
+    return apply_full_grid
 
 
 def _compile_linear(spec, servos, channels=None):
@@ -259,7 +297,7 @@ def compile_contribution(spec, channels=None):
 def _compile_frame(spec, frames, channels, owner=None):
     """A map whose value is a link's angle in the world (``frame: world``) or relative
     to a link: it holds frame targets (re-solved at the control rate), claiming them."""
-    from puppet.interface.poses import FrameTarget
+    from puppet.interface.poses import made_frame_target
 
     value = _unit(spec, channels)
     ref = None if spec.frame == "world" else spec.frame
@@ -270,7 +308,7 @@ def _compile_frame(spec, frames, channels, owner=None):
         v = value(values)
         if v is not None:
             for joint, g in gains:
-                frames.hold(joint, FrameTarget(ref, g * v, parent), owner)
+                frames.hold(joint, made_frame_target(ref, g * v, parent), owner)
         return ()  # held under the frame owner: nothing for the caller to take
     return apply_frame
 

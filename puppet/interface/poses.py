@@ -28,6 +28,19 @@ class FrameTarget:
         return [self.ref, self.angle, self.hold_parent]
 
 
+_new = object.__new__
+
+
+def made_frame_target(ref: str | None, angle: float, hold_parent: bool) -> FrameTarget:
+    """``FrameTarget(ref, angle, hold_parent)`` without the frozen dataclass's
+    ``__init__`` (an ``object.__setattr__`` a field): a frame map makes one per joint
+    at every mouse event, a blend at every control step."""
+    target = _new(FrameTarget)
+    fields = target.__dict__
+    fields["ref"], fields["angle"], fields["hold_parent"] = ref, angle, hold_parent
+    return target
+
+
 def frame_target(spec: FrameTargetSpec) -> FrameTarget:
     if spec.world is not None:
         return FrameTarget(None, math.radians(spec.world), spec.hold == "parent")

@@ -374,9 +374,15 @@ class InterfaceRuntime(ActiveMaps, Actions):
             if pointer:  # the pointer stick moves the pointer, as the mouse does
                 self.inputs[pointer] = pointer_value(value)
             self.apply_maps((name, pointer) if pointer else (name,))
-            if kind != "channel" and not is_analog(name) \
-                    and (was > 0.5) != (value > 0.5):  # buttons also act as keys
-                result = self._press(name, value > 0.5, now)
+            if kind != "channel" and not is_analog(name):
+                if (was > 0.5) != (value > 0.5):  # buttons also act as keys
+                    result = self._press(name, value > 0.5, now)
+            elif kind == "gamepad":  # a stick: maps only, as the mouse's (no wake-up
+                if self.frames.held and self.frames not in self._active:  # changes)
+                    self._reschedule(now)  # a map holds a frame target: re-solve it
+                if self._device_machines:  # a state polling the stick polls it again
+                    self._stir(now)
+                return None
         else:
             return None
         if self._device_machines:

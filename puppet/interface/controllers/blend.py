@@ -25,7 +25,13 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import BLEND, JointOwners, Owner
-from puppet.interface.poses import FrameTarget, Pose, apply_pose, frame_target
+from puppet.interface.poses import (
+    FrameTarget,
+    Pose,
+    apply_pose,
+    frame_target,
+    made_frame_target,
+)
 
 _angle = _cp.cpBodyGetAngle
 
@@ -110,7 +116,7 @@ class BlendController:
             if target is None:
                 servos[joint].target = value
             else:
-                self.frames.hold(joint, FrameTarget(target.ref, value, target.hold_parent),
+                self.frames.hold(joint, made_frame_target(target.ref, value, target.hold_parent),
                                  BLEND)
             if step >= last:  # arrived: a plain target stays, a frame target is held on
                 del self.moving[joint]

@@ -20,6 +20,8 @@ from __future__ import annotations
 
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FEEDBACK, JointOwners, Owner
+from puppet.physics.servo import GET_TARGET as _get_target
+from puppet.physics.servo import SET_TARGET as _set_target
 
 
 class Feedback:
@@ -71,11 +73,11 @@ class Feedback:
                 servo.target = base[joint]
             del base[joint], last[joint]
         for joint, value in added.items():
-            servo = servos[joint]
-            now = servo.target
+            spring = servos[joint].spring._constraint  # (servo.target, read and written)
+            now = _get_target(spring)
             b = base[joint] if joint in last and now == last[joint] else now  # rewritten?
             base[joint], last[joint] = b, b + value
-            servo.target = b + value
+            _set_target(spring, b + value)
         self.busy = bool(self.setters or self.adders or last)
 
     def next_wakeup(self, earliest: int) -> int | None:

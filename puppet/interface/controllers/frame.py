@@ -60,7 +60,7 @@ class FrameTargets:
         else:  # the child at ``want``: want - parent
             q = want - parent
         now = child - parent  # the same turn as the joint is in now
-        c.servos[joint].target = now + math.remainder(q - now, _TURN)
+        _set_target(c.servos[joint].spring._constraint, now + math.remainder(q - now, _TURN))
 
     def tick(self, step: int) -> str | None:
         if step % self.every:

@@ -52,6 +52,47 @@ def performed_pose(chain, root: str, origin, angle: float, cos: float, sin: floa
     return poses
 
 
+def tracked_chain(chain, joints: dict, limits: dict) -> list[tuple]:
+    """``chain`` (``joint_chain``) with each joint's channel (None: not tracked) and
+    limits (radians, or None): what ``channel_pose`` reads."""
+    return [(*row, joints.get(row[0]), limits.get(row[0])) for row in chain]
+
+
+def channel_pose(chain, root: str, origin, angle: float, cos: float, sin: float,
+                 channels: dict) -> dict:
+    """``performed_pose`` with the joints at ``radians_clamped(joints, channels,
+    limits)``, read straight from ``channels`` along ``chain`` (``tracked_chain``):
+    the same values, without building the joint angles first."""
+    poses = {root: (origin[0], origin[1], angle, cos, sin)}
+    mcos, msin, radians = math.cos, math.sin, math.radians
+    for _, parent, child, ax, ay, channel, lim in chain:
+        px, py, pa, c, s = poses[parent]
+        wx, wy = px + c * ax - s * ay, py + s * ax + c * ay  # the hinge in the world
+        if channel is not None and channel in channels:
+            v = radians(channels[channel])
+            if lim is not None:
+                v = lim[0] if v < lim[0] else lim[1] if v > lim[1] else v
+            a = pa + v
+        else:
+            a = pa + 0.0  # (a joint not given is 0)
+        c, s = mcos(a), msin(a)
+        poses[child] = (wx - (c * ax - s * ay), wy - (s * ax + c * ay), a, c, s)
+    return poses
+
+
+def link_plan(rows, preset, scale: dict, joint_of: dict, period: float, feet) -> list:
+    """``FigureRows.rows()`` with what the pulls work out per link that does not change:
+    the joint above it, ``kp * scale``, ``dp * sqrt(scale)``, mass / control period
+    (the same products and quotient as worked out each time: the same bits), and
+    whether it is one of ``feet``."""
+    plan = []
+    for name, cb, i, m, gx, gy in rows:
+        s = scale.get(name, 1.0)
+        plan.append((name, cb, i, m, gx, gy, joint_of.get(name), preset.kp * s,
+                     preset.dp * math.sqrt(s), m / period, name in feet))
+    return plan
+
+
 class FigureRows:
     """The pulled links of a character, read in bulk: ``rows()`` gives per link (name,
     C body, where its six values start in ``read()``, mass, centre of gravity x, y),

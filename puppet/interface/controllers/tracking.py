@@ -36,12 +36,13 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.tracking import TrackingSpec
 from puppet.interface.controllers.kd_pull import (
     FigureRows,
+    channel_pose,
     inertia_beyond,
     joint_chain,
+    link_plan,
     lowest_points,
     mix,
-    performed_pose,
-    radians_clamped,
+    tracked_chain,
 )
 from puppet.interface.controllers.tracking_contact import IntentionalContacts
 from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
@@ -388,24 +389,26 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         cos, sin = math.cos(angle), math.sin(angle)
         hx, hy = self.x0 + x, y
         origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        q = radians_clamped(self.joints, ch, self.limits)
         # the performed pose, each link's turn's cosine and sine with it (kd_pull)
-        poses = performed_pose(self._chain, c.spec.root, origin, angle, cos, sin, q)
+        tracked = self.__dict__.get("_tracked")
+        if tracked is None:
+            tracked = self._tracked = tracked_chain(self._chain, self.joints, self.limits)
+        poses = channel_pose(tracked, c.spec.root, origin, angle, cos, sin, ch)
         lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
                           self._all_points() if self.getup is not None else self.soles)
         T = self.period
-        preset, scale = spec.preset, self.scale
         prev = self.prev
-        rows = self._figure.rows()
+        plan = self._link_plan(self._figure.rows())
         targets = {}
-        for name, _, _, _, gx, gy in rows:
-            ox, oy, _, cl, sl = poses[name]
-            targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
+        for name, _, _, _, gx, gy, _, _, _, _, sole in plan:
+            ox, oy, oa, cl, sl = poses[name]
+            if sole:  # the feet's performed angles ride along
+                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift, oa)
+            else:
+                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
         # The performed velocities, from the last two samples (a stream's frames come
         # at their own rate, not the control rate's): held between samples.
         sample = self.last_sample
-        for name in self.soles:  # the feet's performed angles ride along
-            targets[name] = targets[name] + (poses[name][2],)
         if prev is None or sample != self.prev_step:
             if prev is not None and sample > self.prev_step:
                 h = (sample - self.prev_step) * self.dt
@@ -430,43 +433,50 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
             get_up = self.spec.reaction.get_up
             no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
             rise = get_up.rise
-        table, joint_of, soles = self.owners_table.table, self.joint_of, self.soles
+        table, spins = self.owners_table.table, self.spin
         state = self._figure.read()  # every body in one call: what each link is now
         set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
-        kp, dp, sqrt, mcos, msin, still = preset.kp, preset.dp, math.sqrt, math.cos, \
-            math.sin, (0.0, 0.0)  # (hoisted: the loop runs 13 links at 120 Hz)
-        for name, cb, i, m, gx, gy in rows:
-            joint = joint_of.get(name)
+        mcos, msin, still = math.cos, math.sin, (0.0, 0.0)  # (hoisted: 13 links at 120 Hz)
+        for name, cb, i, m, gx, gy, joint, ks, ds, m_T, sole in plan:
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
-            px, py = targets[name][:2]
-            s = scale.get(name, 1.0)
+            target = targets[name]
+            px, py = target[0], target[1]
             w = weight
             if name == stepping:  # the protective step, then back to the performance
                 px, py = self._stepped(step, weight, px, py)
                 w = 1.0
-            k, d = kp * s * w, dp * sqrt(s) * w  # same ratio
+            k, d = ks * w, ds * w  # kp * s * w, dp * sqrt(s) * w: the same ratio
             if k == 0.0 and d == 0.0:
                 continue
             tvx, tvy = vel.get(name, still)
             bx, by, ba, vx, vy, spin = state[i:i + 6]
             cb_, sb = mcos(ba), msin(ba)  # its centre: cpBodyLocalToWorld's sums
             wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
-            den = m / T + k * T + d
+            den = m_T + k * T + d
             new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
             if getting_up and new_vy > vy:  # no levitation: a link rises only by pushing
                 new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
                 # and no faster than a body pushes itself up
             set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den, new_vy))
-            if name in soles:  # a foot is also turned flat as performed (its sole
+            if sole:  # a foot is also turned flat as performed (its sole
                 # stands on the ground; the ankle's inertia-scaled gain alone is weak)
                 inertia = c.bodies[name].moment
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
                 want = poses[name][2]
                 turn = want - ba
                 turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * self.spin.get(name, 0.0))
+                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * spins.get(name, 0.0))
                          / (inertia / T + kt * T + dt_))
+
+    def _link_plan(self, rows) -> list[tuple]:
+        """``kd_pull.link_plan`` of ``rows``, again for new rows (a restore re-binds the
+        bodies)."""
+        cached = self.__dict__.get("_plan")
+        if cached is None or cached[0] is not rows:
+            cached = self._plan = (rows, link_plan(rows, self.spec.preset, self.scale,
+                                                   self.joint_of, self.period, self.soles))
+        return cached[1]
 
     def _all_points(self) -> dict:
         """Every link's lowest points (a get-up's pose stands on knees, hands...)."""

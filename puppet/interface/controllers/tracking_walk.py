@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 
 from puppet.data.errors import DataError
-from puppet.interface.controllers.kd_pull import performed_pose
+from puppet.interface.controllers.kd_pull import channel_pose, tracked_chain
 
 
 class GaitCycle:
@@ -59,13 +59,37 @@ class GaitCycle:
         p, q = self.frames[k], self.frames[k + 1]
         return [v + (w - v) * f for v, w in zip(p, q)]
 
+    def _raw_one(self, u: float, i: int) -> float:
+        """``_raw(u)[i]``, the one value worked out (the same arithmetic)."""
+        k = min(int(u), len(self.frames) - 2)
+        v, w = self.frames[k][i], self.frames[k + 1][i]
+        return v + (w - v) * (u - k)
+
     def at(self, phase: float) -> dict[str, float]:
         raw = self._raw(self.a + (self.b - self.a) * phase)
         return {n: v - d * phase for n, v, d in zip(self.names, raw, self.drift)}
 
+    def at_some(self, phase: float, names) -> dict[str, float]:
+        """``at(phase)`` of the cycle's channels among ``names`` only (the same values)."""
+        index = self.__dict__.get("_index")
+        if index is None:
+            index = self._index = {n: i for i, n in enumerate(self.names)}
+        u = self.a + (self.b - self.a) * phase
+        k = min(int(u), len(self.frames) - 2)
+        f = u - k
+        p, q, drift = self.frames[k], self.frames[k + 1], self.drift
+        out = {}
+        for n in names:
+            i = index.get(n)
+            if i is not None:
+                v = p[i]
+                out[n] = v + (q[i] - v) * f - drift[i] * phase
+        return out
+
     def travel(self, phase: float) -> float:
         """m: the root's travel from the cycle's start to ``phase``."""
-        return self._raw(self.a + (self.b - self.a) * phase)[self.x] - self._raw(self.a)[self.x]
+        x = self.x
+        return self._raw_one(self.a + (self.b - self.a) * phase, x) - self._raw_one(self.a, x)
 
 
 class WalkInPlace:
@@ -94,16 +118,34 @@ class WalkInPlace:
         root = self.spec.root
         if root is None or root.angle not in ch or len(self.soles) < 2:
             return None
+        chain, feet = self._feet_chain()
         angle = math.radians(ch[root.angle])
-        q = {j: math.radians(ch[n]) for j, n in self.joints.items() if n in ch}
-        poses = performed_pose(self._chain, self.character.spec.root, (0.0, 0.0), angle,
-                               math.cos(angle), math.sin(angle), q)
+        poses = channel_pose(chain, self.character.spec.root, (0.0, 0.0), angle,
+                             math.cos(angle), math.sin(angle), ch)  # (not clamped)
         ys = []
-        for foot in self.spec.feet[:2]:
+        for foot, gx, gy in feet:
             _, oy, _, c, s = poses[foot]
-            gx, gy = self.character.bodies[foot].center_of_gravity
             ys.append(oy + s * gx + c * gy)
         return ys[0] - ys[1]
+
+    def _feet_chain(self) -> tuple[list, list]:
+        """The joints from the root down to the first two of ``tracking.feet`` (the
+        rest of the pose does not move them) with their channels (``channel_pose``), and
+        each foot's centre of gravity: found once."""
+        got = self.__dict__.get("_feet_rows")
+        if got is None:
+            feet = self.spec.feet[:2]
+            needed, by_child = set(feet), {row[2]: row for row in self._chain}
+            for foot in feet:
+                link = foot
+                while link in by_child:
+                    link = by_child[link][1]
+                    needed.add(link)
+            chain = tracked_chain([row for row in self._chain if row[2] in needed],
+                                  self.joints, {})  # each joint's channel, no limits
+            bodies = self.character.bodies
+            got = self._feet_rows = (chain, [(f, *bodies[f].center_of_gravity) for f in feet])
+        return got
 
     def _cycle_lifts(self) -> tuple[float, float]:
         """The phases at which the example cycle lifts each foot (as the performer's are
@@ -167,8 +209,9 @@ class WalkInPlace:
             return ch
         out = dict(ch)
         if weight > 0.0:
-            walk = self.walk_cycle.at(self.walk[4])
-            for name in self.spec.walk_in_place.joints:
+            joints = self.spec.walk_in_place.joints
+            walk = self.walk_cycle.at_some(self.walk[4], joints)
+            for name in joints:
                 if name in walk:
                     u = ch.get(name, walk[name])
                     out[name] = u + (walk[name] - u) * weight
