@@ -133,11 +133,14 @@ def test_double_back_flip_turns_twice_in_one_flight_and_lands_upright():
     assert check(result, [{"turned": {"link": "base", "min_degrees": 1000}}])
 
 
-@pytest.mark.parametrize("weaker", [{"servos": 0.8}, {"gravity": 1.2}])
+@pytest.mark.parametrize("weaker", [{"servos": 0.6}, {"gravity": 2.0}])
 def test_double_back_flip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
+    # Since the opening follows the flight time left (issue 28: com.fall_time), the flip
+    # lands with a fifth less servo strength, and with gravity up to 1.7 times (the loop
+    # reads the scene's gravity): it was an open-loop knife edge that fell at 0.8 and 1.2.
+    # At 0.6 the spring and the tuck are too weak to turn twice, and at twice the gravity
+    # the flight is too short: it turns short and ends on its side.
     failed = _failed(_weakened("luxo-double-backflip", tmp_path, **weaker))
-    # (with its landing's tilt feedback at 60 a second, the weaker lamp turns short and
-    # ends on its side without a fall on the way: never_fell alone may hold)
     assert {"turned", "upright_at_end"} <= failed, failed
 
 

@@ -118,3 +118,26 @@ def test_a_lead_sensor_naming_an_unknown_link_is_refused(tmp_path):
               - {to: b, when: {sensor: lead.foot_nare.foot_far, above: 0.1}}
           b: {}
         """)
+
+
+def test_com_fall_time_is_the_free_flights_time_down_to_y_0():
+    """``com.fall_time``: Luxo thrown up reads (vy + sqrt(vy^2 + 2 g y)) / g, and the
+    reading counts down with the flight: checked against where the centre of mass
+    really is that long after (it flies freely, joints held)."""
+    s = Session(load_setup("luxo-mouse-strong"))
+    s.advance(60)
+    c = s.character
+    for b in c.bodies.values():  # up 1 m and thrown up at 1.5 m/s
+        b.position = (b.position.x, b.position.y + 1.0)
+        b.velocity = (0.0, 1.5)
+    read = reader("com.fall_time", c)
+    y, vy = c.com()[1], c.com_velocity()[1]
+    g = -c.bodies["base"].space.gravity[1]
+    t = read()
+    assert t == pytest.approx((vy + math.sqrt(vy * vy + 2 * g * y)) / g, rel=1e-12)
+    assert 0.6 < t < 1.0
+    steps = round(0.5 * t / s.sim.dt)  # half way down the flight
+    s.advance(steps)
+    assert read() == pytest.approx(t - steps * s.sim.dt, abs=0.01)
+    s.advance(round(t / s.sim.dt))  # landed: at rest on the floor its COM is above y 0
+    assert 0.0 < read() < 0.3

@@ -48,7 +48,8 @@ def _sensor_words(sensor: str) -> str:
     """A sensor in a player's words: com.vx -> "body's speed forward"."""
     fixed = {"com.vx": "body's speed forward", "com.vy": "body's speed up",
              "com.x": "body's position", "com.y": "body's height", "lean": "body's lean",
-             "root.angle": "tilt", "com.dx.support": "body ahead of the feet"}
+             "root.angle": "tilt", "com.dx.support": "body ahead of the feet",
+             "com.fall_time": "time left in the air"}
     if sensor in fixed:
         return fixed[sensor]
     kind, _, what = sensor.partition(".")

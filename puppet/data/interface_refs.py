@@ -17,7 +17,7 @@ from puppet.data.errors import DataError
 from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
 
-FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy")
+FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy", "com.fall_time")
 JOINT_SENSORS = ("joint",)
 LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 

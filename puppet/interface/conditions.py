@@ -30,6 +30,26 @@ def _lean(c: Character) -> Reader:
     return lean
 
 
+def _fall_time(c: Character) -> Reader:
+    """The seconds until the centre of mass, flying freely from where it is under the
+    space's gravity (read live: a meta key may change it), comes down to the scene's
+    y = 0 (the floor of flat): (vy + sqrt(vy^2 + 2 g y)) / g; 0 at or under y = 0,
+    infinite without gravity pulling down. With the angle and the spin it says when to
+    open a flip (the time left to turn in)."""
+    sqrt, inf = math.sqrt, math.inf
+
+    def fall_time() -> float:
+        y = c.com()[1]
+        if y <= 0.0:
+            return 0.0
+        g = -c.bodies[c.spec.root].space.gravity[1]
+        if g <= 0.0:
+            return inf
+        vy = c.com_velocity()[1]
+        return (vy + sqrt(vy * vy + 2.0 * g * y)) / g
+    return fall_time
+
+
 # Readers run at every poll of a state machine (each control step): they make pymunk's
 # own C calls (what Body.angle and Body.angular_velocity return), without the property.
 # ``c.bodies`` is looked up on every read: a restore re-binds the bodies.
@@ -85,6 +105,7 @@ FIXED: dict[str, tuple[Callable[[Character], Reader], bool]] = {
     "com.y": (lambda c: lambda: c.com()[1], False),
     "com.vx": (lambda c: lambda: c.com_velocity()[0], False),
     "com.vy": (lambda c: lambda: c.com_velocity()[1], False),
+    "com.fall_time": (_fall_time, False),
 }
 # "<kind>.<joint or link name>" -> (reader factory, reads an angle?)
 NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {
