@@ -24,7 +24,8 @@ LOGS = Path(__file__).resolve().parents[1] / "assets" / "logs"
 
 
 @pytest.mark.parametrize("name", ["luxo-back-headspring",  # a manual checkpoint on the way
-                                  "luxo-ski-jump"])  # a keyframe's re-seat at the last step
+                                  "luxo-ski-jump",  # a keyframe's re-seat at the last step
+                                  "biped-gymnast-climb-trot"])  # two grasps let go at once
 def test_the_bare_run_reaches_the_logs_own_end_state(name):
     item = measure_feat(str(LOGS / f"{name}.jsonl"), rounds=1)
     assert item["same_motion"] is True and item["recorded_end"] is True

@@ -19,16 +19,20 @@ setter pymunk's property calls (``cpDampedRotarySpringSetRestAngle``,
 ``cpBodySetVelocity``, ...) with its value, and the bare run calls those setters on
 handles it looks up once per seat, and steps with ``cpSpaceStep`` itself between
 them (pymunk's own step only while its queues hold something, as ``step_space``).
+A re-seat is the checkpoint's rebuild without pickling the snapshot; grasps are
+made and let go in the order the controlled run did (the order is in the bits).
+``tests/test_bench_feats.py`` fails if the bare run writes a value that did not
+change.
 
 The two runs of a round go in chunks of half a simulated second, the order
 rotating, so that a shared machine's drifting speed slows both alike; the overhead
-is the median of the rounds' ratios, with their range. The bare run steps with
-``step_space`` (Chipmunk's step without pymunk's per-call Python, as the Session
-does), so the overhead is the control layer's work alone.
+is the median of the rounds' ratios, with their range, and is the control layer's
+work alone.
 """
 
 from __future__ import annotations
 
+import itertools
 import statistics
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -121,6 +125,25 @@ def _seat(sim) -> tuple:
     return (id(sim.space), sim.seats)
 
 
+def _watch_grasps(sim, order: dict, clock) -> None:
+    """Note in ``order`` (name -> a tick of ``clock``) when ``sim`` last made or let go of
+    each grasp: taking a joint out of the space moves its last constraint into its
+    place, so the order of the releases and grasps is part of the bits."""
+    if "detach" in vars(sim):
+        return
+    detach, attach = sim.detach, sim.attach
+
+    def noted_detach(name, *args):
+        order[name] = next(clock)
+        return detach(name, *args)
+
+    def noted_attach(name, *args, **kwargs):
+        attach(name, *args, **kwargs)
+        order[name] = next(clock)
+
+    sim.detach, sim.attach = noted_detach, noted_attach
+
+
 def record(log, setup, until: int | None = None) -> Trace:
     """Play ``log`` one step at a time (its events, the runtime's ticks, then a step,
     as ``Session.advance`` orders them) and note what changed in the physics before
@@ -135,8 +158,9 @@ def record(log, setup, until: int | None = None) -> Trace:
     trace = Trace()
     servos, motion, world = _servos(sim), _motion(sim), _world(sim)
     held = {n: j for n, (j, _) in sim.grasps.items()}
-    pending_reseat = False
+    pending_reseat, order, clock = False, {}, itertools.count(1)
     while True:
+        _watch_grasps(session.sim, order, clock)
         seat = _seat(sim)
         while (move := next_move(session.steps, events[i][0] if i < len(events) else None,
                                  until, end)) == 0:
@@ -147,6 +171,7 @@ def record(log, setup, until: int | None = None) -> Trace:
                 trace.ops.append((session.steps, True, (), [], None))
             break
         sim, runtime = session.sim, session.runtime
+        _watch_grasps(sim, order, clock)  # (an event may have restored another)
         if runtime._pending:
             runtime.flush()  # as advance does first
         wake = runtime.next_wakeup
@@ -157,7 +182,7 @@ def record(log, setup, until: int | None = None) -> Trace:
             held = {n: j for n, (j, _) in sim.grasps.items()}
         now_servos, now_motion, now_world = _servos(sim), _motion(sim), _world(sim)
         writes = _writes(servos, now_servos, motion, now_motion)
-        grasps = grasp_changes(sim, held)
+        grasps = sorted(grasp_changes(sim, held), key=lambda g: order.get(g[0], 0))
         world_ch = now_world if now_world != world else None
         if reseat or writes or grasps or world_ch:
             trace.ops.append((session.steps, reseat, tuple(writes), grasps, world_ch))
@@ -219,8 +244,8 @@ def bare_run(log, setup, trace: Trace):
                         step(ptr, dt)
                 now = at
             if reseat or grasps or world_ch is not None:
-                if reseat:
-                    sim.checkpoint()
+                if reseat:  # a checkpoint's re-seat, without pickling the snapshot
+                    sim._rebuild(sim._state())  # (what ``checkpoint`` does besides)
                 for name, g in grasps:
                     if g is None:
                         sim.detach(name)
