@@ -11,15 +11,28 @@ from a controlled run (``record``); the bare run must end in the log's own state
 (the hashes are compared), so both do the same physics work to the bit, and
 ``control overhead = CPU time with control / CPU time bare - 1``.
 
+The bare run is the cheapest honest way to make that physics happen, so that the
+figure is the control layer's and not the bench's own bookkeeping: the trace holds
+only the values that changed (a servo's target, stiffness, Chipmunk damping or
+torque limit, a body's velocity or spin, each on its own), each as the Chipmunk
+setter pymunk's property calls (``cpDampedRotarySpringSetRestAngle``,
+``cpBodySetVelocity``, ...) with its value, and the bare run calls those setters on
+handles it looks up once per seat, and steps with ``cpSpaceStep`` itself between
+them (pymunk's own step only while its queues hold something, as ``step_space``).
+A re-seat is the checkpoint's rebuild without pickling the snapshot; grasps are
+made and let go in the order the controlled run did (the order is in the bits).
+``tests/test_bench_feats.py`` fails if the bare run writes a value that did not
+change.
+
 The two runs of a round go in chunks of half a simulated second, the order
 rotating, so that a shared machine's drifting speed slows both alike; the overhead
-is the median of the rounds' ratios, with their range. The bare run steps with
-``step_space`` (Chipmunk's step without pymunk's per-call Python, as the Session
-does), so the overhead is the control layer's work alone.
+is the median of the rounds' ratios, with their range, and is the control layer's
+work alone.
 """
 
 from __future__ import annotations
 
+import itertools
 import statistics
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,17 +45,30 @@ from puppet.commands.bench.speed import grasp_changes
 CHUNK_STEPS = 240  # half a simulated second at 1/480 s: the runs' turns
 _GETV, _GETW = _cp.cpBodyGetVelocity, _cp.cpBodyGetAngularVelocity
 _GETP, _GETA = _cp.cpBodyGetPosition, _cp.cpBodyGetAngle
+# a servo's four values as Chipmunk holds them (the damping is the one handed to
+# Chipmunk), read and written by the C calls pymunk's properties make
+SERVO_GET = (_cp.cpDampedRotarySpringGetRestAngle, _cp.cpDampedRotarySpringGetStiffness,
+             _cp.cpDampedRotarySpringGetDamping, _cp.cpConstraintGetMaxForce)
+SERVO_SET = (_cp.cpDampedRotarySpringSetRestAngle, _cp.cpDampedRotarySpringSetStiffness,
+             _cp.cpDampedRotarySpringSetDamping, _cp.cpConstraintSetMaxForce)
+SET_VELOCITY, SET_SPIN = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
 
 
 @dataclass
 class Trace:
     """What a controlled run wrote into the physics, step by step: ``ops`` are
-    ``(step, reseat, servo changes, body changes, grasp changes, world or None)``,
-    each acting before the space steps from ``step``."""
+    ``(step, reseat, writes, grasp changes, world or None)``, each acting before the
+    space steps from ``step``; ``writes`` are ``(setter, handle index, value)``, one
+    per value that changed (``handles``: the servos' constraints, then the bodies)."""
 
     ops: list = field(default_factory=list)
     steps: int = 0
     end_hash: str = ""
+
+    @property
+    def writes(self) -> int:
+        """How many values the bare run writes (each one that changed)."""
+        return sum(len(op[2]) for op in self.ops)
 
 
 def _bodies(sim) -> list:
@@ -62,8 +88,31 @@ def _motion(sim) -> dict:
 
 
 def _servos(sim) -> list:
-    return [(s.target, s.stiffness, s.damping, s.max_torque)
+    return [tuple(get(s.spring._constraint) for get in SERVO_GET)
             for s in sim.character.servos.values()]
+
+
+def handles(sim) -> list:
+    """The C handles a trace's writes index: each servo's constraint, then each body
+    of ``_bodies`` (looked up again after a re-seat, which may make new objects)."""
+    return ([s.spring._constraint for s in sim.character.servos.values()]
+            + [body._body for _, body in _bodies(sim)])
+
+
+def _writes(servos: list, now_servos: list, motion: dict, now_motion: dict) -> list:
+    """One ``(setter, handle index, value)`` per value that changed."""
+    out = [(SERVO_SET[f], k, v) for k, (now, was) in enumerate(zip(now_servos, servos))
+           if now != was for f, (v, w) in enumerate(zip(now, was)) if v != w]
+    first = len(now_servos)
+    for j, name in enumerate(now_motion):
+        m, was = now_motion[name], motion.get(name)
+        if m == was:
+            continue
+        if was is None or m[:2] != was[:2]:
+            out.append((SET_VELOCITY, first + j, m[:2]))
+        if was is None or m[2] != was[2]:
+            out.append((SET_SPIN, first + j, m[2]))
+    return out
 
 
 def _world(sim) -> tuple:
@@ -74,6 +123,25 @@ def _seat(sim) -> tuple:
     """Which seat of which space ``sim`` runs on: it changes at every checkpoint or
     restore (a re-seat in place keeps the space, and counts in ``seats``)."""
     return (id(sim.space), sim.seats)
+
+
+def _watch_grasps(sim, order: dict, clock) -> None:
+    """Note in ``order`` (name -> a tick of ``clock``) when ``sim`` last made or let go of
+    each grasp: taking a joint out of the space moves its last constraint into its
+    place, so the order of the releases and grasps is part of the bits."""
+    if "detach" in vars(sim):
+        return
+    detach, attach = sim.detach, sim.attach
+
+    def noted_detach(name, *args):
+        order[name] = next(clock)
+        return detach(name, *args)
+
+    def noted_attach(name, *args, **kwargs):
+        attach(name, *args, **kwargs)
+        order[name] = next(clock)
+
+    sim.detach, sim.attach = noted_detach, noted_attach
 
 
 def record(log, setup, until: int | None = None) -> Trace:
@@ -90,8 +158,9 @@ def record(log, setup, until: int | None = None) -> Trace:
     trace = Trace()
     servos, motion, world = _servos(sim), _motion(sim), _world(sim)
     held = {n: j for n, (j, _) in sim.grasps.items()}
-    pending_reseat = False
+    pending_reseat, order, clock = False, {}, itertools.count(1)
     while True:
+        _watch_grasps(session.sim, order, clock)
         seat = _seat(sim)
         while (move := next_move(session.steps, events[i][0] if i < len(events) else None,
                                  until, end)) == 0:
@@ -99,9 +168,10 @@ def record(log, setup, until: int | None = None) -> Trace:
             i += 1
         if move is None:
             if pending_reseat:  # a keyframe at the last step: the end state is re-seated
-                trace.ops.append((session.steps, True, [], [], [], None))
+                trace.ops.append((session.steps, True, (), [], None))
             break
         sim, runtime = session.sim, session.runtime
+        _watch_grasps(sim, order, clock)  # (an event may have restored another)
         if runtime._pending:
             runtime.flush()  # as advance does first
         wake = runtime.next_wakeup
@@ -111,12 +181,11 @@ def record(log, setup, until: int | None = None) -> Trace:
         if _seat(sim) != seat:
             held = {n: j for n, (j, _) in sim.grasps.items()}
         now_servos, now_motion, now_world = _servos(sim), _motion(sim), _world(sim)
-        servo_ch = [(k, p) for k, (p, q) in enumerate(zip(now_servos, servos)) if p != q]
-        motion_ch = [(n, m[:3]) for n, m in now_motion.items() if m != motion.get(n)]
-        grasps = grasp_changes(sim, held)
+        writes = _writes(servos, now_servos, motion, now_motion)
+        grasps = sorted(grasp_changes(sim, held), key=lambda g: order.get(g[0], 0))
         world_ch = now_world if now_world != world else None
-        if reseat or servo_ch or motion_ch or grasps or world_ch:
-            trace.ops.append((session.steps, reseat, servo_ch, motion_ch, grasps, world_ch))
+        if reseat or writes or grasps or world_ch:
+            trace.ops.append((session.steps, reseat, tuple(writes), grasps, world_ch))
         seat = _seat(sim)
         session.advance(1)
         sim = session.sim
@@ -141,51 +210,59 @@ def control_run(log, setup):
         k = yield session
 
 
+def _queued(space) -> bool:
+    """Whether pymunk's ``Space.step`` has Python work to do (``step_space``)."""
+    return bool(space._bodies_to_check or space._add_later or space._remove_later
+                or space._post_step_callbacks or space.threaded or space._removed_shapes)
+
+
 def bare_run(log, setup, trace: Trace):
     """The same start, stepped by Chipmunk in long runs with ``trace``'s changes
-    written at their steps; yields the Simulation."""
+    written at their steps; yields the Simulation. Between the rare Python-side ops
+    (a re-seat, a grasp, the world) it is Chipmunk's setters and ``cpSpaceStep``."""
     from puppet.physics.simulation import step_space
     from puppet.timeline.replay import new_session
 
     sim = new_session(log, setup).sim  # the same start (re-seated at step 0)
-    dt, now, ops = sim.dt, 0, iter(trace.ops)
+    dt, now, ops, end = sim.dt, 0, iter(trace.ops), trace.steps
+    step, space = _cp.cpSpaceStep, sim.space
+    ptr, h, queued = space._space, handles(sim), _queued(space)
     op = next(ops, None)
     k = yield sim
     while True:
-        stop = min(trace.steps, now + k)
-        while op is not None and (op[0] < stop or op[0] == stop == trace.steps):
-            at, reseat, servo_ch, motion_ch, grasps, world_ch = op
+        stop = min(end, now + k)
+        while op is not None and (op[0] < stop or op[0] == stop == end):
+            at, reseat, writes, grasps, world_ch = op
             if at > now:
-                step_space(sim.space, dt, at - now)
-                now = at
-            if reseat:
-                sim.checkpoint()
-            if servo_ch:
-                servos = list(sim.character.servos.values())
-                for i, (angle, stiffness, damping, torque) in servo_ch:
-                    servo = servos[i]
-                    servo.target = angle
-                    servo.stiffness = stiffness
-                    servo.damping = damping
-                    servo.max_torque = torque
-            for name, g in grasps:
-                if g is None:
-                    sim.detach(name)
+                if queued:
+                    step_space(space, dt, at - now)
+                    queued = _queued(space)
+                elif at - now == 1:
+                    step(ptr, dt)
                 else:
-                    sim.attach(name, *g)
-            if motion_ch:
-                bodies = dict(_bodies(sim))
-                for name, (vx, vy, w) in motion_ch:
-                    body = bodies[name]
-                    body.velocity = (vx, vy)
-                    body.angular_velocity = w
-            if world_ch is not None:
-                sim.space.gravity = world_ch[0]
-                for segment, friction in zip(sim.ground, world_ch[1]):
-                    segment.friction = friction
+                    for _ in range(at - now):
+                        step(ptr, dt)
+                now = at
+            if reseat or grasps or world_ch is not None:
+                if reseat:  # a checkpoint's re-seat, without pickling the snapshot
+                    sim._rebuild(sim._state())  # (what ``checkpoint`` does besides)
+                for name, g in grasps:
+                    if g is None:
+                        sim.detach(name)
+                    else:
+                        sim.attach(name, *g)
+                if world_ch is not None:
+                    sim.space.gravity = world_ch[0]
+                    for segment, friction in zip(sim.ground, world_ch[1]):
+                        segment.friction = friction
+                space = sim.space
+                ptr, h, queued = space._space, handles(sim), _queued(space)
+            for set_, i, value in writes:
+                set_(h[i], value)
             op = next(ops, None)
         if stop > now:
-            step_space(sim.space, dt, stop - now)
+            step_space(space, dt, stop - now)
+            queued = _queued(space)
             now = stop
         sim.steps = now
         k = yield sim
@@ -218,7 +295,7 @@ def measure_feat(path, rounds: int, seconds: float | None = None) -> dict:
     return {"log": Path(log.path).stem,
             "character": setup.character.name, "steps": trace.steps,
             "sim_seconds": trace.steps * dt, "rounds": rounds,
-            "writes": len(trace.ops),
+            "writes": len(trace.ops), "values_written": trace.writes,
             "overhead_pct": (statistics.median(ratios) - 1.0) * 100.0,
             "overhead_range_pct": [(min(ratios) - 1.0) * 100.0, (max(ratios) - 1.0) * 100.0],
             "control_us_per_step": control_s / rounds / trace.steps * 1e6,
