@@ -4,6 +4,7 @@ No timing assertions here: the speed targets live in the benchmark's own report.
 """
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -131,3 +132,16 @@ def test_quick_bench_times_frames_with_the_hud_and_f1_on_the_biped_scenes(report
     for f in frames:
         assert f["frames"] > 0 and 0 < f["p50_ms"] <= f["p99_ms"] <= f["max_ms"]
         assert f["target"]["name"].startswith("frame with the HUD and F1")
+
+
+def test_pygame_says_nothing_on_stdout_after_a_command_so_json_output_parses():
+    """`puppet bench --json` draws HUD frames with pygame; its import banner on stdout
+    would make the JSON unreadable."""
+    code = ("from puppet.commands import main; main(['check', 'interfaces/luxo-mouse.yaml']);"
+            " import pygame")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[1],
+                         env={k: v for k, v in os.environ.items()
+                              if k != "PYGAME_HIDE_SUPPORT_PROMPT"})
+    assert out.returncode == 0, out.stderr
+    assert "pygame" not in out.stdout, out.stdout

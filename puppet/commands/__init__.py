@@ -70,6 +70,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    # pygame's banner goes to stdout on import: it would break `--json` output (bench)
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     parser = build_parser()
     args, extra = parser.parse_known_args(argv)
     if extra:  # argparse's parse_args says this as the root parser ("puppet: ...")
