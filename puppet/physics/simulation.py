@@ -43,6 +43,13 @@ DRAG_STIFFNESS_PER_KG = 200.0  # N/m per kg of character, for Ctrl+drag
 MAX_SPEED = 200.0  # m/s; beyond this the state has blown up
 
 
+def queued(space: pymunk.Space) -> bool:
+    """Whether pymunk's ``Space.step`` has Python work before its C step (its queues, a
+    post-step callback, threads): then ``step_space`` takes pymunk's own step."""
+    return bool(space._bodies_to_check or space._add_later or space._remove_later
+                or space._post_step_callbacks or space.threaded)
+
+
 def step_space(space: pymunk.Space, dt: float, n: int) -> None:
     """``n`` times ``space.step(dt)``: the same C step, so the same bits, without the
     Python around it in pymunk's ``Space.step`` (its queues, lock and mass check: 1-2 us a
@@ -51,8 +58,7 @@ def step_space(space: pymunk.Space, dt: float, n: int) -> None:
     step; puppet has no such callbacks, and a space with anything queued takes pymunk's
     own step until the queues are empty."""
     step = _cp.cpSpaceStep
-    while n > 0 and (space._bodies_to_check or space._add_later or space._remove_later
-                     or space._post_step_callbacks or space.threaded):
+    while n > 0 and queued(space):
         space.step(dt)
         n -= 1
     if space._removed_shapes:  # what Space.step lets go of after its C step

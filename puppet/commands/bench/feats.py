@@ -41,6 +41,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.commands.bench.config import in_turns
 from puppet.commands.bench.speed import grasp_changes
+from puppet.physics.simulation import queued, step_space
 
 CHUNK_STEPS = 240  # half a simulated second at 1/480 s: the runs' turns
 _GETV, _GETW = _cp.cpBodyGetVelocity, _cp.cpBodyGetAngularVelocity
@@ -211,16 +212,15 @@ def control_run(log, setup):
 
 
 def _queued(space) -> bool:
-    """Whether pymunk's ``Space.step`` has Python work to do (``step_space``)."""
-    return bool(space._bodies_to_check or space._add_later or space._remove_later
-                or space._post_step_callbacks or space.threaded or space._removed_shapes)
+    """Whether ``step_space`` has Python work to do: pymunk's queues, or shapes it
+    lets go of after a step."""
+    return queued(space) or bool(space._removed_shapes)
 
 
 def bare_run(log, setup, trace: Trace):
     """The same start, stepped by Chipmunk in long runs with ``trace``'s changes
     written at their steps; yields the Simulation. Between the rare Python-side ops
     (a re-seat, a grasp, the world) it is Chipmunk's setters and ``cpSpaceStep``."""
-    from puppet.physics.simulation import step_space
     from puppet.timeline.replay import new_session
 
     sim = new_session(log, setup).sim  # the same start (re-seated at step 0)
