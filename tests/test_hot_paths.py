@@ -112,6 +112,42 @@ def test_fused_channel_maps_write_what_the_maps_one_by_one_write():
             [s.target for s in plain.character.servos.values()], values
 
 
+def test_fused_grids_write_what_the_grids_one_by_one_write():
+    """maps.fused folds a run of full grids on the same inputs (the cat's four legs,
+    two mirrors) into one applier: the same targets to the bit and the same joints,
+    for inputs in and out of range and with an input missing; grids sharing a joint
+    are left apart."""
+    import random
+
+    from puppet.data.interfaces import GridMapSpec
+    from puppet.interface.active_maps import every_map
+
+    setup = load_setup("cat-trot")
+    plain, fast = Session(setup), Session(setup)
+    appliers = {}
+    for session in (plain, fast):
+        rt = session.runtime
+        grids = [m for m in every_map(rt.spec) if isinstance(m, GridMapSpec)]
+        appliers[session] = [mapping.compile_map(m, session.character.servos,
+                                                 rt.pose_targets) for m in grids]
+    folded = mapping.fused(appliers[fast])
+    assert len(appliers[fast]) == 4 and len(folded) == 1
+    assert len(mapping.fused(appliers[fast][:1] * 2)) == 2  # the same joints twice
+    rng = random.Random(3)
+    inputs = [{"mouse.x": 0.0, "mouse.y": 0.0}, {"mouse.x": 1.0, "mouse.y": 1.0},
+              {"mouse.x": 0.5}, {"mouse.x": -0.3, "mouse.y": 1.4}] + [
+        {"mouse.x": rng.uniform(-0.2, 1.2), "mouse.y": rng.uniform(-0.2, 1.2)}
+        for _ in range(200)]
+    for values in inputs:
+        got, want = [], []
+        for run, out in ((appliers[plain], want), (folded, got)):
+            for apply in run:
+                out += list(apply(values))
+        assert got == want, values
+        assert [s.target for s in fast.character.servos.values()] == \
+            [s.target for s in plain.character.servos.values()], values
+
+
 def _checked_ticks(session):
     """Wrap the runtime's tick: after each, the schedule it kept (the WAITED shortcut)
     must be the one a full reschedule computes."""

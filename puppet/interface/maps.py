@@ -155,7 +155,58 @@ def _full_grid(x_name, y_name, rows, cols, mirror, servos, joints, cells):
             SET_TARGET(servo.spring._constraint,  # servo.target =
                        0.0 + w0 * a0 + w1 * a1 + w2 * a2 + w3 * a3)
         return joints
+    apply_full_grid.grid = ((x_name, y_name, rows, cols), (flip_x, flip_y), servos, joints,
+                            cells)
     return apply_full_grid
+
+
+def _grid_run(grids):
+    """Several ``apply_full_grid``'s on the same inputs and grid shape (a cat's four
+    legs) as one applier: the corners and weights worked out once per mirror, then each
+    target the same sum as its grid's own applier makes (the same bits). The grids drive
+    different joints (else they are not folded), so the order of the writes is free:
+    they go mirror by mirror. The corner cells' angles, per set of corners, are
+    gathered once (cached)."""
+    (x_name, y_name, rows, cols), _, _, _, _ = grids[0]
+    flips = list(dict.fromkeys(g[1] for g in grids))  # the mirrors, in first-use order
+    uses = [flips.index(g[1]) for g in grids]
+    joints = tuple(j for g in grids for j in g[3])
+    last_col, last_row = cols - 1, rows - 1
+    gathered: dict = {}  # the corners of each mirror -> per mirror ((servo, a0..a3), ...)
+
+    def gather(key):
+        out = [[] for _ in flips]
+        for (_, _, servos, _, cells), k in zip(grids, uses):
+            r0, c0, r1, c1 = key[k]
+            out[k] += zip(servos, cells[r0][c0], cells[r0][c1], cells[r1][c0], cells[r1][c1])
+        gathered[key] = tuple(tuple(o) for o in out)
+        return gathered[key]
+
+    def apply_grid_run(values):
+        x0, y0 = values.get(x_name), values.get(y_name)
+        if x0 is None or y0 is None:
+            return ()
+        corners, weights = [], []
+        for flip_x, flip_y in flips:  # apply_full_grid's arithmetic, per mirror
+            x = 1.0 - x0 if flip_x else x0
+            y = 1.0 - y0 if flip_y else y0
+            m = x if x > 0.0 else 0.0
+            fx = (m if m < 1.0 else 1.0) * last_col
+            m = y if y > 0.0 else 0.0
+            fy = (1.0 - (m if m < 1.0 else 1.0)) * last_row
+            c0 = min(int(fx), cols - 2) if cols > 1 else 0
+            r0 = min(int(fy), rows - 2) if rows > 1 else 0
+            tx, ty = fx - c0, fy - r0
+            corners.append((r0, c0, min(r0 + 1, last_row), min(c0 + 1, last_col)))
+            weights.append(((1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty))
+        key = tuple(corners)
+        runs = gathered.get(key) or gather(key)
+        for (w0, w1, w2, w3), run in zip(weights, runs):
+            for servo, a0, a1, a2, a3 in run:  # (a re-seat may give a servo a new spring)
+                SET_TARGET(servo.spring._constraint,
+                           0.0 + w0 * a0 + w1 * a1 + w2 * a2 + w3 * a3)
+        return joints
+    return apply_grid_run
 
 
 def _compile_linear(spec, servos, channels=None):
@@ -227,7 +278,24 @@ def fused(appliers) -> list:
             out.extend(run)
         run.clear()
 
+    grids = []  # likewise a run of full grids on the same inputs and grid shape
+
+    def close_grids():
+        joints = [j for a in grids for j in a.grid[3]]
+        if len(grids) > 1 and len(set(joints)) == len(joints):  # (each joint once)
+            out.append(_grid_run([a.grid for a in grids]))
+        else:
+            out.extend(grids)
+        grids.clear()
+
     for applier in appliers:
+        grid = getattr(applier, "grid", None)
+        if grids and (grid is None or grid[0] != grids[0].grid[0]):
+            close_grids()
+        if grid is not None:
+            close()
+            grids.append(applier)
+            continue
         plain = getattr(applier, "plain", None)
         if plain is None or (run and run[0].plain[0] is not plain[0]):
             close()
@@ -236,6 +304,8 @@ def fused(appliers) -> list:
         else:
             run.append(applier)
     close()
+    if grids:
+        close_grids()
     return out
 
 

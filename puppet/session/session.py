@@ -18,7 +18,7 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
+from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, queued, step_space
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
 
@@ -27,6 +27,13 @@ WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends
 MAX_SPEED2 = MAX_SPEED ** 2
 # the root's position and velocity each frame: pymunk's own C calls, without its Vec2d
 _position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
+_space_step = _cp.cpSpaceStep
+
+
+def _clean(space) -> bool:
+    """``step_space`` would only call Chipmunk's step: nothing queued in pymunk's space,
+    nothing to let go of after a step (then ``advance`` calls the C step itself)."""
+    return not (queued(space) or space._removed_shapes)
 
 
 def world_box(scene) -> tuple[float, float, float, float]:
@@ -287,6 +294,9 @@ class Session:
         # link (by name) must stay in the box x0..x1, y0..y1
         every, root, x0, x1, y0, y1 = self._advance_constants
         health = history.health_every
+        dt, space = sim.dt, sim.space
+        clean = _clean(space)  # (a tick that adds to the space is checked again)
+        ptr = space._space
         while now < end:
             # Time-driven interface work (sequences, reaches, timers...) runs at the
             # steps the runtime asks for; when idle (next_wakeup None) the physics
@@ -295,16 +305,27 @@ class Session:
             if wake is not None and wake <= now:
                 runtime.tick(now)
                 wake = runtime.next_wakeup
+                space = sim.space
+                clean = _clean(space)
+                ptr = space._space
             boundary = now - now % every + every
             stop = end if end < boundary else boundary
             if wake is not None and wake < stop:
                 stop = wake
-            step_space(sim.space, sim.dt, stop - now)  # Simulation.step, inlined
+            if clean:  # Simulation.step, inlined: step_space's C steps
+                for _ in range(stop - now):
+                    _space_step(ptr, dt)
+            else:
+                step_space(space, dt, stop - now)
+                clean = _clean(space)
             sim.steps = now = stop
             if now == boundary:
                 if now % health == 0:
                     self._at_boundary()  # a recovery restores the state, not the step count
                     runtime = self.runtime  # and may switch interface versions
+                    space = sim.space  # (a keyframe re-seats it)
+                    clean = _clean(space)
+                    ptr = space._space
                 else:  # the root alone, each frame: NaN fails every comparison
                     body = sim.character.bodies[root]._body
                     p = _position(body)
@@ -316,6 +337,9 @@ class Session:
                             continue  # (not halted: only a recovery halts)
                     self._recover()
                     runtime = self.runtime
+                    space = sim.space
+                    clean = _clean(space)
+                    ptr = space._space
                 if self.halted:
                     sim.steps = end  # the rest of the call: time only
                     break

@@ -397,6 +397,36 @@ class LogFeeder:
 
     def advance(self, steps: int) -> None:
         """Run up to ``steps`` steps; the events due at the step reached act too."""
+        if self.until is not None:
+            self._advance(steps)
+            return
+        # ``_advance`` without an until step, ``next_move`` inlined (a replay's hot
+        # loop: an event every frame, a frame a few steps)
+        session, events, end, on_action = self.session, self.events, self.end, self.on_action
+        handle, n, i = session.handle, len(events), self.i
+        budget = steps
+        while True:
+            now = session.sim.steps
+            if i < n:
+                at, event = events[i]
+                if at <= now:  # due: it acts now
+                    action = handle(event)
+                    self.i = i = i + 1
+                    if action is not None and on_action is not None:
+                        on_action(action)
+                    continue
+                move = at - now
+            elif end is None or end <= now:
+                return
+            else:
+                move = end - now
+            if budget <= 0:
+                return
+            k = budget if budget < move else move
+            session.advance(k)
+            budget -= k
+
+    def _advance(self, steps: int) -> None:
         budget = steps
         while (move := self._move()) is not None:
             if move == 0:
