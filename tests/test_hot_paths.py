@@ -186,6 +186,22 @@ def test_a_tick_that_only_waited_keeps_the_schedule_a_full_reschedule_gives():
         assert seen["ticks"] > 100 and seen["kept"] > 10, (name, seen)
 
 
+def test_every_step_blends_and_sensor_maps_keep_the_schedule_a_full_reschedule_gives():
+    """Luxo's helpers at ``control_rate: 480``: a blend writing plain targets and sensor
+    maps, each at every step, only wait as far as the schedule goes (base.WAITED); the
+    replays keep their hashes and every kept schedule is the full one."""
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    for name in ("luxo-shuffle", "luxo-back-headspring"):
+        log = read_log(f"assets/logs/{name}.jsonl")
+        session = new_session(log, setup_for_log(log)[0])
+        seen = _checked_ticks(session)
+        LogFeeder(session, log).advance(log.last_step)
+        assert session.sim.state_hash() == log.end_hash, name
+        assert seen["ticks"] > 300 and seen["kept"] > 100, (name, seen)
+
+
 def test_a_one_sensor_state_polls_as_the_general_loop_does():
     from puppet.data.catalog import load_setup
 

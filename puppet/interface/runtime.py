@@ -146,7 +146,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.controllers = (self.sequences, self.gestures, self.reaching, self.grasping,
                             self.perturber, self.tracker, self.blends, self.frames,
                             self.feedback)
-        self._watched = [(c, c.BUSY) for c in self.controllers]
+        self._watched = tuple((c, c.BUSY, c.next_wakeup) for c in self.controllers)
         self._active: list = []  # controllers with work scheduled (next wake-up not None)
         self._controllers_wake: int | None = None  # the earliest of theirs
         self.next_wakeup: int | None = None
@@ -500,17 +500,24 @@ class InterfaceRuntime(ActiveMaps, Actions):
         ``next_wakeup(earliest)``, a tick's ``due`` having worked it out)."""
         wake = None
         active = []
-        for controller, busy in self._watched:
+        for controller, busy, next_wakeup in self._watched:
             if getattr(controller, busy):  # idle controllers are not asked (hot path)
-                at = controller.next_wakeup(earliest)
+                at = next_wakeup(earliest)
                 if at is not None:
                     active.append(controller)
-                    wake = at if wake is None or at < wake else wake
+                    if wake is None or at < wake:
+                        wake = at
         self._controllers_wake = wake
-        for machine in self._machine_list:
-            at = machine.wake_after if machines_due else machine.next_wakeup(earliest)
-            if at is not None and (wake is None or at < wake):
-                wake = at
+        if machines_due:
+            for machine in self._machine_list:
+                at = machine.wake_after
+                if at is not None and (wake is None or at < wake):
+                    wake = at
+        else:
+            for machine in self._machine_list:
+                at = machine.next_wakeup(earliest)
+                if at is not None and (wake is None or at < wake):
+                    wake = at
         self._active = active
         self.next_wakeup = wake if wake is None or wake > earliest else earliest
 

@@ -32,8 +32,10 @@ from puppet.interface.poses import (
     frame_target,
     made_frame_target,
 )
+from puppet.physics.servo import SET_TARGET
 
 _angle = _cp.cpBodyGetAngle
+_set_target = SET_TARGET
 
 
 def _ease(u: float) -> float:
@@ -104,39 +106,63 @@ class BlendController:
             now -= _angle(bodies[target.ref]._body)
         return target.angle + math.remainder(now - target.angle, 2.0 * math.pi)
 
-    def _write(self, step: int) -> None:
+    def _write(self, step: int) -> bool:
+        """Write the travelling targets at ``step``; True when that was all: plain
+        targets only, none arrived or taken back (the schedule stands)."""
         table = self.owners_table.table
         servos = self.character.servos
-        for joint, (start, to, first, last, target) in list(self.moving.items()):
+        moving = self.moving
+        plain = True
+        for joint, m in tuple(moving.items()):
             if table.get(joint) != BLEND:  # taken back by a later write
-                del self.moving[joint]
+                del moving[joint]
+                plain = False
                 continue
-            u = 1.0 if step >= last else _ease((step - first) / (last - first))
+            start, to, first, last, target = m
+            if step >= last:
+                u = 1.0
+            else:  # _ease, inlined (the same operations)
+                u = (step - first) / (last - first)
+                u = u * u * (3.0 - 2.0 * u)
             value = start + (to - start) * u
             if target is None:
-                servos[joint].target = value
+                _set_target(servos[joint].spring._constraint, value)  # servo.target =
             else:
+                plain = False
                 self.frames.hold(joint, made_frame_target(target.ref, value, target.hold_parent),
                                  BLEND)
             if step >= last:  # arrived: a plain target stays, a frame target is held on
-                del self.moving[joint]
+                plain = False
+                del moving[joint]
                 if target is None:
                     del table[joint]
                 else:
                     self.frames.hold(joint, target)  # under FRAME, as an instant pose's
+        return plain
 
     def tick(self, step: int) -> str | None:
-        if step % self.every and not any(step >= m[3] for m in self.moving.values()):
-            return WAITED  # between control steps, nothing arriving
-        self._write(step)
-        return None
+        if step % self.every:
+            if not any(step >= m[3] for m in self.moving.values()):
+                return WAITED  # between control steps, nothing arriving
+            self._write(step)
+            return None
+        if self._write(step) and self.every == 1:
+            return WAITED  # at every step, plain targets only, none arrived: the next
+        return None  # wake-up is the next step, the arbiter's schedule (base.WAITED)
 
     def next_wakeup(self, earliest: int) -> int | None:
-        if not self.moving:
+        moving = self.moving
+        if not moving:
             return None
-        tick = -(-earliest // self.every) * self.every
-        arrive = min(max(m[3], earliest) for m in self.moving.values())
-        return min(tick, arrive)
+        every = self.every
+        tick = -(-earliest // every) * every
+        arrive = None  # the first arrival, not before ``earliest``
+        for m in moving.values():
+            if arrive is None or m[3] < arrive:
+                arrive = m[3]
+        if arrive < earliest:
+            arrive = earliest
+        return tick if tick <= arrive else arrive
 
     def owners(self) -> set[Owner]:
         return {BLEND} if self.moving else set()

@@ -78,7 +78,10 @@ class Feedback:
             b = base[joint] if joint in last and now == last[joint] else now  # rewritten?
             base[joint], last[joint] = b, b + value
             _set_target(spring, b + value)
-        self.busy = bool(self.setters or self.adders or last)
+        busy = self.busy = bool(self.setters or self.adders or last)
+        if busy and self.every == 1:
+            return WAITED  # at every step, still busy: the next wake-up is the next step,
+        return None  # the arbiter's schedule (base.WAITED)
 
     def next_wakeup(self, earliest: int) -> int | None:
         if not (self.setters or self.adders or self.last):

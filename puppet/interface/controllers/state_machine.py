@@ -11,6 +11,8 @@ activating its maps) is the runtime's work: ``due`` only says where to go.
 
 from __future__ import annotations
 
+import math
+
 from puppet.interface.conditions import compile_bounds, compile_test, reader
 from puppet.interface.ownership import Owner
 
@@ -20,18 +22,27 @@ DEVICE = ("input.mouse.", "input.pointer.", "input.gamepad.")
 
 
 def _all_of(tests):
-    """A reader that is 1.0 when every (reader, test) holds, else 0.0 (in order, so a
-    cheap contact test written first spares the others)."""
+    """A reader that is 1.0 when every condition holds, else 0.0 (in order, so a cheap
+    contact test written first spares the others). ``tests``: (reader, lo, hi, test):
+    a range condition holds when lo < value < hi (compared here, not called: what its
+    ``compile_test`` does), an ``is`` condition when ``test(value)``."""
+    tests = tuple(tests)
+
     def read() -> float:
-        for read_one, test in tests:
-            if not test(read_one()):
+        for read_one, lo, hi, test in tests:
+            if test is None:
+                if not lo < read_one() < hi:
+                    return 0.0
+            elif not test(read_one()):
                 return 0.0
         return 1.0
     return read
 
 
-def _HOLDS(value: float) -> bool:
-    return value > 0.5
+def _test_of(condition) -> tuple:
+    """(lo, hi, None) for a range condition, (None, None, test) for an ``is``."""
+    bounds = compile_bounds(condition)
+    return (*bounds, None) if bounds is not None else (None, None, compile_test(condition))
 
 
 class StateMachine:
@@ -129,10 +140,11 @@ class StateMachine:
 
         def compiled(t):
             conditions = t.conditions
-            if len(conditions) > 1:  # all must hold: one reading of 1.0 or 0.0
+            if len(conditions) > 1:  # all must hold: one reading of 1.0 or 0.0, which
+                # holds when 0.5 < it (< inf): ``value > 0.5``, compared without a call
                 return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
-                        _all_of([(readers[c.sensor], compile_test(c)) for c in conditions]),
-                        _HOLDS, None, None)
+                        _all_of([(readers[c.sensor], *_test_of(c)) for c in conditions]),
+                        None, 0.5, math.inf)
             when = conditions[0] if conditions else None
             bounds = compile_bounds(when) if when is not None else None
             return (interface.resolve_goto(t.to, name), round((t.after or 0.0) / dt),
