@@ -39,6 +39,17 @@ def is_analog(name: str) -> bool:
     return device == "channel" or name in ("mouse.x", "mouse.y")
 
 
+class AnalogNames(dict):
+    """A gamepad event's name -> ``gamepad.NAME`` when that input is analog (a stick, a
+    trigger, an axis: ``is_analog``; maps only, no press), else None; worked out once
+    per name (the runtime's fast path for sticks)."""
+
+    def __missing__(self, part: str) -> str | None:
+        name = f"gamepad.{part}"
+        self[part] = name if is_analog(name) else None
+        return self[part]
+
+
 def mouse(x: float, y: float) -> Event:
     return {"type": "mouse", "x": float(x), "y": float(y)}
 

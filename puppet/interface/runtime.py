@@ -51,7 +51,7 @@ from puppet.interface.controllers.reach import ReachController
 from puppet.interface.controllers.sequence import SequenceController
 from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.controllers.tracking import OFF, Tracker
-from puppet.interface.events import Event, is_analog
+from puppet.interface.events import AnalogNames, Event, is_analog
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import JointOwners
 from puppet.interface.roles import RoleBinding
@@ -159,6 +159,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         # a map reads them)
         self._pointer = any(n in POINTER for m in every_map(spec) for n in m.inputs)
         stick = spec.gamepad.pointer
+        self._stick_names = AnalogNames()  # (a gamepad event's analog input, or None)
         self._pointer_axes = {f"gamepad.{stick}_x": "pointer.x",
                               f"gamepad.{stick}_y": "pointer.y"}
         self.mode = spec.start_mode
@@ -350,6 +351,20 @@ class InterfaceRuntime(ActiveMaps, Actions):
             # Maps write targets and take joints; nothing else that sets a wake-up
             # changes (an emptied sequence or gesture ends at its own next wake-up).
             return None
+        if kind == "gamepad":  # a stick (the frequent case): its maps, as below
+            name = self._stick_names[event["name"]]
+            if name is not None:
+                value = float(event["value"])
+                self.inputs[name] = value
+                pointer = self._pointer and self._pointer_axes.get(name)
+                if pointer:  # the pointer stick moves the pointer, as the mouse does
+                    self.inputs[pointer] = pointer_value(value)
+                self.apply_maps((name, pointer) if pointer else (name,))
+                if self.frames.held and self.frames not in self._active:
+                    self._reschedule(self.step_now())  # a map holds a frame target
+                if self._device_machines:  # a state polling the stick polls it again
+                    self._stir(self.step_now())
+                return None
         now = self.step_now()
         result = None
         if kind == "key":

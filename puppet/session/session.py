@@ -105,8 +105,8 @@ class Session:
         """Apply an input event at the current step. Returns the app action a key
         stands for when that action is the window's business (pause, quit...)."""
         kind = event["type"]
-        if kind == "channels" or kind == "mouse":  # the frequent events: recorded, then
-            runtime = self.runtime                 # the runtime's fast paths
+        if kind == "channels" or kind == "mouse" or kind == "gamepad":  # the frequent
+            runtime = self.runtime  # events: recorded, then the runtime's fast paths
             if not self._rebuilding:
                 steps = self.sim.steps
                 if self.listener is not None:
@@ -118,7 +118,13 @@ class Session:
             if kind == "channels":  # a stream's frame (mocap)
                 runtime._on_channels(event["values"])
                 return None
-            return runtime.on_event(event)  # (which runs pending channel maps first)
+            if kind == "mouse":
+                return runtime.on_event(event)  # (which runs pending channel maps first)
+            action = runtime.on_event(event)  # a gamepad's button may ask for an action
+            if action in SIM_ACTIONS:
+                self.perform(action)
+                return None
+            return action
         if self.runtime._pending:
             self.runtime.flush()  # channel maps act before anything after them
         # a key's owner, resolved once for this press (interface.bindings decides)
@@ -328,13 +334,26 @@ class Session:
                     ptr = space._space
                 else:  # the root alone, each frame: NaN fails every comparison
                     body = sim.character.bodies[root]._body
-                    p = _position(body)
-                    x, y = p.x, p.y
-                    if x0 < x < x1 and y0 < y < y1:
-                        v = _velocity(body)
-                        vx, vy = v.x, v.y
-                        if vx * vx + vy * vy < MAX_SPEED2:
-                            continue  # (not halted: only a recovery halts)
+                    while True:
+                        p = _position(body)
+                        x, y = p.x, p.y
+                        ok = x0 < x < x1 and y0 < y < y1
+                        if ok:
+                            v = _velocity(body)
+                            vx, vy = v.x, v.y
+                            ok = vx * vx + vy * vy < MAX_SPEED2
+                        # passed, and the next frame whole, with nothing due in it and
+                        # no health check at its end: it is stepped and checked here
+                        # (what the outer loop would do, at more cost)
+                        nxt = now + every
+                        if not (ok and clean and nxt <= end and nxt % health
+                                and (wake is None or wake >= nxt)):
+                            break
+                        for _ in range(every):
+                            _space_step(ptr, dt)
+                        sim.steps = now = nxt
+                    if ok:
+                        continue  # (not halted: only a recovery halts)
                     self._recover()
                     runtime = self.runtime
                     space = sim.space
