@@ -202,6 +202,28 @@ def test_every_step_blends_and_sensor_maps_keep_the_schedule_a_full_reschedule_g
         assert seen["ticks"] > 300 and seen["kept"] > 100, (name, seen)
 
 
+def test_advance_steps_chipmunk_itself_exactly_when_step_space_would():
+    """Session.advance calls cpSpaceStep itself when ``_clean``: the spelt-out form of
+    ``not (queued(space) or space._removed_shapes)`` (step_space's own test)."""
+    import pymunk
+
+    from puppet.physics.simulation import queued
+    from puppet.session.session import _clean
+
+    space = pymunk.Space()
+    assert _clean(space) and not queued(space)
+    body = pymunk.Body(1.0, 1.0)
+    shape = pymunk.Circle(body, 0.1)
+    space.add(body, shape)  # a body to check at the next step
+    assert not _clean(space) and queued(space)
+    space.step(0.01)
+    assert _clean(space) and not queued(space)
+    space.remove(shape)  # a shape to let go of after a step
+    assert not _clean(space) and not queued(space) and space._removed_shapes
+    space.add_post_step_callback(lambda *a: None, "k")
+    assert not _clean(space) and queued(space)
+
+
 def test_a_one_sensor_state_polls_as_the_general_loop_does():
     from puppet.data.catalog import load_setup
 

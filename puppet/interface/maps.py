@@ -312,19 +312,22 @@ def fused(appliers) -> list:
 def _plain_run(source, params):
     params = tuple(params)
     set_target = SET_TARGET
+    every = tuple(p[7] for p in params)  # the joints written when every input has a value
 
     def apply_plain_run(values):
         get = (values if source is None else source).get
-        written = []
-        for name, x0, inv, lo, span, gain, servo, joint in params:
+        missing = False
+        for name, x0, inv, lo, span, gain, servo, _ in params:
             v = get(name)
             if v is None:
+                missing = True
                 continue
             u = (v - x0) * inv
             u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
             set_target(servo.spring._constraint, gain * (lo + u * span))  # servo.target =
-            written.append(joint)
-        return written
+        if missing:  # the joints of the inputs that have one
+            return [p[7] for p in params if get(p[0]) is not None]
+        return every
     return apply_plain_run
 
 
