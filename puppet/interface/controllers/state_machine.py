@@ -227,9 +227,20 @@ class StateMachine:
                         return to
                 else:
                     self._since.pop(k, None)
-        if polling and self.device_only and since >= self._polled:
+        polled, timer = self._polled, self._timer
+        if polling and self.device_only and since >= polled:
             self.quiet = True  # every polled transition asked: none until an input event
-        self.wake_after = self.next_wakeup(now + 1)
+        # wake_after = self.next_wakeup(now + 1), inlined (the same arithmetic)
+        earliest, entered, best = now + 1, self.entered, None
+        if polled is not None and not self.quiet:
+            at = entered + polled
+            at = at if at > earliest else earliest
+            best = -(-at // every) * every
+        if timer is not None:
+            at = entered + timer
+            at = at if at > earliest else earliest
+            best = at if best is None or at < best else best
+        self.wake_after = best
         return None
 
     def owners(self) -> set[Owner]:
