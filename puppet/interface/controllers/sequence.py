@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from puppet.data.actions import SequenceStepSpec
-from puppet.interface.conditions import compile_test
+from puppet.interface.conditions import compile_bounds, compile_test
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import SEQUENCE, JointOwners, Owner
 from puppet.interface.poses import Pose, apply_pose
@@ -32,10 +32,12 @@ def compile_sequences(specs: dict[str, list[SequenceStepSpec]],
 def compile_untils(specs: dict[str, list[SequenceStepSpec]],
                    dt: float) -> dict[str, list[tuple[int, list] | None]]:
     """name -> per step, None or (steps into the step before ``until`` is tested, its
-    conditions as [(sensor name, test)])."""
+    conditions as [(sensor name, test, lo, hi)]: a range condition holds when lo <
+    value < hi (compared without a call: what ``test`` does), an ``is`` when ``test``)."""
     return {name: [None if s.until is None else
                    (round((s.after or 0.0) / dt),
-                    [(c.sensor, compile_test(c)) for c in s.conditions])
+                    [(c.sensor, compile_test(c), *(compile_bounds(c) or (None, None)))
+                     for c in s.conditions])
                    for s in steps]
             for name, steps in specs.items()}
 
@@ -120,11 +122,14 @@ class SequenceController:
         if until is None or step - (seq.began or 0) < until[0]:
             return None
         readers = self.readers
-        for sensor, test in until[1]:
+        for sensor, test, lo, hi in until[1]:
             read = readers.get(sensor)
             if read is None:
                 read = readers[sensor] = self.sensor(sensor)
-            if not test(read()):
+            if lo is None:
+                if not test(read()):
+                    return False
+            elif not lo < read() < hi:
                 return False
         return True
 
