@@ -7,6 +7,7 @@ step, ``next_wakeup`` says when it is next due (None: idle), ``get_state``/``set
 carry it through snapshots as plain values, ``adopt`` takes over a running action from
 the controller of the interface a hot reload replaces, and ``stop`` ends it. A
 ``tick`` that had nothing to do at that step (a sequence holding its pose, a
-control-rate controller between its steps) returns ``WAITED``, and the arbiter keeps
-its schedule; returning None is always safe (the arbiter asks every controller again).
+control-rate controller between its steps; a blend or sensor maps at every step that
+only wrote targets) returns ``WAITED``, and the arbiter keeps its schedule; returning
+None is always safe (the arbiter asks every controller again).
 """

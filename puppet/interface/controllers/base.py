@@ -9,10 +9,13 @@ from puppet.interface.ownership import Owner
 # What ``tick`` may return when, at this step, it only waited: it changed nothing at all
 # and its ``next_wakeup`` stands, or is the next step (a sequence holding its pose, or
 # testing its step's ``until`` that does not hold yet; a control-rate controller between
-# its steps). The arbiter then keeps its schedule (the earliest wake-up it had, else the
-# next step) instead of asking every controller again (the state machines poll each
-# frame: the hot path). Anything else (None) means "something may have changed": the
-# arbiter reschedules.
+# its steps). Also a controller that works at every step (``control_rate: 480``: a blend
+# writing plain targets, sensor maps) and only wrote targets: no joint arrived, was
+# taken back or held in another frame, no other controller started, and its next
+# wake-up is the next step. The arbiter then keeps its schedule (the earliest wake-up
+# it had, else the next step) instead of asking every controller again (the state
+# machines poll each frame: the hot path). Anything else (None) means "something may
+# have changed": the arbiter reschedules.
 WAITED = "waited"
 
 
