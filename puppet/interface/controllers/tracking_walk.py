@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 from puppet.data.errors import DataError
+from puppet.interface.controllers.kd_kernel import ChainPose
 from puppet.interface.controllers.kd_pull import channel_pose, tracked_chain
 
 
@@ -120,6 +121,15 @@ class WalkInPlace:
             return None
         chain, feet = self._feet_chain()
         angle = math.radians(ch[root.angle])
+        fast = self.__dict__.get("_feet_kernel")
+        if fast is not None:  # the compiled kernel (kd_kernel), the same arithmetic
+            poses, index = fast.pose(ch, 0.0, 0.0, angle, math.cos(angle),
+                                     math.sin(angle)), fast.index
+            ys = []
+            for foot, gx, gy in feet:
+                i = 5 * index[foot]
+                ys.append(poses[i + 1] + poses[i + 4] * gx + poses[i + 3] * gy)
+            return ys[0] - ys[1]
         poses = channel_pose(chain, self.character.spec.root, (0.0, 0.0), angle,
                              math.cos(angle), math.sin(angle), ch)  # (not clamped)
         ys = []
@@ -145,6 +155,10 @@ class WalkInPlace:
                                   self.joints, {})  # each joint's channel, no limits
             bodies = self.character.bodies
             got = self._feet_rows = (chain, [(f, *bodies[f].center_of_gravity) for f in feet])
+            if self.__dict__.get("_kern") is not None:  # (tracking_pull: the kernel runs)
+                cs = self.character.spec
+                self._feet_kernel = ChainPose(self._kern.kernel, chain,
+                                              [link.name for link in cs.links], cs.root)
         return got
 
     def _cycle_lifts(self) -> tuple[float, float]:
