@@ -90,7 +90,29 @@ class GaitCycle:
     def travel(self, phase: float) -> float:
         """m: the root's travel from the cycle's start to ``phase``."""
         x = self.x
-        return self._raw_one(self.a + (self.b - self.a) * phase, x) - self._raw_one(self.a, x)
+        start = self.__dict__.get("_start")
+        if start is None:  # (the same value each time: worked out once)
+            start = self._start = self._raw_one(self.a, x)
+        return self._raw_one(self.a + (self.b - self.a) * phase, x) - start
+
+    def blend_into(self, out: dict, ch: dict, phase: float, names, weight: float) -> None:
+        """``out[n] = u + (w - u) * weight`` for the cycle's channels among ``names``,
+        ``w`` its value at ``phase`` (``at_some``) and ``u`` ``ch``'s (``w`` if none):
+        ``WalkInPlace._walked``'s blend, without the dict in between."""
+        rows = self.__dict__.get("_blend_rows")
+        if rows is None or rows[0] is not names:
+            index = {n: i for i, n in enumerate(self.names)}
+            rows = self._blend_rows = (names, [(n, index[n]) for n in dict.fromkeys(names)
+                                               if n in index])
+        u = self.a + (self.b - self.a) * phase
+        k = min(int(u), len(self.frames) - 2)
+        f = u - k
+        p, q, drift, get = self.frames[k], self.frames[k + 1], self.drift, ch.get
+        for n, i in rows[1]:
+            v = p[i]
+            w = v + (q[i] - v) * f - drift[i] * phase
+            c = get(n, w)
+            out[n] = c + (w - c) * weight
 
 
 class WalkInPlace:
@@ -222,13 +244,9 @@ class WalkInPlace:
         if weight <= 0.0 and travel == 0.0:
             return ch
         out = dict(ch)
-        if weight > 0.0:
-            joints = self.spec.walk_in_place.joints
-            walk = self.walk_cycle.at_some(self.walk[4], joints)
-            for name in joints:
-                if name in walk:
-                    u = ch.get(name, walk[name])
-                    out[name] = u + (walk[name] - u) * weight
+        if weight > 0.0:  # (at_some's values, blended in: GaitCycle.blend_into)
+            self.walk_cycle.blend_into(out, ch, self.walk[4], self.spec.walk_in_place.joints,
+                                       weight)
         if rx in out:
             out[rx] = out[rx] + travel
         return out
