@@ -83,3 +83,31 @@ def test_no_compiler_falls_back_to_python(tmp_path, monkeypatch, path_of):
     kernel.reset()
     with pytest.raises(kernel.KernelError):
         kernel.get()
+
+
+def _tracker_states(name: str, at: list[int]) -> list:
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    log = read_log(str(LOGS / f"{name}.jsonl"))
+    setup, _ = setup_for_log(log)
+    session = new_session(log, setup)
+    feeder, out, now = LogFeeder(session, log), [], 0
+    for step in at:
+        feeder.advance(step - now)
+        now = step
+        out.append(session.runtime.tracker.get_state())
+    return out
+
+
+@needs_cc
+def test_the_tracker_keeps_the_same_state_on_both_paths(path_of):
+    """What a checkpoint keeps of the tracker (the last sample's link positions, their
+    velocities, the feet's turning rates, from the kernel's arrays) is the Python
+    path's, in mid-walk and in mid-reaction to a push."""
+    at = [1000, 2001, 2600, 3500]
+    path_of("c")
+    with_kernel = _tracker_states("biped-mocap-push", at)
+    path_of("python")
+    assert _tracker_states("biped-mocap-push", at) == with_kernel
+    assert all(state[5] is not None for state in with_kernel)  # a sample's memory
