@@ -79,13 +79,12 @@ def reset() -> None:
 def key() -> str:
     """The build's name: a hash of what makes a different binary."""
     import hashlib
-    import platform
+    import sysconfig
 
-    import cffi
+    import _cffi_backend  # (cffi's C part, which pymunk has loaded: its version, cheaply)
 
     text = "\n".join([CDEF, SOURCE, " ".join(FLAGS), sys.implementation.cache_tag,
-                      sys.version, platform.machine(), platform.system(),
-                      cffi.__version__])
+                      sys.version, sysconfig.get_platform(), _cffi_backend.__version__])
     return "_puppet_kernel_" + hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
