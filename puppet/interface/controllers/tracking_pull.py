@@ -37,11 +37,12 @@ class Pulls:
 
     def _pulls_init(self) -> None:
         """The kernel's arrays (before anything sets ``prev``), or None: Python's path."""
-        k = _kernel.get()
         self._kern = None
         self._kernel_tick = None  # (step, view, values, has): _kernel_values's
-        if k is not None and self.spec is not None and self.spec.root is not None:
-            self._kern = TrackKernel(k, self, self._all_points)
+        if self.spec is not None and self.spec.root is not None:  # (pulls to make)
+            k = _kernel.get()
+            if k is not None:
+                self._kern = TrackKernel(k, self, self._all_points)
 
     def _tracked_rows(self) -> list[tuple]:
         tracked = self.__dict__.get("_tracked")
