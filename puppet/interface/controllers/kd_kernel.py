@@ -138,6 +138,7 @@ class TrackKernel:
         self.names = list(names)  # the channels read, root x, y, angle first
         self.row_joints = [tracker.joint_of.get(name) for name in self.rows]
         self._bound = None
+        self.bodies_of = None  # the character's bodies (dict) bound last
 
     # -- binding ---------------------------------------------------------------------
     def bind(self, plan, servos) -> None:

@@ -57,7 +57,10 @@ class Pulls:
         got = self._kernel_tick
         if not fresh and got is not None and got[0] == step and got[1] is ch:
             return got[2], got[3]
-        kern.bind(self._link_plan(self._figure.rows()), self.character.servos)
+        c = self.character
+        if kern.bodies_of is not c.bodies:  # (a restore binds new bodies and springs)
+            kern.bind(self._link_plan(self._figure.rows()), c.servos)
+            kern.bodies_of = c.bodies
         vals, has = list(map(ch.get, kern.names)), None
         if None in vals:
             has = bytes(v is not None for v in vals)
