@@ -14,6 +14,7 @@ from pymunk._chipmunk_cffi import ffi as _ffi
 from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec, LinkSpec
+from puppet.physics import kernel as _kernel
 from puppet.physics.body_state import BodyReader
 from puppet.physics.servo import PDServo
 from puppet.physics.snapshot import restored_contacts, restored_touching
@@ -264,6 +265,8 @@ class Character:
     def _com(self) -> tuple[float, float]:
         """The mass-weighted mean of each link's centre of gravity in the world
         (``cpBodyLocalToWorld`` of it, worked out from the bulk reading)."""
+        if _kernel.get() is not None:
+            return self._com_kernel()[0]
         values, rows = self._read()
         sx = sy = 0.0
         cos, sin = math.cos, math.sin
@@ -277,12 +280,42 @@ class Character:
     def _com_velocity(self) -> tuple[float, float]:
         """... and of their velocities (a body's velocity at its centre of gravity is
         its velocity)."""
+        if _kernel.get() is not None:
+            return self._com_kernel()[1]
         values, rows = self._read()
         sx = sy = 0.0
         for i, mass, _, _ in rows:
             sx += mass * values[i + 3]
             sy += mass * values[i + 4]
         return (sx / self.mass, sy / self.mass)
+
+    def _com_kernel(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """``_com`` and ``_com_velocity`` by the compiled kernel (``physics.kernel``: the
+        same sums, reading each body through Chipmunk's getters), both at once (once
+        per ``sample``)."""
+        memo = self._memo
+        if memo is not None:
+            got = memo.get("com_kernel")
+            if got is not None:
+                return got
+        bodies = self.bodies
+        cached = self.__dict__.get("_com_rows")
+        if cached is None or cached[0] is not bodies:
+            k = _kernel.get()
+            ffi, values = k.ffi, list(bodies.values())
+            args = (ffi.new("void *[]", [k.pointer(b._body) for b in values]),
+                    ffi.new("double[]", [b.mass for b in values]),
+                    ffi.new("double[]", [b.center_of_gravity[0] for b in values]),
+                    ffi.new("double[]", [b.center_of_gravity[1] for b in values]),
+                    len(values), self.mass, ffi.new("double[4]"))
+            cached = self._com_rows = (bodies, k.lib.pk_com, args)
+        _, com, args = cached
+        com(*args)
+        out = args[-1]
+        got = ((out[0], out[1]), (out[2], out[3]))
+        if memo is not None:
+            memo["com_kernel"] = got
+        return got
 
     def _read(self) -> tuple[list[float], list]:
         """Every body's state in one call (``body_state``), once per ``sample``, and

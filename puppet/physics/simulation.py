@@ -139,12 +139,19 @@ class Simulation:
     def ground_surface(self, x: float) -> float | None:
         """The height of the ground's top under ``x`` (its line plus half its
         thickness), None off its ends."""
+        spec = self.scene_spec
+        got = self.__dict__.get("_ground_spans")
+        if got is None or got[0] is not spec:  # (KD tracking asks at every control step)
+            got = self._ground_spans = (spec, [
+                (min(x0, x1), max(x0, x1), x0, y0, x1, y1, ground.thickness / 2)
+                for ground in spec.ground
+                for (x0, y0), (x1, y1) in zip(ground.points, ground.points[1:])
+                if x1 != x0])
         best = None
-        for ground in self.scene_spec.ground:
-            for (x0, y0), (x1, y1) in zip(ground.points, ground.points[1:]):
-                if min(x0, x1) <= x <= max(x0, x1) and x1 != x0:
-                    y = y0 + (y1 - y0) * (x - x0) / (x1 - x0) + ground.thickness / 2
-                    best = y if best is None else max(best, y)
+        for lo, hi, x0, y0, x1, y1, half in got[1]:
+            if lo <= x <= hi:
+                y = y0 + (y1 - y0) * (x - x0) / (x1 - x0) + half
+                best = y if best is None else max(best, y)
         return best
 
     def push(self, link: str, impulse: tuple[float, float], point=None) -> None:

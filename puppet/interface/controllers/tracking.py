@@ -31,35 +31,30 @@ from __future__ import annotations
 
 import math
 
-from pymunk._chipmunk_cffi import lib as _cp
-
 from puppet.data.tracking import TrackingSpec
 from puppet.interface.controllers.kd_pull import (
     FigureRows,
-    channel_pose,
     inertia_beyond,
     joint_chain,
-    link_plan,
     lowest_points,
     mix,
-    tracked_chain,
 )
 from puppet.interface.controllers.tracking_contact import IntentionalContacts
-from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees, supported
+from puppet.interface.controllers.tracking_getup import GetUp, joint_degrees
 from puppet.interface.controllers.tracking_library import LibraryReactions
+from puppet.interface.controllers.tracking_pull import PRESS, TRACK, Pulls
 from puppet.interface.controllers.tracking_reaction import Reactions
 from puppet.interface.controllers.tracking_walk import WalkInPlace
 from puppet.interface.ownership import JointOwners, Owner
 from puppet.physics.kinematics import joint_order
 from puppet.physics.servo import SET_TARGET as _set_target
 
-TRACK = Owner("track")
+__all__ = ["ANGLES", "KD", "OFF", "PRESS", "TRACK", "Tracker"]
+
 OFF, ANGLES, KD = "off", "angles", "kd"
-PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the ground, so
-# the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
-class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
+class Tracker(Pulls, Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
     BUSY = "busy"
 
     def __init__(self, spec: TrackingSpec | None, character, owners: JointOwners,
@@ -94,6 +89,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         self.scale = {} if spec is None else dict(spec.scale)
         self.ground_at = ground_at  # x -> the ground's surface height (None: no lift)
         self.soles = {} if spec is None else {f: lowest_points(character, f) for f in spec.feet}
+        self._pulls_init()  # (tracking_pull: the compiled kernel's arrays, when it runs)
         self.stop()
 
     # -- actions ---------------------------------------------------------------------
@@ -314,6 +310,9 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         table, servos = self.owners_table.table, self.character.servos
         channels = self._view(step)
         w = self._blend(step)
+        if w >= 1.0 and self._kern is not None:
+            self._write_targets_kernel(self._kern, step, channels)
+            return channels
         start, limits, radians = self.blend_from, self.limits, math.radians
         for joint, channel in self.joints.items():
             value = channels.get(channel)
@@ -337,6 +336,7 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
     def tick(self, step: int) -> None:
         if step % self.every or self.mode == OFF:
             return
+        self._kernel_tick = None  # (the channels may have changed since)
         if not self.lost and self.getup is None and step - self.last_sample > self.lost_steps:
             self.lost = True
             self.blend_at = self.back = None
@@ -351,9 +351,9 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         if self.lost and self.hold is None:
             return
         table = self.owners_table.table
-        taken = [j for j in self.scaled if table.get(j) != TRACK]
-        if taken:  # joints later actions took: their own gains again
-            self._give_back(taken)
+        owners = list(map(table.get, self.scaled))
+        if owners.count(TRACK) != len(owners):  # joints later actions took: their own
+            self._give_back([j for j in self.scaled if table.get(j) != TRACK])  # gains
         if not self.owners_table.holds_any(TRACK):  # every joint taken by later actions
             self.impact_at = None
             return
@@ -363,148 +363,6 @@ class Tracker(Reactions, LibraryReactions, WalkInPlace, IntentionalContacts):
         else:
             self.impact_at = None
         self._contacts(step)  # a held hand swings the body as the performer's moves
-
-    def _pull(self, step: int, channels: dict | None = None) -> None:
-        """Velocity changes that pull each link's centre of mass toward the performed
-        pose's (implicit PD over one control period), weaker while reacting to a push.
-        ``channels``: this step's view, when the targets were just written from it."""
-        reaction = self.reaction
-        if reaction is not None and reaction[0] == "fall" and self.getup is None \
-                and self.spec.reaction.get_up is not None and self.lib is None \
-                and self.search_at is None \
-                and (step - reaction[1]) * self.dt >= self.spec.reaction.fall.hold:
-            self._start_get_up(step)  # lain long enough: up, through the poses
-            channels = None  # the view is the get-up's now
-        spec, c = self.spec, self.character
-        ch = self._view(step) if channels is None else channels
-        root = spec.root
-        x, y, a = ch.get(root.x), ch.get(root.y), ch.get(root.angle)
-        if x is None or y is None or a is None:
-            return
-        if self.x0 is None:
-            self.x0 = self._hinge_world()[0] - x
-        angle = math.radians(a)
-        hinges = self.__dict__.setdefault("_hinges", {})  # (a search of the joints)
-        hinge = hinges.get(root.at) or hinges.setdefault(root.at, c.spec.joint(root.at).anchor)
-        cos, sin = math.cos(angle), math.sin(angle)
-        hx, hy = self.x0 + x, y
-        origin = (hx - (cos * hinge[0] - sin * hinge[1]), hy - (sin * hinge[0] + cos * hinge[1]))
-        # the performed pose, each link's turn's cosine and sine with it (kd_pull)
-        tracked = self.__dict__.get("_tracked")
-        if tracked is None:
-            tracked = self._tracked = tracked_chain(self._chain, self.joints, self.limits)
-        poses = channel_pose(tracked, c.spec.root, origin, angle, cos, sin, ch)
-        lift = self._lift(poses, hx, ch.get(root.clearance, 0.0),
-                          self._all_points() if self.getup is not None else self.soles)
-        T = self.period
-        prev = self.prev
-        plan = self._link_plan(self._figure.rows())
-        targets = {}
-        for name, _, _, _, gx, gy, _, _, _, _, sole in plan:
-            ox, oy, oa, cl, sl = poses[name]
-            if sole:  # the feet's performed angles ride along
-                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift, oa)
-            else:
-                targets[name] = (ox + cl * gx - sl * gy, oy + sl * gx + cl * gy + lift)
-        # The performed velocities, from the last two samples (a stream's frames come
-        # at their own rate, not the control rate's): held between samples.
-        sample = self.last_sample
-        if prev is None or sample != self.prev_step:
-            if prev is not None and sample > self.prev_step:
-                h = (sample - self.prev_step) * self.dt
-                self.vel = {n: ((p[0] - prev[n][0]) / h, (p[1] - prev[n][1]) / h)
-                            for n, p in targets.items() if n in prev}
-                self.spin = {n: (targets[n][2] - prev[n][2]) / h for n in self.soles
-                             if n in prev and len(prev[n]) > 2}
-            else:
-                self.vel, self.spin = {}, {}
-            self.prev, self.prev_step = targets, sample
-        vel = self.vel
-        if self.impact_at is not None and step > self.impact_at:
-            mass = c.mass
-            com = (sum(c.bodies[n].mass * p[0] for n, p in targets.items()) / mass,
-                   sum(c.bodies[n].mass * p[1] for n, p in targets.items()) / mass)
-            vx = sum(c.bodies[n].mass * v[0] for n, v in vel.items()) / mass
-            self._react(step, com, vx)
-        weight = self._weight(step) * self._blend(step)
-        stepping = self.step[0] if self.step is not None else None
-        getting_up = self.getup is not None
-        if getting_up:
-            get_up = self.spec.reaction.get_up
-            no_lift = not supported(c, self.soles, get_up.hands)  # nothing pushes on the ground
-            rise = get_up.rise
-        table, spins = self.owners_table.table, self.spin
-        state = self._figure.read()  # every body in one call: what each link is now
-        set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
-        mcos, msin, still = math.cos, math.sin, (0.0, 0.0)  # (hoisted: 13 links at 120 Hz)
-        for name, cb, i, m, gx, gy, joint, ks, ds, m_T, sole in plan:
-            if joint is not None and table.get(joint) != TRACK:
-                continue  # a link the performer does not drive (a key took its joint)
-            target = targets[name]
-            px, py = target[0], target[1]
-            w = weight
-            if name == stepping:  # the protective step, then back to the performance
-                px, py = self._stepped(step, weight, px, py)
-                w = 1.0
-            k, d = ks * w, ds * w  # kp * s * w, dp * sqrt(s) * w: the same ratio
-            if k == 0.0 and d == 0.0:
-                continue
-            tvx, tvy = vel.get(name, still)
-            bx, by, ba, vx, vy, spin = state[i:i + 6]
-            cb_, sb = mcos(ba), msin(ba)  # its centre: cpBodyLocalToWorld's sums
-            wx, wy = cb_ * gx + -sb * gy + bx, sb * gx + cb_ * gy + by
-            den = m_T + k * T + d
-            new_vy = (m * vy / T + k * (py - wy) + d * tvy) / den
-            if getting_up and new_vy > vy:  # no levitation: a link rises only by pushing
-                new_vy = vy if no_lift else min(new_vy, max(vy, rise))  # on the ground,
-                # and no faster than a body pushes itself up
-            set_velocity(cb, ((m * vx / T + k * (px - wx) + d * tvx) / den, new_vy))
-            if sole:  # a foot is also turned flat as performed (its sole
-                # stands on the ground; the ankle's inertia-scaled gain alone is weak)
-                inertia = c.bodies[name].moment
-                kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
-                want = poses[name][2]
-                turn = want - ba
-                turn -= 2 * math.pi * round(turn / (2 * math.pi))
-                set_spin(cb, (inertia * spin / T + kt * turn + dt_ * spins.get(name, 0.0))
-                         / (inertia / T + kt * T + dt_))
-
-    def _link_plan(self, rows) -> list[tuple]:
-        """``kd_pull.link_plan`` of ``rows``, again for new rows (a restore re-binds the
-        bodies)."""
-        cached = self.__dict__.get("_plan")
-        if cached is None or cached[0] is not rows:
-            cached = self._plan = (rows, link_plan(rows, self.spec.preset, self.scale,
-                                                   self.joint_of, self.period, self.soles))
-        return cached[1]
-
-    def _all_points(self) -> dict:
-        """Every link's lowest points (a get-up's pose stands on knees, hands...)."""
-        if not hasattr(self, "_every_point"):
-            c = self.character
-            self._every_point = {link.name: lowest_points(c, link.name)
-                                 for link in c.spec.links}
-        return self._every_point
-
-    def _lift(self, poses, x: float, clearance: float, soles=None) -> float:
-        """How far up (or down) the performed pose must go for its lowest foot to stand
-        on the ground - or to be ``clearance`` above it, in a performer's jump: the
-        performer's proportions differ from the figure's, and a foot held in the air by
-        the pulls would leave the figure hanging on them."""
-        soles = self.soles if soles is None else soles
-        if not soles or self.ground_at is None:
-            return 0.0
-        ground = self.ground_at(x)
-        if ground is None:
-            return 0.0
-        lowest = math.inf
-        for link, points in soles.items():
-            _, oy, _, cl, sl = poses[link]  # (performed_pose: its cosine and sine)
-            for px, py, r in points:
-                y = oy + sl * px + cl * py - r
-                if y < lowest:
-                    lowest = y
-        return ground + (clearance if clearance > 0.0 else -PRESS) - lowest
 
     def next_wakeup(self, earliest: int) -> int | None:
         if self.mode == OFF:

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 from puppet.data.errors import DataError
+from puppet.interface.controllers.kd_kernel import ChainPose
 from puppet.interface.controllers.kd_pull import channel_pose, tracked_chain
 
 
@@ -89,7 +90,29 @@ class GaitCycle:
     def travel(self, phase: float) -> float:
         """m: the root's travel from the cycle's start to ``phase``."""
         x = self.x
-        return self._raw_one(self.a + (self.b - self.a) * phase, x) - self._raw_one(self.a, x)
+        start = self.__dict__.get("_start")
+        if start is None:  # (the same value each time: worked out once)
+            start = self._start = self._raw_one(self.a, x)
+        return self._raw_one(self.a + (self.b - self.a) * phase, x) - start
+
+    def blend_into(self, out: dict, ch: dict, phase: float, names, weight: float) -> None:
+        """``out[n] = u + (w - u) * weight`` for the cycle's channels among ``names``,
+        ``w`` its value at ``phase`` (``at_some``) and ``u`` ``ch``'s (``w`` if none):
+        ``WalkInPlace._walked``'s blend, without the dict in between."""
+        rows = self.__dict__.get("_blend_rows")
+        if rows is None or rows[0] is not names:
+            index = {n: i for i, n in enumerate(self.names)}
+            rows = self._blend_rows = (names, [(n, index[n]) for n in dict.fromkeys(names)
+                                               if n in index])
+        u = self.a + (self.b - self.a) * phase
+        k = min(int(u), len(self.frames) - 2)
+        f = u - k
+        p, q, drift, get = self.frames[k], self.frames[k + 1], self.drift, ch.get
+        for n, i in rows[1]:
+            v = p[i]
+            w = v + (q[i] - v) * f - drift[i] * phase
+            c = get(n, w)
+            out[n] = c + (w - c) * weight
 
 
 class WalkInPlace:
@@ -120,6 +143,15 @@ class WalkInPlace:
             return None
         chain, feet = self._feet_chain()
         angle = math.radians(ch[root.angle])
+        fast = self.__dict__.get("_feet_kernel")
+        if fast is not None:  # the compiled kernel (kd_kernel), the same arithmetic
+            poses, index = fast.pose(ch, 0.0, 0.0, angle, math.cos(angle),
+                                     math.sin(angle)), fast.index
+            ys = []
+            for foot, gx, gy in feet:
+                i = 5 * index[foot]
+                ys.append(poses[i + 1] + poses[i + 4] * gx + poses[i + 3] * gy)
+            return ys[0] - ys[1]
         poses = channel_pose(chain, self.character.spec.root, (0.0, 0.0), angle,
                              math.cos(angle), math.sin(angle), ch)  # (not clamped)
         ys = []
@@ -145,6 +177,10 @@ class WalkInPlace:
                                   self.joints, {})  # each joint's channel, no limits
             bodies = self.character.bodies
             got = self._feet_rows = (chain, [(f, *bodies[f].center_of_gravity) for f in feet])
+            if self.__dict__.get("_kern") is not None:  # (tracking_pull: the kernel runs)
+                cs = self.character.spec
+                self._feet_kernel = ChainPose(self._kern.kernel, chain,
+                                              [link.name for link in cs.links], cs.root)
         return got
 
     def _cycle_lifts(self) -> tuple[float, float]:
@@ -208,13 +244,9 @@ class WalkInPlace:
         if weight <= 0.0 and travel == 0.0:
             return ch
         out = dict(ch)
-        if weight > 0.0:
-            joints = self.spec.walk_in_place.joints
-            walk = self.walk_cycle.at_some(self.walk[4], joints)
-            for name in joints:
-                if name in walk:
-                    u = ch.get(name, walk[name])
-                    out[name] = u + (walk[name] - u) * weight
+        if weight > 0.0:  # (at_some's values, blended in: GaitCycle.blend_into)
+            self.walk_cycle.blend_into(out, ch, self.walk[4], self.spec.walk_in_place.joints,
+                                       weight)
         if rx in out:
             out[rx] = out[rx] + travel
         return out

@@ -1,0 +1,271 @@
+"""The compiled kernel's C text (``physics.kernel`` builds it): KD tracking's pull
+loop and forward kinematics, the joint targets it writes, and the centre of mass.
+
+Every line is the Python it replaces, operation for operation, so both give the same
+bits: the same sums in the same order and grouping (``a + b * c - d * e`` is
+``(a + b * c) - d * e``), no contraction into fused multiply-adds and no
+reassociation (compiled with ``-O2 -ffp-contract=off``, never ``-ffast-math``),
+doubles in SSE registers (x86-64), libm's ``sin``/``cos`` as Python's ``math`` calls
+them (``-fno-builtin``: no ``sincos`` merged from the two), ``math.radians`` as
+CPython's ``x * (pi / 180)`` and ``round`` as round-half-even (``nearbyint``).
+Chipmunk is called through pymunk's own functions, handed over as pointers
+(``pk_init``): the kernel links to nothing but libm.
+"""
+
+TYPES = """
+typedef struct {
+    int n;            /* joints, parents before children (kinematics.joint_order) */
+    int *parent, *child;  /* link indices into the poses */
+    int *value;       /* index into the values, or -1: not tracked (the joint at 0) */
+    int *limited;
+    double *ax, *ay, *lo, *hi;
+} pk_chain;
+
+typedef struct {
+    pk_chain *chain;
+    int root;         /* the root link's index */
+    double hinge_x, hinge_y;
+    int rows;         /* the pulled links (kd_pull.link_plan's rows) */
+    int *link;        /* row -> link index */
+    int *sole;
+    void **body;      /* row -> cpBody * */
+    double *m, *gx, *gy, *ks, *ds, *m_T;
+    int n_points[2];  /* lowest points: [0] the feet's, [1] every link's */
+    int *point_link[2];
+    double *px[2], *py[2], *pr[2];
+    int n_targets;    /* joint targets written: tracked joints */
+    int *target_value, *target_limited;
+    double *target_lo, *target_hi;
+    void **spring;    /* tracked joint -> cpConstraint * (its damped rotary spring) */
+    double *poses;    /* per link: x, y, angle, cos, sin */
+    double *targets;  /* per row: x, y, angle */
+    int has_prev;
+    double *prev; int *prev_has;   /* per row: x, y, angle; 0, 2 or 3 of them */
+    double *vel; int *vel_has;
+    double *spin; int *spin_has;
+} pk_track;
+"""
+
+CDEF = TYPES + """
+void pk_init(void **fns);
+void pk_pose(pk_chain *c, const double *vals, const char *has, int root, double ox,
+             double oy, double angle, double cs, double sn, double *poses);
+void pk_targets(pk_track *t, const double *vals, const char *has, const char *own);
+void pk_track_pose(pk_track *t, const double *vals, const char *has, double x, double y,
+                   double a, double x0, int lift, double ground, double extra, int vel,
+                   double h);
+void pk_track_pull(pk_track *t, double weight, const char *own, int stepping, double sx,
+                   double sy, int getting_up, int no_lift, double rise, double T);
+void pk_com(void **bodies, const double *mass, const double *gx, const double *gy, int n,
+            double total, double *out);
+"""
+
+SOURCE = TYPES + r"""
+#include <math.h>
+
+typedef struct { double x, y; } pk_vect;  /* cpVect */
+typedef pk_vect (*pk_getv)(void *);
+typedef double (*pk_getd)(void *);
+typedef void (*pk_setv)(void *, pk_vect);
+typedef void (*pk_setd)(void *, double);
+
+static pk_getv get_position, get_velocity;
+static pk_getd get_angle, get_spin, get_moment;
+static pk_setv set_velocity;
+static pk_setd set_spin, set_rest_angle;
+
+/* CPython's math.radians: x * degToRad, degToRad = Py_MATH_PI / 180.0 */
+static const double DEG = 3.14159265358979323846264338327950288 / 180.0;
+static const double TURN = 2.0 * 3.14159265358979323846264338327950288;  /* 2 * math.pi */
+
+void pk_init(void **fns)
+{
+    get_position = (pk_getv)fns[0]; get_angle = (pk_getd)fns[1];
+    get_velocity = (pk_getv)fns[2]; get_spin = (pk_getd)fns[3];
+    get_moment = (pk_getd)fns[4]; set_velocity = (pk_setv)fns[5];
+    set_spin = (pk_setd)fns[6]; set_rest_angle = (pk_setd)fns[7];
+}
+
+/* kd_pull.channel_pose */
+void pk_pose(pk_chain *c, const double *vals, const char *has, int root, double ox,
+             double oy, double angle, double cs, double sn, double *poses)
+{
+    double *r = poses + 5 * root;
+    r[0] = ox; r[1] = oy; r[2] = angle; r[3] = cs; r[4] = sn;
+    for (int j = 0; j < c->n; j++) {
+        const double *p = poses + 5 * c->parent[j];
+        double px = p[0], py = p[1], pa = p[2], co = p[3], si = p[4];
+        double ax = c->ax[j], ay = c->ay[j];
+        double wx = px + co * ax - si * ay, wy = py + si * ax + co * ay;
+        int i = c->value[j];
+        double a;
+        if (i >= 0 && (has == 0 || has[i])) {
+            double v = vals[i] * DEG;
+            if (c->limited[j])
+                v = v < c->lo[j] ? c->lo[j] : v > c->hi[j] ? c->hi[j] : v;
+            a = pa + v;
+        } else {
+            a = pa + 0.0;
+        }
+        co = cos(a);
+        si = sin(a);
+        double *q = poses + 5 * c->child[j];
+        q[0] = wx - (co * ax - si * ay); q[1] = wy - (si * ax + co * ay);
+        q[2] = a; q[3] = co; q[4] = si;
+    }
+}
+
+/* Tracker._write_targets without a blend: each tracked joint the tracker owns */
+void pk_targets(pk_track *t, const double *vals, const char *has, const char *own)
+{
+    for (int j = 0; j < t->n_targets; j++) {
+        int i = t->target_value[j];
+        if ((has != 0 && !has[i]) || (own != 0 && !own[j]))
+            continue;
+        double target = vals[i] * DEG;
+        if (t->target_limited[j])
+            target = target < t->target_lo[j] ? t->target_lo[j]
+                   : target > t->target_hi[j] ? t->target_hi[j] : target;
+        set_rest_angle(t->spring[j], target);
+    }
+}
+
+/* Tracker._pull up to the loop: the performed pose, its lift, the targets and the
+   performed velocities (vel: 0 kept, 1 from the last sample h s ago, 2 none) */
+void pk_track_pose(pk_track *t, const double *vals, const char *has, double x, double y,
+                   double a, double x0, int lift, double ground, double extra, int vel,
+                   double h)
+{
+    double angle = a * DEG;
+    double cs = cos(angle), sn = sin(angle);
+    double hx = x0 + x, hy = y;
+    double ox = hx - (cs * t->hinge_x - sn * t->hinge_y);
+    double oy = hy - (sn * t->hinge_x + cs * t->hinge_y);
+    double *P = t->poses;
+    pk_pose(t->chain, vals, has, t->root, ox, oy, angle, cs, sn, P);
+    double up = 0.0;
+    if (lift) {  /* Tracker._lift */
+        int k = lift - 1;
+        double lowest = INFINITY;
+        for (int i = 0; i < t->n_points[k]; i++) {
+            const double *p = P + 5 * t->point_link[k][i];
+            double yy = p[1] + p[4] * t->px[k][i] + p[3] * t->py[k][i] - t->pr[k][i];
+            if (yy < lowest)
+                lowest = yy;
+        }
+        up = ground + extra - lowest;
+    }
+    double *T = t->targets;
+    for (int r = 0; r < t->rows; r++) {
+        const double *p = P + 5 * t->link[r];
+        double gx = t->gx[r], gy = t->gy[r];
+        T[3 * r] = p[0] + p[3] * gx - p[4] * gy;
+        T[3 * r + 1] = p[1] + p[4] * gx + p[3] * gy + up;
+        T[3 * r + 2] = p[2];
+    }
+    if (vel == 0)
+        return;
+    for (int r = 0; r < t->rows; r++) {
+        if (vel == 1 && t->prev_has[r]) {
+            t->vel[2 * r] = (T[3 * r] - t->prev[3 * r]) / h;
+            t->vel[2 * r + 1] = (T[3 * r + 1] - t->prev[3 * r + 1]) / h;
+            t->vel_has[r] = 1;
+        } else {
+            t->vel_has[r] = 0;
+        }
+        if (vel == 1 && t->sole[r] && t->prev_has[r] > 2) {
+            t->spin[r] = (T[3 * r + 2] - t->prev[3 * r + 2]) / h;
+            t->spin_has[r] = 1;
+        } else {
+            t->spin_has[r] = 0;
+        }
+    }
+    for (int r = 0; r < t->rows; r++) {
+        t->prev[3 * r] = T[3 * r];
+        t->prev[3 * r + 1] = T[3 * r + 1];
+        t->prev[3 * r + 2] = T[3 * r + 2];
+        t->prev_has[r] = t->sole[r] ? 3 : 2;
+    }
+    t->has_prev = 1;
+}
+
+/* Tracker._pull's loop: each pulled link's velocity change (and a foot's turn) */
+void pk_track_pull(pk_track *t, double weight, const char *own, int stepping, double sx,
+                   double sy, int getting_up, int no_lift, double rise, double T)
+{
+    for (int r = 0; r < t->rows; r++) {
+        if (own != 0 && !own[r])
+            continue;
+        double px = t->targets[3 * r], py = t->targets[3 * r + 1];
+        double w = weight;
+        if (r == stepping) {
+            px = sx;
+            py = sy;
+            w = 1.0;
+        }
+        double k = t->ks[r] * w, d = t->ds[r] * w;
+        if (k == 0.0 && d == 0.0)
+            continue;
+        double tvx = 0.0, tvy = 0.0;
+        if (t->vel_has[r]) {
+            tvx = t->vel[2 * r];
+            tvy = t->vel[2 * r + 1];
+        }
+        void *b = t->body[r];
+        pk_vect pos = get_position(b);
+        double ba = get_angle(b);
+        pk_vect v = get_velocity(b);
+        double spin = get_spin(b);
+        double m = t->m[r], gx = t->gx[r], gy = t->gy[r];
+        double cb = cos(ba), sb = sin(ba);
+        double wx = cb * gx + -sb * gy + pos.x, wy = sb * gx + cb * gy + pos.y;
+        double den = t->m_T[r] + k * T + d;
+        double new_vy = (m * v.y / T + k * (py - wy) + d * tvy) / den;
+        if (getting_up && new_vy > v.y) {
+            if (no_lift) {
+                new_vy = v.y;
+            } else {
+                double top = rise > v.y ? rise : v.y;  /* max(vy, rise) */
+                new_vy = top < new_vy ? top : new_vy;  /* min(new_vy, top) */
+            }
+        }
+        pk_vect nv;
+        nv.x = (m * v.x / T + k * (px - wx) + d * tvx) / den;
+        nv.y = new_vy;
+        set_velocity(b, nv);
+        if (t->sole[r]) {
+            double inertia = get_moment(b);
+            double kt = k * inertia / m, dt_ = d * inertia / m;
+            double want = t->targets[3 * r + 2];
+            double turn = want - ba;
+            double n = nearbyint(turn / TURN);
+            if (n == 0.0)
+                n = 0.0;  /* round() gives the int 0: no -0.0 */
+            turn -= TURN * n;
+            double spins = t->spin_has[r] ? t->spin[r] : 0.0;
+            set_spin(b, (inertia * spin / T + kt * turn + dt_ * spins)
+                        / (inertia / T + kt * T + dt_));
+        }
+    }
+}
+
+/* Character._com and _com_velocity: the same sums over the links, in their order */
+void pk_com(void **bodies, const double *mass, const double *gx, const double *gy, int n,
+            double total, double *out)
+{
+    double sx = 0.0, sy = 0.0, vx = 0.0, vy = 0.0;
+    for (int i = 0; i < n; i++) {
+        void *b = bodies[i];
+        pk_vect p = get_position(b);
+        double a = get_angle(b);
+        double c = cos(a), s = sin(a);
+        sx += mass[i] * (c * gx[i] + -s * gy[i] + p.x);
+        sy += mass[i] * (s * gx[i] + c * gy[i] + p.y);
+        pk_vect v = get_velocity(b);
+        vx += mass[i] * v.x;
+        vy += mass[i] * v.y;
+    }
+    out[0] = sx / total; out[1] = sy / total;
+    out[2] = vx / total; out[3] = vy / total;
+}
+"""

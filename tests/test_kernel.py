@@ -1,0 +1,113 @@
+"""The compiled kernel (puppet/physics/kernel.py) and its pure-Python fallback give the
+same bits: mocap and walker logs replay to their recorded hashes on either path.
+
+The logs cover the kernel's branches: KD tracking's pulls and targets (the mocap
+walk), walking in place (the feet's forward kinematics), a push's reactions with a
+protective step, a fall and a get-up (no lifting, the pose on every link's points), a
+lost stream stood on, and the walkers' centre of mass and its velocity. A test that
+needs a compiler skips where there is none; CI has gcc. None reads a clock.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+
+import pytest
+
+from puppet.data.catalog import ROOT
+from puppet.physics import kernel
+from puppet.testing import replay_log
+
+LOGS = ROOT / "assets" / "logs"
+TRACKED = ["biped-mocap-walk", "biped-mocap-in-place", "biped-mocap-push",
+           "biped-mocap-fall", "biped-mocap-lost"]
+WALKERS = ["biped-walk", "biped-auto-walk"]
+needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
+                              and shutil.which("gcc") is None, reason="no C compiler")
+
+
+@pytest.fixture
+def path_of(monkeypatch):
+    """``path_of("c")`` / ``path_of("python")``: run on that path from now on."""
+    def choose(how: str):
+        monkeypatch.setenv(kernel.ENV, how)
+        kernel.reset()
+        return kernel.get()
+    yield choose
+    kernel.reset()
+
+
+def _replayed(name: str):
+    result = replay_log(str(LOGS / f"{name}.jsonl"))
+    return result.final_hash, result.recorded_hash, result.failed
+
+
+@needs_cc
+@pytest.mark.parametrize("name", TRACKED + WALKERS)
+def test_both_paths_replay_to_the_recorded_hash(name, path_of):
+    assert path_of("c") is not None
+    with_kernel = _replayed(name)
+    assert path_of("python") is None
+    in_python = _replayed(name)
+    assert with_kernel[0] == in_python[0] == with_kernel[1], (with_kernel, in_python)
+    assert not with_kernel[2] and not in_python[2]
+
+
+def test_python_path_on_request(path_of):
+    assert path_of("python") is None
+    assert path_of("PYTHON ") is None
+
+
+@needs_cc
+def test_built_into_the_cache_once(tmp_path, monkeypatch, path_of):
+    """A fresh cache gets one module, keyed by the source's hash, and no leftovers
+    (the build's temporary directory is gone); the next process loads it."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert path_of("") is not None
+    made = os.listdir(tmp_path / "puppet")
+    assert len(made) == 1 and made[0].startswith(kernel.key()), made
+    assert path_of("c") is not None
+    assert os.listdir(tmp_path / "puppet") == made
+
+
+def test_no_compiler_falls_back_to_python(tmp_path, monkeypatch, path_of):
+    """A build that fails leaves the Python path (and a note, so that the next start
+    does not try again); ``PUPPET_KERNEL=c`` makes it an error."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
+    monkeypatch.setattr(kernel, "FLAGS", [*kernel.FLAGS, "-DNO_CC"])  # (a new key)
+    assert path_of("") is None
+    assert any(n.endswith(".failed") for n in os.listdir(tmp_path / "puppet"))
+    monkeypatch.setenv(kernel.ENV, "c")
+    kernel.reset()
+    with pytest.raises(kernel.KernelError):
+        kernel.get()
+
+
+def _tracker_states(name: str, at: list[int]) -> list:
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    log = read_log(str(LOGS / f"{name}.jsonl"))
+    setup, _ = setup_for_log(log)
+    session = new_session(log, setup)
+    feeder, out, now = LogFeeder(session, log), [], 0
+    for step in at:
+        feeder.advance(step - now)
+        now = step
+        out.append(session.runtime.tracker.get_state())
+    return out
+
+
+@needs_cc
+def test_the_tracker_keeps_the_same_state_on_both_paths(path_of):
+    """What a checkpoint keeps of the tracker (the last sample's link positions, their
+    velocities, the feet's turning rates, from the kernel's arrays) is the Python
+    path's, in mid-walk and in mid-reaction to a push."""
+    at = [1000, 2001, 2600, 3500]
+    path_of("c")
+    with_kernel = _tracker_states("biped-mocap-push", at)
+    path_of("python")
+    assert _tracker_states("biped-mocap-push", at) == with_kernel
+    assert all(state[5] is not None for state in with_kernel)  # a sample's memory
