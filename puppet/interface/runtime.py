@@ -389,15 +389,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
             if pointer:  # the pointer stick moves the pointer, as the mouse does
                 self.inputs[pointer] = pointer_value(value)
             self.apply_maps((name, pointer) if pointer else (name,))
-            if kind != "channel" and not is_analog(name):
-                if (was > 0.5) != (value > 0.5):  # buttons also act as keys
-                    result = self._press(name, value > 0.5, now)
-            elif kind == "gamepad":  # a stick: maps only, as the mouse's (no wake-up
-                if self.frames.held and self.frames not in self._active:  # changes)
-                    self._reschedule(now)  # a map holds a frame target: re-solve it
-                if self._device_machines:  # a state polling the stick polls it again
-                    self._stir(now)
-                return None
+            if kind != "channel" and not is_analog(name) and (was > 0.5) != (value > 0.5):
+                result = self._press(name, value > 0.5, now)  # buttons also act as keys
         else:
             return None
         if self._device_machines:
@@ -483,8 +476,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     to = machine.due(step)
                     if to is None:
                         break
-        if moved or not waited:  # (no state entered: each machine's due() just worked
-            self._reschedule(step + 1, not moved)  # out its next_wakeup(step + 1))
+        if moved or not waited or (self.frames.held and self.frames not in active):
+            self._reschedule(step + 1, not moved)  # (a sensor map held a frame target)
         else:  # every controller idle or waiting, and no state entered: the controllers'
             earliest = step + 1  # wake-ups stand, only the machines' move on
             wake = self._controllers_wake
