@@ -87,6 +87,31 @@ def test_the_trot_climb_is_not_a_knife_edge(physics):
     assert not result.failed, [str(o) for o in result.outcomes]
 
 
+@pytest.mark.parametrize("physics", [{"iterations": 36}, {"dt": 1 / 240}],
+                         ids=["36-passes", "1-240-step"])
+def test_the_bound_climb_is_not_a_knife_edge(physics):
+    """Issue 28: with the ankles a servo again on the ladder (reach_low's ankle damping)
+    and every stroke searched on all three physics, the bound climb meets its feat on 36
+    solver passes and a 1/240 s step too (before, the second hands-up stroke went up
+    behind rung 7 there)."""
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.replay import replay
+
+    result = replay(LOGS[0], physics=OtherPhysics(**physics))
+    assert not result.failed, [str(o) for o in result.outcomes]
+
+
+def test_with_the_figures_own_ankle_damping_the_bound_climb_fails(tmp_path):
+    """reach_low's ankle gains removed: the light foot's servo is damped so hard that the
+    ankle keeps whatever angle it is left at and creeps under load, the body leans back
+    another way and the strokes miss their rungs."""
+    def own_ankles(spec):
+        pose = spec["poses"]["reach_low"]
+        for key in ("damping", "max_torque"):
+            pose.pop(key)
+    assert CLIMB & _failed(tmp_path, LOGS[0], own_ankles)
+
+
 def test_without_the_seek_the_trot_climb_misses_on_a_1_240_step(tmp_path):
     """The hands' stepping states without their seek map: on a 1/240 s step the near
     hand swings up behind rung 9 and the climb stops there."""
