@@ -141,3 +141,26 @@ def test_com_fall_time_is_the_free_flights_time_down_to_y_0():
     assert read() == pytest.approx(t - steps * s.sim.dt, abs=0.01)
     s.advance(round(t / s.sim.dt))  # landed: at rest on the floor its COM is above y 0
     assert 0.0 < read() < 0.3
+
+
+def test_com_spin_is_the_whole_bodys_spin_and_keeps_in_the_air():
+    """``com.spin``: the angular momentum about the centre of mass over the moment of
+    inertia there (deg/s in a map). A figure spun as a rigid body reads that spin; in the
+    air, with the joints moving, a link's spin changes but the body's does not."""
+    s = Session(load_setup("biped-stand"))
+    s.advance(60)
+    c = s.character
+    cx, cy = c.com()
+    w = 2.0  # rad/s, counter-clockwise: every link turned as one rigid body, 3 m up
+    for b in c.bodies.values():
+        px, py = b.local_to_world(b.center_of_gravity)
+        b.position = (b.position.x, b.position.y + 3.0)
+        b.velocity = (-w * (py - cy), w * (px - cx))
+        b.angular_velocity = w
+    read = reader("com.spin", c)
+    assert read() == pytest.approx(w, rel=1e-9)
+    for j in ("hip_near", "knee_near", "waist"):  # the servos fold the body in the air
+        c.servos[j].target = c.servos[j].target + 1.0
+    s.advance(60)
+    assert abs(c.bodies["thigh_near"].angular_velocity - w) > 0.2  # a link's spin changed
+    assert read() == pytest.approx(w, rel=0.02)  # the body's did not

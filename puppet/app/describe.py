@@ -49,7 +49,7 @@ def _sensor_words(sensor: str) -> str:
     fixed = {"com.vx": "body's speed forward", "com.vy": "body's speed up",
              "com.x": "body's position", "com.y": "body's height", "lean": "body's lean",
              "root.angle": "tilt", "com.dx.support": "body ahead of the feet",
-             "com.fall_time": "time left in the air"}
+             "com.fall_time": "time left in the air", "com.spin": "body's spin"}
     if sensor in fixed:
         return fixed[sensor]
     kind, _, what = sensor.partition(".")

@@ -17,7 +17,8 @@ from puppet.data.errors import DataError
 from puppet.data.interfaces import MAIN_MACHINE
 from puppet.data.yamlfile import Located
 
-FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy", "com.fall_time")
+FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy", "com.fall_time",
+                 "com.spin")
 JOINT_SENSORS = ("joint",)
 LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 

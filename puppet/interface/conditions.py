@@ -106,6 +106,7 @@ FIXED: dict[str, tuple[Callable[[Character], Reader], bool]] = {
     "com.vx": (lambda c: lambda: c.com_velocity()[0], False),
     "com.vy": (lambda c: lambda: c.com_velocity()[1], False),
     "com.fall_time": (_fall_time, False),
+    "com.spin": (lambda c: c.com_spin, True),
 }
 # "<kind>.<joint or link name>" -> (reader factory, reads an angle?)
 NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {

@@ -252,6 +252,12 @@ class Character:
         """The centre of mass's velocity, world m/s."""
         return self._sampled("com_velocity", self._com_velocity)
 
+    def com_spin(self) -> float:
+        """The whole body's spin about its centre of mass (rad/s, counter-clockwise):
+        its angular momentum about the centre of mass over its moment of inertia there.
+        Unlike one link's spin it does not change in the air: what the take-off gave."""
+        return self._sampled("com_spin", self._com_spin)
+
     def _sampled(self, name: str, compute):
         """``compute()``, once per ``sample`` while one runs."""
         memo = self._memo
@@ -316,6 +322,25 @@ class Character:
         if memo is not None:
             memo["com_kernel"] = got
         return got
+
+    def _com_spin(self) -> float:
+        """Sum of m (r x v) + I w over the links, r and v relative to the centre of
+        mass, divided by sum of I + m r^2 (both about the centre of mass)."""
+        values, rows = self._read()
+        cx, cy = self.com()
+        vx, vy = self.com_velocity()
+        cos, sin = math.cos, math.sin
+        momentum = inertia = 0.0
+        for (i, mass, gx, gy), body in zip(rows, self.bodies.values()):
+            a = values[i + 2]
+            c, s = cos(a), sin(a)
+            rx = c * gx - s * gy + values[i] - cx
+            ry = s * gx + c * gy + values[i + 1] - cy
+            moment = body.moment
+            momentum += mass * (rx * (values[i + 4] - vy) - ry * (values[i + 3] - vx)) + \
+                moment * values[i + 5]
+            inertia += moment + mass * (rx * rx + ry * ry)
+        return momentum / inertia
 
     def _read(self) -> tuple[list[float], list]:
         """Every body's state in one call (``body_state``), once per ``sample``, and
