@@ -275,7 +275,7 @@ class Character:
             return self._com_kernel()[0]
         values, rows = self._read()
         sx = sy = 0.0
-        cos, sin = math.cos, math.sin
+        cos, sin = _kernel.cos, _kernel.sin  # (C's answers on a blown-up state)
         for i, mass, gx, gy in rows:
             a = values[i + 2]
             c, s = cos(a), sin(a)

@@ -18,13 +18,18 @@ python``) the pure-Python code runs, giving the same bits: ``get()`` is then Non
 
 from __future__ import annotations
 
+import math
 import os
 import sys
+import sysconfig
 
 from puppet.physics.kernel_source import CDEF, SOURCE
 
 # no contraction into fused multiply-adds, no reassociation, no sincos (kernel_source)
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin", "-fno-strict-aliasing"]
+if sys.maxsize < 2**32 and any(x in sysconfig.get_platform() for x in ("i386", "i686", "x86")):
+    FLAGS += ["-msse2", "-mfpmath=sse"]  # 32-bit x86: doubles in SSE, as x86-64 (not x87)
+RETRY_AFTER = 24 * 3600  # s: a failed build is tried again after this (or a new compiler)
 ENV = "PUPPET_KERNEL"  # "python": the pure-Python path; "c": the kernel or an error
 # pymunk's Chipmunk calls the kernel makes, in pk_init's order
 FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
@@ -32,6 +37,24 @@ FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle")
 
 _loaded: list = []  # [Kernel or None] once tried
+
+
+def cos(a: float) -> float:
+    """``math.cos`` as C's ``cos`` answers a blown-up state: NaN for +-inf, where
+    Python raises ValueError (the Python path must not crash where the kernel goes on
+    to the session's blow-up check)."""
+    return math.cos(a) if a - a == 0.0 else math.nan
+
+
+def sin(a: float) -> float:
+    """``math.sin``, likewise."""
+    return math.sin(a) if a - a == 0.0 else math.nan
+
+
+def nearest(q: float) -> float:
+    """``round(q)`` (half to even) as C's ``nearbyint``: NaN and +-inf stay themselves,
+    where Python's ``round`` raises."""
+    return round(q) if q - q == 0.0 else q
 
 
 class KernelError(RuntimeError):
@@ -106,18 +129,25 @@ def _load() -> Kernel | None:
 
 
 def _module():
-    import importlib.machinery
-    import importlib.util
-    import sysconfig
-
     name = key()
     where = cache_dir()
     path = os.path.join(where, name + sysconfig.get_config_var("EXT_SUFFIX"))
     failed = os.path.join(where, name + ".failed")
-    if not os.path.exists(path):
-        if os.path.exists(failed) and mode() != "c":
+    if not _intact(path):  # (absent, cut short, or another build's bytes)
+        if mode() != "c" and _failed_before(failed):
             raise RuntimeError(f"an earlier build failed (see {failed})")
         _build(name, where, path, failed)
+    try:
+        return _load_module(name, path)
+    except ImportError:  # intact bytes that do not load (another Python's?): once more
+        _build(name, where, path, failed)
+        return _load_module(name, path)
+
+
+def _load_module(name: str, path: str):
+    import importlib.machinery
+    import importlib.util
+
     loader = importlib.machinery.ExtensionFileLoader(name, path)
     spec = importlib.util.spec_from_file_location(name, path, loader=loader)
     module = importlib.util.module_from_spec(spec)
@@ -125,26 +155,82 @@ def _module():
     return module
 
 
+def _digest(path: str) -> str:
+    import hashlib
+
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def _intact(path: str) -> bool:
+    """The module is there with the bytes its build wrote down (``.sha256``): a file
+    cut short by a crash or a full disk is never loaded (that would be SIGBUS)."""
+    try:
+        with open(path + ".sha256") as f:
+            return f.read().strip() == _digest(path)
+    except OSError:
+        return False
+
+
+def _compiler() -> str:
+    """What decides whether a build can work: ``CC`` and the compilers on the PATH."""
+    import shutil
+
+    return " ".join(str(x) for x in (os.environ.get("CC"), shutil.which("cc"),
+                                     shutil.which("gcc"), shutil.which("clang")))
+
+
+def _failed_before(failed: str) -> bool:
+    """An earlier build failed with the same compilers, less than a day ago: do not try
+    at every start (a compiler installed since, or a day gone, tries again)."""
+    import time
+
+    try:
+        with open(failed) as f:
+            first = f.readline().rstrip("\n")
+        return first == _compiler() and time.time() - os.path.getmtime(failed) < RETRY_AFTER
+    except OSError:
+        return False
+
+
 def _build(name: str, where: str, path: str, failed: str) -> None:
-    """Compile into a temporary directory, then rename into place (atomic: a process
-    that built it at the same time renames the same bytes)."""
+    """Compile into a temporary directory, write it to disk, then rename it into place
+    with its digest beside it (a process building at the same time renames its own
+    whole file; a digest that does not match makes the next start build again)."""
     import shutil
     import tempfile
+    import time
 
     import cffi
 
     os.makedirs(where, exist_ok=True)
+    for old in os.listdir(where):  # a build killed midway left its directory
+        full = os.path.join(where, old)
+        if old.startswith(name + ".") and os.path.isdir(full) \
+                and time.time() - os.path.getmtime(full) > 3600:
+            shutil.rmtree(full, ignore_errors=True)
     tmp = tempfile.mkdtemp(prefix=name + ".", dir=where)
     try:
         ffi = cffi.FFI()
         ffi.cdef(CDEF)
-        ffi.set_source(name, SOURCE, libraries=["m"], extra_compile_args=FLAGS)
+        ffi.set_source(name, SOURCE, libraries=[] if sys.platform == "win32" else ["m"],
+                       extra_compile_args=FLAGS)
         try:
             built = ffi.compile(tmpdir=tmp, verbose=False)
         except Exception as exc:
-            with open(failed, "w") as f:  # no compiler: do not try at every start
-                f.write(f"{type(exc).__name__}: {exc}\n")
+            with open(failed, "w") as f:  # no compiler: not tried again at every start
+                f.write(f"{_compiler()}\n{type(exc).__name__}: {exc}\n")
             raise
+        digest = _digest(built)
+        with open(built, "rb") as f:
+            os.fsync(f.fileno())
+        with open(os.path.join(tmp, "digest"), "w") as f:
+            f.write(digest + "\n")
+            f.flush()
+            os.fsync(f.fileno())
         os.replace(built, path)
+        os.replace(os.path.join(tmp, "digest"), path + ".sha256")
+        if os.path.exists(failed):
+            os.remove(failed)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -214,7 +214,8 @@ class Pulls:
         table, spins = self.owners_table.table, self.spin
         state = self._figure.read()  # every body in one call: what each link is now
         set_velocity, set_spin = _cp.cpBodySetVelocity, _cp.cpBodySetAngularVelocity
-        mcos, msin, still = math.cos, math.sin, (0.0, 0.0)  # (hoisted: 13 links at 120 Hz)
+        mcos, msin, still = _kernel.cos, _kernel.sin, (0.0, 0.0)  # (C's answers on a
+        # blown-up state, as the kernel's; hoisted: 13 links at 120 Hz)
         for name, cb, i, m, gx, gy, joint, ks, ds, m_T, sole in plan:
             if joint is not None and table.get(joint) != TRACK:
                 continue  # a link the performer does not drive (a key took its joint)
@@ -243,7 +244,7 @@ class Pulls:
                 kt, dt_ = k * inertia / m, d * inertia / m  # the same natural frequency
                 want = poses[name][2]
                 turn = want - ba
-                turn -= 2 * math.pi * round(turn / (2 * math.pi))
+                turn -= 2 * math.pi * _kernel.nearest(turn / (2 * math.pi))
                 set_spin(cb, (inertia * spin / T + kt * turn + dt_ * spins.get(name, 0.0))
                          / (inertia / T + kt * T + dt_))
 
