@@ -58,6 +58,8 @@ void pk_track_pull(pk_track *t, double weight, const char *own, int stepping, do
                    double sy, int getting_up, int no_lift, double rise, double T);
 void pk_com(void **bodies, const double *mass, const double *gx, const double *gy, int n,
             double total, double *out);
+void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
+              void *spring);
 """
 
 SOURCE = TYPES + r"""
@@ -267,5 +269,20 @@ void pk_com(void **bodies, const double *mass, const double *gx, const double *g
     }
     out[0] = sx / total; out[1] = sy / total;
     out[2] = vx / total; out[3] = vy / total;
+}
+
+/* FrameTargets._solve (interface/controllers/frame.py): the joint's target that puts
+   its child link (or, hold_parent, its parent) at ``angle`` in the world or relative
+   to ``ref`` (NULL: the world), in the turn the joint is in now. libm's remainder is
+   IEEE's, exact, so it is math.remainder's to the bit. */
+void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
+              void *spring)
+{
+    double p = get_angle(parent);
+    double c = get_angle(child);
+    double want = angle + (ref ? get_angle(ref) : 0.0);
+    double q = hold_parent ? c - want : want - p;
+    double now = c - p;
+    set_rest_angle(spring, now + remainder(q - now, TURN));
 }
 """
