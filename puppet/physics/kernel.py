@@ -29,7 +29,8 @@ ENV = "PUPPET_KERNEL"  # "python": the pure-Python path; "c": the kernel or an e
 # pymunk's Chipmunk calls the kernel makes, in pk_init's order
 FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodyGetAngularVelocity", "cpBodyGetMoment", "cpBodySetVelocity",
-             "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle")
+             "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle",
+             "cpBodyEachArbiter", "cpArbiterGetContactPointSet")
 
 _loaded: list = []  # [Kernel or None] once tried
 

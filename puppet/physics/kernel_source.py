@@ -60,6 +60,7 @@ void pk_com(void **bodies, const double *mass, const double *gx, const double *g
             double total, double *out);
 void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
               void *spring);
+int pk_support(void **bodies, int n, double *out);
 """
 
 SOURCE = TYPES + r"""
@@ -75,6 +76,12 @@ static pk_getv get_position, get_velocity;
 static pk_getd get_angle, get_spin, get_moment;
 static pk_setv set_velocity;
 static pk_setd set_spin, set_rest_angle;
+/* cpContactPointSet (Chipmunk's CP_MAX_CONTACTS_PER_ARBITER is 2) */
+typedef struct { pk_vect a, b; double distance; } pk_point;
+typedef struct { int count; pk_vect normal; pk_point points[2]; } pk_point_set;
+typedef void (*pk_arbiter_fn)(void *, void *, void *);
+static void (*each_arbiter)(void *, pk_arbiter_fn, void *);
+static pk_point_set (*get_point_set)(void *);
 
 /* CPython's math.radians: x * degToRad, degToRad = Py_MATH_PI / 180.0 */
 static const double DEG = 3.14159265358979323846264338327950288 / 180.0;
@@ -86,6 +93,8 @@ void pk_init(void **fns)
     get_velocity = (pk_getv)fns[2]; get_spin = (pk_getd)fns[3];
     get_moment = (pk_getd)fns[4]; set_velocity = (pk_setv)fns[5];
     set_spin = (pk_setd)fns[6]; set_rest_angle = (pk_setd)fns[7];
+    each_arbiter = (void (*)(void *, pk_arbiter_fn, void *))fns[8];
+    get_point_set = (pk_point_set (*)(void *))fns[9];
 }
 
 /* kd_pull.channel_pose */
@@ -284,5 +293,37 @@ void pk_frame(void *parent, void *child, void *ref, double angle, int hold_paren
     double q = hold_parent ? c - want : want - p;
     double now = c - p;
     set_rest_angle(spring, now + remainder(q - now, TURN));
+}
+
+/* Character.support_extent: the leftmost and rightmost x of the contact points of the
+   bodies' arbiters (cpBodyEachArbiter, cpArbiterGetContactPointSet's pointA.x, in
+   Chipmunk's order), compared as Python's min and max do (a later point replaces
+   only a smaller, resp. larger one); returns how many points there were */
+typedef struct { int n; double lo, hi; } pk_extent;
+
+static void pk_extent_of(void *body, void *arbiter, void *data)
+{
+    pk_extent *e = (pk_extent *)data;
+    pk_point_set got = get_point_set(arbiter);
+    (void)body;
+    for (int i = 0; i < got.count; i++) {
+        double x = got.points[i].a.x;
+        if (e->n == 0) {
+            e->lo = x; e->hi = x;
+        } else {
+            if (x < e->lo) e->lo = x;
+            if (x > e->hi) e->hi = x;
+        }
+        e->n++;
+    }
+}
+
+int pk_support(void **bodies, int n, double *out)
+{
+    pk_extent e = {0, 0.0, 0.0};
+    for (int i = 0; i < n; i++)
+        each_arbiter(bodies[i], pk_extent_of, &e);
+    out[0] = e.lo; out[1] = e.hi;
+    return e.n;
 }
 """
