@@ -4,8 +4,10 @@ same bits: mocap and walker logs replay to their recorded hashes on either path.
 The logs cover the kernel's branches: KD tracking's pulls and targets (the mocap
 walk), walking in place (the feet's forward kinematics), a push's reactions with a
 protective step, a fall and a get-up (no lifting, the pose on every link's points), a
-lost stream stood on, and the walkers' centre of mass and its velocity. A test that
-needs a compiler skips where there is none; CI has gcc. None reads a clock.
+lost stream stood on, the walkers' centre of mass and its velocity, frame targets,
+the support polygon and two-link reaches (a backflip, a handstand, the monkey bars
+and the ladder). A test that needs a compiler skips where there is none; CI has gcc.
+None reads a clock.
 """
 
 from __future__ import annotations
@@ -23,6 +25,9 @@ LOGS = ROOT / "assets" / "logs"
 TRACKED = ["biped-mocap-walk", "biped-mocap-in-place", "biped-mocap-push",
            "biped-mocap-fall", "biped-mocap-lost"]
 WALKERS = ["biped-walk", "biped-auto-walk"]
+# frame targets (pk_frame), the support polygon (pk_support), two-link reaches
+# (pk_two_link) and the add maps of the state-machine walkers and gymnasts
+CONTROLLED = ["biped-backflip", "biped-handstand", "biped-monkey-bars", "biped-ladder-climb"]
 needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
                               and shutil.which("gcc") is None, reason="no C compiler")
 
@@ -44,7 +49,7 @@ def _replayed(name: str):
 
 
 @needs_cc
-@pytest.mark.parametrize("name", TRACKED + WALKERS)
+@pytest.mark.parametrize("name", TRACKED + WALKERS + CONTROLLED)
 def test_both_paths_replay_to_the_recorded_hash(name, path_of):
     assert path_of("c") is not None
     with_kernel = _replayed(name)
