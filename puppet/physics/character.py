@@ -246,14 +246,10 @@ class Character:
 
     def com(self) -> tuple[float, float]:
         """Centre of mass, world m."""
-        if _kernel.get() is not None:  # (what _com returns, without its two calls)
-            return self._com_kernel()[0]
         return self._sampled("com", self._com)
 
     def com_velocity(self) -> tuple[float, float]:
         """The centre of mass's velocity, world m/s."""
-        if _kernel.get() is not None:
-            return self._com_kernel()[1]
         return self._sampled("com_velocity", self._com_velocity)
 
     def com_spin(self) -> float:
