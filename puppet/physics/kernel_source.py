@@ -1,5 +1,6 @@
 """The compiled kernel's C text (``physics.kernel`` builds it): KD tracking's pull
-loop and forward kinematics, the joint targets it writes, and the centre of mass.
+loop and forward kinematics, the joint targets it writes, the centre of mass, frame
+targets, the support polygon's extent and the two-link IK.
 
 Every line is the Python it replaces, operation for operation, so both give the same
 bits: the same sums in the same order and grouping (``a + b * c - d * e`` is
