@@ -116,3 +116,26 @@ def test_the_tracker_keeps_the_same_state_on_both_paths(path_of):
     path_of("python")
     assert _tracker_states("biped-mocap-push", at) == with_kernel
     assert all(state[5] is not None for state in with_kernel)  # a sample's memory
+
+
+@needs_cc
+def test_two_link_ik_gives_the_same_answers_on_both_paths(path_of):
+    """``pk_two_link`` and ``TwoLink``'s Python: the same bits within reach, past it (the
+    damped least squares against a limit), and NaN alike on a blown-up target (C's
+    answer; Python's math would raise)."""
+    import math
+
+    from puppet.interface.ik_two import TwoLink
+
+    def answers():
+        two = TwoLink((0.3, 0.25, 0.1, -0.05), ((0.3, 0.03), (0.25, -0.01)),
+                      (None, (-2.5, 0.0)), 0.05, 1e-4, 20)
+        return [two.solve(d0, d1, -0.5) for d0, d1 in
+                [(0.3, 0.2), (0.9, 0.9), (-0.1, 0.05), (0.05, -0.5),
+                 (math.inf, 0.0), (0.2, -math.inf), (math.nan, 0.1)]]
+
+    assert path_of("c") is not None
+    with_kernel = answers()
+    assert path_of("python") is None
+    assert repr(answers()) == repr(with_kernel)
+    assert any(math.isnan(q) for qs in with_kernel for q in qs)

@@ -22,6 +22,13 @@ from puppet.physics import kernel as _kernel
 from puppet.physics.servo import SET_TARGET as _set_target
 
 _TURN = 2.0 * math.pi
+
+
+def _remainder(x: float, y: float) -> float:
+    """``math.remainder`` as C's answers a blown-up state (pk_frame): NaN for +-inf,
+    where Python raises ValueError."""
+    return math.remainder(x, y) if x - x == 0.0 else math.nan
+
 _angle = _cp.cpBodyGetAngle
 
 
@@ -107,7 +114,7 @@ class FrameTargets:
         else:  # the child at ``want``: want - parent
             q = want - parent
         now = child - parent  # the same turn as the joint is in now
-        _set_target(c.servos[joint].spring._constraint, now + math.remainder(q - now, _TURN))
+        _set_target(c.servos[joint].spring._constraint, now + _remainder(q - now, _TURN))
 
     def tick(self, step: int) -> str | None:
         if step % self.every:
@@ -129,7 +136,7 @@ class FrameTargets:
             return None
         c = self.character
         bodies, servos, joints = c.bodies, c.servos, self.joints
-        remainder = math.remainder
+        remainder = _remainder
         for joint, (target, owner) in list(held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go
                 del held[joint]
