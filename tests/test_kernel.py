@@ -4,8 +4,10 @@ same bits: mocap and walker logs replay to their recorded hashes on either path.
 The logs cover the kernel's branches: KD tracking's pulls and targets (the mocap
 walk), walking in place (the feet's forward kinematics), a push's reactions with a
 protective step, a fall and a get-up (no lifting, the pose on every link's points), a
-lost stream stood on, and the walkers' centre of mass and its velocity. A test that
-needs a compiler skips where there is none; CI has gcc. None reads a clock.
+lost stream stood on, the walkers' centre of mass and its velocity, frame targets,
+the support polygon and two-link reaches (a backflip, a handstand, the monkey bars
+and the ladder). A test that needs a compiler skips where there is none; CI has gcc.
+None reads a clock.
 """
 
 from __future__ import annotations
@@ -24,6 +26,9 @@ TRACKED = ["biped-mocap-walk", "biped-mocap-in-place", "biped-mocap-push",
            "biped-mocap-fall", "biped-mocap-lost", "biped-walk-mocap-arms",
            "biped-mocap-highbar"]
 WALKERS = ["biped-walk", "biped-auto-walk"]
+# frame targets (pk_frame), the support polygon (pk_support), two-link reaches
+# (pk_two_link) and the add maps of the state-machine walkers and gymnasts
+CONTROLLED = ["biped-backflip", "biped-handstand", "biped-monkey-bars", "biped-ladder-climb"]
 needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
                               and shutil.which("gcc") is None, reason="no C compiler")
 
@@ -48,7 +53,7 @@ def _replayed(name: str):
 
 
 @needs_cc
-@pytest.mark.parametrize("name", TRACKED + WALKERS)
+@pytest.mark.parametrize("name", TRACKED + WALKERS + CONTROLLED)
 def test_both_paths_replay_to_the_recorded_hash(name, path_of):
     assert path_of("c") is not None
     with_kernel = _replayed(name)
@@ -116,3 +121,26 @@ def test_the_tracker_keeps_the_same_state_on_both_paths(path_of):
     path_of("python")
     assert _tracker_states("biped-mocap-push", at) == with_kernel
     assert all(state[5] is not None for state in with_kernel)  # a sample's memory
+
+
+@needs_cc
+def test_two_link_ik_gives_the_same_answers_on_both_paths(path_of):
+    """``pk_two_link`` and ``TwoLink``'s Python: the same bits within reach, past it (the
+    damped least squares against a limit), and NaN alike on a blown-up target (C's
+    answer; Python's math would raise)."""
+    import math
+
+    from puppet.interface.ik_two import TwoLink
+
+    def answers():
+        two = TwoLink((0.3, 0.25, 0.1, -0.05), ((0.3, 0.03), (0.25, -0.01)),
+                      (None, (-2.5, 0.0)), 0.05, 1e-4, 20)
+        return [two.solve(d0, d1, -0.5) for d0, d1 in
+                [(0.3, 0.2), (0.9, 0.9), (-0.1, 0.05), (0.05, -0.5),
+                 (math.inf, 0.0), (0.2, -math.inf), (math.nan, 0.1)]]
+
+    assert path_of("c") is not None
+    with_kernel = answers()
+    assert path_of("python") is None
+    assert repr(answers()) == repr(with_kernel)
+    assert any(math.isnan(q) for qs in with_kernel for q in qs)

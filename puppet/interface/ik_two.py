@@ -19,8 +19,25 @@ from __future__ import annotations
 
 import math
 
-_cos, _sin, _atan2, _acos, _hypot = math.cos, math.sin, math.atan2, math.acos, math.hypot
-_rem = math.remainder
+from puppet.physics import kernel as _kernel
+
+_atan2, _acos, _hypot = math.atan2, math.acos, math.hypot
+_nan = math.nan
+
+
+# math's cos, sin and remainder as C's answer a blown-up state (the kernel's pk_two_link):
+# NaN for +-inf, where Python raises ValueError (the session's blow-up check recovers it)
+def _cos(a: float) -> float:
+    return math.cos(a) if a - a == 0.0 else _nan
+
+
+def _sin(a: float) -> float:
+    return math.sin(a) if a - a == 0.0 else _nan
+
+
+def _rem(x: float, y: float) -> float:
+    return math.remainder(x, y) if x - x == 0.0 else _nan
+
 _TWO_PI = 2.0 * math.pi  # (ik._wrap's period)
 
 
@@ -29,7 +46,7 @@ class TwoLink:
     damped least squares within the limits when the closed form is clamped."""
 
     __slots__ = ("l1", "l2", "p1", "p2", "l1sq", "l2sq", "den", "links", "limits",
-                 "lam2", "tol2", "iterations")
+                 "lam2", "tol2", "iterations", "_c")
 
     def __init__(self, closed, links, limits, damping: float, tolerance: float,
                  iterations: int):
@@ -42,10 +59,29 @@ class TwoLink:
         self.lam2 = damping * damping
         self.tol2 = tolerance * tolerance
         self.iterations = iterations
+        self._c = None  # (kernel, pk_two_link, its parameters, out): compiled, per kernel
+
+    def _compiled(self, k) -> tuple:
+        """``pk_two_link`` (the compiled kernel's ``solve`` and ``dls``) and this chain's
+        numbers as it reads them."""
+        lims = [(1.0, *lim) if lim is not None else (0.0, 0.0, 0.0) for lim in self.limits]
+        params = [self.l1, self.l2, self.p1, self.p2, self.l1sq, self.l2sq, self.den,
+                  *self.links, *lims[0], *lims[1], self.lam2, self.tol2,
+                  float(self.iterations)]
+        self._c = (k, k.lib.pk_two_link, k.ffi.new("double[]", params), k.ffi.new("double[2]"))
+        return self._c
 
     def solve(self, d0: float, d1: float, prefer_q2: float) -> tuple[float, float]:
         """Joint angles reaching for (d0, d1) (the first joint's parent frame, from the
         first joint), within the limits; as ``ik._two_link`` then ``ik.solve_dls``."""
+        k = _kernel.get()
+        if k is not None:  # the compiled kernel: the arithmetic below, in C
+            got = self._c
+            if got is None or got[0] is not k:
+                got = self._compiled(k)
+            _, two, params, out = got
+            two(params, d0, d1, _hypot(d0, d1), prefer_q2, out)
+            return out[0], out[1]
         l1, l2, p1 = self.l1, self.l2, self.p1
         dist = _hypot(d0, d1)
         c = (dist * dist - self.l1sq - self.l2sq) / self.den

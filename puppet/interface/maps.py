@@ -359,11 +359,35 @@ def compile_contribution(spec, channels=None):
     if getattr(spec, "add", None) is not None:
         constant = [(j, g * math.radians(spec.add)) for j, g in gains]
         return lambda values: constant  # noqa: E731
-    value = _unit(spec, channels)
+    # ``_unit``'s value, inlined (feedback runs every add map at every control step)
+    (x0, x1), (y0, y1) = spec.from_, spec.to
+    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+    clamp, f, name = spec.clamp, curve_function(spec.curve), spec.input
+    source = None
+    if name.startswith(CHANNEL) and channels is not None:
+        name, source = name[len(CHANNEL):], channels  # by bare name
+    if len(gains) == 1:
+        (joint, gain), = gains
+
+        def contribution_one(values):  # one joint: a tuple, no list made
+            v = (values if source is None else source).get(name)
+            if v is None:
+                return ()
+            u = (v - x0) * inv
+            if clamp:
+                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+            return ((joint, gain * (lo + (u if f is None else f(u)) * span)),)
+        return contribution_one
 
     def contribution(values):
-        v = value(values)
-        return () if v is None else [(j, g * v) for j, g in gains]
+        v = (values if source is None else source).get(name)
+        if v is None:
+            return ()
+        u = (v - x0) * inv
+        if clamp:
+            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+        v = lo + (u if f is None else f(u)) * span
+        return [(j, g * v) for j, g in gains]
     return contribution
 
 

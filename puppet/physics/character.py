@@ -396,6 +396,12 @@ class Character:
         restored = restored_touching(next(iter(bodies)).space)  # (one space for all)
         if restored is not None:  # right after a restore: the snapshot's contacts
             xs = [x for body in bodies for x, _ in restored.get(body, ())]
+        elif _kernel.get() is not None:  # the loop below in C, min and max as Python's
+            support, args = self._support_args()
+            if support(*args):
+                out = args[2]
+                return (out[0], out[1])
+            return None
         else:  # each body's arbiters, through one callback made once (= each_arbiter)
             xs = _XS
             xs.clear()
@@ -407,6 +413,19 @@ class Character:
                 for body in bodies:
                     each(body._body, collect, null)
         return (min(xs), max(xs)) if xs else None
+
+    def _support_args(self) -> tuple:
+        """``pk_support`` and its arguments (the bodies' kernel pointers, an out array),
+        made again when the bodies are re-bound."""
+        bodies = self.bodies
+        cached = self.__dict__.get("_support")
+        if cached is None or cached[0] is not bodies:
+            k = _kernel.get()
+            values = list(bodies.values())
+            args = (k.ffi.new("void *[]", [k.pointer(b._body) for b in values]), len(values),
+                    k.ffi.new("double[2]"))
+            cached = self._support = (bodies, k.lib.pk_support, args)
+        return cached[1], cached[2]
 
     def joint_angle(self, name: str) -> float:
         return self.servos[name].angle

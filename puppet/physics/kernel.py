@@ -3,8 +3,11 @@
 KD tracking's pulls (forward kinematics of the performed pose, the pull loop over the
 links, the joint targets) and the centre of mass with its velocity cost 10-30 us of
 Python a control step against a 15-75 us physics step; the same work in C costs about
-a microsecond. ``kernel_source`` holds the C, written operation for operation as the
-Python it replaces, so a log replays to its recorded hash either way.
+a microsecond. Frame targets (``pk_frame``), the support polygon's extent
+(``pk_support``: the contacts' x, without a Python callback a contact) and a two-link
+chain's IK (``pk_two_link``: a reach's solve at every step) are in it too.
+``kernel_source`` holds the C, written operation for operation as the Python it
+replaces, so a log replays to its recorded hash either way.
 
 It is a cffi module in API mode (pymunk depends on cffi already), compiled on first
 use into the user's cache: ``$XDG_CACHE_HOME/puppet`` (``~/.cache/puppet``), under a
@@ -34,7 +37,8 @@ ENV = "PUPPET_KERNEL"  # "python": the pure-Python path; "c": the kernel or an e
 # pymunk's Chipmunk calls the kernel makes, in pk_init's order
 FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodyGetAngularVelocity", "cpBodyGetMoment", "cpBodySetVelocity",
-             "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle")
+             "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle",
+             "cpBodyEachArbiter", "cpArbiterGetContactPointSet")
 
 _loaded: list = []  # [Kernel or None] once tried
 

@@ -1,5 +1,6 @@
 """The compiled kernel's C text (``physics.kernel`` builds it): KD tracking's pull
-loop and forward kinematics, the joint targets it writes, and the centre of mass.
+loop and forward kinematics, the joint targets it writes, the centre of mass, frame
+targets, the support polygon's extent and the two-link IK.
 
 Every line is the Python it replaces, operation for operation, so both give the same
 bits: the same sums in the same order and grouping (``a + b * c - d * e`` is
@@ -58,6 +59,11 @@ void pk_track_pull(pk_track *t, double weight, const char *own, int stepping, do
                    double sy, int getting_up, int no_lift, double rise, double T);
 void pk_com(void **bodies, const double *mass, const double *gx, const double *gy, int n,
             double total, double *out);
+void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
+              void *spring);
+int pk_support(void **bodies, int n, double *out);
+void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
+                 double *out);
 """
 
 SOURCE = TYPES + r"""
@@ -73,6 +79,12 @@ static pk_getv get_position, get_velocity;
 static pk_getd get_angle, get_spin, get_moment;
 static pk_setv set_velocity;
 static pk_setd set_spin, set_rest_angle;
+/* cpContactPointSet (Chipmunk's CP_MAX_CONTACTS_PER_ARBITER is 2) */
+typedef struct { pk_vect a, b; double distance; } pk_point;
+typedef struct { int count; pk_vect normal; pk_point points[2]; } pk_point_set;
+typedef void (*pk_arbiter_fn)(void *, void *, void *);
+static void (*each_arbiter)(void *, pk_arbiter_fn, void *);
+static pk_point_set (*get_point_set)(void *);
 
 /* CPython's math.radians: x * degToRad, degToRad = Py_MATH_PI / 180.0 */
 static const double DEG = 3.14159265358979323846264338327950288 / 180.0;
@@ -84,6 +96,8 @@ void pk_init(void **fns)
     get_velocity = (pk_getv)fns[2]; get_spin = (pk_getd)fns[3];
     get_moment = (pk_getd)fns[4]; set_velocity = (pk_setv)fns[5];
     set_spin = (pk_setd)fns[6]; set_rest_angle = (pk_setd)fns[7];
+    each_arbiter = (void (*)(void *, pk_arbiter_fn, void *))fns[8];
+    get_point_set = (pk_point_set (*)(void *))fns[9];
 }
 
 /* kd_pull.channel_pose */
@@ -267,5 +281,170 @@ void pk_com(void **bodies, const double *mass, const double *gx, const double *g
     }
     out[0] = sx / total; out[1] = sy / total;
     out[2] = vx / total; out[3] = vy / total;
+}
+
+/* FrameTargets._solve (interface/controllers/frame.py): the joint's target that puts
+   its child link (or, hold_parent, its parent) at ``angle`` in the world or relative
+   to ``ref`` (NULL: the world), in the turn the joint is in now. libm's remainder is
+   IEEE's, exact, so it is math.remainder's to the bit. */
+void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
+              void *spring)
+{
+    double p = get_angle(parent);
+    double c = get_angle(child);
+    double want = angle + (ref ? get_angle(ref) : 0.0);
+    double q = hold_parent ? c - want : want - p;
+    double now = c - p;
+    set_rest_angle(spring, now + remainder(q - now, TURN));
+}
+
+/* Character.support_extent: the leftmost and rightmost x of the contact points of the
+   bodies' arbiters (cpBodyEachArbiter, cpArbiterGetContactPointSet's pointA.x, in
+   Chipmunk's order), compared as Python's min and max do (a later point replaces
+   only a smaller, resp. larger one); returns how many points there were */
+typedef struct { int n; double lo, hi; } pk_extent;
+
+static void pk_extent_of(void *body, void *arbiter, void *data)
+{
+    pk_extent *e = (pk_extent *)data;
+    pk_point_set got = get_point_set(arbiter);
+    (void)body;
+    for (int i = 0; i < got.count; i++) {
+        double x = got.points[i].a.x;
+        if (e->n == 0) {
+            e->lo = x; e->hi = x;
+        } else {
+            if (x < e->lo) e->lo = x;
+            if (x > e->hi) e->hi = x;
+        }
+        e->n++;
+    }
+}
+
+int pk_support(void **bodies, int n, double *out)
+{
+    pk_extent e = {0, 0.0, 0.0};
+    for (int i = 0; i < n; i++)
+        each_arbiter(bodies[i], pk_extent_of, &e);
+    out[0] = e.lo; out[1] = e.hi;
+    return e.n;
+}
+
+/* interface/ik_two.py: TwoLink.dls and TwoLink.solve, operation for operation. p holds
+   l1, l2, p1, p2, l1sq, l2sq, den, ax0, ay0, ax1, ay1, has0, lo0, hi0, has1, lo1, hi1,
+   lam2, tol2, iterations (has: the joint has limits); ``dist`` is math.hypot(d0, d1),
+   worked out by CPython (its own algorithm, not libm's hypot) */
+static void pk_dls(const double *p, double d0, double d1, double q0, double q1,
+                   double *out)
+{
+    double ax0 = p[7], ay0 = p[8], ax1 = p[9], ay1 = p[10];
+    int has0 = p[11] != 0.0, has1 = p[14] != 0.0;
+    double lo0 = p[12], hi0 = p[13], lo1 = p[15], hi1 = p[16];
+    double lam2 = p[17], tol2 = p[18];
+    int iterations = (int)p[19];
+    double angle = 0.0 + q0;
+    double c = cos(angle), s = sin(angle);
+    double jx = 0.0 + (c * ax0 - s * ay0);
+    double jy = 0.0 + (s * ax0 + c * ay0);
+    angle = angle + q1;
+    c = cos(angle); s = sin(angle);
+    double ex = jx + (c * ax1 - s * ay1);
+    double ey = jy + (s * ax1 + c * ay1);
+    double rx = d0 - ex, ry = d1 - ey;
+    double err2 = rx * rx + ry * ry;
+    for (int it = 0; it < iterations; it++) {
+        if (err2 < tol2)
+            break;
+        double c0x = -ey, c0y = ex, c1x = -(ey - jy), c1y = ex - jx;
+        if (has0) {
+            double push = c0x * rx + c0y * ry;
+            if ((q0 <= lo0 && push < 0) || (q0 >= hi0 && push > 0)) {
+                c0x = 0.0; c0y = 0.0;
+            }
+        }
+        if (has1) {
+            double push = c1x * rx + c1y * ry;
+            if ((q1 <= lo1 && push < 0) || (q1 >= hi1 && push > 0)) {
+                c1x = 0.0; c1y = 0.0;
+            }
+        }
+        double a = lam2 + (c0x * c0x + c1x * c1x);
+        double b = 0.0 + c0x * c0y + c1x * c1y;
+        double cc = lam2 + (c0y * c0y + c1y * c1y);
+        double det = a * cc - b * b;
+        double w0 = (cc * rx - b * ry) / det, w1 = (a * ry - b * rx) / det;
+        double s0 = c0x * w0 + c0y * w1, s1 = c1x * w0 + c1y * w1;
+        double scale = 1.0;
+        double n0, n1, njx, njy, nx, ny, nrx, nry, new_err2;
+        for (;;) {
+            n0 = q0 + scale * s0;
+            if (has0) {
+                double m = n0 > lo0 ? n0 : lo0;
+                n0 = m < hi0 ? m : hi0;
+            }
+            n1 = q1 + scale * s1;
+            if (has1) {
+                double m = n1 > lo1 ? n1 : lo1;
+                n1 = m < hi1 ? m : hi1;
+            }
+            angle = 0.0 + n0;
+            c = cos(angle); s = sin(angle);
+            njx = 0.0 + (c * ax0 - s * ay0);
+            njy = 0.0 + (s * ax0 + c * ay0);
+            angle = angle + n1;
+            c = cos(angle); s = sin(angle);
+            nx = njx + (c * ax1 - s * ay1);
+            ny = njy + (s * ax1 + c * ay1);
+            nrx = d0 - nx; nry = d1 - ny;
+            new_err2 = nrx * nrx + nry * nry;
+            if (new_err2 < err2 || scale < 1e-3)
+                break;
+            scale *= 0.5;
+        }
+        if (new_err2 >= err2)
+            break;
+        double moved = fabs(n0 - q0) + fabs(n1 - q1);
+        q0 = n0; q1 = n1; jx = njx; jy = njy;
+        ex = nx; ey = ny; rx = nrx; ry = nry; err2 = new_err2;
+        if (moved < 1e-9)
+            break;
+    }
+    out[0] = q0; out[1] = q1;
+}
+
+void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
+                 double *out)
+{
+    double l1 = p[0], l2 = p[1], p1 = p[2], p2 = p[3];
+    int has0 = p[11] != 0.0, has1 = p[14] != 0.0;
+    double c = (dist * dist - p[4] - p[5]) / p[6];
+    c = c > -1.0 ? c : -1.0;
+    c = c < 1.0 ? c : 1.0;
+    double beta = acos(c);
+    double q2 = remainder(beta + p1 - p2, TURN);
+    double other = -acos(c);
+    double q2b = remainder(other + p1 - p2, TURN);
+    if (fabs(remainder(q2b - prefer_q2, TURN)) < fabs(remainder(q2 - prefer_q2, TURN))) {
+        beta = other; q2 = q2b;
+    }
+    double q1 = remainder(atan2(d1, d0) - (p1 + atan2(l2 * sin(beta), l1 + l2 * cos(beta))),
+                          TURN);
+    int same = 1;
+    double c1 = q1, c2 = q2;
+    if (has0) {
+        double m = q1 > p[12] ? q1 : p[12];
+        c1 = m < p[13] ? m : p[13];
+        same = c1 == q1;
+    }
+    if (has1) {
+        double m = q2 > p[15] ? q2 : p[15];
+        c2 = m < p[16] ? m : p[16];
+        same = same && c2 == q2;
+    }
+    if (same) {
+        out[0] = q1; out[1] = q2;
+        return;
+    }
+    pk_dls(p, d0, d1, c1, c2, out);
 }
 """

@@ -63,21 +63,26 @@ class Feedback:
                 for servo, target in others:  # joints a later action took: left be
                     servo.target = target
         added: dict[str, float] = {}
+        get = added.get
         for contribution in self.adders:
             for joint, value in contribution(values):
-                added[joint] = added.get(joint, 0.0) + value
+                added[joint] = get(joint, 0.0) + value
         base, last = self.base, self.last
-        for joint in [j for j in last if j not in added]:  # an add map went inactive
-            servo = servos[joint]
-            if servo.target == last[joint]:
-                servo.target = base[joint]
-            del base[joint], last[joint]
+        if len(last) > len(added) or any(j not in added for j in last):
+            for joint in [j for j in last if j not in added]:  # an add map went inactive
+                servo = servos[joint]
+                if servo.target == last[joint]:
+                    servo.target = base[joint]
+                del base[joint], last[joint]
+        get_last = last.get
         for joint, value in added.items():
             spring = servos[joint].spring._constraint  # (servo.target, read and written)
             now = _get_target(spring)
-            b = base[joint] if joint in last and now == last[joint] else now  # rewritten?
-            base[joint], last[joint] = b, b + value
-            _set_target(spring, b + value)
+            was = get_last(joint)  # (a target is never None)
+            b = base[joint] if was is not None and now == was else now  # rewritten?
+            base[joint] = b
+            last[joint] = target = b + value
+            _set_target(spring, target)
         busy = self.busy = bool(self.setters or self.adders or last)
         if busy and self.every == 1:
             return WAITED  # at every step, still busy: the next wake-up is the next step,

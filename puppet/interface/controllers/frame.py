@@ -18,9 +18,17 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import FRAME, JointOwners, Owner
 from puppet.interface.poses import FrameTarget
+from puppet.physics import kernel as _kernel
 from puppet.physics.servo import SET_TARGET as _set_target
 
 _TURN = 2.0 * math.pi
+
+
+def _remainder(x: float, y: float) -> float:
+    """``math.remainder`` as C's answers a blown-up state (pk_frame): NaN for +-inf,
+    where Python raises ValueError."""
+    return math.remainder(x, y) if x - x == 0.0 else math.nan
+
 _angle = _cp.cpBodyGetAngle
 
 
@@ -33,6 +41,16 @@ class FrameTargets:
         self.every = every
         self.held: dict[str, tuple[FrameTarget, Owner]] = {}  # joint -> (target, owner)
         self.joints = {j.name: j for j in character.spec.actuated}
+        # the compiled kernel's solve (``pk_frame``: the same arithmetic in C), or None
+        # (PUPPET_KERNEL=python); its pointers: joint -> (parent, child, spring) and
+        # link -> body, for the bodies they were taken from (a restore re-binds them)
+        kern = _kernel.get()
+        self._kernel = kern
+        self._pk_frame = None if kern is None else kern.lib.pk_frame
+        self._null = None if kern is None else kern.ffi.NULL
+        self._bound = None
+        self._joint_ptrs: dict = {}
+        self._link_ptrs: dict = {}
 
     def hold(self, joint: str, target: FrameTarget, owner: Owner | None = None) -> None:
         """Hold ``joint`` at ``target`` from now on (solved at once, then at the control
@@ -41,12 +59,48 @@ class FrameTargets:
         if owner == FRAME:
             self.owners_table.table[joint] = FRAME
         self.held[joint] = (target, owner)
+        solve = self._pk_frame
+        if solve is not None:  # _solve's kernel call, inlined (a map holds at every event)
+            joint_ptrs, link_ptrs = self._pointers()
+            parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
+            ref = target.ref
+            solve(parent, child, self._null if ref is None else
+                  (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
+                  target.hold_parent, spring)
+            return
         self._solve(joint, target)
 
     def forget(self, joint: str) -> None:
         self.held.pop(joint, None)
 
+    def _pointers(self) -> tuple[dict, dict]:
+        """The kernel's pointers (empty tables, filled by ``_joint_ptr`` and
+        ``_link_ptr``, when the character's bodies were re-bound)."""
+        bodies = self.character.bodies
+        if self._bound is not bodies:
+            self._bound, self._joint_ptrs, self._link_ptrs = bodies, {}, {}
+        return self._joint_ptrs, self._link_ptrs
+
+    def _joint_ptr(self, joint: str) -> tuple:
+        c, spec, pointer = self.character, self.joints[joint], self._kernel.pointer
+        got = self._joint_ptrs[joint] = (
+            pointer(c.bodies[spec.parent]._body), pointer(c.bodies[spec.child]._body),
+            pointer(c.servos[joint].spring._constraint))
+        return got
+
+    def _link_ptr(self, link: str):
+        got = self._link_ptrs[link] = self._kernel.pointer(self.character.bodies[link]._body)
+        return got
+
     def _solve(self, joint: str, target: FrameTarget) -> None:
+        if self._pk_frame is not None:  # the kernel: the arithmetic below, in C
+            joint_ptrs, link_ptrs = self._pointers()
+            parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
+            ref = target.ref
+            self._pk_frame(parent, child, self._null if ref is None else
+                           (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
+                           target.hold_parent, spring)
+            return
         # (angles through pymunk's own C call, what Body.angle returns: this runs for
         # every held joint at every control step)
         c = self.character
@@ -60,15 +114,29 @@ class FrameTargets:
         else:  # the child at ``want``: want - parent
             q = want - parent
         now = child - parent  # the same turn as the joint is in now
-        _set_target(c.servos[joint].spring._constraint, now + math.remainder(q - now, _TURN))
+        _set_target(c.servos[joint].spring._constraint, now + _remainder(q - now, _TURN))
 
     def tick(self, step: int) -> str | None:
         if step % self.every:
             return WAITED  # between control steps
         table, held = self.owners_table.table, self.held
+        solve = self._pk_frame
+        if solve is not None:  # the kernel: the Python loop below, each joint in C
+            joint_ptrs, link_ptrs = self._pointers()
+            null = self._null
+            for joint, (target, owner) in list(held.items()):
+                if table.get(joint) != owner:  # taken back by a later write: let go
+                    del held[joint]
+                    continue
+                parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
+                ref = target.ref
+                solve(parent, child, null if ref is None else
+                      (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
+                      target.hold_parent, spring)
+            return None
         c = self.character
         bodies, servos, joints = c.bodies, c.servos, self.joints
-        remainder = math.remainder
+        remainder = _remainder
         for joint, (target, owner) in list(held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go
                 del held[joint]

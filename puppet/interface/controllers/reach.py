@@ -126,6 +126,7 @@ class ReachController:
             return None
         servos, owners = self.servos, self.owners_table
         table, character, grasps = owners.table, self.character, self.grasps
+        sim = self.sim
         for name, reach in list(self.reaches.items()):
             owner = _OWNERS.get(name) or _OWNERS.setdefault(name, reach_owner(name))
             chain = self.chains[name]
@@ -162,13 +163,14 @@ class ReachController:
                 for joint, angle in zip(joints, q):
                     if joint in owned:
                         _set_target(servos[joint].spring._constraint, angle)
-            if reach.grasp:
+            if reach.grasp and sim is not None and name not in sim.grasps:
+                # (try_grasp does nothing for a chain that holds already: not asked)
                 hold = (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":
                     grasps.try_grasp(name, [goal], None, *hold)
                 elif kind == "prop":  # only the point aimed at: not the bar let go of
                     grasps.try_grasp(name, [goal], target[1], *hold)
-                elif self.sim is not None and self.sim.props:
+                elif sim.props:
                     grasps.try_grasp(name, None, "any", *hold)
             if reach.end is not None and step >= reach.end:
                 owners.drop(owner)
