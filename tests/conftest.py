@@ -51,3 +51,21 @@ def pytest_terminal_summary(terminalreporter):
            if o not in ("accepted", "refused")}
     terminalreporter.write_line(f"total {total} cases; " + ", ".join(
         f"{o} {n}" for o, n in sorted(bad.items())) if bad else f"total {total} cases")
+
+
+@pytest.fixture
+def path_of(monkeypatch):
+    """``path_of("c")`` / ``path_of("python")``: run on the compiled kernel or on the
+    pure-Python path from now on (``PUPPET_KERNEL``); the loaded kernel is forgotten
+    after the test. A compiler but no cache to build in skips the test."""
+    from puppet.physics import kernel
+
+    def choose(how: str):
+        monkeypatch.setenv(kernel.ENV, how)
+        kernel.reset()
+        try:
+            return kernel.get()
+        except kernel.KernelError as exc:
+            pytest.skip(str(exc))
+    yield choose
+    kernel.reset()

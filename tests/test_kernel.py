@@ -13,9 +13,9 @@ None reads a clock.
 from __future__ import annotations
 
 import os
-import shutil
 
 import pytest
+from kernel_paths import needs_cc
 
 from puppet.data.catalog import ROOT
 from puppet.physics import kernel
@@ -29,22 +29,7 @@ WALKERS = ["biped-walk", "biped-auto-walk"]
 # frame targets (pk_frame), the support polygon (pk_support), two-link reaches
 # (pk_two_link) and the add maps of the state-machine walkers and gymnasts
 CONTROLLED = ["biped-backflip", "biped-handstand", "biped-monkey-bars", "biped-ladder-climb"]
-needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
-                              and shutil.which("gcc") is None, reason="no C compiler")
 
-
-@pytest.fixture
-def path_of(monkeypatch):
-    """``path_of("c")`` / ``path_of("python")``: run on that path from now on."""
-    def choose(how: str):
-        monkeypatch.setenv(kernel.ENV, how)
-        kernel.reset()
-        try:
-            return kernel.get()
-        except kernel.KernelError as exc:  # a compiler, but no cache to build in
-            pytest.skip(str(exc))
-    yield choose
-    kernel.reset()
 
 
 def _replayed(name: str):

@@ -8,30 +8,13 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
 import subprocess
 import sys
 
-import pytest
+from kernel_paths import needs_cc
 
 from puppet.data.catalog import ROOT, load_character_named, load_scene_named
 from puppet.physics import kernel
-
-needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
-                              and shutil.which("gcc") is None, reason="no C compiler")
-
-
-@pytest.fixture
-def path_of(monkeypatch):
-    def choose(how: str):
-        monkeypatch.setenv(kernel.ENV, how)
-        kernel.reset()
-        try:
-            return kernel.get()
-        except kernel.KernelError as exc:  # a compiler, but no cache to build in
-            pytest.skip(str(exc))
-    yield choose
-    kernel.reset()
 
 
 def _outcome(call):
