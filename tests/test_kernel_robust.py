@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 import os
+import struct
 import subprocess
 import sys
 
+import pytest
 from kernel_paths import needs_cc
 
 from puppet.data.catalog import ROOT, load_character_named, load_scene_named
@@ -94,3 +96,46 @@ def test_a_failed_build_is_tried_again_once_a_compiler_is_there(tmp_path, monkey
     assert path_of("") is None
     monkeypatch.delenv("CC")  # the compiler is there now (a later start)
     assert path_of("") is not None
+
+
+def _answers(solve, *args):
+    try:
+        return ["nan" if q != q else struct.pack("<d", q).hex() for q in solve(*args)]
+    except ArithmeticError as exc:
+        return type(exc).__name__
+
+
+@needs_cc
+def test_two_link_answers_a_blown_up_target_alike_on_both_paths(path_of):
+    """A blown-up reach target: both paths answer NaN where the other does and the same
+    bits elsewhere, no exception (the NaN's sign bit may differ: docs in kernel.cos)."""
+    from puppet.interface.ik_two import TwoLink
+
+    def answers():
+        two = TwoLink((0.3, 0.25, 0.1, -0.05), ((0.3, 0.03), (0.25, -0.01)),
+                      (None, (-2.5, 0.0)), 0.05, 1e-4, 20)
+        return [_answers(two.solve, d0, d1, -0.5) for d0, d1 in
+                [(math.inf, 0.0), (0.2, -math.inf), (math.nan, 0.1), (0.1, math.nan)]]
+
+    assert path_of("c") is not None
+    with_kernel = answers()
+    assert path_of("python") is None
+    assert answers() == with_kernel
+
+
+def test_a_chain_with_a_link_of_no_length_is_refused_where_it_is_written(tmp_path):
+    """IK divides by each link's length: a chain whose end sits on its last joint's
+    anchor is an error at load (file:line), not a crash on one path and a reach on the
+    other."""
+    from puppet.data.catalog import load_setup
+    from puppet.data.errors import DataError
+
+    text = (ROOT / "interfaces" / "biped-ladder.yaml").read_text().replace(
+        "hand_near: {joints: [shoulder_near, elbow_near], end: [0.01, 0.69]}",
+        "hand_near: {joints: [shoulder_near, elbow_near], end: [0.0, 1.1065]}")
+    assert "end: [0.0, 1.1065]" in text
+    path = tmp_path / "zero.yaml"
+    path.write_text(text)
+    with pytest.raises(DataError, match=r"zero.yaml:\d+:\d+: chain 'hand_near': its link 2 "
+                                        r"has no length"):
+        load_setup(str(path))

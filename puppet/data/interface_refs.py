@@ -378,6 +378,11 @@ def check_character_refs(spec, character: CharacterSpec, located: Located) -> No
                                     f"chain '{name}': joint '{second.name}' must be on link "
                                     f"'{first.child}' (the child of '{first.name}'), but its "
                                     f"parent is '{second.parent}'")
+        pts = [tuple(character.joint(j).anchor) for j in chain.joints] + [tuple(chain.end)]
+        for i in [i for i in range(len(pts) - 1) if pts[i] == pts[i + 1]][:1]:  # (IK: / length)
+            raise located.error(("chains", name) + (("joints", i + 1) if i < len(pts) - 2 else (
+                "end",)), f"chain '{name}': its link {i + 1} has no length (two points at "
+                f"{pts[i][0]:g}, {pts[i][1]:g}); expected each point apart from the one before")
     for _, _, loc, t in transitions(spec):
         several = isinstance(t.when, list)
         for i, condition in enumerate(t.conditions):

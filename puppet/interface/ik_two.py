@@ -22,21 +22,9 @@ import math
 from puppet.physics import kernel as _kernel
 
 _atan2, _acos, _hypot = math.atan2, math.acos, math.hypot
-_nan = math.nan
-
-
-# math's cos, sin and remainder as C's answer a blown-up state (the kernel's pk_two_link):
-# NaN for +-inf, where Python raises ValueError (the session's blow-up check recovers it)
-def _cos(a: float) -> float:
-    return math.cos(a) if a - a == 0.0 else _nan
-
-
-def _sin(a: float) -> float:
-    return math.sin(a) if a - a == 0.0 else _nan
-
-
-def _rem(x: float, y: float) -> float:
-    return math.remainder(x, y) if x - x == 0.0 else _nan
+# math's cos, sin and remainder as C answers a blown-up state (the kernel's pk_two_link):
+# NaN, where Python raises ValueError (the session's blow-up check recovers it)
+_cos, _sin, _rem = _kernel.cos, _kernel.sin, _kernel.remainder
 
 _TWO_PI = 2.0 * math.pi  # (ik._wrap's period)
 

@@ -40,19 +40,29 @@ FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle",
              "cpBodyEachArbiter", "cpArbiterGetContactPointSet")
 
+# kernel_source's copy of Chipmunk's cpContactPointSet (pymunk 7.x): size, the offsets
+# of normal and points, the points' count and size; another layout keeps Python's path
+POINT_SET = (104, 8, 24, 2, 40)
 _loaded: list = []  # [Kernel or None] once tried
 
 
 def cos(a: float) -> float:
-    """``math.cos`` as C's ``cos`` answers a blown-up state: NaN for +-inf, where
-    Python raises ValueError (the Python path must not crash where the kernel goes on
-    to the session's blow-up check)."""
-    return math.cos(a) if a - a == 0.0 else math.nan
+    """``math.cos`` as C's ``cos`` answers a blown-up state, where Python raises
+    ValueError: a NaN (``a - a``: the processor's NaN for +-inf, a NaN passed on). The
+    Python path must not crash where the kernel goes on to the session's blow-up check,
+    which restores a checkpoint. (The NaN's sign bit may still differ from the kernel's
+    after further arithmetic; no hash of a blown-up state is ever judged.)"""
+    return math.cos(a) if a - a == 0.0 else a - a
 
 
 def sin(a: float) -> float:
     """``math.sin``, likewise."""
-    return math.sin(a) if a - a == 0.0 else math.nan
+    return math.sin(a) if a - a == 0.0 else a - a
+
+
+def remainder(x: float, y: float) -> float:
+    """``math.remainder``, likewise for a non-finite ``x`` (``y`` is a finite turn)."""
+    return math.remainder(x, y) if x - x == 0.0 else x - x
 
 
 def nearest(q: float) -> float:
@@ -73,6 +83,13 @@ class Kernel:
         from pymunk._chipmunk_cffi import ffi as pffi
         from pymunk._chipmunk_cffi import lib as plib
 
+        points = pffi.typeof("cpContactPointSet").fields[2][1].type
+        layout = (pffi.sizeof("cpContactPointSet"), pffi.offsetof("cpContactPointSet", "normal"),
+                  pffi.offsetof("cpContactPointSet", "points"), points.length,
+                  pffi.sizeof(points.item))
+        if layout != POINT_SET:  # pk_support receives it by value: a larger one would
+            raise RuntimeError(f"this pymunk's cpContactPointSet {layout} is not the "
+                               f"kernel's {POINT_SET}")  # overrun the kernel's stack
         self.ffi, self.lib = module.ffi, module.lib
         self._as_int = lambda cdata: int(pffi.cast("uintptr_t", cdata))
         fns = self.ffi.new("void *[]", [self.pointer(pffi.addressof(plib, name))

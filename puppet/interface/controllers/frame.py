@@ -24,10 +24,7 @@ from puppet.physics.servo import SET_TARGET as _set_target
 _TURN = 2.0 * math.pi
 
 
-def _remainder(x: float, y: float) -> float:
-    """``math.remainder`` as C's answers a blown-up state (pk_frame): NaN for +-inf,
-    where Python raises ValueError."""
-    return math.remainder(x, y) if x - x == 0.0 else math.nan
+_remainder = _kernel.remainder  # (as C's answers a blown-up state: pk_frame)
 
 _angle = _cp.cpBodyGetAngle
 
