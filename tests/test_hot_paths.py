@@ -246,8 +246,8 @@ def test_a_sensor_map_holding_a_frame_target_every_step_keeps_the_frames_schedul
 
 
 def test_advance_steps_chipmunk_itself_exactly_when_step_space_would():
-    """Session.advance calls cpSpaceStep itself when ``_clean``: the spelt-out form of
-    ``not (queued(space) or space._removed_shapes)`` (step_space's own test)."""
+    """Session.advance calls cpSpaceStep itself when ``_clean``: nothing queued in
+    pymunk's space (step_space's own test) and no shape to let go of after a step."""
     import pymunk
 
     from puppet.physics.simulation import queued

@@ -51,7 +51,7 @@ from puppet.interface.controllers.reach import ReachController
 from puppet.interface.controllers.sequence import SequenceController
 from puppet.interface.controllers.state_machine import StateMachine
 from puppet.interface.controllers.tracking import OFF, Tracker
-from puppet.interface.events import AnalogNames, Event, is_analog
+from puppet.interface.events import AnalogNames, Event
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import JointOwners
 from puppet.interface.roles import RoleBinding
@@ -344,14 +344,9 @@ class InterfaceRuntime(ActiveMaps, Actions):
                 written = apply(values)
                 if table:
                     self.owners.take(written)
-            if self.frames.held and self.frames not in self._active:
-                self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
-            if self._device_machines:  # a state polling the mouse polls it again
-                self._stir(self.step_now())
-            # Maps write targets and take joints; nothing else that sets a wake-up
-            # changes (an emptied sequence or gesture ends at its own next wake-up).
+            self._maps_applied()
             return None
-        if kind == "gamepad":  # a stick (the frequent case): its maps, as below
+        if kind == "gamepad":  # a stick, a trigger, an axis (the frequent case): maps only
             name = self._stick_names[event["name"]]
             if name is not None:
                 value = float(event["value"])
@@ -360,10 +355,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
                 if pointer:  # the pointer stick moves the pointer, as the mouse does
                     self.inputs[pointer] = pointer_value(value)
                 self.apply_maps((name, pointer) if pointer else (name,))
-                if self.frames.held and self.frames not in self._active:
-                    self._reschedule(self.step_now())  # a map holds a frame target
-                if self._device_machines:  # a state polling the stick polls it again
-                    self._stir(self.step_now())
+                self._maps_applied()
                 return None
         now = self.step_now()
         result = None
@@ -385,11 +377,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
                         self._tracking_due(now)
             else:
                 self.inputs[name] = value
-            pointer = self._pointer and self._pointer_axes.get(name)
-            if pointer:  # the pointer stick moves the pointer, as the mouse does
-                self.inputs[pointer] = pointer_value(value)
-            self.apply_maps((name, pointer) if pointer else (name,))
-            if kind != "channel" and not is_analog(name) and (was > 0.5) != (value > 0.5):
+            self.apply_maps((name,))  # (sticks, and with them the pointer, went above)
+            if kind != "channel" and (was > 0.5) != (value > 0.5):
                 result = self._press(name, value > 0.5, now)  # buttons also act as keys
         else:
             return None
@@ -451,6 +440,16 @@ class InterfaceRuntime(ActiveMaps, Actions):
                     self.owners.take(written)
         if self.frames.held and self.frames not in self._active:
             self._reschedule(self.step_now())  # a map holds a frame target: re-solve it
+
+    def _maps_applied(self) -> None:
+        """After a mouse or stick event's maps: a map holding a frame target has it
+        re-solved, and a state polling the device polls it again. Nothing else that
+        sets a wake-up changes (an emptied sequence or gesture ends at its own next
+        wake-up), so there is no reschedule."""
+        if self.frames.held and self.frames not in self._active:
+            self._reschedule(self.step_now())
+        if self._device_machines:
+            self._stir(self.step_now())
 
     # -- time --------------------------------------------------------------------
     def tick(self, step: int) -> None:

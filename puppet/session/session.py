@@ -18,7 +18,7 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
+from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, queued, step_space
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
 
@@ -32,11 +32,8 @@ _space_step = _cp.cpSpaceStep
 
 def _clean(space) -> bool:
     """``step_space`` would only call Chipmunk's step: nothing queued in pymunk's space,
-    nothing to let go of after a step (then ``advance`` calls the C step itself). It is
-    ``not (queued(space) or space._removed_shapes)``, spelt out (one call, not two:
-    tests/test_hot_paths.py holds them equal)."""
-    return not (space._bodies_to_check or space._add_later or space._remove_later
-                or space._post_step_callbacks or space.threaded or space._removed_shapes)
+    nothing to let go of after a step (then ``advance`` calls the C step itself)."""
+    return not (queued(space) or space._removed_shapes)
 
 
 def world_box(scene) -> tuple[float, float, float, float]:
