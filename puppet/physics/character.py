@@ -299,11 +299,9 @@ class Character:
         """``_com`` and ``_com_velocity`` by the compiled kernel (``physics.kernel``: the
         same sums, reading each body through Chipmunk's getters), both at once (once
         per ``sample``)."""
-        memo = self._memo
-        if memo is not None:
-            got = memo.get("com_kernel")
-            if got is not None:
-                return got
+        return self._sampled("com_kernel", self._com_kernel_now)
+
+    def _com_kernel_now(self) -> tuple[tuple[float, float], tuple[float, float]]:
         bodies = self.bodies
         cached = self.__dict__.get("_com_rows")
         if cached is None or cached[0] is not bodies:
@@ -318,10 +316,7 @@ class Character:
         _, com, args = cached
         com(*args)
         out = args[-1]
-        got = ((out[0], out[1]), (out[2], out[3]))
-        if memo is not None:
-            memo["com_kernel"] = got
-        return got
+        return ((out[0], out[1]), (out[2], out[3]))
 
     def _com_spin(self) -> float:
         """Sum of m (r x v) + I w over the links, r and v relative to the centre of
@@ -329,7 +324,7 @@ class Character:
         values, rows = self._read()
         cx, cy = self.com()
         vx, vy = self.com_velocity()
-        cos, sin = math.cos, math.sin
+        cos, sin = _kernel.cos, _kernel.sin  # (no crash on a blown-up state, as _com)
         momentum = inertia = 0.0
         for (i, mass, gx, gy), body in zip(rows, self.bodies.values()):
             a = values[i + 2]

@@ -22,10 +22,7 @@ from puppet.physics import kernel as _kernel
 from puppet.physics.servo import SET_TARGET as _set_target
 
 _TURN = 2.0 * math.pi
-
-
 _remainder = _kernel.remainder  # (as C's answers a blown-up state: pk_frame)
-
 _angle = _cp.cpBodyGetAngle
 
 
@@ -56,15 +53,6 @@ class FrameTargets:
         if owner == FRAME:
             self.owners_table.table[joint] = FRAME
         self.held[joint] = (target, owner)
-        solve = self._pk_frame
-        if solve is not None:  # _solve's kernel call, inlined (a map holds at every event)
-            joint_ptrs, link_ptrs = self._pointers()
-            parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
-            ref = target.ref
-            solve(parent, child, self._null if ref is None else
-                  (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
-                  target.hold_parent, spring)
-            return
         self._solve(joint, target)
 
     def forget(self, joint: str) -> None:
