@@ -38,10 +38,6 @@ _angle = _cp.cpBodyGetAngle
 _set_target = SET_TARGET
 
 
-def _ease(u: float) -> float:
-    return u * u * (3.0 - 2.0 * u)
-
-
 class BlendController:
     BUSY = "moving"
 
@@ -121,7 +117,7 @@ class BlendController:
             start, to, first, last, target = m
             if step >= last:
                 u = 1.0
-            else:  # _ease, inlined (the same operations)
+            else:  # eased: smoothstep, u^2 (3 - 2u)
                 u = (step - first) / (last - first)
                 u = u * u * (3.0 - 2.0 * u)
             value = start + (to - start) * u
