@@ -125,6 +125,7 @@ class ConditionSpec(Spec, kw_only=True):
     -180..180), lean (deg of
     the root-to-centre-of-mass line from vertical, + toward +x), com.x, com.y (m),
     com.vx, com.vy (m/s), height.LINK (m, link centre), contact.LINK (true/false),
+    held.CHAIN (m: the height of the point the chain holds; a script rule's only),
     channel.NAME (an input channel, in the plugin's units: a mocap channel).
     """
 

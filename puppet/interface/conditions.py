@@ -144,12 +144,27 @@ _NAN = float("nan")
 INPUT = "input."  # a device input as a sensor: input.mouse.x, input.gamepad.left_x
 
 
+HELD = "held."  # held.CHAIN: the height of what the chain holds (a script rule's sensor)
+
+
 def reader(sensor: str, character: Character, channels: dict | None = None,
-           inputs: dict | None = None) -> Reader:
+           inputs: dict | None = None,
+           grasp_point: Callable[[str], tuple | None] | None = None) -> Reader:
     """A zero-argument reader of the sensor's current value (SI units). ``channel.NAME``
     reads the input channel from ``channels`` (the runtime's), in the plugin's own
     units; ``input.NAME`` a device input (``input.mouse.x``: 0 .. 1) from ``inputs``
-    (the runtime's); either is NaN - no condition holds - until its first value comes."""
+    (the runtime's); either is NaN - no condition holds - until its first value comes.
+    ``held.CHAIN`` is the height (m) of the point the chain holds, NaN while it holds
+    nothing, from ``grasp_point`` (the simulation's: chain -> world point or None)."""
+    if sensor.startswith(HELD):
+        if grasp_point is None:
+            raise ValueError(f"'{sensor}': held.CHAIN is read by a script's rules only")
+        name = sensor[len(HELD):]
+
+        def held() -> float:
+            point = grasp_point(name)
+            return _NAN if point is None else point[1]
+        return held
     if sensor.startswith("channel."):
         name, values = sensor[len("channel."):], channels if channels is not None else {}
         return lambda: values.get(name, _NAN)
@@ -175,7 +190,7 @@ def compile_bounds(spec: ConditionSpec) -> tuple[float, float] | None:
     test, for a state machine to compare without a call); None for an ``is`` test."""
     if spec.is_ is not None:
         return None
-    angle = not spec.sensor.startswith(("channel.", INPUT)) and _lookup(spec.sensor)[1]
+    angle = not spec.sensor.startswith(("channel.", INPUT, HELD)) and _lookup(spec.sensor)[1]
     conv = math.radians if angle else float
     lo = conv(spec.above) if spec.above is not None else -math.inf
     hi = conv(spec.below) if spec.below is not None else math.inf

@@ -72,7 +72,8 @@ class _Rule:
                 read = self._readers.get(key)
                 if read is None:
                     read = self._readers[key] = reader(sensor, session.character,
-                                                       runtime.channels, runtime.inputs)
+                                                       runtime.channels, runtime.inputs,
+                                                       lambda name: session.sim.grasp_point(name))
                 ok = self.tests[k](read())
             if not ok:
                 return False

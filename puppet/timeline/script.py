@@ -345,6 +345,11 @@ def _when_problem(w: WhenSpec, interface, character) -> tuple[str | None, tuple]
     where (the field's path under the condition)."""
     from puppet.data.interface_refs import sensor_problem
 
+    if w.sensor is not None and w.sensor.startswith("held."):  # held.CHAIN: a chain's grasp
+        chain = w.sensor[len("held."):]
+        return (None if chain in interface.chains else
+                f"'{w.sensor}': the interface '{interface.name}' has no chain '{chain}'; its "
+                f"chains: {', '.join(interface.chains) or 'none'}"), ("sensor",)
     if w.sensor is not None:
         return sensor_problem(w.sensor, character, interface.roles), ("sensor",)
     if w.mode is not None and w.mode not in interface.modes:
