@@ -232,3 +232,21 @@ def test_checks_words_about_a_logs_interface_say_what_a_replay_would_do(capsys, 
     assert err.endswith("(puppet replay --as-recorded replays the log's own copy of the "
                         "interface)\n"), err
     assert "replaying" not in err
+
+
+def test_a_script_is_checked_against_the_interface_it_names(tmp_path, capsys):
+    """A script's rules name sensors, states and chains of its ``interface:``; check
+    refuses a misspelt one at its line, as ``puppet play --input`` does, and a script
+    whose interface it cannot find is checked on its own."""
+    ladder = ROOT / "assets" / "scripts" / "biped-ladder-climb.yaml"
+    assert run(capsys, ladder)[0] == 0
+    lines = lines_of(ladder)
+    at = next(i for i, line in enumerate(lines) if "held.hand_far" in line)
+    lines[at] = lines[at].replace("held.hand_far", "held.hand_fra", 1)
+    typo = write(tmp_path / "typo.yaml", lines)
+    code, out, err = run(capsys, typo)
+    assert code == 2 and err.startswith(f"puppet check: {typo}:{at + 1}:"), err
+    assert "no chain 'hand_fra'" in err, err
+    alone = write(tmp_path / "alone.yaml", ["interface: no-such-layout", "seconds: 1",
+                                            "events:", "  - {t: 0.5, key: g}"])
+    assert run(capsys, alone) == (0, f"{alone}: ok (script)\n", "")

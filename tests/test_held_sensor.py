@@ -69,3 +69,16 @@ def test_held_names_a_chain_of_the_interface(tmp_path):
                     setup.interface, setup.character)
     message = str(caught.value)
     assert "no chain 'hand_middle'" in message and "bad.yaml:3:" in message, message
+
+
+def test_a_state_machine_is_told_held_is_for_scripts(tmp_path):
+    """``held.CHAIN`` in an interface's map or transition is refused at its line, saying
+    it belongs to a script's rules (not a bare 'unknown sensor')."""
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: bad\ndescription: bad\ncharacter: biped\n"
+                    "maps:\n  - {input: sensor.held.hand_near, joint: waist, to: [0, 1]}\n",
+                    encoding="utf-8")
+    with pytest.raises(DataError) as caught:
+        load_setup(str(path))
+    message = str(caught.value)
+    assert "script's rules only" in message and f"{path}:5:" in message, message

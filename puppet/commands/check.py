@@ -192,6 +192,22 @@ def guess_kind(path: Path, located: Located) -> str:
                             "mediapipe:) or a log's expectations (expect:)")
 
 
+def _check_script_names(path: Path, spec, located: Located) -> None:
+    """A script naming its ``interface:``: the links its drags and pushes name, and its
+    rules' sensors, states and modes, against that interface and its character (what
+    ``puppet play --input`` refuses before playing), at their lines."""
+    from puppet.data import catalog
+    from puppet.timeline.script import check_links
+
+    try:  # (one it cannot find is not checked: play names the interface to play on)
+        where = catalog.find("interface", spec.interface, catalog.reference_folders(path))
+    except DataError:
+        return
+    setup = catalog.load_setup(str(where))
+    check_links(path, spec, [link.name for link in setup.character.links],
+                setup.interface, setup.character, located)
+
+
 def check_file(path: str | Path, warnings: list[str] | None = None,
                report: list[str] | None = None) -> str:
     """Validate one file; return its kind. Raises DataError on the first problem;
@@ -220,6 +236,8 @@ def check_file(path: str | Path, warnings: list[str] | None = None,
     if kind in _PARSERS:  # (imported when asked: check reads only its file's kind)
         module, parse = _PARSERS[kind]
         spec = getattr(importlib.import_module(module), parse)(located)
+        if kind == "script" and spec.interface:  # its rules' names, as play checks them
+            _check_script_names(path, spec, located)
         if kind == "character" and report is not None:
             from puppet.physics.stability_report import character_report
 

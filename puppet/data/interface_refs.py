@@ -1,10 +1,9 @@
 """Cross-references in an interface file, checked at load time with file:line:col.
 
-The types check each value on its own; this module checks that names point at
-things that exist (poses, sequences, modes, states, chains; joints and links of the
-character), that every state can be reached, and that values fit the character
-(pose angles within joint limits). A mistake is reported where it was written, with
-a did-you-mean when a known name is close.
+The types check each value on its own; this module checks that names point at things
+that exist (poses, sequences, modes, states, chains; joints and links of the character),
+that every state can be reached, and that values fit the character (pose angles within
+joint limits). A mistake is reported where it was written, with a did-you-mean.
 """
 
 from __future__ import annotations
@@ -21,7 +20,6 @@ FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy", "co
                  "com.spin")
 JOINT_SENSORS = ("joint",)
 LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
-
 
 
 def _period(rate: float) -> int:
@@ -250,6 +248,8 @@ def sensor_problem(sensor: str, character: CharacterSpec, roles=None) -> str | N
     link in it may be a role (``roles``: role -> binding -> name), checked per binding."""
     if sensor in FIXED_SENSORS:
         return None
+    if sensor.startswith("held."):  # timeline/reactive.py's, not a state machine's
+        return f"'{sensor}': held.CHAIN is read by a script's rules only, not here"
     if sensor.startswith("channel."):  # an input channel (a mocap plugin's): any name
         return None if len(sensor) > len("channel.") else "a channel sensor needs a " \
             "name: channel.NAME"

@@ -67,7 +67,8 @@ class _Rule:
                         ok = True
                         break
             else:
-                sensor = runtime.roles.sensor(w.sensor)  # a role as the binding means now
+                sensor = w.sensor if w.sensor.startswith("held.") \
+                    else runtime.roles.sensor(w.sensor)  # a role as the binding means now
                 key = (id(runtime), sensor)
                 read = self._readers.get(key)
                 if read is None:
