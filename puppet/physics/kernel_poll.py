@@ -1,0 +1,157 @@
+"""The compiled kernel's stepping loop (``pk_poll``): Chipmunk's step, and between the
+steps what a state that polls at the control rate does in Python, for as long as
+nothing else is due.
+
+A state machine polling every step (a state's ``control_rate: 480``) costs a Luxo
+step, 2.3 us of physics, another 1.5-2 us of Python: a tick, the poll (a contact read,
+an angle) and a blend's eased target. ``pk_poll`` steps the space from ``now`` and,
+after each step, does the work ``Session.advance`` would do there, in its order:
+
+  * at a frame's end (``frame_every``), the session's check that the root link is in
+    the world box and not flying off (``Session.advance``'s cheap check);
+  * at a control step (``every``), the state's polled transitions, each from its own
+    first step (its ``after``): a transition holds when all its conditions do, a range
+    condition when ``lo < value < hi``, an ``is`` when ``(value > 0.5) == want``, and
+    with a ``for`` once they have held that many steps since the first poll that found
+    them true (``since``, handed back: ``StateMachine.due``'s ``_since``), on the
+    sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
+    joint's angle, a link's spin;
+  * then the travelling targets of a blend (``BlendController._write``: the eased
+    value, smoothstep, written as the servo's rest angle).
+
+With ``tick_first`` it does the tick at ``now`` too: the call goes on from where
+the last one stopped at its end (an input event came there, which changed nothing
+the table holds: ``PollPlan.ready`` makes it again). It returns the step at which
+Python takes over: the first where a transition holds
+or the frame check fails (before any of that step's writes: the Python tick does them
+and goes on exactly as if it had run every step), or ``stop``. A sensor does not read
+a servo's target, so reading the conditions before the writes gives what the tick's
+order gives. ``interface.poll_plan`` builds the table, and only for what it can
+express; everything else stays on Python's path. Written operation for operation as
+the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
+"""
+
+POLL_TYPES = """
+typedef struct {
+    int n_trans;
+    int *first;       /* per transition: the first step it is polled (entered + after) */
+    int *hold;        /* the steps its `for` asks (0: none) */
+    int *since;       /* the step its conditions began to hold (-1: they do not) */
+    int *cond0, *n_cond;  /* its conditions: [cond0, cond0 + n_cond) */
+    int *kind;        /* per condition: 0 contact, 1 angle within a turn, 2 joint, 3 spin */
+    void **body_a, **body_b;  /* the link (a joint's child), a joint's parent */
+    double *lo, *hi;
+    int *want;        /* -1: lo < value < hi; 0 or 1: an ``is`` */
+    int n_blend;
+    void **spring;    /* per travelling joint: its damped rotary spring */
+    double *start, *to;
+    int *b_first, *b_last;
+    int every, frame_every;
+    void *root;
+    double x0, x1, y0, y1, max_speed2;
+} pk_poll_plan;
+"""
+
+POLL_CDEF = POLL_TYPES + """
+void pk_poll_init(void *step);
+int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first);
+"""
+
+POLL_SOURCE = POLL_TYPES + r"""
+static void (*space_step)(void *, double);
+
+void pk_poll_init(void *step)
+{
+    space_step = (void (*)(void *, double))step;
+}
+
+static void pk_touched(void *body, void *arbiter, void *data)
+{
+    (void)body; (void)arbiter;
+    *(int *)data = 1;
+}
+
+/* conditions.reader's value of condition i */
+static double pk_sensor(const pk_poll_plan *p, int i)
+{
+    int touching;
+    switch (p->kind[i]) {
+    case 0:
+        touching = 0;
+        each_arbiter(p->body_a[i], pk_touched, &touching);
+        return touching ? 1.0 : 0.0;
+    case 1:
+        return remainder(get_angle(p->body_a[i]), TURN);
+    case 2:
+        return get_angle(p->body_a[i]) - get_angle(p->body_b[i]);
+    default:
+        return get_spin(p->body_a[i]);
+    }
+}
+
+/* StateMachine.due at a control step: does any polled transition hold at ``s``? */
+static int pk_fires(pk_poll_plan *p, int s)
+{
+    for (int k = 0; k < p->n_trans; k++) {
+        int holds = 1;
+        if (s < p->first[k])
+            continue;
+        for (int i = p->cond0[k]; i < p->cond0[k] + p->n_cond[k] && holds; i++) {
+            double v = pk_sensor(p, i);
+            if (p->want[i] < 0)
+                holds = p->lo[i] < v && v < p->hi[i];
+            else
+                holds = (v > 0.5) == (p->want[i] != 0);
+        }
+        if (p->hold[k] == 0) {
+            if (holds)
+                return 1;
+        } else if (holds) {  /* `for`: held since the first poll that found it true */
+            if (p->since[k] < 0)
+                p->since[k] = s;
+            if (s - p->since[k] >= p->hold[k])
+                return 1;
+        } else {
+            p->since[k] = -1;
+        }
+    }
+    return 0;
+}
+
+/* the tick at ``s``, a control step: 1 when a transition holds (nothing written) */
+static int pk_tick(pk_poll_plan *p, int s)
+{
+    if (pk_fires(p, s))
+        return 1;
+    for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
+        double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
+        u = u * u * (3.0 - 2.0 * u);
+        set_rest_angle(p->spring[j], p->start[j] + (p->to[j] - p->start[j]) * u);
+    }
+    return 0;
+}
+
+/* ``tick_first``: the tick at ``now`` too (else Python's tick has run there) */
+int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
+{
+    int s = now;
+    if (tick_first && s % p->every == 0 && pk_tick(p, s))
+        return s;
+    for (;;) {
+        space_step(space, dt);
+        s++;
+        if (s >= stop)
+            return s;
+        if (s % p->frame_every == 0) {  /* Session.advance's frame check */
+            pk_vect q = get_position(p->root), v;
+            if (!(p->x0 < q.x && q.x < p->x1 && p->y0 < q.y && q.y < p->y1))
+                return s;
+            v = get_velocity(p->root);
+            if (!(v.x * v.x + v.y * v.y < p->max_speed2))
+                return s;
+        }
+        if (s % p->every == 0 && pk_tick(p, s))
+            return s;
+    }
+}
+"""
