@@ -3,11 +3,13 @@ ticks do between them: every Luxo log whose states poll at every step replays to
 same state machine states, schedules and physics bits, call by call, with the loop,
 without it (Python's ticks on the kernel), and on the pure-Python path.
 
-The logs cover the loop's branches: contact, angle, joint and spin conditions, all of
-a transition's conditions at once, a transition's ``after``, timers and blend arrivals
-that end a run, device-only states between input events, runs that stop at a call's
-end and go on from there (``resume``), checkpoints' re-seats, and the states it leaves
-to Python (``for``, feedback maps, the centre of mass). None reads a clock.
+The logs cover the loop's branches: contact, angle, joint, spin and height
+conditions, all of a transition's conditions at once, a transition's ``after`` and
+``for``, a running sequence's ``until`` (tested at every step), timers, blend arrivals
+and a sequence's next pose that end a run, device-only states between input events,
+runs that stop at a call's end and go on from there (``resume``), checkpoints'
+re-seats, and the states it leaves to Python (feedback maps, the centre of mass).
+None reads a clock.
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ from puppet.timeline.log import read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
 HOT = ["luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip", "luxo-kip",
-       "luxo-backflip", "luxo-designer-try", "luxo-keys-somersaults"]
+       "luxo-backflip", "luxo-designer-try", "luxo-keys-somersaults", "luxo-keys-hops",
+       "luxo-keys-forward-somersaults"]
 
 
 def _trace(name: str, loop: bool):
@@ -78,13 +81,14 @@ def test_no_loop_on_the_python_path(path_of):
 
 @needs_cc
 def test_what_the_table_cannot_express_stays_in_python(path_of):
-    """The centre of mass, a height, a lean: no table; a `for` is in it."""
+    """The centre of mass, a lean: no table; a `for` is in it."""
     assert path_of("c") is not None
     assert poll_plan.condition_kind("root.angle", "base") == (1, "base")
     assert poll_plan.condition_kind("contact.base", "base") == (0, "base")
     assert poll_plan.condition_kind("joint.knee", "base") == (2, "knee")
     assert poll_plan.condition_kind("spin.base", "base") == (3, "base")
-    for sensor in ("com.fall_time", "com.vy", "height.base", "lean", "com.dx.base",
+    assert poll_plan.condition_kind("height.base", "base") == (4, "base")
+    for sensor in ("com.fall_time", "com.vy", "lean", "com.dx.base",
                    "lead.base.shade"):
         assert poll_plan.condition_kind(sensor, "base") is None, sensor
     log = read_log("assets/logs/luxo-back-headspring.jsonl")

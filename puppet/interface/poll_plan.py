@@ -20,12 +20,12 @@ from __future__ import annotations
 
 from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers.tracking import OFF
-from puppet.interface.ownership import BLEND
+from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> pk_poll's code: a link's contact, its angle within a turn, a joint's
-# angle, a link's spin
-KINDS = {"contact": 0, "angle": 1, "joint": 2, "spin": 3}
+# angle, a link's spin, its height
+KINDS = {"contact": 0, "angle": 1, "joint": 2, "spin": 3, "height": 4}
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
@@ -52,9 +52,9 @@ class PollPlan:
         n = MAX_CONDITIONS
         self.plan = p = ffi.new("pk_poll_plan *")
         # the arrays live as long as the plan (cffi frees them with their owners)
-        self._keep = [ffi.new("int[]", n) for _ in range(9)] + \
+        self._keep = [ffi.new("int[]", n) for _ in range(10)] + \
             [ffi.new("void *[]", n) for _ in range(3)] + [ffi.new("double[]", n) for _ in range(4)]
-        (p.first, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
+        (p.first, p.period, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
          p.body_a, p.body_b, p.spring, p.lo, p.hi, p.start, p.to) = self._keep
         self._tables: dict = {}  # (machine, state, binding) -> transitions or None
         self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
@@ -93,7 +93,7 @@ class PollPlan:
         key = (machine.name, machine.current, rt.role_binding)
         if key in self._tables:
             return self._tables[key]
-        rename, root = rt.roles.sensor, rt.character.spec.root
+        rename = rt.roles.sensor
         spec, name = machine.spec, machine.name
         state = spec.states[machine.current]
         shared = [t for t in spec.any_state.transitions
@@ -108,27 +108,48 @@ class PollPlan:
             if hold and any(rename(c.sensor).startswith(OFFLINE) for c in t.conditions):
                 table = None  # (a `for` left out when an input rules it out: Python's)
                 break
-            conditions = []
-            for c in t.conditions:
-                sensor = rename(c.sensor)
-                bounds = compile_bounds(c)
-                lo, hi = bounds if bounds is not None else (0.0, 0.0)
-                want = -1 if bounds is not None else int(bool(c.is_))
-                if sensor.startswith(OFFLINE):
-                    conditions.append((None, reader(sensor, rt.character, rt.channels,
-                                                    rt.inputs), lo, hi, want))
-                    continue
-                kind = condition_kind(sensor, root)
-                if kind is None:
-                    conditions = None
-                    break
-                conditions.append((*kind, lo, hi, want))
+            conditions = self._conditions(t.conditions)
             if conditions is None:
                 table = None
                 break
             table.append((after, conditions, hold, index))
         self._tables[key] = table
         return table
+
+    def _conditions(self, conditions) -> list | None:
+        """A transition's or an ``until``'s conditions as ``pk_poll`` reads them:
+        ``(code or None, name or reader, lo, hi, want)``; None if one cannot be."""
+        rt = self.runtime
+        rename, root = rt.roles.sensor, rt.character.spec.root
+        out = []
+        for c in conditions:
+            sensor = rename(c.sensor)
+            bounds = compile_bounds(c)
+            lo, hi = bounds if bounds is not None else (0.0, 0.0)
+            want = -1 if bounds is not None else int(bool(c.is_))
+            if sensor.startswith(OFFLINE):
+                out.append((None, reader(sensor, rt.character, rt.channels, rt.inputs),
+                            lo, hi, want))
+                continue
+            kind = condition_kind(sensor, root)
+            if kind is None:
+                return None
+            out.append((*kind, lo, hi, want))
+        return out
+
+    def _sequence_until(self, name: str, index: int):
+        """A sequence step's ``until`` (``compile_untils``): (after in steps, its
+        conditions), None without one, False when ``pk_poll`` cannot read it."""
+        key = ("sequence", name, index, self.runtime.roles.binding)
+        if key not in self._tables:
+            spec = self.runtime.sequences.specs[name][index]
+            found = None
+            if spec.until is not None:
+                conditions = self._conditions(spec.conditions)
+                found = False if conditions is None else \
+                    (round((spec.after or 0.0) / self.runtime.dt), conditions)
+            self._tables[key] = found
+        return self._tables[key]
 
     def ready(self, step: int) -> int | None:
         """After the tick at ``step`` (or where ``resumes``): the step up to which
@@ -144,10 +165,15 @@ class PollPlan:
         if table is None or rt.next_wakeup is None or rt._pending or rt.frames.held \
                 or rt.tracker.mode != OFF:
             return None
-        blends = rt.blends
+        blends, sequences = rt.blends, rt.sequences
         for controller in rt._active:
-            if controller is not blends:
+            if controller is not blends and controller is not sequences:
                 return None
+        seq = sequences.running
+        if seq is not None:
+            if SEQUENCE not in rt.owners.table.values():  # (its tick ends it: Python's)
+                return None
+            seq = (seq.name, seq.index, seq.until, seq.began, rt.roles.binding)
         every = machine.every
         if blends.every != every or (machine.device_only and not machine.quiet):
             return None
@@ -158,12 +184,12 @@ class PollPlan:
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
         # bodies (a re-seat makes new ones), the period and the travelling targets
-        key = (machine.entered, machine.quiet, sim.seats, every, *moving.values())
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.values())
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
             self._offline = any(kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
-            self._until = self._fill(table, machine, every)
+            self._until = self._fill(table, machine, every, seq)
         if self._held:  # the `for`s' starts, as the machine has them now
             p, since = self.plan, machine._since
             for k, index in self._held:
@@ -171,7 +197,7 @@ class PollPlan:
         until = self._until
         return until if until is not None and until > step else None  # (due now: Python)
 
-    def _fill(self, table, machine, every: int) -> int | None:
+    def _fill(self, table, machine, every: int, seq) -> int | None:
         """Write the plan: the state's polled transitions (those an input rules out
         left out), the blend's travelling targets; the step a timer or an arrival is
         due (NEVER: none), or None when there is nothing to do or it does not fit."""
@@ -182,7 +208,16 @@ class PollPlan:
         k = i = 0
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
-        for after, conditions, hold, index in table:
+        if seq is not None:  # a running sequence: its step's end, its ``until``
+            name, step_index, ends, began, _ = seq
+            found = self._sequence_until(name, step_index)
+            if found is False:
+                return None
+            until = ends  # (the next step's pose: Python's tick)
+            if found is not None:
+                self._offline = self._offline or any(c[0] is None for c in found[1])
+                table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
+        for after, conditions, hold, index, *period in table:
             first = entered + after
             if conditions is None:  # a timer: Python's tick fires it
                 until = first if first < until else until
@@ -210,6 +245,7 @@ class PollPlan:
                 if k >= MAX_CONDITIONS:
                     return None
                 p.first[k], p.cond0[k], p.n_cond[k], p.hold[k] = first, c0, i - c0, hold
+                p.period[k] = period[0] if period else every
                 if hold:
                     held.append((k, index))
                 k += 1

@@ -9,13 +9,14 @@ after each step, does the work ``Session.advance`` would do there, in its order:
 
   * at a frame's end (``frame_every``), the session's check that the root link is in
     the world box and not flying off (``Session.advance``'s cheap check);
-  * at a control step (``every``), the state's polled transitions, each from its own
+  * at a control step (``every``), the state's polled transitions, and at every step
+    a running sequence's ``until`` (``SequenceController.tick``), each from its own
     first step (its ``after``): a transition holds when all its conditions do, a range
     condition when ``lo < value < hi``, an ``is`` when ``(value > 0.5) == want``, and
     with a ``for`` once they have held that many steps since the first poll that found
     them true (``since``, handed back: ``StateMachine.due``'s ``_since``), on the
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
-    joint's angle, a link's spin;
+    joint's angle, a link's spin, its height;
   * then the travelling targets of a blend (``BlendController._write``: the eased
     value, smoothstep, written as the servo's rest angle).
 
@@ -35,10 +36,12 @@ POLL_TYPES = """
 typedef struct {
     int n_trans;
     int *first;       /* per transition: the first step it is polled (entered + after) */
+    int *period;      /* polled at steps that are multiples of it (a sequence's: 1) */
     int *hold;        /* the steps its `for` asks (0: none) */
     int *since;       /* the step its conditions began to hold (-1: they do not) */
     int *cond0, *n_cond;  /* its conditions: [cond0, cond0 + n_cond) */
-    int *kind;        /* per condition: 0 contact, 1 angle within a turn, 2 joint, 3 spin */
+    int *kind;        /* per condition: 0 contact, 1 angle within a turn, 2 joint, 3 spin,
+                         4 height (of the link's centre of mass) */
     void **body_a, **body_b;  /* the link (a joint's child), a joint's parent */
     double *lo, *hi;
     int *want;        /* -1: lo < value < hi; 0 or 1: an ``is`` */
@@ -53,16 +56,20 @@ typedef struct {
 """
 
 POLL_CDEF = POLL_TYPES + """
-void pk_poll_init(void *step);
+void pk_poll_init(void *step, void *local_to_world, void *get_cog);
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first);
 """
 
 POLL_SOURCE = POLL_TYPES + r"""
 static void (*space_step)(void *, double);
+static pk_vect (*local_to_world)(void *, pk_vect);
+static pk_vect (*get_cog)(void *);
 
-void pk_poll_init(void *step)
+void pk_poll_init(void *step, void *to_world, void *cog)
 {
     space_step = (void (*)(void *, double))step;
+    local_to_world = (pk_vect (*)(void *, pk_vect))to_world;
+    get_cog = (pk_vect (*)(void *))cog;
 }
 
 static void pk_touched(void *body, void *arbiter, void *data)
@@ -84,8 +91,10 @@ static double pk_sensor(const pk_poll_plan *p, int i)
         return remainder(get_angle(p->body_a[i]), TURN);
     case 2:
         return get_angle(p->body_a[i]) - get_angle(p->body_b[i]);
-    default:
+    case 3:
         return get_spin(p->body_a[i]);
+    default:  /* Character.link_position's y */
+        return local_to_world(p->body_a[i], get_cog(p->body_a[i])).y;
     }
 }
 
@@ -94,7 +103,7 @@ static int pk_fires(pk_poll_plan *p, int s)
 {
     for (int k = 0; k < p->n_trans; k++) {
         int holds = 1;
-        if (s < p->first[k])
+        if (s < p->first[k] || s % p->period[k])
             continue;
         for (int i = p->cond0[k]; i < p->cond0[k] + p->n_cond[k] && holds; i++) {
             double v = pk_sensor(p, i);
@@ -118,11 +127,13 @@ static int pk_fires(pk_poll_plan *p, int s)
     return 0;
 }
 
-/* the tick at ``s``, a control step: 1 when a transition holds (nothing written) */
+/* the tick at ``s``: 1 when a transition holds (nothing written) */
 static int pk_tick(pk_poll_plan *p, int s)
 {
     if (pk_fires(p, s))
         return 1;
+    if (s % p->every)
+        return 0;
     for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
         double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
         u = u * u * (3.0 - 2.0 * u);
@@ -135,7 +146,7 @@ static int pk_tick(pk_poll_plan *p, int s)
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
     int s = now;
-    if (tick_first && s % p->every == 0 && pk_tick(p, s))
+    if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {
         space_step(space, dt);
@@ -150,7 +161,7 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
             if (!(v.x * v.x + v.y * v.y < p->max_speed2))
                 return s;
         }
-        if (s % p->every == 0 && pk_tick(p, s))
+        if (pk_tick(p, s))
             return s;
     }
 }
