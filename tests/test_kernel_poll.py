@@ -8,7 +8,8 @@ conditions, all of a transition's conditions at once, a transition's ``after`` a
 ``for``, a running sequence's ``until`` (tested at every step), timers, blend arrivals
 and a sequence's next pose that end a run, device-only states between input events,
 runs that stop at a call's end and go on from there (``resume``), checkpoints'
-re-seats, and the states it leaves to Python (feedback maps, the centre of mass).
+re-seats, feedback's add maps on angles, spins and the fall time, the centre of mass
+in conditions, and what it leaves to Python.
 None reads a clock.
 """
 
@@ -28,8 +29,10 @@ HOT = ["luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip", "luxo-kip
 
 
 def _trace(name: str, loop: bool):
-    """Replay a log; after each of the session's advance calls: the step, the states,
-    the next wake-up and the state's hash. ``loop``: the kernel's loop may run (it
+    """Replay a log; after each of the session's advance calls: the step, the
+    runtime's whole state (its inputs, with the sensors feedback read; the controllers'
+    states, with feedback's bases and last writes; the machines', with their `for`s'
+    starts; the next wake-up) and the physics' hash. ``loop``: the kernel's loop may run (it
     needs the kernel); else every tick is Python's. Returns (trace, the loop's runs)."""
     log = read_log(f"assets/logs/{name}.jsonl")
     session = new_session(log, setup_for_log(log)[0])
@@ -46,14 +49,14 @@ def _trace(name: str, loop: bool):
             session.runtime.poll = None
         advance(steps)
         rt = session.runtime
-        trace.append((session.sim.steps, rt.states, rt.next_wakeup, session.sim.state_hash()))
+        trace.append((session.sim.steps, rt.get_state(), session.sim.state_hash()))
     session.advance = traced
     poll_plan.PollPlan.run = counted
     try:
         LogFeeder(session, log).advance(log.last_step)
     finally:
         poll_plan.PollPlan.run = run
-    assert trace[-1][3] == log.end_hash, name
+    assert trace[-1][2] == log.end_hash, name
     return trace, runs[0]
 
 
@@ -81,14 +84,17 @@ def test_no_loop_on_the_python_path(path_of):
 
 @needs_cc
 def test_what_the_table_cannot_express_stays_in_python(path_of):
-    """The centre of mass, a lean: no table; a `for` is in it."""
+    """A lean, an offset from a link: no table; a `for` is in it, and so is the fall
+    time."""
     assert path_of("c") is not None
     assert poll_plan.condition_kind("root.angle", "base") == (1, "base")
     assert poll_plan.condition_kind("contact.base", "base") == (0, "base")
     assert poll_plan.condition_kind("joint.knee", "base") == (2, "knee")
     assert poll_plan.condition_kind("spin.base", "base") == (3, "base")
     assert poll_plan.condition_kind("height.base", "base") == (4, "base")
-    for sensor in ("com.fall_time", "com.vy", "lean", "com.dx.base",
+    assert poll_plan.condition_kind("com.fall_time", "base") == (5, None)
+    assert poll_plan.condition_kind("com.vy", "base") == (9, None)
+    for sensor in ("lean", "com.dx.base", "com.spin",
                    "lead.base.shade"):
         assert poll_plan.condition_kind(sensor, "base") is None, sensor
     log = read_log("assets/logs/luxo-back-headspring.jsonl")
@@ -101,4 +107,7 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     assert (after, hold, index) == (0, 96, 0)
     assert [c[:2] for c in conditions] == [(0, "base"), (2, "knee"), (2, "ankle")]
     machine.current = "tucked"  # (read as if there: the centre of mass's fall time)
-    assert plan._table(machine) is None
+    first = plan._table(machine)[0]  # its root's angle and the fall time
+    assert [c[0] for c in first[1]] == [1, 5]
+    machine.current = "landed"  # (no more transitions than a contact's and a timer's)
+    assert plan._table(machine) is not None

@@ -21,11 +21,14 @@ from __future__ import annotations
 from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_feedback import FeedbackPlan
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> pk_poll's code: a link's contact, its angle within a turn, a joint's
 # angle, a link's spin, its height
 KINDS = {"contact": 0, "angle": 1, "joint": 2, "spin": 3, "height": 4}
+# the centre of mass's: pk_poll's code (its fall time, position and velocity)
+COM = {"com.fall_time": 5, "com.x": 6, "com.y": 7, "com.vx": 8, "com.vy": 9}
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
@@ -35,6 +38,8 @@ def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
     """(pk_poll's code, the link or joint) for a sensor ``pk_poll`` reads, else None."""
     if sensor == "root.angle":
         return KINDS["angle"], root
+    if sensor in COM:
+        return COM[sensor], None
     kind, _, name = sensor.partition(".")
     if kind in KINDS and name and "." not in name:
         return KINDS[kind], name
@@ -64,6 +69,9 @@ class PollPlan:
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
+        self.feedback = FeedbackPlan(self, MAX_CONDITIONS)  # feedback's add maps
+        self._feeding = None  # their table, as filled (_fill) and handed back (run)
+        self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self.resume = -1  # the step the last run stopped at, its call's end (see run)
         self._seat = None  # and the space it ran on then (a re-seat lists no contacts)
 
@@ -165,9 +173,15 @@ class PollPlan:
         if table is None or rt.next_wakeup is None or rt._pending or rt.frames.held \
                 or rt.tracker.mode != OFF:
             return None
-        blends, sequences = rt.blends, rt.sequences
+        blends, sequences, feedback = rt.blends, rt.sequences, rt.feedback
         for controller in rt._active:
-            if controller is not blends and controller is not sequences:
+            if controller is not blends and controller is not sequences \
+                    and controller is not feedback:
+                return None
+        feeding = None
+        if feedback.busy:  # sensor maps: all add maps it can run, at the same period
+            feeding = self.feedback.current(rt)
+            if feeding is None or feedback.every != machine.every:
                 return None
         seq = sequences.running
         if seq is not None:
@@ -186,10 +200,15 @@ class PollPlan:
         # bodies (a re-seat makes new ones), the period and the travelling targets
         key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.values())
         if table is not self._filled or sim.space is not self._space or key != self._key \
-                or self._offline:
+                or self._offline or feeding is not self._feeding:
             self._filled, self._space, self._key = table, sim.space, key
             self._offline = any(kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
-            self._until = self._fill(table, machine, every, seq)
+            self._feeding = feeding
+            self._until = self._fill(table, machine, every, seq, feeding)
+        if feeding is not None and not self.feedback.refresh(rt, feeding):
+            return None
+        if self._com:
+            self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
         if self._held:  # the `for`s' starts, as the machine has them now
             p, since = self.plan, machine._since
             for k, index in self._held:
@@ -197,7 +216,7 @@ class PollPlan:
         until = self._until
         return until if until is not None and until > step else None  # (due now: Python)
 
-    def _fill(self, table, machine, every: int, seq) -> int | None:
+    def _fill(self, table, machine, every: int, seq, feeding) -> int | None:
         """Write the plan: the state's polled transitions (those an input rules out
         left out), the blend's travelling targets; the step a timer or an arrival is
         due (NEVER: none), or None when there is nothing to do or it does not fit."""
@@ -208,6 +227,7 @@ class PollPlan:
         k = i = 0
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
+        uses_com = False
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
             found = self._sequence_until(name, step_index)
@@ -237,8 +257,9 @@ class PollPlan:
                     joint = joints.joint(name)
                     p.body_a[i] = self.pointer(bodies[joint.child]._body)
                     p.body_b[i] = self.pointer(bodies[joint.parent]._body)
-                else:
+                elif name is not None:
                     p.body_a[i] = self.pointer(bodies[name]._body)
+                uses_com = uses_com or kind >= 5
                 p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
                 i += 1
             else:
@@ -261,7 +282,17 @@ class PollPlan:
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
-        if k == 0 and n == 0:
+        if feeding is not None:
+            self.feedback.fill(rt, feeding)
+            uses_com = uses_com or any(kind >= 5 for kind, _, _ in feeding[1])
+        else:
+            p.n_read = p.n_add = p.n_fb = 0
+        if uses_com:  # Character._com_kernel's arguments, for these bodies
+            character._com_kernel_now()
+            args = self._com_args = character._com_rows[2]  # (kept alive)
+            p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
+        self._com = uses_com
+        if k == 0 and n == 0 and feeding is None:
             return None  # nothing to do between the steps: Python's tight loop
         return until
 
@@ -284,6 +315,8 @@ class PollPlan:
         rt = self.runtime
         p.root = self.pointer(rt.character.bodies[frame[1]]._body)
         s = self.poll(self.pointer(space_ptr), dt, now, stop, p, tick_first)
+        if p.fb_ticks:  # the sensors' readings, the bases and last writes handed back
+            self.feedback.hand_back(rt, self._feeding)
         if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held

@@ -100,7 +100,8 @@ class Kernel:
                                         for name in FUNCTIONS])
         self.lib.pk_init(fns)
         self.lib.pk_poll_init(*(self.pointer(pffi.addressof(plib, name)) for name in (
-            "cpSpaceStep", "cpBodyLocalToWorld", "cpBodyGetCenterOfGravity")))
+            "cpSpaceStep", "cpBodyLocalToWorld", "cpBodyGetCenterOfGravity",
+            "cpDampedRotarySpringGetRestAngle")))
 
     def pointer(self, cdata):
         """A pymunk cdata pointer (``body._body``, ``spring._constraint``) as the
