@@ -32,8 +32,9 @@ def _trace(name: str, loop: bool):
     """Replay a log; after each of the session's advance calls: the step, the
     runtime's whole state (its inputs, with the sensors feedback read; the controllers'
     states, with feedback's bases and last writes; the machines', with their `for`s'
-    starts; the next wake-up) and the physics' hash. ``loop``: the kernel's loop may run (it
-    needs the kernel); else every tick is Python's. Returns (trace, the loop's runs)."""
+    starts; the next wake-up), the controllers with work, and the physics' hash.
+    ``loop``: the kernel's loop may run (it needs the kernel); else every tick is
+    Python's. Returns (trace, the loop's runs)."""
     log = read_log(f"assets/logs/{name}.jsonl")
     session = new_session(log, setup_for_log(log)[0])
     runs = [0]
@@ -49,14 +50,15 @@ def _trace(name: str, loop: bool):
             session.runtime.poll = None
         advance(steps)
         rt = session.runtime
-        trace.append((session.sim.steps, rt.get_state(), session.sim.state_hash()))
+        trace.append((session.sim.steps, rt.get_state(), [type(c) for c in rt._active],
+                      session.sim.state_hash()))
     session.advance = traced
     poll_plan.PollPlan.run = counted
     try:
         LogFeeder(session, log).advance(log.last_step)
     finally:
         poll_plan.PollPlan.run = run
-    assert trace[-1][2] == log.end_hash, name
+    assert trace[-1][-1] == log.end_hash, name
     return trace, runs[0]
 
 

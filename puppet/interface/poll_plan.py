@@ -189,7 +189,8 @@ class PollPlan:
                 return None
             seq = (seq.name, seq.index, seq.until, seq.began, rt.roles.binding)
         every = machine.every
-        if blends.every != every or (machine.device_only and not machine.quiet):
+        if blends.every != every or (machine.device_only and not machine.quiet
+                                     and not self._quiet_now(machine, step)):
             return None
         moving, owners = blends.moving, rt.owners.table
         for joint in moving:
@@ -202,7 +203,8 @@ class PollPlan:
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline or feeding is not self._feeding:
             self._filled, self._space, self._key = table, sim.space, key
-            self._offline = any(kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
+            self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
+                kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
             self._feeding = feeding
             self._until = self._fill(table, machine, every, seq, feeding)
         if feeding is not None and not self.feedback.refresh(rt, feeding):
@@ -215,6 +217,23 @@ class PollPlan:
                 p.since[k] = since.get(index, -1)
         until = self._until
         return until if until is not None and until > step else None  # (due now: Python)
+
+    @staticmethod
+    def _quiet_now(machine, step: int) -> bool:
+        """A state polling device inputs alone, stirred by an input event, polls them
+        at ``step`` (a tick is due there, this one or Python's): when none holds, it is
+        quiet until the next event (what ``StateMachine.due`` finds and sets; no step
+        changes an input)."""
+        since = step - machine.entered
+        if step % machine.every or since < machine._polled:
+            return False
+        for _, after, read, test, lo, hi in machine._transitions:
+            if since < after:
+                continue
+            if read is None or ((lo < read() < hi) if test is None else test(read())):
+                return False  # a timer due, or a transition fires: Python's tick
+        machine.quiet = True
+        return True
 
     def _fill(self, table, machine, every: int, seq, feeding) -> int | None:
         """Write the plan: the state's polled transitions (those an input rules out
@@ -291,10 +310,8 @@ class PollPlan:
             character._com_kernel_now()
             args = self._com_args = character._com_rows[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
-        self._com = uses_com
-        if k == 0 and n == 0 and feeding is None:
-            return None  # nothing to do between the steps: Python's tight loop
-        return until
+        self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
+        return until  # goes on after an input event, which Python's would tick at)
 
     def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
             frame: tuple, tick_first: bool = False) -> int:
@@ -328,7 +345,22 @@ class PollPlan:
             self.resume, self._seat = s, (sim.space, sim.seats)
         else:
             self.resume = -1
-        rt._reschedule(s)
+        # rt._reschedule(s), for what ``ready`` allows: the controllers with work are
+        # those that had it (the run changed none of their schedules' inputs), and the
+        # one machine
+        wake = None
+        for controller in rt._active:
+            at = controller.next_wakeup(s)
+            if at is None:
+                rt._reschedule(s)  # (never here: the full one)
+                return s
+            if wake is None or at < wake:
+                wake = at
+        rt._controllers_wake = wake
+        at = self.machine.next_wakeup(s)
+        if at is not None and (wake is None or at < wake):
+            wake = at
+        rt.next_wakeup = wake if wake is None or wake > s else s
         return s
 
 
