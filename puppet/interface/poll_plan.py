@@ -170,18 +170,19 @@ class PollPlan:
             self._state, self._binding = machine.current, rt.roles.binding
             self._current = self._table(machine)
         table = self._current
-        if table is None or rt.next_wakeup is None or rt._pending or rt.frames.held \
-                or rt.tracker.mode != OFF:
+        if table is None or rt.frames.held:  # (a walker's every tick: left at once)
             return None
-        blends, sequences, feedback = rt.blends, rt.sequences, rt.feedback
-        for controller in rt._active:
-            if controller is not blends and controller is not sequences \
-                    and controller is not feedback:
-                return None
-        feeding = None
+        feeding, feedback = None, rt.feedback
         if feedback.busy:  # sensor maps: all add maps it can run, at the same period
             feeding = self.feedback.current(rt)
             if feeding is None or feedback.every != machine.every:
+                return None
+        if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
+            return None
+        blends, sequences = rt.blends, rt.sequences
+        for controller in rt._active:
+            if controller is not blends and controller is not sequences \
+                    and controller is not feedback:
                 return None
         seq = sequences.running
         if seq is not None:
