@@ -203,13 +203,16 @@ def _device_event(rng):
 
 
 def _run(tmp_path, quiet: bool, layout: str = MOUSE_ONLY,
-         devices: bool = False) -> tuple[list, str, int]:
+         devices: bool = False, loop: bool = False) -> tuple[list, str, int]:
     """A wandering mouse (``devices``: and gamepad and mouse-button events), events at
     irregular steps; the states entered (with their steps), the end state and how many
-    ticks ran."""
+    ticks ran (Python's: ``loop`` lets the kernel's stepping loop do them between, as
+    it does where there is a kernel, ``interface.poll_plan``)."""
     import random
 
     s = session(tmp_path, layout)
+    if not loop:
+        s.runtime.poll = None
     if not quiet:  # poll every control step, as before
         for m in s.runtime.machines.values():
             m._device_only = dict.fromkeys(m._device_only, False)
@@ -238,6 +241,8 @@ def test_a_state_reading_the_mouse_alone_polls_only_after_mouse_events(tmp_path)
     assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
     assert quiet == every and end == end_every
     assert ticks < ticks_every / 2, (ticks, ticks_every)
+    for polled in (True, False):  # the kernel's loop: the same states, steps and bits
+        assert _run(tmp_path, quiet=polled, loop=True)[:2] == (quiet, end)
 
 
 def test_a_quiet_state_polls_again_after_gamepad_and_mouse_button_events(tmp_path):
@@ -248,6 +253,8 @@ def test_a_quiet_state_polls_again_after_gamepad_and_mouse_button_events(tmp_pat
     assert len(quiet) > 30 and {s for s, _ in quiet} == {"down", "up", "rest"}
     assert quiet == every and end == end_every
     assert ticks < ticks_every, (ticks, ticks_every)
+    for polled in (True, False):  # the kernel's loop: the same states, steps and bits
+        assert _run(tmp_path, polled, DEVICES, devices=True, loop=True)[:2] == (quiet, end)
 
 
 def test_a_quiet_state_still_sees_a_mouse_move_after_a_checkpoint(tmp_path):

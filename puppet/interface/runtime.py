@@ -54,6 +54,7 @@ from puppet.interface.controllers.tracking import OFF, Tracker
 from puppet.interface.events import AnalogNames, Event
 from puppet.interface.ik import Chain
 from puppet.interface.ownership import JointOwners
+from puppet.interface.poll_plan import plan_for
 from puppet.interface.roles import RoleBinding
 from puppet.physics.character import Character
 
@@ -163,6 +164,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self._pointer_axes = {f"gamepad.{stick}_x": "pointer.x",
                               f"gamepad.{stick}_y": "pointer.y"}
         self.mode = spec.start_mode
+        self.poll = plan_for(self)  # every-step polls in the kernel (Session.advance)
         self.gain_holds: dict[str, dict[str, list[float]]] = {}  # chord -> joint -> [k, d]
         if start:
             self.apply_gains()
@@ -576,6 +578,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
         if state["binding"] != self.role_binding:
             self._use_binding(state["binding"])
         self._pending = []
+        if self.poll is not None:
+            self.poll.resume = -1  # (the tick at a restored step is Python's)
         self._refresh_active_maps()
         self._reschedule(self.step_now())
         self.next_wakeup = state["next_wakeup"]

@@ -26,7 +26,11 @@ import os
 import sys
 import sysconfig
 
-from puppet.physics.kernel_source import CDEF, SOURCE
+from puppet.physics.kernel_poll import POLL_CDEF, POLL_SOURCE
+from puppet.physics.kernel_source import CDEF as _CDEF
+from puppet.physics.kernel_source import SOURCE as _SOURCE
+
+CDEF, SOURCE = _CDEF + POLL_CDEF, _SOURCE + POLL_SOURCE  # (the stepping loop: kernel_poll)
 
 # no contraction into fused multiply-adds, no reassociation, no sincos (kernel_source)
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin", "-fno-strict-aliasing"]
@@ -95,6 +99,9 @@ class Kernel:
         fns = self.ffi.new("void *[]", [self.pointer(pffi.addressof(plib, name))
                                         for name in FUNCTIONS])
         self.lib.pk_init(fns)
+        self.lib.pk_poll_init(*(self.pointer(pffi.addressof(plib, name)) for name in (
+            "cpSpaceStep", "cpBodyLocalToWorld", "cpBodyGetCenterOfGravity",
+            "cpDampedRotarySpringGetRestAngle")))
 
     def pointer(self, cdata):
         """A pymunk cdata pointer (``body._body``, ``spring._constraint``) as the

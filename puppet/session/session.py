@@ -83,6 +83,7 @@ class Session:
         self._world = world_box(setup.scene)
         self._root_name = self.sim.character.link_order[0]
         self._advance_constants = (self._frame_every, self._root_name, *self._world)
+        self._frame = (*self._advance_constants, MAX_SPEED2)  # (the kernel's loop checks it)
         start = self._snapshot()  # re-seated, like every checkpoint
         self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
@@ -310,23 +311,42 @@ class Session:
             # steps the runtime asks for; when idle (next_wakeup None) the physics
             # steps in one tight loop up to the next history boundary.
             wake = runtime.next_wakeup
+            until = None
             if wake is not None and wake <= now:
-                runtime.tick(now)
+                # what is due next all the kernel's to do: its loop (interface.poll_plan;
+                # the same steps, ticks and bits), from this tick on where the last
+                # call's loop stopped at its end, else after Python's tick
+                poll = runtime.poll
+                resume = poll is not None and poll.resume == now and clean \
+                    and poll.resumes(now)
+                if resume:
+                    until = poll.ready(now)
+                if until is None:
+                    resume = False
+                    runtime.tick(now)
+                    wake = runtime.next_wakeup
+                    space = sim.space
+                    clean = _clean(space)
+                    ptr = space._space
+                    poll = runtime.poll
+                    until = poll.ready(now) if poll is not None and clean else None
+            if until is not None:
+                sim.steps = now = poll.run(ptr, dt, now, until, end, health, self._frame,
+                                           resume)
                 wake = runtime.next_wakeup
-                space = sim.space
-                clean = _clean(space)
-                ptr = space._space
-            boundary = now - now % every + every
-            stop = end if end < boundary else boundary
-            if wake is not None and wake < stop:
-                stop = wake
-            if clean:  # Simulation.step, inlined: step_space's C steps
-                for _ in range(stop - now):
-                    _space_step(ptr, dt)
+                boundary = now if now % every == 0 else -1
             else:
-                step_space(space, dt, stop - now)
-                clean = _clean(space)
-            sim.steps = now = stop
+                boundary = now - now % every + every
+                stop = end if end < boundary else boundary
+                if wake is not None and wake < stop:
+                    stop = wake
+                if clean:  # Simulation.step, inlined: step_space's C steps
+                    for _ in range(stop - now):
+                        _space_step(ptr, dt)
+                else:
+                    step_space(space, dt, stop - now)
+                    clean = _clean(space)
+                sim.steps = now = stop
             if now == boundary:
                 if now % health == 0:
                     self._at_boundary()  # a recovery restores the state, not the step count

@@ -1,0 +1,374 @@
+"""Every-step polls in the compiled kernel: what a tick leaves to do, as its table.
+
+After a tick (``InterfaceRuntime.tick``), ``PollPlan.ready`` says whether the work due
+until something else happens is only what ``physics.kernel_poll``'s ``pk_poll`` does:
+one state machine's polled transitions on sensors it reads (a link's contact, world
+angle or spin, a joint's angle; a device input or channel, which no step changes, is
+read here once) and a blend's plain targets travelling, at the control period. Then
+``Session.advance`` hands the steps to ``run``, which returns at the first step where
+a transition holds (or the frame check fails, or a timer, a blend's arrival, a
+history boundary or the call's end comes) with the runtime rescheduled as though it
+had ticked at every step in between: the next tick runs exactly where it would have.
+
+Anything else keeps Python's path: a ``for`` on a device input, a state polling
+device inputs alone, another sensor (the centre of mass, a height), a frame target,
+any other busy controller, a second machine, a tracker. Without the kernel there is
+no plan (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
+"""
+
+from __future__ import annotations
+
+from puppet.interface.conditions import INPUT, compile_bounds, reader
+from puppet.interface.controllers.tracking import OFF
+from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_feedback import FeedbackPlan
+from puppet.physics import kernel as _kernel
+
+# sensor kind -> pk_poll's code: a link's contact, its angle within a turn, a joint's
+# angle, a link's spin, its height
+KINDS = {"contact": 0, "angle": 1, "joint": 2, "spin": 3, "height": 4}
+# the centre of mass's: pk_poll's code (its fall time, position and velocity)
+COM = {"com.fall_time": 5, "com.x": 6, "com.y": 7, "com.vx": 8, "com.vy": 9}
+OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
+MAX_CONDITIONS = 32
+NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
+
+
+def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
+    """(pk_poll's code, the link or joint) for a sensor ``pk_poll`` reads, else None."""
+    if sensor == "root.angle":
+        return KINDS["angle"], root
+    if sensor in COM:
+        return COM[sensor], None
+    kind, _, name = sensor.partition(".")
+    if kind in KINDS and name and "." not in name:
+        return KINDS[kind], name
+    return None
+
+
+class PollPlan:
+    """The table ``pk_poll`` reads, for one runtime (made when the kernel is there)."""
+
+    def __init__(self, runtime, kern):
+        self.runtime = runtime
+        self.kernel = kern
+        ffi = kern.ffi
+        self.ffi, self.poll = ffi, kern.lib.pk_poll
+        n = MAX_CONDITIONS
+        self.plan = p = ffi.new("pk_poll_plan *")
+        # the arrays live as long as the plan (cffi frees them with their owners)
+        self._keep = [ffi.new("int[]", n) for _ in range(10)] + \
+            [ffi.new("void *[]", n) for _ in range(3)] + [ffi.new("double[]", n) for _ in range(4)]
+        (p.first, p.period, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
+         p.body_a, p.body_b, p.spring, p.lo, p.hi, p.start, p.to) = self._keep
+        self._tables: dict = {}  # (machine, state, binding) -> transitions or None
+        self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
+        self._frame = None  # the session's frame check, as written into the plan
+        self.machine = runtime._machine_list[0]  # (plan_for: one machine)
+        self._state = self._binding = self._current = None  # the state's table (ready)
+        self._filled = self._space = self._key = self._until = None  # the plan (ready)
+        self._offline = False  # the plan's table reads an input: filled at each ready
+        self._held: list = []  # the plan's transitions with a `for` (_fill)
+        self.feedback = FeedbackPlan(self, MAX_CONDITIONS)  # feedback's add maps
+        self._feeding = None  # their table, as filled (_fill) and handed back (run)
+        self._com = False  # the plan reads the centre of mass (the fall time: gravity)
+        self.resume = -1  # the step the last run stopped at, its call's end (see run)
+        self._seat = None  # and the space it ran on then (a re-seat lists no contacts)
+
+    def resumes(self, now: int) -> bool:
+        """The last run stopped at ``now``, its call's end, on the space there is now
+        (not re-seated since: Chipmunk lists a re-seated space's contacts only once it
+        steps): the tick at ``now`` may be the kernel's if ``ready`` says so."""
+        sim = self.runtime.sim
+        return self.resume == now and self._seat == (sim.space, sim.seats)
+
+    def pointer(self, cdata):
+        """``kernel.pointer``, remembered (a restore makes new bodies: a bounded memo)."""
+        got = self._pointers.get(cdata)
+        if got is None:
+            if len(self._pointers) > 256:
+                self._pointers.clear()
+            got = self._pointers[cdata] = self.kernel.pointer(cdata)
+        return got
+
+    def _table(self, machine):
+        """The current state's transitions as ``pk_poll`` can poll them, in ``due``'s
+        order: ``(after, None, 0, index)`` a timer, ``(after, conditions, for, index)``
+        a polled one (``for`` in steps, 0 without; ``index``: the machine's), each
+        condition ``(code or None, name or reader, lo, hi, want)`` (``None``: a device
+        input or channel, its reader); None when one cannot be polled there."""
+        rt = self.runtime
+        key = (machine.name, machine.current, rt.role_binding)
+        if key in self._tables:
+            return self._tables[key]
+        rename = rt.roles.sensor
+        spec, name = machine.spec, machine.name
+        state = spec.states[machine.current]
+        shared = [t for t in spec.any_state.transitions
+                  if rt.spec.resolve_goto(t.to, name) != (name, machine.current)]
+        table = []
+        for index, t in enumerate([*state.transitions, *shared]):
+            after = round((t.after or 0.0) / machine.dt)
+            if not t.conditions:
+                table.append((after, None, 0, index))
+                continue
+            hold = round((t.held or 0.0) / machine.dt)  # (StateMachine._hold_steps)
+            if hold and any(rename(c.sensor).startswith(OFFLINE) for c in t.conditions):
+                table = None  # (a `for` left out when an input rules it out: Python's)
+                break
+            conditions = self._conditions(t.conditions)
+            if conditions is None:
+                table = None
+                break
+            table.append((after, conditions, hold, index))
+        self._tables[key] = table
+        return table
+
+    def _conditions(self, conditions) -> list | None:
+        """A transition's or an ``until``'s conditions as ``pk_poll`` reads them:
+        ``(code or None, name or reader, lo, hi, want)``; None if one cannot be."""
+        rt = self.runtime
+        rename, root = rt.roles.sensor, rt.character.spec.root
+        out = []
+        for c in conditions:
+            sensor = rename(c.sensor)
+            bounds = compile_bounds(c)
+            lo, hi = bounds if bounds is not None else (0.0, 0.0)
+            want = -1 if bounds is not None else int(bool(c.is_))
+            if sensor.startswith(OFFLINE):
+                out.append((None, reader(sensor, rt.character, rt.channels, rt.inputs),
+                            lo, hi, want))
+                continue
+            kind = condition_kind(sensor, root)
+            if kind is None:
+                return None
+            out.append((*kind, lo, hi, want))
+        return out
+
+    def _sequence_until(self, name: str, index: int):
+        """A sequence step's ``until`` (``compile_untils``): (after in steps, its
+        conditions), None without one, False when ``pk_poll`` cannot read it."""
+        key = ("sequence", name, index, self.runtime.roles.binding)
+        if key not in self._tables:
+            spec = self.runtime.sequences.specs[name][index]
+            found = None
+            if spec.until is not None:
+                conditions = self._conditions(spec.conditions)
+                found = False if conditions is None else \
+                    (round((spec.after or 0.0) / self.runtime.dt), conditions)
+            self._tables[key] = found
+        return self._tables[key]
+
+    def ready(self, step: int) -> int | None:
+        """After the tick at ``step`` (or where ``resumes``): the step up to which
+        ``pk_poll`` may run (the first timer, blend arrival or other wake-up), the
+        table filled; None when the work due is not all its to do. Runs at every tick
+        of a one-machine interface, so it is kept lean: the state's table is looked up
+        once per state, and the plan filled again only when what it holds changed."""
+        rt, machine = self.runtime, self.machine
+        if machine.current is not self._state or rt.roles.binding is not self._binding:
+            self._state, self._binding = machine.current, rt.roles.binding
+            self._current = self._table(machine)
+        table = self._current
+        if table is None or rt.frames.held:  # (a walker's every tick: left at once)
+            return None
+        feeding, feedback = None, rt.feedback
+        if feedback.busy:  # sensor maps: all add maps it can run, at the same period
+            feeding = self.feedback.current(rt)
+            if feeding is None or feedback.every != machine.every:
+                return None
+        if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
+            return None
+        blends, sequences = rt.blends, rt.sequences
+        for controller in rt._active:
+            if controller is not blends and controller is not sequences \
+                    and controller is not feedback:
+                return None
+        seq = sequences.running
+        if seq is not None:
+            if SEQUENCE not in rt.owners.table.values():  # (its tick ends it: Python's)
+                return None
+            seq = (seq.name, seq.index, seq.until, seq.began, rt.roles.binding)
+        every = machine.every
+        if blends.every != every or (machine.device_only and not machine.quiet
+                                     and not self._quiet_now(machine, step)):
+            return None
+        moving, owners = blends.moving, rt.owners.table
+        for joint in moving:
+            if owners.get(joint) != BLEND:  # taken back: Python's tick lets it go
+                return None
+        sim = rt.sim
+        # what the plan holds: the table, when the state was entered, the polls, the
+        # bodies (a re-seat makes new ones), the period and the travelling targets
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.values())
+        if table is not self._filled or sim.space is not self._space or key != self._key \
+                or self._offline or feeding is not self._feeding:
+            self._filled, self._space, self._key = table, sim.space, key
+            self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
+                kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
+            self._feeding = feeding
+            self._until = self._fill(table, machine, every, seq, feeding)
+        if feeding is not None and not self.feedback.refresh(rt, feeding):
+            return None
+        if self._com:
+            self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
+        if self._held:  # the `for`s' starts, as the machine has them now
+            p, since = self.plan, machine._since
+            for k, index in self._held:
+                p.since[k] = since.get(index, -1)
+        until = self._until
+        return until if until is not None and until > step else None  # (due now: Python)
+
+    @staticmethod
+    def _quiet_now(machine, step: int) -> bool:
+        """A state polling device inputs alone, stirred by an input event, polls them
+        at ``step`` (a tick is due there, this one or Python's): when none holds, it is
+        quiet until the next event (what ``StateMachine.due`` finds and sets; no step
+        changes an input)."""
+        since = step - machine.entered
+        if step % machine.every or since < machine._polled:
+            return False
+        for _, after, read, test, lo, hi in machine._transitions:
+            if since < after:
+                continue
+            if read is None or ((lo < read() < hi) if test is None else test(read())):
+                return False  # a timer due, or a transition fires: Python's tick
+        machine.quiet = True
+        return True
+
+    def _fill(self, table, machine, every: int, seq, feeding) -> int | None:
+        """Write the plan: the state's polled transitions (those an input rules out
+        left out), the blend's travelling targets; the step a timer or an arrival is
+        due (NEVER: none), or None when there is nothing to do or it does not fit."""
+        rt = self.runtime
+        p, until = self.plan, NEVER
+        character = rt.character
+        bodies, joints = character.bodies, character.spec
+        k = i = 0
+        entered = machine.entered
+        self._held = held = []  # (the plan's transition, the machine's) with a `for`
+        uses_com = False
+        if seq is not None:  # a running sequence: its step's end, its ``until``
+            name, step_index, ends, began, _ = seq
+            found = self._sequence_until(name, step_index)
+            if found is False:
+                return None
+            until = ends  # (the next step's pose: Python's tick)
+            if found is not None:
+                self._offline = self._offline or any(c[0] is None for c in found[1])
+                table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
+        for after, conditions, hold, index, *period in table:
+            first = entered + after
+            if conditions is None:  # a timer: Python's tick fires it
+                until = first if first < until else until
+                continue
+            if machine.quiet:  # (a device-only state between input events: no polls)
+                continue
+            c0 = i
+            for kind, name, lo, hi, want in conditions:
+                if kind is None:  # no step changes it: decided now
+                    value = name()
+                    if not (lo < value < hi if want < 0 else (value > 0.5) == bool(want)):
+                        break
+                    continue
+                if i >= MAX_CONDITIONS:
+                    return None
+                if kind == 2:
+                    joint = joints.joint(name)
+                    p.body_a[i] = self.pointer(bodies[joint.child]._body)
+                    p.body_b[i] = self.pointer(bodies[joint.parent]._body)
+                elif name is not None:
+                    p.body_a[i] = self.pointer(bodies[name]._body)
+                uses_com = uses_com or kind >= 5
+                p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
+                i += 1
+            else:
+                if k >= MAX_CONDITIONS:
+                    return None
+                p.first[k], p.cond0[k], p.n_cond[k], p.hold[k] = first, c0, i - c0, hold
+                p.period[k] = period[0] if period else every
+                if hold:
+                    held.append((k, index))
+                k += 1
+                continue
+            i = c0  # an input condition that does not hold: the transition cannot fire
+        p.n_trans = k
+        n, servos = 0, character.servos
+        for joint, (start, to, first, last, target) in rt.blends.moving.items():
+            if target is not None or n >= MAX_CONDITIONS:
+                return None
+            p.spring[n] = self.pointer(servos[joint].spring._constraint)
+            p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
+            until = last if last < until else until
+            n += 1
+        p.n_blend, p.every = n, every
+        if feeding is not None:
+            self.feedback.fill(rt, feeding)
+            uses_com = uses_com or any(kind >= 5 for kind, _, _ in feeding[1])
+        else:
+            p.n_read = p.n_add = p.n_fb = 0
+        if uses_com:  # Character._com_kernel's arguments, for these bodies
+            character._com_kernel_now()
+            args = self._com_args = character._com_rows[2]  # (kept alive)
+            p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
+        self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
+        return until  # goes on after an input event, which Python's would tick at)
+
+    def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
+            frame: tuple, tick_first: bool = False) -> int:
+        """Step from ``now`` with ``pk_poll`` up to ``until`` (``ready``'s), ``end`` or
+        the next history boundary (``health``, on a frame's end); the runtime is then
+        rescheduled from the step it returns. ``frame``: the session's frame check
+        (steps a frame, the root link, its box x0, x1, y0, y1, the speed squared);
+        ``tick_first``: the tick at ``now`` is the kernel's too (``resume``)."""
+        p = self.plan
+        if frame is not self._frame:
+            self._frame = frame
+            p.frame_every, root, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
+        last = now - now % health + health
+        while last % p.frame_every:
+            last += health
+        stop = until if until < end else end
+        stop = stop if stop < last else last
+        rt = self.runtime
+        p.root = self.pointer(rt.character.bodies[frame[1]]._body)
+        s = self.poll(self.pointer(space_ptr), dt, now, stop, p, tick_first)
+        if p.fb_ticks:  # the sensors' readings, the bases and last writes handed back
+            self.feedback.hand_back(rt, self._feeding)
+        if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
+            since = p.since
+            self.machine._since = {index: since[k] for k, index in self._held
+                                   if since[k] >= 0}
+        # stopped at the call's end, nothing due there: the next call may go on (an
+        # input event comes first; ``ready`` says whether it changed anything)
+        if s == end and s < until and s < last:
+            sim = rt.sim
+            self.resume, self._seat = s, (sim.space, sim.seats)
+        else:
+            self.resume = -1
+        # rt._reschedule(s), for what ``ready`` allows: the controllers with work are
+        # those that had it (the run changed none of their schedules' inputs), and the
+        # one machine
+        wake = None
+        for controller in rt._active:
+            at = controller.next_wakeup(s)
+            if at is None:
+                rt._reschedule(s)  # (never here: the full one)
+                return s
+            if wake is None or at < wake:
+                wake = at
+        rt._controllers_wake = wake
+        at = self.machine.next_wakeup(s)
+        if at is not None and (wake is None or at < wake):
+            wake = at
+        rt.next_wakeup = wake if wake is None or wake > s else s
+        return s
+
+
+def plan_for(runtime) -> PollPlan | None:
+    """The runtime's plan, with the kernel and one state machine; None on Python's
+    path."""
+    kern = _kernel.get()
+    if kern is None or runtime.sim is None or len(runtime._machine_list) != 1:
+        return None
+    return PollPlan(runtime, kern)

@@ -1,0 +1,115 @@
+"""The kernel's stepping loop (``pk_poll``, ``interface.poll_plan``) does what Python's
+ticks do between them: every Luxo log whose states poll at every step replays to the
+same state machine states, schedules and physics bits, call by call, with the loop,
+without it (Python's ticks on the kernel), and on the pure-Python path.
+
+The logs cover the loop's branches: contact, angle, joint, spin and height
+conditions, all of a transition's conditions at once, a transition's ``after`` and
+``for``, a running sequence's ``until`` (tested at every step), timers, blend arrivals
+and a sequence's next pose that end a run, device-only states between input events,
+runs that stop at a call's end and go on from there (``resume``), checkpoints'
+re-seats, feedback's add maps on angles, spins and the fall time, the centre of mass
+in conditions, and what it leaves to Python.
+None reads a clock.
+"""
+
+from __future__ import annotations
+
+import pytest
+from kernel_paths import needs_cc
+
+from puppet.interface import poll_plan
+from puppet.physics import kernel
+from puppet.timeline.log import read_log
+from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+HOT = ["luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip", "luxo-kip",
+       "luxo-backflip", "luxo-designer-try", "luxo-keys-somersaults", "luxo-keys-hops",
+       "luxo-keys-forward-somersaults"]
+
+
+def _trace(name: str, loop: bool):
+    """Replay a log; after each of the session's advance calls: the step, the
+    runtime's whole state (its inputs, with the sensors feedback read; the controllers'
+    states, with feedback's bases and last writes; the machines', with their `for`s'
+    starts; the next wake-up), the controllers with work, and the physics' hash.
+    ``loop``: the kernel's loop may run (it needs the kernel); else every tick is
+    Python's. Returns (trace, the loop's runs)."""
+    log = read_log(f"assets/logs/{name}.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    runs = [0]
+    advance, run = session.advance, poll_plan.PollPlan.run
+    trace = []
+
+    def counted(self, *args, **kwargs):
+        runs[0] += 1
+        return run(self, *args, **kwargs)
+
+    def traced(steps=1):
+        if not loop:
+            session.runtime.poll = None
+        advance(steps)
+        rt = session.runtime
+        trace.append((session.sim.steps, rt.get_state(), [type(c) for c in rt._active],
+                      session.sim.state_hash()))
+    session.advance = traced
+    poll_plan.PollPlan.run = counted
+    try:
+        LogFeeder(session, log).advance(log.last_step)
+    finally:
+        poll_plan.PollPlan.run = run
+    assert trace[-1][-1] == log.end_hash, name
+    return trace, runs[0]
+
+
+@needs_cc
+@pytest.mark.parametrize("name", HOT)
+def test_the_loop_does_what_the_ticks_do(name, path_of):
+    assert path_of("c") is not None
+    with_loop, runs = _trace(name, loop=True)
+    assert runs > 0, runs  # the loop ran
+    ticks, none = _trace(name, loop=False)
+    assert none == 0
+    assert path_of("python") is None
+    in_python, none = _trace(name, loop=True)
+    assert none == 0  # no kernel, no loop
+    for a, b, c in zip(with_loop, ticks, in_python):
+        assert a == b == c, (a, b, c)
+    assert len(with_loop) == len(ticks) == len(in_python)
+
+
+def test_no_loop_on_the_python_path(path_of):
+    assert path_of("python") is None
+    log = read_log("assets/logs/luxo-shuffle.jsonl")
+    assert new_session(log, setup_for_log(log)[0]).runtime.poll is None
+
+
+@needs_cc
+def test_what_the_table_cannot_express_stays_in_python(path_of):
+    """A lean, an offset from a link: no table; a `for` is in it, and so is the fall
+    time."""
+    assert path_of("c") is not None
+    assert poll_plan.condition_kind("root.angle", "base") == (1, "base")
+    assert poll_plan.condition_kind("contact.base", "base") == (0, "base")
+    assert poll_plan.condition_kind("joint.knee", "base") == (2, "knee")
+    assert poll_plan.condition_kind("spin.base", "base") == (3, "base")
+    assert poll_plan.condition_kind("height.base", "base") == (4, "base")
+    assert poll_plan.condition_kind("com.fall_time", "base") == (5, None)
+    assert poll_plan.condition_kind("com.vy", "base") == (9, None)
+    for sensor in ("lean", "com.dx.base", "com.spin",
+                   "lead.base.shade"):
+        assert poll_plan.condition_kind(sensor, "base") is None, sensor
+    log = read_log("assets/logs/luxo-back-headspring.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    plan = session.runtime.poll
+    assert plan is not None and kernel.get() is not None
+    machine = plan.machine
+    assert machine.current == "ground"  # contact, two joint angles, `for` 0.2 s
+    ((after, conditions, hold, index),) = plan._table(machine)
+    assert (after, hold, index) == (0, 96, 0)
+    assert [c[:2] for c in conditions] == [(0, "base"), (2, "knee"), (2, "ankle")]
+    machine.current = "tucked"  # (read as if there: the centre of mass's fall time)
+    first = plan._table(machine)[0]  # its root's angle and the fall time
+    assert [c[0] for c in first[1]] == [1, 5]
+    machine.current = "landed"  # (no more transitions than a contact's and a timer's)
+    assert plan._table(machine) is not None
