@@ -1,6 +1,7 @@
 """The compiled kernel's C text (``physics.kernel`` builds it): KD tracking's pull
 loop and forward kinematics, the joint targets it writes, the centre of mass, frame
-targets, the support polygon's extent and the two-link IK.
+targets, the support polygon's extent, the two-link IK and a reach's aim and writes
+(``pk_reach_aim``, ``pk_reach_set``).
 
 Every line is the Python it replaces, operation for operation, so both give the same
 bits: the same sums in the same order and grouping (``a + b * c - d * e`` is
@@ -64,6 +65,10 @@ void pk_frame(void *parent, void *child, void *ref, double angle, int hold_paren
 int pk_support(void **bodies, int n, double *out);
 void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
                  double *out);
+void pk_reach_aim(void *parent, double ax, double ay, void *goal_body, double gx, double gy,
+                  double p0x, double p0y, double done, double steps, double *out);
+void pk_reach_set(const double *p, double d0, double d1, double dist, void *spring0,
+                  void *spring1, int own1, double *out);
 """
 
 SOURCE = TYPES + r"""
@@ -79,6 +84,9 @@ static pk_getv get_position, get_velocity;
 static pk_getd get_angle, get_spin, get_moment;
 static pk_setv set_velocity;
 static pk_setd set_spin, set_rest_angle;
+static pk_getd get_rest_angle;
+typedef pk_vect (*pk_to_world)(void *, pk_vect);
+static pk_to_world to_world;
 /* cpContactPointSet (Chipmunk's CP_MAX_CONTACTS_PER_ARBITER is 2) */
 typedef struct { pk_vect a, b; double distance; } pk_point;
 typedef struct { int count; pk_vect normal; pk_point points[2]; } pk_point_set;
@@ -98,6 +106,7 @@ void pk_init(void **fns)
     set_spin = (pk_setd)fns[6]; set_rest_angle = (pk_setd)fns[7];
     each_arbiter = (void (*)(void *, pk_arbiter_fn, void *))fns[8];
     get_point_set = (pk_point_set (*)(void *))fns[9];
+    get_rest_angle = (pk_getd)fns[10]; to_world = (pk_to_world)fns[11];
 }
 
 /* kd_pull.channel_pose */
@@ -446,5 +455,47 @@ void pk_two_link(const double *p, double d0, double d1, double dist, double pref
         return;
     }
     pk_dls(p, d0, d1, c1, c2, out);
+}
+
+/* ReachController.tick's aim, for a two-link chain (interface/controllers/reach.py and
+   ik.Chain.solve): the goal (``goal_body``'s local point in the world, Prop.point_world;
+   NULL: the world point itself), the Hermite-eased point from p0 towards it at
+   ``done / steps`` of the way, and that point in the chain's first joint's parent frame
+   from its anchor. out: d0, d1, the goal's x, y. (math.hypot(d0, d1) is CPython's own:
+   worked out there, then pk_reach_set.) */
+void pk_reach_aim(void *parent, double ax, double ay, void *goal_body, double gx, double gy,
+                  double p0x, double p0y, double done, double steps, double *out)
+{
+    if (goal_body) {
+        pk_vect local = {gx, gy};
+        pk_vect g = to_world(goal_body, local);
+        gx = g.x; gy = g.y;
+    }
+    double u = done / steps;
+    double m = u > 0.0 ? u : 0.0;  /* min(1.0, max(0.0, u)) */
+    u = m < 1.0 ? m : 1.0;
+    double h = u * u * (3.0 - 2.0 * u);
+    double px = p0x + h * (gx - p0x), py = p0y + h * (gy - p0y);
+    pk_vect anchor = {ax, ay};
+    pk_vect base = to_world(parent, anchor);
+    double angle = -get_angle(parent);
+    double c = cos(angle), s = sin(angle);
+    double dx = px - base.x, dy = py - base.y;
+    out[0] = c * dx - s * dy;
+    out[1] = s * dx + c * dy;
+    out[2] = gx; out[3] = gy;
+}
+
+/* ... and its solve and writes: pk_two_link preferring spring1's target now, then the
+   first joint's target into spring0 (NULL: not owned) and the second's into spring1
+   when ``own1`` */
+void pk_reach_set(const double *p, double d0, double d1, double dist, void *spring0,
+                  void *spring1, int own1, double *out)
+{
+    pk_two_link(p, d0, d1, dist, get_rest_angle(spring1), out);
+    if (spring0)
+        set_rest_angle(spring0, out[0]);
+    if (own1)
+        set_rest_angle(spring1, out[1]);
 }
 """
