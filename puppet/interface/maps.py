@@ -354,11 +354,17 @@ def _unit(spec, channels=None):
 
 def compile_contribution(spec, channels=None):
     """An 'add' map: ``contribution(values) -> [(joint, radians)]`` to add to targets (a
-    constant ``add:`` map: the same offset at every control step)."""
+    constant ``add:`` map: the same offset at every control step). Its ``row``, when it
+    has one, is what the compiled feedback reads instead (``controllers.feedback_kernel``:
+    constant?, input, x0, 1 / (x1 - x0), lo, span, clamp, [(joint, gain or value)])."""
     gains = list(spec.gains().items())
     if getattr(spec, "add", None) is not None:
         constant = [(j, g * math.radians(spec.add)) for j, g in gains]
-        return lambda values: constant  # noqa: E731
+
+        def contribution_constant(values):
+            return constant
+        contribution_constant.row = (True, None, 0.0, 0.0, 0.0, 0.0, False, constant)
+        return contribution_constant
     # ``_unit``'s value, inlined (feedback runs every add map at every control step)
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
@@ -366,6 +372,8 @@ def compile_contribution(spec, channels=None):
     source = None
     if name.startswith(CHANNEL) and channels is not None:
         name, source = name[len(CHANNEL):], channels  # by bare name
+    # (the numbers feedback's compiled call reads: controllers.feedback_kernel.Plan)
+    _row = (False, name, x0, inv, lo, span, clamp, gains)
     if len(gains) == 1:
         (joint, gain), = gains
 
@@ -377,6 +385,8 @@ def compile_contribution(spec, channels=None):
             if clamp:
                 u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
             return ((joint, gain * (lo + (u if f is None else f(u)) * span)),)
+        if f is None and source is None:
+            contribution_one.row = _row
         return contribution_one
 
     def contribution(values):
@@ -388,6 +398,8 @@ def compile_contribution(spec, channels=None):
             u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
         v = lo + (u if f is None else f(u)) * span
         return [(j, g * v) for j, g in gains]
+    if f is None and source is None:
+        contribution.row = _row
     return contribution
 
 

@@ -111,7 +111,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.blends = BlendController(character, self.owners, self.frames, every)
-        self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
+        self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample,
+                                 character)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
                                None if sim is None else sim.ground_surface)

@@ -40,7 +40,8 @@ FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodyGetAngularVelocity", "cpBodyGetMoment", "cpBodySetVelocity",
              "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle",
              "cpBodyEachArbiter", "cpArbiterGetContactPointSet",
-             "cpDampedRotarySpringGetRestAngle", "cpBodyLocalToWorld")
+             "cpDampedRotarySpringGetRestAngle", "cpBodyLocalToWorld",
+             "cpBodyGetCenterOfGravity")
 
 # kernel_source's copy of Chipmunk's cpContactPointSet (pymunk 7.x): size, the offsets
 # of normal and points, the points' count and size; another layout keeps Python's path

@@ -46,6 +46,28 @@ typedef struct {
     double *vel; int *vel_has;
     double *spin; int *spin_has;
 } pk_track;
+
+typedef struct {
+    int n_bodies;     /* the centre of mass's links (pk_com's arguments) */
+    void **bodies;
+    double *mass, *gx, *gy;
+    double total;
+    int n_sensors;    /* each sensor: its kind (PK_S_*), link(s), value (file units) */
+    int *kind;
+    void **a, **b;
+    double *values;   /* out; a PK_S_GIVEN's value is put here by the caller */
+    int n_rows;       /* each add map's joint: sensor (-1: a constant, in gain), line */
+    int *sensor, *clamp, *slot;
+    double *x0, *inv, *lo, *span, *gain;
+    int n_slots;      /* every servo: its spring, and what Feedback keeps of it */
+    void **spring;
+    double *acc;
+    int *added, *order;
+    double *base, *last;
+    int *has;
+    long long *seq;   /* when the joint entered base and last (their dicts' order) */
+    long long counter;
+} pk_feedback;
 """
 
 CDEF = TYPES + """
@@ -65,6 +87,7 @@ void pk_frame(void *parent, void *child, void *ref, double angle, int hold_paren
 int pk_support(void **bodies, int n, double *out);
 void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
                  double *out);
+int pk_feedback_tick(pk_feedback *f);
 void pk_reach_aim(void *parent, double ax, double ay, void *goal_body, double gx, double gy,
                   double p0x, double p0y, double done, double steps, double *out);
 void pk_reach_set(const double *p, double d0, double d1, double dist, void *spring0,
@@ -87,6 +110,7 @@ static pk_setd set_spin, set_rest_angle;
 static pk_getd get_rest_angle;
 typedef pk_vect (*pk_to_world)(void *, pk_vect);
 static pk_to_world to_world;
+static pk_getv get_cog;
 /* cpContactPointSet (Chipmunk's CP_MAX_CONTACTS_PER_ARBITER is 2) */
 typedef struct { pk_vect a, b; double distance; } pk_point;
 typedef struct { int count; pk_vect normal; pk_point points[2]; } pk_point_set;
@@ -107,6 +131,7 @@ void pk_init(void **fns)
     each_arbiter = (void (*)(void *, pk_arbiter_fn, void *))fns[8];
     get_point_set = (pk_point_set (*)(void *))fns[9];
     get_rest_angle = (pk_getd)fns[10]; to_world = (pk_to_world)fns[11];
+    get_cog = (pk_getv)fns[12];
 }
 
 /* kd_pull.channel_pose */
@@ -497,5 +522,99 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
         set_rest_angle(spring0, out[0]);
     if (own1)
         set_rest_angle(spring1, out[1]);
+}
+
+/* Feedback.tick's add maps with their sensors (interface/controllers/feedback.py,
+   conditions.map_reader, maps.compile_contribution), for a set of maps without sensor
+   maps that set targets: each sensor read (the centre of mass once, as
+   Character.sample), each map's value added to its joint's sum in file order (the
+   first to 0.0), a joint no map adds to any more put back to its base if nothing else
+   wrote it, then each joint's target its base plus the sum (the base re-read if
+   something else wrote the target since). Returns how many joints it adds to. */
+#define PK_S_GIVEN 0
+#define PK_S_COM_X 1
+#define PK_S_COM_Y 2
+#define PK_S_COM_VX 3
+#define PK_S_COM_VY 4
+#define PK_S_COM_DX 5
+#define PK_S_ANGLE 6
+#define PK_S_SPIN 7
+#define PK_S_JOINT 8
+#define PK_S_HEIGHT 9
+#define PK_S_LEAD 10
+
+static pk_vect pk_link_position(void *b)  /* Character.link_position */
+{
+    return to_world(b, get_cog(b));
+}
+
+int pk_feedback_tick(pk_feedback *f)
+{
+    static const double TO_DEG = 180.0 / 3.14159265358979323846264338327950288;
+    double com[4];
+    int com_done = 0, n = 0;
+    for (int i = 0; i < f->n_sensors; i++) {
+        int kind = f->kind[i];
+        double v;
+        if (kind >= PK_S_COM_X && kind <= PK_S_COM_DX && !com_done) {
+            pk_com(f->bodies, f->mass, f->gx, f->gy, f->n_bodies, f->total, com);
+            com_done = 1;
+        }
+        switch (kind) {
+        case PK_S_COM_X: v = com[0]; break;
+        case PK_S_COM_Y: v = com[1]; break;
+        case PK_S_COM_VX: v = com[2]; break;
+        case PK_S_COM_VY: v = com[3]; break;
+        case PK_S_COM_DX: v = com[0] - pk_link_position(f->a[i]).x; break;
+        case PK_S_ANGLE: v = remainder(get_angle(f->a[i]), TURN) * TO_DEG; break;
+        case PK_S_SPIN: v = get_spin(f->a[i]) * TO_DEG; break;
+        case PK_S_JOINT: v = (get_angle(f->a[i]) - get_angle(f->b[i])) * TO_DEG; break;
+        case PK_S_HEIGHT: v = pk_link_position(f->a[i]).y; break;
+        case PK_S_LEAD:
+            v = pk_link_position(f->a[i]).x - pk_link_position(f->b[i]).x; break;
+        default: v = f->values[i];
+        }
+        f->values[i] = v;
+    }
+    for (int r = 0; r < f->n_rows; r++) {
+        double value;
+        if (f->sensor[r] < 0) {
+            value = f->gain[r];
+        } else {
+            double u = (f->values[f->sensor[r]] - f->x0[r]) * f->inv[r];
+            if (f->clamp[r])
+                u = u < 0.0 ? 0.0 : u > 1.0 ? 1.0 : u;
+            value = f->gain[r] * (f->lo[r] + u * f->span[r]);
+        }
+        int s = f->slot[r];
+        if (f->added[s]) {
+            f->acc[s] = f->acc[s] + value;
+        } else {
+            f->added[s] = 1;
+            f->acc[s] = 0.0 + value;
+            f->order[n++] = s;
+        }
+    }
+    for (int s = 0; s < f->n_slots; s++) {
+        if (f->has[s] && !f->added[s]) {  /* an add map went inactive */
+            if (get_rest_angle(f->spring[s]) == f->last[s])
+                set_rest_angle(f->spring[s], f->base[s]);
+            f->has[s] = 0;
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        int s = f->order[k];
+        double now = get_rest_angle(f->spring[s]);
+        double b = f->has[s] && now == f->last[s] ? f->base[s] : now;  /* rewritten? */
+        if (!f->has[s]) {
+            f->has[s] = 1;
+            f->seq[s] = ++f->counter;
+        }
+        f->base[s] = b;
+        f->last[s] = b + f->acc[s];
+        set_rest_angle(f->spring[s], f->last[s]);
+        f->added[s] = 0;
+    }
+    return n;
 }
 """
