@@ -412,6 +412,17 @@ def _compile_frame(spec, frames, channels, owner=None):
     ref = None if spec.frame == "world" else spec.frame
     parent = spec.hold == "parent"
     gains = list(spec.gains().items())
+    holder = getattr(frames, "holder", None)
+    if holder is not None:  # FrameTargets.hold, each joint's lookups done once
+        holds = [(g, holder(joint, ref, parent, owner)) for joint, g in gains]
+
+        def apply_frame_held(values):
+            v = value(values)
+            if v is not None:
+                for g, hold_at in holds:
+                    hold_at(g * v)
+            return ()  # held under the frame owner: nothing for the caller to take
+        return apply_frame_held
 
     def apply_frame(values):
         v = value(values)

@@ -102,9 +102,14 @@ class FeedbackKernel:
     def plan(self, readers, adders) -> Plan | None:
         """The add maps (``maps.compile_contribution``'s, with their ``row``) and their
         sensors as a Plan; None if one of them is not the kernel's to run."""
-        key = (tuple(n for n, _ in readers), tuple(map(id, adders)))
-        if key in self._plans:
-            return self._plans[key]
+        key = (tuple(map(id, readers)), tuple(map(id, adders)))
+        got = self._plans.get(key)
+        if got is not None:  # (each kept with what its key names: their ids stay theirs)
+            return got[0]
+        got = self._plans[key] = (self._made(readers, adders), tuple(readers), tuple(adders))
+        return got[0]
+
+    def _made(self, readers, adders) -> Plan | None:
         index = {name: i for i, (name, _) in enumerate(readers)}
         rows = []
         for contribution in adders:
@@ -120,9 +125,7 @@ class FeedbackKernel:
             rows += [(index[name], int(bool(clamp)), self.slots[j], x0, inv, lo, span, g)
                      for j, g in gains]
         else:
-            got = self._plans[key] = Plan(self, readers, rows) if rows else None
-            return got
-        self._plans[key] = None
+            return Plan(self, readers, rows) if rows else None
         return None
 
     def _bind(self, plan: Plan) -> None:
