@@ -9,10 +9,11 @@ import pytest
 from kernel_paths import needs_cc
 
 from puppet.interface.conditions import map_reader
+from puppet.physics.snapshot import restored_touching
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
-# every kind the kernel reads, and two it is handed (the support polygon, the lean)
+# every kind the kernel reads, and one it is handed (the lean)
 SENSORS = ["com.x", "com.y", "com.vx", "com.vy", "com.dx.foot_near", "angle.thigh_far",
            "spin.pelvis", "joint.knee_near", "height.foot_far", "lead.foot_far.foot_near",
            "root.angle", "com.dx.support", "lean"]
@@ -28,7 +29,8 @@ def _session(name: str):
 def test_every_sensor_kind_reads_what_the_python_readers_read(path_of):
     """A plan of one add map per sensor: the values the kernel stores in the inputs are
     map_reader's to the bit, and the targets it writes are the Python path's, on a
-    back flip's run-up, flight and landing."""
+    back flip's run-up, flight and landing, and right after a checkpoint (the support
+    polygon of the snapshot's contacts, read in Python)."""
     from puppet.data.interfaces import LinearMapSpec
     from puppet.interface import maps
     from puppet.interface.controllers.feedback import Feedback
@@ -46,9 +48,13 @@ def test_every_sensor_kind_reads_what_the_python_readers_read(path_of):
     readers = [(f"sensor.{s}", map_reader(s, character)) for s in SENSORS]
     servos = character.servos
     done = 0
-    for step in (600, 1500, 2100, 2700, 3300):
+    restored = 0
+    for step in (600, 1500, 2100, 2700, 3000, 3300):
         feeder.advance(step - done)
         done = step
+        if step in (600, 3000):  # the support polygon: the snapshot's contacts
+            session.perform("checkpoint")
+            restored += restored_touching(session.sim.space) is not None
         got = []
         before = {j: s.target for j, s in servos.items()}
         for how in ("c", "python"):
@@ -69,6 +75,7 @@ def test_every_sensor_kind_reads_what_the_python_readers_read(path_of):
                 s.target = before[j]
         assert repr(got[0]) == repr(got[1]), step
         assert got[0][0] == {n: r() for n, r in readers}  # (each read after the tick)
+    assert restored == 2
 
 
 def _states(name: str, at: list[int]) -> list:

@@ -221,8 +221,8 @@ def _compile_linear(spec, servos, channels=None):
         v = value(values)
         if v is None:
             return ()
-        for servo, gain in outs:
-            servo.target = gain * v
+        for servo, gain in outs:  # servo.target = (a re-seat may give it a new spring)
+            SET_TARGET(servo.spring._constraint, gain * v)
         return joints
     return apply_linear
 

@@ -56,6 +56,7 @@ typedef struct {
     int *kind;
     void **a, **b;
     double *values;   /* out; a PK_S_GIVEN's value is put here by the caller */
+    int support_given;  /* the PK_S_SUPPORT values too (right after a restore) */
     int n_rows;       /* each add map's joint: sensor (-1: a constant, in gain), line */
     int *sensor, *clamp, *slot;
     double *x0, *inv, *lo, *span, *gain;
@@ -527,10 +528,12 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
 /* Feedback.tick's add maps with their sensors (interface/controllers/feedback.py,
    conditions.map_reader, maps.compile_contribution), for a set of maps without sensor
    maps that set targets: each sensor read (the centre of mass once, as
-   Character.sample), each map's value added to its joint's sum in file order (the
-   first to 0.0), a joint no map adds to any more put back to its base if nothing else
-   wrote it, then each joint's target its base plus the sum (the base re-read if
-   something else wrote the target since). Returns how many joints it adds to. */
+   Character.sample; the support polygon as Character.support_extent, handed over
+   right after a restore, when it is the snapshot's), each map's value added to its
+   joint's sum in file order (the first to 0.0), a joint no map adds to any more put
+   back to its base if nothing else wrote it, then each joint's target its base plus
+   the sum (the base re-read if something else wrote the target since). Returns how
+   many joints it adds to. */
 #define PK_S_GIVEN 0
 #define PK_S_COM_X 1
 #define PK_S_COM_Y 2
@@ -542,6 +545,7 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
 #define PK_S_JOINT 8
 #define PK_S_HEIGHT 9
 #define PK_S_LEAD 10
+#define PK_S_SUPPORT 11
 
 static pk_vect pk_link_position(void *b)  /* Character.link_position */
 {
@@ -556,7 +560,10 @@ int pk_feedback_tick(pk_feedback *f)
     for (int i = 0; i < f->n_sensors; i++) {
         int kind = f->kind[i];
         double v;
-        if (kind >= PK_S_COM_X && kind <= PK_S_COM_DX && !com_done) {
+        if (kind == PK_S_SUPPORT && f->support_given)
+            kind = PK_S_GIVEN;
+        if (((kind >= PK_S_COM_X && kind <= PK_S_COM_DX) || kind == PK_S_SUPPORT)
+            && !com_done) {
             pk_com(f->bodies, f->mass, f->gx, f->gy, f->n_bodies, f->total, com);
             com_done = 1;
         }
@@ -572,6 +579,12 @@ int pk_feedback_tick(pk_feedback *f)
         case PK_S_HEIGHT: v = pk_link_position(f->a[i]).y; break;
         case PK_S_LEAD:
             v = pk_link_position(f->a[i]).x - pk_link_position(f->b[i]).x; break;
+        case PK_S_SUPPORT: {  /* com.dx.support: from the support polygon's middle */
+            double extent[2];
+            v = pk_support(f->bodies, f->n_bodies, extent)
+                ? com[0] - 0.5 * (extent[0] + extent[1]) : 0.0;
+            break;
+        }
         default: v = f->values[i];
         }
         f->values[i] = v;

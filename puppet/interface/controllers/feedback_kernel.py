@@ -13,16 +13,19 @@ What ``Feedback`` keeps of the joints it adds to (``base``, ``last``: a joint's 
 before the additions, and as written) is held in the kernel's arrays, one slot per
 servo, while the compiled call runs; ``pull`` makes the dicts again, in the order the
 Python path's dicts would have (``seq``: when a joint entered them), and ``push`` puts
-them back. A sensor the kernel does not read (the support polygon, the lean, a
-contact...) is read in Python and handed over; a map with a response curve or a
-device or channel input, or a sensor map that sets targets, keeps the whole tick on
-the Python path.
+them back. A sensor the kernel does not read (the lean, a contact...), and the support
+polygon right after a restore, are read in Python and handed over; a map with a
+response curve or a device or channel input, or a sensor map that sets targets, keeps
+the whole tick on the Python path.
 """
 
 from __future__ import annotations
 
+from puppet.physics.snapshot import restored_touching
+
 # the kernel's sensor kinds (kernel_source: PK_S_*)
-GIVEN, COM_X, COM_Y, COM_VX, COM_VY, COM_DX, ANGLE, SPIN, JOINT, HEIGHT, LEAD = range(11)
+GIVEN, COM_X, COM_Y, COM_VX, COM_VY, COM_DX, ANGLE, SPIN, JOINT, HEIGHT, LEAD, SUPPORT = \
+    range(12)
 _FIXED = {"com.x": COM_X, "com.y": COM_Y, "com.vx": COM_VX, "com.vy": COM_VY}
 _NAMED = {"angle": ANGLE, "spin": SPIN, "height": HEIGHT}
 
@@ -37,6 +40,8 @@ def sensor_kind(sensor: str, character) -> tuple[int, str | None, str | None]:
     links = character.bodies
     if sensor.startswith("com.dx."):
         name = sensor[len("com.dx."):]
+        if name == "support":
+            return SUPPORT, None, None
         return (COM_DX, name, None) if name in links else (GIVEN, None, None)
     if sensor.startswith("lead."):
         link, dot, other = sensor[len("lead."):].partition(".")
@@ -64,6 +69,11 @@ class Plan:
                       enumerate(zip(readers, kinds)) if kind == GIVEN]
         self.given_readers = [(name, read) for name, read, _ in self.given]
         self.scratch: dict = {}
+        # the support sensors: read in Python right after a restore (the snapshot's
+        # contacts, until the space steps: Character.support_extent)
+        self.support = [(name, read, i) for i, ((name, read), kind) in
+                        enumerate(zip(readers, kinds)) if kind == SUPPORT]
+        self.support_readers = [(name, read) for name, read, _ in self.support]
         self.names = [(name, i) for i, (name, _) in enumerate(readers)]
         n = max(1, len(readers))
         self.kind = ffi.new("int[]", kinds or [0])
@@ -98,6 +108,7 @@ class FeedbackKernel:
         self._com: list = []
         self._plans: dict = {}
         self._plan = None
+        self._space = None
 
     def plan(self, readers, adders) -> Plan | None:
         """The add maps (``maps.compile_contribution``'s, with their ``row``) and their
@@ -145,6 +156,7 @@ class FeedbackKernel:
             for i, joint in enumerate(self.joints):
                 f.spring[i] = pointer(self.servos[joint].spring._constraint)
             self._bodies = bodies
+            self._space = values[0].space  # (one space for all; a new one re-binds them)
         if plan.bound is not bodies:
             null = self.ffi.NULL
             for i, (a, b) in enumerate(plan.links):
@@ -170,6 +182,14 @@ class FeedbackKernel:
             sample(plan.given_readers, given)
             for name, _, i in plan.given:
                 out[i] = given[name]
+        if plan.support:
+            restored = restored_touching(self._space) is not None
+            self.f.support_given = restored
+            if restored:
+                given = plan.scratch
+                sample(plan.support_readers, given)
+                for name, _, i in plan.support:
+                    out[i] = given[name]
         self.lib.pk_feedback_tick(self.f)
         for name, i in plan.names:
             values[name] = out[i]
