@@ -206,7 +206,7 @@ def test_every_step_blends_and_sensor_maps_keep_the_schedule_a_full_reschedule_g
     from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
     for name in ("luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip",
-                 "biped-kip", "biped-handstand"):
+                 "biped-kip", "biped-handstand", "biped-backflip"):
         log = read_log(f"assets/logs/{name}.jsonl")
         session = new_session(log, setup_for_log(log)[0])
         seen = _checked_ticks(session)

@@ -137,25 +137,30 @@ class FrameTargets:
             return WAITED  # between control steps
         table, held = self.owners_table.table, self.held
         solve = self._pk_frame
+        let_go = False
         if solve is not None:  # the kernel: the Python loop below, each joint in C
             joint_ptrs, link_ptrs = self._pointers()
             null = self._null
             for joint, (target, owner) in list(held.items()):
                 if table.get(joint) != owner:  # taken back by a later write: let go
                     del held[joint]
+                    let_go = True
                     continue
                 parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
                 ref = target.ref
                 solve(parent, child, null if ref is None else
                       (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
                       target.hold_parent, spring)
-            return None
+            # at every step (control_rate: 480), still holding and none let go: it only
+            # wrote targets, and its next wake-up is the next step (base.WAITED)
+            return WAITED if self.every == 1 and held and not let_go else None
         c = self.character
         bodies, servos, joints = c.bodies, c.servos, self.joints
         remainder = _remainder
         for joint, (target, owner) in list(held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go
                 del held[joint]
+                let_go = True
                 continue
             spec = joints[joint]  # _solve's arithmetic, inlined (a tick holds several)
             parent = _angle(bodies[spec.parent]._body)
@@ -165,6 +170,7 @@ class FrameTargets:
             q = child - want if target.hold_parent else want - parent
             now = child - parent
             _set_target(servos[joint].spring._constraint, now + remainder(q - now, _TURN))
+        return WAITED if self.every == 1 and held and not let_go else None
 
     def next_wakeup(self, earliest: int) -> int | None:
         if not self.held:
