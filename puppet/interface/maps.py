@@ -415,10 +415,19 @@ def _compile_frame(spec, frames, channels, owner=None):
     holder = getattr(frames, "holder", None)
     if holder is not None:  # FrameTargets.hold, each joint's lookups done once
         holds = [(g, holder(joint, ref, parent, owner)) for joint, g in gains]
+        (x0, x1), (y0, y1) = spec.from_, spec.to
+        inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+        name, clamp = spec.input, spec.clamp
+        if curve_function(spec.curve) is not None or name.startswith(CHANNEL):
+            return _held_frame(value, holds)
 
-        def apply_frame_held(values):
-            v = value(values)
+        def apply_frame_held(values):  # _unit's value, inlined (the same arithmetic)
+            v = values.get(name)
             if v is not None:
+                u = (v - x0) * inv
+                if clamp:
+                    u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+                v = lo + u * span
                 for g, hold_at in holds:
                     hold_at(g * v)
             return ()  # held under the frame owner: nothing for the caller to take
@@ -431,6 +440,17 @@ def _compile_frame(spec, frames, channels, owner=None):
                 frames.hold(joint, made_frame_target(ref, g * v, parent), owner)
         return ()  # held under the frame owner: nothing for the caller to take
     return apply_frame
+
+
+def _held_frame(value, holds):
+    """A frame map's applier through its ``_unit`` (a curve, a channel input)."""
+    def apply_frame_held(values):
+        v = value(values)
+        if v is not None:
+            for g, hold_at in holds:
+                hold_at(g * v)
+        return ()  # held under the frame owner: nothing for the caller to take
+    return apply_frame_held
 
 
 def _renamed(spec, names: dict[str, str]):

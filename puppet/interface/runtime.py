@@ -343,7 +343,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             values, table = self.inputs, self.owners.table
             for apply in self._mouse_maps:  # the hot path: no lookups, no allocation
                 written = apply(values)
-                if table:
+                if table and written:  # (a frame map's holds: nothing to take)
                     self.owners.take(written)
             self._maps_applied()
             return None
