@@ -89,8 +89,8 @@ int pk_support(void **bodies, int n, double *out);
 void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
                  double *out);
 int pk_feedback_tick(pk_feedback *f);
-void pk_reach_aim(void *parent, double ax, double ay, void *goal_body, double gx, double gy,
-                  double p0x, double p0y, double done, double steps, double *out);
+void pk_reach_aim(double done, void *parent, double ax, double ay, void *goal_body, double gx,
+                  double gy, double p0x, double p0y, double steps, double *out);
 void pk_reach_set(const double *p, double d0, double d1, double dist, void *spring0,
                   void *spring1, int own1, double *out);
 """
@@ -489,8 +489,8 @@ void pk_two_link(const double *p, double d0, double d1, double dist, double pref
    ``done / steps`` of the way, and that point in the chain's first joint's parent frame
    from its anchor. out: d0, d1, the goal's x, y. (math.hypot(d0, d1) is CPython's own:
    worked out there, then pk_reach_set.) */
-void pk_reach_aim(void *parent, double ax, double ay, void *goal_body, double gx, double gy,
-                  double p0x, double p0y, double done, double steps, double *out)
+void pk_reach_aim(double done, void *parent, double ax, double ay, void *goal_body, double gx,
+                  double gy, double p0x, double p0y, double steps, double *out)
 {
     if (goal_body) {
         pk_vect local = {gx, gy};

@@ -68,7 +68,7 @@ class ReachController:
         self._pk = None if kern is None else (
             kern.lib.pk_reach_aim, kern.lib.pk_reach_set, kern.ffi.NULL,
             kern.ffi.new("double[4]"), kern.ffi.new("double[2]"), kern)
-        self._params: dict = {}  # chain -> its numbers for pk_reach_set
+        self._aims: dict = {}  # chain -> its reach's arguments for the kernel (_aim_args)
 
     # -- targets -------------------------------------------------------------------
     def _root_to_world(self, p) -> tuple[float, float]:
@@ -142,6 +142,8 @@ class ReachController:
         table, character, grasps = owners.table, self.character, self.grasps
         sim = self.sim
         pk = self._pk
+        aims = self._aims
+        out = None if pk is None else pk[3]
         changed = False
         for name, reach in list(self.reaches.items()):
             owner = _OWNERS.get(name) or _OWNERS.setdefault(name, reach_owner(name))
@@ -163,23 +165,14 @@ class ReachController:
             kind = target[0]
             if two and pk is not None:  # the kernel: the arithmetic below, in C
                 aim, solve, null, out, q, _ = pk
-                if kind == "point":
-                    body, gx, gy = null, target[1], target[2]
-                elif kind == "prop":
-                    prop = sim.props[target[1]]
-                    body, (gx, gy) = prop.body._body, prop.points[target[2]]
-                else:
-                    body, (gx, gy) = null, self.target_now(target)
-                p0 = reach.p0
-                aim(character.bodies[chain.parent_link]._body, *chain.anchor, body, gx, gy,
-                    p0[0], p0[1], step - reach.start, reach.steps, out)
+                args = aims.get(name)  # (for this reach and these bodies: _aim_args)
+                if args is None or args[0] is not reach or args[1] is not character.bodies:
+                    args = aims[name] = self._aim_args(name, reach, chain, kind)
+                aim(step - reach.start, *args[2])
                 d0, d1 = out[0], out[1]
-                params = self._params.get(name) or self._params.setdefault(
-                    name, chain.two_params(pk[5]))
-                solve(params, d0, d1, _hypot(d0, d1),
-                      servos[j0].spring._constraint if own0 else null,
-                      servos[j1].spring._constraint, own1, q)
-                goal = (out[2], out[3])
+                solve(args[3], d0, d1, _hypot(d0, d1), args[4] if own0 else null, args[5],
+                      own1, q)
+                goal = out  # (its goal's x, y: out[2], out[3], read by a grasp below)
             else:
                 goal = (target[1], target[2]) if kind == "point" else self.target_now(target)
                 u = (step - reach.start) / reach.steps  # hermite(u), inlined
@@ -202,6 +195,8 @@ class ReachController:
                             _set_target(servos[joint].spring._constraint, angle)
             if reach.grasp and sim is not None and name not in sim.grasps:
                 # (try_grasp does nothing for a chain that holds already: not asked)
+                if goal is out:
+                    goal = (out[2], out[3])
                 hold = (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":
                     made = grasps.try_grasp(name, [goal], None, *hold)
@@ -217,6 +212,30 @@ class ReachController:
                 del self.reaches[name]
                 changed = True
         return None if changed or not self.reaches else WAITED
+
+    def _aim_args(self, name: str, reach: Reach, chain, kind: str) -> tuple:
+        """(reach, the bodies, pk_reach_aim's arguments after the steps done, the
+        chain's numbers for pk_reach_set, its joints' springs): what stays while the
+        reach runs on these bodies (a re-seat re-binds them, and the props'), but a
+        steered target's point, read at every step (then not kept: its bodies None)."""
+        aim, _, null, out, _, kern = self._pk
+        sim, character, servos = self.sim, self.character, self.servos
+        target = reach.target
+        if kind == "point":
+            body, gx, gy = null, target[1], target[2]
+        elif kind == "prop":
+            prop = sim.props[target[1]]
+            body, (gx, gy) = prop.body._body, prop.points[target[2]]
+        else:
+            body, (gx, gy) = null, self.target_now(target)
+        ax, ay = chain.anchor
+        p0 = reach.p0
+        j0, j1 = chain.joints
+        return (reach, None if kind == "steer" else character.bodies,
+                (character.bodies[chain.parent_link]._body, ax, ay, body, gx, gy, p0[0], p0[1],
+                 reach.steps, out),
+                chain.two_params(kern), servos[j0].spring._constraint,
+                servos[j1].spring._constraint)
 
     def next_wakeup(self, earliest: int) -> int | None:
         # every step, on the way and holding: at the control rate (60 Hz) the ladder
