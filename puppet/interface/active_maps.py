@@ -164,11 +164,34 @@ class ActiveMaps:
         """Maps that just became active (a mode or state entered) act at once with the
         inputs as they are; the maps that were active already leave their joints be. A
         sensor map takes its joints, and writes them at the next control step."""
-        for m in maps:
-            if not m.feedback:
-                self.owners.take(self._applier(m)(self.inputs))
-            elif getattr(m, "combine", "set") != "add":
-                self.feedback.claim(self._map_joints(m))
+        key = (id(maps), self.roles.binding)  # (each list of maps is the spec's, or
+        cache = self.__dict__.get("_activations")  # _role_maps's: kept, so ids stay)
+        if cache is None:
+            cache = self._activations = {}
+        got = cache.get(key)
+        if got is None or got[0] is not maps:  # what each map does, worked out once
+            got = cache[key] = (maps, [
+                (self._applier(m), None) if not m.feedback else (None, self._map_joints(m))
+                for m in maps if not m.feedback or getattr(m, "combine", "set") != "add"])
+        inputs, take = self.inputs, self.owners.take
+        for apply, joints in got[1]:
+            if apply is not None:
+                take(apply(inputs))
+            else:
+                self.feedback.claim(joints)
+
+    def _role_maps(self) -> list:
+        """The active device maps that drive a joint through a role (they act again
+        when the roles re-bind), worked out once for each list of active maps."""
+        active = self.active_maps
+        cache = self.__dict__.get("_role_maps_of")
+        if cache is None:
+            cache = self._role_maps_of = {}
+        got = cache.get(id(active))
+        if got is None or got[0] is not active:
+            got = cache[id(active)] = (active, [m for m in active if not m.feedback
+                                                and self.roles.names_role(m)])
+        return got[1]
 
 
 
