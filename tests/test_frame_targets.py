@@ -85,3 +85,45 @@ def test_a_key_sets_a_joint_relative_to_another_link(tmp_path):
     # holds within a couple of degrees under the chest's weight
     assert math.degrees(s.character.servos["waist"].target) == pytest.approx(-10.0, abs=1e-9)
     assert rel == pytest.approx(-10.0, abs=3.0)
+
+
+@pytest.mark.parametrize("how", ["c", "python"])
+def test_a_frame_maps_holder_holds_as_hold_does(tmp_path, how, path_of):
+    """``FrameTargets.holder`` (a frame map's hold at each mouse event, its lookups made
+    once) leaves what ``hold`` leaves: the held targets, the owner table, the servo's
+    target to the bit, on either path, and after a checkpoint and a restore."""
+    from puppet.interface.ownership import FEEDBACK
+    from puppet.interface.poses import FrameTarget
+
+    path_of(how)
+    s = luxo_session(tmp_path, """
+    maps:
+      - {input: mouse.x, joint: knee, frame: world, to: [0, 60]}
+    """)
+    s.handle(ev.mouse(0.3, 0.5))
+    s.advance(100)
+    frames = s.runtime.frames
+    for joint, ref, parent, owner in (("knee", None, False, None),
+                                      ("ankle", "lower_arm", True, FEEDBACK)):
+        holder = frames.holder(joint, ref, parent, owner)
+        for angle in (0.3, -1.25):
+            got = []
+            for by_holder in (False, True):
+                if by_holder:
+                    holder(angle)
+                else:
+                    frames.hold(joint, FrameTarget(ref, angle, parent), owner)
+                got.append((repr(frames.held), dict(frames.owners_table.table),
+                            s.character.servos[joint].target))
+                s.character.servos[joint].target = 0.0
+            assert got[0] == got[1]
+            s.advance(40)
+        s.perform("checkpoint")
+        s.advance(10)
+        s.perform("restore")
+        s.advance(30)  # (the bodies of before the checkpoint stood still)
+        frames = s.runtime.frames
+        holder(0.7)
+        after = s.character.servos[joint].target
+        frames.hold(joint, FrameTarget(ref, 0.7, parent), owner)
+        assert s.character.servos[joint].target == after

@@ -210,13 +210,29 @@ def test_every_step_blends_and_sensor_maps_keep_the_schedule_a_full_reschedule_g
     from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
     for name in ("luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip",
-                 "biped-kip", "biped-handstand"):
+                 "biped-kip", "biped-handstand", "biped-backflip"):
         log = read_log(f"assets/logs/{name}.jsonl")
         session = new_session(log, setup_for_log(log)[0])
         seen = _checked_ticks(session)
         LogFeeder(session, log).advance(log.last_step)
         assert session.sim.state_hash() == log.end_hash, name
         assert seen["ticks"] > 300 and seen["kept"] > 100, (name, seen)
+
+
+def test_reaches_at_every_step_keep_the_schedule_a_full_reschedule_gives():
+    """A reach's tick that only wrote its chain's targets (no reach ended, no grasp made)
+    only waits (base.WAITED): the climbs keep their hashes and every kept schedule is
+    the full one."""
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    for name in ("biped-ladder-climb", "biped-monkey-bars"):
+        log = read_log(f"assets/logs/{name}.jsonl")
+        session = new_session(log, setup_for_log(log)[0])
+        seen = _checked_ticks(session)
+        LogFeeder(session, log).advance(log.last_step)
+        assert session.sim.state_hash() == log.end_hash, name
+        assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
 
 
 def test_a_sensor_map_holding_a_frame_target_every_step_keeps_the_frames_scheduled(tmp_path):

@@ -129,3 +129,34 @@ def test_two_link_ik_gives_the_same_answers_on_both_paths(path_of):
     assert path_of("python") is None
     assert repr(answers()) == repr(with_kernel)
     assert any(math.isnan(q) for qs in with_kernel for q in qs)
+
+
+def _reach_targets(tmp_path) -> list:
+    """Luxo's shade reaching for a rail's handholds, a swinging bar it grasps (a moving
+    prop's point) and a point steered by two channels: the targets step by step."""
+    from test_reach_grasp import LUXO, press, session
+
+    from puppet.interface import events as ev
+
+    s, out = session(tmp_path, LUXO), []
+    s.advance(240)
+    for key, steps in (("e", 300), ("n", 300), ("s", 200), ("g", 500), ("u", 10)):
+        if key == "s":
+            s.handle(ev.channels({"hx": 0.8, "hy": 0.3}))
+        press(s, key)
+        for _ in range(steps // 10):
+            s.advance(10)
+            out.append([s.character.servos[j].target for j in ("ankle", "knee")])
+    return out + [sorted(s.sim.grasps), s.sim.state_hash()]
+
+
+@needs_cc
+def test_reaches_write_the_same_targets_on_both_paths(path_of, tmp_path):
+    """``pk_reach_aim`` and ``pk_reach_set`` (the reach's eased point, the chain's IK and
+    its writes in one go) and the reach tick's Python: the same bits, for a fixed prop's
+    point, a swinging prop's and a steered one."""
+    assert path_of("c") is not None
+    with_kernel = _reach_targets(tmp_path)
+    assert path_of("python") is None
+    assert repr(_reach_targets(tmp_path)) == repr(with_kernel)
+    assert with_kernel[-2] == ["shade"] or len(with_kernel) > 100

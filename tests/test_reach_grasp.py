@@ -545,3 +545,38 @@ def test_a_steering_input_not_sent_yet_counts_as_the_middle_of_its_range(tmp_pat
     base = s.character.bodies["base"]
     want = base.local_to_world((0.06, 0.36))  # x at its top, y in the middle of [0.32, 0.40]
     assert math.dist((x, y), want) < 1e-9
+
+
+@pytest.mark.parametrize("scene", ["ladder", "monkey-bars", "pendulum"])
+def test_a_prop_said_to_be_beyond_reach_has_no_place_within_it(scene):
+    """``Prop.beyond`` (an armed grasp skips a static prop whose places' box is out of
+    reach) never says so of a prop with a place within the distance, at points near
+    and on its places and bars, with and without a place excluded; a dynamic prop is
+    never said to be."""
+    import pymunk
+
+    from puppet.data.catalog import load_scene_named
+    from puppet.physics.props import build_props
+
+    space = pymunk.Space()
+    props = build_props(load_scene_named(scene)[0], space)
+    rng = random.Random(7)
+    skipped = 0
+    for prop in props.values():
+        points, segments = prop._placed()
+        places = [(x, y) for _, x, y in points] + [
+            (ax + u * vx, ay + u * vy) for ax, ay, vx, vy, _ in segments
+            for u in (0.0, 0.5, 1.0)]
+        if not places:  # (nothing to grasp: never beyond, nearest says inf)
+            assert not prop.beyond((0.0, 0.0), 0.1)
+            continue
+        for _ in range(400):
+            px, py = rng.choice(places)
+            w = (px + rng.uniform(-0.3, 0.3), py + rng.uniform(-0.3, 0.3))
+            r = rng.choice([0.03, 0.05, 0.1, 0.2])
+            exclude = rng.choice([None, (px, py, r)])
+            if prop.beyond(w, r):
+                skipped += 1
+                assert prop.nearest(w, exclude)[0] > r
+                assert prop.body.body_type == pymunk.Body.STATIC
+    assert skipped > 100

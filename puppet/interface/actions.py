@@ -150,8 +150,7 @@ class Actions:
             self._use_binding(roles)
         self._refresh_active_maps()
         if rebound:  # a device map on a role now means another joint: it acts there
-            self._activate([m for m in self.active_maps if not m.feedback
-                            and self.roles.names_role(m)])
+            self._activate(self._role_maps())
         self._activate(self.machines[machine].spec.states[state].maps)
         self._run_entry(machine, now, depth + 1)
         if self.buffer.unused and self.machines[machine].current == state:

@@ -22,6 +22,25 @@ class ActiveMaps:
     def _refresh_active_maps(self) -> None:
         if self._pending:
             self.flush()  # with the maps that were active when their events came
+        # What the active maps compile to depends on the binding, the mode and each
+        # machine's state alone (a gait enters a state every few control steps): worked
+        # out once for each (the appliers are plain functions of the inputs)
+        binding = self.roles.binding
+        where = (binding, self.mode, tuple([m.current for m in self.machines.values()]))
+        cache = self.__dict__.get("_refreshed")
+        if cache is None:
+            cache = self._refreshed = {}
+        got = cache.get(where)
+        if got is None:
+            got = cache[where] = self._active_now(binding)
+        self.active_maps, compiled, self._input_maps = got
+        self._mouse_maps, (readers, setters, adders), joints, self._channel_maps = compiled
+        self.feedback.set_maps(readers, setters, adders)
+        self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
+        self.gestures.mouse_joints = joints  # (read only)
+
+    def _active_now(self, binding) -> tuple:
+        """(the active maps, what they compile to, an empty ``_input_maps``)."""
         spec = self.spec
         active = list(spec.maps)
         if self.mode is not None:
@@ -29,9 +48,7 @@ class ActiveMaps:
         for machine in self.machines.values():
             active += machine.spec.states[machine.current].maps
         self.active_maps = active
-        # What a set of active maps compiles to, under a binding, is worked out once (a
-        # gait enters a state every step): the appliers are plain functions of the inputs
-        key = (self.role_binding, tuple(map(id, active)))
+        key = (binding, tuple(map(id, active)))
         compiled = self._active_cache.get(key)
         if compiled is None:
             joints: set[str] = set()
@@ -41,11 +58,7 @@ class ActiveMaps:
             compiled = self._active_cache[key] = (
                 mapping.fused(self._compiled(("mouse.x", "mouse.y") + POINTER)),
                 self._feedback_maps(active), frozenset(joints), {})
-        self._mouse_maps, (readers, setters, adders), joints, self._channel_maps = compiled
-        self._input_maps = {}  # (binding, input names) -> apply_maps' appliers
-        self.feedback.set_maps(list(readers), list(setters), list(adders))
-        self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
-        self.gestures.mouse_joints = set(joints)
+        return active, compiled, {}  # (binding, input names) -> apply_maps' appliers
 
     def _compiled(self, inputs) -> list:
         """Compiled appliers of the active device maps reading any of ``inputs``, in
@@ -151,11 +164,34 @@ class ActiveMaps:
         """Maps that just became active (a mode or state entered) act at once with the
         inputs as they are; the maps that were active already leave their joints be. A
         sensor map takes its joints, and writes them at the next control step."""
-        for m in maps:
-            if not m.feedback:
-                self.owners.take(self._applier(m)(self.inputs))
-            elif getattr(m, "combine", "set") != "add":
-                self.feedback.claim(self._map_joints(m))
+        key = (id(maps), self.roles.binding)  # (each list of maps is the spec's, or
+        cache = self.__dict__.get("_activations")  # _role_maps's: kept, so ids stay)
+        if cache is None:
+            cache = self._activations = {}
+        got = cache.get(key)
+        if got is None or got[0] is not maps:  # what each map does, worked out once
+            got = cache[key] = (maps, [
+                (self._applier(m), None) if not m.feedback else (None, self._map_joints(m))
+                for m in maps if not m.feedback or getattr(m, "combine", "set") != "add"])
+        inputs, take = self.inputs, self.owners.take
+        for apply, joints in got[1]:
+            if apply is not None:
+                take(apply(inputs))
+            else:
+                self.feedback.claim(joints)
+
+    def _role_maps(self) -> list:
+        """The active device maps that drive a joint through a role (they act again
+        when the roles re-bind), worked out once for each list of active maps."""
+        active = self.active_maps
+        cache = self.__dict__.get("_role_maps_of")
+        if cache is None:
+            cache = self._role_maps_of = {}
+        got = cache.get(id(active))
+        if got is None or got[0] is not active:
+            got = cache[id(active)] = (active, [m for m in active if not m.feedback
+                                                and self.roles.names_role(m)])
+        return got[1]
 
 
 

@@ -172,6 +172,14 @@ class Chain:
         return cls(name, tuple(spec.joints), joints[0].parent, joints[-1].child,
                    points[0], links, tuple(spec.end), lim)
 
+    def two_params(self, k):
+        """A two-link chain's numbers as the compiled kernel ``k`` reads them
+        (``pk_two_link``)."""
+        got = self._two._c
+        if got is None or got[0] is not k:
+            got = self._two._compiled(k)
+        return got[2]
+
     def end_world(self, character) -> Vec:
         p = _to_world(character.bodies[self.end_link]._body, self.end)  # (local_to_world's)
         return (p.x, p.y)

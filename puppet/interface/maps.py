@@ -221,8 +221,8 @@ def _compile_linear(spec, servos, channels=None):
         v = value(values)
         if v is None:
             return ()
-        for servo, gain in outs:
-            servo.target = gain * v
+        for servo, gain in outs:  # servo.target = (a re-seat may give it a new spring)
+            SET_TARGET(servo.spring._constraint, gain * v)
         return joints
     return apply_linear
 
@@ -354,11 +354,17 @@ def _unit(spec, channels=None):
 
 def compile_contribution(spec, channels=None):
     """An 'add' map: ``contribution(values) -> [(joint, radians)]`` to add to targets (a
-    constant ``add:`` map: the same offset at every control step)."""
+    constant ``add:`` map: the same offset at every control step). Its ``row``, when it
+    has one, is what the compiled feedback reads instead (``controllers.feedback_kernel``:
+    constant?, input, x0, 1 / (x1 - x0), lo, span, clamp, [(joint, gain or value)])."""
     gains = list(spec.gains().items())
     if getattr(spec, "add", None) is not None:
         constant = [(j, g * math.radians(spec.add)) for j, g in gains]
-        return lambda values: constant  # noqa: E731
+
+        def contribution_constant(values):
+            return constant
+        contribution_constant.row = (True, None, 0.0, 0.0, 0.0, 0.0, False, constant)
+        return contribution_constant
     # ``_unit``'s value, inlined (feedback runs every add map at every control step)
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
@@ -366,6 +372,8 @@ def compile_contribution(spec, channels=None):
     source = None
     if name.startswith(CHANNEL) and channels is not None:
         name, source = name[len(CHANNEL):], channels  # by bare name
+    # (the numbers feedback's compiled call reads: controllers.feedback_kernel.Plan)
+    _row = (False, name, x0, inv, lo, span, clamp, gains)
     if len(gains) == 1:
         (joint, gain), = gains
 
@@ -377,6 +385,8 @@ def compile_contribution(spec, channels=None):
             if clamp:
                 u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
             return ((joint, gain * (lo + (u if f is None else f(u)) * span)),)
+        if f is None and source is None:
+            contribution_one.row = _row
         return contribution_one
 
     def contribution(values):
@@ -388,6 +398,8 @@ def compile_contribution(spec, channels=None):
             u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
         v = lo + (u if f is None else f(u)) * span
         return [(j, g * v) for j, g in gains]
+    if f is None and source is None:
+        contribution.row = _row
     return contribution
 
 
@@ -400,6 +412,26 @@ def _compile_frame(spec, frames, channels, owner=None):
     ref = None if spec.frame == "world" else spec.frame
     parent = spec.hold == "parent"
     gains = list(spec.gains().items())
+    holder = getattr(frames, "holder", None)
+    if holder is not None:  # FrameTargets.hold, each joint's lookups done once
+        holds = [(g, holder(joint, ref, parent, owner)) for joint, g in gains]
+        (x0, x1), (y0, y1) = spec.from_, spec.to
+        inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
+        name, clamp = spec.input, spec.clamp
+        if curve_function(spec.curve) is not None or name.startswith(CHANNEL):
+            return _held_frame(value, holds)
+
+        def apply_frame_held(values):  # _unit's value, inlined (the same arithmetic)
+            v = values.get(name)
+            if v is not None:
+                u = (v - x0) * inv
+                if clamp:
+                    u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+                v = lo + u * span
+                for g, hold_at in holds:
+                    hold_at(g * v)
+            return ()  # held under the frame owner: nothing for the caller to take
+        return apply_frame_held
 
     def apply_frame(values):
         v = value(values)
@@ -408,6 +440,17 @@ def _compile_frame(spec, frames, channels, owner=None):
                 frames.hold(joint, made_frame_target(ref, g * v, parent), owner)
         return ()  # held under the frame owner: nothing for the caller to take
     return apply_frame
+
+
+def _held_frame(value, holds):
+    """A frame map's applier through its ``_unit`` (a curve, a channel input)."""
+    def apply_frame_held(values):
+        v = value(values)
+        if v is not None:
+            for g, hold_at in holds:
+                hold_at(g * v)
+        return ()  # held under the frame owner: nothing for the caller to take
+    return apply_frame_held
 
 
 def _renamed(spec, names: dict[str, str]):

@@ -112,7 +112,8 @@ class InterfaceRuntime(ActiveMaps, Actions):
         self.frames = FrameTargets(character, self.owners, every)
         self.sequences.frames = self.frames
         self.blends = BlendController(character, self.owners, self.frames, every)
-        self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample)
+        self.feedback = Feedback(servos, self.owners, self.inputs, every, character.sample,
+                                 character)
         self.tracker = Tracker(spec.tracking, character, self.owners, self.channels, every,
                                self.dt, self.restore_gains,
                                None if sim is None else sim.ground_surface)
@@ -344,7 +345,7 @@ class InterfaceRuntime(ActiveMaps, Actions):
             values, table = self.inputs, self.owners.table
             for apply in self._mouse_maps:  # the hot path: no lookups, no allocation
                 written = apply(values)
-                if table:
+                if table and written:  # (a frame map's holds: nothing to take)
                     self.owners.take(written)
             self._maps_applied()
             return None

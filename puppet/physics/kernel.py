@@ -5,7 +5,8 @@ links, the joint targets) and the centre of mass with its velocity cost 10-30 us
 Python a control step against a 15-75 us physics step; the same work in C costs about
 a microsecond. Frame targets (``pk_frame``), the support polygon's extent
 (``pk_support``: the contacts' x, without a Python callback a contact) and a two-link
-chain's IK (``pk_two_link``: a reach's solve at every step) are in it too.
+chain's IK (``pk_two_link``: a reach's solve at every step, with the reach's eased
+point and its writes: ``pk_reach_aim``, ``pk_reach_set``) are in it too.
 ``kernel_source`` holds the C, written operation for operation as the Python it
 replaces, so a log replays to its recorded hash either way.
 
@@ -42,7 +43,9 @@ ENV = "PUPPET_KERNEL"  # "python": the pure-Python path; "c": the kernel or an e
 FUNCTIONS = ("cpBodyGetPosition", "cpBodyGetAngle", "cpBodyGetVelocity",
              "cpBodyGetAngularVelocity", "cpBodyGetMoment", "cpBodySetVelocity",
              "cpBodySetAngularVelocity", "cpDampedRotarySpringSetRestAngle",
-             "cpBodyEachArbiter", "cpArbiterGetContactPointSet")
+             "cpBodyEachArbiter", "cpArbiterGetContactPointSet",
+             "cpDampedRotarySpringGetRestAngle", "cpBodyLocalToWorld",
+             "cpBodyGetCenterOfGravity")
 
 # kernel_source's copy of Chipmunk's cpContactPointSet (pymunk 7.x): size, the offsets
 # of normal and points, the points' count and size; another layout keeps Python's path

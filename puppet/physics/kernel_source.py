@@ -1,6 +1,7 @@
 """The compiled kernel's C text (``physics.kernel`` builds it): KD tracking's pull
 loop and forward kinematics, the joint targets it writes, the centre of mass, frame
-targets, the support polygon's extent and the two-link IK.
+targets, the support polygon's extent, the two-link IK and a reach's aim and writes
+(``pk_reach_aim``, ``pk_reach_set``).
 
 Every line is the Python it replaces, operation for operation, so both give the same
 bits: the same sums in the same order and grouping (``a + b * c - d * e`` is
@@ -12,6 +13,8 @@ CPython's ``x * (pi / 180)`` and ``round`` as round-half-even (``nearbyint``).
 Chipmunk is called through pymunk's own functions, handed over as pointers
 (``pk_init``): the kernel links to nothing but libm.
 """
+
+from puppet.physics.kernel_control import CDEF_CONTROL, SOURCE_CONTROL, TYPES_CONTROL
 
 TYPES = """
 typedef struct {
@@ -45,7 +48,8 @@ typedef struct {
     double *vel; int *vel_has;
     double *spin; int *spin_has;
 } pk_track;
-"""
+
+""" + TYPES_CONTROL
 
 CDEF = TYPES + """
 void pk_init(void **fns);
@@ -64,7 +68,7 @@ void pk_frame(void *parent, void *child, void *ref, double angle, int hold_paren
 int pk_support(void **bodies, int n, double *out);
 void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
                  double *out);
-"""
+""" + CDEF_CONTROL
 
 SOURCE = TYPES + r"""
 #include <math.h>
@@ -79,6 +83,10 @@ static pk_getv get_position, get_velocity;
 static pk_getd get_angle, get_spin, get_moment;
 static pk_setv set_velocity;
 static pk_setd set_spin, set_rest_angle;
+static pk_getd get_rest_angle;
+typedef pk_vect (*pk_to_world)(void *, pk_vect);
+static pk_to_world to_world;
+static pk_getv get_cog;
 /* cpContactPointSet (Chipmunk's CP_MAX_CONTACTS_PER_ARBITER is 2) */
 typedef struct { pk_vect a, b; double distance; } pk_point;
 typedef struct { int count; pk_vect normal; pk_point points[2]; } pk_point_set;
@@ -98,6 +106,8 @@ void pk_init(void **fns)
     set_spin = (pk_setd)fns[6]; set_rest_angle = (pk_setd)fns[7];
     each_arbiter = (void (*)(void *, pk_arbiter_fn, void *))fns[8];
     get_point_set = (pk_point_set (*)(void *))fns[9];
+    get_rest_angle = (pk_getd)fns[10]; to_world = (pk_to_world)fns[11];
+    get_cog = (pk_getv)fns[12];
 }
 
 /* kd_pull.channel_pose */
@@ -447,4 +457,5 @@ void pk_two_link(const double *p, double d0, double d1, double dist, double pref
     }
     pk_dls(p, d0, d1, c1, c2, out);
 }
-"""
+
+""" + SOURCE_CONTROL

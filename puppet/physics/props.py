@@ -16,6 +16,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.scenes import SceneSpec
 
 _to_world = _cp.cpBodyLocalToWorld  # what Body.local_to_world calls
+BOX_MARGIN = 1e-6  # m: far more than a place's rounding (``beyond``)
 _get_position, _get_angle = _cp.cpBodyGetPosition, _cp.cpBodyGetAngle
 
 
@@ -63,6 +64,43 @@ class Prop:
                 best = (d, p, None)
         return best
 
+    def beyond(self, world: tuple[float, float], r: float) -> bool:
+        """Whether every graspable place of this prop is surely farther than ``r`` from
+        ``world`` (so ``nearest``'s answer is too): a static prop's places' box, worked
+        out with ``_placed``, with a margin over the rounding of a point on a segment.
+        False when unsure (a dynamic prop, a NaN)."""
+        box = self._box()
+        if box is None:
+            return False
+        x0, y0, x1, y1 = box
+        wx, wy = world
+        dx = x0 - wx if wx < x0 else wx - x1 if wx > x1 else 0.0
+        dy = y0 - wy if wy < y0 else wy - y1 if wy > y1 else 0.0
+        r += BOX_MARGIN
+        return dx * dx + dy * dy > r * r
+
+    def _box(self) -> tuple[float, float, float, float] | None:
+        """A static prop's places' box (x0, y0, x1, y1), for where it stands now."""
+        if not self._static():
+            return None
+        points, segments = self._placed()
+        cached = self._placed_cache
+        if len(cached) < 3:
+            xs = [x for _, x, _ in points] + [x for x, _, vx, _, _ in segments
+                                                for x in (x, x + vx)]
+            ys = [y for _, _, y in points] + [y for _, y, _, vy, _ in segments
+                                                for y in (y, y + vy)]
+            box = (min(xs), min(ys), max(xs), max(ys)) if xs else None
+            cached = self._placed_cache = (*cached[:2], box)
+        return cached[2]
+
+    def _static(self) -> bool:
+        """Whether the prop's body is static (asked once per body)."""
+        got = self.__dict__.get("_static_of")
+        if got is None or got[0] is not self.body:
+            got = self._static_of = (self.body, self.body.body_type == pymunk.Body.STATIC)
+        return got[1]
+
     def _placed(self) -> tuple[list, list]:
         """The grasp points ``(name, x, y)`` and segments ``(ax, ay, vx, vy, vx * vx +
         vy * vy)`` in the world, by the C calls ``nearest`` made for each (the same
@@ -70,7 +108,7 @@ class Prop:
         transform is made of them alone: a restored copy in the same place gives the
         same points)."""
         body = self.body._body
-        static = self.body.body_type == pymunk.Body.STATIC
+        static = self._static()
         if static:
             p = _get_position(body)
             key = (p.x, p.y, _get_angle(body))

@@ -36,6 +36,10 @@ _GET_REST_ANGLE = _cp.cpDampedRotarySpringGetRestAngle  # (what spring.rest_angl
 # ``SET_TARGET(servo.spring._constraint, radians)`` is ``servo.target = radians`` without
 # the property's call, for loops that write many servos (maps.fused)
 SET_TARGET = _SET_REST_ANGLE
+# likewise the gains' setters (a pose writes several at each state a gait enters)
+_SET_STIFFNESS, _SET_DAMPING = (_cp.cpDampedRotarySpringSetStiffness,
+                                _cp.cpDampedRotarySpringSetDamping)
+_SET_MAX_FORCE = _cp.cpConstraintSetMaxForce
 GET_TARGET = _GET_REST_ANGLE  # ``GET_TARGET(servo.spring._constraint)``: ``servo.target``
 
 REFERENCE_STEP = 1.0 / 480.0  # s; gains mean what they do on this step (the docstring)
@@ -114,7 +118,7 @@ class PDServo:
 
     @stiffness.setter
     def stiffness(self, value: float) -> None:
-        self.spring.stiffness = value
+        _SET_STIFFNESS(self.spring._constraint, value)  # (pymunk's setter's own call)
 
     @property
     def damping(self) -> float:
@@ -124,7 +128,8 @@ class PDServo:
     @damping.setter
     def damping(self, value: float) -> None:
         self._damping = value
-        self.spring.damping = chipmunk_damping(value, self._inverse_moments, self._step)
+        _SET_DAMPING(self.spring._constraint,
+                     chipmunk_damping(value, self._inverse_moments, self._step))
 
     @property
     def max_torque(self) -> float:
@@ -132,7 +137,7 @@ class PDServo:
 
     @max_torque.setter
     def max_torque(self, value: float) -> None:
-        self.spring.max_force = value
+        _SET_MAX_FORCE(self.spring._constraint, value)
 
     def torque(self, dt: float) -> float:
         """Torque the servo applied on the child during the last step (N*m)."""

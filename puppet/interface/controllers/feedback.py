@@ -19,7 +19,9 @@ mode or state is entered) until a later action takes them, like any map.
 from __future__ import annotations
 
 from puppet.interface.controllers.base import WAITED
+from puppet.interface.controllers.feedback_kernel import FeedbackKernel
 from puppet.interface.ownership import FEEDBACK, JointOwners, Owner
+from puppet.physics import kernel as _kernel
 from puppet.physics.servo import GET_TARGET as _get_target
 from puppet.physics.servo import SET_TARGET as _set_target
 
@@ -27,7 +29,8 @@ from puppet.physics.servo import SET_TARGET as _set_target
 class Feedback:
     BUSY = "busy"
 
-    def __init__(self, servos, owners: JointOwners, inputs: dict, every: int, sample=None):
+    def __init__(self, servos, owners: JointOwners, inputs: dict, every: int, sample=None,
+                 character=None):
         self.servos = servos
         # reads the sensors into the inputs (the character's ``sample``: at one instant)
         self.sample = sample or _read_each
@@ -40,11 +43,28 @@ class Feedback:
         self.base: dict[str, float] = {}  # joint -> target before the additions
         self.last: dict[str, float] = {}  # joint -> target written (base + additions)
         self.busy = False  # maps to run, or additions still to take back
+        # the compiled call (feedback_kernel): the add maps and their sensors in C, for
+        # the active maps when they are all its (``_plan``); while it runs (``_in_c``)
+        # base and last are its arrays', made into the dicts again by ``_pull``
+        kern = _kernel.get() if character is not None else None
+        self._fk = None if kern is None else FeedbackKernel(kern, character, servos)
+        self._plan = None
+        self._in_c = False
 
     def set_maps(self, readers, setters, adders) -> None:
         """The active feedback maps (the runtime's, on every mode or state change)."""
         self.readers, self.setters, self.adders = readers, setters, adders
+        fk = self._fk
+        self._plan = None if fk is None or setters or not adders else fk.plan(readers, adders)
+        if self._plan is None:  # (else the kernel's arrays stay what base and last are)
+            self._pull()
         self.busy = bool(setters or adders or self.last)
+
+    def _pull(self) -> None:
+        """base and last from the compiled call's arrays, where they are kept now."""
+        if self._in_c:
+            self.base, self.last = self._fk.pull()
+            self._in_c = False
 
     def claim(self, joints) -> None:
         self.owners_table.claim(joints, FEEDBACK)
@@ -52,6 +72,15 @@ class Feedback:
     def tick(self, step: int) -> str | None:
         if step % self.every:
             return WAITED  # between control steps
+        plan = self._plan
+        if plan is not None:  # the compiled call: the rest of this tick, in C
+            if not self._in_c:
+                self._fk.push(self.base, self.last)
+                self._in_c = True
+            self._fk.tick(plan, self.inputs, self.sample)
+            self.busy = True
+            return WAITED if self.every == 1 else None
+        self._pull()
         values = self.inputs
         self.sample(self.readers, values)
         table, servos = self.owners_table.table, self.servos
@@ -97,18 +126,23 @@ class Feedback:
         return {FEEDBACK} if self.setters else set()
 
     def get_state(self):
+        self._pull()
         return [dict(self.base), dict(self.last)]
 
     def set_state(self, state) -> None:
+        self._in_c = False
         self.base, self.last = dict(state[0]), dict(state[1])
         self.busy = bool(self.setters or self.adders or self.last)
 
     def adopt(self, old: Feedback, same, now: int) -> set[Owner]:
+        old._pull()
+        self._in_c = False
         self.base, self.last = dict(old.base), dict(old.last)
         self.busy = bool(self.setters or self.adders or self.last)
         return {FEEDBACK}
 
     def stop(self) -> None:
+        self._in_c = False
         self.base, self.last = {}, {}
         self.busy = bool(self.setters or self.adders)
 

@@ -24,6 +24,7 @@ from puppet.physics.servo import SET_TARGET as _set_target
 _TURN = 2.0 * math.pi
 _remainder = _kernel.remainder  # (as C's answers a blown-up state: pk_frame)
 _angle = _cp.cpBodyGetAngle
+_new = object.__new__
 
 
 class FrameTargets:
@@ -54,6 +55,36 @@ class FrameTargets:
             self.owners_table.table[joint] = FRAME
         self.held[joint] = (target, owner)
         self._solve(joint, target)
+
+    def holder(self, joint: str, ref: str | None, hold_parent: bool,
+               owner: Owner | None = None):
+        """``hold_at(angle)``: ``hold(joint, FrameTarget(ref, angle, hold_parent), owner)``
+        for a frame map, which holds its joints at every mouse event: the target made
+        without the dataclass's ``__init__`` (as ``poses.made_frame_target``) and the
+        kernel's pointers for the joint looked up once per binding of the bodies."""
+        owner = owner or FRAME
+        claim = owner == FRAME
+        solve, null, new = self._pk_frame, self._null, _new
+        bound: list = [None, None]  # the bodies, and pk_frame's pointers into them
+
+        def hold_at(angle: float) -> None:
+            if claim:
+                self.owners_table.table[joint] = FRAME
+            target = new(FrameTarget)
+            fields = target.__dict__
+            fields["ref"], fields["angle"], fields["hold_parent"] = ref, angle, hold_parent
+            self.held[joint] = (target, owner)
+            if solve is None:
+                self._solve(joint, target)
+                return
+            if bound[0] is not self.character.bodies:
+                joint_ptrs, link_ptrs = self._pointers()
+                parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
+                bound[:] = self._bound, (parent, child, null if ref is None else
+                                         (link_ptrs.get(ref) or self._link_ptr(ref)), spring)
+            parent, child, link, spring = bound[1]
+            solve(parent, child, link, angle, hold_parent, spring)
+        return hold_at
 
     def forget(self, joint: str) -> None:
         self.held.pop(joint, None)
@@ -106,25 +137,30 @@ class FrameTargets:
             return WAITED  # between control steps
         table, held = self.owners_table.table, self.held
         solve = self._pk_frame
+        let_go = False
         if solve is not None:  # the kernel: the Python loop below, each joint in C
             joint_ptrs, link_ptrs = self._pointers()
             null = self._null
             for joint, (target, owner) in list(held.items()):
                 if table.get(joint) != owner:  # taken back by a later write: let go
                     del held[joint]
+                    let_go = True
                     continue
                 parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
                 ref = target.ref
                 solve(parent, child, null if ref is None else
                       (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
                       target.hold_parent, spring)
-            return None
+            # at every step (control_rate: 480), still holding and none let go: it only
+            # wrote targets, and its next wake-up is the next step (base.WAITED)
+            return WAITED if self.every == 1 and held and not let_go else None
         c = self.character
         bodies, servos, joints = c.bodies, c.servos, self.joints
         remainder = _remainder
         for joint, (target, owner) in list(held.items()):
             if table.get(joint) != owner:  # taken back by a later write: let go
                 del held[joint]
+                let_go = True
                 continue
             spec = joints[joint]  # _solve's arithmetic, inlined (a tick holds several)
             parent = _angle(bodies[spec.parent]._body)
@@ -134,6 +170,7 @@ class FrameTargets:
             q = child - want if target.hold_parent else want - parent
             now = child - parent
             _set_target(servos[joint].spring._constraint, now + remainder(q - now, _TURN))
+        return WAITED if self.every == 1 and held and not let_go else None
 
     def next_wakeup(self, earliest: int) -> int | None:
         if not self.held:

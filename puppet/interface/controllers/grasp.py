@@ -13,7 +13,11 @@ from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
 from puppet.interface.ownership import Owner
+
+_to_world = _cp.cpBodyLocalToWorld
 
 
 class GraspController:
@@ -61,6 +65,14 @@ class GraspController:
             return self.holds(name)
         chain = self.chains[name]
         ex, ey = chain.end_world(self.character)
+        props = self.sim.props
+        if points is None:
+            # (a prop whose places are all farther than the tolerance cannot be the one
+            # caught: not asked, ``Prop.beyond``; with none left, none is caught)
+            names = [n for n in (props if prop == "any" else [prop])
+                     if not props[n].beyond((ex, ey), tolerance)]
+            if not names:
+                return False
         skip = self.released_point(name) if skip_released else None
         exclude = None if skip is None else (skip[0], skip[1], tolerance)
         if points is not None:
@@ -72,11 +84,7 @@ class GraspController:
                                     rigid, max_torque)
                     return True
             return False
-        props = self.sim.props
-        found = [(*props[n].nearest((ex, ey), exclude)[:2], n)
-                 for n in (props if prop == "any" else [prop])]
-        if not found:
-            return False
+        found = [(*props[n].nearest((ex, ey), exclude)[:2], n) for n in names]
         distance, point, which = min(found, key=lambda f: f[0])
         if distance <= tolerance:
             self.sim.attach(name, chain.end_link, chain.end, point, which, rigid,
@@ -92,8 +100,8 @@ class GraspController:
         prop, (x, y) = self.released[name]
         if prop is None or prop not in self.sim.props:
             return (x, y)
-        p = self.sim.props[prop].body.local_to_world((x, y))
-        return (p[0], p[1])
+        p = _to_world(self.sim.props[prop].body._body, (x, y))  # (Body.local_to_world's)
+        return (p.x, p.y)
 
     def release(self, which: str) -> None:
         """Let go: unpin the chain ("all": every chain) and disarm its grasp; a chain

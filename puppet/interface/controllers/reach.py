@@ -12,8 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from math import hypot as _hypot
 
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import JointOwners, Owner, reach_owner
+from puppet.physics import kernel as _kernel
 from puppet.physics.servo import GET_TARGET as _target
 from puppet.physics.servo import SET_TARGET as _set_target
 
@@ -59,6 +62,13 @@ class ReachController:
         self.read_input = read_input  # (name, default) -> an input's value now (steering)
         self.dt = dt
         self.reaches: dict[str, Reach] = {}
+        # the compiled kernel's aim and solve of a two-link chain (``pk_reach_aim``,
+        # ``pk_reach_set``: the arithmetic of ``tick`` and ``Chain.solve``), or None
+        kern = _kernel.get()
+        self._pk = None if kern is None else (
+            kern.lib.pk_reach_aim, kern.lib.pk_reach_set, kern.ffi.NULL,
+            kern.ffi.new("double[4]"), kern.ffi.new("double[2]"), kern)
+        self._aims: dict = {}  # chain -> its reach's arguments for the kernel (_aim_args)
 
     # -- targets -------------------------------------------------------------------
     def _root_to_world(self, p) -> tuple[float, float]:
@@ -122,11 +132,19 @@ class ReachController:
         self.owners_table.claim(chain.joints, owner)
 
     def tick(self, step: int) -> str | None:
+        """Each reach's point on its way (or held), its chain solved for it and the
+        joints it still owns written; a reach that grasps tries its grasp. WAITED when
+        it only wrote targets: no reach ended or lost its joints, and no grasp was made
+        (its next wake-up is the next step, as before)."""
         if not self.reaches:
             return None
         servos, owners = self.servos, self.owners_table
         table, character, grasps = owners.table, self.character, self.grasps
         sim = self.sim
+        pk = self._pk
+        aims = self._aims
+        out = None if pk is None else pk[3]
+        changed = False
         for name, reach in list(self.reaches.items()):
             owner = _OWNERS.get(name) or _OWNERS.setdefault(name, reach_owner(name))
             chain = self.chains[name]
@@ -141,40 +159,83 @@ class ReachController:
                 owned = [j for j in joints if get(j) == owner]
             if not owned and not owners.holds_any(owner):
                 del self.reaches[name]
+                changed = True
                 continue
             target = reach.target
             kind = target[0]
-            goal = (target[1], target[2]) if kind == "point" else self.target_now(target)
-            u = (step - reach.start) / reach.steps  # hermite(u), inlined
-            u = min(1.0, max(0.0, u))
-            h = u * u * (3.0 - 2.0 * u)
-            p0 = reach.p0
-            point = (p0[0] + h * (goal[0] - p0[0]), p0[1] + h * (goal[1] - p0[1]))
-            if two:  # the closed form reads the bend it keeps, only
-                spring = servos[j1].spring._constraint
-                q0, q1 = chain.solve(character, point, (None, _target(spring)))
-                if own0:
-                    _set_target(servos[j0].spring._constraint, q0)
-                if own1:
-                    _set_target(spring, q1)
+            if two and pk is not None:  # the kernel: the arithmetic below, in C
+                aim, solve, null, out, q, _ = pk
+                args = aims.get(name)  # (for this reach and these bodies: _aim_args)
+                if args is None or args[0] is not reach or args[1] is not character.bodies:
+                    args = aims[name] = self._aim_args(name, reach, chain, kind)
+                aim(step - reach.start, *args[2])
+                d0, d1 = out[0], out[1]
+                solve(args[3], d0, d1, _hypot(d0, d1), args[4] if own0 else null, args[5],
+                      own1, q)
+                goal = out  # (its goal's x, y: out[2], out[3], read by a grasp below)
             else:
-                q = chain.solve(character, point,
-                                [_target(servos[j].spring._constraint) for j in joints])
-                for joint, angle in zip(joints, q):
-                    if joint in owned:
-                        _set_target(servos[joint].spring._constraint, angle)
+                goal = (target[1], target[2]) if kind == "point" else self.target_now(target)
+                u = (step - reach.start) / reach.steps  # hermite(u), inlined
+                u = min(1.0, max(0.0, u))
+                h = u * u * (3.0 - 2.0 * u)
+                p0 = reach.p0
+                point = (p0[0] + h * (goal[0] - p0[0]), p0[1] + h * (goal[1] - p0[1]))
+                if two:  # the closed form reads the bend it keeps, only
+                    spring = servos[j1].spring._constraint
+                    q0, q1 = chain.solve(character, point, (None, _target(spring)))
+                    if own0:
+                        _set_target(servos[j0].spring._constraint, q0)
+                    if own1:
+                        _set_target(spring, q1)
+                else:
+                    q = chain.solve(character, point,
+                                    [_target(servos[j].spring._constraint) for j in joints])
+                    for joint, angle in zip(joints, q):
+                        if joint in owned:
+                            _set_target(servos[joint].spring._constraint, angle)
             if reach.grasp and sim is not None and name not in sim.grasps:
                 # (try_grasp does nothing for a chain that holds already: not asked)
+                if goal is out:
+                    goal = (out[2], out[3])
                 hold = (reach.tolerance, reach.rigid, reach.max_torque)
                 if kind == "point":
-                    grasps.try_grasp(name, [goal], None, *hold)
+                    made = grasps.try_grasp(name, [goal], None, *hold)
                 elif kind == "prop":  # only the point aimed at: not the bar let go of
-                    grasps.try_grasp(name, [goal], target[1], *hold)
+                    made = grasps.try_grasp(name, [goal], target[1], *hold)
                 elif sim.props:
-                    grasps.try_grasp(name, None, "any", *hold)
+                    made = grasps.try_grasp(name, None, "any", *hold)
+                else:
+                    made = False
+                changed = changed or made
             if reach.end is not None and step >= reach.end:
                 owners.drop(owner)
                 del self.reaches[name]
+                changed = True
+        return None if changed or not self.reaches else WAITED
+
+    def _aim_args(self, name: str, reach: Reach, chain, kind: str) -> tuple:
+        """(reach, the bodies, pk_reach_aim's arguments after the steps done, the
+        chain's numbers for pk_reach_set, its joints' springs): what stays while the
+        reach runs on these bodies (a re-seat re-binds them, and the props'), but a
+        steered target's point, read at every step (then not kept: its bodies None)."""
+        aim, _, null, out, _, kern = self._pk
+        sim, character, servos = self.sim, self.character, self.servos
+        target = reach.target
+        if kind == "point":
+            body, gx, gy = null, target[1], target[2]
+        elif kind == "prop":
+            prop = sim.props[target[1]]
+            body, (gx, gy) = prop.body._body, prop.points[target[2]]
+        else:
+            body, (gx, gy) = null, self.target_now(target)
+        ax, ay = chain.anchor
+        p0 = reach.p0
+        j0, j1 = chain.joints
+        return (reach, None if kind == "steer" else character.bodies,
+                (character.bodies[chain.parent_link]._body, ax, ay, body, gx, gy, p0[0], p0[1],
+                 reach.steps, out),
+                chain.two_params(kern), servos[j0].spring._constraint,
+                servos[j1].spring._constraint)
 
     def next_wakeup(self, earliest: int) -> int | None:
         # every step, on the way and holding: at the control rate (60 Hz) the ladder

@@ -19,6 +19,10 @@ from __future__ import annotations
 
 import math
 
+from pymunk._chipmunk_cffi import lib as _cp
+
+_get_velocity, _set_velocity = _cp.cpBodyGetVelocity, _cp.cpBodySetVelocity
+
 
 class IntentionalContacts:
     held_points = None  # () -> {chain: world point}: the runtime's grasps
@@ -79,9 +83,11 @@ class IntentionalContacts:
         if fx == 0.0 and fy == 0.0:
             return
         dvx, dvy = fx / mass * self.period, fy / mass * self.period
+        get, set_ = _get_velocity, _set_velocity  # (what Body.velocity gets and sets)
         for body in c.bodies.values():
-            v = body.velocity
-            body.velocity = (v.x + dvx, v.y + dvy)
+            cb = body._body
+            v = get(cb)
+            set_(cb, (v.x + dvx, v.y + dvy))
 
     def _performer_rate(self, channel: str, me, step: int):
         """(turning rate rad/s, length rate m/s) of the performer's vector, from the last
