@@ -112,7 +112,7 @@ class FeedbackPlan:
         when a joint's last write is one these maps do not make (an add map gone:
         Python's tick takes it back first)."""
         p, fb = self.plan.plan, rt.feedback
-        base, last = fb.base, fb.last
+        base, last = fb.bases()
         joints = table[3]
         if len(last) > len(joints) or any(j not in joints for j in last):
             return False
@@ -130,6 +130,6 @@ class FeedbackPlan:
         names, _, _, joints = table
         for r, name in enumerate(names):
             inputs[name] = p.sampled[r]
-        base, last = fb.base, fb.last
+        base, last = fb.bases()
         for j, joint in enumerate(joints):
             base[joint], last[joint] = p.f_base[j], p.f_last[j]

@@ -60,6 +60,13 @@ class Feedback:
             self._pull()
         self.busy = bool(setters or adders or self.last)
 
+    def bases(self) -> tuple[dict[str, float], dict[str, float]]:
+        """``base`` and ``last`` as dicts that are the truth until the next tick (the
+        compiled call's arrays pulled back first): what ``interface.poll_feedback``
+        reads before its loop and writes after it."""
+        self._pull()
+        return self.base, self.last
+
     def _pull(self) -> None:
         """base and last from the compiled call's arrays, where they are kept now."""
         if self._in_c:
