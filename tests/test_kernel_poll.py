@@ -113,3 +113,30 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     assert [c[0] for c in first[1]] == [1, 5]
     machine.current = "landed"  # (no more transitions than a contact's and a timer's)
     assert plan._table(machine) is not None
+
+
+def _blown_up(step: int, loop: bool):
+    """luxo-double-backflip replayed to ``step`` (a polled state), the base's spin
+    made infinite, then 5 more steps: the state machine's state and the hash after the
+    session's recovery."""
+    import math
+
+    log = read_log("assets/logs/luxo-double-backflip.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    LogFeeder(session, log).advance(step)
+    if not loop:
+        session.runtime.poll = None
+    session.sim.character.bodies["base"].angular_velocity = math.inf
+    session.advance(5)
+    return session.runtime.machines["main"].current, session.sim.state_hash()
+
+
+@needs_cc
+def test_an_infinite_angle_recovers_alike_on_every_path(path_of):
+    """A spin blown up to infinity in a polled state: the kernel's libm ``remainder``
+    reads the angle as NaN, and Python's reader does too (math.remainder raised), so
+    with the loop, without it and on the Python path the session recovers the same."""
+    assert path_of("c") is not None
+    with_loop, ticks = _blown_up(795, True), _blown_up(795, False)
+    assert path_of("python") is None
+    assert with_loop == ticks == _blown_up(795, True)

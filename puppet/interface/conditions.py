@@ -57,9 +57,18 @@ _get_angle, _get_spin = _cp.cpBodyGetAngle, _cp.cpBodyGetAngularVelocity
 
 
 def _angle(c: Character, link: str) -> Reader:
-    """A link's world angle within one turn."""
+    """A link's world angle within one turn (NaN for a blown-up, infinite angle, as the
+    kernel's libm ``remainder`` answers, where Python's raises: both paths then recover
+    at the session's frame check)."""
     remainder = math.remainder
-    return lambda: remainder(_get_angle(c.bodies[link]._body), _TURN)
+
+    def read() -> float:
+        a = _get_angle(c.bodies[link]._body)
+        try:
+            return remainder(a, _TURN)
+        except ValueError:  # (only an infinite angle)
+            return math.nan
+    return read
 
 
 def _spin(c: Character, link: str) -> Reader:

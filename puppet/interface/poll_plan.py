@@ -200,7 +200,8 @@ class PollPlan:
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
         # bodies (a re-seat makes new ones), the period and the travelling targets
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.values())
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving),
+               *moving.values())
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline or feeding is not self._feeding:
             self._filled, self._space, self._key = table, sim.space, key

@@ -87,9 +87,10 @@ class SequenceController:
         self.owners_table.claim(self._joints_of(name), SEQUENCE)
         apply_pose(self.servos, self.poses[plan[0][0]], None, self.frames, SEQUENCE)
 
-    def _joints_of(self, name: str) -> set[str]:
+    def _joints_of(self, name: str) -> tuple[str, ...]:
         """Every joint sequence ``name``'s poses set, worked out once per set of poses
-        (the runtime replaces ``poses`` when the roles are bound anew)."""
+        (the runtime replaces ``poses`` when the roles are bound anew); sorted, so the
+        owners' table (and a saved runtime state) is the same in every process."""
         cache = self.__dict__.get("_joints")
         if cache is None or cache[0] is not self.poses:
             cache = self._joints = (self.poses, {})
@@ -98,7 +99,7 @@ class SequenceController:
             joints = set()
             for pose_name, _ in self.plans[name]:
                 joints |= self.poses[pose_name].joints
-            cache[1][name] = joints
+            cache[1][name] = joints = tuple(sorted(joints))
         return joints
 
     def _next_pose(self, running: RunningSequence) -> str | None:
