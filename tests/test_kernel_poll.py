@@ -19,6 +19,7 @@ import pytest
 from kernel_paths import needs_cc
 
 from puppet.interface import poll_plan
+from puppet.interface.controllers import feedback_kernel as fk
 from puppet.physics import kernel
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
@@ -89,13 +90,13 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     """A lean, an offset from a link: no table; a `for` is in it, and so is the fall
     time."""
     assert path_of("c") is not None
-    assert poll_plan.condition_kind("root.angle", "base") == (1, "base")
-    assert poll_plan.condition_kind("contact.base", "base") == (0, "base")
-    assert poll_plan.condition_kind("joint.knee", "base") == (2, "knee")
-    assert poll_plan.condition_kind("spin.base", "base") == (3, "base")
-    assert poll_plan.condition_kind("height.base", "base") == (4, "base")
-    assert poll_plan.condition_kind("com.fall_time", "base") == (5, None)
-    assert poll_plan.condition_kind("com.vy", "base") == (9, None)
+    assert poll_plan.condition_kind("root.angle", "base") == (fk.ANGLE, "base")
+    assert poll_plan.condition_kind("contact.base", "base") == (fk.CONTACT, "base")
+    assert poll_plan.condition_kind("joint.knee", "base") == (fk.JOINT, "knee")
+    assert poll_plan.condition_kind("spin.base", "base") == (fk.SPIN, "base")
+    assert poll_plan.condition_kind("height.base", "base") == (fk.HEIGHT, "base")
+    assert poll_plan.condition_kind("com.fall_time", "base") == (fk.FALL_TIME, None)
+    assert poll_plan.condition_kind("com.vy", "base") == (fk.COM_VY, None)
     for sensor in ("lean", "com.dx.base", "com.spin",
                    "lead.base.shade"):
         assert poll_plan.condition_kind(sensor, "base") is None, sensor
@@ -107,10 +108,11 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     assert machine.current == "ground"  # contact, two joint angles, `for` 0.2 s
     ((after, conditions, hold, index),) = plan._table(machine)
     assert (after, hold, index) == (0, 96, 0)
-    assert [c[:2] for c in conditions] == [(0, "base"), (2, "knee"), (2, "ankle")]
+    assert [c[:2] for c in conditions] == [(fk.CONTACT, "base"), (fk.JOINT, "knee"),
+                                           (fk.JOINT, "ankle")]
     machine.current = "tucked"  # (read as if there: the centre of mass's fall time)
     first = plan._table(machine)[0]  # its root's angle and the fall time
-    assert [c[0] for c in first[1]] == [1, 5]
+    assert [c[0] for c in first[1]] == [fk.ANGLE, fk.FALL_TIME]
     machine.current = "landed"  # (no more transitions than a contact's and a timer's)
     assert plan._table(machine) is not None
 
@@ -140,3 +142,27 @@ def test_an_infinite_angle_recovers_alike_on_every_path(path_of):
     with_loop, ticks = _blown_up(795, True), _blown_up(795, False)
     assert path_of("python") is None
     assert with_loop == ticks == _blown_up(795, True)
+
+
+@needs_cc
+def test_the_loop_runs_feedbacks_own_compiled_call(path_of):
+    """Feedback's add maps between Python's ticks are ``Feedback.tick``'s compiled call:
+    the loop is handed Feedback's own struct (one table, one base and last), and it
+    ran them (the tucks' fall time, the landings' angles and spins)."""
+    assert path_of("c") is not None
+    log = read_log("assets/logs/luxo-back-headspring.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    run, seen = poll_plan.PollPlan.run, []
+
+    def checked(self, *args, **kwargs):
+        s = run(self, *args, **kwargs)
+        if self.plan.fb_ticks:
+            seen.append(self.plan.feedback == self.runtime.feedback._fk.f)
+        return s
+    poll_plan.PollPlan.run = checked
+    try:
+        LogFeeder(session, log).advance(log.last_step)
+    finally:
+        poll_plan.PollPlan.run = run
+    assert seen and all(seen), seen
+    assert session.sim.state_hash() == log.end_hash

@@ -10,8 +10,11 @@ a transition holds (or the frame check fails, or a timer, a blend's arrival, a
 history boundary or the call's end comes) with the runtime rescheduled as though it
 had ticked at every step in between: the next tick runs exactly where it would have.
 
+Feedback's add maps run there too, when every active one is the kernel's to run
+with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
+own compiled call, ``pk_feedback_tick``, whose arrays keep its base and last writes).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
-device inputs alone, another sensor (the centre of mass, a height), a frame target,
+device inputs alone, another sensor (a lean, an offset from a link), a frame target,
 any other busy controller, a second machine, a tracker. Without the kernel there is
 no plan (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
 """
@@ -19,16 +22,16 @@ no plan (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bi
 from __future__ import annotations
 
 from puppet.interface.conditions import INPUT, compile_bounds, reader
+from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
-from puppet.interface.poll_feedback import FeedbackPlan
 from puppet.physics import kernel as _kernel
 
-# sensor kind -> pk_poll's code: a link's contact, its angle within a turn, a joint's
-# angle, a link's spin, its height
-KINDS = {"contact": 0, "angle": 1, "joint": 2, "spin": 3, "height": 4}
-# the centre of mass's: pk_poll's code (its fall time, position and velocity)
-COM = {"com.fall_time": 5, "com.x": 6, "com.y": 7, "com.vx": 8, "com.vy": 9}
+# sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
+# contact, its angle within a turn, a joint's angle, a link's spin, its height
+KINDS = {"contact": _fk.CONTACT, "angle": _fk.ANGLE, "joint": _fk.JOINT, "spin": _fk.SPIN,
+         "height": _fk.HEIGHT}
+COM = _fk.COM  # the centre of mass's (its position, velocity and fall time)
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
@@ -69,8 +72,6 @@ class PollPlan:
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
-        self.feedback = FeedbackPlan(self, MAX_CONDITIONS)  # feedback's add maps
-        self._feeding = None  # their table, as filled (_fill) and handed back (run)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self.resume = -1  # the step the last run stopped at, its call's end (see run)
         self._seat = None  # and the space it ran on then (a re-seat lists no contacts)
@@ -172,9 +173,9 @@ class PollPlan:
         table = self._current
         if table is None or rt.frames.held:  # (a walker's every tick: left at once)
             return None
-        feeding, feedback = None, rt.feedback
+        feeding, feedback = self.ffi.NULL, rt.feedback
         if feedback.busy:  # sensor maps: all add maps it can run, at the same period
-            feeding = self.feedback.current(rt)
+            feeding = feedback.compiled()  # (Feedback.tick's own compiled call)
             if feeding is None or feedback.every != machine.every:
                 return None
         if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
@@ -203,14 +204,12 @@ class PollPlan:
         key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving),
                *moving.values())
         if table is not self._filled or sim.space is not self._space or key != self._key \
-                or self._offline or feeding is not self._feeding:
+                or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
-            self._feeding = feeding
-            self._until = self._fill(table, machine, every, seq, feeding)
-        if feeding is not None and not self.feedback.refresh(rt, feeding):
-            return None
+            self._until = self._fill(table, machine, every, seq)
+        self.plan.feedback = feeding
         if self._com:
             self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
         if self._held:  # the `for`s' starts, as the machine has them now
@@ -237,7 +236,7 @@ class PollPlan:
         machine.quiet = True
         return True
 
-    def _fill(self, table, machine, every: int, seq, feeding) -> int | None:
+    def _fill(self, table, machine, every: int, seq) -> int | None:
         """Write the plan: the state's polled transitions (those an input rules out
         left out), the blend's travelling targets; the step a timer or an arrival is
         due (NEVER: none), or None when there is nothing to do or it does not fit."""
@@ -274,13 +273,13 @@ class PollPlan:
                     continue
                 if i >= MAX_CONDITIONS:
                     return None
-                if kind == 2:
+                if kind == _fk.JOINT:
                     joint = joints.joint(name)
                     p.body_a[i] = self.pointer(bodies[joint.child]._body)
                     p.body_b[i] = self.pointer(bodies[joint.parent]._body)
                 elif name is not None:
                     p.body_a[i] = self.pointer(bodies[name]._body)
-                uses_com = uses_com or kind >= 5
+                uses_com = uses_com or kind in _fk.USES_COM
                 p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
                 i += 1
             else:
@@ -303,11 +302,6 @@ class PollPlan:
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
-        if feeding is not None:
-            self.feedback.fill(rt, feeding)
-            uses_com = uses_com or any(kind >= 5 for kind, _, _ in feeding[1])
-        else:
-            p.n_read = p.n_add = p.n_fb = 0
         if uses_com:  # Character._com_kernel's arguments, for these bodies
             character._com_kernel_now()
             args = self._com_args = character._com_rows[2]  # (kept alive)
@@ -334,8 +328,8 @@ class PollPlan:
         rt = self.runtime
         p.root = self.pointer(rt.character.bodies[frame[1]]._body)
         s = self.poll(self.pointer(space_ptr), dt, now, stop, p, tick_first)
-        if p.fb_ticks:  # the sensors' readings, the bases and last writes handed back
-            self.feedback.hand_back(rt, self._feeding)
+        if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
+            rt.feedback.ran()
         if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held

@@ -102,9 +102,7 @@ class Kernel:
         fns = self.ffi.new("void *[]", [self.pointer(pffi.addressof(plib, name))
                                         for name in FUNCTIONS])
         self.lib.pk_init(fns)
-        self.lib.pk_poll_init(*(self.pointer(pffi.addressof(plib, name)) for name in (
-            "cpSpaceStep", "cpBodyLocalToWorld", "cpBodyGetCenterOfGravity",
-            "cpDampedRotarySpringGetRestAngle")))
+        self.lib.pk_poll_init(self.pointer(pffi.addressof(plib, "cpSpaceStep")))
 
     def pointer(self, cdata):
         """A pymunk cdata pointer (``body._body``, ``spring._constraint``) as the

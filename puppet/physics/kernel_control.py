@@ -18,6 +18,7 @@ typedef struct {
     void **a, **b;
     double *values;   /* out; a PK_S_GIVEN's value is put here by the caller */
     int support_given;  /* the PK_S_SUPPORT values too (right after a restore) */
+    double gravity;   /* -space.gravity.y, for PK_S_FALL_TIME */
     int n_rows;       /* each add map's joint: sensor (-1: a constant, in gain), line */
     int *sensor, *clamp, *slot;
     double *x0, *inv, *lo, *span, *gain;
@@ -83,15 +84,9 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
         set_rest_angle(spring1, out[1]);
 }
 
-/* Feedback.tick's add maps with their sensors (interface/controllers/feedback.py,
-   conditions.map_reader, maps.compile_contribution), for a set of maps without sensor
-   maps that set targets: each sensor read (the centre of mass once, as
-   Character.sample; the support polygon as Character.support_extent, handed over
-   right after a restore, when it is the snapshot's), each map's value added to its
-   joint's sum in file order (the first to 0.0), a joint no map adds to any more put
-   back to its base if nothing else wrote it, then each joint's target its base plus
-   the sum (the base re-read if something else wrote the target since). Returns how
-   many joints it adds to. */
+/* The sensors the kernel reads (conditions.reader's), for feedback's maps and the
+   stepping loop's conditions (kernel_poll): PK_S_GIVEN is read in Python and handed
+   over, PK_S_SUPPORT (the support polygon) is pk_feedback's alone. */
 #define PK_S_GIVEN 0
 #define PK_S_COM_X 1
 #define PK_S_COM_Y 2
@@ -104,46 +99,84 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
 #define PK_S_HEIGHT 9
 #define PK_S_LEAD 10
 #define PK_S_SUPPORT 11
+#define PK_S_FALL_TIME 12
+#define PK_S_CONTACT 13
+#define PK_S_COM(kind) (((kind) >= PK_S_COM_X && (kind) <= PK_S_COM_DX) \
+                        || (kind) == PK_S_SUPPORT || (kind) == PK_S_FALL_TIME)
 
 static pk_vect pk_link_position(void *b)  /* Character.link_position */
 {
     return to_world(b, get_cog(b));
 }
 
-int pk_feedback_tick(pk_feedback *f)
+static void pk_touched(void *body, void *arbiter, void *data)
+{
+    (void)body; (void)arbiter;
+    *(int *)data = 1;
+}
+
+/* a sensor's value in its reader's units (radians, rad/s, m, m/s, s; a contact 0 or
+   1), on links a and b; com: the centre of mass's x, y, vx, vy (pk_com, for the kinds
+   PK_S_COM says), gravity: -space.gravity.y */
+static double pk_sensor(int kind, void *a, void *b, const double *com, double gravity)
+{
+    int touching;
+    double y, vy;
+    switch (kind) {
+    case PK_S_COM_X: case PK_S_COM_Y: case PK_S_COM_VX: case PK_S_COM_VY:
+        return com[kind - PK_S_COM_X];
+    case PK_S_COM_DX: return com[0] - pk_link_position(a).x;
+    case PK_S_ANGLE: return remainder(get_angle(a), TURN);
+    case PK_S_SPIN: return get_spin(a);
+    case PK_S_JOINT: return get_angle(a) - get_angle(b);
+    case PK_S_HEIGHT: return pk_link_position(a).y;
+    case PK_S_LEAD: return pk_link_position(a).x - pk_link_position(b).x;
+    case PK_S_FALL_TIME:  /* conditions._fall_time */
+        y = com[1];
+        if (y <= 0.0)
+            return 0.0;
+        if (gravity <= 0.0)
+            return INFINITY;
+        vy = com[3];
+        return (vy + sqrt(vy * vy + 2.0 * gravity * y)) / gravity;
+    default:  /* PK_S_CONTACT */
+        touching = 0;
+        each_arbiter(a, pk_touched, &touching);
+        return touching ? 1.0 : 0.0;
+    }
+}
+
+/* Feedback.tick's add maps with their sensors (interface/controllers/feedback.py,
+   conditions.map_reader, maps.compile_contribution), for a set of maps without sensor
+   maps that set targets: each sensor read (the centre of mass once, as
+   Character.sample: ``com``, already read when ``*com_done``; the support polygon as
+   Character.support_extent, handed over right after a restore, when it is the
+   snapshot's), each map's value added to its joint's sum in file order (the first to
+   0.0), a joint no map adds to any more put back to its base if nothing else wrote
+   it, then each joint's target its base plus the sum (the base re-read if something
+   else wrote the target since). Returns how many joints it adds to. pk_poll runs it
+   between Python's ticks with the same struct. */
+static int pk_feedback_add(pk_feedback *f, double *com, int *com_done)
 {
     static const double TO_DEG = 180.0 / 3.14159265358979323846264338327950288;
-    double com[4];
-    int com_done = 0, n = 0;
+    int n = 0;
     for (int i = 0; i < f->n_sensors; i++) {
         int kind = f->kind[i];
         double v;
-        if (kind == PK_S_SUPPORT && f->support_given)
-            kind = PK_S_GIVEN;
-        if (((kind >= PK_S_COM_X && kind <= PK_S_COM_DX) || kind == PK_S_SUPPORT)
-            && !com_done) {
+        if (kind == PK_S_GIVEN || (kind == PK_S_SUPPORT && f->support_given))
+            continue;  /* (its value put there by the caller) */
+        if (PK_S_COM(kind) && !*com_done) {
             pk_com(f->bodies, f->mass, f->gx, f->gy, f->n_bodies, f->total, com);
-            com_done = 1;
+            *com_done = 1;
         }
-        switch (kind) {
-        case PK_S_COM_X: v = com[0]; break;
-        case PK_S_COM_Y: v = com[1]; break;
-        case PK_S_COM_VX: v = com[2]; break;
-        case PK_S_COM_VY: v = com[3]; break;
-        case PK_S_COM_DX: v = com[0] - pk_link_position(f->a[i]).x; break;
-        case PK_S_ANGLE: v = remainder(get_angle(f->a[i]), TURN) * TO_DEG; break;
-        case PK_S_SPIN: v = get_spin(f->a[i]) * TO_DEG; break;
-        case PK_S_JOINT: v = (get_angle(f->a[i]) - get_angle(f->b[i])) * TO_DEG; break;
-        case PK_S_HEIGHT: v = pk_link_position(f->a[i]).y; break;
-        case PK_S_LEAD:
-            v = pk_link_position(f->a[i]).x - pk_link_position(f->b[i]).x; break;
-        case PK_S_SUPPORT: {  /* com.dx.support: from the support polygon's middle */
+        if (kind == PK_S_SUPPORT) {  /* com.dx.support: from the support polygon's middle */
             double extent[2];
             v = pk_support(f->bodies, f->n_bodies, extent)
                 ? com[0] - 0.5 * (extent[0] + extent[1]) : 0.0;
-            break;
-        }
-        default: v = f->values[i];
+        } else {
+            v = pk_sensor(kind, f->a[i], f->b[i], com, f->gravity);
+            if (kind == PK_S_ANGLE || kind == PK_S_SPIN || kind == PK_S_JOINT)
+                v = v * TO_DEG;  /* map_reader's degrees */
         }
         f->values[i] = v;
     }
@@ -187,5 +220,12 @@ int pk_feedback_tick(pk_feedback *f)
         f->added[s] = 0;
     }
     return n;
+}
+
+int pk_feedback_tick(pk_feedback *f)
+{
+    double com[4];
+    int com_done = 0;
+    return pk_feedback_add(f, com, &com_done);
 }
 """[1:]  # (the text from its first line)

@@ -40,9 +40,7 @@ typedef struct {
     int *hold;        /* the steps its `for` asks (0: none) */
     int *since;       /* the step its conditions began to hold (-1: they do not) */
     int *cond0, *n_cond;  /* its conditions: [cond0, cond0 + n_cond) */
-    int *kind;        /* per condition: 0 contact, 1 angle within a turn, 2 joint, 3 spin,
-                         4 height (of the link's centre of mass), 5 com.fall_time,
-                         6 com.x, 7 com.y, 8 com.vx, 9 com.vy */
+    int *kind;        /* per condition: its sensor (PK_S_*: kernel_control) */
     void **body_a, **body_b;  /* the link (a joint's child), a joint's parent */
     double *lo, *hi;
     int *want;        /* -1: lo < value < hi; 0 or 1: an ``is`` */
@@ -50,19 +48,8 @@ typedef struct {
     void **spring;    /* per travelling joint: its damped rotary spring */
     double *start, *to;
     int *b_first, *b_last;
-    int n_read;       /* feedback: the sensors its maps read, in file units */
-    int *r_kind;
-    void **r_a, **r_b;
-    double *r_scale;  /* 180 / pi for an angle's degrees, 0: as read */
-    double *sampled;  /* what each read last (handed back: the runtime's inputs) */
-    int n_add;        /* its add maps' terms, in file order: joint += gain * value */
-    int *a_read, *a_joint, *a_clamp;  /* a_read -1: a constant term (``add:``) */
-    double *a_x0, *a_inv, *a_lo, *a_span, *a_gain;
-    int n_fb;         /* the joints they add to, with the base and the last written */
-    void **f_spring;
-    double *f_base, *f_last, *f_sum;
-    int *f_has;
-    int fb_ticks;     /* control steps the kernel ran the maps at (this call) */
+    pk_feedback *feedback;  /* NULL, or Feedback's add maps (pk_feedback_tick's) */
+    int fb_ticks;     /* control steps the kernel ran them at (this call) */
     void **com_bodies;  /* the centre of mass (pk_com's arguments) */
     double *com_mass, *com_gx, *com_gy;
     int com_n;
@@ -74,66 +61,29 @@ typedef struct {
 """
 
 POLL_CDEF = POLL_TYPES + """
-void pk_poll_init(void *step, void *local_to_world, void *get_cog, void *get_rest);
+void pk_poll_init(void *step);
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first);
 """
 
 POLL_SOURCE = POLL_TYPES + r"""
 static void (*space_step)(void *, double);
-static pk_vect (*local_to_world)(void *, pk_vect);
-static pk_vect (*get_cog)(void *);
-static double (*get_rest_angle)(void *);
 
-void pk_poll_init(void *step, void *to_world, void *cog, void *rest)
+void pk_poll_init(void *step)
 {
     space_step = (void (*)(void *, double))step;
-    local_to_world = (pk_vect (*)(void *, pk_vect))to_world;
-    get_cog = (pk_vect (*)(void *))cog;
-    get_rest_angle = (double (*)(void *))rest;
 }
 
 typedef struct { int done; double v[4]; } pk_com_now;  /* x, y, vx, vy, once a tick */
 
-static void pk_touched(void *body, void *arbiter, void *data)
-{
-    (void)body; (void)arbiter;
-    *(int *)data = 1;
-}
-
 /* conditions.reader's value of a sensor (``kind``, on a and b) */
 static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com_now *com)
 {
-    int touching;
-    double y, vy;
-    if (kind >= 5 && !com->done) {  /* Character.com and com_velocity (pk_com) */
+    if (PK_S_COM(kind) && !com->done) {  /* Character.com and com_velocity (pk_com) */
         pk_com(p->com_bodies, p->com_mass, p->com_gx, p->com_gy, p->com_n, p->com_total,
                com->v);
         com->done = 1;
     }
-    switch (kind) {
-    case 0:
-        touching = 0;
-        each_arbiter(a, pk_touched, &touching);
-        return touching ? 1.0 : 0.0;
-    case 1:
-        return remainder(get_angle(a), TURN);
-    case 2:
-        return get_angle(a) - get_angle(b);
-    case 3:
-        return get_spin(a);
-    case 4:  /* Character.link_position's y */
-        return local_to_world(a, get_cog(a)).y;
-    case 5:  /* conditions._fall_time */
-        y = com->v[1];
-        if (y <= 0.0)
-            return 0.0;
-        if (p->gravity <= 0.0)
-            return INFINITY;
-        vy = com->v[3];
-        return (vy + sqrt(vy * vy + 2.0 * p->gravity * y)) / p->gravity;
-    default:
-        return com->v[kind - 6];
-    }
+    return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
 /* StateMachine.due at a control step: does any polled transition hold at ``s``? */
@@ -178,37 +128,10 @@ static int pk_tick(pk_poll_plan *p, int s)
         u = u * u * (3.0 - 2.0 * u);
         set_rest_angle(p->spring[j], p->start[j] + (p->to[j] - p->start[j]) * u);
     }
-    if (p->n_read == 0 && p->n_add == 0)
-        return 0;
-    /* Feedback.tick: the sensors (Character.sample: the centre of mass once), then the
-       add maps' sums (maps.compile_contribution), added to each joint's base */
-    for (int r = 0; r < p->n_read; r++) {
-        double v = pk_value(p, p->r_kind[r], p->r_a[r], p->r_b[r], &com);
-        p->sampled[r] = p->r_scale[r] != 0.0 ? v * p->r_scale[r] : v;
+    if (p->feedback) {  /* Feedback.tick: pk_feedback_tick, the centre of mass shared */
+        pk_feedback_add(p->feedback, com.v, &com.done);
+        p->fb_ticks++;
     }
-    for (int j = 0; j < p->n_fb; j++)
-        p->f_sum[j] = 0.0;
-    for (int t = 0; t < p->n_add; t++) {
-        double v, u;
-        if (p->a_read[t] < 0) {
-            v = p->a_gain[t];
-        } else {
-            u = (p->sampled[p->a_read[t]] - p->a_x0[t]) * p->a_inv[t];
-            if (p->a_clamp[t])
-                u = u < 0.0 ? 0.0 : u > 1.0 ? 1.0 : u;
-            v = p->a_gain[t] * (p->a_lo[t] + u * p->a_span[t]);
-        }
-        p->f_sum[p->a_joint[t]] = p->f_sum[p->a_joint[t]] + v;
-    }
-    for (int j = 0; j < p->n_fb; j++) {
-        double now = get_rest_angle(p->f_spring[j]);
-        double b = p->f_has[j] && now == p->f_last[j] ? p->f_base[j] : now;
-        p->f_base[j] = b;
-        p->f_last[j] = b + p->f_sum[j];
-        p->f_has[j] = 1;
-        set_rest_angle(p->f_spring[j], p->f_last[j]);
-    }
-    p->fb_ticks++;
     return 0;
 }
 

@@ -60,12 +60,21 @@ class Feedback:
             self._pull()
         self.busy = bool(setters or adders or self.last)
 
-    def bases(self) -> tuple[dict[str, float], dict[str, float]]:
-        """``base`` and ``last`` as dicts that are the truth until the next tick (the
-        compiled call's arrays pulled back first): what ``interface.poll_feedback``
-        reads before its loop and writes after it."""
-        self._pull()
-        return self.base, self.last
+    def compiled(self):
+        """The compiled call's struct (``pk_feedback``) for the kernel's stepping loop
+        (``interface.poll_plan``) to run this feedback's ticks with, base and last in its
+        arrays; None when a tick needs Python (a map or a sensor not the kernel's)."""
+        plan = self._plan
+        f = None if plan is None else self._fk.for_loop(plan)
+        if f is not None and not self._in_c:
+            self._fk.push(self.base, self.last)
+            self._in_c = True
+        return f
+
+    def ran(self) -> None:
+        """After the stepping loop ran ticks with ``compiled``: their sensors' last
+        readings into the inputs."""
+        self._fk.hand_back(self._plan, self.inputs)
 
     def _pull(self) -> None:
         """base and last from the compiled call's arrays, where they are kept now."""

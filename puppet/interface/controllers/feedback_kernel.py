@@ -16,25 +16,30 @@ Python path's dicts would have (``seq``: when a joint entered them), and ``push`
 them back. A sensor the kernel does not read (the lean, a contact...), and the support
 polygon right after a restore, are read in Python and handed over; a map with a
 response curve or a device or channel input, or a sensor map that sets targets, keeps
-the whole tick on the Python path.
+the whole tick on the Python path. The kernel's stepping loop (``pk_poll``,
+``interface.poll_plan``) runs the same struct between Python's ticks
+(``Feedback.compiled``, ``for_loop``) when no sensor is read in Python.
 """
 
 from __future__ import annotations
 
 from puppet.physics.snapshot import restored_touching
 
-# the kernel's sensor kinds (kernel_source: PK_S_*)
-GIVEN, COM_X, COM_Y, COM_VX, COM_VY, COM_DX, ANGLE, SPIN, JOINT, HEIGHT, LEAD, SUPPORT = \
-    range(12)
-_FIXED = {"com.x": COM_X, "com.y": COM_Y, "com.vx": COM_VX, "com.vy": COM_VY}
+# the kernel's sensor kinds (kernel_control: PK_S_*; a contact is the stepping loop's
+# conditions' alone, interface.poll_plan)
+(GIVEN, COM_X, COM_Y, COM_VX, COM_VY, COM_DX, ANGLE, SPIN, JOINT, HEIGHT, LEAD, SUPPORT,
+ FALL_TIME, CONTACT) = range(14)
+COM = {"com.x": COM_X, "com.y": COM_Y, "com.vx": COM_VX, "com.vy": COM_VY,
+       "com.fall_time": FALL_TIME}
+USES_COM = {COM_X, COM_Y, COM_VX, COM_VY, COM_DX, SUPPORT, FALL_TIME}  # (PK_S_COM)
 _NAMED = {"angle": ANGLE, "spin": SPIN, "height": HEIGHT}
 
 
 def sensor_kind(sensor: str, character) -> tuple[int, str | None, str | None]:
     """(kind, link, other link) of a map's sensor (its name after ``sensor.``, roles
     resolved); GIVEN for one the kernel does not read."""
-    if sensor in _FIXED:
-        return _FIXED[sensor], None, None
+    if sensor in COM:
+        return COM[sensor], None, None
     if sensor == "root.angle":
         return ANGLE, character.spec.root, None
     links = character.bodies
@@ -74,6 +79,7 @@ class Plan:
         self.support = [(name, read, i) for i, ((name, read), kind) in
                         enumerate(zip(readers, kinds)) if kind == SUPPORT]
         self.support_readers = [(name, read) for name, read, _ in self.support]
+        self.falls = FALL_TIME in kinds  # (the kernel is handed the gravity)
         self.names = [(name, i) for i, (name, _) in enumerate(readers)]
         n = max(1, len(readers))
         self.kind = ffi.new("int[]", kinds or [0])
@@ -170,12 +176,19 @@ class FeedbackKernel:
             f.x0, f.inv, f.lo, f.span, f.gain = plan.x0, plan.inv, plan.lo, plan.span, plan.gain
             self._plan = plan
 
+    def prepare(self, plan: Plan) -> None:
+        """The struct ``f`` ready to run ``plan`` (bound to the bodies of now, the
+        gravity handed over): by ``tick``, or by the stepping loop (``pk_poll``)."""
+        bodies = self.character.bodies
+        if plan.bound is not bodies or self._plan is not plan or self._bodies is not bodies:
+            self._bind(plan)
+        if plan.falls:  # (conditions._fall_time's g, read live)
+            self.f.gravity = -self._space.gravity[1]
+
     def tick(self, plan: Plan, values: dict, sample) -> None:
         """One control step of ``plan``: its sensors into ``values`` (the runtime's
         inputs) and its joints' targets written."""
-        if plan.bound is not self.character.bodies or self._plan is not plan \
-                or self._bodies is not self.character.bodies:
-            self._bind(plan)
+        self.prepare(plan)
         out = plan.values
         if plan.given:  # (read into their own dict: the inputs get every value in order)
             given = plan.scratch
@@ -191,6 +204,25 @@ class FeedbackKernel:
                 for name, _, i in plan.support:
                     out[i] = given[name]
         self.lib.pk_feedback_tick(self.f)
+        self.hand_back(plan, values)
+
+    def for_loop(self, plan: Plan):
+        """``f`` for the stepping loop to run ``plan``'s ticks with, or None when one of
+        its sensors is read in Python (a kind the kernel does not read, the support
+        polygon right after a restore)."""
+        if plan.given:
+            return None
+        self.prepare(plan)
+        if plan.support:
+            if restored_touching(self._space) is not None:
+                return None
+            self.f.support_given = 0
+        return self.f
+
+    @staticmethod
+    def hand_back(plan: Plan, values: dict) -> None:
+        """The sensors' last readings into ``values`` (the runtime's inputs)."""
+        out = plan.values
         for name, i in plan.names:
             values[name] = out[i]
 
