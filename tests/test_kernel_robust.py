@@ -139,3 +139,33 @@ def test_a_chain_with_a_link_of_no_length_is_refused_where_it_is_written(tmp_pat
     with pytest.raises(DataError, match=r"zero.yaml:\d+:\d+: chain 'hand_near': its link 2 "
                                         r"has no length"):
         load_setup(str(path))
+
+
+def _blown_up_replay(name: str, step: int, link: str) -> tuple[int, int]:
+    """A shipped log replayed to ``step``, ``link``'s angle made infinite, 2000 more
+    steps: how many recoveries the session made (a checkpoint restored each) and where it is."""
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    log = read_log(f"assets/logs/{name}.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    LogFeeder(session, log).advance(step)
+    session.sim.character.bodies[link].angle = math.inf
+    session.advance(2000)
+    return len(session.blowup_messages), session.sim.steps
+
+
+@needs_cc
+@pytest.mark.parametrize("name, step, link", [("biped-auto-walk", 3000, "thigh_near"),
+                                              ("biped-ladder-climb", 1000, "chest")],
+                         ids=["feedback-add-maps", "reach"])
+def test_an_infinite_angle_under_feedback_or_a_reach_recovers_on_both_paths(
+        path_of, name, step, link):
+    """Feedback's angle sensors and a reach's rotation run in the kernel (libm: NaN) and
+    in Python (``kernel.remainder``, ``kernel.cos``: NaN, where ``math`` raised): both
+    paths reach the session's blow-up check and restore a checkpoint."""
+    path_of("c")
+    with_kernel = _blown_up_replay(name, step, link)
+    path_of("python")
+    assert _blown_up_replay(name, step, link) == with_kernel
+    assert with_kernel[0] >= 1, with_kernel  # it did blow up, and was recovered

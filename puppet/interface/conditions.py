@@ -16,6 +16,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.actions import ConditionSpec
 from puppet.physics.character import Character
+from puppet.physics.kernel import remainder as _remainder
 
 Reader = Callable[[], float]
 Test = Callable[[float], bool]
@@ -60,15 +61,7 @@ def _angle(c: Character, link: str) -> Reader:
     """A link's world angle within one turn (NaN for a blown-up, infinite angle, as the
     kernel's libm ``remainder`` answers, where Python's raises: both paths then recover
     at the session's frame check)."""
-    remainder = math.remainder
-
-    def read() -> float:
-        a = _get_angle(c.bodies[link]._body)
-        try:
-            return remainder(a, _TURN)
-        except ValueError:  # (only an infinite angle)
-            return math.nan
-    return read
+    return lambda: _remainder(_get_angle(c.bodies[link]._body), _TURN)
 
 
 def _spin(c: Character, link: str) -> Reader:

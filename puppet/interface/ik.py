@@ -26,6 +26,8 @@ from pymunk._chipmunk_cffi import lib as _cp
 from puppet.data.actions import ChainSpec
 from puppet.data.characters import CharacterSpec
 from puppet.interface.ik_two import TwoLink as _TwoLink
+from puppet.physics.kernel import cos as _cos
+from puppet.physics.kernel import sin as _sin
 
 Vec = tuple[float, float]
 _to_world, _angle = _cp.cpBodyLocalToWorld, _cp.cpBodyGetAngle  # what pymunk's Body calls
@@ -190,7 +192,7 @@ class Chain:
         parent = character.bodies[self.parent_link]._body  # (pymunk's own C calls)
         base = _to_world(parent, self.anchor)
         angle = -_angle(parent)
-        c, s = math.cos(angle), math.sin(angle)
+        c, s = _cos(angle), _sin(angle)  # (NaN for a blown-up angle, as the kernel's)
         dx, dy = target[0] - base.x, target[1] - base.y
         if len(self.links) == 2:  # (ik_two: the same arithmetic, unrolled)
             return self._two.solve(c * dx - s * dy, s * dx + c * dy, current[1])

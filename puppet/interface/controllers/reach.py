@@ -159,6 +159,7 @@ class ReachController:
                 owned = [j for j in joints if get(j) == owner]
             if not owned and not owners.holds_any(owner):
                 del self.reaches[name]
+                aims.pop(name, None)  # (its arguments keep the bodies they were for)
                 changed = True
                 continue
             target = reach.target
@@ -210,6 +211,7 @@ class ReachController:
             if reach.end is not None and step >= reach.end:
                 owners.drop(owner)
                 del self.reaches[name]
+                aims.pop(name, None)
                 changed = True
         return None if changed or not self.reaches else WAITED
 
@@ -252,6 +254,7 @@ class ReachController:
 
     def set_state(self, state) -> None:
         self.reaches = {n: Reach.from_state(r) for n, r in state.items()}
+        self._aims.clear()
 
     def adopt(self, old: ReachController, same, now: int) -> set[Owner]:
         self.reaches = {n: Reach.from_state(r.to_state()) for n, r in old.reaches.items()
@@ -260,3 +263,4 @@ class ReachController:
 
     def stop(self) -> None:
         self.reaches = {}
+        self._aims.clear()
