@@ -16,7 +16,7 @@ from puppet.data.yamlfile import load_text
 from puppet.interface.conditions import reader
 from puppet.session import Session
 from puppet.timeline.reactive import ScriptPlayer, Speed, play_script
-from puppet.timeline.script import check_links, parse_script
+from puppet.timeline.script import parse_script
 
 DT = 1 / 480
 RULES = """
@@ -58,16 +58,9 @@ def test_a_rule_on_held_waits_for_the_catch():
 
 
 def test_held_names_a_chain_of_the_interface(tmp_path):
-    text = ("interface: biped-ladder\nrules:\n"
-            "  - {when: {sensor: held.hand_middle, above: 0.0}, after: 0.2, key: g}\n")
-    path = tmp_path / "bad.yaml"
-    path.write_text(text, encoding="utf-8")
-    setup = load_setup("biped-ladder")
-    with pytest.raises(DataError) as caught:
-        spec = parse_script(load_text(text, str(path)))
-        check_links(path, spec, [link.name for link in setup.character.links],
-                    setup.interface, setup.character)
-    message = str(caught.value)
+    from tests.test_reactive import refusal
+
+    message = refusal(tmp_path, "biped-ladder", "{sensor: held.hand_middle, above: 0.0}")
     assert "no chain 'hand_middle'" in message and "bad.yaml:3:" in message, message
 
 

@@ -133,16 +133,22 @@ rules:
     ("[{state: [upright, flying]}, {sensor: contact.base, is: true}]", "no state 'flying'"),
 ])
 def test_a_rule_naming_what_the_interface_lacks_is_refused_at_its_line(tmp_path, when, words):
-    text = f"interface: luxo-keys\nrules:\n  - {{when: {when}, after: 0.2, key: w}}\n"
+    message = refusal(tmp_path, "luxo-keys", when)
+    assert words in message and "bad.yaml:3:" in message, message
+
+
+def refusal(tmp_path, interface: str, when: str) -> str:
+    """The DataError a one-rule script on ``interface`` gets at load (its rule on line
+    3: ``when``), as ``puppet play --input`` checks it."""
+    text = f"interface: {interface}\nrules:\n  - {{when: {when}, after: 0.2, key: w}}\n"
     path = tmp_path / "bad.yaml"
     path.write_text(text, encoding="utf-8")
-    setup = load_setup("luxo-keys")
+    setup = load_setup(interface)
     with pytest.raises(DataError) as caught:
         spec = parse_script(load_text(text, str(path)))
         check_links(path, spec, [link.name for link in setup.character.links],
                     setup.interface, setup.character)
-    message = str(caught.value)
-    assert words in message and "bad.yaml:3:" in message, message
+    return str(caught.value)
 
 
 def test_the_window_plays_the_rules_on_its_clock(tmp_path, monkeypatch):
