@@ -151,14 +151,17 @@ class ActiveMaps:
 
     def apply_maps(self, inputs=None) -> None:
         """Re-evaluate the active maps that read ``inputs`` (default: all inputs)."""
-        inputs = tuple(self.input_names() if inputs is None else inputs)
-        key = (self.role_binding, inputs)  # (a button or stick event: the same few names)
+        if type(inputs) is not tuple:  # (a stick event's: a tuple already)
+            inputs = tuple(self.input_names() if inputs is None else inputs)
+        key = (self.roles.binding, inputs)  # (a button or stick event: the same few names)
         compiled = self._input_maps.get(key)
         if compiled is None:
             compiled = self._input_maps[key] = self._compiled(set(inputs))
-        values, take = self.inputs, self.owners.take
-        for apply in compiled:
-            take(apply(values))
+        values, table = self.inputs, self.owners.table
+        for apply in compiled:  # (owners.take, called only when it has work)
+            written = apply(values)
+            if table and written:
+                self.owners.take(written)
 
     def _activate(self, maps) -> None:
         """Maps that just became active (a mode or state entered) act at once with the

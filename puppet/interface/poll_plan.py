@@ -75,6 +75,7 @@ class PollPlan:
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self.resume = -1  # the step the last run stopped at, its call's end (see run)
         self._seat = None  # and the space it ran on then (a re-seat lists no contacts)
+        self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
 
     def resumes(self, now: int) -> bool:
         """The last run stopped at ``now``, its call's end, on the space there is now
@@ -201,15 +202,15 @@ class PollPlan:
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
         # bodies (a re-seat makes new ones), the period and the travelling targets
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving),
-               *moving.values())
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.items())
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
             self._until = self._fill(table, machine, every, seq)
-        self.plan.feedback = feeding
+        if feeding is not self._feeding:  # (the same struct: already in the plan)
+            self._feeding = self.plan.feedback = feeding
         if self._com:
             self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
         if self._held:  # the `for`s' starts, as the machine has them now
@@ -321,13 +322,18 @@ class PollPlan:
             self._frame = frame
             p.frame_every, root, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
         last = now - now % health + health
-        while last % p.frame_every:
+        every = frame[0]
+        while last % every:
             last += health
         stop = until if until < end else end
         stop = stop if stop < last else last
         rt = self.runtime
-        p.root = self.pointer(rt.character.bodies[frame[1]]._body)
-        s = self.poll(self.pointer(space_ptr), dt, now, stop, p, tick_first)
+        root = rt.character.bodies[frame[1]]._body
+        if root is not self._root:  # (held: the same object is the same body)
+            self._root, p.root = root, self.pointer(root)
+        if space_ptr is not self._space_cd:
+            self._space_cd, self._space_void = space_ptr, self.pointer(space_ptr)
+        s = self.poll(self._space_void, dt, now, stop, p, tick_first)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._held:  # the `for`s' starts handed back (a snapshot keeps them)

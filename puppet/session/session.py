@@ -18,7 +18,7 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, queued, step_space
+from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
 
@@ -33,7 +33,9 @@ _space_step = _cp.cpSpaceStep
 def _clean(space) -> bool:
     """``step_space`` would only call Chipmunk's step: nothing queued in pymunk's space,
     nothing to let go of after a step (then ``advance`` calls the C step itself)."""
-    return not (queued(space) or space._removed_shapes)
+    return not (space._bodies_to_check or space._add_later or space._remove_later
+                or space._post_step_callbacks or space.threaded or space._removed_shapes)
+    # (``physics.simulation.queued``, inlined: it runs at every call of ``advance``)
 
 
 def world_box(scene) -> tuple[float, float, float, float]:
@@ -318,7 +320,7 @@ class Session:
                 # call's loop stopped at its end, else after Python's tick
                 poll = runtime.poll
                 resume = poll is not None and poll.resume == now and clean \
-                    and poll.resumes(now)
+                    and poll._seat == (sim.space, sim.seats)  # (poll.resumes, inlined)
                 if resume:
                     until = poll.ready(now)
                 if until is None:
