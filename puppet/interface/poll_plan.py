@@ -74,15 +74,8 @@ class PollPlan:
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self.resume = -1  # the step the last run stopped at, its call's end (see run)
-        self._seat = None  # and the space it ran on then (a re-seat lists no contacts)
+        self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
-
-    def resumes(self, now: int) -> bool:
-        """The last run stopped at ``now``, its call's end, on the space there is now
-        (not re-seated since: Chipmunk lists a re-seated space's contacts only once it
-        steps): the tick at ``now`` may be the kernel's if ``ready`` says so."""
-        sim = self.runtime.sim
-        return self.resume == now and self._seat == (sim.space, sim.seats)
 
     def pointer(self, cdata):
         """``kernel.pointer``, remembered (a restore makes new bodies: a bounded memo)."""
@@ -162,7 +155,8 @@ class PollPlan:
         return self._tables[key]
 
     def ready(self, step: int) -> int | None:
-        """After the tick at ``step`` (or where ``resumes``): the step up to which
+        """After the tick at ``step`` (or where a run resumes: Session.advance's check
+        of ``resume`` and ``seat``): the step up to which
         ``pk_poll`` may run (the first timer, blend arrival or other wake-up), the
         table filled; None when the work due is not all its to do. Runs at every tick
         of a one-machine interface, so it is kept lean: the state's table is looked up
@@ -344,7 +338,7 @@ class PollPlan:
         # input event comes first; ``ready`` says whether it changed anything)
         if s == end and s < until and s < last:
             sim = rt.sim
-            self.resume, self._seat = s, (sim.space, sim.seats)
+            self.resume, self.seat = s, (sim.space, sim.seats)
         else:
             self.resume = -1
         # rt._reschedule(s), for what ``ready`` allows: the controllers with work are

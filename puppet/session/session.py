@@ -320,7 +320,10 @@ class Session:
                 # call's loop stopped at its end, else after Python's tick
                 poll = runtime.poll
                 resume = poll is not None and poll.resume == now and clean \
-                    and poll._seat == (sim.space, sim.seats)  # (poll.resumes, inlined)
+                    and poll.seat == (sim.space, sim.seats)
+                # (the last run stopped at ``now``, its call's end, on the space there is
+                # now, not re-seated since: Chipmunk lists a re-seated space's contacts
+                # only once it steps; then the tick at ``now`` may be the kernel's)
                 if resume:
                     until = poll.ready(now)
                 if until is None:
