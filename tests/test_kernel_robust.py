@@ -26,6 +26,16 @@ def _outcome(call):
         return ("raises", type(exc).__name__)
 
 
+def _same_on_both_paths(path_of, run):
+    """``run()`` on the compiled kernel and on the pure-Python path: the two answers
+    must be equal; the kernel's is returned."""
+    path_of("c")
+    with_kernel = run()
+    path_of("python")
+    assert run() == with_kernel
+    return with_kernel
+
+
 def _com_with_infinite_angle():
     from puppet.physics.simulation import Simulation
 
@@ -39,10 +49,7 @@ def _com_with_infinite_angle():
 
 @needs_cc
 def test_com_of_a_non_finite_state_is_the_same_on_both_paths(path_of):
-    path_of("c")
-    with_kernel = _com_with_infinite_angle()
-    path_of("python")
-    assert _com_with_infinite_angle() == with_kernel
+    _same_on_both_paths(path_of, _com_with_infinite_angle)
 
 
 def _tracking_with_a_nan_foot():
@@ -65,10 +72,7 @@ def _tracking_with_a_nan_foot():
 
 @needs_cc
 def test_a_nan_foot_under_tracking_is_handled_the_same_on_both_paths(path_of):
-    path_of("c")
-    with_kernel = _tracking_with_a_nan_foot()
-    path_of("python")
-    assert _tracking_with_a_nan_foot() == with_kernel
+    _same_on_both_paths(path_of, _tracking_with_a_nan_foot)
 
 
 @needs_cc
@@ -164,8 +168,5 @@ def test_an_infinite_angle_under_feedback_or_a_reach_recovers_on_both_paths(
     """Feedback's angle sensors and a reach's rotation run in the kernel (libm: NaN) and
     in Python (``kernel.remainder``, ``kernel.cos``: NaN, where ``math`` raised): both
     paths reach the session's blow-up check and restore a checkpoint."""
-    path_of("c")
-    with_kernel = _blown_up_replay(name, step, link)
-    path_of("python")
-    assert _blown_up_replay(name, step, link) == with_kernel
+    with_kernel = _same_on_both_paths(path_of, lambda: _blown_up_replay(name, step, link))
     assert with_kernel[0] >= 1, with_kernel  # it did blow up, and was recovered

@@ -331,15 +331,23 @@ def _plain_run(source, params):
     return apply_plain_run
 
 
-def _unit(spec, channels=None):
-    """``value(values) -> the map's output in radians`` (None without its input); a
-    ``channel.NAME`` input is read from ``channels`` by its bare name when given."""
+def _unit_numbers(spec, channels=None):
+    """What a map's value is worked out from: x0, 1 / (x1 - x0), lo and span (radians),
+    clamp, the curve (None: linear), the input's name and where it is read (None: the
+    values handed in; a ``channel.NAME`` input from ``channels`` by its bare name)."""
     (x0, x1), (y0, y1) = spec.from_, spec.to
     inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
     clamp, f, name = spec.clamp, curve_function(spec.curve), spec.input
     source = None
     if name.startswith(CHANNEL) and channels is not None:
         name, source = name[len(CHANNEL):], channels  # by bare name
+    return x0, inv, lo, span, clamp, f, name, source
+
+
+def _unit(spec, channels=None):
+    """``value(values) -> the map's output in radians`` (None without its input); a
+    ``channel.NAME`` input is read from ``channels`` by its bare name when given."""
+    x0, inv, lo, span, clamp, f, name, source = _unit_numbers(spec, channels)
 
     def value(values):
         v = (values if source is None else source).get(name)
@@ -365,41 +373,18 @@ def compile_contribution(spec, channels=None):
             return constant
         contribution_constant.row = (True, None, 0.0, 0.0, 0.0, 0.0, False, constant)
         return contribution_constant
-    # ``_unit``'s value, inlined (feedback runs every add map at every control step)
-    (x0, x1), (y0, y1) = spec.from_, spec.to
-    inv, lo, span = 1.0 / (x1 - x0), math.radians(y0), math.radians(y1 - y0)
-    clamp, f, name = spec.clamp, curve_function(spec.curve), spec.input
-    source = None
-    if name.startswith(CHANNEL) and channels is not None:
-        name, source = name[len(CHANNEL):], channels  # by bare name
-    # (the numbers feedback's compiled call reads: controllers.feedback_kernel.Plan)
-    _row = (False, name, x0, inv, lo, span, clamp, gains)
-    if len(gains) == 1:
-        (joint, gain), = gains
-
-        def contribution_one(values):  # one joint: a tuple, no list made
-            v = (values if source is None else source).get(name)
-            if v is None:
-                return ()
-            u = (v - x0) * inv
-            if clamp:
-                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-            return ((joint, gain * (lo + (u if f is None else f(u)) * span)),)
-        if f is None and source is None:
-            contribution_one.row = _row
-        return contribution_one
+    # (the numbers feedback's compiled call reads instead: controllers.feedback_kernel.Plan;
+    # a curve or a channel input leaves it to this Python)
+    x0, inv, lo, span, clamp, f, name, source = _unit_numbers(spec, channels)
+    value = _unit(spec, channels)
 
     def contribution(values):
-        v = (values if source is None else source).get(name)
+        v = value(values)
         if v is None:
             return ()
-        u = (v - x0) * inv
-        if clamp:
-            u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-        v = lo + (u if f is None else f(u)) * span
         return [(j, g * v) for j, g in gains]
     if f is None and source is None:
-        contribution.row = _row
+        contribution.row = (False, name, x0, inv, lo, span, clamp, gains)
     return contribution
 
 
