@@ -68,8 +68,9 @@ class Plan:
 
     def __init__(self, fk, readers, rows):
         ffi, character = fk.ffi, fk.character
-        self.links = [sensor_kind(name[len("sensor."):], character)[1:] for name, _ in readers]
-        kinds = [sensor_kind(name[len("sensor."):], character)[0] for name, _ in readers]
+        found = [sensor_kind(name[len("sensor."):], character) for name, _ in readers]
+        self.links = [(a, b) for _, a, b in found]
+        kinds = [kind for kind, _, _ in found]
         self.given = [(name, read, i) for i, ((name, read), kind) in
                       enumerate(zip(readers, kinds)) if kind == GIVEN]
         self.given_readers = [(name, read) for name, read, _ in self.given]
