@@ -69,6 +69,7 @@ class ReachController:
             kern.lib.pk_reach_aim, kern.lib.pk_reach_set, kern.ffi.NULL,
             kern.ffi.new("double[4]"), kern.ffi.new("double[2]"), kern)
         self._aims: dict = {}  # chain -> its reach's arguments for the kernel (_aim_args)
+        self._plan = None  # what ``tick`` runs (``_planned``), until a reach starts or ends
 
     # -- targets -------------------------------------------------------------------
     def _root_to_world(self, p) -> tuple[float, float]:
@@ -129,17 +130,95 @@ class ReachController:
         self.reaches[r.chain] = Reach(r.chain, chain.end_world(self.character), target, now,
                                       steps, end, r.grasp, r.tolerance, r.rigid,
                                       r.max_torque)
+        self._plan = None
         self.owners_table.claim(chain.joints, owner)
 
     def tick(self, step: int) -> str | None:
         """Each reach's point on its way (or held), its chain solved for it and the
         joints it still owns written; a reach that grasps tries its grasp. WAITED when
         it only wrote targets: no reach ended or lost its joints, and no grasp was made
-        (its next wake-up is the next step, as before)."""
+        (its next wake-up is the next step, as before). The ladder runs this at every
+        step: with the kernel and two-link chains, each reach's lookups are made once
+        (``_planned``) and a step is its two kernel calls and its owner checks, the
+        arithmetic and the order of ``_tick_general``'s."""
         if not self.reaches:
             return None
+        plan = self._plan
+        if plan is None or plan[0] is not self.character.bodies:
+            plan = self._plan = self._planned()
+        if plan[1] is None:
+            return self._tick_general(step)
+        table = self.owners_table.table
+        get = table.get
+        aim, solve, null, out, q, _ = self._pk
+        sim = self.sim
+        changed = False
+        for name, reach, owner, j0, j1, start, args, params, spring0, spring1 in plan[1]:
+            own0, own1 = get(j0) == owner, get(j1) == owner
+            if not (own0 or own1) and owner not in table.values():  # (holds_any)
+                self._end(name, None)
+                changed = True
+                continue
+            if args is None:  # a steered target: its point read now (as _aim_args does)
+                args = self._aim_args(name, reach, self.chains[name], "steer")[2]
+            aim(step - start, *args)
+            d0, d1 = out[0], out[1]
+            solve(params, d0, d1, _hypot(d0, d1), spring0 if own0 else null, spring1, own1, q)
+            if reach.grasp and sim is not None and name not in sim.grasps:
+                changed = self._grasp(name, reach, (out[2], out[3])) or changed
+            end = reach.end
+            if end is not None and step >= end:
+                self._end(name, owner)
+                changed = True
+        return None if changed or not self.reaches else WAITED
+
+    def _planned(self) -> tuple:
+        """(the bodies, per reach its name, Reach, owner, two joints, start, the kernel's
+        aim arguments (None: a steered target's, read at each step), its chain's numbers
+        and its joints' springs), or (the bodies, None) when a reach needs
+        ``_tick_general`` (no kernel, a chain of other than two links)."""
+        bodies = self.character.bodies
+        if self._pk is None:
+            return bodies, None
+        rows = []
+        for name, reach in self.reaches.items():
+            chain = self.chains[name]
+            if len(chain.joints) != 2:
+                return bodies, None
+            kind = reach.target[0]
+            args = self._aim_args(name, reach, chain, kind)
+            rows.append((name, reach, _OWNERS.get(name) or _OWNERS.setdefault(
+                name, reach_owner(name)), *chain.joints, reach.start,
+                None if kind == "steer" else args[2], *args[3:]))
+        return bodies, tuple(rows)
+
+    def _grasp(self, name: str, reach: Reach, goal) -> bool:
+        """A reach that grasps on arrival tries its grasp at ``goal`` (its target's
+        point now): whether it made one."""
+        target = reach.target
+        kind = target[0]
+        hold = (reach.tolerance, reach.rigid, reach.max_torque)
+        if kind == "point":
+            return self.grasps.try_grasp(name, [goal], None, *hold)
+        if kind == "prop":  # only the point aimed at: not the bar let go of
+            return self.grasps.try_grasp(name, [goal], target[1], *hold)
+        if self.sim.props:
+            return self.grasps.try_grasp(name, None, "any", *hold)
+        return False
+
+    def _end(self, name: str, owner: Owner | None) -> None:
+        """Reach ``name`` ends (``owner``: its joints let go, else it owned none)."""
+        if owner is not None:
+            self.owners_table.drop(owner)
+        del self.reaches[name]
+        self._aims.pop(name, None)  # (its arguments keep the bodies they were for)
+        self._plan = None
+
+    def _tick_general(self, step: int) -> str | None:
+        """``tick`` for any reach (a chain of other than two links, a steered
+        target, the pure-Python path): the reference the fast path is tested against."""
         servos, owners = self.servos, self.owners_table
-        table, character, grasps = owners.table, self.character, self.grasps
+        table, character = owners.table, self.character
         sim = self.sim
         pk = self._pk
         aims = self._aims
@@ -158,8 +237,7 @@ class ReachController:
             else:
                 owned = [j for j in joints if get(j) == owner]
             if not owned and not owners.holds_any(owner):
-                del self.reaches[name]
-                aims.pop(name, None)  # (its arguments keep the bodies they were for)
+                self._end(name, None)
                 changed = True
                 continue
             target = reach.target
@@ -196,22 +274,10 @@ class ReachController:
                             _set_target(servos[joint].spring._constraint, angle)
             if reach.grasp and sim is not None and name not in sim.grasps:
                 # (try_grasp does nothing for a chain that holds already: not asked)
-                if goal is out:
-                    goal = (out[2], out[3])
-                hold = (reach.tolerance, reach.rigid, reach.max_torque)
-                if kind == "point":
-                    made = grasps.try_grasp(name, [goal], None, *hold)
-                elif kind == "prop":  # only the point aimed at: not the bar let go of
-                    made = grasps.try_grasp(name, [goal], target[1], *hold)
-                elif sim.props:
-                    made = grasps.try_grasp(name, None, "any", *hold)
-                else:
-                    made = False
-                changed = changed or made
+                changed = self._grasp(name, reach, (out[2], out[3]) if goal is out else goal) \
+                    or changed
             if reach.end is not None and step >= reach.end:
-                owners.drop(owner)
-                del self.reaches[name]
-                aims.pop(name, None)
+                self._end(name, owner)
                 changed = True
         return None if changed or not self.reaches else WAITED
 
@@ -255,12 +321,15 @@ class ReachController:
     def set_state(self, state) -> None:
         self.reaches = {n: Reach.from_state(r) for n, r in state.items()}
         self._aims.clear()
+        self._plan = None
 
     def adopt(self, old: ReachController, same, now: int) -> set[Owner]:
         self.reaches = {n: Reach.from_state(r.to_state()) for n, r in old.reaches.items()
                         if same("chain", n)}
+        self._plan = None
         return {reach_owner(n) for n in self.reaches}
 
     def stop(self) -> None:
         self.reaches = {}
         self._aims.clear()
+        self._plan = None
