@@ -13,7 +13,7 @@ from puppet.data.actions import ActionSpec
 from puppet.interface import meta
 from puppet.interface.app_keys import AppAction, SetSlowdown
 from puppet.interface.ownership import FRAME
-from puppet.interface.poses import apply_pose, frame_target
+from puppet.interface.poses import frame_target, pose_writer
 
 MAX_CHAINED_GOTOS = 16
 
@@ -99,7 +99,7 @@ class Actions:
         if a.pose is not None and a.over is None:
             pose = self.poses[a.pose]
             self.owners.take(pose.targets)
-            apply_pose(servos, pose, frames=frames, owner=FRAME)
+            self._pose_writer(pose)(frames, FRAME)  # (apply_pose, its lookups made once)
         held = []
         for joint, deg in ({} if a.over is not None else a.set).items():
             joint = r(joint)
@@ -127,6 +127,17 @@ class Actions:
         if a.reach is not None:
             self.reaching.start(a.reach, now)
         return result
+
+    def _pose_writer(self, pose):
+        """``poses.pose_writer`` for ``pose``, kept while the springs stay bound."""
+        bodies = self.character.bodies
+        writers = self.__dict__.get("_pose_writers")
+        if writers is None or writers[0] is not bodies:
+            writers = self._pose_writers = (bodies, {})
+        got = writers[1].get(id(pose))
+        if got is None or got[0] is not pose:
+            got = writers[1][id(pose)] = (pose, pose_writer(self.character.servos, pose))
+        return got[1]
 
     def _blend(self, a: ActionSpec, now: int) -> None:
         """An action's pose and set with ``over``: the targets travel (its gains now)."""

@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field
 
 from puppet.data.actions import FrameTargetSpec, PoseSpec
+from puppet.physics.servo import SET_MAX_FORCE, SET_STIFFNESS, SET_TARGET
 
 
 @dataclass(frozen=True)
@@ -102,3 +103,31 @@ def apply_pose(servos, pose: Pose, only: set[str] | None = None, frames=None,
         for joint, target in pose.frames.items():
             if only is None or joint in only:
                 frames.hold(joint, target, owner)
+
+
+def pose_writer(servos, pose: Pose):
+    """``apply_pose(servos, pose, frames=frames, owner=owner)`` (every joint) as a
+    function of (frames, owner), its servos' springs looked up once: a gait's state
+    entry writes a pose every few control steps. The same calls in the same order;
+    made again when the springs are re-bound (a restore: the caller keys it on the
+    character's bodies)."""
+    targets = tuple((j, servos[j].spring._constraint, a) for j, a in pose.targets.items())
+    stiffness = tuple((servos[j].spring._constraint, k) for j, k in pose.stiffness.items())
+    damping = tuple((servos[j], d) for j, d in pose.damping.items())
+    torques = tuple((servos[j].spring._constraint, t) for j, t in pose.max_torque.items())
+    held = tuple(pose.frames.items())
+
+    def write(frames, owner) -> None:
+        for joint, spring, angle in targets:
+            SET_TARGET(spring, angle)
+            if frames.held:
+                frames.forget(joint)
+        for spring, k in stiffness:
+            SET_STIFFNESS(spring, k)
+        for servo, d in damping:
+            servo.damping = d
+        for spring, t in torques:
+            SET_MAX_FORCE(spring, t)
+        for joint, target in held:
+            frames.hold(joint, target, owner)
+    return write

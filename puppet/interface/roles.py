@@ -18,14 +18,17 @@ class RoleBinding:
         self.binding: str | None = None
         self.rename = spec.renamer(None)
         self._poses: dict[str | None, dict] = {}
+        self._renamers: dict = {}  # binding -> its renamer (made once, with its poses)
 
     def use(self, binding: str | None) -> dict:
         """Resolve as ``binding`` says from now on; the poses compiled for it."""
         self.binding = binding
-        self.rename = self.spec.renamer(binding)
         poses = self._poses.get(binding)
         if poses is None:
-            poses = self._poses[binding] = compile_poses(self.spec.poses, self.rename)
+            self._renamers[binding] = self.spec.renamer(binding)
+            poses = self._poses[binding] = compile_poses(self.spec.poses,
+                                                         self._renamers[binding])
+        self.rename = self._renamers[binding]
         return poses
 
     def sensor(self, sensor: str) -> str:

@@ -175,7 +175,11 @@ class InterfaceRuntime(ActiveMaps, Actions):
         """Resolve roles as ``binding`` says from now on (poses, maps, sensors)."""
         poses = self.roles.use(binding)
         self.poses = poses
-        self.pose_targets = {n: p.targets for n, p in poses.items()}
+        targets = self.__dict__.setdefault("_pose_targets", {})  # (per binding: a gait
+        got = targets.get(binding)  # re-binds at every other state it enters)
+        if got is None or got[0] is not poses:
+            got = targets[binding] = (poses, {n: p.targets for n, p in poses.items()})
+        self.pose_targets = got[1]
         if "sequences" in self.__dict__:
             self.sequences.poses = poses
             self.sequences.readers = {}  # ``until`` sensors named through roles

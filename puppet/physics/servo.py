@@ -41,6 +41,7 @@ _SET_STIFFNESS, _SET_DAMPING = (_cp.cpDampedRotarySpringSetStiffness,
                                 _cp.cpDampedRotarySpringSetDamping)
 _SET_MAX_FORCE = _cp.cpConstraintSetMaxForce
 GET_TARGET = _GET_REST_ANGLE  # ``GET_TARGET(servo.spring._constraint)``: ``servo.target``
+SET_STIFFNESS, SET_MAX_FORCE = _SET_STIFFNESS, _SET_MAX_FORCE  # (poses.pose_writer's)
 
 REFERENCE_STEP = 1.0 / 480.0  # s; gains mean what they do on this step (the docstring)
 

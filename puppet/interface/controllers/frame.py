@@ -46,6 +46,9 @@ class FrameTargets:
         self._bound = None
         self._joint_ptrs: dict = {}
         self._link_ptrs: dict = {}
+        # joint -> (its held target, pk_frame's arguments for it): made once per target
+        # (a hold makes a new one) and per binding of the bodies (``_pointers``)
+        self._args: dict = {}
 
     def hold(self, joint: str, target: FrameTarget, owner: Owner | None = None) -> None:
         """Hold ``joint`` at ``target`` from now on (solved at once, then at the control
@@ -83,7 +86,9 @@ class FrameTargets:
                 bound[:] = self._bound, (parent, child, null if ref is None else
                                          (link_ptrs.get(ref) or self._link_ptr(ref)), spring)
             parent, child, link, spring = bound[1]
-            solve(parent, child, link, angle, hold_parent, spring)
+            args = (parent, child, link, angle, hold_parent, spring)
+            self._args[joint] = (target, args)
+            solve(*args)
         return hold_at
 
     def forget(self, joint: str) -> None:
@@ -95,6 +100,7 @@ class FrameTargets:
         bodies = self.character.bodies
         if self._bound is not bodies:
             self._bound, self._joint_ptrs, self._link_ptrs = bodies, {}, {}
+            self._args = {}
         return self._joint_ptrs, self._link_ptrs
 
     def _joint_ptr(self, joint: str) -> tuple:
@@ -108,14 +114,24 @@ class FrameTargets:
         got = self._link_ptrs[link] = self._kernel.pointer(self.character.bodies[link]._body)
         return got
 
+    def _prepared(self, joint: str, target: FrameTarget) -> tuple:
+        """pk_frame's arguments for holding ``joint`` at ``target`` (on the bodies of
+        now)."""
+        joint_ptrs, link_ptrs = self._pointers()
+        parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
+        ref = target.ref
+        return (parent, child, self._null if ref is None else
+                (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
+                target.hold_parent, spring)
+
     def _solve(self, joint: str, target: FrameTarget) -> None:
         if self._pk_frame is not None:  # the kernel: the arithmetic below, in C
-            joint_ptrs, link_ptrs = self._pointers()
-            parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
-            ref = target.ref
-            self._pk_frame(parent, child, self._null if ref is None else
-                           (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
-                           target.hold_parent, spring)
+            if self._bound is not self.character.bodies:
+                self._pointers()  # (re-bound: the prepared arguments go)
+            got = self._args.get(joint)
+            if got is None or got[0] is not target:  # (a pose's targets are kept: made once)
+                got = self._args[joint] = (target, self._prepared(joint, target))
+            self._pk_frame(*got[1])
             return
         # (angles through pymunk's own C call, what Body.angle returns: this runs for
         # every held joint at every control step)
@@ -139,18 +155,24 @@ class FrameTargets:
         solve = self._pk_frame
         let_go = False
         if solve is not None:  # the kernel: the Python loop below, each joint in C
-            joint_ptrs, link_ptrs = self._pointers()
-            null = self._null
-            for joint, (target, owner) in list(held.items()):
+            if self._bound is not self.character.bodies:
+                self._pointers()  # (re-bound: the prepared arguments go)
+            prepared = self._args
+            gone = None
+            for joint, (target, owner) in held.items():
                 if table.get(joint) != owner:  # taken back by a later write: let go
-                    del held[joint]
-                    let_go = True
+                    if gone is None:
+                        gone = []
+                    gone.append(joint)
                     continue
-                parent, child, spring = joint_ptrs.get(joint) or self._joint_ptr(joint)
-                ref = target.ref
-                solve(parent, child, null if ref is None else
-                      (link_ptrs.get(ref) or self._link_ptr(ref)), target.angle,
-                      target.hold_parent, spring)
+                got = prepared.get(joint)
+                if got is None or got[0] is not target:
+                    got = prepared[joint] = (target, self._prepared(joint, target))
+                solve(*got[1])
+            if gone is not None:
+                for joint in gone:
+                    del held[joint]
+                let_go = True
             # at every step (control_rate: 480), still holding and none let go: it only
             # wrote targets, and its next wake-up is the next step (base.WAITED)
             return WAITED if self.every == 1 and held and not let_go else None

@@ -62,6 +62,7 @@ class StateMachine:
         # its condition to have held (0: fires at once); ``_since``: when it began to
         self._holds = self._hold_steps()
         self._device_only = self._device_states()
+        self._plans: dict = {}  # (state, binding's) -> (its transitions, _state_plan's)
         self.use_renamer(None, lambda sensor: sensor)
         self.current = self.initial
         self.entered = 0
@@ -83,23 +84,35 @@ class StateMachine:
 
     def _now_in(self, state: str) -> None:
         """The current state's transitions and first due steps, looked up once per
-        state change rather than at each poll (``due`` runs every control step)."""
-        ts = self._transitions = self.transitions[state]
-        self._polled, self._timer = self.first_due[state]
+        state change rather than at each poll (``due`` runs every control step); what
+        they are for a state is worked out once per binding (``_state_plan``)."""
+        key = (state, id(self.transitions))
+        got = self._plans.get(key)
+        if got is None or got[0] is not self.transitions:
+            got = self._plans[key] = (self.transitions, self._state_plan(state))
+        (self._transitions, self._polled, self._timer, self._one_sensor, self._held,
+         self.device_only) = got[1]
+        self._since, self.quiet = {}, False
+
+    def _state_plan(self, state: str) -> tuple:
+        """(transitions, first polled step, first timer step, ``_one_sensor``, the
+        `for` steps, ``device_only``) of ``state`` under the binding of now."""
+        ts = self.transitions[state]
+        polled, timer = self.first_due[state]
         # The commonest state (luxo-keys' upright, a gait's phases): every transition a
         # range condition on one sensor, from the moment the state is entered. ``due``
         # then reads that sensor and compares, nothing else: ``_one_sensor`` is the
         # reader and the (state to go to, lo, hi) in order.
-        self._one_sensor = None
-        self._held, self._since = self._holds[state], {}
+        one = None
+        held = self._holds[state]
         # a state polling device inputs alone (``_device_states``): after a poll that
         # found nothing, the next is at the next input event (``stir``) - ``quiet``
-        self.device_only, self.quiet = self._device_only[state], False
         # (a state left only by `after: 0` timers has no sensor: the general loop's)
-        if ts and ts[0][2] is not None and not any(self._held) and all(
+        if ts and ts[0][2] is not None and not any(held) and all(
                 after == 0 and read is ts[0][2] and test is None
                 for _, after, read, test, _, _ in ts):
-            self._one_sensor = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
+            one = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
+        return ts, polled, timer, one, held, self._device_only[state]
 
     def _hold_steps(self) -> dict[str, list[int]]:
         """Per state, each transition's `for` in steps, in the order ``_compile`` lists
