@@ -238,3 +238,89 @@ def test_frame_targets_kept_arguments_follow_new_targets_and_re_bound_bodies(pat
     character.bodies = dict(character.bodies)
     kept, fresh = _ticked_twice(session, step)
     assert kept == fresh and kept
+
+
+def _reference_try_grasp(self, name, points=None, prop=None, tolerance=0.04, rigid=False,
+                         max_torque=None, skip_released=False) -> bool:
+    """``GraspController.try_grasp`` as it was before the prepared path (the prop's
+    box and its nearest place each looking at where it stands)."""
+    if self.sim is None or self.holds(name):
+        return self.holds(name)
+    chain = self.chains[name]
+    ex, ey = chain.end_world(self.character)
+    props = self.sim.props
+    if points is None:
+        names = [n for n in (props if prop == "any" else [prop])
+                 if not props[n].beyond((ex, ey), tolerance)]
+        if not names:
+            return False
+    skip = self.released_point(name) if skip_released else None
+    exclude = None if skip is None else (skip[0], skip[1], tolerance)
+    if points is not None:
+        for p in points:
+            if exclude is not None and math.hypot(p[0] - skip[0], p[1] - skip[1]) < tolerance:
+                continue
+            if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
+                self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop,
+                                rigid, max_torque)
+                return True
+        return False
+    found = [(*props[n].nearest((ex, ey), exclude)[:2], n) for n in names]
+    distance, point, which = min(found, key=lambda f: f[0])
+    if distance <= tolerance:
+        self.sim.attach(name, chain.end_link, chain.end, point, which, rigid, max_torque)
+        return True
+    return False
+
+
+def test_a_grasp_try_catches_what_the_reference_catches():
+    """An armed grasp's try (one look at where each prop stands for its box and its
+    nearest place) answers and attaches as the reference does: places within reach
+    and not, on each prop and on "any", where a chain let go, and an end at a
+    non-finite place."""
+    import random
+
+    from puppet.data.catalog import load_setup
+    from puppet.interface.controllers.grasp import GraspController
+    from puppet.session.session import Session
+
+    session = Session(load_setup("biped-bars"), keyframes=False)
+    grasps, sim = session.runtime.grasping, session.sim
+    made = []
+    sim.attach = lambda *args: made.append(args)  # (recorded, not pinned: tried again)
+    rng = random.Random(5)
+    bars = sim.props["bars"]
+    places = [(x, y) for _, x, y in bars._placed()[0]]
+    chain = grasps.chains["hand_near"]
+    body = sim.character.bodies[chain.end_link]
+    grasps.released["hand_near"] = ("bars", bars.points[next(iter(bars.points))])
+    answers, caught = set(), set()
+    for i in range(600):
+        px, py = places[i % len(places)]
+        r = rng.choice([0.0, 0.02, 0.039, 0.041, 0.1, 0.5, 3.0])
+        ox, oy = chain.end_world(sim.character)  # (the end where the place is)
+        bx, by = body.position
+        body.position = (bx + px - ox + rng.uniform(-r, r), by + py - oy + rng.uniform(-r, r))
+        if i % 97 == 0:
+            body.position = (math.nan, py) if i % 2 else (math.inf, -math.inf)
+        elif i % 97 == 1:
+            body.position = (0.0, 0.0)
+        for prop in ("bars", "platform", "any"):
+            for skip in (False, True):
+                args = ("hand_near", None, prop, rng.choice([0.04, 0.2]), False, None, skip)
+                made.clear()
+                got = (grasps.try_grasp(*args), list(made))
+                made.clear()
+                want = (_reference_try_grasp(grasps, *args), list(made))
+                assert got == want, (i, prop, skip, tuple(body.position))
+                answers.add(got[0])
+                if got[0] and skip:
+                    caught.add(got[1][0][3])
+        point = [[px + 0.01, py]]
+        made.clear()
+        got = (grasps.try_grasp("hand_near", point, "bars", 0.04), list(made))
+        made.clear()
+        assert got == (_reference_try_grasp(grasps, "hand_near", point, "bars", 0.04),
+                       list(made))
+    assert answers == {True, False} and len(caught) > 1, caught
+    assert GraspController.try_grasp is not _reference_try_grasp

@@ -33,7 +33,7 @@ class Prop:
         p = _to_world(self.body._body, self.points[name])
         return (p.x, p.y)
 
-    def nearest(self, world: tuple[float, float], exclude=None
+    def nearest(self, world: tuple[float, float], exclude=None, placed=None
                 ) -> tuple[float, tuple[float, float], str | None]:
         """(distance, world point, point name or None) of the graspable place nearest
         ``world``: a named point or the nearest point on a grasp segment; with
@@ -44,7 +44,7 @@ class Prop:
         wx, wy = world
         best = (math.inf, world, None)
         hypot = math.hypot
-        points, segments = self._placed()
+        points, segments = placed or self._placed()  # (``placed``: _placed's, just made)
         for name, px, py in points:
             if exclude is not None and hypot(px - exclude[0], py - exclude[1]) < exclude[2]:
                 continue
@@ -64,12 +64,20 @@ class Prop:
                 best = (d, p, None)
         return best
 
-    def beyond(self, world: tuple[float, float], r: float) -> bool:
+    def nearest_within(self, world: tuple[float, float], r: float, exclude=None):
+        """``nearest(world, exclude)``, or None when ``beyond(world, r)``: where the prop
+        stands looked at once for both (an armed grasp asks at every step)."""
+        placed = self._placed()
+        if self.beyond(world, r, placed):
+            return None
+        return self.nearest(world, exclude, placed)
+
+    def beyond(self, world: tuple[float, float], r: float, placed=None) -> bool:
         """Whether every graspable place of this prop is surely farther than ``r`` from
         ``world`` (so ``nearest``'s answer is too): a static prop's places' box, worked
         out with ``_placed``, with a margin over the rounding of a point on a segment.
         False when unsure (a dynamic prop, a NaN)."""
-        box = self._box()
+        box = self._box(placed)
         if box is None:
             return False
         x0, y0, x1, y1 = box
@@ -79,11 +87,12 @@ class Prop:
         r += BOX_MARGIN
         return dx * dx + dy * dy > r * r
 
-    def _box(self) -> tuple[float, float, float, float] | None:
-        """A static prop's places' box (x0, y0, x1, y1), for where it stands now."""
+    def _box(self, placed=None) -> tuple[float, float, float, float] | None:
+        """A static prop's places' box (x0, y0, x1, y1), for where it stands now
+        (``placed``: ``_placed``'s answer, just made)."""
         if not self._static():
             return None
-        points, segments = self._placed()
+        points, segments = placed or self._placed()
         cached = self._placed_cache
         if len(cached) < 3:
             xs = [x for _, x, _ in points] + [x for x, _, vx, _, _ in segments

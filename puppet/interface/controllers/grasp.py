@@ -20,6 +20,10 @@ from puppet.interface.ownership import Owner
 _to_world = _cp.cpBodyLocalToWorld
 
 
+def _distance(found: tuple) -> float:
+    return found[0]
+
+
 class GraspController:
     BUSY = "armed"
 
@@ -61,18 +65,12 @@ class GraspController:
         of; ``rigid``: holding the end link's angle too (``Simulation.attach``);
         ``skip_released``: not a place within ``tolerance`` of where the chain last let
         go (``released_point``). True if the chain holds something now."""
-        if self.sim is None or self.holds(name):
-            return self.holds(name)
+        sim = self.sim
+        if sim is None or name in sim.grasps:  # (holds)
+            return sim is not None
         chain = self.chains[name]
         ex, ey = chain.end_world(self.character)
-        props = self.sim.props
-        if points is None:
-            # (a prop whose places are all farther than the tolerance cannot be the one
-            # caught: not asked, ``Prop.beyond``; with none left, none is caught)
-            names = [n for n in (props if prop == "any" else [prop])
-                     if not props[n].beyond((ex, ey), tolerance)]
-            if not names:
-                return False
+        props = sim.props
         skip = self.released_point(name) if skip_released else None
         exclude = None if skip is None else (skip[0], skip[1], tolerance)
         if points is not None:
@@ -80,12 +78,20 @@ class GraspController:
                 if exclude is not None and math.hypot(p[0] - skip[0], p[1] - skip[1]) < tolerance:
                     continue
                 if math.hypot(ex - p[0], ey - p[1]) <= tolerance:
-                    self.sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop,
-                                    rigid, max_torque)
+                    sim.attach(name, chain.end_link, chain.end, (p[0], p[1]), prop,
+                               rigid, max_torque)
                     return True
             return False
-        found = [(*props[n].nearest((ex, ey), exclude)[:2], n) for n in names]
-        distance, point, which = min(found, key=lambda f: f[0])
+        # (a prop whose places are all farther than the tolerance cannot be the one
+        # caught: not asked, ``Prop.beyond``; with none left, none is caught)
+        found = []
+        for n in (props if prop == "any" else [prop]):
+            got = props[n].nearest_within((ex, ey), tolerance, exclude)
+            if got is not None:
+                found.append((got[0], got[1], n))
+        if not found:
+            return False
+        distance, point, which = min(found, key=_distance)
         if distance <= tolerance:
             self.sim.attach(name, chain.end_link, chain.end, point, which, rigid,
                             max_torque)
