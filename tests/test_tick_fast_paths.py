@@ -5,7 +5,8 @@ frame targets' kept ``pk_frame`` arguments, a state entry's prepared pose writes
 (``poses.pose_writer``), a state's kept transitions plan and a binding's kept pose
 targets: each shipped log is played once on them and once on the reference
 (``_tick_general``, the arguments made afresh at each solve, ``apply_pose``, the plans
-made again at every entry), and every servo's target and gains, the schedule, the
+made again at every entry, feedback's plan asked for at every change of the
+active maps), and every servo's target and gains, the schedule, the
 states and the owners must be the same at every step, also after a restore (the
 springs re-bound) and with a link's angle made infinite (a sensor's non-finite input:
 NaN targets, then the session's blow-up recovery)."""
@@ -20,6 +21,7 @@ import pytest
 from kernel_paths import needs_cc
 
 from puppet.interface.actions import Actions
+from puppet.interface.controllers.feedback import Feedback
 from puppet.interface.controllers.frame import FrameTargets
 from puppet.interface.controllers.reach import ReachController
 from puppet.interface.controllers.state_machine import StateMachine
@@ -53,6 +55,12 @@ def _reference(monkeypatch) -> None:
         self._plans = {}
         return now_in(self, state)
     monkeypatch.setattr(StateMachine, "_now_in", fresh_now_in)
+    set_maps = Feedback.set_maps
+
+    def fresh_maps(self, readers, setters, adders):
+        self.readers = None  # (the plan asked for again)
+        return set_maps(self, readers, setters, adders)
+    monkeypatch.setattr(Feedback, "set_maps", fresh_maps)
     use_binding = InterfaceRuntime._use_binding
 
     def fresh_binding(self, binding):

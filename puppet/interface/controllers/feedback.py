@@ -53,9 +53,12 @@ class Feedback:
 
     def set_maps(self, readers, setters, adders) -> None:
         """The active feedback maps (the runtime's, on every mode or state change)."""
-        self.readers, self.setters, self.adders = readers, setters, adders
-        fk = self._fk
-        self._plan = None if fk is None or setters or not adders else fk.plan(readers, adders)
+        if readers is not self.readers or setters is not self.setters \
+                or adders is not self.adders:  # (the same maps: the same plan, kept)
+            self.readers, self.setters, self.adders = readers, setters, adders
+            fk = self._fk
+            self._plan = None if fk is None or setters or not adders \
+                else fk.plan(readers, adders)
         if self._plan is None:  # (else the kernel's arrays stay what base and last are)
             self._pull()
         self.busy = bool(setters or adders or self.last)
