@@ -64,13 +64,12 @@ class Prop:
                 best = (d, p, None)
         return best
 
-    def nearest_within(self, world: tuple[float, float], r: float, exclude=None):
-        """``nearest(world, exclude)``, or None when ``beyond(world, r)``: where the prop
-        stands looked at once for both (an armed grasp asks at every step)."""
+    def placed_within(self, world: tuple[float, float], r: float):
+        """None when ``beyond(world, r)``, else where the prop's places are now, for
+        ``nearest``: where the prop stands looked at once for both (an armed grasp
+        asks at every step)."""
         placed = self._placed()
-        if self.beyond(world, r, placed):
-            return None
-        return self.nearest(world, exclude, placed)
+        return None if self.beyond(world, r, placed) else placed
 
     def beyond(self, world: tuple[float, float], r: float, placed=None) -> bool:
         """Whether every graspable place of this prop is surely farther than ``r`` from

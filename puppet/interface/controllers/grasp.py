@@ -71,6 +71,16 @@ class GraspController:
         chain = self.chains[name]
         ex, ey = chain.end_world(self.character)
         props = sim.props
+        if points is None:
+            # (a prop whose places are all farther than the tolerance cannot be the one
+            # caught: not asked, ``Prop.beyond``; with none left, none is caught)
+            near = []
+            for n in (props if prop == "any" else [prop]):
+                placed = props[n].placed_within((ex, ey), tolerance)
+                if placed is not None:
+                    near.append((n, placed))
+            if not near:
+                return False
         skip = self.released_point(name) if skip_released else None
         exclude = None if skip is None else (skip[0], skip[1], tolerance)
         if points is not None:
@@ -82,15 +92,7 @@ class GraspController:
                                rigid, max_torque)
                     return True
             return False
-        # (a prop whose places are all farther than the tolerance cannot be the one
-        # caught: not asked, ``Prop.beyond``; with none left, none is caught)
-        found = []
-        for n in (props if prop == "any" else [prop]):
-            got = props[n].nearest_within((ex, ey), tolerance, exclude)
-            if got is not None:
-                found.append((got[0], got[1], n))
-        if not found:
-            return False
+        found = [(*props[n].nearest((ex, ey), exclude, placed)[:2], n) for n, placed in near]
         distance, point, which = min(found, key=_distance)
         if distance <= tolerance:
             self.sim.attach(name, chain.end_link, chain.end, point, which, rigid,
