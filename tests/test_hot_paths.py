@@ -235,6 +235,22 @@ def test_reaches_at_every_step_keep_the_schedule_a_full_reschedule_gives():
         assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
 
 
+def test_armed_grasps_at_every_step_keep_the_schedule_a_full_reschedule_gives():
+    """An armed grasp's try that caught nothing only waits (base.WAITED): the gymnast's
+    climbs (feet armed at every step) keep their hashes, most of their ticks keep the
+    schedule and every kept schedule is the full one."""
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+    for name in ("biped-gymnast-climb-bound", "biped-gymnast-climb-trot"):
+        log = read_log(f"assets/logs/{name}.jsonl")
+        session = new_session(log, setup_for_log(log)[0])
+        seen = _checked_ticks(session)
+        LogFeeder(session, log).advance(log.last_step)
+        assert session.sim.state_hash() == log.end_hash, name
+        assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
+
+
 def test_a_sensor_map_holding_a_frame_target_every_step_keeps_the_frames_scheduled(tmp_path):
     """A state's sensor map with ``frame: world`` at ``control_rate: 480``: the feedback
     tick only waits, but the frame target it held must be re-solved, so the arbiter

@@ -15,6 +15,7 @@ import math
 
 from pymunk._chipmunk_cffi import lib as _cp
 
+from puppet.interface.controllers.base import WAITED
 from puppet.interface.ownership import Owner
 
 _to_world = _cp.cpBodyLocalToWorld
@@ -124,11 +125,17 @@ class GraspController:
                     self.released[name] = (prop, (joint.anchor_b[0], joint.anchor_b[1]))
                 self.sim.detach(name)
 
-    def tick(self, step: int) -> None:
+    def tick(self, step: int) -> str | None:
+        """Each armed grasp tries to catch; WAITED when none caught or ran out (no
+        change: its next wake-up is the next step, as before), so that a climber's
+        feet armed at every step leave the arbiter's schedule as it was."""
+        changed = False
         for name, (points, prop, tolerance, until, *rigid) in list(self.armed.items()):
             if self.try_grasp(name, points, prop, tolerance, *rigid) or \
                     (until is not None and step >= until):
                 del self.armed[name]
+                changed = True
+        return None if changed or not self.armed else WAITED
 
     def next_wakeup(self, earliest: int) -> int | None:
         return earliest if self.armed else None
