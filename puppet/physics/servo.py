@@ -129,8 +129,9 @@ class PDServo:
     @damping.setter
     def damping(self, value: float) -> None:
         self._damping = value
-        _SET_DAMPING(self.spring._constraint,
-                     chipmunk_damping(value, self._inverse_moments, self._step))
+        step = self._step  # (at REFERENCE_STEP chipmunk_damping is the number: not called)
+        _SET_DAMPING(self.spring._constraint, value if step == REFERENCE_STEP else
+                     chipmunk_damping(value, self._inverse_moments, step))
 
     @property
     def max_torque(self) -> float:
