@@ -195,7 +195,7 @@ def test_a_states_kept_plan_is_the_one_of_its_binding():
         rt._use_binding(binding)
         assert machine._transitions is machine.transitions[state], (state, binding)
         assert (machine._transitions, machine._polled, machine._timer, machine._one_sensor,
-                machine._held, machine.device_only) == machine._state_plan(state)
+                machine._held) == machine._state_plan(state)
         assert rt.pose_targets == {n: p.targets for n, p in rt.poses.items()}
 
 

@@ -90,13 +90,15 @@ class StateMachine:
         got = self._plans.get(key)
         if got is None or got[0] is not self.transitions:
             got = self._plans[key] = (self.transitions, self._state_plan(state))
-        (self._transitions, self._polled, self._timer, self._one_sensor, self._held,
-         self.device_only) = got[1]
-        self._since, self.quiet = {}, False
+        self._transitions, self._polled, self._timer, self._one_sensor, self._held = got[1]
+        # a state polling device inputs alone (``_device_states``): after a poll that
+        # found nothing, the next is at the next input event (``stir``) - ``quiet``
+        self.device_only, self.quiet = self._device_only[state], False
+        self._since = {}
 
     def _state_plan(self, state: str) -> tuple:
         """(transitions, first polled step, first timer step, ``_one_sensor``, the
-        `for` steps, ``device_only``) of ``state`` under the binding of now."""
+        `for` steps) of ``state`` under the binding of now."""
         ts = self.transitions[state]
         polled, timer = self.first_due[state]
         # The commonest state (luxo-keys' upright, a gait's phases): every transition a
@@ -105,14 +107,12 @@ class StateMachine:
         # reader and the (state to go to, lo, hi) in order.
         one = None
         held = self._holds[state]
-        # a state polling device inputs alone (``_device_states``): after a poll that
-        # found nothing, the next is at the next input event (``stir``) - ``quiet``
         # (a state left only by `after: 0` timers has no sensor: the general loop's)
         if ts and ts[0][2] is not None and not any(held) and all(
                 after == 0 and read is ts[0][2] and test is None
                 for _, after, read, test, _, _ in ts):
             one = (ts[0][2], tuple((to, lo, hi) for to, _, _, _, lo, hi in ts))
-        return ts, polled, timer, one, held, self._device_only[state]
+        return ts, polled, timer, one, held
 
     def _hold_steps(self) -> dict[str, list[int]]:
         """Per state, each transition's `for` in steps, in the order ``_compile`` lists
