@@ -45,7 +45,7 @@ from puppet.timeline.expectations import (
 from puppet.timeline.log import Log, Recorder, read_log, record_events
 from puppet.timeline.replay import ReplayResult, replay
 from puppet.timeline.script import compile_script, load_script, run_seconds
-from puppet.timeline.trajectory import SAMPLE_EVERY, Trajectory
+from puppet.timeline.trajectory import Trajectory
 
 __all__ = ["ReplayResult", "Trajectory", "Outcome", "DataError", "replay_log",
            "record_script", "check", "weaker_joints", "Recorder", "read_log"]
@@ -71,7 +71,7 @@ def _entries(expect, where: str) -> list | None:
 
 
 def replay_log(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
-               expect: list | None = None, sample_every: int = SAMPLE_EVERY,
+               expect: list | None = None, sample_every: int | None = None,
                as_recorded: bool = False, adjust=None) -> ReplayResult:
     """Replay ``path`` (or a log already read) headless and check its expectations
     (the sidecar file ``NAME.expect.yaml``, else the header's; the sidecar wins, and a

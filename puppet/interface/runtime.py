@@ -423,9 +423,11 @@ class InterfaceRuntime(ActiveMaps, Actions):
         if self.tracker.mode != OFF:
             if self.tracker.lost:  # the stream is back: the tracker takes its joints
                 self.channels.update(values)  # by these values (stored again at flush)
-            self.tracker.sampled(self.step_now())
+            moved = self.tracker.sampled(self.step_now())
             if self.tracker.due:  # found: the stream is back
                 self._tracking_due(self.step_now())
+            if moved:  # between two control steps: the tracker acts on it at once
+                self._reschedule(self.step_now())
         pending = self._pending
         if pending and pending[-1][0] is entry:
             pending[-1][1] = values

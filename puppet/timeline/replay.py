@@ -24,7 +24,8 @@ from puppet.session import Session
 from puppet.session.playback import next_move, play, ticks
 from puppet.timeline.log import Log, embedded_problem, read_log
 from puppet.timeline.quoting import reload_error, unquoted_error
-from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler, Trajectory
+from puppet.timeline.trajectory import Sampler, Trajectory
+from puppet.timeline.trajectory import sample_every as _sample_every
 
 if TYPE_CHECKING:  # the expectations are imported only by a checked replay
     from puppet.timeline.expectations import Outcome
@@ -301,7 +302,7 @@ def apply_log(session: Session, log: Log, until_step: int | None = None, every: 
 
 
 def replay(path: str | Path | Log, until_step: int | None = None, allow_truncated: bool = False,
-           check: bool = True, sample_every: int = SAMPLE_EVERY,
+           check: bool = True, sample_every: int | None = None,
            trajectory: bool = True, as_recorded: bool = False,
            adjust=None, expect: list | None = None,
            frames: tuple[int, Callable[[Session], None]] | None = None,
@@ -348,6 +349,8 @@ def replay(path: str | Path | Log, until_step: int | None = None, allow_truncate
                if (trajectory or expectations) else None)
     if sampler is not None:
         sampler(session)
+    if sample_every is None:  # the trajectory at 120 Hz on the replay's step
+        sample_every = _sample_every(session.sim.dt)
     every, on_tick = ticks((sample_every if sampler else 0, sampler), frames or (0, None))
     apply_log(session, log, until_step, every, on_tick)
     if sampler is not None and (not sampler.rows or sampler.rows[-1][0] != session.steps):

@@ -20,7 +20,16 @@ if TYPE_CHECKING:
 
     from puppet.session import Session
 
-SAMPLE_EVERY = 4  # steps between trajectory samples (120 Hz at the default dt)
+SAMPLE_RATE = 120.0  # Hz: trajectory samples a second, on any simulation step
+SAMPLE_EVERY = 4  # steps between trajectory samples at the default dt (1/480 s)
+
+
+def sample_every(dt: float) -> int:
+    """Steps between trajectory samples on a ``dt`` s step: ``SAMPLE_RATE`` a second
+    (4 at 1/480 s, 2 at 1/240 s). A fixed count of steps would read a 1/240 s run at
+    60 Hz, in step with a 60 Hz performer's frames: always at one point of each (a
+    mocap feat's tracking error then hung on when its frames came, not on the figure)."""
+    return max(1, round(1.0 / (SAMPLE_RATE * dt)))
 
 
 _NAN = float("nan")

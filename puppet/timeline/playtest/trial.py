@@ -32,7 +32,7 @@ from puppet.timeline.playtest.slowdown import in_force
 from puppet.timeline.reactive import ScriptPlayer, Speed, play_script
 from puppet.timeline.replay import apply_log, find_log, new_session, require_end, setup_for_log
 from puppet.timeline.script import ScriptSpec
-from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
+from puppet.timeline.trajectory import Sampler, sample_every
 
 NOT_FEATS = ("final_hash",)  # expectation kinds that say which bits, not what was done
 
@@ -153,12 +153,12 @@ def judge(prepared: Prepared, log: Log | None = None, noise: Noise | None = None
     sampler = Sampler(session, touches=prepared.expectations.touches)
     sampler(session)
     if log is not None:
-        apply_log(session, log, None, SAMPLE_EVERY, sampler)
+        apply_log(session, log, None, sample_every(session.sim.dt), sampler)
     else:
         speed = Speed(float(prepared.log.header.get("slowdown") or 1.0))
         player = ScriptPlayer(session, prepared.script, prepared.log.last_step, speed,
                               speed.apply, noise, seed, index)
-        play_script(session, player, SAMPLE_EVERY, sampler)
+        play_script(session, player, sample_every(session.sim.dt), sampler)
     if not sampler.rows or sampler.rows[-1][0] != session.steps:
         sampler(session)
     final = session.sim.state_hash()

@@ -21,7 +21,7 @@ from puppet.data.catalog import Setup
 from puppet.interface import events as ev
 from puppet.session.playback import play
 from puppet.timeline.other_physics import OtherPhysics, rescaled_pairs
-from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
+from puppet.timeline.trajectory import Sampler, sample_every
 from puppet.timeline.tuning.scoring import BLOWUP_PENALTY, Judged, Term, judge, stretch
 
 Pairs = list[tuple[int, dict]]
@@ -96,7 +96,8 @@ class _Prepared:
         self.session = Session(setup, dt=ctx.dt, checkpoint_interval=ctx.interval)
         self.sampler = Sampler(self.session, touches=ctx.touches)
         self.sampler(self.session)
-        play(self.session, ctx.prefix, ctx.stage_step, SAMPLE_EVERY, self.sampler)
+        play(self.session, ctx.prefix, ctx.stage_step, sample_every(self.session.sim.dt),
+             self.sampler)
         if self.session.steps != ctx.stage_step:
             raise RuntimeError(f"the start ran to step {self.session.steps}, not to the "
                                f"stage's checkpoint at {ctx.stage_step}")
@@ -147,7 +148,7 @@ def _play(prep: _Prepared, pairs: Pairs, until: int):
     prep.back()
     session, sampler = prep.session, prep.sampler
     before = session.blowups
-    play(session, pairs, until, SAMPLE_EVERY, sampler)
+    play(session, pairs, until, sample_every(session.sim.dt), sampler)
     if not sampler.rows or sampler.rows[-1][0] != session.steps:
         sampler(session)
     return sampler.trajectory(), session.blowups - before
