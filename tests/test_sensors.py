@@ -164,3 +164,42 @@ def test_com_spin_is_the_whole_bodys_spin_and_keeps_in_the_air():
     s.advance(60)
     assert abs(c.bodies["thigh_near"].angular_velocity - w) > 0.2  # a link's spin changed
     assert read() == pytest.approx(w, rel=0.02)  # the body's did not
+
+
+def test_torque_is_what_the_servo_puts_on_its_child():
+    """``torque.JOINT`` (N*m): stiffness * (target - angle) - damping * relative spin,
+    within the cap: the torque the gains ask for (the solver's implicit damping then
+    takes part of it within a step). A hip 20 deg off its target reads the spring's pull,
+    its sign the way the joint then turns, and a target far off reads the cap."""
+    s = Session(load_setup("biped-stand"))
+    s.advance(240)
+    c = s.character
+    read = reader("torque.hip_near", c)
+    hip = c.servos["hip_near"]
+    for off, sign in ((math.radians(20), 1.0), (math.radians(-20), -1.0)):
+        hip.target = hip.angle + off
+        a, b = c.bodies["thigh_near"], c.bodies["pelvis"]
+        want = hip.stiffness * (hip.target - hip.angle) - hip.damping * (
+            a.angular_velocity - b.angular_velocity)
+        got = read()
+        assert got == pytest.approx(max(-hip.max_torque, min(hip.max_torque, want)), rel=1e-12)
+        assert sign * got > 200.0
+        before = hip.angle
+        s.advance(4)
+        assert sign * (hip.angle - before) > 0.0  # it turns the way the torque says
+    hip.target = hip.angle + math.radians(90)
+    assert read() == hip.max_torque
+
+
+def test_a_torque_sensor_names_a_joint(tmp_path):
+    from puppet.data.errors import DataError
+
+    with pytest.raises(DataError, match="joint 'hip_nare'"):
+        session_of(tmp_path, """
+        name: t
+        description: a typo in a torque sensor
+        character: biped
+        maps:
+          - {input: sensor.torque.hip_nare, joint: hip_far, from: [0, 1], to: [0, 0.05],
+             combine: add}
+        """)

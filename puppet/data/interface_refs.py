@@ -18,7 +18,7 @@ from puppet.data.yamlfile import Located
 
 FIXED_SENSORS = ("root.angle", "lean", "com.x", "com.y", "com.vx", "com.vy", "com.fall_time",
                  "com.spin")
-JOINT_SENSORS = ("joint",)
+JOINT_SENSORS = ("joint", "torque")
 LINK_SENSORS = ("angle", "height", "contact", "spin", "com.dx")
 
 

@@ -99,6 +99,31 @@ def _joint(c: Character, name: str) -> Reader:
     return angle
 
 
+_rest_angle, _stiffness, _damping, _max_force = (
+    _cp.cpDampedRotarySpringGetRestAngle, _cp.cpDampedRotarySpringGetStiffness,
+    _cp.cpDampedRotarySpringGetDamping, _cp.cpConstraintGetMaxForce)
+
+
+def _torque(c: Character, name: str) -> Reader:
+    """The torque (N*m, + counter-clockwise on the child) the joint's servo puts on its
+    child as its gains say now: stiffness * (target - angle) - damping * relative spin,
+    within its cap; the child's parent gets the opposite. Worked out from the state (a
+    restored run reads the same), so that another joint can take it over: SIMBICON's
+    stance hip takes the swing hip's reaction on the pelvis (guide 9.8)."""
+    joint = c.spec.joint(name)
+    child, parent = joint.child, joint.parent
+
+    def torque() -> float:
+        bodies, servo = c.bodies, c.servos[name]
+        a, b = bodies[child]._body, bodies[parent]._body
+        spring = servo.spring._constraint
+        t = (_stiffness(spring) * (_rest_angle(spring) - (_get_angle(a) - _get_angle(b)))
+             - servo.damping * (_get_spin(a) - _get_spin(b)))
+        cap = _max_force(spring)
+        return cap if t > cap else -cap if t < -cap else t
+    return torque
+
+
 # sensor name -> (reader factory, reads an angle?)
 FIXED: dict[str, tuple[Callable[[Character], Reader], bool]] = {
     "root.angle": (lambda c: _angle(c, c.spec.root), True),
@@ -113,6 +138,7 @@ FIXED: dict[str, tuple[Callable[[Character], Reader], bool]] = {
 # "<kind>.<joint or link name>" -> (reader factory, reads an angle?)
 NAMED: dict[str, tuple[Callable[[Character, str], Reader], bool]] = {
     "joint": (_joint, True),
+    "torque": (_torque, False),
     "angle": (_angle, True),
     "height": (lambda c, n: lambda: c.link_position(n)[1], False),
     "contact": (lambda c, n: lambda: 1.0 if c.in_contact(n) else 0.0, False),
