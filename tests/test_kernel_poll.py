@@ -57,7 +57,7 @@ def _trace(name: str, loop: bool):
     session.advance = traced
     poll_plan.PollPlan.run = counted
     try:  # (event by event: a trace after each advance call)
-        stepwise(session, log.pairs(), log.last_step)
+        stepwise(session, log.pairs(), None, end_step=log.last_step)
     finally:
         poll_plan.PollPlan.run = run
     assert trace[-1][-1] == log.end_hash, name
