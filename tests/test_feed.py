@@ -134,7 +134,7 @@ def test_the_kernel_steps_the_idle_steps_as_python_does(name, path_of):
         session, trace = new_session(log, setup), []
         if idle:
             poll = session._idle.poll
-            session._idle.poll = lambda *a: calls.append(a[2]) or poll(*a)
+            session._idle.poll = lambda *a, poll=poll: calls.append(a[2]) or poll(*a)
         else:
             session._idle = None
         play(session, log.pairs(), None, EVERY, _sample(trace), end_step=log.last_step)
