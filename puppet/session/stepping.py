@@ -18,6 +18,7 @@ caller (``tests/test_feed.py`` compares a replay with the event-by-event one).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
@@ -70,6 +71,9 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
     is_clean = clean(space)  # (a tick that adds to the space is checked again)
     ptr = space._space
     idle = session._idle  # the kernel's loop with nothing to poll (None: Python's)
+    if idle is not None:
+        idle_poll, idle_plan, idle_space, seated = idle.poll, idle.plan, None, None
+        checked = math.lcm(health, frame)  # (the health checks the frame loop reaches)
     while True:
         now = sim.steps
         # playback.next_move, inlined: 0 apply the next event now, > 0 step first
@@ -125,7 +129,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
             runtime, rebuilding = session.runtime, session._rebuilding
             space = sim.space
             is_clean = clean(space)
-            ptr = space._space
+            ptr, seated = space._space, None
             continue
         if budget <= 0:
             return i, False
@@ -172,7 +176,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     wake = runtime.next_wakeup
                     space = sim.space
                     is_clean = clean(space)
-                    ptr = space._space
+                    ptr, seated = space._space, None
                     poll = runtime.poll
                     until_poll = poll.ready(now) if poll is not None and is_clean else None
             if until_poll is not None:
@@ -186,14 +190,14 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     # nothing due before ``stop``: the kernel steps on to it (or to the
                     # next health check) with the frame check between the steps, and
                     # returns at the first frame that fails it (checked below again)
-                    last = now - now % health + health
-                    while last % frame:
-                        last += health
-                    body = sim.character.bodies[root]._body
-                    if body is not idle.body or ptr is not idle.space:
-                        idle.seat(ptr, body)
-                    sim.steps = now = idle.poll(idle.space_ptr, dt, now,
-                                                stop if stop < last else last, idle.plan, 0)
+                    if seated is None:  # (the space or the bodies may be new)
+                        seated = sim.character.bodies[root]._body
+                        if seated is not idle.body or ptr is not idle.space:
+                            idle.seat(ptr, seated)
+                        idle_space = idle.space_ptr
+                    last = now - now % checked + checked
+                    sim.steps = now = idle_poll(idle_space, dt, now,
+                                                stop if stop < last else last, idle_plan, 0)
                     boundary = now if now % frame == 0 else -1
                 else:
                     boundary = now - now % frame + frame
@@ -212,7 +216,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     runtime = session.runtime  # count, and may switch interface versions
                     space = sim.space  # (a keyframe re-seats it)
                     is_clean = clean(space)
-                    ptr = space._space
+                    ptr, seated = space._space, None
                 else:  # the root alone, each frame: NaN fails every comparison
                     body = sim.character.bodies[root]._body
                     while True:
@@ -240,7 +244,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     runtime = session.runtime
                     space = sim.space
                     is_clean = clean(space)
-                    ptr = space._space
+                    ptr, seated = space._space, None
                 if session.halted:
                     sim.steps = stop_at  # the rest of the call: time only
                     break
