@@ -286,7 +286,7 @@ def _compile_clamped_linear(spec, out, joints, channels=None):
             v = value(values)
             if v is None:
                 return ()
-            servo.target = gain * v
+            SET_TARGET(servo.spring._constraint, gain * v)  # servo.target =
             return joints
         return apply_curved
     source = None  # where the input is read: the values handed in, or the channels
@@ -299,7 +299,7 @@ def _compile_clamped_linear(spec, out, joints, channels=None):
             return ()
         u = (v - x0) * inv
         u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-        servo.target = gain * (lo + u * span)
+        SET_TARGET(servo.spring._constraint, gain * (lo + u * span))  # servo.target =
         return joints
     apply_input.plain = (source, (name, x0, inv, lo, span, gain, servo, joints[0]))
     return apply_input

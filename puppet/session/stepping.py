@@ -76,21 +76,16 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
         checked = math.lcm(health, frame)  # (the health checks the frame loop reaches)
     while True:
         now = sim.steps
-        # playback.next_move, inlined: 0 apply the next event now, > 0 step first
-        at = events[i][0] if i < n else None
-        if until is not None and now >= until:
-            if at != now:
-                return i, False
-            move = 0
-        elif at is not None:
-            move = 0 if at <= now else (at if until is None or at < until else until) - now
+        # playback.next_move, inlined: the next event acts now (at or before ``now``;
+        # once ``until`` is reached, only one logged at it), else step to it, to
+        # ``until`` or, once the events run out, to ``end``
+        if i < n:
+            at, event = events[i]
+            due = at <= now and (until is None or now < until or at == now)
+            target = at if until is None or at < until else until
         else:
-            target = end if until is None else until
-            if target is None or target <= now:
-                return i, False
-            move = target - now
-        if move == 0:
-            event = events[i][1]
+            due, target = False, end if until is None else until
+        if due:
             if on_event is not None:
                 on_event(i, event)
             i += 1
@@ -131,8 +126,9 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
             is_clean = clean(space)
             ptr, seated = space._space, None
             continue
-        if budget <= 0:
+        if target is None or target <= now or budget <= 0:
             return i, False
+        move = target - now
         k = budget if budget < move else move
         if every:
             left = every - now % every
