@@ -36,6 +36,7 @@ MAX_SPEED2 = MAX_SPEED ** 2
 _position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
 _space_step = _cp.cpSpaceStep
 NO_BUDGET = 1 << 62  # step on until the events' rule says stop
+LOOKAHEAD = 64  # inert mouse events the kernel's loop may run on over, at most
 
 
 def clean(space) -> bool:
@@ -44,6 +45,34 @@ def clean(space) -> bool:
     return not (space._bodies_to_check or space._add_later or space._remove_later
                 or space._post_step_callbacks or space.threaded or space._removed_shapes)
     # (``physics.simulation.queued``, inlined: it runs at every call)
+
+
+def _mouse(session: Session, history, runtime, step: int, event: dict,
+           rebuilding: bool) -> None:
+    """``Session.handle``'s branch for a mouse event at ``step``, in place: recorded
+    (logged, the future rewritten), then the runtime's maps (servo targets only)."""
+    if not rebuilding:
+        listener = session.listener
+        if listener is not None:
+            listener(step, event)  # logged
+        if step < history.head:
+            history.branch(step)  # new input: the future is rewritten
+        seq = history.next_seq  # history.record(step, event), inlined
+        history.events.append((seq, step, event))
+        history.next_seq = seq + 1
+    runtime.on_event(event)
+
+
+def inert(runtime, poll) -> bool:
+    """Whether a mouse event now would only store the mouse's position (and the
+    kernel's loop not read it): no map reads the mouse (the mode's or the states'),
+    no channel frame is pending, no frame target is held, no machine's state polls
+    device inputs alone (which an event stirs), and the loop's table reads no input
+    (``PollPlan``'s ``_offline``). Then it changes nothing before the next Python tick:
+    the loop runs on over it (``feed``)."""
+    if runtime._mouse_maps or runtime._pending or runtime.frames.held or poll._offline:
+        return False
+    return not any(machine.device_only for machine in runtime._device_machines)
 
 
 def feed(session: Session, events: Sequence, i: int, until: int | None, end: int | None,
@@ -90,7 +119,10 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                 on_event(i, event)
             i += 1
             kind = event["type"]
-            if kind == "mouse" or kind == "gamepad" or kind == "channels":
+            if kind == "mouse":
+                _mouse(session, history, runtime, now, event, rebuilding)
+                continue
+            if kind == "gamepad" or kind == "channels":
                 # the frequent events: Session.handle's branch for them, in place
                 if not rebuilding:
                     listener = session.listener
@@ -101,9 +133,6 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     seq = history.next_seq  # history.record(now, event), inlined
                     history.events.append((seq, now, event))
                     history.next_seq = seq + 1
-                if kind == "mouse":
-                    runtime.on_event(event)  # its maps: servo targets only (None)
-                    continue
                 if kind == "channels":  # a stream's frame (mocap)
                     runtime._on_channels(event["values"])
                     is_clean = clean(space)  # (a tracker coming back may take joints)
@@ -176,8 +205,41 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     poll = runtime.poll
                     until_poll = poll.ready(now) if poll is not None and is_clean else None
             if until_poll is not None:
+                # the mouse events coming while the kernel's loop runs, when they change
+                # nothing it reads or writes (inert): it runs on over them, and they are
+                # applied after it, each at its own step in the history (below)
+                over = i < n and events[i][0] == stop_at and session.listener is None \
+                    and inert(runtime, poll)
+                if over:
+                    cap = stop_at + budget  # (the budget, a tick, ``until``: as ever)
+                    if every:
+                        tick = stop_at - stop_at % every
+                        cap = stop_at if tick == stop_at else min(cap, tick + every)
+                    if until is not None and until < cap:
+                        cap = until
+                    j, last_at = i, stop_at
+                    while j < n and j - i < LOOKAHEAD:
+                        at_j, event_j = events[j]
+                        if at_j >= cap or at_j < last_at or event_j["type"] != "mouse":
+                            break
+                        j, last_at = j + 1, at_j
+                    reach = events[j][0] if j < n and j - i < LOOKAHEAD else last_at
+                    reach = cap if reach > cap else reach
+                    budget -= reach - stop_at
+                    stop_at = reach
                 sim.steps = now = poll.run(ptr, dt, now, until_poll, stop_at, health, checks,
                                            resume)
+                if over:
+                    while i < n and events[i][0] < now:  # (inert mouse events: passed)
+                        at, event = events[i]
+                        if on_event is not None:
+                            on_event(i, event)
+                        i += 1
+                        _mouse(session, history, runtime, at, event, rebuilding)
+                    if i < n and events[i][0] < stop_at:  # stopped before the next
+                        budget += stop_at - events[i][0]  # event: the stretch ends there,
+                        stop_at = events[i][0]  # as without the run over (at ``now``:
+                        # its events act before the tick there)
                 wake = runtime.next_wakeup
                 boundary = now if now % frame == 0 else -1
             else:
