@@ -78,15 +78,16 @@ def inert(runtime, poll) -> bool:
 def feed(session: Session, events: Sequence, i: int, until: int | None, end: int | None,
          budget: int = NO_BUDGET, every: int = 0,
          on_event: Callable[[int, dict], None] | None = None,
-         on_action: Callable[[object], object] | None = None) -> tuple[int, bool]:
+         on_action: Callable[[int, object], object] | None = None) -> tuple[int, bool]:
     """Apply ``events[i:]`` ((step, event) pairs, in order) at their steps, stepping
     the physics between them, by ``playback.next_move``'s rule (``until``: the
     replay's until step, ``end``: where it runs on to once the events run out), for
     at most ``budget`` steps; the events due at the step reached act too (a replay's
     frame: ``LogFeeder.advance``). ``every``: return as soon as a stretch of steps ends
     on a multiple of it (``play``'s ticks, before that step's events). ``on_event``:
-    called with each event's index first; ``on_action``: with each app action an
-    event asks for. Returns (the next event's index, whether it stopped at a tick)."""
+    called with each event's index first; ``on_action``: with the next event's index
+    and each app action an event asks for. Returns (the next event's index, whether it
+    stopped at a tick)."""
     n = len(events)
     sim, history = session.sim, session.history
     runtime = session.runtime
@@ -147,7 +148,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
             else:
                 action = session.handle(event)
             if action is not None and on_action is not None:
-                on_action(action)
+                on_action(i, action)
             # anything may have changed: the runtime (a reload), the space (a reset, a
             # restore, a grasp), the steps (a rewind)
             runtime, rebuilding = session.runtime, session._rebuilding
@@ -244,7 +245,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                 boundary = now if now % frame == 0 else -1
             else:
                 stop = stop_at if wake is None or wake >= stop_at else wake
-                if idle is not None and is_clean and stop > now:
+                if idle is not None and is_clean and stop > now + 1:  # (one step: Python)
                     # nothing due before ``stop``: the kernel steps on to it (or to the
                     # next health check) with the frame check between the steps, and
                     # returns at the first frame that fails it (checked below again)

@@ -401,4 +401,10 @@ class LogFeeder:
         one call of the session's stepping loop: a replay's hot path, an event every
         frame, a frame a few steps)."""
         self.i = feed(self.session, self.events, self.i, self.until, self.end, steps,
-                      on_action=self.on_action)[0]
+                      on_action=None if self.on_action is None else self._acted)[0]
+
+    def _acted(self, i: int, action) -> None:
+        """An app action an event asked for: ``i`` is the next event's index then (the
+        callback may read it: the playtest's slowdown in force)."""
+        self.i = i
+        self.on_action(action)
