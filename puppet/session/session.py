@@ -19,7 +19,7 @@ from puppet.interface.runtime import InterfaceRuntime
 from puppet.physics.simulation import DEFAULT_DT, Simulation
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
-from puppet.session.stepping import MAX_SPEED2, feed, idle_for
+from puppet.session.stepping import MAX_SPEED2, feed, idle_for, recorded
 
 FRAME_SECONDS = 1 / 60  # the cheap leaving-the-world check runs this often (a frame)
 WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends: gone
@@ -99,15 +99,7 @@ class Session:
         if kind == "channels" or kind == "mouse" or kind == "gamepad":  # the frequent
             runtime = self.runtime  # events: recorded, then the runtime's fast paths
             if not self._rebuilding:
-                steps = self.sim.steps
-                if self.listener is not None:
-                    self.listener(steps, event)  # logged
-                history = self.history
-                if steps < history.head:
-                    history.branch(steps)  # new input: the future is rewritten
-                seq = history.next_seq  # history.record(steps, event), inlined
-                history.events.append((seq, steps, event))
-                history.next_seq = seq + 1
+                recorded(self, self.history, self.sim.steps, event)
             if kind == "channels":  # a stream's frame (mocap)
                 runtime._on_channels(event["values"])
                 return None

@@ -47,20 +47,18 @@ def clean(space) -> bool:
     # (``physics.simulation.queued``, inlined: it runs at every call)
 
 
-def _mouse(session: Session, history, runtime, step: int, event: dict,
-           rebuilding: bool) -> None:
-    """``Session.handle``'s branch for a mouse event at ``step``, in place: recorded
-    (logged, the future rewritten), then the runtime's maps (servo targets only)."""
-    if not rebuilding:
-        listener = session.listener
-        if listener is not None:
-            listener(step, event)  # logged
-        if step < history.head:
-            history.branch(step)  # new input: the future is rewritten
-        seq = history.next_seq  # history.record(step, event), inlined
-        history.events.append((seq, step, event))
-        history.next_seq = seq + 1
-    runtime.on_event(event)
+def recorded(session: Session, history, step: int, event: dict) -> None:
+    """A frequent event (mouse, gamepad, channels) at ``step`` into the history, as
+    ``Session.handle`` records it (not while re-simulating): logged, the future
+    rewritten after a rewind, then kept."""
+    listener = session.listener
+    if listener is not None:
+        listener(step, event)  # logged
+    if step < history.head:
+        history.branch(step)  # new input: the future is rewritten
+    seq = history.next_seq  # history.record(step, event), inlined
+    history.events.append((seq, step, event))
+    history.next_seq = seq + 1
 
 
 def inert(runtime, poll) -> bool:
@@ -120,20 +118,13 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                 on_event(i, event)
             i += 1
             kind = event["type"]
-            if kind == "mouse":
-                _mouse(session, history, runtime, now, event, rebuilding)
-                continue
-            if kind == "gamepad" or kind == "channels":
+            if kind == "mouse" or kind == "gamepad" or kind == "channels":
                 # the frequent events: Session.handle's branch for them, in place
                 if not rebuilding:
-                    listener = session.listener
-                    if listener is not None:
-                        listener(now, event)  # logged
-                    if now < history.head:
-                        history.branch(now)  # new input: the future is rewritten
-                    seq = history.next_seq  # history.record(now, event), inlined
-                    history.events.append((seq, now, event))
-                    history.next_seq = seq + 1
+                    recorded(session, history, now, event)
+                if kind == "mouse":
+                    runtime.on_event(event)  # its maps: servo targets only (None)
+                    continue
                 if kind == "channels":  # a stream's frame (mocap)
                     runtime._on_channels(event["values"])
                     is_clean = clean(space)  # (a tracker coming back may take joints)
@@ -236,7 +227,9 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                         if on_event is not None:
                             on_event(i, event)
                         i += 1
-                        _mouse(session, history, runtime, at, event, rebuilding)
+                        if not rebuilding:
+                            recorded(session, history, at, event)
+                        runtime.on_event(event)
                     if i < n and events[i][0] < stop_at:  # stopped before the next
                         budget += stop_at - events[i][0]  # event: the stretch ends there,
                         stop_at = events[i][0]  # as without the run over (at ``now``:
