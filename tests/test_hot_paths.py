@@ -282,12 +282,12 @@ def test_a_sensor_map_holding_a_frame_target_every_step_keeps_the_frames_schedul
 
 
 def test_advance_steps_chipmunk_itself_exactly_when_step_space_would():
-    """Session.advance calls cpSpaceStep itself when ``_clean``: nothing queued in
+    """The stepping loop calls cpSpaceStep itself when ``clean``: nothing queued in
     pymunk's space (step_space's own test) and no shape to let go of after a step."""
     import pymunk
 
     from puppet.physics.simulation import queued
-    from puppet.session.session import _clean
+    from puppet.session.stepping import clean as _clean
 
     space = pymunk.Space()
     assert _clean(space) and not queued(space)

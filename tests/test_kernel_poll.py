@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import pytest
 from kernel_paths import needs_cc
+from stepwise import stepwise
 
 from puppet.interface import poll_plan
 from puppet.interface.controllers import feedback_kernel as fk
@@ -55,8 +56,8 @@ def _trace(name: str, loop: bool):
                       session.sim.state_hash()))
     session.advance = traced
     poll_plan.PollPlan.run = counted
-    try:
-        LogFeeder(session, log).advance(log.last_step)
+    try:  # (event by event: a trace after each advance call)
+        stepwise(session, log.pairs(), None, end_step=log.last_step)
     finally:
         poll_plan.PollPlan.run = run
     assert trace[-1][-1] == log.end_hash, name

@@ -9,9 +9,11 @@ the paper's cat trot).
 from __future__ import annotations
 
 import math
+from operator import attrgetter
 
 from puppet.data.interfaces import GridMapSpec
 from puppet.interface.ik import hermite
+from puppet.physics.kernel_maps import MAX_MIRRORS
 from puppet.physics.servo import SET_TARGET
 
 
@@ -206,7 +208,47 @@ def _grid_run(grids):
                 SET_TARGET(servo.spring._constraint,
                            0.0 + w0 * a0 + w1 * a1 + w2 * a2 + w3 * a3)
         return joints
-    return apply_grid_run
+    compiled = _grid_run_kernel(grids, flips, uses, x_name, y_name, joints)
+    return apply_grid_run if compiled is None else compiled
+
+
+def _grid_run_kernel(grids, flips, uses, x_name, y_name, joints):
+    """``apply_grid_run`` as one call of the kernel's ``pk_grid_run`` (the same
+    arithmetic, the same bits: ``physics.kernel_maps``); None without the kernel."""
+    from puppet.physics import kernel
+
+    kern = kernel.get()
+    if kern is None or len(flips) > MAX_MIRRORS:
+        return None
+    ffi, run = kern.ffi, kern.lib.pk_grid_run
+    (_, _, rows, cols), _, _, _, _ = grids[0]
+    servos = [servo for g in grids for servo in g[2]]
+    mirror = [k for g, k in zip(grids, uses) for _ in g[2]]
+    cells = [g[4][r][c][q] for g in grids for q in range(len(g[2]))
+             for r in range(rows) for c in range(cols)]
+    g = ffi.new("pk_grid_table *")
+    keep = [ffi.new("int[]", mirror), ffi.new("double[]", cells),
+            ffi.new("void *[]", len(servos))]
+    g.use, g.cells, g.spring = keep
+    g.n_flips, g.rows, g.cols, g.n = len(flips), rows, cols, len(servos)
+    for k, (flip_x, flip_y) in enumerate(flips):
+        g.flip_x[k], g.flip_y[k] = int(flip_x), int(flip_y)
+    spring_of = attrgetter("spring")
+    bound = [None]  # the springs the kernel points at (a restore binds new ones)
+
+    def apply_grid_run_kernel(values):
+        x0, y0 = values.get(x_name), values.get(y_name)
+        if x0 is None or y0 is None:
+            return ()
+        springs = tuple(map(spring_of, servos))
+        if springs != bound[0]:
+            for j, spring in enumerate(springs):
+                keep[2][j] = kern.pointer(spring._constraint)
+            bound[0] = springs
+        run(g, x0, y0)
+        return joints
+    apply_grid_run_kernel.keep = (g, keep)  # (the arrays live as long as the applier)
+    return apply_grid_run_kernel
 
 
 def _compile_linear(spec, servos, channels=None):
@@ -244,7 +286,7 @@ def _compile_clamped_linear(spec, out, joints, channels=None):
             v = value(values)
             if v is None:
                 return ()
-            servo.target = gain * v
+            SET_TARGET(servo.spring._constraint, gain * v)  # servo.target =
             return joints
         return apply_curved
     source = None  # where the input is read: the values handed in, or the channels
@@ -257,7 +299,7 @@ def _compile_clamped_linear(spec, out, joints, channels=None):
             return ()
         u = (v - x0) * inv
         u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
-        servo.target = gain * (lo + u * span)
+        SET_TARGET(servo.spring._constraint, gain * (lo + u * span))  # servo.target =
         return joints
     apply_input.plain = (source, (name, x0, inv, lo, span, gain, servo, joints[0]))
     return apply_input

@@ -27,11 +27,13 @@ import os
 import sys
 import sysconfig
 
+from puppet.physics.kernel_maps import MAPS_CDEF, MAPS_SOURCE
 from puppet.physics.kernel_poll import POLL_CDEF, POLL_SOURCE
 from puppet.physics.kernel_source import CDEF as _CDEF
 from puppet.physics.kernel_source import SOURCE as _SOURCE
 
 CDEF, SOURCE = _CDEF + POLL_CDEF, _SOURCE + POLL_SOURCE  # (the stepping loop: kernel_poll)
+CDEF, SOURCE = CDEF + MAPS_CDEF, SOURCE + MAPS_SOURCE  # (pose grids: kernel_maps)
 
 # no contraction into fused multiply-adds, no reassociation, no sincos (kernel_source)
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin", "-fno-strict-aliasing"]

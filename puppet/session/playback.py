@@ -16,6 +16,7 @@ from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
 from puppet.interface.events import Event
+from puppet.session.stepping import feed
 
 if TYPE_CHECKING:  # the session itself plays its history back through here
     from puppet.session.session import Session
@@ -54,24 +55,13 @@ def play(session: Session, events: Iterable[tuple[int, Event]], until_step: int 
     ``on_tick`` (if given) is called every ``every`` steps, e.g. to render frames.
     ``on_event`` (if given) is called with the index and event before each is applied.
     """
-    pending = iter(events)
-    index = 0
-    nxt = next(pending, None)
-    ticking = bool(every) and on_tick is not None
-    while (move := next_move(session.steps, None if nxt is None else nxt[0], until_step,
-                             end_step)) is not None:
-        if move == 0:
-            if on_event is not None:
-                on_event(index, nxt[1])
-            session.handle(nxt[1])
-            index += 1
-            nxt = next(pending, None)
-            continue
-        if ticking:
-            move = min(move, every - session.steps % every)
-        session.advance(move)
-        if ticking and session.steps % every == 0:
-            on_tick(session)
+    events = events if isinstance(events, (list, tuple)) else list(events)
+    every = every if every and on_tick is not None else 0
+    i, ticked = feed(session, events, 0, until_step, end_step, every=every, on_event=on_event)
+    while ticked:  # (a stretch of steps ended on a multiple of ``every``)
+        on_tick(session)
+        i, ticked = feed(session, events, i, until_step, end_step, every=every,
+                         on_event=on_event)
 
 
 def ticks(*pairs: tuple[int, Callable | None]) -> tuple[int, Callable | None]:

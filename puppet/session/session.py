@@ -11,31 +11,18 @@ import dataclasses
 import json
 from collections.abc import Callable
 
-from pymunk._chipmunk_cffi import lib as _cp
-
 from puppet.data.catalog import Setup, parse_interface_text
 from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, MAX_SPEED, Simulation, step_space
+from puppet.physics.simulation import DEFAULT_DT, Simulation
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
+from puppet.session.stepping import MAX_SPEED2, feed, idle_for, recorded
 
 FRAME_SECONDS = 1 / 60  # the cheap leaving-the-world check runs this often (a frame)
 WORLD_MARGIN = 1.0  # m below the lowest ground point, or past the ground's ends: gone
-MAX_SPEED2 = MAX_SPEED ** 2
-# the root's position and velocity each frame: pymunk's own C calls, without its Vec2d
-_position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
-_space_step = _cp.cpSpaceStep
-
-
-def _clean(space) -> bool:
-    """``step_space`` would only call Chipmunk's step: nothing queued in pymunk's space,
-    nothing to let go of after a step (then ``advance`` calls the C step itself)."""
-    return not (space._bodies_to_check or space._add_later or space._remove_later
-                or space._post_step_callbacks or space.threaded or space._removed_shapes)
-    # (``physics.simulation.queued``, inlined: it runs at every call of ``advance``)
 
 
 def world_box(scene) -> tuple[float, float, float, float]:
@@ -86,6 +73,7 @@ class Session:
         self._root_name = self.sim.character.link_order[0]
         self._advance_constants = (self._frame_every, self._root_name, *self._world)
         self._frame = (*self._advance_constants, MAX_SPEED2)  # (the kernel's loop checks it)
+        self._idle = idle_for(self._frame)  # (the steps where nothing is due, in C)
         start = self._snapshot()  # re-seated, like every checkpoint
         self._start = start.sim
         self.history = History(dt, checkpoint_interval, keyframes=keyframes)
@@ -111,15 +99,7 @@ class Session:
         if kind == "channels" or kind == "mouse" or kind == "gamepad":  # the frequent
             runtime = self.runtime  # events: recorded, then the runtime's fast paths
             if not self._rebuilding:
-                steps = self.sim.steps
-                if self.listener is not None:
-                    self.listener(steps, event)  # logged
-                history = self.history
-                if steps < history.head:
-                    history.branch(steps)  # new input: the future is rewritten
-                seq = history.next_seq  # history.record(steps, event), inlined
-                history.events.append((seq, steps, event))
-                history.next_seq = seq + 1
+                recorded(self, self.history, self.sim.steps, event)
             if kind == "channels":  # a stream's frame (mocap)
                 runtime._on_channels(event["values"])
                 return None
@@ -285,113 +265,10 @@ class Session:
     def advance(self, steps: int = 1) -> None:
         """Step the physics, taking the history's snapshots at their step boundaries
         (and recovering from a blow-up there), so the result does not depend on how
-        the steps are split between calls."""
-        if steps <= 0:
-            return
-        runtime = self.runtime
-        if runtime._pending:
-            runtime.flush()  # the last channels frame's maps, before stepping
-        sim, history = self.sim, self.history
-        now = sim.steps
-        if now < history.head and not self._rebuilding:
-            history.branch(now)  # playing on from a rewound point
-        if self.halted:  # time goes on, the physics stands still
-            sim.steps += steps
-            if sim.steps > history.head and not self._rebuilding:
-                history.head = sim.steps
-            return
-        end = now + steps
-        # a frame check at each ``every`` steps (the full one at ``health``): the root
-        # link (by name) must stay in the box x0..x1, y0..y1
-        every, root, x0, x1, y0, y1 = self._advance_constants
-        health = history.health_every
-        dt, space = sim.dt, sim.space
-        clean = _clean(space)  # (a tick that adds to the space is checked again)
-        ptr = space._space
-        while now < end:
-            # Time-driven interface work (sequences, reaches, timers...) runs at the
-            # steps the runtime asks for; when idle (next_wakeup None) the physics
-            # steps in one tight loop up to the next history boundary.
-            wake = runtime.next_wakeup
-            until = None
-            if wake is not None and wake <= now:
-                # what is due next all the kernel's to do: its loop (interface.poll_plan;
-                # the same steps, ticks and bits), from this tick on where the last
-                # call's loop stopped at its end, else after Python's tick
-                poll = runtime.poll
-                resume = poll is not None and poll.resume == now and clean \
-                    and poll.seat == (sim.space, sim.seats)
-                # (the last run stopped at ``now``, its call's end, on the space there is
-                # now, not re-seated since: Chipmunk lists a re-seated space's contacts
-                # only once it steps; then the tick at ``now`` may be the kernel's)
-                if resume:
-                    until = poll.ready(now)
-                if until is None:
-                    resume = False
-                    runtime.tick(now)
-                    wake = runtime.next_wakeup
-                    space = sim.space
-                    clean = _clean(space)
-                    ptr = space._space
-                    poll = runtime.poll
-                    until = poll.ready(now) if poll is not None and clean else None
-            if until is not None:
-                sim.steps = now = poll.run(ptr, dt, now, until, end, health, self._frame,
-                                           resume)
-                wake = runtime.next_wakeup
-                boundary = now if now % every == 0 else -1
-            else:
-                boundary = now - now % every + every
-                stop = end if end < boundary else boundary
-                if wake is not None and wake < stop:
-                    stop = wake
-                if clean:  # Simulation.step, inlined: step_space's C steps
-                    for _ in range(stop - now):
-                        _space_step(ptr, dt)
-                else:
-                    step_space(space, dt, stop - now)
-                    clean = _clean(space)
-                sim.steps = now = stop
-            if now == boundary:
-                if now % health == 0:
-                    self._at_boundary()  # a recovery restores the state, not the step count
-                    runtime = self.runtime  # and may switch interface versions
-                    space = sim.space  # (a keyframe re-seats it)
-                    clean = _clean(space)
-                    ptr = space._space
-                else:  # the root alone, each frame: NaN fails every comparison
-                    body = sim.character.bodies[root]._body
-                    while True:
-                        p = _position(body)
-                        x, y = p.x, p.y
-                        ok = x0 < x < x1 and y0 < y < y1
-                        if ok:
-                            v = _velocity(body)
-                            vx, vy = v.x, v.y
-                            ok = vx * vx + vy * vy < MAX_SPEED2
-                        # passed, and the next frame whole, with nothing due in it and
-                        # no health check at its end: it is stepped and checked here
-                        # (what the outer loop would do, at more cost)
-                        nxt = now + every
-                        if not (ok and clean and nxt <= end and nxt % health
-                                and (wake is None or wake >= nxt)):
-                            break
-                        for _ in range(every):
-                            _space_step(ptr, dt)
-                        sim.steps = now = nxt
-                    if ok:
-                        continue  # (not halted: only a recovery halts)
-                    self._recover()
-                    runtime = self.runtime
-                    space = sim.space
-                    clean = _clean(space)
-                    ptr = space._space
-                if self.halted:
-                    sim.steps = end  # the rest of the call: time only
-                    break
-        now = sim.steps
-        if now > history.head and not self._rebuilding:
-            history.head = now
+        the steps are split between calls (``stepping.feed``: the one stepping loop,
+        which the replays also run, with their events)."""
+        if steps > 0:
+            feed(self, (), 0, None, self.sim.steps + steps, steps)
 
     # -- history: checkpoints, rewind, blow-up recovery --------------------------------
     def _snapshot(self) -> Snapshot:

@@ -22,6 +22,7 @@ from puppet.data.catalog import Folders, Setup, file_hash, find, load_setup, set
 from puppet.data.errors import DataError
 from puppet.session import Session
 from puppet.session.playback import next_move, play, ticks
+from puppet.session.stepping import feed
 from puppet.timeline.log import Log, embedded_problem, read_log
 from puppet.timeline.quoting import reload_error, unquoted_error
 from puppet.timeline.trajectory import Sampler, Trajectory
@@ -399,47 +400,14 @@ class LogFeeder:
         return self._move() is None
 
     def advance(self, steps: int) -> None:
-        """Run up to ``steps`` steps; the events due at the step reached act too."""
-        if self.until is not None:
-            self._advance(steps)
-            return
-        # ``_advance`` without an until step, ``next_move`` inlined (a replay's hot
-        # loop: an event every frame, a frame a few steps)
-        session, events, end, on_action = self.session, self.events, self.end, self.on_action
-        handle, n, i = session.handle, len(events), self.i
-        budget = steps
-        while True:
-            now = session.sim.steps
-            if i < n:
-                at, event = events[i]
-                if at <= now:  # due: it acts now
-                    action = handle(event)
-                    self.i = i = i + 1
-                    if action is not None and on_action is not None:
-                        on_action(action)
-                    continue
-                move = at - now
-            elif end is None or end <= now:
-                return
-            else:
-                move = end - now
-            if budget <= 0:
-                return
-            k = budget if budget < move else move
-            session.advance(k)
-            budget -= k
+        """Run up to ``steps`` steps; the events due at the step reached act too (in
+        one call of the session's stepping loop: a replay's hot path, an event every
+        frame, a frame a few steps)."""
+        self.i = feed(self.session, self.events, self.i, self.until, self.end, steps,
+                      on_action=None if self.on_action is None else self._acted)[0]
 
-    def _advance(self, steps: int) -> None:
-        budget = steps
-        while (move := self._move()) is not None:
-            if move == 0:
-                action = self.session.handle(self.events[self.i][1])
-                self.i += 1
-                if action is not None and self.on_action is not None:
-                    self.on_action(action)
-            elif budget <= 0:
-                return
-            else:
-                k = min(budget, move)
-                self.session.advance(k)
-                budget -= k
+    def _acted(self, i: int, action) -> None:
+        """An app action an event asked for: ``i`` is the next event's index then (the
+        callback may read it: the playtest's slowdown in force)."""
+        self.i = i
+        self.on_action(action)
