@@ -136,7 +136,8 @@ class TookOff(Check, kw_only=True):
             return missing
         length, first, i, touching, where = found
         xs = [float(traj.x[i, traj.index(n)]) for n in touching]
-        lows = [float(traj.lowest[i, traj.index(n)]) for n in touching]
+        lows = ([float(traj.lowest[i, traj.index(n)]) for n in touching]
+                if self.min_height is not None else [])
         ok = not [n for n in touching if n not in self.links]
         ok = ok and length >= self.min_seconds - 1e-9 and (
             self.max_x is None or all(x <= self.max_x for x in xs)) and (
