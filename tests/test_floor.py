@@ -273,6 +273,20 @@ def test_touched_finds_a_foot_up_on_the_wall_before_the_flight():
                         _Feet(WALL_C, WALL_LOW, WALL_X)).passed
 
 
+def test_took_off_min_height_tells_a_take_off_from_the_wall_from_one_off_the_floor():
+    """The flight began from the foot 0.5 m up the wall (sample 2); the same flight
+    begun from the foot back on the floor below it (lowest point 0) fails min_height."""
+    item = {"links": ["foot"], "min_height": 0.2}
+    got = _outcome({"took_off": item}, _Feet(WALL_C, WALL_LOW, WALL_X))
+    assert got.passed and got.measured.endswith("foot at x = 0.550 (lowest point 0.500 m up)")
+    assert abs(got.margin - 0.3) < 1e-9
+    floor = [row[:] for row in WALL_LOW]
+    floor[2] = [0.0, 1]  # the foot slid down the wall to the floor before the flight
+    low = _outcome({"took_off": item}, _Feet(WALL_C, floor, WALL_X))
+    assert not low.passed and abs(low.margin + 0.2) < 1e-9
+    assert _outcome({"took_off": {"links": ["foot"]}}, _Feet(WALL_C, floor, WALL_X)).passed
+
+
 def test_touched_before_flight_ignores_a_touch_after_the_longest_flight():
     late = [[1, 0], [1, 0], [0, 0], [0, 0], [0, 0], [1, 0], [1, 0], [1, 0]]
     low = [[0, 1], [0, 1], [1, 1], [1, 1], [1, 1], [0.5, 1], [0.5, 1], [0, 1]]

@@ -113,17 +113,21 @@ def _flight_end(check: Check, traj, before: bool):
 class TookOff(Check, kw_only=True):
     """The longest flight (no link of the character touching) began from ``links`` only
     (those touching at the last sample before it), each with its centre of mass at
-    ``max_x`` or less, and lasted ``min_seconds``: a take-off behind a line."""
+    ``max_x`` or less and its lowest point ``min_height`` or more up, and lasted
+    ``min_seconds``: a take-off behind a line; off a wall, not the floor below it."""
 
     kind = "took_off"
     unit = "m"
     links: Links
     max_x: Measure | None = None  # m: x of each take-off link, at most
+    min_height: Measure | None = None  # m: each take-off link's lowest point, at least
     min_seconds: Time = 0.0  # s the flight lasted, at least
 
     def describe(self) -> str:
         return (f"took_off from {', '.join(self.links)} only"
                 + (f", each at x <= {self.max_x:g} m" if self.max_x is not None else "")
+                + (f", each lowest point >= {self.min_height:g} m"
+                   if self.min_height is not None else "")
                 + (f", flight min {self.min_seconds:g} s" if self.min_seconds else ""))
 
     def evaluate(self, traj, at: Checking):
@@ -132,11 +136,18 @@ class TookOff(Check, kw_only=True):
             return missing
         length, first, i, touching, where = found
         xs = [float(traj.x[i, traj.index(n)]) for n in touching]
+        lows = ([float(traj.lowest[i, traj.index(n)]) for n in touching]
+                if self.min_height is not None else [])
         ok = not [n for n in touching if n not in self.links]
         ok = ok and length >= self.min_seconds - 1e-9 and (
-            self.max_x is None or all(x <= self.max_x for x in xs))
+            self.max_x is None or all(x <= self.max_x for x in xs)) and (
+            self.min_height is None or all(y >= self.min_height - 1e-9 for y in lows))
         parts = ([(length - self.min_seconds, "s")] if self.min_seconds else []) + (
-            [(self.max_x - max(xs), "m")] if self.max_x is not None and xs else [])
+            [(self.max_x - max(xs), "m")] if self.max_x is not None and xs else []) + (
+            [(min(lows) - self.min_height, "m")] if self.min_height is not None and lows
+            else [])
+        if self.min_height is not None and lows:
+            where += f" (lowest point {min(lows):.3f} m up)"
         margin, unit = _nearest(*parts)
         if [n for n in touching if n not in self.links]:
             margin, unit = NOTHING, self.unit
