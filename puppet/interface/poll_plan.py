@@ -3,8 +3,11 @@
 After a tick (``InterfaceRuntime.tick``), ``PollPlan.ready`` says whether the work due
 until something else happens is only what ``physics.kernel_poll``'s ``pk_poll`` does:
 one state machine's polled transitions on sensors it reads (a link's contact, world
-angle or spin, a joint's angle; a device input or channel, which no step changes, is
-read here once) and a blend's plain targets travelling, at the control period. Then
+angle or spin, a joint's angle, a link's height; the centre of mass's place, velocity,
+fall time and offset from a link, the body's spin; a device input or channel, which no
+step changes, is read here once), a blend's plain targets travelling and the held
+frame targets re-solved (``FrameTargets.tick``: a biped's world-held joints), at the
+control period. Then
 ``Session.advance`` hands the steps to ``run``, which returns at the first step where
 a transition holds (or the frame check fails, or a timer, a blend's arrival, a
 history boundary or the call's end comes) with the runtime rescheduled as though it
@@ -14,9 +17,10 @@ Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
 own compiled call, ``pk_feedback_tick``, whose arrays keep its base and last writes).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
-device inputs alone, another sensor (a lean, an offset from a link), a frame target,
-any other busy controller, a second machine, a tracker. Without the kernel there is
-no plan (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
+device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
+target taken back by a later write or travelling in a blend, any other busy
+controller, a second machine, a tracker. Without the kernel there is no plan
+(``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
 """
 
 from __future__ import annotations
@@ -28,10 +32,12 @@ from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
-# contact, its angle within a turn, a joint's angle, a link's spin, its height
+# contact, its angle within a turn, a joint's angle, a link's spin, its height; and
+# the centre of mass's (COM: its place, velocity, fall time, the body's spin; com.dx
+# from a link)
 KINDS = {"contact": _fk.CONTACT, "angle": _fk.ANGLE, "joint": _fk.JOINT, "spin": _fk.SPIN,
          "height": _fk.HEIGHT}
-COM = _fk.COM  # the centre of mass's (its position, velocity and fall time)
+COM = _fk.COM  # the centre of mass's (its position, velocity, fall time; the body's spin)
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
@@ -43,6 +49,9 @@ def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
         return KINDS["angle"], root
     if sensor in COM:
         return COM[sensor], None
+    if sensor.startswith("com.dx."):  # from a link (the support polygon: Python's)
+        name = sensor[len("com.dx."):]
+        return None if name == "support" or "." in name else (_fk.COM_DX, name)
     kind, _, name = sensor.partition(".")
     if kind in KINDS and name and "." not in name:
         return KINDS[kind], name
@@ -60,16 +69,18 @@ class PollPlan:
         n = MAX_CONDITIONS
         self.plan = p = ffi.new("pk_poll_plan *")
         # the arrays live as long as the plan (cffi frees them with their owners)
-        self._keep = [ffi.new("int[]", n) for _ in range(10)] + \
-            [ffi.new("void *[]", n) for _ in range(3)] + [ffi.new("double[]", n) for _ in range(4)]
+        self._keep = [ffi.new("int[]", n) for _ in range(11)] + \
+            [ffi.new("void *[]", n) for _ in range(7)] + [ffi.new("double[]", n) for _ in range(5)]
         (p.first, p.period, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
-         p.body_a, p.body_b, p.spring, p.lo, p.hi, p.start, p.to) = self._keep
+         p.f_hold_parent, p.body_a, p.body_b, p.spring, p.f_parent, p.f_child, p.f_ref,
+         p.f_spring, p.lo, p.hi, p.start, p.to, p.f_angle) = self._keep
         self._tables: dict = {}  # (machine, state, binding) -> transitions or None
         self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
         self._frame = None  # the session's frame check, as written into the plan
         self.machine = runtime._machine_list[0]  # (plan_for: one machine)
         self._state = self._binding = self._current = None  # the state's table (ready)
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
+        self._frames_kept: tuple = ()  # the held frame targets the plan was filled with
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
@@ -135,8 +146,8 @@ class PollPlan:
                             lo, hi, want))
                 continue
             kind = condition_kind(sensor, root)
-            if kind is None:
-                return None
+            if kind is None or (kind[0] == _fk.COM_DX and kind[1] not in rt.character.bodies):
+                return None  # (a name no link has: Python's reader says so)
             out.append((*kind, lo, hi, want))
         return out
 
@@ -166,7 +177,7 @@ class PollPlan:
             self._state, self._binding = machine.current, rt.roles.binding
             self._current = self._table(machine)
         table = self._current
-        if table is None or rt.frames.held:  # (a walker's every tick: left at once)
+        if table is None:
             return None
         feeding, feedback = self.ffi.NULL, rt.feedback
         if feedback.busy:  # sensor maps: all add maps it can run, at the same period
@@ -176,10 +187,19 @@ class PollPlan:
         if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
+        frames = rt.frames
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
-                    and controller is not feedback:
+                    and controller is not feedback and controller is not frames:
                 return None
+        held = frames.held
+        if held:  # frame targets: re-solved at the control steps, each by its owner
+            if frames.every != machine.every or frames not in rt._active:
+                return None  # (runtime.tick's reschedule: Python's)
+            owners = rt.owners.table
+            for joint, (_, owner) in held.items():
+                if owners.get(joint) != owner:  # taken back: Python's tick lets it go
+                    return None
         seq = sequences.running
         if seq is not None:
             if SEQUENCE not in rt.owners.table.values():  # (its tick ends it: Python's)
@@ -190,16 +210,21 @@ class PollPlan:
                                      and not self._quiet_now(machine, step)):
             return None
         moving, owners = blends.moving, rt.owners.table
-        for joint in moving:
-            if owners.get(joint) != BLEND:  # taken back: Python's tick lets it go
-                return None
+        for joint, m in moving.items():
+            if m[4] is not None or owners.get(joint) != BLEND:  # a frame target travels
+                return None  # (blend holds it anew each tick), or taken back: Python's
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
-        # bodies (a re-seat makes new ones), the period and the travelling targets
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.items())
+        # bodies (a re-seat makes new ones), the period, the travelling targets and the
+        # held frame targets (each hold is a new pair: compared by identity, as 0.0 and
+        # -0.0 are equal but need not solve alike; the pairs kept so their ids stay)
+        frames_now = tuple(held.values())
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()),
+               tuple(map(id, frames_now)))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
+            self._frames_kept = frames_now
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
             self._until = self._fill(table, machine, every, seq)
@@ -297,9 +322,20 @@ class PollPlan:
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
+        n, null, frame_joints = 0, self.ffi.NULL, rt.frames.joints
+        for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
+            if n >= MAX_CONDITIONS:
+                return None
+            spec, ref = frame_joints[joint], target.ref
+            p.f_parent[n] = self.pointer(bodies[spec.parent]._body)
+            p.f_child[n] = self.pointer(bodies[spec.child]._body)
+            p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
+            p.f_spring[n] = self.pointer(servos[joint].spring._constraint)
+            p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
+            n += 1
+        p.n_frame = n
         if uses_com:  # Character._com_kernel's arguments, for these bodies
-            character._com_kernel_now()
-            args = self._com_args = character._com_rows[2]  # (kept alive)
+            args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
         self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
         return until  # goes on after an input event, which Python's would tick at)

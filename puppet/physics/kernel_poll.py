@@ -18,7 +18,10 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
     joint's angle, a link's spin, its height;
   * then the travelling targets of a blend (``BlendController._write``: the eased
-    value, smoothstep, written as the servo's rest angle).
+    value, smoothstep, written as the servo's rest angle), the held frame targets
+    (``FrameTargets.tick``: each joint's target re-solved from the links' angles of
+    now by ``pk_frame``, the world-held and the relative ones), and feedback's add
+    maps.
 
 With ``tick_first`` it does the tick at ``now`` too: the call goes on from where
 the last one stopped at its end (an input event came there, which changed nothing
@@ -48,6 +51,10 @@ typedef struct {
     void **spring;    /* per travelling joint: its damped rotary spring */
     double *start, *to;
     int *b_first, *b_last;
+    int n_frame;      /* per held frame target (FrameTargets.held, in its order): */
+    void **f_parent, **f_child, **f_ref, **f_spring;  /* pk_frame's arguments */
+    double *f_angle;
+    int *f_hold_parent;
     pk_feedback *feedback;  /* NULL, or Feedback's add maps (pk_feedback_tick's) */
     int fb_ticks;     /* control steps the kernel ran them at (this call) */
     void **com_bodies;  /* the centre of mass (pk_com's arguments) */
@@ -83,6 +90,9 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
                com->v);
         com->done = 1;
     }
+    if (kind == PK_S_COM_SPIN)  /* com.spin (Character.com_spin) */
+        return pk_spin_about(p->com_bodies, p->com_mass, p->com_gx, p->com_gy, p->com_n,
+                             com->v);
     return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
@@ -128,6 +138,9 @@ static int pk_tick(pk_poll_plan *p, int s)
         u = u * u * (3.0 - 2.0 * u);
         set_rest_angle(p->spring[j], p->start[j] + (p->to[j] - p->start[j]) * u);
     }
+    for (int j = 0; j < p->n_frame; j++)  /* FrameTargets.tick: each held joint re-solved */
+        pk_frame(p->f_parent[j], p->f_child[j], p->f_ref[j], p->f_angle[j],
+                 p->f_hold_parent[j], p->f_spring[j]);
     if (p->feedback) {  /* Feedback.tick: pk_feedback_tick, the centre of mass shared */
         pk_feedback_add(p->feedback, com.v, &com.done);
         p->fb_ticks++;

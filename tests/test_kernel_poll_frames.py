@@ -1,0 +1,126 @@
+"""The kernel's stepping loop holds a biped's frame targets (``FrameTargets.tick``, the
+world-held and relative joints re-solved from the links' angles at every control step)
+as Python's ticks do: the biped logs whose states poll at every step with joints held
+in the world replay call by call to the same states, held targets, servo targets and
+physics bits with the loop, without it (Python's ticks on the kernel) and on the
+pure-Python path, fed all at once and a few steps a call (runs that stop at a call's
+end and go on from there); and a link's angle made NaN or infinite there is solved
+into the same targets, to the bit, on every path.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+
+import pytest
+from kernel_paths import needs_cc, trace
+
+from puppet.interface import poll_plan
+from puppet.timeline.log import read_log
+from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
+
+# the walk-up long jump (its walk polls at 480 Hz, hips and ankles held in the world),
+# the back flip, the handstand and the kip (world-held waists and split legs)
+HELD = ["biped-longjump", "biped-backflip", "biped-handstand", "biped-kip"]
+
+
+def _bits(values) -> list[bytes]:
+    """Floats as their bits (NaN included: == would not say two NaNs agree)."""
+    return [struct.pack("<d", v) for v in values]
+
+
+def _traces(name: str, path_of, chunk: int | None):
+    log = read_log(f"assets/logs/{name}.jsonl")
+    assert path_of("c") is not None
+    with_loop, runs, frames = trace(log, True, chunk)
+    assert frames > 0, (runs, frames)  # the loop re-solved frame targets
+    ticks, none, _ = trace(log, False, chunk)
+    assert none == 0
+    assert path_of("python") is None
+    in_python, none, _ = trace(log, True, chunk)
+    assert none == 0  # no kernel, no loop
+    assert len(with_loop) == len(ticks) == len(in_python)
+    for a, b, c in zip(with_loop, ticks, in_python):
+        assert a == b == c, (a, b, c)
+    assert with_loop[-1][-1] == log.end_hash, name
+
+
+@needs_cc
+@pytest.mark.parametrize("name", HELD)
+def test_the_loop_holds_frame_targets_as_the_ticks_do(name, path_of):
+    _traces(name, path_of, None)
+
+
+@needs_cc
+def test_runs_cut_at_each_call_hold_them_alike(path_of):
+    """Fed 37 steps a call: each run stops at its call's end and the next goes on
+    from there (``tick_first``), the frame targets re-solved at that step too."""
+    _traces("biped-longjump", path_of, 37)
+
+
+def _non_finite(link: str, value: float, loop: bool):
+    """biped-longjump replayed into its walk (hips and an ankle held in the world, the
+    loop running), ``link``'s angle set to ``value``, then 6 steps a call at a time:
+    after each, the servo targets' bits, the machine's state and the physics' hash;
+    and how many of the loop's runs re-solved frame targets."""
+    log = read_log("assets/logs/biped-longjump.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    LogFeeder(session, log).advance(650)
+    rt = session.runtime
+    assert rt.machines["main"].current == "adown_near" and "hip_near" in rt.frames.held
+    if not loop:
+        rt.poll = None
+    session.sim.character.bodies[link].angle = value
+    run, frames = poll_plan.PollPlan.run, [0]
+
+    def counted(self, *args, **kwargs):
+        frames[0] += self.plan.n_frame > 0
+        return run(self, *args, **kwargs)
+    poll_plan.PollPlan.run = counted
+    out = []
+    try:
+        for _ in range(6):
+            session.advance(1)
+            out.append((session.sim.steps, rt.machines["main"].current,
+                        _bits(s.target for s in session.character.servos.values()),
+                        session.sim.state_hash()))
+    finally:
+        poll_plan.PollPlan.run = run
+    return out, frames[0]
+
+
+def _alike(kernel_bits: list[bytes], python_bits: list[bytes]) -> bool:
+    """The same targets, a NaN where the other has one: a NaN's sign bit may differ
+    after C's and Python's arithmetic order it differently (``kernel.cos``'s note; no
+    hash of a blown-up state is judged, and the state hashes must agree)."""
+    for a, b in zip(kernel_bits, python_bits, strict=True):
+        x, y = struct.unpack("<d", a)[0], struct.unpack("<d", b)[0]
+        if a != b and not (math.isnan(x) and math.isnan(y)):
+            return False
+    return True
+
+
+@needs_cc
+@pytest.mark.parametrize("link,value", [("pelvis", math.nan), ("thigh_near", math.inf),
+                                        ("chest", -math.inf)])
+def test_a_non_finite_angle_is_held_alike_on_every_path(link, value, path_of):
+    """A held joint's parent, child or the chest made NaN or infinite: the kernel's
+    ``pk_frame`` in the loop writes the bits it writes in Python's tick, and Python's
+    solve (its ``remainder`` answering as libm's) the same targets, NaN for NaN; the
+    states, and the session's recovery, are the same on every path."""
+    assert path_of("c") is not None
+    with_loop, frames = _non_finite(link, value, True)
+    assert frames > 0  # the loop solved them on the non-finite state
+    assert any(math.isnan(struct.unpack("<d", b)[0]) for b in with_loop[0][2])
+    ticks, none = _non_finite(link, value, False)
+    assert none == 0
+    assert with_loop == ticks  # the kernel's two ways: to the bit
+    assert path_of("python") is None
+    in_python, none = _non_finite(link, value, True)
+    assert none == 0
+    assert len(in_python) == len(with_loop)
+    for (step, state, bits, hashed), (step2, state2, bits2, hashed2) in zip(with_loop,
+                                                                           in_python):
+        assert (step, state, hashed) == (step2, state2, hashed2)
+        assert _alike(bits, bits2), step
