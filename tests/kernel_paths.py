@@ -22,18 +22,20 @@ def trace(log, loop: bool, chunk: int | None = None):
     starts; the next wake-up), the controllers with work, every servo's target and the
     physics' hash. ``loop``: the kernel's loop may run (it needs the kernel); else every
     tick is Python's. Returns (trace, the loop's runs, those of them that re-solved
-    frame targets)."""
+    frame targets, those with a frame target's angle travelling in a blend)."""
     from puppet.interface import poll_plan
     from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
     session = new_session(log, setup_for_log(log)[0])
-    runs = [0, 0]
+    runs = [0, 0, 0]
     advance, run = session.advance, poll_plan.PollPlan.run
     out = []
 
     def counted(self, *args, **kwargs):
         runs[0] += 1
-        runs[1] += self.plan.n_frame > 0
+        p = self.plan
+        runs[1] += p.n_frame > 0
+        runs[2] += any(p.f_blend[j] >= 0 for j in range(p.n_frame))
         return run(self, *args, **kwargs)
 
     def traced(steps=1):
@@ -54,4 +56,4 @@ def trace(log, loop: bool, chunk: int | None = None):
             feeder.advance(chunk or log.last_step)
     finally:
         poll_plan.PollPlan.run = run
-    return out, runs[0], runs[1]
+    return out, runs[0], runs[1], runs[2]

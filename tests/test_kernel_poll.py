@@ -32,7 +32,7 @@ HOT = ["luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip", "luxo-kip
 def _trace(name: str, loop: bool):
     """``kernel_paths.trace`` of a shipped log, which ends on its recorded hash."""
     log = read_log(f"assets/logs/{name}.jsonl")
-    out, runs, _ = trace(log, loop)
+    out, runs, _, _ = trace(log, loop)
     assert out[-1][-1] == log.end_hash, name
     return out, runs
 

@@ -29,6 +29,7 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poses import made_frame_target
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
@@ -69,11 +70,11 @@ class PollPlan:
         n = MAX_CONDITIONS
         self.plan = p = ffi.new("pk_poll_plan *")
         # the arrays live as long as the plan (cffi frees them with their owners)
-        self._keep = [ffi.new("int[]", n) for _ in range(11)] + \
-            [ffi.new("void *[]", n) for _ in range(7)] + [ffi.new("double[]", n) for _ in range(5)]
+        self._keep = [ffi.new("int[]", n) for _ in range(12)] + \
+            [ffi.new("void *[]", n) for _ in range(7)] + [ffi.new("double[]", n) for _ in range(6)]
         (p.first, p.period, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
-         p.f_hold_parent, p.body_a, p.body_b, p.spring, p.f_parent, p.f_child, p.f_ref,
-         p.f_spring, p.lo, p.hi, p.start, p.to, p.f_angle) = self._keep
+         p.f_hold_parent, p.f_blend, p.body_a, p.body_b, p.spring, p.f_parent, p.f_child,
+         p.f_ref, p.f_spring, p.lo, p.hi, p.start, p.to, p.f_angle, p.b_value) = self._keep
         self._tables: dict = {}  # (machine, state, binding) -> transitions or None
         self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
         self._frame = None  # the session's frame check, as written into the plan
@@ -83,6 +84,7 @@ class PollPlan:
         self._frames_kept: tuple = ()  # the held frame targets the plan was filled with
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
+        self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self.resume = -1  # the step the last run stopped at, its call's end (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
@@ -210,15 +212,22 @@ class PollPlan:
                                      and not self._quiet_now(machine, step)):
             return None
         moving, owners = blends.moving, rt.owners.table
+        travelling = False  # a frame target's angle travels (blend holds it each tick)
         for joint, m in moving.items():
-            if m[4] is not None or owners.get(joint) != BLEND:  # a frame target travels
-                return None  # (blend holds it anew each tick), or taken back: Python's
+            if owners.get(joint) != BLEND:  # taken back: Python's tick lets it go
+                return None
+            if m[4] is not None:
+                if joint not in held:
+                    return None
+                travelling = True
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
         # bodies (a re-seat makes new ones), the period, the travelling targets and the
         # held frame targets (each hold is a new pair: compared by identity, as 0.0 and
-        # -0.0 are equal but need not solve alike; the pairs kept so their ids stay)
-        frames_now = tuple(held.values())
+        # -0.0 are equal but need not solve alike; the pairs kept so their ids stay;
+        # a travelling one's angle is the blend's, the loop's hand-back a new pair)
+        frames_now = tuple(v for j, v in held.items() if j not in moving) if travelling \
+            else tuple(held.values())
         key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()),
                tuple(map(id, frames_now)))
         if table is not self._filled or sim.space is not self._space or key != self._key \
@@ -313,16 +322,21 @@ class PollPlan:
                 continue
             i = c0  # an input condition that does not hold: the transition cannot fire
         p.n_trans = k
-        n, servos = 0, character.servos
+        n, servos, null = 0, character.servos, self.ffi.NULL
+        self._travelling = travelling = {}  # joint -> its travel (a frame target's)
         for joint, (start, to, first, last, target) in rt.blends.moving.items():
-            if target is not None or n >= MAX_CONDITIONS:
+            if n >= MAX_CONDITIONS:
                 return None
-            p.spring[n] = self.pointer(servos[joint].spring._constraint)
+            if target is None:
+                p.spring[n] = self.pointer(servos[joint].spring._constraint)
+            else:  # (its angle: the frame loop's)
+                p.spring[n] = null
+                travelling[joint] = n
             p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
-        n, null, frame_joints = 0, self.ffi.NULL, rt.frames.joints
+        n, frame_joints = 0, rt.frames.joints
         for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
             if n >= MAX_CONDITIONS:
                 return None
@@ -332,6 +346,7 @@ class PollPlan:
             p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
             p.f_spring[n] = self.pointer(servos[joint].spring._constraint)
             p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
+            p.f_blend[n] = travelling.get(joint, -1)
             n += 1
         p.n_frame = n
         if uses_com:  # Character._com_kernel's arguments, for these bodies
@@ -366,6 +381,12 @@ class PollPlan:
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
+        if self._travelling and p.writes:  # the blend's holds at the last control step
+            held, b_value = rt.frames.held, p.b_value  # (BlendController._write's)
+            for joint, j in self._travelling.items():
+                target = held[joint][0]
+                held[joint] = (made_frame_target(target.ref, b_value[j], target.hold_parent),
+                               BLEND)
         if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held
