@@ -124,10 +124,10 @@ def _alike(kernel_bits: list[bytes], python_bits: list[bytes]) -> bool:
     ("biped-backflip", "pelvis", math.inf)])
 def test_a_non_finite_angle_is_held_alike_on_every_path(name, link, value, path_of):
     """A held joint's parent, child or the chest made NaN or infinite, held or
-    travelling: the kernel's
-    ``pk_frame`` in the loop writes the bits it writes in Python's tick, and Python's
-    solve (its ``remainder`` answering as libm's) the same targets, NaN for NaN; the
-    states, and the session's recovery, are the same on every path."""
+    travelling: the kernel's ``pk_frame`` in the loop writes the bits it writes in
+    Python's tick, and Python's solve (its ``remainder`` answering as libm's) the same
+    targets, NaN for NaN; the states, the held targets and the session's recovery are
+    the same on every path."""
     assert path_of("c") is not None
     with_loop, frames = _non_finite(name, link, value, True)
     assert frames > 0  # the loop solved them on the non-finite state
