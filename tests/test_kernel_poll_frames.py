@@ -22,8 +22,11 @@ from puppet.timeline.log import read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
 # the walk-up long jump (its walk polls at 480 Hz, hips and ankles held in the world),
-# the back flip, the handstand and the kip (world-held waists and split legs)
-HELD = ["biped-longjump", "biped-backflip", "biped-handstand", "biped-kip"]
+# the back flip, the handstand and the kip (world-held waists and split legs), and the
+# automatic walk (its frame maps hold the joints anew at each input event: the plan's
+# angles written again, the rest of it kept)
+HELD = ["biped-longjump", "biped-backflip", "biped-handstand", "biped-kip",
+        "biped-auto-walk"]
 
 
 def _bits(values) -> list[bytes]:

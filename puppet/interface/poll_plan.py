@@ -82,6 +82,8 @@ class PollPlan:
         self._state = self._binding = self._current = None  # the state's table (ready)
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
         self._frames_kept: tuple = ()  # the held frame targets the plan was filled with
+        self._frames_ids: tuple = ()  # (their ids)
+        self._frame_rows: list | None = None  # per frame row: (joint, ref, hold_parent)
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
@@ -228,15 +230,19 @@ class PollPlan:
         # a travelling one's angle is the blend's, the loop's hand-back a new pair)
         frames_now = tuple(v for j, v in held.items() if j not in moving) if travelling \
             else tuple(held.values())
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()),
-               tuple(map(id, frames_now)))
+        frames_ids = tuple(map(id, frames_now))
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
-            self._frames_kept = frames_now
+            self._frames_ids, self._frames_kept = frames_ids, frames_now
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
             self._until = self._fill(table, machine, every, seq)
+        elif frames_ids != self._frames_ids:  # only held again (a frame map, each event)
+            self._frames_ids, self._frames_kept = frames_ids, frames_now
+            if not self._held_again(held):
+                self._until = self._fill(table, machine, every, seq)
         if feeding is not self._feeding:  # (the same struct: already in the plan)
             self._feeding = self.plan.feedback = feeding
         if self._com:
@@ -247,6 +253,20 @@ class PollPlan:
                 p.since[k] = since.get(index, -1)
         until = self._until
         return until if until is not None and until > step else None  # (due now: Python)
+
+    def _held_again(self, held: dict) -> bool:
+        """The same joints held in the same frames, at new angles: written into the
+        plan's rows (False: held otherwise, the plan must be filled again)."""
+        rows = self._frame_rows
+        if rows is None or len(rows) != len(held):
+            return False
+        angle = self.plan.f_angle
+        for n, ((joint, (target, _)), (was, ref, hold_parent)) in enumerate(zip(held.items(),
+                                                                                 rows)):
+            if joint != was or target.ref != ref or target.hold_parent != hold_parent:
+                return False
+            angle[n] = target.angle
+        return True
 
     @staticmethod
     def _quiet_now(machine, step: int) -> bool:
@@ -276,6 +296,7 @@ class PollPlan:
         k = i = 0
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
+        self._frame_rows = None
         uses_com = False
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
@@ -336,11 +357,12 @@ class PollPlan:
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
-        n, frame_joints = 0, rt.frames.joints
+        n, frame_joints, rows = 0, rt.frames.joints, []
         for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
             if n >= MAX_CONDITIONS:
                 return None
             spec, ref = frame_joints[joint], target.ref
+            rows.append((joint, ref, target.hold_parent))
             p.f_parent[n] = self.pointer(bodies[spec.parent]._body)
             p.f_child[n] = self.pointer(bodies[spec.child]._body)
             p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
@@ -348,7 +370,7 @@ class PollPlan:
             p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
             p.f_blend[n] = travelling.get(joint, -1)
             n += 1
-        p.n_frame = n
+        p.n_frame, self._frame_rows = n, rows
         if uses_com:  # Character._com_kernel's arguments, for these bodies
             args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
