@@ -177,6 +177,8 @@ class PollPlan:
         of a one-machine interface, so it is kept lean: the state's table is looked up
         once per state, and the plan filled again only when what it holds changed."""
         rt, machine = self.runtime, self.machine
+        if step != self.resume:  # Python ticked before the step the last run went on to
+            self.resume = -1
         if machine.current is not self._state or rt.roles.binding is not self._binding:
             self._state, self._binding = machine.current, rt.roles.binding
             self._current = self._table(machine)
@@ -413,13 +415,7 @@ class PollPlan:
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held
                                    if since[k] >= 0}
-        # stopped at the call's end, nothing due there: the next call may go on (an
-        # input event comes first; ``ready`` says whether it changed anything)
-        if s == end and s < until and s < last:
-            sim = rt.sim
-            self.resume, self.seat = s, (sim.space, sim.seats)
-        else:
-            self.resume = -1
+        self.resume = -1
         # rt._reschedule(s), for what ``ready`` allows: the controllers with work are
         # those that had it (the run changed none of their schedules' inputs), and the
         # one machine
@@ -435,7 +431,14 @@ class PollPlan:
         at = self.machine.next_wakeup(s)
         if at is not None and (wake is None or at < wake):
             wake = at
-        rt.next_wakeup = wake if wake is None or wake > s else s
+        rt.next_wakeup = wake = wake if wake is None or wake > s else s
+        # stopped at the call's end: the next call may go on at the next tick (the
+        # session steps to it as the loop would; an input event comes first, and
+        # ``ready`` says whether it changed anything), when nothing else is due there
+        # and no history boundary comes before it
+        if s == end and wake is not None and wake < until and wake < last:
+            sim = rt.sim
+            self.resume, self.seat = wake, (sim.space, sim.seats)
         return s
 
 
