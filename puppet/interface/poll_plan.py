@@ -88,7 +88,7 @@ class PollPlan:
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
-        self.resume = -1  # the step the last run stopped at, its call's end (see run)
+        self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
 
