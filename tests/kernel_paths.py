@@ -1,6 +1,7 @@
 """Shared by the compiled kernel's tests: ``needs_cc`` skips where no C compiler is on
 the PATH (the ``path_of`` fixture, which switches a test between the kernel and the
-pure-Python path, is in conftest.py)."""
+pure-Python path, is in conftest.py); ``trace`` replays a log call by call, with or
+without the kernel's stepping loop (``pk_poll``)."""
 
 from __future__ import annotations
 
@@ -11,3 +12,49 @@ import pytest
 
 needs_cc = pytest.mark.skipif(shutil.which(os.environ.get("CC", "cc")) is None
                               and shutil.which("gcc") is None, reason="no C compiler")
+
+
+def trace(log, loop: bool, chunk: int | None = None):
+    """Replay ``log`` (a read log), ``chunk`` steps a call (None: all in one); after
+    each of the session's advance calls: the step, the runtime's whole state (its
+    inputs, with the sensors feedback read; the controllers' states, with feedback's
+    bases and last writes and the held frame targets; the machines', with their `for`s'
+    starts; the next wake-up), the controllers with work, every servo's target and the
+    physics' hash. ``loop``: the kernel's loop may run (it needs the kernel); else every
+    tick is Python's. Returns (trace, the loop's runs, those of them that re-solved
+    frame targets, those with a frame target's angle travelling in a blend)."""
+    from stepwise import stepwise
+
+    from puppet.interface import poll_plan
+    from puppet.timeline.replay import new_session, setup_for_log
+
+    session = new_session(log, setup_for_log(log)[0])
+    runs = [0, 0, 0]
+    advance, run = session.advance, poll_plan.PollPlan.run
+    out = []
+
+    def counted(self, *args, **kwargs):
+        runs[0] += 1
+        p = self.plan
+        runs[1] += p.n_frame > 0
+        runs[2] += any(p.f_blend[j] >= 0 for j in range(p.n_frame))
+        return run(self, *args, **kwargs)
+
+    def traced(steps=1):
+        if not loop:
+            session.runtime.poll = None
+        advance(steps)
+        rt = session.runtime
+        out.append((session.sim.steps, rt.get_state(), [type(c) for c in rt._active],
+                    [s.target for s in session.character.servos.values()],
+                    session.sim.state_hash()))
+    session.advance = traced
+    poll_plan.PollPlan.run = counted
+    try:
+        # the reference loop (an advance call between events, cut every ``chunk``
+        # steps): LogFeeder's stepping loop hands runs of events to one call
+        stepwise(session, log.pairs(), None, every=chunk or 0,
+                 on_tick=(lambda _s: None) if chunk else None, end_step=log.last_step)
+    finally:
+        poll_plan.PollPlan.run = run
+    return out, runs[0], runs[1], runs[2]

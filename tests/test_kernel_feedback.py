@@ -16,7 +16,8 @@ from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 # every kind the kernel reads, and those it is handed (the lean, a servo's torque)
 SENSORS = ["com.x", "com.y", "com.vx", "com.vy", "com.dx.foot_near", "angle.thigh_far",
            "spin.pelvis", "joint.knee_near", "height.foot_far", "lead.foot_far.foot_near",
-           "root.angle", "com.dx.support", "com.fall_time", "lean", "torque.hip_far"]
+           "root.angle", "com.dx.support", "com.fall_time", "com.spin", "lean",
+           "torque.hip_far"]
 
 
 def _session(name: str):

@@ -16,8 +16,7 @@ None reads a clock.
 from __future__ import annotations
 
 import pytest
-from kernel_paths import needs_cc
-from stepwise import stepwise
+from kernel_paths import needs_cc, trace
 
 from puppet.interface import poll_plan
 from puppet.interface.controllers import feedback_kernel as fk
@@ -31,37 +30,11 @@ HOT = ["luxo-shuffle", "luxo-back-headspring", "luxo-double-backflip", "luxo-kip
 
 
 def _trace(name: str, loop: bool):
-    """Replay a log; after each of the session's advance calls: the step, the
-    runtime's whole state (its inputs, with the sensors feedback read; the controllers'
-    states, with feedback's bases and last writes; the machines', with their `for`s'
-    starts; the next wake-up), the controllers with work, and the physics' hash.
-    ``loop``: the kernel's loop may run (it needs the kernel); else every tick is
-    Python's. Returns (trace, the loop's runs)."""
+    """``kernel_paths.trace`` of a shipped log, which ends on its recorded hash."""
     log = read_log(f"assets/logs/{name}.jsonl")
-    session = new_session(log, setup_for_log(log)[0])
-    runs = [0]
-    advance, run = session.advance, poll_plan.PollPlan.run
-    trace = []
-
-    def counted(self, *args, **kwargs):
-        runs[0] += 1
-        return run(self, *args, **kwargs)
-
-    def traced(steps=1):
-        if not loop:
-            session.runtime.poll = None
-        advance(steps)
-        rt = session.runtime
-        trace.append((session.sim.steps, rt.get_state(), [type(c) for c in rt._active],
-                      session.sim.state_hash()))
-    session.advance = traced
-    poll_plan.PollPlan.run = counted
-    try:  # (event by event: a trace after each advance call)
-        stepwise(session, log.pairs(), None, end_step=log.last_step)
-    finally:
-        poll_plan.PollPlan.run = run
-    assert trace[-1][-1] == log.end_hash, name
-    return trace, runs[0]
+    out, runs, _, _ = trace(log, loop)
+    assert out[-1][-1] == log.end_hash, name
+    return out, runs
 
 
 @needs_cc
@@ -88,8 +61,8 @@ def test_no_loop_on_the_python_path(path_of):
 
 @needs_cc
 def test_what_the_table_cannot_express_stays_in_python(path_of):
-    """A lean, an offset from a link: no table; a `for` is in it, and so is the fall
-    time."""
+    """A lean, the support polygon, a lead: no table; a `for` is in it, and so are
+    the fall time, the body's spin and an offset from a link."""
     assert path_of("c") is not None
     assert poll_plan.condition_kind("root.angle", "base") == (fk.ANGLE, "base")
     assert poll_plan.condition_kind("contact.base", "base") == (fk.CONTACT, "base")
@@ -98,8 +71,9 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     assert poll_plan.condition_kind("height.base", "base") == (fk.HEIGHT, "base")
     assert poll_plan.condition_kind("com.fall_time", "base") == (fk.FALL_TIME, None)
     assert poll_plan.condition_kind("com.vy", "base") == (fk.COM_VY, None)
-    for sensor in ("lean", "com.dx.base", "com.spin",
-                   "lead.base.shade"):
+    assert poll_plan.condition_kind("com.spin", "base") == (fk.COM_SPIN, None)
+    assert poll_plan.condition_kind("com.dx.base", "base") == (fk.COM_DX, "base")
+    for sensor in ("lean", "com.dx.support", "com.dx.a.b", "lead.base.shade"):
         assert poll_plan.condition_kind(sensor, "base") is None, sensor
     log = read_log("assets/logs/luxo-back-headspring.jsonl")
     session = new_session(log, setup_for_log(log)[0])

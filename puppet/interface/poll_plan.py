@@ -3,20 +3,26 @@
 After a tick (``InterfaceRuntime.tick``), ``PollPlan.ready`` says whether the work due
 until something else happens is only what ``physics.kernel_poll``'s ``pk_poll`` does:
 one state machine's polled transitions on sensors it reads (a link's contact, world
-angle or spin, a joint's angle; a device input or channel, which no step changes, is
-read here once) and a blend's plain targets travelling, at the control period. Then
+angle or spin, a joint's angle, a link's height; the centre of mass's place, velocity,
+fall time and offset from a link, the body's spin; a device input or channel, which no
+step changes, is read here once), a blend's plain targets travelling and the held
+frame targets re-solved (``FrameTargets.tick``: a biped's world-held joints), at the
+control period. Then
 ``Session.advance`` hands the steps to ``run``, which returns at the first step where
 a transition holds (or the frame check fails, or a timer, a blend's arrival, a
 history boundary or the call's end comes) with the runtime rescheduled as though it
 had ticked at every step in between: the next tick runs exactly where it would have.
+A run cut at its call's end (an input event) goes on at the next tick, the kernel's
+(``resume``), if ``ready`` finds the plan still holds what is due there.
 
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
 own compiled call, ``pk_feedback_tick``, whose arrays keep its base and last writes).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
-device inputs alone, another sensor (a lean, an offset from a link), a frame target,
-any other busy controller, a second machine, a tracker. Without the kernel there is
-no plan (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
+device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
+target taken back by a later write or travelling in a blend, any other busy
+controller, a second machine, a tracker. Without the kernel there is no plan
+(``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
 """
 
 from __future__ import annotations
@@ -25,13 +31,16 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poses import made_frame_target
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
-# contact, its angle within a turn, a joint's angle, a link's spin, its height
+# contact, its angle within a turn, a joint's angle, a link's spin, its height; and
+# the centre of mass's (COM: its place, velocity, fall time, the body's spin; com.dx
+# from a link)
 KINDS = {"contact": _fk.CONTACT, "angle": _fk.ANGLE, "joint": _fk.JOINT, "spin": _fk.SPIN,
          "height": _fk.HEIGHT}
-COM = _fk.COM  # the centre of mass's (its position, velocity and fall time)
+COM = _fk.COM  # the centre of mass's (its position, velocity, fall time; the body's spin)
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
@@ -43,6 +52,9 @@ def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
         return KINDS["angle"], root
     if sensor in COM:
         return COM[sensor], None
+    if sensor.startswith("com.dx."):  # from a link (the support polygon: Python's)
+        name = sensor[len("com.dx."):]
+        return None if name == "support" or "." in name else (_fk.COM_DX, name)
     kind, _, name = sensor.partition(".")
     if kind in KINDS and name and "." not in name:
         return KINDS[kind], name
@@ -60,20 +72,25 @@ class PollPlan:
         n = MAX_CONDITIONS
         self.plan = p = ffi.new("pk_poll_plan *")
         # the arrays live as long as the plan (cffi frees them with their owners)
-        self._keep = [ffi.new("int[]", n) for _ in range(10)] + \
-            [ffi.new("void *[]", n) for _ in range(3)] + [ffi.new("double[]", n) for _ in range(4)]
+        self._keep = [ffi.new("int[]", n) for _ in range(12)] + \
+            [ffi.new("void *[]", n) for _ in range(7)] + [ffi.new("double[]", n) for _ in range(6)]
         (p.first, p.period, p.hold, p.since, p.cond0, p.n_cond, p.kind, p.want, p.b_first, p.b_last,
-         p.body_a, p.body_b, p.spring, p.lo, p.hi, p.start, p.to) = self._keep
+         p.f_hold_parent, p.f_blend, p.body_a, p.body_b, p.spring, p.f_parent, p.f_child,
+         p.f_ref, p.f_spring, p.lo, p.hi, p.start, p.to, p.f_angle, p.b_value) = self._keep
         self._tables: dict = {}  # (machine, state, binding) -> transitions or None
         self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
         self._frame = None  # the session's frame check, as written into the plan
         self.machine = runtime._machine_list[0]  # (plan_for: one machine)
         self._state = self._binding = self._current = None  # the state's table (ready)
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
+        self._frames_kept: tuple = ()  # the held frame targets the plan was filled with
+        self._frames_ids: tuple = ()  # (their ids)
+        self._frame_rows: list | None = None  # per frame row: (joint, ref, hold_parent)
         self._offline = False  # the plan's table reads an input: filled at each ready
         self._held: list = []  # the plan's transitions with a `for` (_fill)
+        self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
-        self.resume = -1  # the step the last run stopped at, its call's end (see run)
+        self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
 
@@ -135,8 +152,8 @@ class PollPlan:
                             lo, hi, want))
                 continue
             kind = condition_kind(sensor, root)
-            if kind is None:
-                return None
+            if kind is None or (kind[0] == _fk.COM_DX and kind[1] not in rt.character.bodies):
+                return None  # (a name no link has: Python's reader says so)
             out.append((*kind, lo, hi, want))
         return out
 
@@ -162,11 +179,13 @@ class PollPlan:
         of a one-machine interface, so it is kept lean: the state's table is looked up
         once per state, and the plan filled again only when what it holds changed."""
         rt, machine = self.runtime, self.machine
+        if step != self.resume:  # Python ticked before the step the last run went on to
+            self.resume = -1
         if machine.current is not self._state or rt.roles.binding is not self._binding:
             self._state, self._binding = machine.current, rt.roles.binding
             self._current = self._table(machine)
         table = self._current
-        if table is None or rt.frames.held:  # (a walker's every tick: left at once)
+        if table is None:
             return None
         feeding, feedback = self.ffi.NULL, rt.feedback
         if feedback.busy:  # sensor maps: all add maps it can run, at the same period
@@ -176,10 +195,19 @@ class PollPlan:
         if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
+        frames = rt.frames
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
-                    and controller is not feedback:
+                    and controller is not feedback and controller is not frames:
                 return None
+        held = frames.held
+        if held:  # frame targets: re-solved at the control steps, each by its owner
+            if frames.every != machine.every or frames not in rt._active:
+                return None  # (runtime.tick's reschedule: Python's)
+            owners = rt.owners.table
+            for joint, (_, owner) in held.items():
+                if owners.get(joint) != owner:  # taken back: Python's tick lets it go
+                    return None
         seq = sequences.running
         if seq is not None:
             if SEQUENCE not in rt.owners.table.values():  # (its tick ends it: Python's)
@@ -190,19 +218,35 @@ class PollPlan:
                                      and not self._quiet_now(machine, step)):
             return None
         moving, owners = blends.moving, rt.owners.table
-        for joint in moving:
+        travelling = False  # a frame target's angle travels (blend holds it each tick)
+        for joint, m in moving.items():
             if owners.get(joint) != BLEND:  # taken back: Python's tick lets it go
                 return None
+            if m[4] is not None:
+                if joint not in held:
+                    return None
+                travelling = True
         sim = rt.sim
         # what the plan holds: the table, when the state was entered, the polls, the
-        # bodies (a re-seat makes new ones), the period and the travelling targets
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, *moving.items())
+        # bodies (a re-seat makes new ones), the period, the travelling targets and the
+        # held frame targets (each hold is a new pair: compared by identity, as 0.0 and
+        # -0.0 are equal but need not solve alike; the pairs kept so their ids stay;
+        # a travelling one's angle is the blend's, the loop's hand-back a new pair)
+        frames_now = tuple(v for j, v in held.items() if j not in moving) if travelling \
+            else tuple(held.values())
+        frames_ids = tuple(map(id, frames_now))
+        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
+            self._frames_ids, self._frames_kept = frames_ids, frames_now
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
             self._until = self._fill(table, machine, every, seq)
+        elif frames_ids != self._frames_ids:  # only held again (a frame map, each event)
+            self._frames_ids, self._frames_kept = frames_ids, frames_now
+            if not self._held_again(held):
+                self._until = self._fill(table, machine, every, seq)
         if feeding is not self._feeding:  # (the same struct: already in the plan)
             self._feeding = self.plan.feedback = feeding
         if self._com:
@@ -213,6 +257,20 @@ class PollPlan:
                 p.since[k] = since.get(index, -1)
         until = self._until
         return until if until is not None and until > step else None  # (due now: Python)
+
+    def _held_again(self, held: dict) -> bool:
+        """The same joints held in the same frames, at new angles: written into the
+        plan's rows (False: held otherwise, the plan must be filled again)."""
+        rows = self._frame_rows
+        if rows is None or len(rows) != len(held):
+            return False
+        angle = self.plan.f_angle
+        for n, ((joint, (target, _)), (was, ref, hold_parent)) in enumerate(zip(held.items(),
+                                                                                 rows)):
+            if joint != was or target.ref != ref or target.hold_parent != hold_parent:
+                return False
+            angle[n] = target.angle
+        return True
 
     @staticmethod
     def _quiet_now(machine, step: int) -> bool:
@@ -242,6 +300,7 @@ class PollPlan:
         k = i = 0
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
+        self._frame_rows = None
         uses_com = False
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
@@ -288,18 +347,36 @@ class PollPlan:
                 continue
             i = c0  # an input condition that does not hold: the transition cannot fire
         p.n_trans = k
-        n, servos = 0, character.servos
+        n, servos, null = 0, character.servos, self.ffi.NULL
+        self._travelling = travelling = {}  # joint -> its travel (a frame target's)
         for joint, (start, to, first, last, target) in rt.blends.moving.items():
-            if target is not None or n >= MAX_CONDITIONS:
+            if n >= MAX_CONDITIONS:
                 return None
-            p.spring[n] = self.pointer(servos[joint].spring._constraint)
+            if target is None:
+                p.spring[n] = self.pointer(servos[joint].spring._constraint)
+            else:  # (its angle: the frame loop's)
+                p.spring[n] = null
+                travelling[joint] = n
             p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
             until = last if last < until else until
             n += 1
         p.n_blend, p.every = n, every
+        n, frame_joints, rows = 0, rt.frames.joints, []
+        for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
+            if n >= MAX_CONDITIONS:
+                return None
+            spec, ref = frame_joints[joint], target.ref
+            rows.append((joint, ref, target.hold_parent))
+            p.f_parent[n] = self.pointer(bodies[spec.parent]._body)
+            p.f_child[n] = self.pointer(bodies[spec.child]._body)
+            p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
+            p.f_spring[n] = self.pointer(servos[joint].spring._constraint)
+            p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
+            p.f_blend[n] = travelling.get(joint, -1)
+            n += 1
+        p.n_frame, self._frame_rows = n, rows
         if uses_com:  # Character._com_kernel's arguments, for these bodies
-            character._com_kernel_now()
-            args = self._com_args = character._com_rows[2]  # (kept alive)
+            args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
         self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
         return until  # goes on after an input event, which Python's would tick at)
@@ -330,17 +407,17 @@ class PollPlan:
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
+        if self._travelling and p.writes:  # the blend's holds at the last control step
+            held, b_value = rt.frames.held, p.b_value  # (BlendController._write's)
+            for joint, j in self._travelling.items():
+                target = held[joint][0]
+                held[joint] = (made_frame_target(target.ref, b_value[j], target.hold_parent),
+                               BLEND)
         if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held
                                    if since[k] >= 0}
-        # stopped at the call's end, nothing due there: the next call may go on (an
-        # input event comes first; ``ready`` says whether it changed anything)
-        if s == end and s < until and s < last:
-            sim = rt.sim
-            self.resume, self.seat = s, (sim.space, sim.seats)
-        else:
-            self.resume = -1
+        self.resume = -1
         # rt._reschedule(s), for what ``ready`` allows: the controllers with work are
         # those that had it (the run changed none of their schedules' inputs), and the
         # one machine
@@ -356,7 +433,14 @@ class PollPlan:
         at = self.machine.next_wakeup(s)
         if at is not None and (wake is None or at < wake):
             wake = at
-        rt.next_wakeup = wake if wake is None or wake > s else s
+        rt.next_wakeup = wake = wake if wake is None or wake > s else s
+        # stopped at the call's end: the next call may go on at the next tick (the
+        # session steps to it as the loop would; an input event comes first, and
+        # ``ready`` says whether it changed anything), when nothing else is due there
+        # and no history boundary comes before it
+        if s == end and wake is not None and wake < until and wake < last:
+            sim = rt.sim
+            self.resume, self.seat = wake, (sim.space, sim.seats)
         return s
 
 

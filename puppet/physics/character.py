@@ -302,25 +302,35 @@ class Character:
         return self._sampled("com_kernel", self._com_kernel_now)
 
     def _com_kernel_now(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        _, com, args, _ = self._com_bound()
+        com(*args)
+        out = args[-1]
+        return ((out[0], out[1]), (out[2], out[3]))
+
+    def _com_bound(self, kern=None) -> tuple:
+        """(bodies, pk_com, its arguments, pk_com_spin), the arguments pointing at the
+        bodies of now (a restore re-binds them); ``kern``: the kernel the caller holds
+        (else the loaded one)."""
         bodies = self.bodies
         cached = self.__dict__.get("_com_rows")
         if cached is None or cached[0] is not bodies:
-            k = _kernel.get()
+            k = kern or _kernel.get()
             ffi, values = k.ffi, list(bodies.values())
             args = (ffi.new("void *[]", [k.pointer(b._body) for b in values]),
                     ffi.new("double[]", [b.mass for b in values]),
                     ffi.new("double[]", [b.center_of_gravity[0] for b in values]),
                     ffi.new("double[]", [b.center_of_gravity[1] for b in values]),
                     len(values), self.mass, ffi.new("double[4]"))
-            cached = self._com_rows = (bodies, k.lib.pk_com, args)
-        _, com, args = cached
-        com(*args)
-        out = args[-1]
-        return ((out[0], out[1]), (out[2], out[3]))
+            cached = self._com_rows = (bodies, k.lib.pk_com, args, k.lib.pk_com_spin)
+        return cached
 
     def _com_spin(self) -> float:
         """Sum of m (r x v) + I w over the links, r and v relative to the centre of
-        mass, divided by sum of I + m r^2 (both about the centre of mass)."""
+        mass, divided by sum of I + m r^2 (both about the centre of mass); the compiled
+        kernel's ``pk_com_spin`` does the same sums in C, from the same centre of mass."""
+        if _kernel.get() is not None:
+            _, _, args, com_spin = self._com_bound()
+            return com_spin(*args)
         values, rows = self._read()
         cx, cy = self.com()
         vx, vy = self.com_velocity()

@@ -101,8 +101,10 @@ void pk_reach_set(const double *p, double d0, double d1, double dist, void *spri
 #define PK_S_SUPPORT 11
 #define PK_S_FALL_TIME 12
 #define PK_S_CONTACT 13
+#define PK_S_COM_SPIN 14
 #define PK_S_COM(kind) (((kind) >= PK_S_COM_X && (kind) <= PK_S_COM_DX) \
-                        || (kind) == PK_S_SUPPORT || (kind) == PK_S_FALL_TIME)
+                        || (kind) == PK_S_SUPPORT || (kind) == PK_S_FALL_TIME \
+                        || (kind) == PK_S_COM_SPIN)
 
 static pk_vect pk_link_position(void *b)  /* Character.link_position */
 {
@@ -117,7 +119,8 @@ static void pk_touched(void *body, void *arbiter, void *data)
 
 /* a sensor's value in its reader's units (radians, rad/s, m, m/s, s; a contact 0 or
    1), on links a and b; com: the centre of mass's x, y, vx, vy (pk_com, for the kinds
-   PK_S_COM says), gravity: -space.gravity.y */
+   PK_S_COM says), gravity: -space.gravity.y; PK_S_SUPPORT and PK_S_COM_SPIN (the
+   links' sums) are read by the callers */
 static double pk_sensor(int kind, void *a, void *b, const double *com, double gravity)
 {
     int touching;
@@ -173,6 +176,8 @@ static int pk_feedback_add(pk_feedback *f, double *com, int *com_done)
             double extent[2];
             v = pk_support(f->bodies, f->n_bodies, extent)
                 ? com[0] - 0.5 * (extent[0] + extent[1]) : 0.0;
+        } else if (kind == PK_S_COM_SPIN) {  /* com.spin, in map_reader's degrees */
+            v = pk_spin_about(f->bodies, f->mass, f->gx, f->gy, f->n_bodies, com) * TO_DEG;
         } else {
             v = pk_sensor(kind, f->a[i], f->b[i], com, f->gravity);
             if (kind == PK_S_ANGLE || kind == PK_S_SPIN || kind == PK_S_JOINT)

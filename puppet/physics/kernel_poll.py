@@ -18,7 +18,10 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
     joint's angle, a link's spin, its height;
   * then the travelling targets of a blend (``BlendController._write``: the eased
-    value, smoothstep, written as the servo's rest angle).
+    value, smoothstep, written as the servo's rest angle, or a frame target's angle),
+    the held frame targets (``FrameTargets.tick``: each joint's target re-solved from
+    the links' angles of now by ``pk_frame``, the world-held and the relative ones, a
+    travelling one at its eased angle), and feedback's add maps.
 
 With ``tick_first`` it does the tick at ``now`` too: the call goes on from where
 the last one stopped at its end (an input event came there, which changed nothing
@@ -45,9 +48,17 @@ typedef struct {
     double *lo, *hi;
     int *want;        /* -1: lo < value < hi; 0 or 1: an ``is`` */
     int n_blend;
-    void **spring;    /* per travelling joint: its damped rotary spring */
+    void **spring;    /* per travelling joint: its damped rotary spring (NULL: a frame
+                         target's angle travels, held by the frame loop below) */
     double *start, *to;
     int *b_first, *b_last;
+    double *b_value;  /* the value each wrote at the last control step */
+    int n_frame;      /* per held frame target (FrameTargets.held, in its order): */
+    void **f_parent, **f_child, **f_ref, **f_spring;  /* pk_frame's arguments */
+    double *f_angle;
+    int *f_hold_parent;
+    int *f_blend;     /* -1, or the travelling joint whose value is its angle */
+    int writes;       /* control steps the loop wrote at (this call) */
     pk_feedback *feedback;  /* NULL, or Feedback's add maps (pk_feedback_tick's) */
     int fb_ticks;     /* control steps the kernel ran them at (this call) */
     void **com_bodies;  /* the centre of mass (pk_com's arguments) */
@@ -83,6 +94,9 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
                com->v);
         com->done = 1;
     }
+    if (kind == PK_S_COM_SPIN)  /* com.spin (Character.com_spin) */
+        return pk_spin_about(p->com_bodies, p->com_mass, p->com_gx, p->com_gy, p->com_n,
+                             com->v);
     return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
@@ -123,11 +137,20 @@ static int pk_tick(pk_poll_plan *p, int s)
         return 1;
     if (s % p->every)
         return 0;
+    p->writes++;
     for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
         double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
         u = u * u * (3.0 - 2.0 * u);
-        set_rest_angle(p->spring[j], p->start[j] + (p->to[j] - p->start[j]) * u);
+        p->b_value[j] = p->start[j] + (p->to[j] - p->start[j]) * u;
+        if (p->spring[j])
+            set_rest_angle(p->spring[j], p->b_value[j]);
     }
+    /* FrameTargets.tick: each held joint re-solved, a travelling one at the angle the
+       blend holds it at now (its hold, solved at once, wrote what this writes) */
+    for (int j = 0; j < p->n_frame; j++)
+        pk_frame(p->f_parent[j], p->f_child[j], p->f_ref[j],
+                 p->f_blend[j] < 0 ? p->f_angle[j] : p->b_value[p->f_blend[j]],
+                 p->f_hold_parent[j], p->f_spring[j]);
     if (p->feedback) {  /* Feedback.tick: pk_feedback_tick, the centre of mass shared */
         pk_feedback_add(p->feedback, com.v, &com.done);
         p->fb_ticks++;
@@ -139,7 +162,7 @@ static int pk_tick(pk_poll_plan *p, int s)
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
     int s = now;
-    p->fb_ticks = 0;
+    p->fb_ticks = p->writes = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {

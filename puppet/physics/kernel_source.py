@@ -63,6 +63,8 @@ void pk_track_pull(pk_track *t, double weight, const char *own, int stepping, do
                    double sy, int getting_up, int no_lift, double rise, double T);
 void pk_com(void **bodies, const double *mass, const double *gx, const double *gy, int n,
             double total, double *out);
+double pk_com_spin(void **bodies, const double *mass, const double *gx, const double *gy,
+                   int n, double total, double *out);
 void pk_frame(void *parent, void *child, void *ref, double angle, int hold_parent,
               void *spring);
 int pk_support(void **bodies, int n, double *out);
@@ -291,6 +293,38 @@ void pk_com(void **bodies, const double *mass, const double *gx, const double *g
     }
     out[0] = sx / total; out[1] = sy / total;
     out[2] = vx / total; out[3] = vy / total;
+}
+
+/* Character._com_spin: the links' angular momentum about the centre of mass (com: its
+   x, y, vx, vy, as pk_com gives them) over their moment of inertia there, in the same
+   sums (Python's ``a += b + c`` is ``a + (b + c)``) */
+static double pk_spin_about(void **bodies, const double *mass, const double *gx,
+                            const double *gy, int n, const double *com)
+{
+    double cx = com[0], cy = com[1], vx = com[2], vy = com[3];
+    double momentum = 0.0, inertia = 0.0;
+    for (int i = 0; i < n; i++) {
+        void *b = bodies[i];
+        pk_vect p = get_position(b);
+        double a = get_angle(b);
+        double c = cos(a), s = sin(a);
+        double rx = c * gx[i] - s * gy[i] + p.x - cx;
+        double ry = s * gx[i] + c * gy[i] + p.y - cy;
+        double moment = get_moment(b);
+        pk_vect v = get_velocity(b);
+        double w = get_spin(b);
+        momentum += mass[i] * (rx * (v.y - vy) - ry * (v.x - vx)) + moment * w;
+        inertia += moment + mass[i] * (rx * rx + ry * ry);
+    }
+    return momentum / inertia;
+}
+
+/* the centre of mass into out (pk_com), and the body's spin about it */
+double pk_com_spin(void **bodies, const double *mass, const double *gx, const double *gy,
+                   int n, double total, double *out)
+{
+    pk_com(bodies, mass, gx, gy, n, total, out);
+    return pk_spin_about(bodies, mass, gx, gy, n, out);
 }
 
 /* FrameTargets._solve (interface/controllers/frame.py): the joint's target that puts

@@ -28,10 +28,10 @@ from puppet.physics.snapshot import restored_touching
 # the kernel's sensor kinds (kernel_control: PK_S_*; a contact is the stepping loop's
 # conditions' alone, interface.poll_plan)
 (GIVEN, COM_X, COM_Y, COM_VX, COM_VY, COM_DX, ANGLE, SPIN, JOINT, HEIGHT, LEAD, SUPPORT,
- FALL_TIME, CONTACT) = range(14)
+ FALL_TIME, CONTACT, COM_SPIN) = range(15)
 COM = {"com.x": COM_X, "com.y": COM_Y, "com.vx": COM_VX, "com.vy": COM_VY,
-       "com.fall_time": FALL_TIME}
-USES_COM = {COM_X, COM_Y, COM_VX, COM_VY, COM_DX, SUPPORT, FALL_TIME}  # (PK_S_COM)
+       "com.fall_time": FALL_TIME, "com.spin": COM_SPIN}
+USES_COM = {COM_X, COM_Y, COM_VX, COM_VY, COM_DX, SUPPORT, FALL_TIME, COM_SPIN}  # (PK_S_COM)
 _NAMED = {"angle": ANGLE, "spin": SPIN, "height": HEIGHT}
 
 
