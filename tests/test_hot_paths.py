@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from puppet.commands.bench.channels import channel_interface_text
 from puppet.data.catalog import load_character_named, load_setup, setup_from_text
 from puppet.interface import events as ev
@@ -219,36 +221,22 @@ def test_every_step_blends_and_sensor_maps_keep_the_schedule_a_full_reschedule_g
         assert seen["ticks"] > 300 and seen["kept"] > 100, (name, seen)
 
 
-def test_reaches_at_every_step_keep_the_schedule_a_full_reschedule_gives():
+@pytest.mark.parametrize("name", ["biped-ladder-climb", "biped-monkey-bars",
+                                  "biped-gymnast-climb-bound", "biped-gymnast-climb-trot"])
+def test_climbs_ticks_that_only_wait_keep_the_schedule_a_full_reschedule_gives(name):
     """A reach's tick that only wrote its chain's targets (no reach ended, no grasp made)
-    only waits (base.WAITED): the climbs keep their hashes and every kept schedule is
-    the full one."""
+    and an armed grasp's try that caught nothing (the gymnast's feet, armed at every
+    step) only wait (base.WAITED): the climbs keep their hashes, most of their ticks keep
+    the schedule and every kept schedule is the full one."""
     from puppet.timeline.log import read_log
     from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
-    for name in ("biped-ladder-climb", "biped-monkey-bars"):
-        log = read_log(f"assets/logs/{name}.jsonl")
-        session = new_session(log, setup_for_log(log)[0])
-        seen = _checked_ticks(session)
-        LogFeeder(session, log).advance(log.last_step)
-        assert session.sim.state_hash() == log.end_hash, name
-        assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
-
-
-def test_armed_grasps_at_every_step_keep_the_schedule_a_full_reschedule_gives():
-    """An armed grasp's try that caught nothing only waits (base.WAITED): the gymnast's
-    climbs (feet armed at every step) keep their hashes, most of their ticks keep the
-    schedule and every kept schedule is the full one."""
-    from puppet.timeline.log import read_log
-    from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
-
-    for name in ("biped-gymnast-climb-bound", "biped-gymnast-climb-trot"):
-        log = read_log(f"assets/logs/{name}.jsonl")
-        session = new_session(log, setup_for_log(log)[0])
-        seen = _checked_ticks(session)
-        LogFeeder(session, log).advance(log.last_step)
-        assert session.sim.state_hash() == log.end_hash, name
-        assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
+    log = read_log(f"assets/logs/{name}.jsonl")
+    session = new_session(log, setup_for_log(log)[0])
+    seen = _checked_ticks(session)
+    LogFeeder(session, log).advance(log.last_step)
+    assert session.sim.state_hash() == log.end_hash, name
+    assert seen["ticks"] > 1000 and seen["kept"] > seen["ticks"] // 2, (name, seen)
 
 
 def test_a_sensor_map_holding_a_frame_target_every_step_keeps_the_frames_scheduled(tmp_path):
