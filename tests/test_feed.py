@@ -198,3 +198,58 @@ def test_the_kernels_loop_runs_on_over_inert_mouse_events(name, path_of):
         assert session.sim.state_hash() == log.end_hash
         counts.append(calls[0])
     assert counts[0] < 0.8 * counts[1], counts
+
+
+def _scrubbed(name: str):
+    """A log's events as the window writes them when the scrub key is held in a rewound
+    history while the mouse moves: mouse events at the steps shown (s+1, s+2, then s:
+    steps that go back, which ``read_log`` accepts between the key's down and up)."""
+    from puppet.timeline.log import SCRUB_KEYS
+
+    log, setup = _log(name)
+    out, n = [], 0
+    for step, event in log.pairs():
+        if event["type"] == "mouse" and step > 300:
+            n += 1
+            if n % 3 == 0:
+                out.append((step, {"type": "key", "key": SCRUB_KEYS[1], "down": True}))
+                out.extend((s, dict(event)) for s in (step + 1, step + 2, step))
+                out.append((step, {"type": "key", "key": SCRUB_KEYS[1], "down": False}))
+                continue
+        out.append((step, event))
+    return log, setup, out
+
+
+@needs_cc
+@pytest.mark.parametrize("budget", [None, 5])
+def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
+    """The kernel's loop running on over inert mouse events stops at the last step it
+    passed when the next event's step is behind it (it ran backwards and ticked the same
+    step for ever): the same end as event by event, and a feeder's frame within its
+    budget."""
+    from puppet.interface import poll_plan
+
+    log, setup, pairs = _scrubbed("luxo-shuffle")
+    ref = new_session(log, setup)
+    stepwise(ref, pairs, None, end_step=log.last_step)
+    run, calls = poll_plan.PollPlan.run, [0]
+
+    def counted(self, *args, **kwargs):
+        calls[0] += 1
+        assert calls[0] < 20_000, "the kernel's loop does not move on"
+        return run(self, *args, **kwargs)
+    poll_plan.PollPlan.run = counted
+    try:
+        session = new_session(log, setup)
+        if budget is None:
+            play(session, pairs, None, end_step=log.last_step)
+        else:
+            feeder = LogFeeder(session, log)
+            feeder.events = pairs
+            while not feeder.finished:
+                before = session.steps
+                feeder.advance(budget)
+                assert session.steps - before <= budget
+    finally:
+        poll_plan.PollPlan.run = run
+    assert _state(session) == _state(ref)

@@ -216,6 +216,9 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                             break
                         j, last_at = j + 1, at_j
                     reach = events[j][0] if j < n and j - i < LOOKAHEAD else last_at
+                    # (a step that goes back, a scrub's mouse in a recorded log: the run
+                    # ends at the last step it passed, never behind it)
+                    reach = last_at if reach < last_at else reach
                     reach = cap if reach > cap else reach
                     budget -= reach - stop_at
                     stop_at = reach
