@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from unittest.mock import patch
 
 import pytest
 
@@ -49,12 +50,9 @@ def trace(log, loop: bool, chunk: int | None = None):
                     [s.target for s in session.character.servos.values()],
                     session.sim.state_hash()))
     session.advance = traced
-    poll_plan.PollPlan.run = counted
-    try:
+    with patch.object(poll_plan.PollPlan, "run", counted):
         # the reference loop (an advance call between events, cut every ``chunk``
         # steps): LogFeeder's stepping loop hands runs of events to one call
         stepwise(session, log.pairs(), None, every=chunk or 0,
                  on_tick=(lambda _s: None) if chunk else None, end_step=log.last_step)
-    finally:
-        poll_plan.PollPlan.run = run
     return out, runs[0], runs[1], runs[2]

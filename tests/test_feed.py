@@ -7,6 +7,7 @@ idle steps) and on the pure-Python path. None reads a clock."""
 from __future__ import annotations
 
 from pathlib import Path
+from unittest.mock import patch
 
 import pytest
 from kernel_paths import needs_cc
@@ -189,12 +190,9 @@ def test_the_kernels_loop_runs_on_over_inert_mouse_events(name, path_of):
         def counted(self, *args, calls=calls, **kwargs):
             calls[0] += 1
             return run(self, *args, **kwargs)
-        poll_plan.PollPlan.run = counted
-        try:
+        with patch.object(poll_plan.PollPlan, "run", counted):
             session = new_session(log, setup)
             replay(session, log.pairs(), None, end_step=log.last_step)
-        finally:
-            poll_plan.PollPlan.run = run
         assert session.sim.state_hash() == log.end_hash
         counts.append(calls[0])
     assert counts[0] < 0.8 * counts[1], counts
@@ -238,8 +236,7 @@ def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
         calls[0] += 1
         assert calls[0] < 20_000, "the kernel's loop does not move on"
         return run(self, *args, **kwargs)
-    poll_plan.PollPlan.run = counted
-    try:
+    with patch.object(poll_plan.PollPlan, "run", counted):
         session = new_session(log, setup)
         if budget is None:
             play(session, pairs, None, end_step=log.last_step)
@@ -250,6 +247,4 @@ def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
                 before = session.steps
                 feeder.advance(budget)
                 assert session.steps - before <= budget
-    finally:
-        poll_plan.PollPlan.run = run
     assert _state(session) == _state(ref)

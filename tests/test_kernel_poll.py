@@ -15,6 +15,8 @@ None reads a clock.
 
 from __future__ import annotations
 
+from unittest.mock import patch
+
 import pytest
 from kernel_paths import needs_cc, trace
 
@@ -134,10 +136,7 @@ def test_the_loop_runs_feedbacks_own_compiled_call(path_of):
         if self.plan.fb_ticks:
             seen.append(self.plan.feedback == self.runtime.feedback._fk.f)
         return s
-    poll_plan.PollPlan.run = checked
-    try:
+    with patch.object(poll_plan.PollPlan, "run", checked):
         LogFeeder(session, log).advance(log.last_step)
-    finally:
-        poll_plan.PollPlan.run = run
     assert seen and all(seen), seen
     assert session.sim.state_hash() == log.end_hash

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import struct
+from unittest.mock import patch
 
 import pytest
 from kernel_paths import needs_cc, trace
@@ -96,16 +97,13 @@ def _non_finite(name: str, link: str, value: float, loop: bool):
     def counted(self, *args, **kwargs):
         frames[0] += self.plan.n_frame > 0
         return run(self, *args, **kwargs)
-    poll_plan.PollPlan.run = counted
     out = []
-    try:
+    with patch.object(poll_plan.PollPlan, "run", counted):
         for _ in range(6):
             session.advance(1)
             out.append((session.sim.steps, rt.machines["main"].current,
                         _bits(s.target for s in session.character.servos.values()),
                         rt.frames.get_state(), session.sim.state_hash()))
-    finally:
-        poll_plan.PollPlan.run = run
     return out, frames[0]
 
 
@@ -163,11 +161,8 @@ def test_a_run_cut_by_an_input_event_goes_on_at_the_next_tick(path_of):
         s = run(self, space, dt, now, *args)
         seen.append((now, args[-1], s))
         return s
-    poll_plan.PollPlan.run = recorded
-    try:
+    with patch.object(poll_plan.PollPlan, "run", recorded):
         LogFeeder(session, log).advance(log.last_step)
-    finally:
-        poll_plan.PollPlan.run = run
     later = sum(1 for (_, _, end), (now, first, _) in zip(seen, seen[1:])
                 if first and now > end)
     assert later > len(seen) // 2, (later, len(seen))
