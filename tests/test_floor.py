@@ -201,7 +201,7 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet(tmp_path):
     from puppet.session import Session
     from puppet.session.playback import play
     from puppet.timeline.script import compile_script, load_script, run_seconds
-    from puppet.timeline.trajectory import SAMPLE_EVERY, Sampler
+    from puppet.timeline.trajectory import Sampler, sample_every
 
     def flip(text=None):
         setup = load_setup("biped-floor") if text is None else setup_from_text(
@@ -214,7 +214,8 @@ def test_f_back_flips_in_the_air_and_lands_on_the_feet(tmp_path):
         sampler = Sampler(session)
         sampler(session)
         play(session, compile_script(spec, session.sim.dt),
-             round(run_seconds(spec) / session.sim.dt), SAMPLE_EVERY, sampler)
+             round(run_seconds(spec) / session.sim.dt), sample_every(session.sim.dt),
+             sampler)
         return sampler.trajectory()
 
     def turned(tr):

@@ -21,7 +21,6 @@ if TYPE_CHECKING:
     from puppet.session import Session
 
 SAMPLE_RATE = 120.0  # Hz: trajectory samples a second, on any simulation step
-SAMPLE_EVERY = 4  # steps between trajectory samples at the default dt (1/480 s)
 
 
 def sample_every(dt: float) -> int:
