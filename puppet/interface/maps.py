@@ -370,6 +370,7 @@ def _plain_run(source, params):
         if missing:  # the joints of the inputs that have one
             return [p[7] for p in params if get(p[0]) is not None]
         return every
+    apply_plain_run.plain_run = (source, params)  # (what the kernel's event runs read)
     return apply_plain_run
 
 

@@ -68,6 +68,15 @@ typedef struct {
     int every, frame_every;
     void *root;
     double x0, x1, y0, y1, max_speed2;
+    int n_ev;         /* input events to apply at their steps (0: none; pk_events) */
+    int ev_done;      /* how many the call applied (handed back) */
+    int *ev_step, *ev_kind;  /* per event: its step, its kind (-1: Python's) */
+    double *ev_v;     /* per event: its two values (x, y; a stick's value) */
+    int n_kind;       /* per kind: its map rows [k_first, k_last) (-1: Python's) */
+    int *k_first, *k_last;
+    int *m_use;       /* per map row: which of its event's values it reads */
+    double *m_x0, *m_inv, *m_lo, *m_span, *m_gain;
+    void **m_spring;
 } pk_poll_plan;
 """
 
@@ -158,11 +167,30 @@ static int pk_tick(pk_poll_plan *p, int s)
     return 0;
 }
 
+/* The input events due at ``s`` (a mouse move, a stick), their maps as the runtime's
+   plain maps write them (maps._plain_run: one joint, clamped, linear): 1 when one is
+   not this call's to apply (Python applies it, and what comes after it) */
+static int pk_events(pk_poll_plan *p, int s)
+{
+    while (p->ev_done < p->n_ev && p->ev_step[p->ev_done] == s) {
+        int e = p->ev_done, kind = p->ev_kind[e];
+        if (kind < 0 || kind >= p->n_kind || p->k_first[kind] < 0)
+            return 1;
+        for (int m = p->k_first[kind]; m < p->k_last[kind]; m++) {
+            double u = (p->ev_v[2 * e + p->m_use[m]] - p->m_x0[m]) * p->m_inv[m];
+            u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
+            set_rest_angle(p->m_spring[m], p->m_gain[m] * (p->m_lo[m] + u * p->m_span[m]));
+        }
+        p->ev_done++;
+    }
+    return 0;
+}
+
 /* ``tick_first``: the tick at ``now`` too (else Python's tick has run there) */
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
     int s = now;
-    p->fb_ticks = p->writes = 0;
+    p->fb_ticks = p->writes = p->ev_done = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {
@@ -178,6 +206,8 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
             if (!(v.x * v.x + v.y * v.y < p->max_speed2))
                 return s;
         }
+        if (p->n_ev && pk_events(p, s))  /* (the events at ``s`` come before its tick) */
+            return s;
         if (pk_tick(p, s))
             return s;
     }

@@ -26,6 +26,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.physics import kernel
+from puppet.session.event_runs import EventRuns
 from puppet.physics.simulation import MAX_SPEED, step_space
 
 if TYPE_CHECKING:
@@ -36,7 +37,6 @@ MAX_SPEED2 = MAX_SPEED ** 2
 _position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
 _space_step = _cp.cpSpaceStep
 NO_BUDGET = 1 << 62  # step on until the events' rule says stop
-LOOKAHEAD = 64  # inert mouse events the kernel's loop may run on over, at most
 
 
 def clean(space) -> bool:
@@ -61,16 +61,14 @@ def recorded(session: Session, history, step: int, event: dict) -> None:
     history.next_seq = seq + 1
 
 
-def inert(runtime, poll) -> bool:
-    """Whether a mouse event now would only store the mouse's position (and the
-    kernel's loop not read it): no map reads the mouse (the mode's or the states'),
-    no channel frame is pending, no frame target is held, no machine's state polls
-    device inputs alone (which an event stirs), and the loop's table reads no input
-    (``PollPlan``'s ``_offline``). Then it changes nothing before the next Python tick:
-    the loop runs on over it (``feed``)."""
-    if runtime._mouse_maps or runtime._pending or runtime.frames.held or poll._offline:
-        return False
-    return not any(machine.device_only for machine in runtime._device_machines)
+def _cap(stop_at: int, budget: int, every: int, until: int | None) -> int:
+    """How far a stretch ending at ``stop_at`` may run on over the events coming there
+    (the budget, ``play``'s next tick, ``until``: where the loop would stop anyway)."""
+    cap = stop_at + budget
+    if every:
+        tick = stop_at - stop_at % every
+        cap = stop_at if tick == stop_at else min(cap, tick + every)
+    return until if until is not None and until < cap else cap
 
 
 def feed(session: Session, events: Sequence, i: int, until: int | None, end: int | None,
@@ -99,9 +97,13 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
     is_clean = clean(space)  # (a tick that adds to the space is checked again)
     ptr = space._space
     idle = session._idle  # the kernel's loop with nothing to poll (None: Python's)
+    runs = None  # the kernel's runs of events (event_runs), in a replay
     if idle is not None:
         idle_poll, idle_plan, idle_space, seated = idle.poll, idle.plan, None, None
         checked = math.lcm(health, frame)  # (the health checks the frame loop reaches)
+        if n:
+            runs = idle.runs
+    tail = end if until is None else until  # (where the loop runs on to, events done)
     while True:
         now = sim.steps
         # playback.next_move, inlined: the next event acts now (at or before ``now``;
@@ -197,51 +199,41 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     poll = runtime.poll
                     until_poll = poll.ready(now) if poll is not None and is_clean else None
             if until_poll is not None:
-                # the mouse events coming while the kernel's loop runs, when they change
-                # nothing it reads or writes (inert): it runs on over them, and they are
-                # applied after it, each at its own step in the history (below)
-                over = i < n and events[i][0] == stop_at and session.listener is None \
-                    and inert(runtime, poll)
+                # the input events coming while the kernel's loop runs, when all they do
+                # is plain maps (event_runs): it applies them at their steps and runs on
+                over = runs is not None and i < n and events[i][0] == stop_at \
+                    and session.listener is None
                 if over:
-                    cap = stop_at + budget  # (the budget, a tick, ``until``: as ever)
-                    if every:
-                        tick = stop_at - stop_at % every
-                        cap = stop_at if tick == stop_at else min(cap, tick + every)
-                    if until is not None and until < cap:
-                        cap = until
-                    j, last_at = i, stop_at
-                    while j < n and j - i < LOOKAHEAD:
-                        at_j, event_j = events[j]
-                        if at_j >= cap or at_j < last_at or event_j["type"] != "mouse":
-                            break
-                        j, last_at = j + 1, at_j
-                    reach = events[j][0] if j < n and j - i < LOOKAHEAD else last_at
-                    # (a step that goes back, a scrub's mouse in a recorded log: the run
-                    # ends at the last step it passed, never behind it)
-                    reach = last_at if reach < last_at else reach
-                    reach = cap if reach > cap else reach
-                    budget -= reach - stop_at
-                    stop_at = reach
+                    reach = runs.start(poll.plan, runtime, events, i,
+                                       _cap(stop_at, budget, every, until), tail, poll._offline)
+                    over = reach is not None and reach > stop_at
+                    if over:
+                        budget -= reach - stop_at
+                        stop_at = reach
                 sim.steps = now = poll.run(ptr, dt, now, until_poll, stop_at, health, checks,
                                            resume)
                 if over:
-                    while i < n and events[i][0] < now:  # (inert mouse events: passed)
-                        at, event = events[i]
-                        if on_event is not None:
-                            on_event(i, event)
-                        i += 1
-                        if not rebuilding:
-                            recorded(session, history, at, event)
-                        runtime.on_event(event)
+                    i = runs.applied(session, poll.plan, events, i, on_event, rebuilding)
                     if i < n and events[i][0] < stop_at:  # stopped before the next
-                        budget += stop_at - events[i][0]  # event: the stretch ends there,
-                        stop_at = events[i][0]  # as without the run over (at ``now``:
-                        # its events act before the tick there)
+                        budget += stop_at - events[i][0]  # event: the stretch ends there
+                        stop_at = events[i][0]  # (at ``now``: its events act before the
+                        # tick there)
                 wake = runtime.next_wakeup
                 boundary = now if now % frame == 0 else -1
             else:
                 stop = stop_at if wake is None or wake >= stop_at else wake
-                if idle is not None and is_clean and stop > now + 1:  # (one step: Python)
+                over = runs is not None and is_clean and stop == stop_at and i < n \
+                    and events[i][0] == stop_at and session.listener is None
+                if over:  # the events coming: the kernel's to apply (event_runs)
+                    reach = runs.start(idle_plan, runtime, events, i,
+                                       _cap(stop_at, budget, every, until), tail, False)
+                    over = reach is not None and reach > stop_at
+                    if over:
+                        budget -= reach - stop_at
+                        stop_at = reach
+                        stop = stop_at if wake is None or wake >= stop_at else wake
+                if idle is not None and is_clean and (over or stop > now + 1):
+                    # (one step alone, with no events to run on over: Python's)
                     # nothing due before ``stop``: the kernel steps on to it (or to the
                     # next health check) with the frame check between the steps, and
                     # returns at the first frame that fails it (checked below again)
@@ -253,6 +245,11 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     last = now - now % checked + checked
                     sim.steps = now = idle_poll(idle_space, dt, now,
                                                 stop if stop < last else last, idle_plan, 0)
+                    if over:
+                        i = runs.applied(session, idle_plan, events, i, on_event, rebuilding)
+                        if i < n and events[i][0] < stop_at:  # (as the kernel's run above)
+                            budget += stop_at - events[i][0]
+                            stop_at = events[i][0]
                     boundary = now if now % frame == 0 else -1
                 else:
                     boundary = now - now % frame + frame
@@ -323,6 +320,7 @@ class Idle:
         p.every = 1  # blends, no feedback; a tick at every step finds nothing to do)
         p.frame_every, _, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
         self.body = self.space = self.space_ptr = None
+        self.runs = EventRuns(kern)  # (a replay's runs of events: the session's)
 
     def seat(self, space_ptr, body) -> None:
         """The space and the root link's body to run on (a re-seat makes new ones)."""

@@ -1,0 +1,248 @@
+"""Runs of input events inside the kernel's stepping loop: a replay's mouse moves and
+stick events applied by ``pk_poll`` at their steps (``physics.kernel_poll``'s
+``pk_events``), between Chipmunk's steps, instead of stopping the loop for each.
+
+On Luxo a physics step is 2-3 us and a mouse move or a stick comes every 2-5 steps;
+each one stopping the kernel's loop (the stepping loop's head, the runtime's
+``on_event``, the history, the kernel's call again) cost 3-4 us, as much as the steps
+between two events (luxo-headstand and luxo-gamepad-hop: 21-30 % control overhead,
+nearly all of it their events). The kernel takes a run of them when all an event
+does is what ``InterfaceRuntime.on_event`` does on its hot path with the runtime as it
+is now: store the input, and run the active maps reading it, each of them a plain map
+(``maps._plain_run``'s rows: one joint, clamped, linear; written operation for
+operation in C, so the targets have the same bits) on a joint no controller owns (the
+owners' table would take it back), with nothing pending, no frame target held, no
+machine in a state that polls device inputs alone (an event stirs it) and, when the
+state's table is the kernel's, no input read by its conditions (decided when the plan
+was filled). After the call the events it applied are recorded in the history and
+the inputs hold the last values, as after ``on_event`` one by one; the first event it
+cannot apply ends the call there, for the stepping loop to apply as ever.
+"""
+
+from __future__ import annotations
+
+MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
+MOUSE_NAMES = ("mouse.x", "mouse.y")
+POINTER_NAMES = ("pointer.x", "pointer.y")
+
+
+class EventArrays:
+    """One events list ((step, event) pairs) as the kernel reads it: per event its step,
+    its kind (-1: not the kernel's) and its two values, and where the run that starts
+    at each event must end (``brk``: the next event of no kind, or one whose step goes
+    back, a scrub's mouse)."""
+
+    def __init__(self, ffi, events):
+        n = len(events)
+        self.events = events
+        self.step = step = ffi.new("int[]", n + 1)
+        self.kind = kind = ffi.new("int[]", n + 1)
+        self.v = v = ffi.new("double[]", 2 * n + 2)
+        self.names: list[str] = []  # kind k >= 1: the gamepad event's name
+        kinds: dict[str, int] = {}
+        for k, (at, event) in enumerate(events):
+            step[k] = at if -(1 << 30) < at < (1 << 30) else 0
+            kind[k] = -1
+            if not -(1 << 30) < at < (1 << 30):
+                continue
+            t = event.get("type")
+            try:
+                if t == "mouse":
+                    v[2 * k], v[2 * k + 1] = float(event["x"]), float(event["y"])
+                    kind[k] = MOUSE
+                elif t == "gamepad" and type(event.get("name")) is str:
+                    v[2 * k] = float(event["value"])
+                    name = event["name"]
+                    got = kinds.get(name)
+                    if got is None:
+                        self.names.append(name)
+                        got = kinds[name] = len(self.names)
+                    kind[k] = got
+            except (KeyError, TypeError, ValueError):
+                kind[k] = -1
+        self.brk = brk = [n] * (n + 1)
+        for k in range(n - 2, -1, -1):
+            m = k + 1
+            brk[k] = m if kind[m] < 0 or step[m] < step[k] else brk[m]
+
+
+class EventRuns:
+    """A session's runs of events in the kernel: the events lists' arrays and the map
+    rows of the runtime as it is (made again when its maps, binding or seat change)."""
+
+    def __init__(self, kern):
+        self.kernel, self.ffi = kern, kern.ffi
+        self._arrays: dict[int, EventArrays] = {}
+        self._key: tuple = ()
+        self._rows = None  # (kinds' first, last, the rows' arrays), kept alive
+        self._joints: tuple = ()  # per kind: the joints its maps write
+        self._pointers: dict = {}
+        self._spans: list = []  # per kind: its rows' (first, last), None: Python's
+        self._off: list = []  # the kinds turned off for the owners' table (start)
+
+    def arrays(self, events) -> EventArrays:
+        got = self._arrays.get(id(events))
+        if got is None or got.events is not events:
+            if len(self._arrays) > 4:
+                self._arrays.clear()
+            got = self._arrays[id(events)] = EventArrays(self.ffi, events)
+        return got
+
+    def _pointer(self, cdata):
+        got = self._pointers.get(cdata)
+        if got is None:
+            if len(self._pointers) > 256:
+                self._pointers.clear()
+            got = self._pointers[cdata] = self.kernel.pointer(cdata)
+        return got
+
+    def start(self, plan, runtime, events, i: int, cap: int, tail: int | None,
+              offline: bool) -> int | None:
+        """Hand ``events[i:]`` (the first due at the stretch's end) to ``plan`` for its
+        next ``pk_poll`` call: the step the stretch may run on to (at most ``cap``; once
+        the events run out, ``tail``: where the replay runs on to, or the last event's
+        step), or None when the first is not the kernel's to apply."""
+        if offline or runtime._pending or runtime.frames.held:
+            return None
+        for machine in runtime._device_machines:
+            if machine.device_only:
+                return None
+        arrays = self.arrays(events)
+        kinds = self._kinds(runtime, arrays)
+        first = arrays.kind[i]
+        if kinds is None or first < 0 or first >= len(kinds) or kinds[first] is None:
+            return None
+        table = runtime.owners.table
+        if table:  # a joint a controller owns: the map takes it back (Python's)
+            k_first, joints = self._rows[0], self._joints
+            for k, written in enumerate(joints):
+                if written is not None and any(j in table for j in written):
+                    k_first[k] = -1
+                    self._off.append(k)
+                    if k == first:
+                        return None
+        j = arrays.brk[i]
+        events_n = len(events)
+        if j >= events_n:  # (the events run out: the loop's target, as ever)
+            reach = arrays.step[j - 1] if tail is None or tail < arrays.step[j - 1] else tail
+            reach = cap if reach > cap else reach
+        else:
+            at = arrays.step[j]
+            last = arrays.step[j - 1]
+            reach = last if at < last else at  # (a step that goes back: the last passed)
+            reach = cap if reach > cap else reach
+        if reach <= arrays.step[i]:  # (nothing to run on over)
+            return None
+        plan.n_ev = j - i
+        plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + i, arrays.kind + i, \
+            arrays.v + 2 * i
+        rows = self._rows
+        plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
+        (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
+         plan.m_spring) = rows[2:]
+        return reach
+
+    def _kinds(self, runtime, arrays) -> list | None:
+        """Per kind, the plain rows of the maps its event runs now (None: Python's), the
+        rows written into the kernel's arrays when they changed."""
+        sim = runtime.sim
+        binding = runtime.roles.binding
+        sticks = []
+        for ename in arrays.names:
+            name = runtime._stick_names[ename]
+            compiled = None
+            if name is not None and not (runtime._pointer and runtime._pointer_axes.get(name)):
+                compiled = runtime._input_maps.get((binding, (name,)))
+            sticks.append((name, compiled))
+        key = (runtime, sim, sim.seats, runtime._mouse_maps, runtime._pointer,
+               *[c for _, c in sticks])
+        old = self._key
+        if len(old) == len(key) and all(a is b for a, b in zip(old, key)):
+            if self._off:  # (kinds ``start`` turned off: an owner's joint)
+                k_first, spans = self._rows[0], self._spans
+                for k in self._off:
+                    k_first[k] = spans[k][0]
+                self._off = []
+            return self._spans
+        mouse_names = MOUSE_NAMES + (POINTER_NAMES if runtime._pointer else ())
+        per_kind = [_plain_rows(runtime._mouse_maps, mouse_names)]
+        for name, compiled in sticks:
+            per_kind.append(None if compiled is None else _plain_rows(compiled, (name,)))
+        rows, spans, joints = [], [], []
+        for got in per_kind:
+            if got is None:
+                spans.append(None)
+                joints.append(None)
+                continue
+            spans.append((len(rows), len(rows) + len(got)))
+            joints.append(tuple(r[-1] for r in got))
+            rows.extend(got)
+        ffi, nk, nr = self.ffi, len(spans), max(1, len(rows))
+        k_first, k_last = ffi.new("int[]", nk), ffi.new("int[]", nk)
+        arrays_ = [ffi.new("int[]", nr)] + [ffi.new("double[]", nr) for _ in range(5)] + \
+            [ffi.new("void *[]", nr)]
+        use, x0, inv, lo, span, gain, spring = arrays_
+        for k, s in enumerate(spans):
+            k_first[k], k_last[k] = (-1, -1) if s is None else s
+        for r, (u, a, b, c, d, g, servo, _) in enumerate(rows):
+            use[r], x0[r], inv[r], lo[r], span[r], gain[r] = u, a, b, c, d, g
+            spring[r] = self._pointer(servo.spring._constraint)
+        self._rows = (k_first, k_last, *arrays_)
+        self._key, self._spans, self._joints, self._off = key, spans, joints, []
+        return spans
+
+    @staticmethod
+    def applied(session, plan, events, i: int, on_event, rebuilding: bool) -> int:
+        """The events ``plan``'s call applied, recorded and stored as ``feed`` does one
+        by one (``recorded``, the runtime's inputs); the next event's index."""
+        done = plan.ev_done
+        plan.n_ev = 0
+        if not done:
+            return i
+        runtime, history = session.runtime, session.history
+        inputs = runtime.inputs
+        j = i + done
+        run = events[i:j]
+        if on_event is not None:
+            for k in range(i, j):
+                on_event(k, events[k][1])
+        if not rebuilding:  # (recorded, each: the listener is None in a run)
+            if run[0][0] < history.head:
+                history.branch(run[0][0])
+            seq = history.next_seq
+            history.events.extend([(seq + k, at, event) for k, (at, event) in enumerate(run)])
+            history.next_seq = seq + done
+        mouse = None
+        sticks = runtime._stick_names
+        for _, event in run:
+            if event["type"] == "mouse":
+                mouse = event
+            else:
+                inputs[sticks[event["name"]]] = float(event["value"])
+        if mouse is not None:
+            inputs["mouse.x"] = mouse["x"]
+            inputs["mouse.y"] = mouse["y"]
+            if runtime._pointer:
+                inputs["pointer.x"], inputs["pointer.y"] = mouse["x"], mouse["y"]
+        return j
+
+
+def _plain_rows(appliers, names: tuple) -> list | None:
+    """The rows of ``appliers`` when every one is plain on ``names`` (the values the
+    event sets): (which value, x0, inv, lo, span, gain, servo, joint); else None."""
+    rows = []
+    for apply in appliers:
+        run = getattr(apply, "plain_run", None)
+        if run is None:
+            plain = getattr(apply, "plain", None)
+            if plain is None:
+                return None
+            run = (plain[0], (plain[1],))
+        source, params = run
+        if source is not None:
+            return None
+        for name, x0, inv, lo, span, gain, servo, joint in params:
+            if name not in names:
+                return None
+            rows.append((names.index(name) % 2, x0, inv, lo, span, gain, servo, joint))
+    return rows
