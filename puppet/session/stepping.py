@@ -26,8 +26,8 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.interface.app_keys import SIM_ACTIONS
 from puppet.physics import kernel
-from puppet.session.event_runs import EventRuns
 from puppet.physics.simulation import MAX_SPEED, step_space
+from puppet.session.event_runs import EventRuns
 
 if TYPE_CHECKING:
     from puppet.session.session import Session
