@@ -26,44 +26,51 @@ MOUSE_NAMES = ("mouse.x", "mouse.y")
 POINTER_NAMES = ("pointer.x", "pointer.y")
 
 
-class EventArrays:
-    """One events list ((step, event) pairs) as the kernel reads it: per event its step,
-    its kind (-1: not the kernel's) and its two values, and where the run that starts
-    at each event must end (``brk``: the next event of no kind, or one whose step goes
-    back, a scrub's mouse)."""
+WINDOW = 512  # events a window of arrays holds (made when a run first reaches them)
 
-    def __init__(self, ffi, events):
-        n = len(events)
-        self.events = events
-        self.step = step = ffi.new("int[]", n + 1)
-        self.kind = kind = ffi.new("int[]", n + 1)
-        self.v = v = ffi.new("double[]", 2 * n + 2)
-        self.names: list[str] = []  # kind k >= 1: the gamepad event's name
-        kinds: dict[str, int] = {}
-        for k, (at, event) in enumerate(events):
-            step[k] = at if -(1 << 30) < at < (1 << 30) else 0
-            kind[k] = -1
-            if not -(1 << 30) < at < (1 << 30):
-                continue
+
+class EventArrays:
+    """A window of an events list ((step, event) pairs), ``events[lo:hi]``, as the
+    kernel reads it: per event its step, its kind (-1: not the kernel's) and its two
+    values, and where the run that starts at each must end (``brk``: the next event of
+    no kind, one whose step goes back (a scrub's mouse), or the window's end)."""
+
+    def __init__(self, ffi, events, lo: int = 0, hi: int | None = None,
+                 names: list | None = None):
+        hi = len(events) if hi is None else min(hi, len(events))
+        self.events, self.lo, self.hi = events, lo, hi
+        self.names: list[str] = [] if names is None else names  # kind k >= 1: a gamepad
+        kinds = {name: k + 1 for k, name in enumerate(self.names)}  # event's name
+        steps, kind, v = [], [], []
+        for at, event in events[lo:hi]:
             t = event.get("type")
-            try:
-                if t == "mouse":
-                    v[2 * k], v[2 * k + 1] = float(event["x"]), float(event["y"])
-                    kind[k] = MOUSE
-                elif t == "gamepad" and type(event.get("name")) is str:
-                    v[2 * k] = float(event["value"])
-                    name = event["name"]
-                    got = kinds.get(name)
-                    if got is None:
-                        self.names.append(name)
-                        got = kinds[name] = len(self.names)
-                    kind[k] = got
-            except (KeyError, TypeError, ValueError):
-                kind[k] = -1
-        self.brk = brk = [n] * (n + 1)
+            k, x, y = -1, 0.0, 0.0
+            if type(at) is int and -(1 << 30) < at < (1 << 30):
+                try:
+                    if t == "mouse":
+                        k, x, y = MOUSE, float(event["x"]), float(event["y"])
+                    elif t == "gamepad" and type(event.get("name")) is str:
+                        x, name = float(event["value"]), event["name"]
+                        k = kinds.get(name)
+                        if k is None:
+                            self.names.append(name)
+                            k = kinds[name] = len(self.names)
+                except (KeyError, TypeError, ValueError):
+                    k, x, y = -1, 0.0, 0.0
+            else:
+                at = 0
+            steps.append(at)
+            kind.append(k)
+            v += (x, y)
+        n = hi - lo
+        brk = [hi] * (n + 1)
         for k in range(n - 2, -1, -1):
             m = k + 1
-            brk[k] = m if kind[m] < 0 or step[m] < step[k] else brk[m]
+            brk[k] = lo + m if kind[m] < 0 or steps[m] < steps[k] else brk[m]
+        self.brk = brk
+        self.step = ffi.new("int[]", steps + [0])
+        self.kind = ffi.new("int[]", kind + [-1])
+        self.v = ffi.new("double[]", v + [0.0, 0.0])
 
 
 class EventRuns:
@@ -79,13 +86,19 @@ class EventRuns:
         self._pointers: dict = {}
         self._spans: list = []  # per kind: its rows' (first, last), None: Python's
         self._off: list = []  # the kinds turned off for the owners' table (start)
+        self._servos: list = []  # per row: its servo (its spring: the seat's)
+        self._sim = self._seats = None  # the seat the rows' springs are of
 
-    def arrays(self, events) -> EventArrays:
+    def arrays(self, events, i: int) -> EventArrays:
+        """The window of ``events`` holding ``events[i]`` (made at ``i`` when none
+        does; a gamepad name keeps its kind from window to window)."""
         got = self._arrays.get(id(events))
-        if got is None or got.events is not events:
+        if got is None or got.events is not events or not got.lo <= i < got.hi:
             if len(self._arrays) > 4:
                 self._arrays.clear()
-            got = self._arrays[id(events)] = EventArrays(self.ffi, events)
+            names = got.names if got is not None and got.events is events else None
+            got = self._arrays[id(events)] = EventArrays(self.ffi, events, i, i + WINDOW,
+                                                         names)
         return got
 
     def _pointer(self, cdata):
@@ -107,10 +120,11 @@ class EventRuns:
         for machine in runtime._device_machines:
             if machine.device_only:
                 return None
-        arrays = self.arrays(events)
+        arrays = self.arrays(events, i)
         kinds = self._kinds(runtime, arrays)
-        first = arrays.kind[i]
-        if kinds is None or first < 0 or first >= len(kinds) or kinds[first] is None:
+        lo = arrays.lo
+        first = arrays.kind[i - lo]
+        if first < 0 or first >= len(kinds) or kinds[first] is None:
             return None
         table = runtime.owners.table
         if table:  # a joint a controller owns: the map takes it back (Python's)
@@ -121,21 +135,19 @@ class EventRuns:
                     self._off.append(k)
                     if k == first:
                         return None
-        j = arrays.brk[i]
-        events_n = len(events)
-        if j >= events_n:  # (the events run out: the loop's target, as ever)
-            reach = arrays.step[j - 1] if tail is None or tail < arrays.step[j - 1] else tail
-            reach = cap if reach > cap else reach
+        j = arrays.brk[i - lo]
+        last = events[j - 1][0]
+        if j >= len(events):  # (the events run out: the loop's target, as ever)
+            reach = last if tail is None or tail < last else tail
         else:
-            at = arrays.step[j]
-            last = arrays.step[j - 1]
+            at = events[j][0]
             reach = last if at < last else at  # (a step that goes back: the last passed)
-            reach = cap if reach > cap else reach
-        if reach <= arrays.step[i]:  # (nothing to run on over)
+        reach = cap if reach > cap else reach
+        if reach <= events[i][0]:  # (nothing to run on over)
             return None
         plan.n_ev = j - i
-        plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + i, arrays.kind + i, \
-            arrays.v + 2 * i
+        plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
+            arrays.kind + (i - lo), arrays.v + 2 * (i - lo)
         rows = self._rows
         plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
         (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
@@ -154,8 +166,7 @@ class EventRuns:
             if name is not None and not (runtime._pointer and runtime._pointer_axes.get(name)):
                 compiled = runtime._input_maps.get((binding, (name,)))
             sticks.append((name, compiled))
-        key = (runtime, sim, sim.seats, runtime._mouse_maps, runtime._pointer,
-               *[c for _, c in sticks])
+        key = (runtime, runtime._mouse_maps, runtime._pointer, *[c for _, c in sticks])
         old = self._key
         if len(old) == len(key) and all(a is b for a, b in zip(old, key)):
             if self._off:  # (kinds ``start`` turned off: an owner's joint)
@@ -163,6 +174,11 @@ class EventRuns:
                 for k in self._off:
                     k_first[k] = spans[k][0]
                 self._off = []
+            if sim is not self._sim or sim.seats != self._seats:  # a re-seat: new springs
+                self._sim, self._seats = sim, sim.seats
+                spring, pointer = self._rows[-1], self._pointer
+                for r, servo in enumerate(self._servos):
+                    spring[r] = pointer(servo.spring._constraint)
             return self._spans
         mouse_names = MOUSE_NAMES + (POINTER_NAMES if runtime._pointer else ())
         per_kind = [_plain_rows(runtime._mouse_maps, mouse_names)]
@@ -189,6 +205,8 @@ class EventRuns:
             spring[r] = self._pointer(servo.spring._constraint)
         self._rows = (k_first, k_last, *arrays_)
         self._key, self._spans, self._joints, self._off = key, spans, joints, []
+        self._servos = [r[6] for r in rows]
+        self._sim, self._seats = sim, sim.seats
         return spans
 
     @staticmethod
