@@ -144,12 +144,12 @@ def test_a_joint_a_controller_owns_is_pythons(path_of):
     runs = session._idle.runs
     i = feeder.i
     plan = session._idle.plan
-    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None, False) is not None
+    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None) is not None
     plan.n_ev = 0
     rt.owners.claim([joint], SEQUENCE)
-    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None, False) is None
+    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None) is None
     rt.owners.take([joint])
-    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None, False) is not None
+    assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None) is not None
     plan.n_ev = 0
 
 

@@ -145,8 +145,8 @@ def test_the_kernel_steps_the_idle_steps_as_python_does(name, path_of):
             session._idle = None
         play(session, log.pairs(), None, EVERY, _sample(trace), end_step=log.last_step)
         traces.append(trace)
-    assert len(calls) > 100
-    assert path_of("python") is None
+    assert len(calls) > 10  # (the shuffle's waiting states poll the mouse in the plan's
+    assert path_of("python") is None  # loop now: 21 idle calls a replay, 300 before)
     session, trace = new_session(log, setup), []
     assert session._idle is None
     play(session, log.pairs(), None, EVERY, _sample(trace), end_step=log.last_step)

@@ -43,6 +43,11 @@ KINDS = {"contact": _fk.CONTACT, "angle": _fk.ANGLE, "joint": _fk.JOINT, "spin":
 COM = _fk.COM  # the centre of mass's (its position, velocity, fall time; the body's spin)
 OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
 MAX_CONDITIONS = 32
+# a device input a mouse move sets, read by pk_poll's conditions from the plan's in_val
+# (PK_S_INPUT + its slot): written at each ``ready``, and by the kernel's event runs
+LIVE_INPUT = 100
+LIVE = {"mouse.x": 0, "mouse.y": 1, "pointer.x": 2, "pointer.y": 3}
+NAN = float("nan")
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
 
 
@@ -90,6 +95,8 @@ class PollPlan:
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
+        self._inputs = False  # the plan reads device inputs (in_val, at each ready)
+        self._live = False  # the state's table reads no input but those (LIVE)
         self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
@@ -148,6 +155,10 @@ class PollPlan:
             lo, hi = bounds if bounds is not None else (0.0, 0.0)
             want = -1 if bounds is not None else int(bool(c.is_))
             if sensor.startswith(OFFLINE):
+                slot = LIVE.get(sensor[len(INPUT):]) if sensor.startswith(INPUT) else None
+                if slot is not None and (slot < 2 or rt._pointer):  # (pointer: the mouse's)
+                    out.append((LIVE_INPUT + slot, None, lo, hi, want))
+                    continue
                 out.append((None, reader(sensor, rt.character, rt.channels, rt.inputs),
                             lo, hi, want))
                 continue
@@ -171,20 +182,39 @@ class PollPlan:
             self._tables[key] = found
         return self._tables[key]
 
-    def ready(self, step: int) -> int | None:
+    def _state_table(self):
+        """The current state's table (looked up once per state and binding)."""
+        rt, machine = self.runtime, self.machine
+        if machine.current is not self._state or rt.roles.binding is not self._binding:
+            self._state, self._binding = machine.current, rt.roles.binding
+            self._current = table = self._table(machine)
+            # (every input it reads one a mouse move sets: a device-only state's polls
+            # are the kernel's at each control step, which find what a stirred poll
+            # does; quiet, they find nothing until an event moves an input)
+            self._live = table is not None and not any(
+                kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
+        return self._current
+
+    def waits(self) -> bool:
+        """The one machine is quiet in a state polling the mouse alone (``LIVE``): a
+        run of mouse events may be the kernel's, its polls finding what a stirred
+        machine's do (``ready(step, idle=True)``)."""
+        machine = self.machine
+        return machine.device_only and machine.quiet and self._state_table() is not None \
+            and self._live
+
+    def ready(self, step: int, idle: bool = False) -> int | None:
         """After the tick at ``step`` (or where a run resumes: Session.advance's check
         of ``resume`` and ``seat``): the step up to which
         ``pk_poll`` may run (the first timer, blend arrival or other wake-up), the
         table filled; None when the work due is not all its to do. Runs at every tick
         of a one-machine interface, so it is kept lean: the state's table is looked up
-        once per state, and the plan filled again only when what it holds changed."""
+        once per state, and the plan filled again only when what it holds changed.
+        ``idle``: no tick is due at ``step`` (``waits``: events are coming)."""
         rt, machine = self.runtime, self.machine
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
-        if machine.current is not self._state or rt.roles.binding is not self._binding:
-            self._state, self._binding = machine.current, rt.roles.binding
-            self._current = self._table(machine)
-        table = self._current
+        table = self._state_table()
         if table is None:
             return None
         feeding, feedback = self.ffi.NULL, rt.feedback
@@ -192,7 +222,7 @@ class PollPlan:
             feeding = feedback.compiled()  # (Feedback.tick's own compiled call)
             if feeding is None or feedback.every != machine.every:
                 return None
-        if rt.next_wakeup is None or rt._pending or rt.tracker.mode != OFF:
+        if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
         frames = rt.frames
@@ -214,8 +244,10 @@ class PollPlan:
                 return None
             seq = (seq.name, seq.index, seq.until, seq.began, rt.roles.binding)
         every = machine.every
-        if blends.every != every or (machine.device_only and not machine.quiet
-                                     and not self._quiet_now(machine, step)):
+        if blends.every != every:
+            return None
+        if machine.device_only and not self._live and not machine.quiet \
+                and not self._quiet_now(machine, step):
             return None
         moving, owners = blends.moving, rt.owners.table
         travelling = False  # a frame target's angle travels (blend holds it each tick)
@@ -235,7 +267,8 @@ class PollPlan:
         frames_now = tuple(v for j, v in held.items() if j not in moving) if travelling \
             else tuple(held.values())
         frames_ids = tuple(map(id, frames_now))
-        key = (machine.entered, machine.quiet, sim.seats, every, seq, tuple(moving.items()))
+        key = (machine.entered, machine.quiet and not self._live, sim.seats, every, seq,
+               tuple(moving.items()))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
@@ -251,6 +284,10 @@ class PollPlan:
             self._feeding = self.plan.feedback = feeding
         if self._com:
             self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
+        if self._inputs:  # the inputs as they are now (an event may have moved them)
+            get, in_val = rt.inputs.get, self.plan.in_val
+            in_val[0], in_val[1] = get("mouse.x", NAN), get("mouse.y", NAN)
+            in_val[2], in_val[3] = get("pointer.x", NAN), get("pointer.y", NAN)
         if self._held:  # the `for`s' starts, as the machine has them now
             p, since = self.plan, machine._since
             for k, index in self._held:
@@ -301,7 +338,7 @@ class PollPlan:
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
         self._frame_rows = None
-        uses_com = False
+        uses_com = self._inputs = False
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
             found = self._sequence_until(name, step_index)
@@ -316,8 +353,8 @@ class PollPlan:
             if conditions is None:  # a timer: Python's tick fires it
                 until = first if first < until else until
                 continue
-            if machine.quiet:  # (a device-only state between input events: no polls)
-                continue
+            if machine.quiet and not self._live:  # (a device-only state between input
+                continue  # events: no polls; the mouse's alone: the kernel's, see waits)
             c0 = i
             for kind, name, lo, hi, want in conditions:
                 if kind is None:  # no step changes it: decided now
@@ -334,6 +371,7 @@ class PollPlan:
                 elif name is not None:
                     p.body_a[i] = self.pointer(bodies[name]._body)
                 uses_com = uses_com or kind in _fk.USES_COM
+                self._inputs = self._inputs or kind >= LIVE_INPUT
                 p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
                 i += 1
             else:
@@ -404,7 +442,10 @@ class PollPlan:
             self._root, p.root = root, self.pointer(root)
         if space_ptr is not self._space_cd:
             self._space_cd, self._space_void = space_ptr, self.pointer(space_ptr)
+        quiet = self.machine.quiet
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
+        if self._live and self.machine.device_only:
+            self._quieted(p, quiet, now, s, tick_first)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step
@@ -442,6 +483,25 @@ class PollPlan:
             sim = rt.sim
             self.resume, self.seat = wake, (sim.space, sim.seats)
         return s
+
+
+    def _quieted(self, p, quiet: bool, now: int, s: int, tick_first: bool) -> None:
+        """A device-only machine whose polls the run made: quiet as Python's ticks
+        leave it (``StateMachine.due``): after an input event (the last the run applied,
+        at its step, before its tick) it polls at its next control step, and a poll
+        that finds nothing quiets it until the next event."""
+        machine = self.machine
+        if p.n_ev and p.ev_done:
+            start, quiet = p.ev_step[p.ev_done - 1], False
+        else:
+            start = now if tick_first else now + 1
+        if not quiet:
+            every = machine.every
+            first = machine.entered + machine._polled
+            first = first if first > start else start
+            if -(-first // every) * every < s:  # (a poll before ``s``: nothing held)
+                quiet = True
+        machine.quiet = quiet
 
 
 def plan_for(runtime) -> PollPlan | None:

@@ -77,6 +77,8 @@ typedef struct {
     int *m_use;       /* per map row: which of its event's values it reads */
     double *m_x0, *m_inv, *m_lo, *m_span, *m_gain;
     void **m_spring;
+    double in_val[4]; /* the device inputs its conditions read (PK_S_INPUT + slot):
+                         mouse.x, mouse.y, pointer.x, pointer.y; a mouse event sets them */
 } pk_poll_plan;
 """
 
@@ -96,8 +98,12 @@ void pk_poll_init(void *step)
 typedef struct { int done; double v[4]; } pk_com_now;  /* x, y, vx, vy, once a tick */
 
 /* conditions.reader's value of a sensor (``kind``, on a and b) */
+#define PK_S_INPUT 100  /* + a slot of in_val: a device input (conditions' input.NAME) */
+
 static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com_now *com)
 {
+    if (kind >= PK_S_INPUT)
+        return p->in_val[kind - PK_S_INPUT];
     if (PK_S_COM(kind) && !com->done) {  /* Character.com and com_velocity (pk_com) */
         pk_com(p->com_bodies, p->com_mass, p->com_gx, p->com_gy, p->com_n, p->com_total,
                com->v);
@@ -176,6 +182,10 @@ static int pk_events(pk_poll_plan *p, int s)
         int e = p->ev_done, kind = p->ev_kind[e];
         if (kind < 0 || kind >= p->n_kind || p->k_first[kind] < 0)
             return 1;
+        if (kind == 0) {  /* a mouse move: the inputs it sets (runtime.on_event's) */
+            p->in_val[0] = p->in_val[2] = p->ev_v[2 * e];
+            p->in_val[1] = p->in_val[3] = p->ev_v[2 * e + 1];
+        }
         for (int m = p->k_first[kind]; m < p->k_last[kind]; m++) {
             double u = (p->ev_v[2 * e + p->m_use[m]] - p->m_x0[m]) * p->m_inv[m];
             u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);

@@ -110,15 +110,22 @@ class EventRuns:
         return got
 
     def start(self, plan, runtime, events, i: int, cap: int, tail: int | None,
-              offline: bool) -> int | None:
+              poll=None) -> int | None:
         """Hand ``events[i:]`` (the first due at the stretch's end) to ``plan`` for its
         next ``pk_poll`` call: the step the stretch may run on to (at most ``cap``; once
         the events run out, ``tail``: where the replay runs on to, or the last event's
-        step), or None when the first is not the kernel's to apply."""
-        if offline or runtime._pending or runtime.frames.held:
+        step), or None when the first is not the kernel's to apply. ``poll``: the
+        runtime's ``PollPlan`` when the call is its (None: the idle loop's)."""
+        if runtime._pending or runtime.frames.held:
             return None
+        if poll is not None:
+            if poll._offline:  # (an input the plan's table decided when it was filled)
+                return None
+            live = poll._live  # (the plan's one machine polls its inputs in the kernel)
+        else:
+            live = False
         for machine in runtime._device_machines:
-            if machine.device_only:
+            if machine.device_only and not live:
                 return None
         arrays = self.arrays(events, i)
         kinds = self._kinds(runtime, arrays)

@@ -198,6 +198,14 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     ptr, seated = space._space, None
                     poll = runtime.poll
                     until_poll = poll.ready(now) if poll is not None and is_clean else None
+            elif runs is not None and i < n and events[i][0] == stop_at and is_clean \
+                    and (wake is None or wake >= stop_at) and session.listener is None:
+                # nothing due before the next event, which stirs a state polling the mouse
+                # alone: the kernel's loop polls it from the next step, over the events
+                poll = runtime.poll
+                if poll is not None and poll.waits():
+                    resume = False
+                    until_poll = poll.ready(now, idle=True)
             if until_poll is not None:
                 # the input events coming while the kernel's loop runs, when all they do
                 # is plain maps (event_runs): it applies them at their steps and runs on
@@ -205,7 +213,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     and session.listener is None
                 if over:
                     reach = runs.start(poll.plan, runtime, events, i,
-                                       _cap(stop_at, budget, every, until), tail, poll._offline)
+                                       _cap(stop_at, budget, every, until), tail, poll)
                     over = reach is not None and reach > stop_at
                     if over:
                         budget -= reach - stop_at
@@ -226,7 +234,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     and events[i][0] == stop_at and session.listener is None
                 if over:  # the events coming: the kernel's to apply (event_runs)
                     reach = runs.start(idle_plan, runtime, events, i,
-                                       _cap(stop_at, budget, every, until), tail, False)
+                                       _cap(stop_at, budget, every, until), tail)
                     over = reach is not None and reach > stop_at
                     if over:
                         budget -= reach - stop_at
