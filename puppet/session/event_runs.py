@@ -80,14 +80,10 @@ class EventRuns:
     def __init__(self, kern):
         self.kernel, self.ffi = kern, kern.ffi
         self._arrays: dict[int, EventArrays] = {}
-        self._key: tuple = ()
-        self._rows = None  # (kinds' first, last, the rows' arrays), kept alive
-        self._joints: tuple = ()  # per kind: the joints its maps write
+        self._entries: dict[tuple, _Rows] = {}  # the maps' ids -> their rows
+        self._entry: _Rows | None = None  # the last used
+        self._written: dict = {}  # a plan -> the entry whose rows it points at
         self._pointers: dict = {}
-        self._spans: list = []  # per kind: its rows' (first, last), None: Python's
-        self._off: list = []  # the kinds turned off for the owners' table (start)
-        self._servos: list = []  # per row: its servo (its spring: the seat's)
-        self._sim = self._seats = None  # the seat the rows' springs are of
 
     def arrays(self, events, i: int) -> EventArrays:
         """The window of ``events`` holding ``events[i]`` (made at ``i`` when none
@@ -135,11 +131,12 @@ class EventRuns:
             return None
         table = runtime.owners.table
         if table:  # a joint a controller owns: the map takes it back (Python's)
-            k_first, joints = self._rows[0], self._joints
-            for k, written in enumerate(joints):
+            entry = self._entry
+            k_first = entry.rows[0]
+            for k, written in enumerate(entry.joints):
                 if written is not None and any(j in table for j in written):
                     k_first[k] = -1
-                    self._off.append(k)
+                    entry.off.append(k)
                     if k == first:
                         return None
         j = arrays.brk[i - lo]
@@ -155,16 +152,28 @@ class EventRuns:
         plan.n_ev = j - i
         plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
             arrays.kind + (i - lo), arrays.v + 2 * (i - lo)
-        rows = self._rows
-        plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
-        (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
-         plan.m_spring) = rows[2:]
+        entry = self._entry
+        if self._written.get(plan) is not entry:  # (the rows this plan points at)
+            if len(self._written) > 8:  # (the plans of runtimes gone: a reload's)
+                self._written.clear()
+            self._written[plan] = entry
+            rows = entry.rows
+            plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
+            (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
+             plan.m_spring) = rows[2:]
         return reach
 
-    def _kinds(self, runtime, arrays) -> list | None:
-        """Per kind, the plain rows of the maps its event runs now (None: Python's), the
-        rows written into the kernel's arrays when they changed."""
+    def _kinds(self, runtime, arrays) -> list:
+        """Per kind, its rows' (first, last) in the kernel's arrays (None: Python's),
+        for the maps its event runs now; the rows made once per set of maps (a state
+        entered changes the mode's), their springs written again after a re-seat."""
         sim = runtime.sim
+        entry = self._entry
+        if not arrays.names and entry is not None and len(entry.objects) == 2 \
+                and entry.objects[0] is runtime and entry.objects[1] is runtime._mouse_maps \
+                and entry.sim is sim and entry.seats == sim.seats:  # (the mouse's, as
+            entry.restore()  # last time: the commonest call)
+            return entry.spans
         binding = runtime.roles.binding
         sticks = []
         for ename in arrays.names:
@@ -173,20 +182,24 @@ class EventRuns:
             if name is not None and not (runtime._pointer and runtime._pointer_axes.get(name)):
                 compiled = runtime._input_maps.get((binding, (name,)))
             sticks.append((name, compiled))
-        key = (runtime, runtime._mouse_maps, runtime._pointer, *[c for _, c in sticks])
-        old = self._key
-        if len(old) == len(key) and all(a is b for a, b in zip(old, key)):
-            if self._off:  # (kinds ``start`` turned off: an owner's joint)
-                k_first, spans = self._rows[0], self._spans
-                for k in self._off:
-                    k_first[k] = spans[k][0]
-                self._off = []
-            if sim is not self._sim or sim.seats != self._seats:  # a re-seat: new springs
-                self._sim, self._seats = sim, sim.seats
-                spring, pointer = self._rows[-1], self._pointer
-                for r, servo in enumerate(self._servos):
-                    spring[r] = pointer(servo.spring._constraint)
-            return self._spans
+        objects = (runtime, runtime._mouse_maps, *[c for _, c in sticks])
+        key = tuple(map(id, objects))
+        entry = self._entries.get(key)
+        if entry is None or any(a is not b for a, b in zip(entry.objects, objects)):
+            if len(self._entries) > 32:
+                self._entries.clear()
+                self._written.clear()
+            entry = self._entries[key] = self._made(runtime, sticks, objects)
+        self._entry = entry  # (the plan's arrays: this entry's)
+        entry.restore()
+        if sim is not entry.sim or sim.seats != entry.seats:  # a re-seat: new springs
+            entry.sim, entry.seats = sim, sim.seats
+            spring, pointer = entry.rows[-1], self._pointer
+            for r, servo in enumerate(entry.servos):
+                spring[r] = pointer(servo.spring._constraint)
+        return entry.spans
+
+    def _made(self, runtime, sticks, objects) -> _Rows:
         mouse_names = MOUSE_NAMES + (POINTER_NAMES if runtime._pointer else ())
         per_kind = [_plain_rows(runtime._mouse_maps, mouse_names)]
         for name, compiled in sticks:
@@ -204,17 +217,12 @@ class EventRuns:
         k_first, k_last = ffi.new("int[]", nk), ffi.new("int[]", nk)
         arrays_ = [ffi.new("int[]", nr)] + [ffi.new("double[]", nr) for _ in range(5)] + \
             [ffi.new("void *[]", nr)]
-        use, x0, inv, lo, span, gain, spring = arrays_
+        use, x0, inv, lo, span, gain, _ = arrays_
         for k, s in enumerate(spans):
             k_first[k], k_last[k] = (-1, -1) if s is None else s
-        for r, (u, a, b, c, d, g, servo, _) in enumerate(rows):
+        for r, (u, a, b, c, d, g, _, _) in enumerate(rows):
             use[r], x0[r], inv[r], lo[r], span[r], gain[r] = u, a, b, c, d, g
-            spring[r] = self._pointer(servo.spring._constraint)
-        self._rows = (k_first, k_last, *arrays_)
-        self._key, self._spans, self._joints, self._off = key, spans, joints, []
-        self._servos = [r[6] for r in rows]
-        self._sim, self._seats = sim, sim.seats
-        return spans
+        return _Rows(objects, spans, joints, (k_first, k_last, *arrays_), [r[6] for r in rows])
 
     @staticmethod
     def applied(session, plan, events, i: int, on_event, rebuilding: bool) -> int:
@@ -250,6 +258,27 @@ class EventRuns:
             if runtime._pointer:
                 inputs["pointer.x"], inputs["pointer.y"] = mouse["x"], mouse["y"]
         return j
+
+
+class _Rows:
+    """The kernel's rows for one set of maps (``EventRuns._kinds``)."""
+
+    def __init__(self, objects, spans, joints, rows, servos):
+        self.objects = objects  # (the runtime, its mouse maps, each stick's maps)
+        self.spans = spans  # per kind: its rows' (first, last), None: Python's
+        self.joints = joints  # per kind: the joints its maps write
+        self.rows = rows  # (kinds' first, last, the rows' arrays), kept alive
+        self.servos = servos  # per row: its servo (its spring: the seat's)
+        self.sim = self.seats = None  # the seat the rows' springs are of
+        self.off: list = []  # the kinds turned off for the owners' table (start)
+
+    def restore(self) -> None:
+        """The kinds ``start`` turned off, on again."""
+        if self.off:
+            k_first, spans = self.rows[0], self.spans
+            for k in self.off:
+                k_first[k] = spans[k][0]
+            self.off = []
 
 
 def _plain_rows(appliers, names: tuple) -> list | None:
