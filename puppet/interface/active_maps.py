@@ -39,14 +39,40 @@ class ActiveMaps:
         self.gestures.mouse_maps = self._mouse_maps  # what a gesture plays through
         self.gestures.mouse_joints = joints  # (read only)
 
-    def _active_now(self, binding) -> tuple:
-        """(the active maps, what they compile to, an empty ``_input_maps``)."""
+    def prime_maps(self) -> None:
+        """What ``_refresh_active_maps`` finds for each mode and state of a one-machine
+        interface, made ahead (each state's first entry in a replay made it between
+        the steps; the compiled maps are plain functions of the inputs)."""
+        if len(self.machines) != 1:
+            return
+        (machine,) = self.machines.values()
+        binding, kept = self.roles.binding, self.active_maps
+        cache = self.__dict__.setdefault("_refreshed", {})
+        try:
+            for mode in [None, *self.spec.modes]:
+                for state in machine.spec.states:
+                    where = (binding, mode, (state,))
+                    if where not in cache:
+                        cache[where] = self._active_now(binding, mode, (state,))
+                    readers, setters, adders = cache[where][1][1]
+                    fk = self.feedback._fk  # (Feedback.set_maps's compiled plan)
+                    if fk is not None and adders and not setters:
+                        fk.plan(readers, adders)
+        finally:
+            self.active_maps = kept
+
+    def _active_now(self, binding, mode=False, states=None) -> tuple:
+        """(the active maps, what they compile to, an empty ``_input_maps``), in the mode
+        and states of now (or those given: ``prime_maps``)."""
         spec = self.spec
         active = list(spec.maps)
-        if self.mode is not None:
-            active += spec.modes[self.mode]
-        for machine in self.machines.values():
-            active += machine.spec.states[machine.current].maps
+        mode = self.mode if mode is False else mode
+        if mode is not None:
+            active += spec.modes[mode]
+        if states is None:
+            states = [machine.current for machine in self.machines.values()]
+        for machine, state in zip(self.machines.values(), states):
+            active += machine.spec.states[state].maps
         self.active_maps = active
         key = (binding, tuple(map(id, active)))
         compiled = self._active_cache.get(key)

@@ -110,21 +110,22 @@ class PollPlan:
             got = self._pointers[cdata] = self.kernel.pointer(cdata)
         return got
 
-    def _table(self, machine):
+    def _table(self, machine, current: str | None = None):
         """The current state's transitions as ``pk_poll`` can poll them, in ``due``'s
         order: ``(after, None, 0, index)`` a timer, ``(after, conditions, for, index)``
         a polled one (``for`` in steps, 0 without; ``index``: the machine's), each
         condition ``(code or None, name or reader, lo, hi, want)`` (``None``: a device
         input or channel, its reader); None when one cannot be polled there."""
         rt = self.runtime
-        key = (machine.name, machine.current, rt.role_binding)
+        current = machine.current if current is None else current  # (prime: each state)
+        key = (machine.name, current, rt.role_binding)
         if key in self._tables:
             return self._tables[key]
         rename = rt.roles.sensor
         spec, name = machine.spec, machine.name
-        state = spec.states[machine.current]
+        state = spec.states[current]
         shared = [t for t in spec.any_state.transitions
-                  if rt.spec.resolve_goto(t.to, name) != (name, machine.current)]
+                  if rt.spec.resolve_goto(t.to, name) != (name, current)]
         table = []
         for index, t in enumerate([*state.transitions, *shared]):
             after = round((t.after or 0.0) / machine.dt)
@@ -167,6 +168,17 @@ class PollPlan:
                 return None  # (a name no link has: Python's reader says so)
             out.append((*kind, lo, hi, want))
         return out
+
+    def prime(self) -> None:
+        """Every state's table and every sequence step's ``until``, made when the
+        runtime is (a state's first entry in a replay would make them between its
+        steps, as cold as the rest of the entry)."""
+        machine = self.machine
+        for state in machine.spec.states:
+            self._table(machine, state)
+        for name, steps in self.runtime.sequences.specs.items():
+            for index in range(len(steps)):
+                self._sequence_until(name, index)
 
     def _sequence_until(self, name: str, index: int):
         """A sequence step's ``until`` (``compile_untils``): (after in steps, its

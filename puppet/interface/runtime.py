@@ -172,6 +172,17 @@ class InterfaceRuntime(RuntimeState, ActiveMaps, Actions):
         if start:
             self.apply_gains()
             self._start_control()
+        self.prime()
+
+    def prime(self) -> None:
+        """The states' compiled forms made now, not at each one's first entry: the
+        machines' plans, the active maps of each mode and state, the poll plan's
+        tables (the same objects a first entry would make: no state changes)."""
+        for machine in self._machine_list:
+            machine.prime()
+        self.prime_maps()
+        if self.poll is not None:
+            self.poll.prime()
 
     def _use_binding(self, binding: str | None) -> None:
         """Resolve roles as ``binding`` says from now on (poses, maps, sensors)."""

@@ -96,6 +96,13 @@ class StateMachine:
         self.device_only, self.quiet = self._device_only[state], False
         self._since = {}
 
+    def prime(self) -> None:
+        """Every state's plan under the binding of now (``_now_in``'s, made ahead)."""
+        for state in self.spec.states:
+            key = (state, id(self.transitions))
+            if key not in self._plans:
+                self._plans[key] = (self.transitions, self._state_plan(state))
+
     def _state_plan(self, state: str) -> tuple:
         """(transitions, first polled step, first timer step, ``_one_sensor``, the
         `for` steps) of ``state`` under the binding of now."""
