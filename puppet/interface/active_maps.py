@@ -46,7 +46,7 @@ class ActiveMaps:
         if len(self.machines) != 1:
             return
         (machine,) = self.machines.values()
-        binding, kept = self.roles.binding, self.active_maps
+        binding, kept = self.roles.binding, self.__dict__.get("active_maps")
         cache = self.__dict__.setdefault("_refreshed", {})
         try:
             for mode in [None, *self.spec.modes]:
@@ -59,7 +59,10 @@ class ActiveMaps:
                     if fk is not None and adders and not setters:
                         fk.plan(readers, adders)
         finally:
-            self.active_maps = kept
+            if kept is None:  # (a runtime not started: none yet)
+                self.__dict__.pop("active_maps", None)
+            else:
+                self.active_maps = kept
 
     def _active_now(self, binding, mode=False, states=None) -> tuple:
         """(the active maps, what they compile to, an empty ``_input_maps``), in the mode

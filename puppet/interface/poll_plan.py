@@ -18,8 +18,13 @@ A run cut at its call's end (an input event) goes on at the next tick, the kerne
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
 own compiled call, ``pk_feedback_tick``, whose arrays keep its base and last writes).
+A condition on the mouse (``input.mouse.x``, ``.y``, the pointer's) reads the
+plan's ``in_val``, written at each ``ready`` and by the replay's mouse moves the
+kernel applies (``session.event_runs``): a state polling the mouse alone polls it at
+each control step in the kernel, which finds what Python's stirred polls find, and
+its machine is left quiet as Python's ticks leave it (``_quieted``).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
-device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
+other device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
 target taken back by a later write or travelling in a blend, any other busy
 controller, a second machine, a tracker. Without the kernel there is no plan
 (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.

@@ -9,6 +9,12 @@ after each step, does the work ``Session.advance`` would do there, in its order:
 
   * at a frame's end (``frame_every``), the session's check that the root link is in
     the world box and not flying off (``Session.advance``'s cheap check);
+  * the input events a replay hands it that fall at the step (``n_ev``: mouse moves
+    and sticks, ``session.event_runs``): each one's plain maps (clamped, linear: the
+    runtime's ``maps._plain_run``, the same operations) written as rest angles, and a
+    mouse move's values into ``in_val``, the device inputs a condition reads
+    (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
+    (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
   * at a control step (``every``), the state's polled transitions, and at every step
     a running sequence's ``until`` (``SequenceController.tick``), each from its own
     first step (its ``after``): a transition holds when all its conditions do, a range
