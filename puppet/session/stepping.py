@@ -37,6 +37,7 @@ MAX_SPEED2 = MAX_SPEED ** 2
 _position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
 _space_step = _cp.cpSpaceStep
 NO_BUDGET = 1 << 62  # step on until the events' rule says stop
+MOVES = ("mouse", "gamepad")  # the events a run of them in the kernel may start with
 
 
 def clean(space) -> bool:
@@ -199,6 +200,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     poll = runtime.poll
                     until_poll = poll.ready(now) if poll is not None and is_clean else None
             elif runs is not None and i < n and events[i][0] == stop_at and is_clean \
+                    and events[i][1]["type"] in MOVES \
                     and (wake is None or wake >= stop_at) and session.listener is None:
                 # nothing due before the next event, which stirs a state polling the mouse
                 # alone: the kernel's loop polls it from the next step, over the events
@@ -210,6 +212,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                 # the input events coming while the kernel's loop runs, when all they do
                 # is plain maps (event_runs): it applies them at their steps and runs on
                 over = runs is not None and i < n and events[i][0] == stop_at \
+                    and events[i][1]["type"] in MOVES \
                     and session.listener is None
                 if over:
                     reach = runs.start(poll.plan, runtime, events, i,
@@ -231,7 +234,8 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
             else:
                 stop = stop_at if wake is None or wake >= stop_at else wake
                 over = runs is not None and is_clean and stop == stop_at and i < n \
-                    and events[i][0] == stop_at and session.listener is None
+                    and events[i][0] == stop_at and events[i][1]["type"] in MOVES \
+                    and session.listener is None
                 if over:  # the events coming: the kernel's to apply (event_runs)
                     reach = runs.start(idle_plan, runtime, events, i,
                                        _cap(stop_at, budget, every, until), tail)
