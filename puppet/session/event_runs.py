@@ -23,6 +23,8 @@ from __future__ import annotations
 
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
 MOUSE_NAMES = ("mouse.x", "mouse.y")
+NUMBERS = (float, int, bool)  # a mouse move's values the kernel takes (else Python's)
+BOUND = 1 << 30  # steps the kernel's int holds
 POINTER_NAMES = ("pointer.x", "pointer.y")
 
 
@@ -42,26 +44,31 @@ class EventArrays:
         self.names: list[str] = [] if names is None else names  # kind k >= 1: a gamepad
         kinds = {name: k + 1 for k, name in enumerate(self.names)}  # event's name
         steps, kind, v = [], [], []
+        add_step, add_kind, add_v = steps.append, kind.append, v.append
+        names = self.names
         for at, event in events[lo:hi]:
-            t = event.get("type")
-            k, x, y = -1, 0.0, 0.0
-            if type(at) is int and -(1 << 30) < at < (1 << 30):
-                try:
-                    if t == "mouse":
-                        k, x, y = MOUSE, float(event["x"]), float(event["y"])
-                    elif t == "gamepad" and type(event.get("name")) is str:
-                        x, name = float(event["value"]), event["name"]
+            t = event["type"]
+            if type(at) is int and -BOUND < at < BOUND:
+                if t == "mouse":  # (the values on_event computes with: numbers)
+                    x, y = event.get("x"), event.get("y")
+                    if type(x) in NUMBERS and type(y) in NUMBERS:
+                        add_step(at), add_kind(MOUSE), add_v(x), add_v(y)
+                        continue
+                elif t == "gamepad" and type(event.get("name")) is str:
+                    try:  # (on_event's float())
+                        x = float(event["value"])
+                    except (KeyError, TypeError, ValueError):
+                        pass
+                    else:
+                        name = event["name"]
                         k = kinds.get(name)
                         if k is None:
-                            self.names.append(name)
-                            k = kinds[name] = len(self.names)
-                except (KeyError, TypeError, ValueError):
-                    k, x, y = -1, 0.0, 0.0
-            else:
-                at = 0
-            steps.append(at)
-            kind.append(k)
-            v += (x, y)
+                            names.append(name)
+                            k = kinds[name] = len(names)
+                        add_step(at), add_kind(k), add_v(x), add_v(0.0)
+                        continue
+            add_step(at if type(at) is int and -BOUND < at < BOUND else 0)
+            add_kind(-1), add_v(0.0), add_v(0.0)
         n = hi - lo
         brk = [hi] * (n + 1)
         for k in range(n - 2, -1, -1):
