@@ -176,9 +176,10 @@ def test_a_recovery_in_the_idle_steps_is_pythons(path_of):
 @needs_cc
 @pytest.mark.parametrize("name", ["luxo-shuffle", "luxo-kip", "luxo-backflip"])
 def test_the_kernels_loop_runs_on_over_inert_mouse_events(name, path_of):
-    """A mouse event that only moves the mouse (no map reads it, no state polls it)
-    does not stop the kernel's loop: fewer runs than event by event, the same end and
-    the same trace (the other tests)."""
+    """A mouse event that only moves the mouse or runs plain maps (or stirs a state
+    polling the mouse alone, which the kernel polls: ``session.event_runs``) does not
+    stop the kernel's loop: fewer runs than event by event, the same end and the same
+    trace (the other tests)."""
     from puppet.interface import poll_plan
 
     assert path_of("c") is not None
@@ -221,7 +222,7 @@ def _scrubbed(name: str):
 @needs_cc
 @pytest.mark.parametrize("budget", [None, 5])
 def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
-    """The kernel's loop running on over inert mouse events stops at the last step it
+    """The kernel's loop running on over mouse events stops at the last step it
     passed when the next event's step is behind it (it ran backwards and ticked the same
     step for ever): the same end as event by event, and a feeder's frame within its
     budget."""
