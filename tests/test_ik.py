@@ -33,7 +33,6 @@ def test_the_ik_solver_answers_within_the_limits_even_from_a_start_outside_them(
 def _reference_two(chain, d, prefer):
     """The general solvers' answer for a two-joint chain (what Chain.solve did)."""
     from puppet.interface.ik import _clamp, _two_link, solve_dls
-
     from puppet.interface.ik_two import round_clamp
 
     q = _two_link(*chain._closed, d, prefer)
