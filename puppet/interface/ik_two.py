@@ -29,6 +29,20 @@ _cos, _sin, _rem = _kernel.cos, _kernel.sin, _kernel.remainder
 _TWO_PI = 2.0 * math.pi  # (ik._wrap's period)
 
 
+def round_clamp(q: float, clamped: float, lo: float, hi: float) -> float:
+    """An angle ``q`` (within one turn, -pi..pi) past a joint's limits, clamped to the
+    limit nearer round the circle: ``clamped`` (the nearer one on the line) unless the
+    other is nearer the other way round. An arm at its 180 deg limit whose answer
+    wraps to -179.9 deg stays at 180, where the clamp on the line threw it to its
+    -60 deg limit (a monkey-bars arm straight up, holding its bar, swung down and
+    round at the end of a reach). NaN (a blown-up state) stays as clamped."""
+    if q < lo and q + _TWO_PI - hi < lo - q:
+        return hi
+    if q > hi and lo + _TWO_PI - q < q - hi:
+        return lo
+    return clamped
+
+
 class TwoLink:
     """A two-joint chain's solver: the closed form nearest the preferred bend, then
     damped least squares within the limits when the closed form is clamped."""
@@ -90,10 +104,14 @@ class TwoLink:
             m = q1 if q1 > lim0[0] else lim0[0]
             c1 = m if m < lim0[1] else lim0[1]
             same = c1 == q1
+            if not same:
+                c1 = round_clamp(q1, c1, lim0[0], lim0[1])
         if lim1 is not None:
             m = q2 if q2 > lim1[0] else lim1[0]
             c2 = m if m < lim1[1] else lim1[1]
             same = same and c2 == q2
+            if c2 != q2:
+                c2 = round_clamp(q2, c2, lim1[0], lim1[1])
         if same:
             return q1, q2
         return self.dls(d0, d1, c1, c2)  # a limit is in the way: nearest within them

@@ -456,6 +456,14 @@ static void pk_dls(const double *p, double d0, double d1, double q0, double q1,
     out[0] = q0; out[1] = q1;
 }
 
+/* ik_two.round_clamp: an angle past its limits to the limit nearer round the circle */
+static double round_clamp(double q, double clamped, double lo, double hi)
+{
+    if (q < lo && q + TURN - hi < lo - q) return hi;
+    if (q > hi && lo + TURN - q < q - hi) return lo;
+    return clamped;
+}
+
 void pk_two_link(const double *p, double d0, double d1, double dist, double prefer_q2,
                  double *out)
 {
@@ -479,11 +487,13 @@ void pk_two_link(const double *p, double d0, double d1, double dist, double pref
         double m = q1 > p[12] ? q1 : p[12];
         c1 = m < p[13] ? m : p[13];
         same = c1 == q1;
+        if (!same) c1 = round_clamp(q1, c1, p[12], p[13]);
     }
     if (has1) {
         double m = q2 > p[15] ? q2 : p[15];
         c2 = m < p[16] ? m : p[16];
         same = same && c2 == q2;
+        if (c2 != q2) c2 = round_clamp(q2, c2, p[15], p[16]);
     }
     if (same) {
         out[0] = q1; out[1] = q2;
