@@ -64,7 +64,9 @@ def test_shuffle_moves_half_a_metre_without_hopping():
     # a hop would fail the shuffle's airborne limit; the shuffle fails a hop's flight
     assert check(replayed("luxo-hop"), [{"airborne": {"link": "base", "max_seconds": 0.1}}])
     assert check(result, [{"airborne": {"link": "base", "min_seconds": 0.1}}])
-    assert check(result, [{"airborne": {"link": "base", "max_seconds": 0.05}}])
+    # ... and its steps do leave the floor a little (0.05 s at most since the fold ends
+    # on the kick's lift, issue 29: 0.083 s before)
+    assert check(result, [{"airborne": {"link": "base", "max_seconds": 0.04}}])
 
 
 @pytest.mark.parametrize("weaker", [{"friction": 0.2}, {"servos": 0.6}])

@@ -26,3 +26,23 @@ def test_a_reactive_logs_script_stays_in_its_header(tmp_path):
     assert after.header["script"] == before.header["script"] == "cat-bound"
     today = (ROOT / "assets" / "scripts" / "cat-bound.yaml").read_text(encoding="utf-8")
     assert after.header["script_text"] == today
+
+
+def test_on_another_step_the_log_moves_its_events_and_says_the_step(tmp_path):
+    """``--step 1/240 --new-end``: a character whose own step changed (issue 29); the
+    same events at the same times on the new step, its header's 'dt' the new step, kept
+    only if its expectations pass there (luxo-keys-sit-stand holds at 1/240 s)."""
+    name = "luxo-keys-sit-stand"
+    for ext in (".jsonl", ".expect.yaml"):
+        shutil.copy(ROOT / "assets" / "logs" / f"{name}{ext}", tmp_path / f"{name}{ext}")
+    log = tmp_path / f"{name}.jsonl"
+    before = read_log(log)
+    said = rerecord.rerecord(log, new_end=True, step=1 / 240)
+    after = read_log(log)
+    assert "a new end" in said, said
+    assert after.header["dt"] == 1 / 240 and before.header["dt"] == 1 / 480
+    assert [e.event for e in after.events] == [e.event for e in before.events]
+    assert [e.step for e in after.events] == [round(e.step / 2) for e in before.events]
+    from puppet.timeline.replay import replay
+
+    assert replay(log).same_end

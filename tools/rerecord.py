@@ -10,6 +10,11 @@ as the recording.
 ``--new-end``: the interface changed what this very performance does (its events, a
 live take's samples, are the same): the log is written again ending where today's files
 end it, if its expectations still pass there; say so when you commit it.
+
+``--step 1/240`` (with ``--new-end``): the log played on another simulation step, each
+event at the step nearest its recorded time (as ``puppet replay --step`` moves them):
+for a character whose own step changed (``solver: {step: ...}``, issue 29). Its header
+then says the new step; refused unless its expectations pass there.
 """
 
 from __future__ import annotations
@@ -34,9 +39,13 @@ def _script(header: dict) -> tuple[str, str] | None:
     return name, today.read_text(encoding="utf-8") if today.is_file() else text
 
 
-def rerecord(path: Path, new_end: bool = False) -> str:
+def rerecord(path: Path, new_end: bool = False, step: float | None = None) -> str:
     log = read_log(path)
     setup, _ = setup_for_log(log)
+    if step is not None:
+        from puppet.timeline.other_physics import rescaled
+
+        log = rescaled(log, step)  # the events at the same times on the step
     session = new_session(log, setup)
     h = log.header
     with tempfile.TemporaryDirectory() as tmp:
@@ -67,7 +76,16 @@ def rerecord(path: Path, new_end: bool = False) -> str:
 
 if __name__ == "__main__":
     args = sys.argv[1:]
+    step = None
+    if "--step" in args:
+        from puppet.timeline.other_physics import parse_step
+
+        i = args.index("--step")
+        step = parse_step(args[i + 1])
+        del args[i:i + 2]
+        if "--new-end" not in args:
+            sys.exit("rerecord.py: --step goes with --new-end (another step ends elsewhere)")
     new_end = "--new-end" in args
     for arg in args:
         if arg != "--new-end":
-            print(rerecord(Path(arg), new_end))
+            print(rerecord(Path(arg), new_end, step))

@@ -189,16 +189,17 @@ def run(args: argparse.Namespace) -> int:
                           virtual_pad=args.virtual_pad, script=script,
                           script_text=_script_text(script_path) if script else None)
     from puppet.app.headless import run_headless
-    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.physics.simulation import step_of
     from puppet.timeline.script import compile_script, late_note, run_seconds
 
-    events = compile_script(script, DEFAULT_DT) if script is not None else []
+    dt = step_of(setup.character)  # the step the session runs on (run_headless's Session)
+    events = compile_script(script, dt) if script is not None else []
     seconds = run_seconds(script, args.seconds)
     if clip is not None:
         if args.seconds is None and (script is None or script.seconds is None):
             seconds = clip.clip.duration  # a clip's run lasts the clip
-        events = sorted(events + clip.events(DEFAULT_DT, seconds), key=lambda e: e[0])
-    late = (late_note(script, seconds, DEFAULT_DT, args.seconds is not None, clip is not None)
+        events = sorted(events + clip.events(dt, seconds), key=lambda e: e[0])
+    late = (late_note(script, seconds, dt, args.seconds is not None, clip is not None)
             if script else None)
     if late:  # entries as written, and how long the script runs
         print(f"puppet play: warning: {late}", file=sys.stderr)

@@ -22,8 +22,9 @@ from puppet.data.ranges import (
     Size,
     Stiffness,
     Torque,
+    parse_step,
 )
-from puppet.data.validate import Meta, Spec, field, validate
+from puppet.data.validate import Meta, Spec, at, field, validate
 from puppet.data.yamlfile import Located, load_file
 
 Vec2 = ModelXY
@@ -99,10 +100,28 @@ class StartSpec(Spec, kw_only=True):
 
 class SolverSpec(Spec, kw_only=True):
     """The physics solver's settings while this character plays (absent: the engine's
-    defaults, SOLVER_ITERATIONS and COLLISION_SLOP in puppet/physics/simulation.py)."""
+    defaults, SOLVER_ITERATIONS, COLLISION_SLOP and DEFAULT_DT in
+    puppet/physics/simulation.py)."""
     # constraint solver passes per step
     iterations: Annotated[int, Meta(ge=1, le=200)] | None = None
     collision_slop: Num("slop") | None = None  # m of overlap allowed between shapes in contact
+    # the simulation step, s: a number (0.0041667) or a fraction ("1/240"), 1/2000..1/30;
+    # a session records it in its log's header ('dt'), and a replay takes the header's
+    step: float | str | None = None
+
+    def __post_init__(self):
+        if self.step is not None:
+            try:
+                parse_step(self.step)
+            except ValueError as exc:
+                raise at("step", str(exc)) from None
+
+    @property
+    def dt(self) -> float | None:
+        """The step in seconds (None: the engine's DEFAULT_DT)."""
+        if self.step is None:
+            return None
+        return parse_step(self.step)
 
 
 class CharacterSpec(Spec, kw_only=True):

@@ -127,3 +127,23 @@ _Channel = Annotated[int, Meta(ge=0, le=255, extra={
 Color = tuple[_Channel, _Channel, _Channel]
 Seed = Annotated[int, Meta(ge=0, lt=2**32, extra={
     "message": f"a seed is a whole number 0..{2**32 - 1}"})]
+
+
+STEP_RANGE = (1 / 2000, 1 / 30)  # s: the simulation steps a character, replay or try may take
+
+
+def parse_step(text) -> float:
+    """A simulation step in seconds, written 0.0041667 or "1/240"; ValueError (what was
+    expected, in words) outside 1/2000..1/30 s or not a number."""
+    try:
+        if isinstance(text, str) and "/" in text:
+            num, den = text.split("/", 1)
+            value = float(num) / float(den)
+        else:
+            value = float(text)
+    except (ValueError, ZeroDivisionError, TypeError):
+        value = None
+    if value is None or not STEP_RANGE[0] <= value <= STEP_RANGE[1]:
+        raise ValueError(f"'{text}' is not a simulation step from 1/2000 to 1/30 s (e.g. "
+                         f"1/240 or 0.0041667)")
+    return value

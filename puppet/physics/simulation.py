@@ -68,6 +68,13 @@ def step_space(space: pymunk.Space, dt: float, n: int) -> None:
         step(ptr, dt)
 
 
+def step_of(character: CharacterSpec) -> float:
+    """The simulation step a new session of ``character`` runs on, s: its own
+    (``solver: {step: ...}``) or DEFAULT_DT. A replay runs on its log's ('dt' in the
+    header), whatever the character says today."""
+    return character.solver.dt or DEFAULT_DT
+
+
 class Simulation:
     def __init__(self, character: CharacterSpec, scene: SceneSpec, dt: float = DEFAULT_DT):
         self.character_spec = character

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from puppet.data.characters import CharacterSpec
 from puppet.data.scenes import GroundSpec, SceneSpec
 from puppet.physics.kinematics import beyond
-from puppet.physics.simulation import Simulation
+from puppet.physics.simulation import Simulation, step_of
 
 SECONDS = 5.0  # simulated seconds the start pose is held
 TAIL = 2.0  # s at the end over which oscillation is measured
@@ -125,7 +125,7 @@ class Stability:
 def _hold(spec: CharacterSpec, nudge: float | None, probe=None) -> tuple[Run, Simulation]:
     """The start pose held for SECONDS on FLOOR; ``nudge`` (m/s, forward) given to every
     link at NUDGE_AT. ``probe(sim, t)`` is called after every step."""
-    sim = Simulation(spec, FLOOR)
+    sim = Simulation(spec, FLOOR, step_of(spec))  # on the step its sessions take
     c = sim.character
     run = Run(com_start=c.com())
     a0 = c.root_angle()

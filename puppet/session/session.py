@@ -16,7 +16,7 @@ from puppet.data.interfaces import InterfaceSpec, with_gesture
 from puppet.interface.app_keys import SIM_ACTIONS, AppAction
 from puppet.interface.events import Event
 from puppet.interface.runtime import InterfaceRuntime
-from puppet.physics.simulation import DEFAULT_DT, Simulation
+from puppet.physics.simulation import Simulation, step_of
 from puppet.session.history import History, Snapshot
 from puppet.session.playback import play
 from puppet.session.stepping import MAX_SPEED2, feed, idle_for, recorded
@@ -35,12 +35,15 @@ def world_box(scene) -> tuple[float, float, float, float]:
 
 
 class Session:
-    def __init__(self, setup: Setup, dt: float = DEFAULT_DT,
+    def __init__(self, setup: Setup, dt: float | None = None,
                  checkpoint_interval: float | None = None, keyframes: bool = True):
-        """``checkpoint_interval``: seconds between automatic checkpoints (default: the
-        interface's ``checkpoint_every``). ``keyframes=False`` turns them off (rewinds
-        then reach back to manual checkpoints and the start only): the benchmark uses
-        it to weigh the control layer apart from the timeline."""
+        """``dt``: the simulation step, s (default: the character's, ``step_of``; a
+        replay passes its log's). ``checkpoint_interval``: seconds between automatic
+        checkpoints (default: the interface's ``checkpoint_every``). ``keyframes=False``
+        turns them off (rewinds then reach back to manual checkpoints and the start
+        only): the benchmark uses it to weigh the control layer apart from the timeline."""
+        if dt is None:
+            dt = step_of(setup.character)
         if checkpoint_interval is None:
             checkpoint_interval = setup.interface.checkpoint_every
         self.setup = setup

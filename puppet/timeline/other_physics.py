@@ -15,26 +15,8 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
+from puppet.data.ranges import STEP_RANGE, parse_step  # (re-exported: their home was here)
 from puppet.timeline.log import Log, LogEvent
-
-STEP_RANGE = (1 / 2000, 1 / 30)  # s: the simulation steps a replay or a try may take
-
-
-def parse_step(text) -> float:
-    """A simulation step in seconds, written 0.0041667 or "1/240"; ValueError (what was
-    expected, in words) outside 1/2000..1/30 s or not a number."""
-    try:
-        if isinstance(text, str) and "/" in text:
-            num, den = text.split("/", 1)
-            value = float(num) / float(den)
-        else:
-            value = float(text)
-    except (ValueError, ZeroDivisionError, TypeError):
-        value = None
-    if value is None or not STEP_RANGE[0] <= value <= STEP_RANGE[1]:
-        raise ValueError(f"'{text}' is not a simulation step from 1/2000 to 1/30 s (e.g. "
-                         f"1/240 or 0.0041667)")
-    return value
 
 
 @dataclass(frozen=True)
@@ -72,7 +54,8 @@ class OtherPhysics:
         old = setup.character.solver
         solver = SolverSpec(
             iterations=old.iterations if self.iterations is None else self.iterations,
-            collision_slop=old.collision_slop if self.slop is None else self.slop)
+            collision_slop=old.collision_slop if self.slop is None else self.slop,
+            step=old.step)  # (the step a replay takes is its log's, or --step's)
         return dataclasses.replace(
             setup, character=setup.character.model_copy(update={"solver": solver}))
 
@@ -106,4 +89,4 @@ def rescaled(log: Log, dt: float) -> Log:
     return dataclasses.replace(log, header={**log.header, "dt": dt}, events=events, end=end)
 
 
-__all__ = ["OtherPhysics", "parse_step", "rescaled", "rescaled_pairs"]
+__all__ = ["STEP_RANGE", "OtherPhysics", "parse_step", "rescaled", "rescaled_pairs"]

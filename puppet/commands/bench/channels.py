@@ -59,12 +59,13 @@ def measure_channels(seconds: float, repeats: int, character_name: str = "cat",
     given the very targets the stream produced, written through the servo setters at
     the same steps (identical physics: the state hashes are compared)."""
     from puppet.data.catalog import load_character_named, setup_from_text
-    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.physics.simulation import step_of
     from puppet.session import Session
 
     character, _ = load_character_named(character_name)
     setup = setup_from_text(channel_interface_text(character, scene), "bench-channels.yaml")
-    n = max(1, round(1.0 / (FRAME_HZ * DEFAULT_DT)))
+    dt = step_of(character)  # the step its sessions run on
+    n = max(1, round(1.0 / (FRAME_HZ * dt)))
     frames = max(1, round(seconds * FRAME_HZ))
     inputs = channel_frames(frames)
     probe = Session(setup, keyframes=False)
@@ -101,7 +102,7 @@ def measure_channels(seconds: float, repeats: int, character_name: str = "cat",
         walls.append(wall["streamed"])
         identical = identical and last["streamed"].sim.state_hash() == \
             last["written"].sim.state_hash() == probe.sim.state_hash()
-    sim_seconds = frames * n * DEFAULT_DT
+    sim_seconds = frames * n * dt
     return {"character": character_name, "channels": CHANNEL_COUNT, "hz": CHANNEL_HZ,
             "sim_seconds": sim_seconds, "repeats": repeats,
             "overhead_pct": (statistics.median(ratios) - 1.0) * 100.0,

@@ -30,12 +30,13 @@ def measure_feedback(name: str, seconds: float, repeats: int) -> dict:
     import dataclasses
 
     from puppet.data.catalog import load_setup
-    from puppet.physics.simulation import DEFAULT_DT
+    from puppet.physics.simulation import step_of
     from puppet.session import Session
 
     setup = load_setup(name)
     bare = dataclasses.replace(setup, interface=_without_feedback(setup.interface))
-    n = max(1, round(1.0 / (FRAME_HZ * DEFAULT_DT)))
+    dt = step_of(setup.character)  # the step its sessions run on
+    n = max(1, round(1.0 / (FRAME_HZ * dt)))
     frames = max(1, round(seconds * FRAME_HZ))
     inputs = gesture(frames, setup.interface)
 

@@ -32,7 +32,10 @@ def format_report(report: dict) -> str:
         limit = {t["name"]: f"{t['op']} {t['limit']:g}{' ' if t['unit'] == 'ms' else ''}"
                              f"{t['unit']}" for t in c["targets"]}
         lines.append("")
-        lines.append(f"{c['character']} ({c['bodies']} bodies, {c['constraints']} constraints)")
+        step = (f", its own step 1/{round(1 / c['dt'])} s"
+                if c.get("dt") and c["dt"] != report["dt"] else "")  # (solver: {step})
+        lines.append(f"{c['character']} ({c['bodies']} bodies, {c['constraints']} "
+                     f"constraints{step})")
         for entry in c["interfaces"]:
             sp, name = entry["speed"], entry["interface"] or "no interface"
             lines.append(f" via {name} on {entry['scene']}")

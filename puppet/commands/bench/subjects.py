@@ -59,12 +59,10 @@ class Subject:
 
     def __init__(self, character: str, interface: str | None, scene: str | None = None):
         from puppet.data.catalog import find, load_character_named, load_scene_named, load_setup
-        from puppet.physics.simulation import DEFAULT_DT
+        from puppet.physics.simulation import step_of
 
         self.character = character
         self.interface = interface
-        self.dt = DEFAULT_DT
-        self.steps_per_frame = max(1, round(1.0 / (FRAME_HZ * self.dt)))
         if interface is not None:
             self.setup = load_setup(interface, scene)
             self.character_spec, self.scene_spec = self.setup.character, self.setup.scene
@@ -81,6 +79,8 @@ class Subject:
                 self.scene = list_kind("scene")[0][0]
             self.scene_spec, _ = load_scene_named(self.scene)
             self.interface_spec = None
+        self.dt = step_of(self.character_spec)  # the character's step, as a session's
+        self.steps_per_frame = max(1, round(1.0 / (FRAME_HZ * self.dt)))
 
     def frames(self, seconds: float) -> int:
         return max(1, round(seconds * FRAME_HZ))

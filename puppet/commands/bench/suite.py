@@ -51,7 +51,8 @@ def bench_character(character: str, interfaces: list[str], cfg: dict) -> dict:
     sim = first.sim_of(first.session())
     res: dict = {"character": character, "scene": first.scene,
                  "bodies": len(sim.character.bodies),
-                 "constraints": len(sim.space.constraints), "interfaces": []}
+                 "constraints": len(sim.space.constraints), "dt": first.dt,
+                 "interfaces": []}
     res["targets"] = []
     for subject in subjects:
         sp = measure_speed(subject, cfg["seconds"], cfg["repeats"])

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import hashlib
 
-from puppet.physics.simulation import DEFAULT_DT
+from puppet.physics.simulation import step_of
 from puppet.timeline.expectations import Expectations
 from puppet.timeline.script import ScriptSpec, compile_script, entry_end
 from puppet.timeline.tuning.interface_values import interface_values, with_values
@@ -27,7 +27,7 @@ class Start:
         else:
             self.setup_from = ("names", spec.interface, spec.scene, folder)
             self.setup = _setup(self.setup_from)
-            self.dt = DEFAULT_DT
+            self.dt = step_of(self.setup.character)  # a new session's step
             self.interval = self.setup.interface.checkpoint_every
             script = ScriptSpec(events=list(spec.events)) if spec.events else None
             self.pairs = compile_script(script, self.dt) if script else []
