@@ -1,9 +1,10 @@
 """A replay's runs of mouse moves and stick events applied inside the kernel's stepping
 loop (``session.event_runs``, ``pk_poll``'s ``pk_events``): the same bits as the
 event-by-event replay (``tests/stepwise.py``: ``Session.handle`` per event, which
-runs ``InterfaceRuntime.on_event``'s maps in Python), the runtime's inputs and the
-history's events alike, on the shipped logs and on events edited to test the edges
-(clamped values, integers, a joint a controller owns, the steps going back)."""
+runs ``InterfaceRuntime.on_event``'s maps in Python), the runtime's inputs, its held
+frame targets and the history's events alike, on the shipped logs and on events
+edited to test the edges (clamped values, integers, a joint a controller owns, a
+frame target held otherwise, the steps going back)."""
 
 from __future__ import annotations
 
@@ -20,9 +21,13 @@ from puppet.timeline.log import read_log
 from puppet.timeline.replay import LogFeeder, new_session, setup_for_log
 
 # mouse maps with no state polling (the headstand), sticks (the gamepad hop), plain
-# maps in states a poll plan runs (the flips, the kip), a state polling the mouse
+# maps in states a poll plan runs (the flips, the kip), a state polling the mouse; the
+# walkers' frame maps (hips held in the world) with feedback's add maps on the same
+# joints, states polling the mouse's x
 LOGS = ["luxo-headstand", "luxo-gamepad-hop", "luxo-backflip", "luxo-double-backflip",
-        "luxo-kip", "luxo-back-headspring", "luxo-shuffle"]
+        "luxo-kip", "luxo-back-headspring", "luxo-shuffle", "biped-auto-walk",
+        "biped-auto-run", "biped-walk"]
+WALKERS = ["biped-auto-walk", "biped-auto-run", "biped-walk"]
 EVERY = 13
 
 
@@ -46,10 +51,10 @@ def _counted():
     """Patches ``EventRuns.applied`` to count the events the kernel applied."""
     applied, done = event_runs.EventRuns.applied, [0]
 
-    def counted(session, plan, *args, **kwargs):
+    def counted(self, session, plan, *args, **kwargs):
         done[0] += plan.ev_done
-        return applied(session, plan, *args, **kwargs)
-    return patch.object(event_runs.EventRuns, "applied", staticmethod(counted)), done
+        return applied(self, session, plan, *args, **kwargs)
+    return patch.object(event_runs.EventRuns, "applied", counted), done
 
 
 def _compare(log, setup, pairs, end, every=EVERY) -> int:
@@ -87,7 +92,20 @@ def test_the_kernels_event_runs_are_the_event_by_event_replay(name, path_of):
 
 
 @needs_cc
-@pytest.mark.parametrize("name", ["luxo-headstand", "luxo-gamepad-hop", "luxo-kip"])
+@pytest.mark.parametrize("name", WALKERS)
+def test_the_walkers_long_runs_of_frame_maps_are_the_event_by_event_replay(name, path_of):
+    """Sampled every 240 steps (runs of a hundred events and more), the frame maps'
+    holds in the kernel: most mouse moves are its, the same bits as Python's."""
+    assert path_of("c") is not None
+    log, setup = _log(name)
+    applied = _compare(log, setup, log.pairs(), log.last_step, 240)
+    moves = sum(e["type"] == "mouse" for _, e in log.pairs())
+    assert applied > moves * 3 // 4, (applied, moves)
+
+
+@needs_cc
+@pytest.mark.parametrize("name", ["luxo-headstand", "luxo-gamepad-hop", "luxo-kip",
+                                  "biped-auto-walk"])
 @pytest.mark.parametrize("budget", [1, 7, 240])
 def test_a_feeders_frames_end_where_event_by_event_does(name, budget, path_of):
     """The window's replay, a budget of steps a frame: within it, and the reference's end."""
@@ -121,7 +139,8 @@ def _edged(name: str, stride: int = 5):
 
 
 @needs_cc
-@pytest.mark.parametrize("name", ["luxo-headstand", "luxo-gamepad-hop", "luxo-backflip"])
+@pytest.mark.parametrize("name", ["luxo-headstand", "luxo-gamepad-hop", "luxo-backflip",
+                                  "biped-auto-walk"])
 def test_values_clamped_or_whole_apply_as_pythons(name, path_of):
     assert path_of("c") is not None
     log, setup, pairs = _edged(name)
@@ -151,6 +170,66 @@ def test_a_joint_a_controller_owns_is_pythons(path_of):
     rt.owners.take([joint])
     assert runs.start(plan, rt, feeder.events, i, session.steps + 500, None) is not None
     plan.n_ev = 0
+
+
+def _walking(steps: int = 4000):
+    """biped-auto-walk fed to ``steps`` (walking, its hips held in the world by the
+    mouse's frame maps) and on to a step where its poll plan is ready, a mouse move
+    coming."""
+    log, setup = _log("biped-auto-walk")
+    session = new_session(log, setup)
+    feeder = LogFeeder(session, log)
+    feeder.advance(steps)
+    rt = session.runtime
+    while rt.poll.ready(session.steps) is None or not rt.frames.held \
+            or feeder.events[feeder.i][0] <= session.steps:
+        feeder.advance(1)
+    return session, feeder
+
+
+@needs_cc
+def test_a_frame_map_on_a_joint_held_otherwise_is_pythons(path_of):
+    """A frame map on a joint the plan holds in another frame, under another owner,
+    travelling in a blend, or with no plan (the idle loop): its hold changes what the
+    plan holds, so the kernel does not start a run (Python's ``hold_at``)."""
+    assert path_of("c") is not None
+    from puppet.interface.ownership import SEQUENCE
+    from puppet.interface.poses import made_frame_target
+
+    session, feeder = _walking()
+    rt, runs, poll = session.runtime, session._idle.runs, session.runtime.poll
+    events, i, cap = feeder.events, feeder.i, session.steps + 500
+
+    def start(ready=True):  # (the stepping loop's order: the plan made, then the run)
+        if ready and poll.ready(session.steps) is None:
+            return None
+        got = runs.start(poll.plan, rt, events, i, cap, None, poll)
+        poll.plan.n_ev = 0
+        return got
+    assert start() is not None
+    assert runs._holds and all(k == 0 for k, *_ in runs._holds)  # (the mouse's)
+    _, joint, n, _, _ = runs._holds[0]
+    target, owner = rt.frames.held[joint]
+    assert poll._frame_rows[n][0] == joint
+    for changed in [(made_frame_target("head", target.angle, target.hold_parent), owner),
+                    (made_frame_target(target.ref, target.angle, not target.hold_parent),
+                     owner), (target, SEQUENCE)]:
+        rt.frames.held[joint] = changed
+        assert start() is None, changed
+        if changed[1] == owner:  # (the plan holds it so: the run's check refuses it)
+            assert poll.ready(session.steps) is not None and poll._frame_rows[n] != \
+                (joint, target.ref, target.hold_parent)
+        rt.frames.held[joint] = (target, owner)
+        assert start() is not None
+    rt.owners.table[joint] = SEQUENCE
+    assert start() is None and start(ready=False) is None
+    rt.owners.table[joint] = owner
+    assert start() is not None
+    poll._travelling[joint] = 0
+    assert start(ready=False) is None
+    del poll._travelling[joint]
+    assert runs.start(session._idle.plan, rt, events, i, cap, None) is None
+    assert start() is not None
 
 
 @needs_cc

@@ -149,10 +149,14 @@ def test_a_non_finite_angle_is_held_alike_on_every_path(name, link, value, path_
 @needs_cc
 def test_a_run_cut_by_an_input_event_goes_on_at_the_next_tick(path_of):
     """The automatic walk's input events (about one every 2 steps, its control period
-    4) cut the loop's runs between its ticks: the session steps on to the next tick as
-    the loop would, and the kernel does that tick (``tick_first``), no Python tick
-    between; the traces above hold it to the Python path's bits."""
+    4), when the kernel's loop does not apply them (``session.event_runs``: here
+    turned off; an event it cannot apply, a key press), cut the loop's runs between its
+    ticks: the session steps on to the next tick as the loop would, and the kernel does
+    that tick (``tick_first``), no Python tick between; the traces above hold it to the
+    Python path's bits."""
     assert path_of("c") is not None
+    from puppet.session import event_runs
+
     log = read_log("assets/logs/biped-auto-walk.jsonl")
     session = new_session(log, setup_for_log(log)[0])
     run, seen = poll_plan.PollPlan.run, []
@@ -161,7 +165,8 @@ def test_a_run_cut_by_an_input_event_goes_on_at_the_next_tick(path_of):
         s = run(self, space, dt, now, *args)
         seen.append((now, args[-1], s))
         return s
-    with patch.object(poll_plan.PollPlan, "run", recorded):
+    with patch.object(poll_plan.PollPlan, "run", recorded), \
+            patch.object(event_runs.EventRuns, "start", lambda *args, **kwargs: None):
         LogFeeder(session, log).advance(log.last_step)
     later = sum(1 for (_, _, end), (now, first, _) in zip(seen, seen[1:])
                 if first and now > end)

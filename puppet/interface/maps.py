@@ -459,6 +459,9 @@ def _compile_frame(spec, frames, channels, owner=None):
                 for g, hold_at in holds:
                     hold_at(g * v)
             return ()  # held under the frame owner: nothing for the caller to take
+        if clamp:  # (what the kernel's event runs read: session.event_runs)
+            apply_frame_held.frame_run = (name, x0, inv, lo, span, frames, tuple(
+                (g, joint, ref, parent, owner) for joint, g in gains))
         return apply_frame_held
 
     def apply_frame(values):

@@ -11,7 +11,9 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     the world box and not flying off (``Session.advance``'s cheap check);
   * the input events a replay hands it that fall at the step (``n_ev``: mouse moves
     and sticks, ``session.event_runs``): each one's plain maps (clamped, linear: the
-    runtime's ``maps._plain_run``, the same operations) written as rest angles, and a
+    runtime's ``maps._plain_run``, the same operations) written as rest angles, its
+    frame maps' (the same arithmetic: ``maps._compile_frame``) as a held frame
+    target's new angle (``m_frame``: its row in ``f_*``), solved at once, and a
     mouse move's values into ``in_val``, the device inputs a condition reads
     (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
     (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
@@ -83,6 +85,7 @@ typedef struct {
     int *m_use;       /* per map row: which of its event's values it reads */
     double *m_x0, *m_inv, *m_lo, *m_span, *m_gain;
     void **m_spring;
+    int *m_frame;     /* per map row: -1, or the held frame target (f_*) it holds */
     double in_val[4]; /* the device inputs its conditions read (PK_S_INPUT + slot):
                          mouse.x, mouse.y, pointer.x, pointer.y; a mouse event sets them */
 } pk_poll_plan;
@@ -194,8 +197,16 @@ static int pk_events(pk_poll_plan *p, int s)
         }
         for (int m = p->k_first[kind]; m < p->k_last[kind]; m++) {
             double u = (p->ev_v[2 * e + p->m_use[m]] - p->m_x0[m]) * p->m_inv[m];
+            int f = p->m_frame ? p->m_frame[m] : -1;
             u = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
-            set_rest_angle(p->m_spring[m], p->m_gain[m] * (p->m_lo[m] + u * p->m_span[m]));
+            if (f < 0) {
+                set_rest_angle(p->m_spring[m], p->m_gain[m] * (p->m_lo[m] + u * p->m_span[m]));
+            } else {  /* a frame map: the joint held at its new angle, solved at once
+                         (FrameTargets.holder's hold_at), then at the control steps */
+                p->f_angle[f] = p->m_gain[m] * (p->m_lo[m] + u * p->m_span[m]);
+                pk_frame(p->f_parent[f], p->f_child[f], p->f_ref[f], p->f_angle[f],
+                         p->f_hold_parent[f], p->f_spring[f]);
+            }
         }
         p->ev_done++;
     }

@@ -11,15 +11,24 @@ does is what ``InterfaceRuntime.on_event`` does on its hot path with the runtime
 is now: store the input, and run the active maps reading it, each of them a plain map
 (``maps._plain_run``'s rows: one joint, clamped, linear; written operation for
 operation in C, so the targets have the same bits) on a joint no controller owns (the
-owners' table would take it back), with nothing pending, no frame target held, no
-machine in a state that polls device inputs alone (an event stirs it) and, when the
-state's table is the kernel's, no input read by its conditions (decided when the plan
-was filled). After the call the events it applied are recorded in the history and
-the inputs hold the last values, as after ``on_event`` one by one; the first event it
-cannot apply ends the call there, for the stepping loop to apply as ever.
+owners' table would take it back), or a frame map (``maps._compile_frame``'s: clamped,
+linear, held under the frame owner) on a joint the poll plan's frame loop already
+holds under it, in the same frame (the walkers' mouse: their swing and stance hips
+held in the world), which the kernel holds at the map's new angle and solves at once
+(``FrameTargets.holder``'s ``hold_at``), with nothing pending, no machine in a state
+that polls device inputs alone (an event stirs it) and, when the state's table is the
+kernel's, no input read by its conditions (decided when the plan was filled); the
+idle loop (no plan, no frame targets) takes them when no frame target is held. After
+the call the events it applied are recorded in the history, the inputs hold the last
+values and the frame targets the last angles (new targets, as ``hold_at`` makes), as
+after ``on_event`` one by one; the first event it cannot apply ends the call there,
+for the stepping loop to apply as ever.
 """
 
 from __future__ import annotations
+
+from puppet.interface.ownership import FRAME
+from puppet.interface.poses import made_frame_target
 
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
 MOUSE_NAMES = ("mouse.x", "mouse.y")
@@ -91,6 +100,9 @@ class EventRuns:
         self._entry: _Rows | None = None  # the last used
         self._written: dict = {}  # a plan -> the entry whose rows it points at
         self._pointers: dict = {}
+        # the frame maps' holds of the last run started: (kind, joint, its row in the
+        # poll plan's frame targets, ref, hold_parent)
+        self._holds: list = []
 
     def arrays(self, events, i: int) -> EventArrays:
         """The window of ``events`` holding ``events[i]`` (made at ``i`` when none
@@ -119,8 +131,8 @@ class EventRuns:
         the events run out, ``tail``: where the replay runs on to, or the last event's
         step), or None when the first is not the kernel's to apply. ``poll``: the
         runtime's ``PollPlan`` when the call is its (None: the idle loop's)."""
-        if runtime._pending or runtime.frames.held:
-            return None
+        if runtime._pending or (poll is None and runtime.frames.held):
+            return None  # (the idle loop holds no frame targets)
         if poll is not None:
             if poll._offline:  # (an input the plan's table decided when it was filled)
                 return None
@@ -137,8 +149,8 @@ class EventRuns:
         if first < 0 or first >= len(kinds) or kinds[first] is None:
             return None
         table = runtime.owners.table
+        entry = self._entry
         if table:  # a joint a controller owns: the map takes it back (Python's)
-            entry = self._entry
             k_first = entry.rows[0]
             for k, written in enumerate(entry.joints):
                 if written is not None and any(j in table for j in written):
@@ -146,6 +158,11 @@ class EventRuns:
                     entry.off.append(k)
                     if k == first:
                         return None
+        if entry.holds:
+            if not self._held(entry, runtime, poll, first):
+                return None
+        else:
+            self._holds = []
         j = arrays.brk[i - lo]
         last = events[j - 1][0]
         if j >= len(events):  # (the events run out: the loop's target, as ever)
@@ -167,8 +184,37 @@ class EventRuns:
             rows = entry.rows
             plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
             (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
-             plan.m_spring) = rows[2:]
+             plan.m_spring, plan.m_frame) = rows[2:]
         return reach
+
+    def _held(self, entry: _Rows, runtime, poll, first: int) -> bool:
+        """The frame maps' rows pointed at the poll plan's frame targets they hold: a
+        kind whose frame map holds a joint the plan does not hold in the same frame
+        under the frame owner (or travelling in a blend, or with no plan: the idle
+        loop's) turned off (Python's: its hold changes what the plan holds). False
+        when that is the first event's kind."""
+        rows = None if poll is None else poll._frame_rows
+        at = {} if rows is None else {row[0]: n for n, row in enumerate(rows)}
+        travelling = {} if poll is None else poll._travelling
+        held, owners = runtime.frames.held, runtime.owners.table
+        m_frame, k_first = entry.rows[-1], entry.rows[0]
+        self._holds = holds = []
+        for k, kind_holds in enumerate(entry.holds):
+            if not kind_holds or k_first[k] < 0:
+                continue
+            for r, joint, ref, hold_parent in kind_holds:
+                n = at.get(joint)
+                if n is None or rows[n][1] != ref or rows[n][2] != hold_parent \
+                        or joint in travelling or owners.get(joint) != FRAME \
+                        or held.get(joint, (None, None))[1] != FRAME:
+                    k_first[k] = -1
+                    entry.off.append(k)
+                    if k == first:
+                        return False
+                    break
+                m_frame[r] = n
+                holds.append((k, joint, n, ref, hold_parent))
+        return True
 
     def _kinds(self, runtime, arrays) -> list:
         """Per kind, its rows' (first, last) in the kernel's arrays (None: Python's),
@@ -201,40 +247,48 @@ class EventRuns:
         entry.restore()
         if sim is not entry.sim or sim.seats != entry.seats:  # a re-seat: new springs
             entry.sim, entry.seats = sim, sim.seats
-            spring, pointer = entry.rows[-1], self._pointer
+            spring, pointer = entry.rows[-2], self._pointer
             for r, servo in enumerate(entry.servos):
-                spring[r] = pointer(servo.spring._constraint)
+                if servo is not None:  # (a frame map's row: the plan's spring)
+                    spring[r] = pointer(servo.spring._constraint)
         return entry.spans
 
     def _made(self, runtime, sticks, objects) -> _Rows:
         mouse_names = MOUSE_NAMES + (POINTER_NAMES if runtime._pointer else ())
-        per_kind = [_plain_rows(runtime._mouse_maps, mouse_names)]
+        frames = runtime.frames
+        per_kind = [_plain_rows(runtime._mouse_maps, mouse_names, frames)]
         for name, compiled in sticks:
-            per_kind.append(None if compiled is None else _plain_rows(compiled, (name,)))
-        rows, spans, joints = [], [], []
+            per_kind.append(None if compiled is None else
+                            _plain_rows(compiled, (name,), frames))
+        rows, spans, joints, holds = [], [], [], []
         for got in per_kind:
             if got is None:
                 spans.append(None)
                 joints.append(None)
+                holds.append(None)
                 continue
             spans.append((len(rows), len(rows) + len(got)))
-            joints.append(tuple(r[-1] for r in got))
+            joints.append(tuple(r[7] for r in got if r[8] is None))
+            holds.append([(len(rows) + n, r[7], *r[8]) for n, r in enumerate(got)
+                          if r[8] is not None])
             rows.extend(got)
         ffi, nk, nr = self.ffi, len(spans), max(1, len(rows))
         k_first, k_last = ffi.new("int[]", nk), ffi.new("int[]", nk)
         arrays_ = [ffi.new("int[]", nr)] + [ffi.new("double[]", nr) for _ in range(5)] + \
-            [ffi.new("void *[]", nr)]
-        use, x0, inv, lo, span, gain, _ = arrays_
+            [ffi.new("void *[]", nr), ffi.new("int[]", nr)]
+        use, x0, inv, lo, span, gain, _, m_frame = arrays_
         for k, s in enumerate(spans):
             k_first[k], k_last[k] = (-1, -1) if s is None else s
-        for r, (u, a, b, c, d, g, _, _) in enumerate(rows):
+        for r, (u, a, b, c, d, g, _, _, frame) in enumerate(rows):
             use[r], x0[r], inv[r], lo[r], span[r], gain[r] = u, a, b, c, d, g
-        return _Rows(objects, spans, joints, (k_first, k_last, *arrays_), [r[6] for r in rows])
+            m_frame[r] = -1 if frame is None else 0  # (a frame row's: set at each start)
+        return _Rows(objects, spans, joints, (k_first, k_last, *arrays_), [r[6] for r in rows],
+                     holds if any(holds) else None)
 
-    @staticmethod
-    def applied(session, plan, events, i: int, on_event, rebuilding: bool) -> int:
+    def applied(self, session, plan, events, i: int, on_event, rebuilding: bool) -> int:
         """The events ``plan``'s call applied, recorded and stored as ``feed`` does one
-        by one (``recorded``, the runtime's inputs); the next event's index."""
+        by one (``recorded``, the runtime's inputs, the frame maps' holds at their last
+        angles); the next event's index."""
         done = plan.ev_done
         plan.n_ev = 0
         if not done:
@@ -264,18 +318,27 @@ class EventRuns:
             inputs["mouse.y"] = mouse["y"]
             if runtime._pointer:
                 inputs["pointer.x"], inputs["pointer.y"] = mouse["x"], mouse["y"]
+        if self._holds:  # each joint a frame map held: a new target at its last angle
+            kinds = set(self.ffi.unpack(plan.ev_kind, done))
+            held, angle = runtime.frames.held, plan.f_angle
+            for k, joint, n, ref, hold_parent in self._holds:
+                if k in kinds:
+                    held[joint] = (made_frame_target(ref, angle[n], hold_parent), FRAME)
         return j
 
 
 class _Rows:
     """The kernel's rows for one set of maps (``EventRuns._kinds``)."""
 
-    def __init__(self, objects, spans, joints, rows, servos):
+    def __init__(self, objects, spans, joints, rows, servos, holds=None):
         self.objects = objects  # (the runtime, its mouse maps, each stick's maps)
         self.spans = spans  # per kind: its rows' (first, last), None: Python's
-        self.joints = joints  # per kind: the joints its maps write
+        self.joints = joints  # per kind: the joints its plain maps write
         self.rows = rows  # (kinds' first, last, the rows' arrays), kept alive
-        self.servos = servos  # per row: its servo (its spring: the seat's)
+        self.servos = servos  # per row: its servo (its spring: the seat's; None: a
+        # frame map's, whose spring is the plan's)
+        self.holds = holds  # per kind: its frame maps' (row, joint, ref, hold_parent);
+        # None: no frame maps
         self.sim = self.seats = None  # the seat the rows' springs are of
         self.off: list = []  # the kinds turned off for the owners' table (start)
 
@@ -288,16 +351,30 @@ class _Rows:
             self.off = []
 
 
-def _plain_rows(appliers, names: tuple) -> list | None:
+def _plain_rows(appliers, names: tuple, frames=None) -> list | None:
     """The rows of ``appliers`` when every one is plain on ``names`` (the values the
-    event sets): (which value, x0, inv, lo, span, gain, servo, joint); else None."""
+    event sets), or a frame map on them holding its joints under the frame owner in
+    ``frames``: (which value, x0, inv, lo, span, gain, servo, joint, frame), ``frame``
+    None (a plain map's) or (ref, hold_parent) (a frame map's, whose servo is None);
+    else None. A joint a frame map holds is written by no other row."""
     rows = []
     for apply in appliers:
         run = getattr(apply, "plain_run", None)
         if run is None:
             plain = getattr(apply, "plain", None)
             if plain is None:
-                return None
+                held = getattr(apply, "frame_run", None)
+                if held is None:
+                    return None
+                name, x0, inv, lo, span, where, joints = held
+                if name not in names or where is not frames:
+                    return None
+                for g, joint, ref, hold_parent, owner in joints:
+                    if owner is not None and owner != FRAME:
+                        return None
+                    rows.append((names.index(name) % 2, x0, inv, lo, span, g, None, joint,
+                                 (ref, bool(hold_parent))))
+                continue
             run = (plain[0], (plain[1],))
         source, params = run
         if source is not None:
@@ -305,5 +382,8 @@ def _plain_rows(appliers, names: tuple) -> list | None:
         for name, x0, inv, lo, span, gain, servo, joint in params:
             if name not in names:
                 return None
-            rows.append((names.index(name) % 2, x0, inv, lo, span, gain, servo, joint))
+            rows.append((names.index(name) % 2, x0, inv, lo, span, gain, servo, joint, None))
+    holding = [r[7] for r in rows if r[8] is not None]
+    if holding and len({r[7] for r in rows}) < len(rows):
+        return None  # (a joint held and written again: its owner changes, Python's)
     return rows
