@@ -274,7 +274,7 @@ def test_guide_cat_paw_reaches_with_three_joints_and_the_spine_stops_at_its_limi
     s = doc_session(tmp_path, "name: cat-paw")
     s.advance(240)
     hips = s.character.bodies["hips"]
-    target = hips.local_to_world((0.20, 0.08))
+    target = hips.local_to_world((0.18, 0.12))
     paw = s.runtime.chains["paw"]
     start = math.dist(paw.end_world(s.character), target)
     tap(s, "e")
