@@ -36,6 +36,7 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_reach import fill_reaches
 from puppet.interface.poses import made_frame_target
 from puppet.physics import kernel as _kernel
 
@@ -242,10 +243,11 @@ class PollPlan:
         if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
-        frames = rt.frames
+        frames, reaching = rt.frames, rt.reaching
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
-                    and controller is not feedback and controller is not frames:
+                    and controller is not feedback and controller is not frames \
+                    and controller is not reaching:
                 return None
         held = frames.held
         if held:  # frame targets: re-solved at the control steps, each by its owner
@@ -310,7 +312,13 @@ class PollPlan:
             for k, index in self._held:
                 p.since[k] = since.get(index, -1)
         until = self._until
-        return until if until is not None and until > step else None  # (due now: Python)
+        if until is None:
+            return None
+        ends = fill_reaches(self, rt, NEVER)  # (at every ready: the owners may change)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
+        return until if until > step else None  # (due now: Python's)
 
     def _held_again(self, held: dict) -> bool:
         """The same joints held in the same frames, at new angles: written into the
