@@ -1,0 +1,83 @@
+"""A running reach inside the kernel's stepping loop (``poll_reach``, ``pk_poll``'s
+``pk_reaches``): the logs whose reaches the loop runs (the ladder climb's hands and
+feet on their rungs, grasping on arrival; the Luxo designer's reaches) replay call by
+call to the same states, servo targets and physics bits with the loop, without it
+(Python's ticks on the kernel) and on the pure-Python path, fed all at once and a few
+steps a call (runs cut at a call's end, going on from there); and the kernel's
+``pk_hypot`` is CPython's ``math.hypot`` to the bit.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import struct
+from unittest.mock import patch
+
+import pytest
+from kernel_paths import needs_cc, trace
+
+from puppet.interface import poll_plan
+from puppet.physics import kernel
+from puppet.timeline.log import read_log
+
+REACHING = ["biped-ladder-climb", "luxo-designer-try"]
+
+
+def _bits(x: float) -> bytes:
+    return struct.pack("<d", x)
+
+
+@needs_cc
+def test_pk_hypot_is_pythons(path_of):
+    hypot = path_of("c").lib.pk_hypot
+    rnd = random.Random(29)
+    special = [0.0, -0.0, 5e-324, 1e-310, 2.2250738585072014e-308, 1e-200, 1.0, 3.0, 4.0,
+               1e200, 1.7976931348623157e308, math.inf, -math.inf, math.nan]
+    pairs = [(a, b) for a in special for b in special]
+    for _ in range(200_000):
+        pairs.append((rnd.uniform(-2.0, 2.0), rnd.uniform(-2.0, 2.0)))
+        pairs.append((rnd.gauss(0.0, 1.0) * 10.0 ** rnd.uniform(-15, 15),
+                      rnd.gauss(0.0, 1.0) * 10.0 ** rnd.uniform(-15, 15)))
+        a = rnd.uniform(-1.0, 1.0)  # (nearly equal, and far apart in size)
+        pairs.append((a, a * rnd.uniform(0.999, 1.001) * 1e-3 ** rnd.randint(0, 3)))
+    for a, b in pairs:
+        assert _bits(hypot(a, b)) == _bits(math.hypot(a, b)), (a, b)
+
+
+def _traces(name: str, path_of, chunk: int | None) -> None:
+    log = read_log(f"assets/logs/{name}.jsonl")
+    assert path_of("c") is not None
+    run, reaching = poll_plan.PollPlan.run, [0]
+
+    def counted(self, *args, **kwargs):
+        reaching[0] += self.plan.n_reach > 0
+        return run(self, *args, **kwargs)
+
+    with patch.object(poll_plan.PollPlan, "run", counted):
+        with_loop, runs, _, _ = trace(log, True, chunk)
+    assert reaching[0] > 0, runs  # the loop ran reaches
+    ticks, none, _, _ = trace(log, False, chunk)
+    assert none == 0
+    assert path_of("python") is None
+    assert kernel.get() is None
+    in_python, none, _, _ = trace(log, True, chunk)
+    assert none == 0  # no kernel, no loop
+    assert len(with_loop) == len(ticks) == len(in_python)
+    for a, b, c in zip(with_loop, ticks, in_python):
+        assert a == b == c, (a, b, c)
+    assert with_loop[-1][-1] == log.end_hash, name
+
+
+@needs_cc
+@pytest.mark.parametrize("name", REACHING)
+def test_the_loop_runs_reaches_as_the_ticks_do(name, path_of):
+    _traces(name, path_of, None)
+
+
+@needs_cc
+@pytest.mark.parametrize("name", REACHING)
+def test_runs_cut_at_each_call_run_them_alike(name, path_of):
+    """Fed 37 steps a call: a reach's run stops at the call's end and the next goes on
+    from there (``tick_first``: its aim and writes at that step are the kernel's)."""
+    _traces(name, path_of, 37)
