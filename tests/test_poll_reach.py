@@ -1,6 +1,9 @@
 """A running reach inside the kernel's stepping loop (``poll_reach``, ``pk_poll``'s
-``pk_reaches``): the logs whose reaches the loop runs (the ladder climb's hands and
-feet on their rungs, grasping on arrival; the Luxo designer's reaches) replay call by
+``pk_reaches``), and several state machines in one table (``poll_machines``): the logs
+whose reaches the loop runs (the ladder climb's hands and feet on their rungs,
+grasping on arrival; the Luxo designer's reaches; the monkey bars' hands, with a
+second machine, ``legs``) and the giant swings' five machines (``pump`` polling the
+centre of mass) replay call by
 call to the same states, servo targets and physics bits with the loop, without it
 (Python's ticks on the kernel) and on the pure-Python path, fed all at once and a few
 steps a call (runs cut at a call's end, going on from there); and the kernel's
@@ -21,7 +24,8 @@ from puppet.interface import poll_plan
 from puppet.physics import kernel
 from puppet.timeline.log import read_log
 
-REACHING = ["biped-ladder-climb", "luxo-designer-try"]
+REACHING = ["biped-ladder-climb", "luxo-designer-try", "biped-monkey-bars"]
+MACHINES = ["biped-monkey-bars", "biped-giant-swings"]
 
 
 def _bits(x: float) -> bytes:
@@ -45,18 +49,20 @@ def test_pk_hypot_is_pythons(path_of):
         assert _bits(hypot(a, b)) == _bits(math.hypot(a, b)), (a, b)
 
 
-def _traces(name: str, path_of, chunk: int | None) -> None:
+def _traces(name: str, path_of, chunk: int | None, reaches: bool = True) -> None:
     log = read_log(f"assets/logs/{name}.jsonl")
     assert path_of("c") is not None
-    run, reaching = poll_plan.PollPlan.run, [0]
+    run, reaching, many = poll_plan.PollPlan.run, [0], [0]
 
     def counted(self, *args, **kwargs):
         reaching[0] += self.plan.n_reach > 0
+        many[0] += self._many
         return run(self, *args, **kwargs)
 
     with patch.object(poll_plan.PollPlan, "run", counted):
         with_loop, runs, _, _ = trace(log, True, chunk)
-    assert reaching[0] > 0, runs  # the loop ran reaches
+    assert reaching[0] > 0 or not reaches, runs  # the loop ran reaches
+    assert many[0] > 0 or name not in MACHINES, runs  # ... and several machines
     ticks, none, _, _ = trace(log, False, chunk)
     assert none == 0
     assert path_of("python") is None
@@ -81,3 +87,12 @@ def test_runs_cut_at_each_call_run_them_alike(name, path_of):
     """Fed 37 steps a call: a reach's run stops at the call's end and the next goes on
     from there (``tick_first``: its aim and writes at that step are the kernel's)."""
     _traces(name, path_of, 37)
+
+
+@needs_cc
+@pytest.mark.parametrize("name", ["biped-giant-swings"])
+def test_the_loop_polls_several_machines_as_the_ticks_do(name, path_of):
+    """Five machines, one polling the centre of mass (``pump``), in one table, whole
+    and 37 steps a call."""
+    _traces(name, path_of, None, reaches=False)
+    _traces(name, path_of, 37, reaches=False)
