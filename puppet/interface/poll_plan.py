@@ -37,7 +37,7 @@ from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, since_back, since_into
-from puppet.interface.poll_reach import fill_reaches
+from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poses import made_frame_target
 from puppet.physics import kernel as _kernel
 
@@ -248,11 +248,11 @@ class PollPlan:
         if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
-        frames, reaching = rt.frames, rt.reaching
+        frames, reaching, grasping = rt.frames, rt.reaching, rt.grasping
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
                     and controller is not feedback and controller is not frames \
-                    and controller is not reaching:
+                    and controller is not reaching and controller is not grasping:
                 return None
         held = frames.held
         if held:  # frame targets: re-solved at the control steps, each by its owner
@@ -322,6 +322,10 @@ class PollPlan:
         if until is None:
             return None
         ends = fill_reaches(self, rt, NEVER)  # (at every ready: the owners may change)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
+        ends = fill_grasps(self, rt, NEVER)  # (and the grasps held)
         if ends is None:
             return None
         until = ends if ends < until else until

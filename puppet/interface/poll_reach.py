@@ -67,3 +67,64 @@ def fill_reaches(plan, rt, never: int) -> int | None:
             until = end
     p.n_reach = len(rows[1])
     return until
+
+
+MAX_PLACES = 64  # (pk_poll_plan's a_p* and a_s* arrays)
+
+
+def fill_grasps(plan, rt, never: int) -> int | None:
+    """Write the runtime's armed grasps into ``plan``'s table: each chain's end, its
+    tolerance, where it let go (``skip_released``) and its places in the world (its
+    points, or its static props' points and segments: ``Prop._placed``'s, which stay
+    while the prop stands); the step the first one runs out at (``never``: none), or
+    None when one is not the kernel's to try (a chain that holds already, whose tick
+    disarms it at once; a dynamic prop; too many)."""
+    grasping = rt.grasping
+    p = plan.plan
+    armed = grasping.armed
+    if not armed:
+        p.n_armed = 0
+        return never
+    sim = rt.sim
+    if sim is None or len(armed) > MAX_REACHES:
+        return None
+    bodies, props, held = rt.character.bodies, sim.props, sim.grasps
+    until = never
+    n_p = n_s = 0
+    for j, (name, (points, prop, tolerance, ends, _, _, skip)) in enumerate(armed.items()):
+        if name in held:
+            return None
+        chain = grasping.chains[name]
+        p.a_end[j] = plan.pointer(bodies[chain.end_link]._body)
+        p.a_ex[j], p.a_ey[j] = chain.end
+        p.a_tol[j] = tolerance
+        skip = grasping.released_point(name) if skip else None
+        p.a_skip[j] = skip is not None
+        if skip is not None:
+            p.a_sx[j], p.a_sy[j] = skip
+        p.a_p0[j], p.a_s0[j] = n_p, n_s
+        if points is not None:
+            places, segments = [(None, x, y) for x, y in points], []
+        else:
+            places, segments = [], []
+            for name_ in (props if prop == "any" else [prop]):
+                got = props.get(name_)
+                if got is None or not got._static():
+                    return None
+                here = got._placed()
+                places += here[0]
+                segments += here[1]
+        if n_p + len(places) > MAX_PLACES or n_s + len(segments) > MAX_PLACES:
+            return None
+        for _, x, y in places:
+            p.a_px[n_p], p.a_py[n_p] = x, y
+            n_p += 1
+        for ax, ay, vx, vy, vv in segments:
+            p.a_sax[n_s], p.a_say[n_s], p.a_svx[n_s], p.a_svy[n_s], p.a_svv[n_s] = \
+                ax, ay, vx, vy, vv
+            n_s += 1
+        p.a_p1[j], p.a_s1[j] = n_p, n_s
+        if ends is not None and ends < until:
+            until = ends
+    p.n_armed = len(armed)
+    return until

@@ -95,6 +95,14 @@ typedef struct {
     void *r_end[4];   /* the chain's end link (NULL: no grasp to try) */
     double r_ex[4], r_ey[4], r_tol[4];  /* its end point (the link's), the tolerance */
     double r_out[16], r_q[2];  /* (scratch: the aims, the solve) */
+    int n_armed;      /* armed grasps (GraspController.tick), tried at every step: */
+    void *a_end[4];   /* the chain's end link, its end point, the tolerance */
+    double a_ex[4], a_ey[4], a_tol[4];
+    int a_skip[4];    /* a place near where it let go is skipped (released_point) */
+    double a_sx[4], a_sy[4];
+    int a_p0[4], a_p1[4], a_s0[4], a_s1[4];  /* its places: [a_p0, a_p1), [a_s0, a_s1) */
+    double a_px[64], a_py[64];  /* world points */
+    double a_sax[64], a_say[64], a_svx[64], a_svy[64], a_svv[64];  /* segments */
 } pk_poll_plan;
 """
 
@@ -241,6 +249,67 @@ double pk_hypot(double a, double b)
     return pk_norm(2, v, max, found_nan);
 }
 
+/* props._outside: the parameter nearest u of a segment's point at least r from
+   (cx, cy); 0 when the whole segment is within r (else 1, *u set) */
+static int pk_outside(double *u, double ax, double ay, double vx, double vy, double vv,
+                      double cx, double cy, double r)
+{
+    double dx = ax - cx, dy = ay - cy;
+    if (pow(dx + *u * vx, 2.0) + pow(dy + *u * vy, 2.0) >= r * r)
+        return 1;
+    double b = (dx * vx + dy * vy) / vv;
+    double c = (dx * dx + dy * dy - r * r) / vv;
+    double m = b * b - c;
+    double root = sqrt(m > 0.0 ? m : 0.0);  /* math.sqrt(max(0.0, ...)) */
+    double inside[2] = {-b - root, -b + root}, best = 0.0, key = 0.0;
+    int found = 0;
+    for (int i = 0; i < 2; i++) {
+        double t = inside[i];
+        if (0.0 <= t && t <= 1.0) {  /* min(allowed, key=abs(s - u)): the first least */
+            double k = fabs(t - *u);
+            if (!found || k < key) {
+                best = t; key = k; found = 1;
+            }
+        }
+    }
+    if (found)
+        *u = best;
+    return found;
+}
+
+/* GraspController.tick's test for armed grasp ``j`` (try_grasp: the nearest of its
+   places, Prop.nearest's arithmetic, or its world points): 1 when that is within
+   the tolerance, or nearly (Python's tick then grasps or finds it does not) */
+static int pk_catches(const pk_poll_plan *p, int j)
+{
+    pk_vect local = {p->a_ex[j], p->a_ey[j]};
+    pk_vect e = to_world(p->a_end[j], local);
+    double wx = e.x, wy = e.y, r = p->a_tol[j], best = INFINITY;
+    double cx = p->a_sx[j], cy = p->a_sy[j];
+    int skip = p->a_skip[j];
+    for (int i = p->a_p0[j]; i < p->a_p1[j]; i++) {
+        double px = p->a_px[i], py = p->a_py[i];
+        if (skip && pk_hypot(px - cx, py - cy) < r)
+            continue;
+        double d = pk_hypot(px - wx, py - wy);
+        if (d < best)
+            best = d;
+    }
+    for (int i = p->a_s0[j]; i < p->a_s1[j]; i++) {
+        double ax = p->a_sax[i], ay = p->a_say[i], vx = p->a_svx[i], vy = p->a_svy[i];
+        double vv = p->a_svv[i];
+        double u = ((wx - ax) * vx + (wy - ay) * vy) / vv;
+        double m = u > 0.0 ? u : 0.0;
+        u = m < 1.0 ? m : 1.0;
+        if (skip && !pk_outside(&u, ax, ay, vx, vy, vv, cx, cy, r))
+            continue;
+        double d = pk_hypot(ax + u * vx - wx, ay + u * vy - wy);
+        if (d < best)
+            best = d;
+    }
+    return !(best > r * (1.0 + 1e-9) + 1e-12);
+}
+
 /* The running reaches at ``s`` (ReachController.tick's fast path): each one's aim;
    1 when one would grasp (its end within its tolerance of the goal: try_grasp's
    test, met or nearly) or there is no kernel's hypot to trust (then Python's tick at
@@ -248,6 +317,9 @@ double pk_hypot(double a, double b)
    the reaches' order */
 static int pk_reaches(pk_poll_plan *p, int s)
 {
+    for (int j = 0; j < p->n_armed; j++)  /* (the armed grasps: Python's, if one holds) */
+        if (pk_catches(p, j))
+            return 1;
     for (int j = 0; j < p->n_reach; j++) {
         double *out = p->r_out + 4 * j;
         pk_reach_aim((double)(s - p->r_start[j]), p->r_parent[j], p->r_ax[j], p->r_ay[j],
@@ -275,7 +347,7 @@ static int pk_tick(pk_poll_plan *p, int s)
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     if (pk_fires(p, s, &com))
         return 1;
-    if (p->n_reach && pk_reaches(p, s))
+    if ((p->n_reach || p->n_armed) && pk_reaches(p, s))
         return 1;
     if (s % p->every)
         return 0;
