@@ -2,8 +2,9 @@
 ``pk_reaches``), and several state machines in one table (``poll_machines``): the logs
 whose reaches the loop runs (the ladder climb's hands and feet on their rungs,
 grasping on arrival; the Luxo designer's reaches; the monkey bars' hands, with a
-second machine, ``legs``) and the giant swings' five machines (``pump`` polling the
-centre of mass) replay call by
+second machine, ``legs``), the giant swings' five machines (``pump`` polling the
+centre of mass) and the gymnast's climb (armed grasps tried in the loop,
+``pk_catches``) replay call by
 call to the same states, servo targets and physics bits with the loop, without it
 (Python's ticks on the kernel) and on the pure-Python path, fed all at once and a few
 steps a call (runs cut at a call's end, going on from there); and the kernel's
@@ -25,7 +26,7 @@ from puppet.physics import kernel
 from puppet.timeline.log import read_log
 
 REACHING = ["biped-ladder-climb", "luxo-designer-try", "biped-monkey-bars"]
-MACHINES = ["biped-monkey-bars", "biped-giant-swings"]
+MACHINES = ["biped-monkey-bars", "biped-giant-swings", "biped-gymnast-climb-bound"]
 
 
 def _bits(x: float) -> bytes:
@@ -52,10 +53,12 @@ def test_pk_hypot_is_pythons(path_of):
 def _traces(name: str, path_of, chunk: int | None, reaches: bool = True) -> None:
     log = read_log(f"assets/logs/{name}.jsonl")
     assert path_of("c") is not None
-    run, reaching, many = poll_plan.PollPlan.run, [0], [0]
+    run, reaching, many, armed = poll_plan.PollPlan.run, [0], [0], [0]
 
     def counted(self, *args, **kwargs):
         reaching[0] += self.plan.n_reach > 0
+        armed[0] += self.plan.n_armed > 0 and any(self.plan.a_skip[j]
+                                                  for j in range(self.plan.n_armed))
         many[0] += self._many
         return run(self, *args, **kwargs)
 
@@ -63,6 +66,7 @@ def _traces(name: str, path_of, chunk: int | None, reaches: bool = True) -> None
         with_loop, runs, _, _ = trace(log, True, chunk)
     assert reaching[0] > 0 or not reaches, runs  # the loop ran reaches
     assert many[0] > 0 or name not in MACHINES, runs  # ... and several machines
+    assert armed[0] > 0 or name != "biped-gymnast-climb-bound", runs  # ... skipping
     ticks, none, _, _ = trace(log, False, chunk)
     assert none == 0
     assert path_of("python") is None
@@ -94,5 +98,14 @@ def test_runs_cut_at_each_call_run_them_alike(name, path_of):
 def test_the_loop_polls_several_machines_as_the_ticks_do(name, path_of):
     """Five machines, one polling the centre of mass (``pump``), in one table, whole
     and 37 steps a call."""
+    _traces(name, path_of, None, reaches=False)
+    _traces(name, path_of, 37, reaches=False)
+
+
+@needs_cc
+@pytest.mark.parametrize("name", ["biped-gymnast-climb-bound"])
+def test_the_loop_tries_armed_grasps_as_the_ticks_do(name, path_of):
+    """Hands and feet armed on every prop, each skipping where it let go, tried in
+    the loop at every step, whole and 37 steps a call."""
     _traces(name, path_of, None, reaches=False)
     _traces(name, path_of, 37, reaches=False)
