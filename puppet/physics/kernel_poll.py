@@ -278,22 +278,29 @@ static int pk_outside(double *u, double ax, double ay, double vx, double vy, dou
 }
 
 /* GraspController.tick's test for armed grasp ``j`` (try_grasp: the nearest of its
-   places, Prop.nearest's arithmetic, or its world points): 1 when that is within
-   the tolerance, or nearly (Python's tick then grasps or finds it does not) */
+   places, Prop.nearest's arithmetic, or its world points, within the tolerance): 1
+   when one of its places is within it, or nearly (Python's tick then grasps or finds
+   it does not). A place surely farther (its squared distance, or its segment's
+   ignoring the skipped part, beyond the tolerance by far more than any rounding) is
+   not worked out further. */
 static int pk_catches(const pk_poll_plan *p, int j)
 {
     pk_vect local = {p->a_ex[j], p->a_ey[j]};
     pk_vect e = to_world(p->a_end[j], local);
-    double wx = e.x, wy = e.y, r = p->a_tol[j], best = INFINITY;
+    double wx = e.x, wy = e.y, r = p->a_tol[j];
+    double reach = r * (1.0 + 1e-9) + 1e-12, far = r * (1.0 + 1e-6) + 1e-9;
     double cx = p->a_sx[j], cy = p->a_sy[j];
     int skip = p->a_skip[j];
+    far *= far;
     for (int i = p->a_p0[j]; i < p->a_p1[j]; i++) {
         double px = p->a_px[i], py = p->a_py[i];
+        double dx = px - wx, dy = py - wy;
+        if (dx * dx + dy * dy > far)
+            continue;
         if (skip && pk_hypot(px - cx, py - cy) < r)
             continue;
-        double d = pk_hypot(px - wx, py - wy);
-        if (d < best)
-            best = d;
+        if (!(pk_hypot(dx, dy) > reach))
+            return 1;
     }
     for (int i = p->a_s0[j]; i < p->a_s1[j]; i++) {
         double ax = p->a_sax[i], ay = p->a_say[i], vx = p->a_svx[i], vy = p->a_svy[i];
@@ -301,13 +308,16 @@ static int pk_catches(const pk_poll_plan *p, int j)
         double u = ((wx - ax) * vx + (wy - ay) * vy) / vv;
         double m = u > 0.0 ? u : 0.0;
         u = m < 1.0 ? m : 1.0;
+        double dx = ax + u * vx - wx, dy = ay + u * vy - wy;
+        if (dx * dx + dy * dy > far)  /* (the segment's nearest: the skipped part's
+                                          points are no nearer) */
+            continue;
         if (skip && !pk_outside(&u, ax, ay, vx, vy, vv, cx, cy, r))
             continue;
-        double d = pk_hypot(ax + u * vx - wx, ay + u * vy - wy);
-        if (d < best)
-            best = d;
+        if (!(pk_hypot(ax + u * vx - wx, ay + u * vy - wy) > reach))
+            return 1;
     }
-    return !(best > r * (1.0 + 1e-9) + 1e-12);
+    return 0;
 }
 
 /* The running reaches at ``s`` (ReachController.tick's fast path): each one's aim;
