@@ -89,6 +89,16 @@ def fill_grasps(plan, rt, never: int) -> int | None:
     if sim is None or len(armed) > MAX_REACHES:
         return None
     bodies, props, held = rt.character.bodies, sim.props, sim.grasps
+    # what the table is made of: the armed grasps (a new list each arm), the chains
+    # that hold, where each let go, the bodies and the seat (a re-seat or a restore
+    # makes new ones; a static prop stands still between them)
+    key = (bodies, sim.space, sim.seats, tuple((n, id(a)) for n, a in armed.items()),
+           tuple(held), tuple(grasping.released.items()))
+    kept = plan.__dict__.get("_grasps_kept")
+    if kept is not None and kept[0] == key and kept[2] is armed:
+        p.n_armed = len(armed)
+        return kept[1]
+    plan._grasps_kept = None
     until = never
     n_p = n_s = 0
     for j, (name, (points, prop, tolerance, ends, _, _, skip)) in enumerate(armed.items()):
@@ -127,4 +137,6 @@ def fill_grasps(plan, rt, never: int) -> int | None:
         if ends is not None and ends < until:
             until = ends
     p.n_armed = len(armed)
+    plan._grasps_kept = (key, until, armed, tuple(armed.values()))  # (the lists kept
+    # alive: their ids are not taken by new ones)
     return until
