@@ -237,6 +237,8 @@ class PollPlan:
         rt, machine = self.runtime, self.machine
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
+        if rt.tracker.mode != OFF:  # (asked first: a tracking interface's every tick,
+            return None  # with one machine or several)
         table = self._state_table()
         if table is None:
             return None
