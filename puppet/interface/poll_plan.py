@@ -36,6 +36,8 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_machines import joint_table, since_back, since_into
+from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poses import made_frame_target
 from puppet.physics import kernel as _kernel
 
@@ -90,7 +92,9 @@ class PollPlan:
         self._tables: dict = {}  # (machine, state, binding) -> transitions or None
         self._pointers: dict = {}  # a pymunk object -> the kernel's void * (see pointer)
         self._frame = None  # the session's frame check, as written into the plan
-        self.machine = runtime._machine_list[0]  # (plan_for: one machine)
+        self.machine = runtime._machine_list[0]  # (the first: several, poll_machines)
+        self._many = len(runtime._machine_list) > 1
+        self._joint_key = self._joint = None  # (poll_machines.joint_table)
         self._state = self._binding = self._current = None  # the state's table (ready)
         self._filled = self._space = self._key = self._until = None  # the plan (ready)
         self._frames_kept: tuple = ()  # the held frame targets the plan was filled with
@@ -178,9 +182,9 @@ class PollPlan:
         """Every state's table and every sequence step's ``until``, made when the
         runtime is (a state's first entry in a replay would make them between its
         steps, as cold as the rest of the entry)."""
-        machine = self.machine
-        for state in machine.spec.states:
-            self._table(machine, state)
+        for machine in self.runtime._machine_list:
+            for state in machine.spec.states:
+                self._table(machine, state)
         for name, steps in self.runtime.sequences.specs.items():
             for index in range(len(steps)):
                 self._sequence_until(name, index)
@@ -202,6 +206,8 @@ class PollPlan:
     def _state_table(self):
         """The current state's table (looked up once per state and binding)."""
         rt, machine = self.runtime, self.machine
+        if self._many:
+            return joint_table(self)  # (its device-only machines: Python's; _live False)
         if machine.current is not self._state or rt.roles.binding is not self._binding:
             self._state, self._binding = machine.current, rt.roles.binding
             self._current = table = self._table(machine)
@@ -231,6 +237,8 @@ class PollPlan:
         rt, machine = self.runtime, self.machine
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
+        if rt.tracker.mode != OFF:  # (asked first: a tracking interface's every tick,
+            return None  # with one machine or several)
         table = self._state_table()
         if table is None:
             return None
@@ -242,10 +250,11 @@ class PollPlan:
         if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
             return None
         blends, sequences = rt.blends, rt.sequences
-        frames = rt.frames
+        frames, reaching, grasping = rt.frames, rt.reaching, rt.grasping
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
-                    and controller is not feedback and controller is not frames:
+                    and controller is not feedback and controller is not frames \
+                    and controller is not reaching and controller is not grasping:
                 return None
         held = frames.held
         if held:  # frame targets: re-solved at the control steps, each by its owner
@@ -305,12 +314,24 @@ class PollPlan:
             get, in_val = rt.inputs.get, self.plan.in_val
             in_val[0], in_val[1] = get("mouse.x", NAN), get("mouse.y", NAN)
             in_val[2], in_val[3] = get("pointer.x", NAN), get("pointer.y", NAN)
-        if self._held:  # the `for`s' starts, as the machine has them now
+        if self._held and self._many:
+            since_into(self)
+        elif self._held:  # the `for`s' starts, as the machine has them now
             p, since = self.plan, machine._since
             for k, index in self._held:
                 p.since[k] = since.get(index, -1)
         until = self._until
-        return until if until is not None and until > step else None  # (due now: Python)
+        if until is None:
+            return None
+        ends = fill_reaches(self, rt, NEVER)  # (at every ready: the owners may change)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
+        ends = fill_grasps(self, rt, NEVER)  # (and the grasps held)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
+        return until if until > step else None  # (due now: Python's)
 
     def _held_again(self, held: dict) -> bool:
         """The same joints held in the same frames, at new angles: written into the
@@ -471,7 +492,9 @@ class PollPlan:
                 target = held[joint][0]
                 held[joint] = (made_frame_target(target.ref, b_value[j], target.hold_parent),
                                BLEND)
-        if self._held:  # the `for`s' starts handed back (a snapshot keeps them)
+        if self._held and self._many:
+            since_back(self)
+        elif self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held
                                    if since[k] >= 0}
@@ -488,9 +511,10 @@ class PollPlan:
             if wake is None or at < wake:
                 wake = at
         rt._controllers_wake = wake
-        at = self.machine.next_wakeup(s)
-        if at is not None and (wake is None or at < wake):
-            wake = at
+        for machine in rt._machine_list:
+            at = machine.next_wakeup(s)
+            if at is not None and (wake is None or at < wake):
+                wake = at
         rt.next_wakeup = wake = wake if wake is None or wake > s else s
         # stopped at the call's end: the next call may go on at the next tick (the
         # session steps to it as the loop would; an input event comes first, and
@@ -525,6 +549,6 @@ def plan_for(runtime) -> PollPlan | None:
     """The runtime's plan, with the kernel and one state machine; None on Python's
     path."""
     kern = _kernel.get()
-    if kern is None or runtime.sim is None or len(runtime._machine_list) != 1:
+    if kern is None or runtime.sim is None or not runtime._machine_list:
         return None
     return PollPlan(runtime, kern)
