@@ -262,3 +262,17 @@ def test_event_arrays_break_runs_where_the_kernel_cannot_go_on():
     assert arrays.names == ["left_x", "a"]
     assert arrays.brk[:len(pairs)] == [2, 2, 5, 5, 5, 7, 7]
     assert (arrays.v[0], arrays.v[1], arrays.v[6]) == (0.1, 0.2, 0.5)
+
+
+def test_event_arrays_leave_values_past_a_doubles_range_to_python():
+    """An int too big for a double (a hand-built events list: logs and live events
+    refuse it) is Python's, which raises only if it reaches it; the arrays, made ahead
+    of the run, must not raise (reviewer: OverflowError past ``until_step``)."""
+    from cffi import FFI
+
+    huge = 10 ** 400
+    pairs = [(1, {"type": "mouse", "x": huge, "y": 0.2}),
+             (2, {"type": "gamepad", "name": "x", "value": huge}),
+             (3, ev.mouse(float("nan"), 0.2)), (4, ev.mouse(0.1, 0.2))]
+    arrays = event_runs.EventArrays(FFI(), pairs)
+    assert [arrays.kind[k] for k in range(len(pairs))] == [-1, -1, -1, 0]

@@ -33,6 +33,7 @@ from puppet.interface.poses import made_frame_target
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
 MOUSE_NAMES = ("mouse.x", "mouse.y")
 NUMBERS = (float, int, bool)  # a mouse move's values the kernel takes (else Python's)
+HUGE = 1e300  # and only within this (an int past a double's range stays Python's)
 BOUND = 1 << 30  # steps the kernel's int holds
 POINTER_NAMES = ("pointer.x", "pointer.y")
 
@@ -60,14 +61,15 @@ class EventArrays:
             if type(at) is int and -BOUND < at < BOUND:
                 if t == "mouse":  # (the values on_event computes with: numbers)
                     x, y = event.get("x"), event.get("y")
-                    if type(x) in NUMBERS and type(y) in NUMBERS:
+                    if type(x) in NUMBERS and type(y) in NUMBERS \
+                            and -HUGE < x < HUGE and -HUGE < y < HUGE:
                         add_step(at), add_kind(MOUSE), add_v(x), add_v(y)
                         continue
                 elif t == "gamepad" and type(event.get("name")) is str:
                     try:  # (on_event's float())
                         x = float(event["value"])
-                    except (KeyError, TypeError, ValueError):
-                        pass
+                    except (KeyError, TypeError, ValueError, OverflowError):
+                        pass  # (an int past a double's range: Python's, as it raises)
                     else:
                         name = event["name"]
                         k = kinds.get(name)
