@@ -248,3 +248,31 @@ def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
                 feeder.advance(budget)
                 assert session.steps - before <= budget
     assert _state(session) == _state(ref)
+
+
+def test_a_feeder_keeps_its_place_when_a_frame_raises():
+    """An exception in the middle of a frame (here the runtime's, at the 5th mouse event)
+    leaves the feeder's index past the events taken, the raising one included: the next
+    frames go on from the event after it and none is applied twice (the index was
+    written only when ``feed`` returned: it stayed at 0 and the frame after replayed the
+    first events again, into the history twice)."""
+    log, setup = _log("luxo-hop")
+    session = new_session(log, setup)
+    feeder = LogFeeder(session, log)
+    runtime, seen = session.runtime, []
+
+    def on_event(event, real=runtime.on_event):
+        seen.append(event)
+        if len(seen) == 5:
+            raise RuntimeError("the 5th event")
+        return real(event)
+    runtime.on_event = on_event
+    with pytest.raises(RuntimeError, match="the 5th event"):
+        feeder.advance(log.last_step)
+    taken = next(k for k, (_, event) in enumerate(feeder.events) if event is seen[-1]) + 1
+    assert feeder.i == taken == 5
+    del runtime.on_event  # (the class's again)
+    while not feeder.finished:
+        feeder.advance(240)
+    assert [(step, event) for _, step, event in session.history.events] == log.pairs()
+    assert session.steps == log.last_step
