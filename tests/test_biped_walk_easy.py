@@ -2,24 +2,22 @@
 -reactive, -newcomer): space takes a step, but the step happens at the swing foot's
 touch-down - a press during the step is kept (`buffer:`) until then - and with no press
 the figure stands in double support. Its logs are not press schedules found by a search:
-presses on a plain clock, or by watching the feet."""
+presses on a plain clock, or by watching the feet. That the three logs meet their
+expectations is tests/test_logs.py's (every shipped log, replayed once)."""
 
 from __future__ import annotations
 
 import json
 import math
 
-import pytest
 from helpers import with_weak_hips
 from test_luxo_feats import _failed
 
 from puppet.data.catalog import ROOT, load_setup
 from puppet.interface import events as ev
 from puppet.session import Session
-from puppet.testing import replay_log
 
 LOGS = ROOT / "assets" / "logs"
-NAMES = ["biped-walk-easy", "biped-walk-easy-reactive", "biped-walk-easy-newcomer"]
 STEPS_PER_S = 480  # dt 1/480 s
 
 
@@ -43,12 +41,6 @@ def _run_until(s: Session, prefix: str, limit: float) -> float:
         assert s.time < limit, s.runtime.state
         s.advance(1)
     return s.time
-
-
-@pytest.mark.parametrize("name", NAMES)
-def test_the_log_meets_its_expectations(name):
-    result = replay_log(str(LOGS / f"{name}.jsonl"))
-    assert not result.failed, [str(o) for o in result.outcomes]
 
 
 def test_the_walk_presses_on_a_clock_not_on_the_steps():

@@ -6,6 +6,7 @@ idle steps) and on the pure-Python path. None reads a clock."""
 
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 from unittest.mock import patch
 
@@ -78,14 +79,22 @@ def test_a_replay_in_one_call_is_the_event_by_event_one(name, every):
     assert heard == ref_heard
 
 
+@cache
+def _stepwise_end(name: str) -> tuple:
+    """The event-by-event replay's end state (``_state``) of a log: one reference run
+    per log for the feeder's three budgets (it depends on the log alone)."""
+    log, setup = _log(name)
+    ref = new_session(log, setup)
+    stepwise(ref, log.pairs(), None, end_step=log.last_step)
+    return _state(ref)
+
+
 @pytest.mark.parametrize("name", ["luxo-shuffle", "cat-trot", "luxo-gamepad-hop"])
 @pytest.mark.parametrize("budget", [1, 7, 240])
 def test_a_feeder_ends_alike_whatever_its_frames(name, budget):
     """The window's replay, a budget of steps a frame: the same end as event by event,
     and after each frame the same state as the reference at that step."""
     log, setup = _log(name)
-    ref = new_session(log, setup)
-    stepwise(ref, log.pairs(), None, end_step=log.last_step)
     session = new_session(log, setup)
     feeder = LogFeeder(session, log)
     frames = 0
@@ -93,7 +102,7 @@ def test_a_feeder_ends_alike_whatever_its_frames(name, budget):
         feeder.advance(budget)
         frames += 1
     assert frames >= log.last_step // budget
-    assert _state(session) == _state(ref)
+    assert _state(session) == _stepwise_end(name)
     assert session.sim.state_hash() == log.end_hash
 
 
@@ -249,3 +258,41 @@ def test_mouse_steps_that_go_back_end_a_run_where_it_was(budget):
                 feeder.advance(budget)
                 assert session.steps - before <= budget
     assert _state(session) == _state(ref)
+
+
+def test_a_feeder_keeps_its_place_when_a_frame_raises():
+    """An exception in the middle of a frame (here the runtime's, at the 5th mouse event)
+    leaves the feeder's index past the events taken, the raising one included: the next
+    frames go on from the event after it and none is applied twice (the index was
+    written only when ``feed`` returned: it stayed at 0 and the frame after replayed the
+    first events again, into the history twice). The kernel's runs of mouse events are
+    off here, so every event reaches the runtime's ``on_event``, where it raises."""
+    from unittest.mock import patch
+
+    from puppet.session import event_runs
+
+    with patch.object(event_runs.EventRuns, "start", lambda *args, **kwargs: None):
+        _feeder_after_a_raise()
+
+
+def _feeder_after_a_raise():
+    log, setup = _log("luxo-hop")
+    session = new_session(log, setup)
+    feeder = LogFeeder(session, log)
+    runtime, seen = session.runtime, []
+
+    def on_event(event, real=runtime.on_event):
+        seen.append(event)
+        if len(seen) == 5:
+            raise RuntimeError("the 5th event")
+        return real(event)
+    runtime.on_event = on_event
+    with pytest.raises(RuntimeError, match="the 5th event"):
+        feeder.advance(log.last_step)
+    taken = next(k for k, (_, event) in enumerate(feeder.events) if event is seen[-1]) + 1
+    assert feeder.i == taken == 5
+    del runtime.on_event  # (the class's again)
+    while not feeder.finished:
+        feeder.advance(240)
+    assert [(step, event) for _, step, event in session.history.events] == log.pairs()
+    assert session.steps == log.last_step

@@ -75,7 +75,8 @@ def _cap(stop_at: int, budget: int, every: int, until: int | None) -> int:
 def feed(session: Session, events: Sequence, i: int, until: int | None, end: int | None,
          budget: int = NO_BUDGET, every: int = 0,
          on_event: Callable[[int, dict], None] | None = None,
-         on_action: Callable[[int, object], object] | None = None) -> tuple[int, bool]:
+         on_action: Callable[[int, object], object] | None = None,
+         on_raise: Callable[[int], None] | None = None) -> tuple[int, bool]:
     """Apply ``events[i:]`` ((step, event) pairs, in order) at their steps, stepping
     the physics between them, by ``playback.next_move``'s rule (``until``: the
     replay's until step, ``end``: where it runs on to once the events run out), for
@@ -84,7 +85,10 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
     on a multiple of it (``play``'s ticks, before that step's events). ``on_event``:
     called with each event's index first; ``on_action``: with the next event's index
     and each app action an event asks for. Returns (the next event's index, whether it
-    stopped at a tick)."""
+    stopped at a tick). ``on_raise``: called with the next event's index when the call
+    ends by an exception (an event's, a callback's, the physics'), before it propagates:
+    the events before that index were taken, the raising one too (``LogFeeder`` keeps
+    its index right so; the ``try`` costs nothing until something raises)."""
     n = len(events)
     sim, history = session.sim, session.history
     runtime = session.runtime
@@ -105,218 +109,223 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
         if n:
             runs = idle.runs
     tail = end if until is None else until  # (where the loop runs on to, events done)
-    while True:
-        now = sim.steps
-        # playback.next_move, inlined: the next event acts now (at or before ``now``;
-        # once ``until`` is reached, only one logged at it), else step to it, to
-        # ``until`` or, once the events run out, to ``end``
-        if i < n:
-            at, event = events[i]
-            due = at <= now and (until is None or now < until or at == now)
-            target = at if until is None or at < until else until
-        else:
-            due, target = False, end if until is None else until
-        if due:
-            if on_event is not None:
-                on_event(i, event)
-            i += 1
-            kind = event["type"]
-            if kind == "mouse" or kind == "gamepad" or kind == "channels":
-                # the frequent events: Session.handle's branch for them, in place
-                if not rebuilding:
-                    recorded(session, history, now, event)
-                if kind == "mouse":
-                    runtime.on_event(event)  # its maps: servo targets only (None)
-                    continue
-                if kind == "channels":  # a stream's frame (mocap)
-                    runtime._on_channels(event["values"])
-                    is_clean = clean(space)  # (a tracker coming back may take joints)
-                    continue
-                action = runtime.on_event(event)  # a button may ask for an action,
-                if action is None:  # or grasp (a stick: maps only)
-                    is_clean = clean(space)
-                    continue
-                if action in SIM_ACTIONS:
-                    session.perform(action)
-                    action = None
+    try:
+        while True:
+            now = sim.steps
+            # playback.next_move, inlined: the next event acts now (at or before ``now``;
+            # once ``until`` is reached, only one logged at it), else step to it, to
+            # ``until`` or, once the events run out, to ``end``
+            if i < n:
+                at, event = events[i]
+                due = at <= now and (until is None or now < until or at == now)
+                target = at if until is None or at < until else until
             else:
-                action = session.handle(event)
-            if action is not None and on_action is not None:
-                on_action(i, action)
-            # anything may have changed: the runtime (a reload), the space (a reset, a
-            # restore, a grasp), the steps (a rewind)
-            runtime, rebuilding = session.runtime, session._rebuilding
-            space = sim.space
-            is_clean = clean(space)
-            ptr, seated = space._space, None
-            continue
-        if target is None or target <= now or budget <= 0:
-            return i, False
-        move = target - now
-        k = budget if budget < move else move
-        if every:
-            left = every - now % every
-            k = left if left < k else k
-        budget -= k
-        # -- ``Session.advance(k)``: step the physics, taking the history's snapshots
-        # at their step boundaries (and recovering from a blow-up there)
-        if runtime._pending:
-            runtime.flush()  # the last channels frame's maps, before stepping
-        if now < history.head and not rebuilding:
-            history.branch(now)  # playing on from a rewound point
-        stop_at = now + k
-        if session.halted:  # time goes on, the physics stands still
-            sim.steps = stop_at
-            if stop_at > history.head and not rebuilding:
-                history.head = stop_at
-            if every and stop_at % every == 0:
-                return i, True
-            continue
-        while now < stop_at:
-            # Time-driven interface work (sequences, reaches, timers...) runs at the
-            # steps the runtime asks for; when idle (next_wakeup None) the physics
-            # steps in one tight loop up to the next history boundary.
-            wake = runtime.next_wakeup
-            until_poll = None
-            if wake is not None and wake <= now:
-                # what is due next all the kernel's to do: its loop (interface.poll_plan;
-                # the same steps, ticks and bits), from this tick on where the last
-                # call's loop stopped at its end, else after Python's tick
-                poll = runtime.poll
-                resume = poll is not None and poll.resume == now and is_clean \
-                    and poll.seat == (sim.space, sim.seats)
-                # (the last run stopped at ``now``, its call's end, on the space there is
-                # now, not re-seated since: Chipmunk lists a re-seated space's contacts
-                # only once it steps; then the tick at ``now`` may be the kernel's)
-                if resume:
-                    until_poll = poll.ready(now)
-                if until_poll is None:
-                    resume = False
-                    runtime.tick(now)
-                    wake = runtime.next_wakeup
-                    space = sim.space
-                    is_clean = clean(space)
-                    ptr, seated = space._space, None
-                    poll = runtime.poll
-                    until_poll = poll.ready(now) if poll is not None and is_clean else None
-            elif runs is not None and i < n and events[i][0] == stop_at and is_clean \
-                    and events[i][1]["type"] in MOVES \
-                    and (wake is None or wake >= stop_at) and session.listener is None:
-                # nothing due before the next event, which stirs a state polling the mouse
-                # alone: the kernel's loop polls it from the next step, over the events
-                poll = runtime.poll
-                if poll is not None and poll.waits():
-                    resume = False
-                    until_poll = poll.ready(now, idle=True)
-            if until_poll is not None:
-                # the input events coming while the kernel's loop runs, when all they do
-                # is plain maps (event_runs): it applies them at their steps and runs on
-                over = runs is not None and i < n and events[i][0] == stop_at \
-                    and events[i][1]["type"] in MOVES \
-                    and session.listener is None
-                if over:
-                    reach = runs.start(poll.plan, runtime, events, i,
-                                       _cap(stop_at, budget, every, until), tail, poll)
-                    over = reach is not None and reach > stop_at
-                    if over:
-                        budget -= reach - stop_at
-                        stop_at = reach
-                sim.steps = now = poll.run(ptr, dt, now, until_poll, stop_at, health, checks,
-                                           resume)
-                if over:
-                    i = runs.applied(session, poll.plan, events, i, on_event, rebuilding)
-                    if i < n and events[i][0] < stop_at:  # stopped before the next
-                        budget += stop_at - events[i][0]  # event: the stretch ends there
-                        stop_at = events[i][0]  # (at ``now``: its events act before the
-                        # tick there)
+                due, target = False, end if until is None else until
+            if due:
+                if on_event is not None:
+                    on_event(i, event)
+                i += 1
+                kind = event["type"]
+                if kind == "mouse" or kind == "gamepad" or kind == "channels":
+                    # the frequent events: Session.handle's branch for them, in place
+                    if not rebuilding:
+                        recorded(session, history, now, event)
+                    if kind == "mouse":
+                        runtime.on_event(event)  # its maps: servo targets only (None)
+                        continue
+                    if kind == "channels":  # a stream's frame (mocap)
+                        runtime._on_channels(event["values"])
+                        is_clean = clean(space)  # (a tracker coming back may take joints)
+                        continue
+                    action = runtime.on_event(event)  # a button may ask for an action,
+                    if action is None:  # or grasp (a stick: maps only)
+                        is_clean = clean(space)
+                        continue
+                    if action in SIM_ACTIONS:
+                        session.perform(action)
+                        action = None
+                else:
+                    action = session.handle(event)
+                if action is not None and on_action is not None:
+                    on_action(i, action)
+                # anything may have changed: the runtime (a reload), the space (a reset, a
+                # restore, a grasp), the steps (a rewind)
+                runtime, rebuilding = session.runtime, session._rebuilding
+                space = sim.space
+                is_clean = clean(space)
+                ptr, seated = space._space, None
+                continue
+            if target is None or target <= now or budget <= 0:
+                return i, False
+            move = target - now
+            k = budget if budget < move else move
+            if every:
+                left = every - now % every
+                k = left if left < k else k
+            budget -= k
+            # -- ``Session.advance(k)``: step the physics, taking the history's snapshots
+            # at their step boundaries (and recovering from a blow-up there)
+            if runtime._pending:
+                runtime.flush()  # the last channels frame's maps, before stepping
+            if now < history.head and not rebuilding:
+                history.branch(now)  # playing on from a rewound point
+            stop_at = now + k
+            if session.halted:  # time goes on, the physics stands still
+                sim.steps = stop_at
+                if stop_at > history.head and not rebuilding:
+                    history.head = stop_at
+                if every and stop_at % every == 0:
+                    return i, True
+                continue
+            while now < stop_at:
+                # Time-driven interface work (sequences, reaches, timers...) runs at the
+                # steps the runtime asks for; when idle (next_wakeup None) the physics
+                # steps in one tight loop up to the next history boundary.
                 wake = runtime.next_wakeup
-                boundary = now if now % frame == 0 else -1
-            else:
-                stop = stop_at if wake is None or wake >= stop_at else wake
-                over = runs is not None and is_clean and stop == stop_at and i < n \
-                    and events[i][0] == stop_at and events[i][1]["type"] in MOVES \
-                    and session.listener is None
-                if over:  # the events coming: the kernel's to apply (event_runs)
-                    reach = runs.start(idle_plan, runtime, events, i,
-                                       _cap(stop_at, budget, every, until), tail)
-                    over = reach is not None and reach > stop_at
+                until_poll = None
+                if wake is not None and wake <= now:
+                    # what is due next all the kernel's to do: its loop (interface.poll_plan;
+                    # the same steps, ticks and bits), from this tick on where the last
+                    # call's loop stopped at its end, else after Python's tick
+                    poll = runtime.poll
+                    resume = poll is not None and poll.resume == now and is_clean \
+                        and poll.seat == (sim.space, sim.seats)
+                    # (the last run stopped at ``now``, its call's end, on the space there is
+                    # now, not re-seated since: Chipmunk lists a re-seated space's contacts
+                    # only once it steps; then the tick at ``now`` may be the kernel's)
+                    if resume:
+                        until_poll = poll.ready(now)
+                    if until_poll is None:
+                        resume = False
+                        runtime.tick(now)
+                        wake = runtime.next_wakeup
+                        space = sim.space
+                        is_clean = clean(space)
+                        ptr, seated = space._space, None
+                        poll = runtime.poll
+                        until_poll = poll.ready(now) if poll is not None and is_clean else None
+                elif runs is not None and i < n and events[i][0] == stop_at and is_clean \
+                        and events[i][1]["type"] in MOVES \
+                        and (wake is None or wake >= stop_at) and session.listener is None:
+                    # nothing due before the next event, which stirs a state polling the mouse
+                    # alone: the kernel's loop polls it from the next step, over the events
+                    poll = runtime.poll
+                    if poll is not None and poll.waits():
+                        resume = False
+                        until_poll = poll.ready(now, idle=True)
+                if until_poll is not None:
+                    # the input events coming while the kernel's loop runs, when all they do
+                    # is plain maps (event_runs): it applies them at their steps and runs on
+                    over = runs is not None and i < n and events[i][0] == stop_at \
+                        and events[i][1]["type"] in MOVES \
+                        and session.listener is None
                     if over:
-                        budget -= reach - stop_at
-                        stop_at = reach
-                        stop = stop_at if wake is None or wake >= stop_at else wake
-                if idle is not None and is_clean and (over or stop > now + 1):
-                    # (one step alone, with no events to run on over: Python's)
-                    # nothing due before ``stop``: the kernel steps on to it (or to the
-                    # next health check) with the frame check between the steps, and
-                    # returns at the first frame that fails it (checked below again)
-                    if seated is None:  # (the space or the bodies may be new)
-                        seated = sim.character.bodies[root]._body
-                        if seated is not idle.body or ptr is not idle.space:
-                            idle.seat(ptr, seated)
-                        idle_space = idle.space_ptr
-                    last = now - now % checked + checked
-                    sim.steps = now = idle_poll(idle_space, dt, now,
-                                                stop if stop < last else last, idle_plan, 0)
+                        reach = runs.start(poll.plan, runtime, events, i,
+                                           _cap(stop_at, budget, every, until), tail, poll)
+                        over = reach is not None and reach > stop_at
+                        if over:
+                            budget -= reach - stop_at
+                            stop_at = reach
+                    sim.steps = now = poll.run(ptr, dt, now, until_poll, stop_at, health, checks,
+                                               resume)
                     if over:
-                        i = runs.applied(session, idle_plan, events, i, on_event, rebuilding)
-                        if i < n and events[i][0] < stop_at:  # (as the kernel's run above)
-                            budget += stop_at - events[i][0]
-                            stop_at = events[i][0]
+                        i = runs.applied(session, poll.plan, events, i, on_event, rebuilding)
+                        if i < n and events[i][0] < stop_at:  # stopped before the next
+                            budget += stop_at - events[i][0]  # event: the stretch ends there
+                            stop_at = events[i][0]  # (at ``now``: its events act before the
+                            # tick there)
+                    wake = runtime.next_wakeup
                     boundary = now if now % frame == 0 else -1
                 else:
-                    boundary = now - now % frame + frame
-                    if boundary < stop:
-                        stop = boundary
-                    if is_clean:  # Simulation.step, inlined: step_space's C steps
-                        for _ in range(stop - now):
-                            _space_step(ptr, dt)
+                    stop = stop_at if wake is None or wake >= stop_at else wake
+                    over = runs is not None and is_clean and stop == stop_at and i < n \
+                        and events[i][0] == stop_at and events[i][1]["type"] in MOVES \
+                        and session.listener is None
+                    if over:  # the events coming: the kernel's to apply (event_runs)
+                        reach = runs.start(idle_plan, runtime, events, i,
+                                           _cap(stop_at, budget, every, until), tail)
+                        over = reach is not None and reach > stop_at
+                        if over:
+                            budget -= reach - stop_at
+                            stop_at = reach
+                            stop = stop_at if wake is None or wake >= stop_at else wake
+                    if idle is not None and is_clean and (over or stop > now + 1):
+                        # (one step alone, with no events to run on over: Python's)
+                        # nothing due before ``stop``: the kernel steps on to it (or to the
+                        # next health check) with the frame check between the steps, and
+                        # returns at the first frame that fails it (checked below again)
+                        if seated is None:  # (the space or the bodies may be new)
+                            seated = sim.character.bodies[root]._body
+                            if seated is not idle.body or ptr is not idle.space:
+                                idle.seat(ptr, seated)
+                            idle_space = idle.space_ptr
+                        last = now - now % checked + checked
+                        sim.steps = now = idle_poll(idle_space, dt, now,
+                                                    stop if stop < last else last, idle_plan, 0)
+                        if over:
+                            i = runs.applied(session, idle_plan, events, i, on_event, rebuilding)
+                            if i < n and events[i][0] < stop_at:  # (as the kernel's run above)
+                                budget += stop_at - events[i][0]
+                                stop_at = events[i][0]
+                        boundary = now if now % frame == 0 else -1
                     else:
-                        step_space(space, dt, stop - now)
+                        boundary = now - now % frame + frame
+                        if boundary < stop:
+                            stop = boundary
+                        if is_clean:  # Simulation.step, inlined: step_space's C steps
+                            for _ in range(stop - now):
+                                _space_step(ptr, dt)
+                        else:
+                            step_space(space, dt, stop - now)
+                            is_clean = clean(space)
+                        sim.steps = now = stop
+                if now == boundary:
+                    if now % health == 0:
+                        session._at_boundary()  # a recovery restores the state, not the step
+                        runtime = session.runtime  # count, and may switch interface versions
+                        space = sim.space  # (a keyframe re-seats it)
                         is_clean = clean(space)
-                    sim.steps = now = stop
-            if now == boundary:
-                if now % health == 0:
-                    session._at_boundary()  # a recovery restores the state, not the step
-                    runtime = session.runtime  # count, and may switch interface versions
-                    space = sim.space  # (a keyframe re-seats it)
-                    is_clean = clean(space)
-                    ptr, seated = space._space, None
-                else:  # the root alone, each frame: NaN fails every comparison
-                    body = sim.character.bodies[root]._body
-                    while True:
-                        p = _position(body)
-                        x, y = p.x, p.y
-                        ok = x0 < x < x1 and y0 < y < y1
+                        ptr, seated = space._space, None
+                    else:  # the root alone, each frame: NaN fails every comparison
+                        body = sim.character.bodies[root]._body
+                        while True:
+                            p = _position(body)
+                            x, y = p.x, p.y
+                            ok = x0 < x < x1 and y0 < y < y1
+                            if ok:
+                                v = _velocity(body)
+                                vx, vy = v.x, v.y
+                                ok = vx * vx + vy * vy < MAX_SPEED2
+                            # passed, and the next frame whole, with nothing due in it and
+                            # no health check at its end: it is stepped and checked here
+                            # (what the outer loop would do, at more cost; the kernel's
+                            # loop does it there, when there is one)
+                            nxt = now + frame
+                            if not (ok and idle is None and is_clean and nxt <= stop_at
+                                    and nxt % health and (wake is None or wake >= nxt)):
+                                break
+                            for _ in range(frame):
+                                _space_step(ptr, dt)
+                            sim.steps = now = nxt
                         if ok:
-                            v = _velocity(body)
-                            vx, vy = v.x, v.y
-                            ok = vx * vx + vy * vy < MAX_SPEED2
-                        # passed, and the next frame whole, with nothing due in it and
-                        # no health check at its end: it is stepped and checked here
-                        # (what the outer loop would do, at more cost; the kernel's
-                        # loop does it there, when there is one)
-                        nxt = now + frame
-                        if not (ok and idle is None and is_clean and nxt <= stop_at
-                                and nxt % health and (wake is None or wake >= nxt)):
-                            break
-                        for _ in range(frame):
-                            _space_step(ptr, dt)
-                        sim.steps = now = nxt
-                    if ok:
-                        continue  # (not halted: only a recovery halts)
-                    session._recover()
-                    runtime = session.runtime
-                    space = sim.space
-                    is_clean = clean(space)
-                    ptr, seated = space._space, None
-                if session.halted:
-                    sim.steps = stop_at  # the rest of the call: time only
-                    break
-        now = sim.steps
-        if now > history.head and not rebuilding:
-            history.head = now
-        if every and now % every == 0:
-            return i, True
+                            continue  # (not halted: only a recovery halts)
+                        session._recover()
+                        runtime = session.runtime
+                        space = sim.space
+                        is_clean = clean(space)
+                        ptr, seated = space._space, None
+                    if session.halted:
+                        sim.steps = stop_at  # the rest of the call: time only
+                        break
+            now = sim.steps
+            if now > history.head and not rebuilding:
+                history.head = now
+            if every and now % every == 0:
+                return i, True
+    except BaseException:
+        if on_raise is not None:  # the events up to ``i`` were taken (the one raising
+            on_raise(i)  # too, whatever it did): a caller keeping the index goes on there
+        raise
 
 
 class Idle:

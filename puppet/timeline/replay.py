@@ -404,7 +404,13 @@ class LogFeeder:
         one call of the session's stepping loop: a replay's hot path, an event every
         frame, a frame a few steps)."""
         self.i = feed(self.session, self.events, self.i, self.until, self.end, steps,
-                      on_action=None if self.on_action is None else self._acted)[0]
+                      on_action=None if self.on_action is None else self._acted,
+                      on_raise=self._raised)[0]
+
+    def _raised(self, i: int) -> None:
+        """The call ended by an exception: the events before ``i`` were taken (else
+        ``i`` would lag and the next ``advance`` apply them again)."""
+        self.i = i
 
     def _acted(self, i: int, action) -> None:
         """An app action an event asked for: ``i`` is the next event's index then (the
