@@ -32,6 +32,7 @@ from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poses import made_frame_target
+from puppet.interface.track_poll import TrackPoll
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
@@ -444,10 +445,14 @@ class PollPlan:
         return s
 
 
-def plan_for(runtime) -> PollPlan | None:
-    """The runtime's plan, with the kernel and one state machine; None on Python's
-    path."""
+def plan_for(runtime) -> PollPlan | TrackPoll | None:
+    """The runtime's plan, with the kernel and one state machine, or with a KD
+    tracker and none (``track_poll``); None on Python's path."""
     kern = _kernel.get()
-    if kern is None or runtime.sim is None or len(runtime._machine_list) != 1:
+    if kern is None or runtime.sim is None:
+        return None
+    if not runtime._machine_list and runtime.tracker._kern is not None:
+        return TrackPoll(runtime, kern, runtime.tracker._kern)
+    if len(runtime._machine_list) != 1:
         return None
     return PollPlan(runtime, kern)

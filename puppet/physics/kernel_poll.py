@@ -68,6 +68,12 @@ typedef struct {
     int every, frame_every;
     void *root;
     double x0, x1, y0, y1, max_speed2;
+    pk_track *track;  /* NULL, or KD tracking between a performer's samples: at the
+                         steps t_phase + n * t_every, pk_targets and pk_track_pull */
+    int t_phase, t_every, t_ticks;  /* (t_ticks: the ticks it ran, this call) */
+    double *t_vals;   /* pk_targets' values, has, own; pk_track_pull's own, weight */
+    char *t_has, *t_own, *t_rows;  /* (NULL: every value, joint, link) */
+    double t_weight, t_period;
 } pk_poll_plan;
 """
 
@@ -135,6 +141,15 @@ static int pk_tick(pk_poll_plan *p, int s)
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     if (pk_fires(p, s, &com))
         return 1;
+    if (p->track && (s - p->t_phase) % p->t_every == 0) {
+        /* Tracker.tick between samples (interface/track_poll.py): the same values'
+           targets, the pose the last sample's (pk_track_pose again would give the same
+           targets, its velocities kept), the pulls */
+        pk_targets(p->track, p->t_vals, p->t_has, p->t_own);
+        pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
+                      p->t_period);
+        p->t_ticks++;
+    }
     if (s % p->every)
         return 0;
     p->writes++;
@@ -162,7 +177,7 @@ static int pk_tick(pk_poll_plan *p, int s)
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
     int s = now;
-    p->fb_ticks = p->writes = 0;
+    p->fb_ticks = p->writes = p->t_ticks = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {

@@ -1,0 +1,149 @@
+"""KD tracking's control steps between a performer's samples, in the compiled kernel.
+
+A stream's samples come at 60 Hz or so, the tracker's control steps at 120 Hz
+(``Tracker.tick``); a control step with no sample since the last one does the same
+work as the last, on the figure as it is now: the same channels' joint targets
+(``pk_targets``), the same performed pose and velocities (``pk_track_pose`` again
+would give the same targets, the performed velocities kept as the same sample's), and
+the pulls (``pk_track_pull``) on the bodies of now. When that is all a tick leaves to
+do, ``TrackPoll.ready`` says so, and ``run`` hands the steps to ``pk_poll``
+(``kernel_poll``) with the tracker's part of its table filled: it steps the space and
+does those ticks between the steps, until the next sample (an event: the run stops
+there), the step the stream would be lost at, a history boundary or the call's end;
+the runtime is then rescheduled as though it had ticked in between.
+
+It holds when the tracker follows the performer's channels plainly - KD with the
+pulls, not lost, no blend into tracking, no reaction, push, step or get-up under way,
+no motion library's window, no walking in place, no intentional contacts - the
+tracker is the only busy controller and there is no state machine; anything else
+stays on Python's path. Without the kernel there is no plan (``PUPPET_KERNEL=
+python``): the same ticks run in Python, to the same bits (tests/test_track_poll.py).
+"""
+
+from __future__ import annotations
+
+from puppet.interface.controllers.tracking import KD, TRACK
+
+
+class TrackPoll:
+    """The ``PollPlan`` of a runtime with a tracker and no state machine."""
+
+    def __init__(self, runtime, kern, tracker_kernel):
+        self.runtime = runtime
+        self.kernel = kern
+        ffi = self.ffi = kern.ffi
+        self.poll = kern.lib.pk_poll
+        self.tk = tracker_kernel
+        self.plan = p = ffi.new("pk_poll_plan *")  # (zeroed: no transitions, blends,
+        p.every = 1  # frame targets or feedback)
+        p.t_ticks = 0
+        n = max(1, len(tracker_kernel.names))
+        self._vals = ffi.new("double[]", n)
+        self._has = ffi.new("char[]", n)
+        self._own = ffi.new("char[]", max(1, len(tracker_kernel.target_joints)))
+        self._rows = ffi.new("char[]", max(1, len(tracker_kernel.row_joints)))
+        self._offline = False  # (stepping.inert: the plan reads no input)
+        self.resume = -1  # never: each run follows Python's tick (ready's checks)
+        self.seat = None
+        self._frame = self._root = self._space_cd = self._space_void = None
+        self._ready_at = None  # the step ready last said yes at (run's check)
+        self.kernel_ticks = 0  # control steps the kernel ran (tests read it)
+
+    def ready(self, step: int) -> int | None:
+        """After Python's tick at ``step``: the step up to which ``pk_poll`` may run
+        (the first control step the stream would be lost at), the table filled; None
+        when the work due is not all its to do."""
+        self._ready_at = None
+        rt = self.runtime
+        tr = rt.tracker
+        if tr.mode != KD or not tr.kinematic or tr.lost or tr.due or rt._pending \
+                or tr.getup is not None or tr.hold is not None or tr.back is not None \
+                or tr.lib is not None or tr.search_at is not None \
+                or tr.reaction is not None or tr.impact_at is not None \
+                or tr.step is not None or tr.blend_at is not None or tr.x0 is None:
+            return None
+        if rt._machine_list or len(rt._active) != 1 or rt._active[0] is not tr:
+            return None
+        spec = tr.spec
+        if spec.contacts is not None or (spec.walk_in_place is not None
+                                         and tr.walk_cycle is not None):
+            return None
+        if (step - tr.phase) % tr.every:
+            return None  # (Python's tick was not the tracker's)
+        got = tr._kernel_tick  # the values this tick's targets and pulls read
+        if got is None or got[0] != step or got[1] is not tr.channels \
+                or not self.tk.t.has_prev or tr.prev_step != tr.last_sample:
+            return None
+        root = spec.root
+        ch = tr.channels
+        if ch.get(root.x) is None or ch.get(root.y) is None or ch.get(root.angle) is None:
+            return None  # (no pulls: _pull returns before them)
+        table = rt.owners.table
+        if not rt.owners.holds_any(TRACK) or any(table.get(j) != TRACK for j in tr.scaled):
+            return None  # (Python's tick gives the gains back, or does nothing)
+        tk, p = self.tk, self.plan
+        vals, has = got[2], got[3]
+        n = len(vals)
+        self._vals[0:n] = vals
+        if has is None:
+            p.t_has = self.ffi.NULL
+        else:
+            self._has[0:n] = has
+            p.t_has = self._has
+        own = tr._owned(table, tk.target_joints, "_every_target")
+        if own is None:
+            p.t_own = self.ffi.NULL
+        else:
+            self._own[0:len(own)] = own
+            p.t_own = self._own
+        rows = tr._owned(table, tk.row_joints, "_every_row")
+        if rows is None:
+            p.t_rows = self.ffi.NULL
+        else:
+            self._rows[0:len(rows)] = rows
+            p.t_rows = self._rows
+        p.track, p.t_vals = tk.t, self._vals
+        p.t_phase, p.t_every = tr.phase, tr.every
+        p.t_weight = tr._weight(step) * tr._blend(step)  # (1.0 * 1.0: no reaction,
+        p.t_period = tr.period  # no blend)
+        # the first control step whose tick finds the stream lost: Python's
+        lost = tr.last_sample + tr.lost_steps + 1
+        until = tr.next_wakeup(lost)
+        if until is None or until <= step:
+            return None
+        self._ready_at = step
+        return until
+
+    def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
+            frame: tuple, tick_first: bool = False) -> int:
+        """``PollPlan.run``: step from ``now`` (Python ticked there) with ``pk_poll``
+        up to ``until``, ``end`` or the next history boundary; the runtime is then
+        rescheduled from the step it returns."""
+        assert not tick_first and self._ready_at == now
+        self._ready_at = None
+        p = self.plan
+        if frame is not self._frame:
+            self._frame = frame
+            p.frame_every, _, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
+        last = now - now % health + health
+        every = frame[0]
+        while last % every:
+            last += health
+        stop = until if until < end else end
+        stop = stop if stop < last else last
+        rt = self.runtime
+        root = rt.character.bodies[frame[1]]._body
+        if root is not self._root:
+            self._root, p.root = root, self.kernel.pointer(root)
+        if space_ptr is not self._space_cd:
+            self._space_cd, self._space_void = space_ptr, self.kernel.pointer(space_ptr)
+        s = self.poll(self._space_void, dt, now, stop, p, 0)
+        self.kernel_ticks += p.t_ticks
+        tr = rt.tracker
+        if p.t_ticks:
+            tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
+        # rt._reschedule(s), for what ``ready`` allows: the tracker alone
+        wake = tr.next_wakeup(s)
+        rt._controllers_wake = wake
+        rt.next_wakeup = wake if wake is None or wake > s else s
+        return s
