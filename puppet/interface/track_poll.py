@@ -22,7 +22,7 @@ python``): the same ticks run in Python, to the same bits (tests/test_track_poll
 
 from __future__ import annotations
 
-from puppet.interface.controllers.tracking import KD, TRACK
+from puppet.interface.controllers.tracking import KD, PRESS, TRACK
 
 
 class TrackPoll:
@@ -43,24 +43,29 @@ class TrackPoll:
         self._own = ffi.new("char[]", max(1, len(tracker_kernel.target_joints)))
         self._rows = ffi.new("char[]", max(1, len(tracker_kernel.row_joints)))
         self._offline = False  # (stepping.inert: the plan reads no input)
-        self.resume = -1  # never: each run follows Python's tick (ready's checks)
+        self.resume = -1  # where the next run may go on, its tick the kernel's (run)
         self.seat = None
         self._frame = self._root = self._space_cd = self._space_void = None
         self._ready_at = None  # the step ready last said yes at (run's check)
+        self._tick_first = False  # ... and whether the tick there is the kernel's
         self.kernel_ticks = 0  # control steps the kernel ran (tests read it)
 
     def ready(self, step: int) -> int | None:
-        """After Python's tick at ``step``: the step up to which ``pk_poll`` may run
-        (the first control step the stream would be lost at), the table filled; None
-        when the work due is not all its to do."""
+        """After Python's tick at ``step``, or in its place (``step`` is ``resume``:
+        the tick there is the kernel's, a sample's pose with it): the step up to which
+        ``pk_poll`` may run (the first control step the stream would be lost at), the
+        table filled; None when the work due is not all its to do."""
         self._ready_at = None
+        resume = step == self.resume
+        self.resume = -1
         rt = self.runtime
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.lost or tr.due or rt._pending \
                 or tr.getup is not None or tr.hold is not None or tr.back is not None \
                 or tr.lib is not None or tr.search_at is not None \
                 or tr.reaction is not None or tr.impact_at is not None \
-                or tr.step is not None or tr.blend_at is not None or tr.x0 is None:
+                or tr.step is not None or tr.blend_at is not None or tr.x0 is None \
+                or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
             return None
         if rt._machine_list or len(rt._active) != 1 or rt._active[0] is not tr:
             return None
@@ -68,21 +73,30 @@ class TrackPoll:
         if spec.contacts is not None or (spec.walk_in_place is not None
                                          and tr.walk_cycle is not None):
             return None
-        if (step - tr.phase) % tr.every:
-            return None  # (Python's tick was not the tracker's)
-        got = tr._kernel_tick  # the values this tick's targets and pulls read
-        if got is None or got[0] != step or got[1] is not tr.channels \
-                or not self.tk.t.has_prev or tr.prev_step != tr.last_sample:
-            return None
-        root = spec.root
-        ch = tr.channels
+        ch, root, tk = tr.channels, spec.root, self.tk
         if ch.get(root.x) is None or ch.get(root.y) is None or ch.get(root.angle) is None:
             return None  # (no pulls: _pull returns before them)
+        if resume:  # Tracker.tick's lost check, before anything else
+            if step - tr.last_sample > tr.lost_steps:
+                return None
+        else:
+            got = tr._kernel_tick  # the values this tick's targets and pulls read
+            if got is None or got[0] != step or got[1] is not ch \
+                    or not tk.t.has_prev or tr.prev_step != tr.last_sample:
+                return None
         table = rt.owners.table
-        if not rt.owners.holds_any(TRACK) or any(table.get(j) != TRACK for j in tr.scaled):
+        scaled = list(map(table.get, tr.scaled))
+        if scaled.count(TRACK) != len(scaled) or not rt.owners.holds_any(TRACK):
             return None  # (Python's tick gives the gains back, or does nothing)
-        tk, p = self.tk, self.plan
-        vals, has = got[2], got[3]
+        p = self.plan
+        if resume:  # the tick's values (_kernel_values: the bodies bound) and its pose
+            rt.now = step
+            tr._kernel_tick = None
+            vals, has = tr._kernel_values(tk, step, ch, fresh=True)
+            self._pose(tr, tk, vals)
+        else:
+            vals, has = got[2], got[3]
+            p.t_pose = 0
         n = len(vals)
         self._vals[0:n] = vals
         if has is None:
@@ -107,19 +121,45 @@ class TrackPoll:
         p.t_weight = tr._weight(step) * tr._blend(step)  # (1.0 * 1.0: no reaction,
         p.t_period = tr.period  # no blend)
         # the first control step whose tick finds the stream lost: Python's
-        lost = tr.last_sample + tr.lost_steps + 1
-        until = tr.next_wakeup(lost)
+        until = tr.next_wakeup(tr.last_sample + tr.lost_steps + 1)
         if until is None or until <= step:
             return None
         self._ready_at = step
+        self._tick_first = resume
         return until
+
+    def _pose(self, tr, tk, vals) -> None:
+        """``Tracker._pull_kernel``'s arguments to ``pk_track_pose`` (the lift on the
+        ground under the figure, the performed velocities' sample), into the plan."""
+        p = self.plan
+        soles = tr.soles
+        lift, ground, extra = 0, 0.0, 0.0
+        if soles and tr.ground_at is not None:
+            ground = tr.ground_at(tr.x0 + vals[0])
+            if ground is None:
+                ground = 0.0
+            else:
+                lift = 1
+                clearance = tr.channels.get(tr.spec.root.clearance, 0.0)
+                extra = clearance if clearance > 0.0 else -PRESS
+        sample, t = tr.last_sample, tk.t
+        vel, h = 0, 0.0
+        if not t.has_prev or sample != tr.prev_step:
+            if t.has_prev and sample > tr.prev_step:
+                vel, h = 1, (sample - tr.prev_step) * tr.dt
+            else:
+                vel = 2
+            tr.prev_step = sample
+        p.t_pose, p.t_lift, p.t_vel, p.t_h = 1, lift, vel, h
+        p.t_x, p.t_y, p.t_a, p.t_x0 = vals[0], vals[1], vals[2], tr.x0
+        p.t_ground, p.t_extra = ground, extra
 
     def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
             frame: tuple, tick_first: bool = False) -> int:
         """``PollPlan.run``: step from ``now`` (Python ticked there) with ``pk_poll``
         up to ``until``, ``end`` or the next history boundary; the runtime is then
         rescheduled from the step it returns."""
-        assert not tick_first and self._ready_at == now
+        assert self._ready_at == now and tick_first == self._tick_first
         self._ready_at = None
         p = self.plan
         if frame is not self._frame:
@@ -137,7 +177,7 @@ class TrackPoll:
             self._root, p.root = root, self.kernel.pointer(root)
         if space_ptr is not self._space_cd:
             self._space_cd, self._space_void = space_ptr, self.kernel.pointer(space_ptr)
-        s = self.poll(self._space_void, dt, now, stop, p, 0)
+        s = self.poll(self._space_void, dt, now, stop, p, 1 if tick_first else 0)
         self.kernel_ticks += p.t_ticks
         tr = rt.tracker
         if p.t_ticks:
@@ -145,5 +185,11 @@ class TrackPoll:
         # rt._reschedule(s), for what ``ready`` allows: the tracker alone
         wake = tr.next_wakeup(s)
         rt._controllers_wake = wake
-        rt.next_wakeup = wake if wake is None or wake > s else s
+        rt.next_wakeup = wake = wake if wake is None or wake > s else s
+        # stopped at the call's end (an event: a sample, mostly): the tick at the next
+        # control step may be the kernel's (``ready`` says, after the event), when no
+        # history boundary comes first
+        if s == end and wake is not None and wake < until and wake < last:
+            sim = rt.sim
+            self.resume, self.seat = wake, (sim.space, sim.seats)
         return s

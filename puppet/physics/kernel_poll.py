@@ -74,6 +74,9 @@ typedef struct {
     double *t_vals;   /* pk_targets' values, has, own; pk_track_pull's own, weight */
     char *t_has, *t_own, *t_rows;  /* (NULL: every value, joint, link) */
     double t_weight, t_period;
+    int t_pose;       /* the first tick's a sample's: pk_track_pose with these first */
+    int t_lift, t_vel;
+    double t_x, t_y, t_a, t_x0, t_ground, t_extra, t_h;
 } pk_poll_plan;
 """
 
@@ -144,8 +147,13 @@ static int pk_tick(pk_poll_plan *p, int s)
     if (p->track && (s - p->t_phase) % p->t_every == 0) {
         /* Tracker.tick between samples (interface/track_poll.py): the same values'
            targets, the pose the last sample's (pk_track_pose again would give the same
-           targets, its velocities kept), the pulls */
+           targets, its velocities kept), the pulls; with t_pose, the sample's tick */
         pk_targets(p->track, p->t_vals, p->t_has, p->t_own);
+        if (p->t_pose) {  /* (Tracker.tick at a sample: the pose, its velocities) */
+            pk_track_pose(p->track, p->t_vals, p->t_has, p->t_x, p->t_y, p->t_a, p->t_x0,
+                          p->t_lift, p->t_ground, p->t_extra, p->t_vel, p->t_h);
+            p->t_pose = 0;
+        }
         pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
                       p->t_period);
         p->t_ticks++;
