@@ -452,7 +452,11 @@ def plan_for(runtime) -> PollPlan | TrackPoll | None:
     if kern is None or runtime.sim is None:
         return None
     if not runtime._machine_list and runtime.tracker._kern is not None:
-        return TrackPoll(runtime, kern, runtime.tracker._kern)
+        tracker = runtime.tracker  # (intentional contacts, walking in place: Python's)
+        spec = tracker.spec
+        if spec.contacts is None and (spec.walk_in_place is None or tracker.walk_cycle is None):
+            return TrackPoll(runtime, kern, tracker._kern)
+        return None
     if len(runtime._machine_list) != 1:
         return None
     return PollPlan(runtime, kern)

@@ -49,12 +49,18 @@ class TrackPoll:
         self._ready_at = None  # the step ready last said yes at (run's check)
         self._tick_first = False  # ... and whether the tick there is the kernel's
         self.kernel_ticks = 0  # control steps the kernel ran (tests read it)
+        self._seen = None  # (the owners, the joints the tracker gave gains): ready's
+        tr = runtime.tracker
+        root = tr.spec.root
+        self._root_names = (root.x, root.y, root.angle)
+        p.track, p.t_vals, p.t_period, p.t_weight = tracker_kernel.t, self._vals, tr.period, 1.0
 
     def ready(self, step: int) -> int | None:
         """After Python's tick at ``step``, or in its place (``step`` is ``resume``:
         the tick there is the kernel's, a sample's pose with it): the step up to which
         ``pk_poll`` may run (the first control step the stream would be lost at), the
-        table filled; None when the work due is not all its to do."""
+        table filled; None when the work due is not all its to do. Runs at every
+        sample, so it is kept lean."""
         self._ready_at = None
         resume = step == self.resume
         self.resume = -1
@@ -67,14 +73,12 @@ class TrackPoll:
                 or tr.step is not None or tr.blend_at is not None or tr.x0 is None \
                 or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
             return None
-        if rt._machine_list or len(rt._active) != 1 or rt._active[0] is not tr:
+        active = rt._active
+        if len(active) != 1 or active[0] is not tr:
             return None
-        spec = tr.spec
-        if spec.contacts is not None or (spec.walk_in_place is not None
-                                         and tr.walk_cycle is not None):
-            return None
-        ch, root, tk = tr.channels, spec.root, self.tk
-        if ch.get(root.x) is None or ch.get(root.y) is None or ch.get(root.angle) is None:
+        ch, tk = tr.channels, self.tk
+        x, y, a = self._root_names
+        if ch.get(x) is None or ch.get(y) is None or ch.get(a) is None:
             return None  # (no pulls: _pull returns before them)
         if resume:  # Tracker.tick's lost check, before anything else
             if step - tr.last_sample > tr.lost_steps:
@@ -84,11 +88,26 @@ class TrackPoll:
             if got is None or got[0] != step or got[1] is not ch \
                     or not tk.t.has_prev or tr.prev_step != tr.last_sample:
                 return None
-        table = rt.owners.table
-        scaled = list(map(table.get, tr.scaled))
-        if scaled.count(TRACK) != len(scaled) or not rt.owners.holds_any(TRACK):
-            return None  # (Python's tick gives the gains back, or does nothing)
         p = self.plan
+        table = rt.owners.table
+        seen = self._seen  # (the owners as the plan last had them: the same bytes)
+        if seen is None or seen[0] != table or seen[1] != list(tr.scaled):
+            scaled = list(map(table.get, tr.scaled))
+            if scaled.count(TRACK) != len(scaled) or not rt.owners.holds_any(TRACK):
+                return None  # (Python's tick gives the gains back, or does nothing)
+            own = tr._owned(table, tk.target_joints, "_every_target")
+            if own is None:
+                p.t_own = self.ffi.NULL
+            else:
+                self._own[0:len(own)] = own
+                p.t_own = self._own
+            rows = tr._owned(table, tk.row_joints, "_every_row")
+            if rows is None:
+                p.t_rows = self.ffi.NULL
+            else:
+                self._rows[0:len(rows)] = rows
+                p.t_rows = self._rows
+            self._seen = (dict(table), list(tr.scaled))
         if resume:  # the tick's values (_kernel_values: the bodies bound) and its pose
             rt.now = step
             tr._kernel_tick = None
@@ -97,32 +116,19 @@ class TrackPoll:
         else:
             vals, has = got[2], got[3]
             p.t_pose = 0
-        n = len(vals)
-        self._vals[0:n] = vals
+        self._vals[0:len(vals)] = vals
         if has is None:
             p.t_has = self.ffi.NULL
         else:
-            self._has[0:n] = has
+            self._has[0:len(has)] = has
             p.t_has = self._has
-        own = tr._owned(table, tk.target_joints, "_every_target")
-        if own is None:
-            p.t_own = self.ffi.NULL
-        else:
-            self._own[0:len(own)] = own
-            p.t_own = self._own
-        rows = tr._owned(table, tk.row_joints, "_every_row")
-        if rows is None:
-            p.t_rows = self.ffi.NULL
-        else:
-            self._rows[0:len(rows)] = rows
-            p.t_rows = self._rows
-        p.track, p.t_vals = tk.t, self._vals
-        p.t_phase, p.t_every = tr.phase, tr.every
-        p.t_weight = tr._weight(step) * tr._blend(step)  # (1.0 * 1.0: no reaction,
-        p.t_period = tr.period  # no blend)
-        # the first control step whose tick finds the stream lost: Python's
-        until = tr.next_wakeup(tr.last_sample + tr.lost_steps + 1)
-        if until is None or until <= step:
+        phase, every = tr.phase, tr.every
+        p.t_phase, p.t_every = phase, every
+        # (the weight: _weight(step) * _blend(step), 1.0 * 1.0 without a reaction or a
+        # blend) the first control step whose tick finds the stream lost: Python's
+        lost = tr.last_sample + tr.lost_steps + 1
+        until = phase - (-(lost - phase) // every) * every  # (Tracker.next_wakeup)
+        if until <= step:
             return None
         self._ready_at = step
         self._tick_first = resume
