@@ -62,9 +62,9 @@ class TrackPoll:
         table filled; None when the work due is not all its to do. Runs at every
         sample, so it is kept lean."""
         self._ready_at = None
-        resume = step == self.resume
-        self.resume = -1
         rt = self.runtime
+        resume = step == self.resume and rt.now != step  # (no Python tick there: the
+        self.resume = -1  # session's check of the seat sent it to Python's)
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.lost or tr.due or rt._pending \
                 or tr.getup is not None or tr.hold is not None or tr.back is not None \
