@@ -22,7 +22,7 @@ from puppet.mocap.retarget import load_mapping, retarget_clip
 from puppet.session import Session
 from puppet.timeline.log import read_log
 
-KD_LOGS = ["biped-mocap-walk", "biped-mocap-live", "biped-mocap-lost", "biped-mocap-push",
+KD_LOGS = ["biped-mocap-in-place", "biped-mocap-walk", "biped-mocap-live", "biped-mocap-lost", "biped-mocap-push",
            "biped-mocap-library", "biped-mocap-fall"]
 
 

@@ -452,9 +452,11 @@ def plan_for(runtime) -> PollPlan | TrackPoll | None:
     if kern is None or runtime.sim is None:
         return None
     if not runtime._machine_list and runtime.tracker._kern is not None:
-        tracker = runtime.tracker  # (intentional contacts, walking in place: Python's)
-        spec = tracker.spec
-        if spec.contacts is None and (spec.walk_in_place is None or tracker.walk_cycle is None):
+        tracker = runtime.tracker  # (intentional contacts: Python's; a walk in place
+        spec = tracker.spec  # that blends the clearance in, too)
+        walk = spec.walk_in_place
+        if spec.contacts is None and (walk is None or tracker.walk_cycle is None
+                                      or spec.root.clearance not in walk.joints):
             return TrackPoll(runtime, kern, tracker._kern)
         return None
     if len(runtime._machine_list) != 1:

@@ -54,6 +54,40 @@ class TrackPoll:
         root = tr.spec.root
         self._root_names = (root.x, root.y, root.angle)
         p.track, p.t_vals, p.t_period, p.t_weight = tracker_kernel.t, self._vals, tr.period, 1.0
+        self._walk = None if tr.spec.walk_in_place is None or tr.walk_cycle is None \
+            else self._walk_table(tr, n)
+        self._ground_of = None  # (the scene whose ground the walk's spans are)
+
+    def _walk_table(self, tr, n: int):
+        """``pk_walk`` of the tracker's gait cycle (its frames, drift and the rows of
+        ``GaitCycle.blend_into`` the tracker reads), for ``n`` values."""
+        ffi, cycle, spec = self.ffi, tr.walk_cycle, tr.spec.walk_in_place
+        w = ffi.new("pk_walk *")
+        keep = self._walk_keep = []
+
+        def arr(kind, values):
+            keep.append(ffi.new(kind + "[]", list(values) or [0]))
+            return keep[-1]
+        w.frames = arr("double", [v for frame in cycle.frames for v in frame])
+        w.n_frames, w.width, w.xi = len(cycle.frames), len(cycle.names), cycle.x
+        w.a, w.b, w.stride = cycle.a, cycle.b, cycle.stride
+        w.start = cycle._raw_one(cycle.a, cycle.x)  # (GaitCycle.travel's start)
+        w.drift = arr("double", cycle.drift)
+        index = {name: i for i, name in enumerate(cycle.names)}
+        place = {name: i for i, name in enumerate(self.tk.names)}
+        rows = [(place[name], index[name]) for name in dict.fromkeys(spec.joints)
+                if name in index and name in place]
+        w.n_rows = len(rows)
+        w.row_val, w.row_ch = arr("int", [r[0] for r in rows]), arr("int", [r[1] for r in rows])
+        w.dt, w.stop_after, w.blend = tr.dt, spec.stop_after, spec.blend
+        w.n_vals = n
+        self._raw, self._raw_has = arr("double", [0.0] * n), ffi.new("char[]", n)
+        view_has = ffi.new("char[]", n)
+        keep += [self._raw_has, view_has]  # (the struct's pointers own nothing)
+        w.raw, w.raw_has = self._raw, self._raw_has
+        w.view, w.view_has = arr("double", [0.0] * n), view_has
+        w.lift = bool(tr.soles) and tr.ground_at is not None
+        return w
 
     def ready(self, step: int) -> int | None:
         """After Python's tick at ``step``, or in its place (``step`` is ``resume``:
@@ -80,12 +114,14 @@ class TrackPoll:
         x, y, a = self._root_names
         if ch.get(x) is None or ch.get(y) is None or ch.get(a) is None:
             return None  # (no pulls: _pull returns before them)
+        walk = self._walk
         if resume:  # Tracker.tick's lost check, before anything else
             if step - tr.last_sample > tr.lost_steps:
                 return None
         else:
             got = tr._kernel_tick  # the values this tick's targets and pulls read
-            if got is None or got[0] != step or got[1] is not ch \
+            view = ch if walk is None else (tr._walk_out or (None, None))[1]
+            if got is None or got[0] != step or got[1] is not view \
                     or not tk.t.has_prev or tr.prev_step != tr.last_sample:
                 return None
         p = self.plan
@@ -111,11 +147,16 @@ class TrackPoll:
         if resume:  # the tick's values (_kernel_values: the bodies bound) and its pose
             rt.now = step
             tr._kernel_tick = None
-            vals, has = tr._kernel_values(tk, step, ch, fresh=True)
-            self._pose(tr, tk, vals)
+            view = ch if walk is None else tr._performer(step)  # (Tracker._view's)
+            vals, has = tr._kernel_values(tk, step, view, fresh=True)
+            self._pose(tr, tk, vals, view)
         else:
             vals, has = got[2], got[3]
             p.t_pose = 0
+        p.t_x0 = tr.x0
+        if walk is not None:  # the view walks on at each tick: the kernel's
+            if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
+                return None
         self._vals[0:len(vals)] = vals
         if has is None:
             p.t_has = self.ffi.NULL
@@ -134,7 +175,51 @@ class TrackPoll:
         self._tick_first = resume
         return until
 
-    def _pose(self, tr, tk, vals) -> None:
+    def _walk_from(self, tr, w, ch) -> bool:
+        """The walk's state and the performer's values (``pk_walk``) as they are now;
+        False when the kernel cannot walk them (the scene's ground is another's)."""
+        sim = self.runtime.sim
+        if tr.ground_at is not None and sim.scene_spec is not self._ground_of:
+            if tr.ground_at != sim.ground_surface:
+                return False
+            self._ground_of = sim.scene_spec
+            self._fill_ground(sim.scene_spec)
+        raw = list(map(ch.get, self.tk.names))
+        n = len(raw)
+        if None in raw:
+            self._raw_has[0:n] = bytes(v is not None for v in raw)
+            w.raw_has = self._raw_has
+            raw = [0.0 if v is None else v for v in raw]
+        else:
+            w.raw_has = self.ffi.NULL
+        self._raw[0:n] = raw
+        _, last_at, _, walking, phase, speed, travel, weight, at = tr.walk
+        w.walking, w.phase, w.speed, w.travel, w.weight = walking, phase, speed, travel, weight
+        w.has_last_at, w.last_at = last_at is not None, last_at or 0
+        w.has_at, w.at = at is not None, at or 0
+        clearance = ch.get(tr.spec.root.clearance, 0.0)
+        w.extra = clearance if clearance > 0.0 else -PRESS
+        self.plan.walk = w
+        return True
+
+    def _fill_ground(self, scene) -> None:
+        """``Simulation.ground_surface``'s spans, as it makes them."""
+        spans = [(min(x0, x1), max(x0, x1), x0, y0, x1, y1, ground.thickness / 2)
+                 for ground in scene.ground
+                 for (x0, y0), (x1, y1) in zip(ground.points, ground.points[1:])
+                 if x1 != x0]
+        self._spans = self.ffi.new("double[]", [v for span in spans for v in span] or [0.0])
+        self._walk.spans, self._walk.n_spans = self._spans, len(spans)
+
+    def _walked_back(self, tr, ticks: int) -> None:
+        """The walk's state after the kernel's ticks, into the tracker."""
+        w = self._walk
+        last_side, last_at, period, _, _, speed, _, _, _ = tr.walk
+        tr.walk = [last_side, last_at, period, bool(w.walking), w.phase, speed, w.travel,
+                   w.weight, w.at]
+        tr._walk_out = None  # (the view at a step: the same worked out again)
+
+    def _pose(self, tr, tk, vals, view) -> None:
         """``Tracker._pull_kernel``'s arguments to ``pk_track_pose`` (the lift on the
         ground under the figure, the performed velocities' sample), into the plan."""
         p = self.plan
@@ -146,7 +231,7 @@ class TrackPoll:
                 ground = 0.0
             else:
                 lift = 1
-                clearance = tr.channels.get(tr.spec.root.clearance, 0.0)
+                clearance = view.get(tr.spec.root.clearance, 0.0)
                 extra = clearance if clearance > 0.0 else -PRESS
         sample, t = tr.last_sample, tk.t
         vel, h = 0, 0.0
@@ -188,6 +273,9 @@ class TrackPoll:
         tr = rt.tracker
         if p.t_ticks:
             tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
+            if p.walk != self.ffi.NULL and p.t_ticks > tick_first:
+                self._walked_back(tr, p.t_ticks)
+        p.walk = self.ffi.NULL
         # rt._reschedule(s), for what ``ready`` allows: the tracker alone
         wake = tr.next_wakeup(s)
         rt._controllers_wake = wake

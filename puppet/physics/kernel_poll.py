@@ -36,6 +36,25 @@ the Python it replaces (see ``kernel_source``), so the hashes are the same eithe
 """
 
 POLL_TYPES = """
+typedef struct {  /* walking in place between samples (tracking_walk, track_poll) */
+    double *frames;   /* the gait cycle's clip: n_frames frames of width values */
+    int n_frames, width, xi;  /* xi: root.x's place in a frame */
+    double a, b, start, stride;  /* GaitCycle's a, b, _raw_one(a, xi), stride */
+    double *drift;
+    int n_rows;       /* blend_into's rows read by the tracker: the value's index and */
+    int *row_val, *row_ch;  /* the frame's */
+    double dt, stop_after, blend;
+    int walking, has_last_at, last_at, has_at, at;  /* WalkInPlace.walk's, */
+    double phase, speed, travel, weight;             /* kept here during a run */
+    int n_vals;       /* the performer's values (raw, raw_has) and the view's */
+    double *raw, *view;
+    char *raw_has, *view_has;  /* (raw_has NULL: all there) */
+    int n_spans;      /* Simulation.ground_surface's spans: lo, hi, x0, y0, x1, y1, half */
+    double *spans;
+    int lift;         /* the feet stand on the ground (tracking.feet and a ground) */
+    double extra;     /* the clearance, or -PRESS */
+} pk_walk;
+
 typedef struct {
     int n_trans;
     int *first;       /* per transition: the first step it is polled (entered + after) */
@@ -77,6 +96,7 @@ typedef struct {
     int t_pose;       /* the first tick's a sample's: pk_track_pose with these first */
     int t_lift, t_vel;
     double t_x, t_y, t_a, t_x0, t_ground, t_extra, t_h;
+    pk_walk *walk;    /* NULL, or the view walks in place: each tick's own (below) */
 } pk_poll_plan;
 """
 
@@ -94,6 +114,103 @@ void pk_poll_init(void *step)
 }
 
 typedef struct { int done; double v[4]; } pk_com_now;  /* x, y, vx, vy, once a tick */
+
+/* GaitCycle._raw_one(u, xi) less start: GaitCycle.travel at u */
+static double pk_cycle_x(const pk_walk *w, double u)
+{
+    long long k = (long long)u;
+    if (k > w->n_frames - 2)
+        k = w->n_frames - 2;
+    double v = w->frames[k * w->width + w->xi], q = w->frames[(k + 1) * w->width + w->xi];
+    return v + (q - v) * (u - (double)k);
+}
+
+static double pk_py_mod1(double x)  /* Python's x % 1.0 */
+{
+    double m = fmod(x, 1.0);
+    if (m != 0.0) {
+        if (m < 0.0)
+            m += 1.0;
+    } else {
+        m = 0.0;
+    }
+    return m;
+}
+
+/* WalkInPlace._walk_advance at s between samples (the same channels: no new step),
+   then _walked's view of the performer's values: the cycle's joints blended in
+   (GaitCycle.blend_into), root.x on by the travel; the lift's ground under it
+   (Simulation.ground_surface): *ground, *found (0: none under it). */
+static void pk_walk_tick(pk_walk *w, int s, double x0, double *ground, int *found)
+{
+    double h = (w->has_at && s > w->at) ? (double)(s - w->at) * w->dt : 0.0;
+    if (w->walking && w->has_last_at && (double)(s - w->last_at) * w->dt > w->stop_after)
+        w->walking = 0;
+    if (w->blend > 0.0) {
+        double v;
+        if (w->walking) {
+            v = w->weight + h / w->blend;
+            w->weight = v < 1.0 ? v : 1.0;  /* min(1.0, v) */
+        } else {
+            v = w->weight - h / w->blend;
+            w->weight = v > 0.0 ? v : 0.0;  /* max(0.0, v) */
+        }
+    } else {
+        w->weight = w->walking ? 1.0 : 0.0;
+    }
+    if (w->weight > 0.0 && h > 0.0) {
+        double nw = w->phase + w->speed * h;
+        double m = pk_py_mod1(nw);
+        double span = w->b - w->a;
+        double gone = ((pk_cycle_x(w, w->a + span * m) - w->start)
+                       - (pk_cycle_x(w, w->a + span * w->phase) - w->start))
+                      + w->stride * (double)(long long)nw;
+        w->travel = w->travel + w->weight * gone;
+        w->phase = m;
+    }
+    w->at = s;
+    w->has_at = 1;
+    int n = w->n_vals;
+    for (int i = 0; i < n; i++) {
+        w->view[i] = w->raw[i];
+        w->view_has[i] = w->raw_has ? w->raw_has[i] : 1;
+    }
+    if (!(w->weight <= 0.0 && w->travel == 0.0)) {
+        if (w->weight > 0.0) {
+            double u = w->a + (w->b - w->a) * w->phase;
+            long long k = (long long)u;
+            if (k > w->n_frames - 2)
+                k = w->n_frames - 2;
+            double f = u - (double)k;
+            const double *p = w->frames + k * w->width, *q = p + w->width;
+            for (int r = 0; r < w->n_rows; r++) {
+                int i = w->row_ch[r], j = w->row_val[r];
+                double v = p[i];
+                double wv = v + (q[i] - v) * f - w->drift[i] * w->phase;
+                double c = (w->raw_has == 0 || w->raw_has[j]) ? w->raw[j] : wv;
+                w->view[j] = c + (wv - c) * w->weight;
+                w->view_has[j] = 1;
+            }
+        }
+        if (w->view_has[0])  /* root.x, the values' first */
+            w->view[0] = w->view[0] + w->travel;
+    }
+    *found = 0;
+    *ground = 0.0;
+    if (!w->lift)
+        return;
+    double x = x0 + w->view[0], best = 0.0;
+    for (int k = 0; k < w->n_spans; k++) {
+        const double *g = w->spans + 7 * k;
+        if (g[0] <= x && x <= g[1]) {
+            double y = g[3] + (g[5] - g[3]) * (x - g[2]) / (g[4] - g[2]) + g[6];
+            if (!*found || y > best)
+                best = y;
+            *found = 1;
+        }
+    }
+    *ground = best;
+}
 
 /* conditions.reader's value of a sensor (``kind``, on a and b) */
 static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com_now *com)
@@ -144,7 +261,21 @@ static int pk_tick(pk_poll_plan *p, int s)
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     if (pk_fires(p, s, &com))
         return 1;
-    if (p->track && (s - p->t_phase) % p->t_every == 0) {
+    if (p->track && p->walk && !p->t_pose && (s - p->t_phase) % p->t_every == 0) {
+        /* walking in place: Tracker.tick on the view of this step (the pose again, its
+           velocities kept: the same sample) */
+        pk_walk *w = p->walk;
+        double ground;
+        int found;
+        pk_walk_tick(w, s, p->t_x0, &ground, &found);
+        const char *has = w->raw_has ? w->view_has : 0;
+        pk_targets(p->track, w->view, has, p->t_own);
+        pk_track_pose(p->track, w->view, has, w->view[0], w->view[1], w->view[2], p->t_x0,
+                      found, ground, found ? w->extra : 0.0, 0, 0.0);
+        pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
+                      p->t_period);
+        p->t_ticks++;
+    } else if (p->track && (s - p->t_phase) % p->t_every == 0) {
         /* Tracker.tick between samples (interface/track_poll.py): the same values'
            targets, the pose the last sample's (pk_track_pose again would give the same
            targets, its velocities kept), the pulls; with t_pose, the sample's tick */
