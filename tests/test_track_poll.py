@@ -1,5 +1,5 @@
 """KD tracking's control steps in the kernel's stepping loop (``interface.track_poll``)
-do what Python's ticks do: every shipped KD mocap log replays to the same tracker
+do what Python's ticks do: every shipped KD mocap log (walking in place too) replays to the same tracker
 state, schedule, servo targets and physics bits, call by call, with the loop, without
 it (Python's ticks on the kernel) and on the pure-Python path; cut into calls of odd
 lengths too (runs that stop between samples and go on from there), and through a
@@ -22,8 +22,8 @@ from puppet.mocap.retarget import load_mapping, retarget_clip
 from puppet.session import Session
 from puppet.timeline.log import read_log
 
-KD_LOGS = ["biped-mocap-in-place", "biped-mocap-walk", "biped-mocap-live", "biped-mocap-lost", "biped-mocap-push",
-           "biped-mocap-library", "biped-mocap-fall"]
+KD_LOGS = ["biped-mocap-in-place", "biped-mocap-walk", "biped-mocap-live", "biped-mocap-lost",
+           "biped-mocap-push", "biped-mocap-library", "biped-mocap-fall"]
 
 
 def _trace(name: str, loop: bool, chunk: int | None = None):

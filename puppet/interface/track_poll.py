@@ -154,9 +154,8 @@ class TrackPoll:
             vals, has = got[2], got[3]
             p.t_pose = 0
         p.t_x0 = tr.x0
-        if walk is not None:  # the view walks on at each tick: the kernel's
-            if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
-                return None
+        if walk is not None and (tr.walk[8] != step or not self._walk_from(tr, walk, ch)):
+            return None  # (the view walks on at each tick: the kernel's)
         self._vals[0:len(vals)] = vals
         if has is None:
             p.t_has = self.ffi.NULL
