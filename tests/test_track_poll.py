@@ -1,9 +1,9 @@
 """KD tracking's control steps in the kernel's stepping loop (``interface.track_poll``)
-do what Python's ticks do: every shipped KD mocap log (walking in place too) replays to the same tracker
-state, schedule, servo targets and physics bits, call by call, with the loop, without
-it (Python's ticks on the kernel) and on the pure-Python path; cut into calls of odd
-lengths too (runs that stop between samples and go on from there), and through a
-checkpoint restored in the middle of a run of kernel ticks.
+do what Python's ticks do: every shipped KD mocap log (walking in place too) replays
+to the same tracker state, schedule, servo targets and physics bits, call by call,
+with the loop, without it (Python's ticks on the kernel) and on the pure-Python path;
+cut into calls of odd lengths too (runs that stop between samples and go on from
+there), and through a checkpoint restored in the middle of a run of kernel ticks.
 """
 
 from __future__ import annotations

@@ -144,24 +144,37 @@ class TrackPoll:
                 self._rows[0:len(rows)] = rows
                 p.t_rows = self._rows
             self._seen = (dict(table), list(tr.scaled))
-        if resume:  # the tick's values (_kernel_values: the bodies bound) and its pose
-            rt.now = step
-            tr._kernel_tick = None
-            view = ch if walk is None else tr._performer(step)  # (Tracker._view's)
-            vals, has = tr._kernel_values(tk, step, view, fresh=True)
-            self._pose(tr, tk, vals, view)
-        else:
-            vals, has = got[2], got[3]
-            p.t_pose = 0
         p.t_x0 = tr.x0
-        if walk is not None and (tr.walk[8] != step or not self._walk_from(tr, walk, ch)):
-            return None  # (the view walks on at each tick: the kernel's)
-        self._vals[0:len(vals)] = vals
-        if has is None:
-            p.t_has = self.ffi.NULL
+        if resume:  # the tick's values and its pose (Python's tick would bind the
+            rt.now = step  # kernel to new bodies first: _kernel_values)
+            tr._kernel_tick = None
+            if walk is None:
+                vals, has = tr._kernel_values(tk, step, ch, fresh=True)
+                self._lift(tr, vals[0], ch)
+            else:  # (Tracker._view's _performer: the walk advanced, its view the kernel's)
+                out = tr._walk_out
+                if out is None or out[0] != step:
+                    tr._walk_advance(step)
+                tr._walk_out = None
+                c = tr.character
+                if tk.bodies_of is not c.bodies:
+                    tk.bind(tr._link_plan(tr._figure.rows()), c.servos)
+                    tk.bodies_of = c.bodies
+            self._velocities(tr, tk)
         else:
-            self._has[0:len(has)] = has
-            p.t_has = self._has
+            p.t_pose = 0
+            if walk is None:
+                vals, has = got[2], got[3]
+        if walk is not None:  # (the view walks on at each tick: the kernel's)
+            if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
+                return None
+        else:
+            self._vals[0:len(vals)] = vals
+            if has is None:
+                p.t_has = self.ffi.NULL
+            else:
+                self._has[0:len(has)] = has
+                p.t_has = self._has
         phase, every = tr.phase, tr.every
         p.t_phase, p.t_every = phase, every
         # (the weight: _weight(step) * _blend(step), 1.0 * 1.0 without a reaction or a
@@ -218,20 +231,24 @@ class TrackPoll:
                    w.weight, w.at]
         tr._walk_out = None  # (the view at a step: the same worked out again)
 
-    def _pose(self, tr, tk, vals, view) -> None:
-        """``Tracker._pull_kernel``'s arguments to ``pk_track_pose`` (the lift on the
-        ground under the figure, the performed velocities' sample), into the plan."""
+    def _lift(self, tr, x: float, view) -> None:
+        """``Tracker._pull_kernel``'s lift on the ground under the figure, for
+        ``pk_track_pose``, into the plan."""
         p = self.plan
-        soles = tr.soles
         lift, ground, extra = 0, 0.0, 0.0
-        if soles and tr.ground_at is not None:
-            ground = tr.ground_at(tr.x0 + vals[0])
+        if tr.soles and tr.ground_at is not None:
+            ground = tr.ground_at(tr.x0 + x)
             if ground is None:
                 ground = 0.0
             else:
                 lift = 1
                 clearance = view.get(tr.spec.root.clearance, 0.0)
                 extra = clearance if clearance > 0.0 else -PRESS
+        p.t_lift, p.t_ground, p.t_extra = lift, ground, extra
+
+    def _velocities(self, tr, tk) -> None:
+        """... and the performed velocities' sample (a sample's tick: the pose)."""
+        p = self.plan
         sample, t = tr.last_sample, tk.t
         vel, h = 0, 0.0
         if not t.has_prev or sample != tr.prev_step:
@@ -240,9 +257,7 @@ class TrackPoll:
             else:
                 vel = 2
             tr.prev_step = sample
-        p.t_pose, p.t_lift, p.t_vel, p.t_h = 1, lift, vel, h
-        p.t_x, p.t_y, p.t_a, p.t_x0 = vals[0], vals[1], vals[2], tr.x0
-        p.t_ground, p.t_extra = ground, extra
+        p.t_pose, p.t_vel, p.t_h = 1, vel, h
 
     def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
             frame: tuple, tick_first: bool = False) -> int:

@@ -95,7 +95,7 @@ typedef struct {
     double t_weight, t_period;
     int t_pose;       /* the first tick's a sample's: pk_track_pose with these first */
     int t_lift, t_vel;
-    double t_x, t_y, t_a, t_x0, t_ground, t_extra, t_h;
+    double t_x0, t_ground, t_extra, t_h;
     pk_walk *walk;    /* NULL, or the view walks in place: each tick's own (below) */
 } pk_poll_plan;
 """
@@ -137,11 +137,8 @@ static double pk_py_mod1(double x)  /* Python's x % 1.0 */
     return m;
 }
 
-/* WalkInPlace._walk_advance at s between samples (the same channels: no new step),
-   then _walked's view of the performer's values: the cycle's joints blended in
-   (GaitCycle.blend_into), root.x on by the travel; the lift's ground under it
-   (Simulation.ground_surface): *ground, *found (0: none under it). */
-static void pk_walk_tick(pk_walk *w, int s, double x0, double *ground, int *found)
+/* WalkInPlace._walk_advance at s between samples (the same channels: no new step) */
+static void pk_walk_advance(pk_walk *w, int s)
 {
     double h = (w->has_at && s > w->at) ? (double)(s - w->at) * w->dt : 0.0;
     if (w->walking && w->has_last_at && (double)(s - w->last_at) * w->dt > w->stop_after)
@@ -170,6 +167,13 @@ static void pk_walk_tick(pk_walk *w, int s, double x0, double *ground, int *foun
     }
     w->at = s;
     w->has_at = 1;
+}
+
+/* WalkInPlace._walked's view of the performer's values: the cycle's joints blended in
+   (GaitCycle.blend_into), root.x on by the travel; the lift's ground under it
+   (Simulation.ground_surface): *ground, *found (0: none under it) */
+static void pk_walk_view(pk_walk *w, double x0, double *ground, int *found)
+{
     int n = w->n_vals;
     for (int i = 0; i < n; i++) {
         w->view[i] = w->raw[i];
@@ -261,28 +265,33 @@ static int pk_tick(pk_poll_plan *p, int s)
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     if (pk_fires(p, s, &com))
         return 1;
-    if (p->track && p->walk && !p->t_pose && (s - p->t_phase) % p->t_every == 0) {
-        /* walking in place: Tracker.tick on the view of this step (the pose again, its
-           velocities kept: the same sample) */
+    if (p->track && (s - p->t_phase) % p->t_every == 0) {
+        /* Tracker.tick (interface/track_poll.py): the joint targets of the view, the
+           pose (its velocities from the last sample, with t_pose: a sample's tick),
+           the pulls. Between samples without a walk the view is the same values and
+           the pose the last one (pk_track_pose again would give the same targets);
+           walking in place, the view walks on (at a sample Python advanced it). */
         pk_walk *w = p->walk;
-        double ground;
-        int found;
-        pk_walk_tick(w, s, p->t_x0, &ground, &found);
-        const char *has = w->raw_has ? w->view_has : 0;
-        pk_targets(p->track, w->view, has, p->t_own);
-        pk_track_pose(p->track, w->view, has, w->view[0], w->view[1], w->view[2], p->t_x0,
-                      found, ground, found ? w->extra : 0.0, 0, 0.0);
-        pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
-                      p->t_period);
-        p->t_ticks++;
-    } else if (p->track && (s - p->t_phase) % p->t_every == 0) {
-        /* Tracker.tick between samples (interface/track_poll.py): the same values'
-           targets, the pose the last sample's (pk_track_pose again would give the same
-           targets, its velocities kept), the pulls; with t_pose, the sample's tick */
-        pk_targets(p->track, p->t_vals, p->t_has, p->t_own);
-        if (p->t_pose) {  /* (Tracker.tick at a sample: the pose, its velocities) */
-            pk_track_pose(p->track, p->t_vals, p->t_has, p->t_x, p->t_y, p->t_a, p->t_x0,
-                          p->t_lift, p->t_ground, p->t_extra, p->t_vel, p->t_h);
+        const double *vals = p->t_vals;
+        const char *has = p->t_has;
+        int pose = p->t_pose, lift = p->t_lift, vel = 0;
+        double ground = p->t_ground, extra = p->t_extra, h = 0.0;
+        if (w) {
+            if (!pose)
+                pk_walk_advance(w, s);
+            pk_walk_view(w, p->t_x0, &ground, &lift);
+            vals = w->view;
+            has = w->raw_has ? w->view_has : 0;
+            extra = lift ? w->extra : 0.0;
+        }
+        pk_targets(p->track, vals, has, p->t_own);
+        if (pose || w) {
+            if (pose) {
+                vel = p->t_vel;
+                h = p->t_h;
+            }
+            pk_track_pose(p->track, vals, has, vals[0], vals[1], vals[2], p->t_x0, lift,
+                          ground, extra, vel, h);
             p->t_pose = 0;
         }
         pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
