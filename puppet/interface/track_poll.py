@@ -43,8 +43,8 @@ class TrackPoll:
         self._own = ffi.new("char[]", max(1, len(tracker_kernel.target_joints)))
         self._rows = ffi.new("char[]", max(1, len(tracker_kernel.row_joints)))
         self._offline = False  # (stepping.inert: the plan reads no input)
-        self.resume = -1  # where the next run may go on, its tick the kernel's (run)
-        self.seat = None
+        self._go_on = False  # a run ended last (resume), not a restore or a refusal
+        self.seat = None  # (the space and seats of the last run: Session.advance's check)
         self._frame = self._root = self._space_cd = self._space_void = None
         self._ready_at = None  # the step ready last said yes at (run's check)
         self._tick_first = False  # ... and whether the tick there is the kernel's
@@ -98,7 +98,7 @@ class TrackPoll:
         self._ready_at = None
         rt = self.runtime
         resume = step == self.resume and rt.now != step  # (no Python tick there: the
-        self.resume = -1  # session's check of the seat sent it to Python's)
+        self._go_on = False  # session's check of the seat sent it to Python's)
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.lost or tr.due or rt._pending \
                 or tr.getup is not None or tr.hold is not None or tr.back is not None \
@@ -294,10 +294,21 @@ class TrackPoll:
         wake = tr.next_wakeup(s)
         rt._controllers_wake = wake
         rt.next_wakeup = wake = wake if wake is None or wake > s else s
-        # stopped at the call's end (an event: a sample, mostly): the tick at the next
-        # control step may be the kernel's (``ready`` says, after the event), when no
-        # history boundary comes first
-        if s == end and wake is not None and wake < until and wake < last:
-            sim = rt.sim
-            self.resume, self.seat = wake, (sim.space, sim.seats)
+        # the next tick may be the kernel's (``resume``; ``ready`` says, after what
+        # comes first: an event, a sample mostly, a history boundary), on this seat
+        sim = rt.sim
+        self._go_on, self.seat = True, (sim.space, sim.seats)
         return s
+
+    @property
+    def resume(self) -> int:
+        """The step whose tick the kernel may run, before Python's (Session.advance
+        asks ``ready`` there first): the next wake-up after a run of its own (an event
+        in between - a sample that moved the control steps to itself too - is judged
+        by ``ready``), else -1 (a restored state ticks in Python first)."""
+        wake = self.runtime.next_wakeup
+        return wake if self._go_on and wake is not None else -1
+
+    @resume.setter
+    def resume(self, step: int) -> None:
+        self._go_on = self._go_on and step >= 0  # (-1: a restore's)
