@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from puppet.interface.controllers.tracking import KD, PRESS, TRACK
 
+NEVER = 1 << 62  # no step Python must tick at: the run ends at an event or a boundary
+
 
 class TrackPoll:
     """The ``PollPlan`` of a runtime with a tracker and no state machine."""
@@ -56,7 +58,12 @@ class TrackPoll:
         p.track, p.t_vals, p.t_period, p.t_weight = tracker_kernel.t, self._vals, tr.period, 1.0
         self._walk = None if tr.spec.walk_in_place is None or tr.walk_cycle is None \
             else self._walk_table(tr, n)
-        self._ground_of = None  # (the scene whose ground the walk's spans are)
+        self._ground_of = None  # (the scene whose ground the spans are)
+        self._came, self._came_has = ffi.new("double[]", n), ffi.new("char[]", n)
+        self._view, self._view_has = ffi.new("double[]", n), ffi.new("char[]", n)
+        p.t_view, p.t_view_has, p.t_n = self._view, self._view_has, len(tracker_kernel.names)
+        p.t_came = self._came
+        p.t_soles = bool(tr.soles) and tr.ground_at is not None
 
     def _walk_table(self, tr, n: int):
         """``pk_walk`` of the tracker's gait cycle (its frames, drift and the rows of
@@ -92,82 +99,86 @@ class TrackPoll:
     def ready(self, step: int) -> int | None:
         """After Python's tick at ``step``, or in its place (``step`` is ``resume``:
         the tick there is the kernel's, a sample's pose with it): the step up to which
-        ``pk_poll`` may run (the first control step the stream would be lost at), the
-        table filled; None when the work due is not all its to do. Runs at every
-        sample, so it is kept lean."""
+        ``pk_poll`` may run (the first control step the stream would be lost at, or a
+        fall's get-up would begin), the table filled; None when the work due is not
+        all its to do. Runs at every sample, so it is kept lean."""
         self._ready_at = None
         rt = self.runtime
         resume = step == self.resume and rt.now != step  # (no Python tick there: the
         self._go_on = False  # session's check of the seat sent it to Python's)
         tr = rt.tracker
-        if tr.mode != KD or not tr.kinematic or tr.lost or tr.due or rt._pending \
-                or tr.getup is not None or tr.hold is not None or tr.back is not None \
-                or tr.lib is not None or tr.search_at is not None \
-                or tr.reaction is not None or tr.impact_at is not None \
-                or tr.step is not None or tr.blend_at is not None or tr.x0 is None \
+        if tr.mode != KD or not tr.kinematic or tr.due or rt._pending \
+                or tr.getup is not None or tr.lib is not None or tr.search_at is not None \
+                or tr.impact_at is not None or tr.step is not None \
+                or tr.blend_at is not None \
                 or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
             return None
         active = rt._active
         if len(active) != 1 or active[0] is not tr:
             return None
+        hold, back, walk = tr.hold, tr.back, self._walk
+        lost = tr.lost
+        if lost and hold is None:
+            return None
+        mixing = hold is not None or back is not None  # (kd_pull.mix: Tracker._view's)
+        if mixing and (walk is not None or not self._ground_ok(tr)):
+            return None
         ch, tk = tr.channels, self.tk
+        view = ch if hold is None else hold[1]  # (the values the view mixes toward)
         x, y, a = self._root_names
-        if ch.get(x) is None or ch.get(y) is None or ch.get(a) is None:
-            return None  # (no pulls: _pull returns before them)
-        walk = self._walk
+        p = self.plan
+        # without the root's place in the view _pull returns before the pulls: the
+        # targets alone (the walk's view has them: the performer's)
+        nopull = view.get(x) is None or view.get(y) is None or view.get(a) is None
+        if (nopull and walk is not None) or (not nopull and tr.x0 is None):
+            return None
         if resume:  # Tracker.tick's lost check, before anything else
-            if step - tr.last_sample > tr.lost_steps:
+            if not lost and step - tr.last_sample > tr.lost_steps:
                 return None
         else:
             got = tr._kernel_tick  # the values this tick's targets and pulls read
-            view = ch if walk is None else (tr._walk_out or (None, None))[1]
-            if got is None or got[0] != step or got[1] is not view \
-                    or not tk.t.has_prev or tr.prev_step != tr.last_sample:
+            if got is None or got[0] != step or (not nopull and (
+                    not tk.t.has_prev or tr.prev_step != tr.last_sample)) \
+                    or (not mixing and got[1] is not (
+                        ch if walk is None else (tr._walk_out or (None, None))[1])):
                 return None
-        p = self.plan
-        table = rt.owners.table
-        seen = self._seen  # (the owners as the plan last had them: the same bytes)
-        if seen is None or seen[0] != table or seen[1] != list(tr.scaled):
-            scaled = list(map(table.get, tr.scaled))
-            if scaled.count(TRACK) != len(scaled) or not rt.owners.holds_any(TRACK):
-                return None  # (Python's tick gives the gains back, or does nothing)
-            own = tr._owned(table, tk.target_joints, "_every_target")
-            if own is None:
-                p.t_own = self.ffi.NULL
-            else:
-                self._own[0:len(own)] = own
-                p.t_own = self._own
-            rows = tr._owned(table, tk.row_joints, "_every_row")
-            if rows is None:
-                p.t_rows = self.ffi.NULL
-            else:
-                self._rows[0:len(rows)] = rows
-                p.t_rows = self._rows
-            self._seen = (dict(table), list(tr.scaled))
-        p.t_x0 = tr.x0
+        p.t_nopull = nopull
+        until = self._react(tr, step)  # (a reaction's weight: the kernel's, to until)
+        if until is None:
+            return None
+        if not self._owners(rt, tr, tk, p):
+            return None
+        p.t_x0 = 0.0 if tr.x0 is None else tr.x0
         if resume:  # the tick's values and its pose (Python's tick would bind the
             rt.now = step  # kernel to new bodies first: _kernel_values)
             tr._kernel_tick = None
             if walk is None:
-                vals, has = tr._kernel_values(tk, step, ch, fresh=True)
-                self._lift(tr, vals[0], ch)
+                vals, has = tr._kernel_values(tk, step, view, fresh=True)
+                if not nopull:
+                    self._lift(tr, vals[0], view)
             else:  # (Tracker._view's _performer: the walk advanced, its view the kernel's)
                 out = tr._walk_out
                 if out is None or out[0] != step:
                     tr._walk_advance(step)
                 tr._walk_out = None
-                c = tr.character
-                if tk.bodies_of is not c.bodies:
-                    tk.bind(tr._link_plan(tr._figure.rows()), c.servos)
-                    tk.bodies_of = c.bodies
-            self._velocities(tr, tk)
+            c = tr.character
+            if tk.bodies_of is not c.bodies:
+                tk.bind(tr._link_plan(tr._figure.rows()), c.servos)
+                tk.bodies_of = c.bodies
+            if nopull:
+                p.t_pose = 0
+            else:
+                self._velocities(tr, tk)
         else:
             p.t_pose = 0
             if walk is None:
                 vals, has = got[2], got[3]
+        p.t_mix = mixing
         if walk is not None:  # (the view walks on at each tick: the kernel's)
             if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
                 return None
+        elif mixing:  # (mix(came, view, w) at each tick: the kernel's)
+            self._mix_from(tr, tk, view, hold or back)
         else:
             self._vals[0:len(vals)] = vals
             if has is None:
@@ -177,25 +188,110 @@ class TrackPoll:
                 p.t_has = self._has
         phase, every = tr.phase, tr.every
         p.t_phase, p.t_every = phase, every
-        # (the weight: _weight(step) * _blend(step), 1.0 * 1.0 without a reaction or a
-        # blend) the first control step whose tick finds the stream lost: Python's
-        lost = tr.last_sample + tr.lost_steps + 1
-        until = phase - (-(lost - phase) // every) * every  # (Tracker.next_wakeup)
+        if not lost:  # the first control step whose tick finds the stream lost: Python's
+            gone = tr.last_sample + tr.lost_steps + 1
+            gone = phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
+            until = gone if gone < until else until
         if until <= step:
             return None
         self._ready_at = step
         self._tick_first = resume
         return until
 
-    def _walk_from(self, tr, w, ch) -> bool:
-        """The walk's state and the performer's values (``pk_walk``) as they are now;
-        False when the kernel cannot walk them (the scene's ground is another's)."""
+    def _owners(self, rt, tr, tk, p) -> bool:
+        """The joints and links the tracker holds (bytes for the kernel), worked out
+        again when the owners changed; False when Python's tick would give gains back
+        or find nothing to do."""
+        table = rt.owners.table
+        seen = self._seen  # (the owners as the plan last had them: the same bytes)
+        if seen is not None and seen[0] == table and seen[1] == list(tr.scaled):
+            return True
+        scaled = list(map(table.get, tr.scaled))
+        if scaled.count(TRACK) != len(scaled) or not rt.owners.holds_any(TRACK):
+            return False
+        own = tr._owned(table, tk.target_joints, "_every_target")
+        if own is None:
+            p.t_own = self.ffi.NULL
+        else:
+            self._own[0:len(own)] = own
+            p.t_own = self._own
+        rows = tr._owned(table, tk.row_joints, "_every_row")
+        if rows is None:
+            p.t_rows = self.ffi.NULL
+        else:
+            self._rows[0:len(rows)] = rows
+            p.t_rows = self._rows
+        self._seen = (dict(table), list(tr.scaled))
+        return True
+
+    def _react(self, tr, step: int) -> int | None:
+        """A reaction's weight (``Tracker._weight``) into the plan; the step from which
+        Python's tick must run (a fall's get-up begins: ``_pull``), NEVER without one;
+        None when it begins now."""
+        p, reaction = self.plan, tr.reaction
+        if reaction is None:
+            p.r_on = 0
+            return NEVER
+        case, start = reaction
+        spec = getattr(tr.spec.reaction, case)
+        p.r_on, p.r_start, p.r_dt = 1, start, tr.dt
+        p.r_weight, p.r_hold, p.r_recover = spec.weight, spec.hold, spec.recover
+        if case != "fall" or tr.spec.reaction.get_up is None:
+            return NEVER
+        dt, every = tr.dt, tr.every
+        if (step - start) * dt >= spec.hold:
+            return None
+        c = step + every  # (each control step's own test, from a step a little before)
+        guess = start + int(spec.hold / dt) - 2 * every
+        if guess > c:
+            c += (guess - c) // every * every
+        while (c - start) * dt < spec.hold:
+            c += every
+        return c
+
+    def _mix_from(self, tr, tk, view: dict, blend) -> None:
+        """``kd_pull.mix(came, view, _fraction(s, at))`` of a stand (``hold``) or of
+        the way back from it (``back``), into the plan."""
+        p, ffi, names = self.plan, self.ffi, tk.names
+        came, at = blend[0], blend[-1]
+        n = len(names)
+        vals = list(map(view.get, names))
+        if None in vals:
+            self._has[0:n] = bytes(v is not None for v in vals)
+            p.t_has = self._has
+            vals = [0.0 if v is None else v for v in vals]
+        else:
+            p.t_has = ffi.NULL
+        self._vals[0:n] = vals
+        old = list(map(came.get, names))
+        if None in old:
+            self._came_has[0:n] = bytes(v is not None for v in old)
+            p.t_came_has = self._came_has
+            old = [0.0 if v is None else v for v in old]
+        else:
+            p.t_came_has = ffi.NULL
+        self._came[0:n] = old
+        p.t_mix_at, p.t_mix_steps = at, tr.blend_steps
+        cl = tr.spec.root.clearance
+        p.t_cl_has[0], p.t_cl_has[1] = cl in came, cl in view
+        p.t_cl[0], p.t_cl[1] = came.get(cl, 0.0), view.get(cl, 0.0)
+
+    def _ground_ok(self, tr) -> bool:
+        """The ground's spans in the plan (the lift of a view that moves), when the
+        tracker's ground is the simulation's."""
         sim = self.runtime.sim
         if tr.ground_at is not None and sim.scene_spec is not self._ground_of:
             if tr.ground_at != sim.ground_surface:
                 return False
             self._ground_of = sim.scene_spec
             self._fill_ground(sim.scene_spec)
+        return True
+
+    def _walk_from(self, tr, w, ch) -> bool:
+        """The walk's state and the performer's values (``pk_walk``) as they are now;
+        False when the kernel cannot walk them (the scene's ground is another's)."""
+        if not self._ground_ok(tr):
+            return False
         raw = list(map(ch.get, self.tk.names))
         n = len(raw)
         if None in raw:
@@ -221,7 +317,9 @@ class TrackPoll:
                  for (x0, y0), (x1, y1) in zip(ground.points, ground.points[1:])
                  if x1 != x0]
         self._spans = self.ffi.new("double[]", [v for span in spans for v in span] or [0.0])
-        self._walk.spans, self._walk.n_spans = self._spans, len(spans)
+        self.plan.spans, self.plan.n_spans = self._spans, len(spans)
+        if self._walk is not None:
+            self._walk.spans, self._walk.n_spans = self._spans, len(spans)
 
     def _walked_back(self, tr, ticks: int) -> None:
         """The walk's state after the kernel's ticks, into the tracker."""
@@ -289,6 +387,12 @@ class TrackPoll:
             tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
             if p.walk != self.ffi.NULL and p.t_ticks > tick_first:
                 self._walked_back(tr, p.t_ticks)
+            back = tr.back  # (Tracker._view: back at the performer's, the blend done)
+            if back is not None and (tr.blend_steps <= 0
+                                     or p.t_last - back[1] >= tr.blend_steps):
+                tr.back = None
+            if p.r_on and p.r_done >= 0:  # (Tracker._weight: the reaction over)
+                tr.reaction = tr.step = None
         p.walk = self.ffi.NULL
         # rt._reschedule(s), for what ``ready`` allows: the tracker alone
         wake = tr.next_wakeup(s)

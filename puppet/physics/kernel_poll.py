@@ -97,6 +97,18 @@ typedef struct {
     int t_lift, t_vel;
     double t_x0, t_ground, t_extra, t_h;
     pk_walk *walk;    /* NULL, or the view walks in place: each tick's own (below) */
+    int t_n;          /* the values */
+    int t_mix, t_mix_at, t_mix_steps;  /* the view mixes t_came into t_vals (hold, back) */
+    double *t_came; char *t_came_has;  /* (has NULL: all there) */
+    double *t_view; char *t_view_has;
+    double t_cl[2]; int t_cl_has[2];   /* the clearance: came's, the view's own */
+    int t_soles;      /* the lift: the feet on the ground under the view (spans) */
+    int n_spans;      /* Simulation.ground_surface's spans (7 a span) */
+    double *spans;
+    int t_last;       /* the step of the last tick it ran (this call) */
+    int t_nopull;     /* the view lacks the root's place: the targets alone (_pull's) */
+    int r_on, r_start, r_done;  /* a reaction's weight (Tracker._weight): from r_start, */
+    double r_dt, r_weight, r_hold, r_recover;  /* r_done: the step it ended (-1) */
 } pk_poll_plan;
 """
 
@@ -135,6 +147,80 @@ static double pk_py_mod1(double x)  /* Python's x % 1.0 */
         m = 0.0;
     }
     return m;
+}
+
+/* Simulation.ground_surface at x: the highest of the spans over x (lo, hi, x0, y0,
+   x1, y1, half each), *found 0 when none is */
+static double pk_ground(const double *spans, int n, double x, int *found)
+{
+    double best = 0.0;
+    *found = 0;
+    for (int k = 0; k < n; k++) {
+        const double *g = spans + 7 * k;
+        if (g[0] <= x && x <= g[1]) {
+            double y = g[3] + (g[5] - g[3]) * (x - g[2]) / (g[4] - g[2]) + g[6];
+            if (!*found || y > best)
+                best = y;
+            *found = 1;
+        }
+    }
+    return best;
+}
+
+/* Tracker._fraction: how far a blend begun at ``at`` has come at s (0..1) */
+static double pk_fraction(int s, int at, int steps)
+{
+    if (steps <= 0)
+        return 1.0;
+    double w = (double)(s - at) / (double)steps;
+    return w >= 1.0 ? 1.0 : w > 0.0 ? w : 0.0;
+}
+
+/* kd_pull.mix(came, b, w) in the values' order (b: the view's values, a value b lacks
+   is not in the view), into view; the clearance's too (cl: came's, b's; has) */
+static void pk_mix(pk_poll_plan *p, double w, double *clearance)
+{
+    int n = p->t_n;
+    if (w >= 1.0) {
+        for (int i = 0; i < n; i++) {
+            p->t_view[i] = p->t_vals[i];
+            p->t_view_has[i] = p->t_has ? p->t_has[i] : 1;
+        }
+        *clearance = p->t_cl_has[1] ? p->t_cl[1] : 0.0;
+        return;
+    }
+    for (int i = 0; i < n; i++) {
+        if (p->t_has && !p->t_has[i]) {
+            p->t_view[i] = 0.0;
+            p->t_view_has[i] = 0;
+            continue;
+        }
+        double v = p->t_vals[i];
+        double u = (p->t_came_has == 0 || p->t_came_has[i]) ? p->t_came[i] : v;
+        p->t_view[i] = u + (v - u) * w;
+        p->t_view_has[i] = 1;
+    }
+    if (p->t_cl_has[1]) {
+        double v = p->t_cl[1], u = p->t_cl_has[0] ? p->t_cl[0] : v;
+        *clearance = u + (v - u) * w;
+    } else {
+        *clearance = 0.0;
+    }
+}
+
+/* Tracker._weight of a reaction under way (not a fall's get-up: Python's), at s */
+static double pk_react_weight(pk_poll_plan *p, int s)
+{
+    double t = (double)(s - p->r_start) * p->r_dt;
+    if (t < p->r_hold)
+        return p->r_weight;
+    t -= p->r_hold;
+    if (t >= p->r_recover) {
+        if (p->r_done < 0)
+            p->r_done = s;  /* (Python: the reaction and the step end here) */
+        return 1.0;
+    }
+    return p->r_weight + (1.0 - p->r_weight) * t / p->r_recover;
 }
 
 /* WalkInPlace._walk_advance at s between samples (the same channels: no new step) */
@@ -201,19 +287,8 @@ static void pk_walk_view(pk_walk *w, double x0, double *ground, int *found)
     }
     *found = 0;
     *ground = 0.0;
-    if (!w->lift)
-        return;
-    double x = x0 + w->view[0], best = 0.0;
-    for (int k = 0; k < w->n_spans; k++) {
-        const double *g = w->spans + 7 * k;
-        if (g[0] <= x && x <= g[1]) {
-            double y = g[3] + (g[5] - g[3]) * (x - g[2]) / (g[4] - g[2]) + g[6];
-            if (!*found || y > best)
-                best = y;
-            *found = 1;
-        }
-    }
-    *ground = best;
+    if (w->lift)
+        *ground = pk_ground(w->spans, w->n_spans, x0 + w->view[0], found);
 }
 
 /* conditions.reader's value of a sensor (``kind``, on a and b) */
@@ -283,9 +358,25 @@ static int pk_tick(pk_poll_plan *p, int s)
             vals = w->view;
             has = w->raw_has ? w->view_has : 0;
             extra = lift ? w->extra : 0.0;
+        } else if (p->t_mix) {  /* mix(came, the values, _fraction(s, at)) */
+            double clearance;
+            pk_mix(p, pk_fraction(s, p->t_mix_at, p->t_mix_steps), &clearance);
+            vals = p->t_view;
+            has = p->t_view_has;
+            ground = 0.0;
+            lift = 0;
+            if (p->t_soles)
+                ground = pk_ground(p->spans, p->n_spans, p->t_x0 + vals[0], &lift);
+            extra = !lift ? 0.0 : clearance > 0.0 ? clearance : -0.003;  /* -PRESS */
         }
+        double weight = p->r_on ? pk_react_weight(p, s) : p->t_weight;
         pk_targets(p->track, vals, has, p->t_own);
-        if (pose || w) {
+        if (p->t_nopull) {
+            p->t_ticks++;
+            p->t_last = s;
+            return 0;  /* (nothing else is in a tracker's table) */
+        }
+        if (pose || w || p->t_mix) {
             if (pose) {
                 vel = p->t_vel;
                 h = p->t_h;
@@ -294,9 +385,9 @@ static int pk_tick(pk_poll_plan *p, int s)
                           ground, extra, vel, h);
             p->t_pose = 0;
         }
-        pk_track_pull(p->track, p->t_weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0,
-                      p->t_period);
+        pk_track_pull(p->track, weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0, p->t_period);
         p->t_ticks++;
+        p->t_last = s;
     }
     if (s % p->every)
         return 0;
@@ -326,6 +417,7 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
 {
     int s = now;
     p->fb_ticks = p->writes = p->t_ticks = 0;
+    p->r_done = p->t_last = -1;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {
