@@ -59,6 +59,7 @@ class TrackPoll:
         self._walk = None if tr.spec.walk_in_place is None or tr.walk_cycle is None \
             else self._walk_table(tr, n)
         self._ground_of = None  # (the scene whose ground the spans are)
+        self._g_of = self._feel_of = None  # (the get-up and the bodies its rows are of)
         self._came, self._came_has = ffi.new("double[]", n), ffi.new("char[]", n)
         self._view, self._view_has = ffi.new("double[]", n), ffi.new("char[]", n)
         p.t_view, p.t_view_has, p.t_n = self._view, self._view_has, len(tracker_kernel.names)
@@ -108,7 +109,7 @@ class TrackPoll:
         self._go_on = False  # session's check of the seat sent it to Python's)
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.due or rt._pending \
-                or tr.getup is not None or tr.lib is not None or tr.search_at is not None \
+                or tr.lib is not None or tr.search_at is not None \
                 or tr.impact_at is not None or tr.step is not None \
                 or tr.blend_at is not None \
                 or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
@@ -121,7 +122,9 @@ class TrackPoll:
         if lost and hold is None:
             return None
         mixing = hold is not None or back is not None  # (kd_pull.mix: Tracker._view's)
-        if mixing and (walk is not None or not self._ground_ok(tr)):
+        getup = tr.getup  # (the get-up's poses, before either)
+        moving = mixing or getup is not None  # (a view the kernel works out each tick)
+        if moving and (walk is not None or not self._ground_ok(tr)):
             return None
         ch, tk = tr.channels, self.tk
         view = ch if hold is None else hold[1]  # (the values the view mixes toward)
@@ -139,11 +142,15 @@ class TrackPoll:
             got = tr._kernel_tick  # the values this tick's targets and pulls read
             if got is None or got[0] != step or (not nopull and (
                     not tk.t.has_prev or tr.prev_step != tr.last_sample)) \
-                    or (not mixing and got[1] is not (
+                    or (not moving and got[1] is not (
                         ch if walk is None else (tr._walk_out or (None, None))[1])):
                 return None
         p.t_nopull = nopull
-        until = self._react(tr, step)  # (a reaction's weight: the kernel's, to until)
+        if getup is not None:  # (its end: Python's, back to the performer)
+            until = self._getting_up(tr, tk, getup, step)
+        else:
+            p.g_on = 0
+            until = self._react(tr, step)  # (a reaction's weight: the kernel's, to until)
         if until is None:
             return None
         if not self._owners(rt, tr, tk, p):
@@ -223,6 +230,46 @@ class TrackPoll:
             p.t_rows = self._rows
         self._seen = (dict(table), list(tr.scaled))
         return True
+
+    def _getting_up(self, tr, tk, getup, step: int) -> int | None:
+        """A fall's get-up (``GetUp.view``, the pulls whole, no lifting unless a foot
+        or a hand touches) into the plan; the step it ends at (Python's), None when it
+        cannot run (it ends now, or the fall's hold is not over: ``_weight``'s)."""
+        p, reaction = self.plan, tr.reaction
+        if reaction is None or reaction[0] != "fall" or step >= getup.done_at \
+                or (step - reaction[1]) * tr.dt < tr.spec.reaction.fall.hold \
+                or tr.hold is not None or tr.back is not None:
+            return None
+        p.r_on, p.t_weight = 0, 1.0  # (_weight: the pulls whole while getting up)
+        if self._g_of is not getup:  # its rows: came, then each pose's values
+            self._g_of = getup
+            rows = [getup.came, *getup.targets]
+            names, n = tk.names, len(tk.names)
+            vals, has = [], []
+            for row in rows:
+                got = list(map(row.get, names))
+                has += [v is not None for v in got]
+                vals += [0.0 if v is None else v for v in got]
+            cl = tr.spec.root.clearance
+            ffi = self.ffi
+            self._g_keep = keep = [
+                ffi.new("int[]", getup.ends), ffi.new("double[]", vals),
+                ffi.new("char[]", bytes(has)),
+                ffi.new("double[]", [row.get(cl, 0.0) for row in rows]),
+                ffi.new("int[]", [cl in row for row in rows])]
+            p.g_ends, p.g_vals, p.g_has, p.g_cl, p.g_cl_has = keep
+            p.g_n, p.g_at = len(getup.ends), getup.at
+            assert len(vals) == n * len(rows)
+        c = tr.character
+        if self._feel_of is not c.bodies:  # supported(): the feet and the hands
+            self._feel_of = c.bodies
+            links = [*tr.soles, *tr.spec.reaction.get_up.hands]
+            self._feel = self.ffi.new("void *[]", [self.kernel.pointer(c.bodies[name]._body)
+                                                  for name in links] or 1)
+            p.g_feel, p.g_n_feel = self._feel, len(links)
+        p.g_rise = tr.spec.reaction.get_up.rise
+        p.g_on = 1
+        return getup.done_at
 
     def _react(self, tr, step: int) -> int | None:
         """A reaction's weight (``Tracker._weight``) into the plan; the step from which
@@ -393,6 +440,8 @@ class TrackPoll:
                 tr.back = None
             if p.r_on and p.r_done >= 0:  # (Tracker._weight: the reaction over)
                 tr.reaction = tr.step = None
+            if p.g_on:  # (the HUD's pose: the step last followed)
+                tr.getup_step = p.t_last
         p.walk = self.ffi.NULL
         # rt._reschedule(s), for what ``ready`` allows: the tracker alone
         wake = tr.next_wakeup(s)

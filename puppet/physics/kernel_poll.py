@@ -107,6 +107,13 @@ typedef struct {
     double *spans;
     int t_last;       /* the step of the last tick it ran (this call) */
     int t_nopull;     /* the view lacks the root's place: the targets alone (_pull's) */
+    int g_on, g_n, g_at;  /* getting up (tracking_getup.GetUp): g_n poses from g_at, */
+    int *g_ends;      /* each reached at g_ends[i]; the values: came, then each pose's */
+    double *g_vals; char *g_has;  /* ((g_n + 1) rows of t_n), their clearance: */
+    double *g_cl; int *g_cl_has;
+    int g_n_feel;     /* supported(): the feet and hands, one touching the ground */
+    void **g_feel;
+    double g_rise;
     int r_on, r_start, r_done;  /* a reaction's weight (Tracker._weight): from r_start, */
     double r_dt, r_weight, r_hold, r_recover;  /* r_done: the step it ended (-1) */
 } pk_poll_plan;
@@ -206,6 +213,46 @@ static void pk_mix(pk_poll_plan *p, double w, double *clearance)
     } else {
         *clearance = 0.0;
     }
+}
+
+/* GetUp.view(s) in the values' order into the view (a value the pose lacks is not in
+   it), its clearance; supported(): a foot or a hand touching (no_lift: none does) */
+static void pk_getup(pk_poll_plan *p, int s, double *clearance, int *no_lift)
+{
+    int n = p->t_n, i = p->g_n - 1;
+    for (int k = 0; k < p->g_n; k++) {
+        if (s < p->g_ends[k]) {
+            i = k;
+            break;
+        }
+    }
+    int start = i == 0 ? p->g_at : p->g_ends[i - 1];
+    int den = p->g_ends[i] - start;
+    double x = (double)(s - start) / (double)(den > 1 ? den : 1);
+    double m = x > 0.0 ? x : 0.0;  /* min(1.0, max(0.0, x)) */
+    double w = m < 1.0 ? m : 1.0;
+    const double *a = p->g_vals + i * n, *b = a + n;
+    const char *ah = p->g_has + i * n, *bh = ah + n;
+    for (int j = 0; j < n; j++) {
+        if (!bh[j]) {
+            p->t_view[j] = 0.0;
+            p->t_view_has[j] = 0;
+            continue;
+        }
+        double v = b[j], u = ah[j] ? a[j] : v;
+        p->t_view[j] = u + (v - u) * w;
+        p->t_view_has[j] = 1;
+    }
+    if (p->g_cl_has[i + 1]) {
+        double v = p->g_cl[i + 1], u = p->g_cl_has[i] ? p->g_cl[i] : v;
+        *clearance = u + (v - u) * w;
+    } else {
+        *clearance = 0.0;
+    }
+    int touching = 0;
+    for (int k = 0; k < p->g_n_feel && !touching; k++)
+        each_arbiter(p->g_feel[k], pk_touched, &touching);
+    *no_lift = !touching;
 }
 
 /* Tracker._weight of a reaction under way (not a fall's get-up: Python's), at s */
@@ -349,7 +396,7 @@ static int pk_tick(pk_poll_plan *p, int s)
         pk_walk *w = p->walk;
         const double *vals = p->t_vals;
         const char *has = p->t_has;
-        int pose = p->t_pose, lift = p->t_lift, vel = 0;
+        int pose = p->t_pose, lift = p->t_lift, vel = 0, no_lift = 0;
         double ground = p->t_ground, extra = p->t_extra, h = 0.0;
         if (w) {
             if (!pose)
@@ -358,9 +405,13 @@ static int pk_tick(pk_poll_plan *p, int s)
             vals = w->view;
             has = w->raw_has ? w->view_has : 0;
             extra = lift ? w->extra : 0.0;
-        } else if (p->t_mix) {  /* mix(came, the values, _fraction(s, at)) */
+        } else if (p->t_mix || p->g_on) {  /* mix(came, the values, _fraction(s, at)),
+                                              or the get-up's poses */
             double clearance;
-            pk_mix(p, pk_fraction(s, p->t_mix_at, p->t_mix_steps), &clearance);
+            if (p->g_on)
+                pk_getup(p, s, &clearance, &no_lift);
+            else
+                pk_mix(p, pk_fraction(s, p->t_mix_at, p->t_mix_steps), &clearance);
             vals = p->t_view;
             has = p->t_view_has;
             ground = 0.0;
@@ -368,6 +419,8 @@ static int pk_tick(pk_poll_plan *p, int s)
             if (p->t_soles)
                 ground = pk_ground(p->spans, p->n_spans, p->t_x0 + vals[0], &lift);
             extra = !lift ? 0.0 : clearance > 0.0 ? clearance : -0.003;  /* -PRESS */
+            if (lift && p->g_on)
+                lift = 2;  /* (every link's lowest points) */
         }
         double weight = p->r_on ? pk_react_weight(p, s) : p->t_weight;
         pk_targets(p->track, vals, has, p->t_own);
@@ -376,7 +429,7 @@ static int pk_tick(pk_poll_plan *p, int s)
             p->t_last = s;
             return 0;  /* (nothing else is in a tracker's table) */
         }
-        if (pose || w || p->t_mix) {
+        if (pose || w || p->t_mix || p->g_on) {
             if (pose) {
                 vel = p->t_vel;
                 h = p->t_h;
@@ -385,7 +438,8 @@ static int pk_tick(pk_poll_plan *p, int s)
                           ground, extra, vel, h);
             p->t_pose = 0;
         }
-        pk_track_pull(p->track, weight, p->t_rows, -1, 0.0, 0.0, 0, 0, 0.0, p->t_period);
+        pk_track_pull(p->track, weight, p->t_rows, -1, 0.0, 0.0, p->g_on, no_lift, p->g_rise,
+                      p->t_period);
         p->t_ticks++;
         p->t_last = s;
     }
