@@ -110,7 +110,7 @@ class TrackPoll:
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.due or rt._pending \
                 or tr.lib is not None or tr.search_at is not None \
-                or tr.impact_at is not None or tr.step is not None \
+                or tr.impact_at is not None \
                 or tr.blend_at is not None \
                 or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
             return None
@@ -147,7 +147,8 @@ class TrackPoll:
                 return None
         p.t_nopull = nopull
         if getup is not None:  # (its end: Python's, back to the performer)
-            until = self._getting_up(tr, tk, getup, step)
+            p.st_on = 0
+            until = None if tr.step is not None else self._getting_up(tr, tk, getup, step)
         else:
             p.g_on = 0
             until = self._react(tr, step)  # (a reaction's weight: the kernel's, to until)
@@ -277,12 +278,19 @@ class TrackPoll:
         None when it begins now."""
         p, reaction = self.plan, tr.reaction
         if reaction is None:
-            p.r_on = 0
-            return NEVER
+            p.r_on = p.st_on = 0
+            return None if tr.step is not None else NEVER
         case, start = reaction
         spec = getattr(tr.spec.reaction, case)
         p.r_on, p.r_start, p.r_dt = 1, start, tr.dt
         p.r_weight, p.r_hold, p.r_recover = spec.weight, spec.hold, spec.recover
+        step_ = tr.step  # a large push's protective step (Tracker._stepped)
+        p.st_on = step_ is not None
+        if step_ is not None:
+            r = tr.spec.reaction
+            foot, p.st_start, p.st_x0, p.st_y0, p.st_x1, p.st_y1 = step_
+            p.st_row = self.tk.row_of[foot]
+            p.st_time, p.st_lift, p.st_low = r.step_time, r.step_lift, r.large.weight
         if case != "fall" or tr.spec.reaction.get_up is None:
             return NEVER
         dt, every = tr.dt, tr.every

@@ -114,6 +114,8 @@ typedef struct {
     int g_n_feel;     /* supported(): the feet and hands, one touching the ground */
     void **g_feel;
     double g_rise;
+    int st_on, st_row, st_start;  /* a large push's protective step (Tracker.step) */
+    double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
     int r_on, r_start, r_done;  /* a reaction's weight (Tracker._weight): from r_start, */
     double r_dt, r_weight, r_hold, r_recover;  /* r_done: the step it ended (-1) */
 } pk_poll_plan;
@@ -438,8 +440,23 @@ static int pk_tick(pk_poll_plan *p, int s)
                           ground, extra, vel, h);
             p->t_pose = 0;
         }
-        pk_track_pull(p->track, weight, p->t_rows, -1, 0.0, 0.0, p->g_on, no_lift, p->g_rise,
-                      p->t_period);
+        int stepping = -1;
+        double sx = 0.0, sy = 0.0;
+        if (p->st_on && p->r_done < 0) {  /* Tracker._stepped (the step ends with the
+                                            reaction: _weight) */
+            double u = (double)(s - p->st_start) * p->r_dt / p->st_time;
+            u = u < 1.0 ? u : 1.0;  /* min(1.0, u) */
+            double x = p->st_x0 + (p->st_x1 - p->st_x0) * u;
+            double y = p->st_y0 + (p->st_y1 - p->st_y0) * u
+                       + p->st_lift * sin(3.14159265358979323846264338327950288 * u);
+            double back = weight <= p->st_low ? 0.0 : (weight - p->st_low) / (1.0 - p->st_low);
+            stepping = p->st_row;
+            const double *tg = p->track->targets + 3 * stepping;
+            sx = x + (tg[0] - x) * back;
+            sy = y + (tg[1] - y) * back;
+        }
+        pk_track_pull(p->track, weight, p->t_rows, stepping, sx, sy, p->g_on, no_lift,
+                      p->g_rise, p->t_period);
         p->t_ticks++;
         p->t_last = s;
     }
