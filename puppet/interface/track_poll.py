@@ -50,6 +50,7 @@ class TrackPoll:
         self._frame = self._root = self._space_cd = self._space_void = None
         self._ready_at = None  # the step ready last said yes at (run's check)
         self._tick_first = False  # ... and whether the tick there is the kernel's
+        self._moving = False  # ... and whether its ticks change the tracker's state
         self.kernel_ticks = 0  # control steps the kernel ran (tests read it)
         self._seen = None  # (the owners, the joints the tracker gave gains): ready's
         tr = runtime.tracker
@@ -204,6 +205,7 @@ class TrackPoll:
             return None
         self._ready_at = step
         self._tick_first = resume
+        self._moving = walk is not None or moving or tr.reaction is not None
         return until
 
     def _owners(self, rt, tr, tk, p) -> bool:
@@ -421,7 +423,7 @@ class TrackPoll:
         self._ready_at = None
         p = self.plan
         if frame is not self._frame:
-            self._frame = frame
+            self._frame, self._root = frame, None
             p.frame_every, _, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
         last = now - now % health + health
         every = frame[0]
@@ -430,36 +432,43 @@ class TrackPoll:
         stop = until if until < end else end
         stop = stop if stop < last else last
         rt = self.runtime
-        root = rt.character.bodies[frame[1]]._body
-        if root is not self._root:
-            self._root, p.root = root, self.kernel.pointer(root)
+        bodies = rt.character.bodies
+        if bodies is not self._root:  # (a re-seat makes new bodies)
+            self._root, p.root = bodies, self.kernel.pointer(bodies[frame[1]]._body)
         if space_ptr is not self._space_cd:
             self._space_cd, self._space_void = space_ptr, self.kernel.pointer(space_ptr)
         s = self.poll(self._space_void, dt, now, stop, p, 1 if tick_first else 0)
-        self.kernel_ticks += p.t_ticks
+        ticks = p.t_ticks
+        self.kernel_ticks += ticks
         tr = rt.tracker
-        if p.t_ticks:
+        if ticks:
             tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
-            if p.walk != self.ffi.NULL and p.t_ticks > tick_first:
-                self._walked_back(tr, p.t_ticks)
-            back = tr.back  # (Tracker._view: back at the performer's, the blend done)
-            if back is not None and (tr.blend_steps <= 0
-                                     or p.t_last - back[1] >= tr.blend_steps):
-                tr.back = None
-            if p.r_on and p.r_done >= 0:  # (Tracker._weight: the reaction over)
-                tr.reaction = tr.step = None
-            if p.g_on:  # (the HUD's pose: the step last followed)
-                tr.getup_step = p.t_last
-        p.walk = self.ffi.NULL
+            if self._moving:
+                self._handed_back(tr, p, ticks > tick_first)
         # rt._reschedule(s), for what ``ready`` allows: the tracker alone
-        wake = tr.next_wakeup(s)
+        phase, every = tr.phase, tr.every
+        wake = phase - (-(s - phase) // every) * every  # (Tracker.next_wakeup)
         rt._controllers_wake = wake
-        rt.next_wakeup = wake = wake if wake is None or wake > s else s
+        rt.next_wakeup = wake = wake if wake > s else s
         # the next tick may be the kernel's (``resume``; ``ready`` says, after what
         # comes first: an event, a sample mostly, a history boundary), on this seat
         sim = rt.sim
         self._go_on, self.seat = True, (sim.space, sim.seats)
         return s
+
+    def _handed_back(self, tr, p, walked: bool) -> None:
+        """What the kernel's ticks changed of the tracker's state, into it."""
+        if p.walk != self.ffi.NULL:
+            if walked:
+                self._walked_back(tr, p.t_ticks)
+            p.walk = self.ffi.NULL
+        back = tr.back  # (Tracker._view: back at the performer's, the blend done)
+        if back is not None and (tr.blend_steps <= 0 or p.t_last - back[1] >= tr.blend_steps):
+            tr.back = None
+        if p.r_on and p.r_done >= 0:  # (Tracker._weight: the reaction over)
+            tr.reaction = tr.step = None
+        if p.g_on:  # (the HUD's pose: the step last followed)
+            tr.getup_step = p.t_last
 
     @property
     def resume(self) -> int:
