@@ -61,6 +61,7 @@ class TrackPoll:
             else self._walk_table(tr, n)
         self._ground_of = None  # (the scene whose ground the spans are)
         self._g_of = self._feel_of = None  # (the get-up and the bodies its rows are of)
+        self._l_of = None  # (the library and the window the plan's frames are of)
         self._came, self._came_has = ffi.new("double[]", n), ffi.new("char[]", n)
         self._view, self._view_has = ffi.new("double[]", n), ffi.new("char[]", n)
         p.t_view, p.t_view_has, p.t_n = self._view, self._view_has, len(tracker_kernel.names)
@@ -110,7 +111,6 @@ class TrackPoll:
         self._go_on = False  # session's check of the seat sent it to Python's)
         tr = rt.tracker
         if tr.mode != KD or not tr.kinematic or tr.due or rt._pending \
-                or tr.lib is not None or tr.search_at is not None \
                 or tr.impact_at is not None \
                 or tr.blend_at is not None \
                 or (step - tr.phase) % tr.every:  # (a tick that was not the tracker's)
@@ -124,7 +124,12 @@ class TrackPoll:
             return None
         mixing = hold is not None or back is not None  # (kd_pull.mix: Tracker._view's)
         getup = tr.getup  # (the get-up's poses, before either)
-        moving = mixing or getup is not None  # (a view the kernel works out each tick)
+        library = tr.lib is not None or tr.search_at is not None  # (a window, or a
+        if library and (getup is not None or hold is not None  # search to come)
+                        or (tr.lib is not None and back is not None)):
+            return None
+        moving = mixing or getup is not None or tr.lib is not None  # (a view the kernel
+        # works out at each tick)
         if moving and (walk is not None or not self._ground_ok(tr)):
             return None
         ch, tk = tr.channels, self.tk
@@ -147,9 +152,13 @@ class TrackPoll:
                         ch if walk is None else (tr._walk_out or (None, None))[1])):
                 return None
         p.t_nopull = nopull
+        p.l_on, p.t_weight = 0, 1.0  # (_weight * _blend: 1.0 * 1.0 but for the below)
         if getup is not None:  # (its end: Python's, back to the performer)
             p.st_on = 0
             until = None if tr.step is not None else self._getting_up(tr, tk, getup, step)
+        elif library:  # (the search, the window's end: Python's)
+            p.g_on = p.st_on = p.r_on = 0
+            until = None if nopull or tr.step is not None else self._library(tr, tk, step)
         else:
             p.g_on = 0
             until = self._react(tr, step)  # (a reaction's weight: the kernel's, to until)
@@ -186,6 +195,8 @@ class TrackPoll:
         if walk is not None:  # (the view walks on at each tick: the kernel's)
             if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
                 return None
+        elif tr.lib is not None:  # (the window's channels at each tick: the kernel's)
+            self._values(ch)
         elif mixing:  # (mix(came, view, w) at each tick: the kernel's)
             self._mix_from(tr, tk, view, hold or back)
         else:
@@ -273,6 +284,70 @@ class TrackPoll:
         p.g_rise = tr.spec.reaction.get_up.rise
         p.g_on = 1
         return getup.done_at
+
+    def _library(self, tr, tk, step: int) -> int | None:
+        """A motion library's reaction into the plan: before its search the pulls at
+        the case's weight (the view the performer's), then the window's channels
+        (``_library_view``) at ``_library_weight``; the step Python's tick must run
+        at (the search, the window's end), None when the kernel cannot."""
+        p, reaction, lib = self.plan, tr.reaction, tr.library
+        if reaction is None:
+            return None
+        low = getattr(tr.spec.reaction, reaction[0]).weight
+        if tr.lib is None:
+            if step >= tr.search_at:
+                return None
+            p.t_weight = low  # (_library_weight with no window yet)
+            return tr.search_at
+        index, start, offset = tr.lib
+        dt, every, duration = tr.dt, tr.every, lib.duration
+        if (step - start) * dt >= duration:
+            return None
+        key = (lib, index)
+        if self._l_of != key:  # the window's clip, its columns for the values
+            window = lib.windows[index]
+            frames = lib.clips[window.clip][1]
+            names = lib.channels
+            if window.mirrored:
+                names = tuple(lib.swap.get(n, n) for n in names)
+            column = {name: j for j, name in enumerate(names)}  # (the last of a name)
+            cols = [column.get(name, -1) for name in tk.names]
+            if min(cols[:3]) < 0:  # (the window lacks the root's place: Python's)
+                return None
+            keep = self._l_keep = [self.ffi.new("double[]", [v for f in frames for v in f]),
+                                   self.ffi.new("int[]", cols)]
+            p.l_frames, p.l_col = keep
+            p.l_first, p.l_len, p.l_width = window.start, len(frames), len(names)
+            p.l_cl = column.get(tr.spec.root.clearance, -1)
+            self._l_of = key
+        p.l_start, p.l_span, p.l_rate, p.l_duration = start, lib.frames, lib.rate, duration
+        p.l_offset, p.l_low = offset, low
+        spec = tr.spec.reaction.library
+        p.l_blend, p.l_weight = spec.blend, spec.weight
+        p.r_dt = dt
+        p.l_on = 1
+        c = step + every  # the window's end: the first control step at its duration
+        guess = start + int(duration / dt) - 2 * every
+        if guess > c:
+            c += (guess - c) // every * every
+        while (c - start) * dt < duration:
+            c += every
+        return c
+
+    def _values(self, ch: dict) -> None:
+        """The performer's values (and clearance) into the plan, the view's base."""
+        p, names = self.plan, self.tk.names
+        n = len(names)
+        vals = list(map(ch.get, names))
+        if None in vals:
+            self._has[0:n] = bytes(v is not None for v in vals)
+            p.t_has = self._has
+            vals = [0.0 if v is None else v for v in vals]
+        else:
+            p.t_has = self.ffi.NULL
+        self._vals[0:n] = vals
+        cl = self.runtime.tracker.spec.root.clearance
+        p.t_cl_has[1], p.t_cl[1] = cl in ch, ch.get(cl, 0.0)
 
     def _react(self, tr, step: int) -> int | None:
         """A reaction's weight (``Tracker._weight``) into the plan; the step from which

@@ -114,6 +114,12 @@ typedef struct {
     int g_n_feel;     /* supported(): the feet and hands, one touching the ground */
     void **g_feel;
     double g_rise;
+    int l_on, l_start, l_span, l_first, l_len;  /* a motion library's window followed
+                         (tracking_library): from l_start, l_span frames from the clip's
+                         l_first of its l_len (l_width values each) */
+    int l_width, *l_col;  /* the value's column in a frame (-1: not a library channel) */
+    double *l_frames, l_rate, l_duration, l_offset, l_blend, l_low, l_weight;
+    int l_cl;         /* the clearance's column (-1) */
     int st_on, st_row, st_start;  /* a large push's protective step (Tracker.step) */
     double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
     int r_on, r_start, r_done;  /* a reaction's weight (Tracker._weight): from r_start, */
@@ -255,6 +261,63 @@ static void pk_getup(pk_poll_plan *p, int s, double *clearance, int *no_lift)
     for (int k = 0; k < p->g_n_feel && !touching; k++)
         each_arbiter(p->g_feel[k], pk_touched, &touching);
     *no_lift = !touching;
+}
+
+/* LibraryReactions._library_view at s (MotionLibrary.channels_at, root.x placed by
+   the offset, blended in from the performer's values over l_blend) into the view, its
+   clearance; the pulls' weight (_library_weight) */
+static double pk_library(pk_poll_plan *p, int s, double *clearance)
+{
+    int n = p->t_n;
+    double t = (double)(s - p->l_start) * p->r_dt;
+    double u = 0.0 > t ? 0.0 : t;  /* min(max(t, 0.0), duration) * rate */
+    u = p->l_duration < u ? p->l_duration : u;
+    u = u * p->l_rate;
+    long long k = 0;
+    if (p->l_span > 1) {
+        k = (long long)u;
+        if (k > p->l_span - 2)
+            k = p->l_span - 2;
+    }
+    double f = u - (double)k;
+    long long kb = p->l_first + k + 1;
+    if (kb > p->l_len - 1)
+        kb = p->l_len - 1;
+    const double *a = p->l_frames + (p->l_first + k) * p->l_width;
+    const double *b = p->l_frames + kb * p->l_width;
+    int blending = p->l_blend > 0.0 && t < p->l_blend;
+    double w = blending ? t / p->l_blend : 1.0;
+    for (int i = 0; i < n; i++) {
+        int j = p->l_col[i];
+        int perf = p->t_has == 0 || p->t_has[i];
+        if (j < 0) {  /* the performer's, blending in; else not in the view */
+            p->t_view[i] = blending && perf ? p->t_vals[i] : 0.0;
+            p->t_view_has[i] = blending && perf;
+            continue;
+        }
+        double v = a[j] + (b[j] - a[j]) * f;
+        if (i == 0)
+            v += p->l_offset;  /* (root.x, the values' first) */
+        if (blending) {
+            double c = perf ? p->t_vals[i] : v;
+            v = c + (v - c) * w;
+        }
+        p->t_view[i] = v;
+        p->t_view_has[i] = 1;
+    }
+    *clearance = 0.0;
+    if (p->l_cl >= 0) {
+        double v = a[p->l_cl] + (b[p->l_cl] - a[p->l_cl]) * f;
+        if (blending) {
+            double c = p->t_cl_has[1] ? p->t_cl[1] : v;
+            v = c + (v - c) * w;
+        }
+        *clearance = v;
+    } else if (blending && p->t_cl_has[1]) {
+        *clearance = p->t_cl[1];
+    }
+    double lw = (p->l_blend <= 0.0 || t >= p->l_blend) ? 1.0 : t / p->l_blend;
+    return p->l_low + (p->l_weight - p->l_low) * lw;
 }
 
 /* Tracker._weight of a reaction under way (not a fall's get-up: Python's), at s */
@@ -399,6 +462,7 @@ static int pk_tick(pk_poll_plan *p, int s)
         const double *vals = p->t_vals;
         const char *has = p->t_has;
         int pose = p->t_pose, lift = p->t_lift, vel = 0, no_lift = 0;
+        double l_weight = 1.0;
         double ground = p->t_ground, extra = p->t_extra, h = 0.0;
         if (w) {
             if (!pose)
@@ -407,11 +471,13 @@ static int pk_tick(pk_poll_plan *p, int s)
             vals = w->view;
             has = w->raw_has ? w->view_has : 0;
             extra = lift ? w->extra : 0.0;
-        } else if (p->t_mix || p->g_on) {  /* mix(came, the values, _fraction(s, at)),
-                                              or the get-up's poses */
+        } else if (p->t_mix || p->g_on || p->l_on) {  /* mix(came, the values,
+                                       _fraction(s, at)), a get-up's poses, a window */
             double clearance;
             if (p->g_on)
                 pk_getup(p, s, &clearance, &no_lift);
+            else if (p->l_on)
+                l_weight = pk_library(p, s, &clearance);
             else
                 pk_mix(p, pk_fraction(s, p->t_mix_at, p->t_mix_steps), &clearance);
             vals = p->t_view;
@@ -424,14 +490,14 @@ static int pk_tick(pk_poll_plan *p, int s)
             if (lift && p->g_on)
                 lift = 2;  /* (every link's lowest points) */
         }
-        double weight = p->r_on ? pk_react_weight(p, s) : p->t_weight;
+        double weight = p->l_on ? l_weight : p->r_on ? pk_react_weight(p, s) : p->t_weight;
         pk_targets(p->track, vals, has, p->t_own);
         if (p->t_nopull) {
             p->t_ticks++;
             p->t_last = s;
             return 0;  /* (nothing else is in a tracker's table) */
         }
-        if (pose || w || p->t_mix || p->g_on) {
+        if (pose || w || p->t_mix || p->g_on || p->l_on) {
             if (pose) {
                 vel = p->t_vel;
                 h = p->t_h;
