@@ -39,6 +39,7 @@ from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poses import made_frame_target
+from puppet.interface.track_poll import TrackPoll
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
@@ -545,10 +546,20 @@ class PollPlan:
         machine.quiet = quiet
 
 
-def plan_for(runtime) -> PollPlan | None:
-    """The runtime's plan, with the kernel and one state machine; None on Python's
-    path."""
+def plan_for(runtime) -> PollPlan | TrackPoll | None:
+    """The runtime's plan, with the kernel and its state machines, or with a KD
+    tracker and none (``track_poll``); None on Python's path."""
     kern = _kernel.get()
-    if kern is None or runtime.sim is None or not runtime._machine_list:
+    if kern is None or runtime.sim is None:
+        return None
+    if not runtime._machine_list:
+        tracker = runtime.tracker
+        if tracker._kern is None:
+            return None
+        spec = tracker.spec  # (intentional contacts: Python's; a walk in place that
+        walk = spec.walk_in_place  # blends the clearance in, too)
+        if spec.contacts is None and (walk is None or tracker.walk_cycle is None
+                                      or spec.root.clearance not in walk.joints):
+            return TrackPoll(runtime, kern, tracker._kern)
         return None
     return PollPlan(runtime, kern)

@@ -43,7 +43,29 @@ express; everything else stays on Python's path. Written operation for operation
 the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
 """
 
+from puppet.physics.kernel_poll_reach import REACH_SOURCE
+from puppet.physics.kernel_poll_track import TRACK_SOURCE
+
 POLL_TYPES = """
+typedef struct {  /* walking in place between samples (tracking_walk, track_poll) */
+    double *frames;   /* the gait cycle's clip: n_frames frames of width values */
+    int n_frames, width, xi;  /* xi: root.x's place in a frame */
+    double a, b, start, stride;  /* GaitCycle's a, b, _raw_one(a, xi), stride */
+    double *drift;
+    int n_rows;       /* blend_into's rows read by the tracker: the value's index and */
+    int *row_val, *row_ch;  /* the frame's */
+    double dt, stop_after, blend;
+    int walking, has_last_at, last_at, has_at, at;  /* WalkInPlace.walk's, */
+    double phase, speed, travel, weight;             /* kept here during a run */
+    int n_vals;       /* the performer's values (raw, raw_has) and the view's */
+    double *raw, *view;
+    char *raw_has, *view_has;  /* (raw_has NULL: all there) */
+    int n_spans;      /* Simulation.ground_surface's spans: lo, hi, x0, y0, x1, y1, half */
+    double *spans;
+    int lift;         /* the feet stand on the ground (tracking.feet and a ground) */
+    double extra;     /* the clearance, or -PRESS */
+} pk_walk;
+
 typedef struct {
     int n_trans;
     int *first;       /* per transition: the first step it is polled (entered + after) */
@@ -106,6 +128,43 @@ typedef struct {
     int a_p0[4], a_p1[4], a_s0[4], a_s1[4];  /* its places: [a_p0, a_p1), [a_s0, a_s1) */
     double a_px[64], a_py[64];  /* world points */
     double a_sax[64], a_say[64], a_svx[64], a_svy[64], a_svv[64];  /* segments */
+    pk_track *track;  /* NULL, or KD tracking between a performer's samples: at the
+                         steps t_phase + n * t_every, pk_targets and pk_track_pull */
+    int t_phase, t_every, t_ticks;  /* (t_ticks: the ticks it ran, this call) */
+    double *t_vals;   /* pk_targets' values, has, own; pk_track_pull's own, weight */
+    char *t_has, *t_own, *t_rows;  /* (NULL: every value, joint, link) */
+    double t_weight, t_period;
+    int t_pose;       /* the first tick's a sample's: pk_track_pose with these first */
+    int t_lift, t_vel;
+    double t_x0, t_ground, t_extra, t_h;
+    pk_walk *walk;    /* NULL, or the view walks in place: each tick's own (below) */
+    int t_n;          /* the values */
+    int t_mix, t_mix_at, t_mix_steps;  /* the view mixes t_came into t_vals (hold, back) */
+    double *t_came; char *t_came_has;  /* (has NULL: all there) */
+    double *t_view; char *t_view_has;
+    double t_cl[2]; int t_cl_has[2];   /* the clearance: came's, the view's own */
+    int t_soles;      /* the lift: the feet on the ground under the view (spans) */
+    int n_spans;      /* Simulation.ground_surface's spans (7 a span) */
+    double *spans;
+    int t_last;       /* the step of the last tick it ran (this call) */
+    int t_nopull;     /* the view lacks the root's place: the targets alone (_pull's) */
+    int g_on, g_n, g_at;  /* getting up (tracking_getup.GetUp): g_n poses from g_at, */
+    int *g_ends;      /* each reached at g_ends[i]; the values: came, then each pose's */
+    double *g_vals; char *g_has;  /* ((g_n + 1) rows of t_n), their clearance: */
+    double *g_cl; int *g_cl_has;
+    int g_n_feel;     /* supported(): the feet and hands, one touching the ground */
+    void **g_feel;
+    double g_rise;
+    int l_on, l_start, l_span, l_first, l_len;  /* a motion library's window followed
+                         (tracking_library): from l_start, l_span frames from the clip's
+                         l_first of its l_len (l_width values each) */
+    int l_width, *l_col;  /* the value's column in a frame (-1: not a library channel) */
+    double *l_frames, l_rate, l_duration, l_offset, l_blend, l_low, l_weight;
+    int l_cl;         /* the clearance's column (-1) */
+    int st_on, st_row, st_start;  /* a large push's protective step (Tracker.step) */
+    double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
+    int rx_on, rx_start, rx_done;  /* a reaction's weight (Tracker._weight): from rx_start, */
+    double rx_dt, rx_weight, rx_hold, rx_recover;  /* rx_done: the step it ended (-1) */
 } pk_poll_plan;
 """
 
@@ -125,6 +184,7 @@ void pk_poll_init(void *step)
 
 typedef struct { int done; double v[4]; } pk_com_now;  /* x, y, vx, vy, once a tick */
 
+""" + TRACK_SOURCE + r"""
 /* conditions.reader's value of a sensor (``kind``, on a and b) */
 #define PK_S_INPUT 100  /* + a slot of in_val: a device input (conditions' input.NAME) */
 
@@ -172,188 +232,7 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-/* CPython 3.11's math.hypot of two finite or not numbers (mathmodule.c's
-   vector_norm, with its double-length helpers): not libm's, so the bits are Python's */
-typedef struct { double hi, lo; } pk_dl;
-
-static pk_dl pk_dl_split(double x)
-{
-    double t = x * 134217729.0;
-    double hi = t - (t - x);
-    pk_dl r = {hi, x - hi};
-    return r;
-}
-
-static pk_dl pk_dl_mul(double x, double y)
-{
-    pk_dl xx = pk_dl_split(x), yy = pk_dl_split(y);
-    double p = xx.hi * yy.hi;
-    double q = xx.hi * yy.lo + xx.lo * yy.hi;
-    double z = p + q;
-    pk_dl r = {z, p - z + q + xx.lo * yy.lo};
-    return r;
-}
-
-static pk_dl pk_dl_fast_sum(double a, double b)
-{
-    double x = a + b;
-    double z = x - a;
-    pk_dl r = {x, b - z};
-    return r;
-}
-
-static double pk_norm(int n, double *vec, double max, int found_nan)
-{
-    double x, h, scale, csum = 1.0, frac1 = 0.0, frac2 = 0.0;
-    pk_dl pr, sm;
-    int max_e;
-    if (isinf(max))
-        return max;
-    if (found_nan)
-        return NAN;
-    if (max == 0.0 || n <= 1)
-        return max;
-    frexp(max, &max_e);
-    if (max_e < -1023) {
-        for (int i = 0; i < n; i++)
-            vec[i] /= DBL_MIN;
-        return DBL_MIN * pk_norm(n, vec, max / DBL_MIN, found_nan);
-    }
-    scale = ldexp(1.0, -max_e);
-    for (int i = 0; i < n; i++) {
-        x = vec[i];
-        x *= scale;
-        pr = pk_dl_mul(x, x);
-        sm = pk_dl_fast_sum(csum, pr.hi);
-        csum = sm.hi;
-        frac1 += pr.lo;
-        frac2 += sm.lo;
-    }
-    h = sqrt(csum - 1.0 + (frac1 + frac2));
-    pr = pk_dl_mul(-h, h);
-    sm = pk_dl_fast_sum(csum, pr.hi);
-    csum = sm.hi;
-    frac1 += pr.lo;
-    frac2 += sm.lo;
-    x = csum - 1.0 + (frac1 + frac2);
-    h += x / (2.0 * h);
-    return h / scale;
-}
-
-double pk_hypot(double a, double b)
-{
-    double v[2] = {fabs(a), fabs(b)}, max = 0.0;
-    int found_nan = 0;
-    for (int i = 0; i < 2; i++) {
-        found_nan |= isnan(v[i]);
-        if (v[i] > max)
-            max = v[i];
-    }
-    return pk_norm(2, v, max, found_nan);
-}
-
-/* props._outside: the parameter nearest u of a segment's point at least r from
-   (cx, cy); 0 when the whole segment is within r (else 1, *u set) */
-static int pk_outside(double *u, double ax, double ay, double vx, double vy, double vv,
-                      double cx, double cy, double r)
-{
-    double dx = ax - cx, dy = ay - cy;
-    if (pow(dx + *u * vx, 2.0) + pow(dy + *u * vy, 2.0) >= r * r)
-        return 1;
-    double b = (dx * vx + dy * vy) / vv;
-    double c = (dx * dx + dy * dy - r * r) / vv;
-    double m = b * b - c;
-    double root = sqrt(m > 0.0 ? m : 0.0);  /* math.sqrt(max(0.0, ...)) */
-    double inside[2] = {-b - root, -b + root}, best = 0.0, key = 0.0;
-    int found = 0;
-    for (int i = 0; i < 2; i++) {
-        double t = inside[i];
-        if (0.0 <= t && t <= 1.0) {  /* min(allowed, key=abs(s - u)): the first least */
-            double k = fabs(t - *u);
-            if (!found || k < key) {
-                best = t; key = k; found = 1;
-            }
-        }
-    }
-    if (found)
-        *u = best;
-    return found;
-}
-
-/* GraspController.tick's test for armed grasp ``j`` (try_grasp: the nearest of its
-   places, Prop.nearest's arithmetic, or its world points, within the tolerance): 1
-   when one of its places is within it, or nearly (Python's tick then grasps or finds
-   it does not). A place surely farther (its squared distance, or its segment's
-   ignoring the skipped part, beyond the tolerance by far more than any rounding) is
-   not worked out further. */
-static int pk_catches(const pk_poll_plan *p, int j)
-{
-    pk_vect local = {p->a_ex[j], p->a_ey[j]};
-    pk_vect e = to_world(p->a_end[j], local);
-    double wx = e.x, wy = e.y, r = p->a_tol[j];
-    double reach = r * (1.0 + 1e-9) + 1e-12, far = r * (1.0 + 1e-6) + 1e-9;
-    double cx = p->a_sx[j], cy = p->a_sy[j];
-    int skip = p->a_skip[j];
-    far *= far;
-    for (int i = p->a_p0[j]; i < p->a_p1[j]; i++) {
-        double px = p->a_px[i], py = p->a_py[i];
-        double dx = px - wx, dy = py - wy;
-        if (dx * dx + dy * dy > far)
-            continue;
-        if (skip && pk_hypot(px - cx, py - cy) < r)
-            continue;
-        if (!(pk_hypot(dx, dy) > reach))
-            return 1;
-    }
-    for (int i = p->a_s0[j]; i < p->a_s1[j]; i++) {
-        double ax = p->a_sax[i], ay = p->a_say[i], vx = p->a_svx[i], vy = p->a_svy[i];
-        double vv = p->a_svv[i];
-        double u = ((wx - ax) * vx + (wy - ay) * vy) / vv;
-        double m = u > 0.0 ? u : 0.0;
-        u = m < 1.0 ? m : 1.0;
-        double dx = ax + u * vx - wx, dy = ay + u * vy - wy;
-        if (dx * dx + dy * dy > far)  /* (the segment's nearest: the skipped part's
-                                          points are no nearer) */
-            continue;
-        if (skip && !pk_outside(&u, ax, ay, vx, vy, vv, cx, cy, r))
-            continue;
-        if (!(pk_hypot(ax + u * vx - wx, ay + u * vy - wy) > reach))
-            return 1;
-    }
-    return 0;
-}
-
-/* The running reaches at ``s`` (ReachController.tick's fast path): each one's aim;
-   1 when one would grasp (its end within its tolerance of the goal: try_grasp's
-   test, met or nearly) or there is no kernel's hypot to trust (then Python's tick at
-   ``s`` does it all, nothing written here); else each one's solve and writes, in
-   the reaches' order */
-static int pk_reaches(pk_poll_plan *p, int s)
-{
-    for (int j = 0; j < p->n_armed; j++)  /* (the armed grasps: Python's, if one holds) */
-        if (pk_catches(p, j))
-            return 1;
-    for (int j = 0; j < p->n_reach; j++) {
-        double *out = p->r_out + 4 * j;
-        pk_reach_aim((double)(s - p->r_start[j]), p->r_parent[j], p->r_ax[j], p->r_ay[j],
-                     p->r_goal[j], p->r_gx[j], p->r_gy[j], p->r_p0x[j], p->r_p0y[j],
-                     p->r_steps[j], out);
-        if (p->r_end[j]) {  /* try_grasp: hypot(end - goal) <= tolerance, with a margin */
-            pk_vect local = {p->r_ex[j], p->r_ey[j]};
-            pk_vect e = to_world(p->r_end[j], local);
-            double d = pk_hypot(e.x - out[2], e.y - out[3]);
-            if (!(d > p->r_tol[j] * (1.0 + 1e-9) + 1e-12))
-                return 1;
-        }
-    }
-    for (int j = 0; j < p->n_reach; j++) {
-        double *out = p->r_out + 4 * j;
-        pk_reach_set(p->r_params[j], out[0], out[1], pk_hypot(out[0], out[1]),
-                     p->r_spring0[j], p->r_spring1[j], p->r_own1[j], p->r_q);
-    }
-    return 0;
-}
-
+""" + REACH_SOURCE + r"""
 /* the tick at ``s``: 1 when a transition holds or a reach grasps (nothing written) */
 static int pk_tick(pk_poll_plan *p, int s)
 {
@@ -362,6 +241,80 @@ static int pk_tick(pk_poll_plan *p, int s)
         return 1;
     if ((p->n_reach || p->n_armed) && pk_reaches(p, s))
         return 1;
+    if (p->track && (s - p->t_phase) % p->t_every == 0) {
+        /* Tracker.tick (interface/track_poll.py): the joint targets of the view, the
+           pose (its velocities from the last sample, with t_pose: a sample's tick),
+           the pulls. Between samples without a walk the view is the same values and
+           the pose the last one (pk_track_pose again would give the same targets);
+           walking in place, the view walks on (at a sample Python advanced it). */
+        pk_walk *w = p->walk;
+        const double *vals = p->t_vals;
+        const char *has = p->t_has;
+        int pose = p->t_pose, lift = p->t_lift, vel = 0, no_lift = 0;
+        double l_weight = 1.0;
+        double ground = p->t_ground, extra = p->t_extra, h = 0.0;
+        if (w) {
+            if (!pose)
+                pk_walk_advance(w, s);
+            pk_walk_view(w, p->t_x0, &ground, &lift);
+            vals = w->view;
+            has = w->raw_has ? w->view_has : 0;
+            extra = lift ? w->extra : 0.0;
+        } else if (p->t_mix || p->g_on || p->l_on) {  /* mix(came, the values,
+                                       _fraction(s, at)), a get-up's poses, a window */
+            double clearance;
+            if (p->g_on)
+                pk_getup(p, s, &clearance, &no_lift);
+            else if (p->l_on)
+                l_weight = pk_library(p, s, &clearance);
+            else
+                pk_mix(p, pk_fraction(s, p->t_mix_at, p->t_mix_steps), &clearance);
+            vals = p->t_view;
+            has = p->t_view_has;
+            ground = 0.0;
+            lift = 0;
+            if (p->t_soles)
+                ground = pk_ground(p->spans, p->n_spans, p->t_x0 + vals[0], &lift);
+            extra = !lift ? 0.0 : clearance > 0.0 ? clearance : -0.003;  /* -PRESS */
+            if (lift && p->g_on)
+                lift = 2;  /* (every link's lowest points) */
+        }
+        double weight = p->l_on ? l_weight : p->rx_on ? pk_react_weight(p, s) : p->t_weight;
+        pk_targets(p->track, vals, has, p->t_own);
+        if (p->t_nopull) {
+            p->t_ticks++;
+            p->t_last = s;
+            return 0;  /* (nothing else is in a tracker's table) */
+        }
+        if (pose || w || p->t_mix || p->g_on || p->l_on) {
+            if (pose) {
+                vel = p->t_vel;
+                h = p->t_h;
+            }
+            pk_track_pose(p->track, vals, has, vals[0], vals[1], vals[2], p->t_x0, lift,
+                          ground, extra, vel, h);
+            p->t_pose = 0;
+        }
+        int stepping = -1;
+        double sx = 0.0, sy = 0.0;
+        if (p->st_on && p->rx_done < 0) {  /* Tracker._stepped (the step ends with the
+                                            reaction: _weight) */
+            double u = (double)(s - p->st_start) * p->rx_dt / p->st_time;
+            u = u < 1.0 ? u : 1.0;  /* min(1.0, u) */
+            double x = p->st_x0 + (p->st_x1 - p->st_x0) * u;
+            double y = p->st_y0 + (p->st_y1 - p->st_y0) * u
+                       + p->st_lift * sin(3.14159265358979323846264338327950288 * u);
+            double back = weight <= p->st_low ? 0.0 : (weight - p->st_low) / (1.0 - p->st_low);
+            stepping = p->st_row;
+            const double *tg = p->track->targets + 3 * stepping;
+            sx = x + (tg[0] - x) * back;
+            sy = y + (tg[1] - y) * back;
+        }
+        pk_track_pull(p->track, weight, p->t_rows, stepping, sx, sy, p->g_on, no_lift,
+                      p->g_rise, p->t_period);
+        p->t_ticks++;
+        p->t_last = s;
+    }
     if (s % p->every)
         return 0;
     p->writes++;
@@ -420,7 +373,8 @@ static int pk_events(pk_poll_plan *p, int s)
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
     int s = now;
-    p->fb_ticks = p->writes = p->ev_done = 0;
+    p->fb_ticks = p->writes = p->ev_done = p->t_ticks = 0;
+    p->rx_done = p->t_last = -1;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {
