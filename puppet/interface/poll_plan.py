@@ -112,13 +112,8 @@ class PollPlan:
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
 
     def pointer(self, cdata):
-        """``kernel.pointer``, remembered (a restore makes new bodies: a bounded memo)."""
-        got = self._pointers.get(cdata)
-        if got is None:
-            if len(self._pointers) > 256:
-                self._pointers.clear()
-            got = self._pointers[cdata] = self.kernel.pointer(cdata)
-        return got
+        """``kernel.pointer``, remembered (``physics.kernel.remembered``)."""
+        return _kernel.remembered(self.kernel, self._pointers, cdata)
 
     def _table(self, machine, current: str | None = None):
         """The current state's transitions as ``pk_poll`` can poll them, in ``due``'s

@@ -112,6 +112,18 @@ class Kernel:
         return self.ffi.cast("void *", self._as_int(cdata))
 
 
+def remembered(kern: Kernel, memo: dict, cdata):
+    """``kern.pointer(cdata)``, kept in ``memo`` for the next ask (the poll plans and the
+    event runs fill their tables with the same bodies and springs again and again; a
+    restore makes new ones, so the memo is bounded: cleared past 256)."""
+    got = memo.get(cdata)
+    if got is None:
+        if len(memo) > 256:
+            memo.clear()
+        got = memo[cdata] = kern.pointer(cdata)
+    return got
+
+
 def mode() -> str:
     """``PUPPET_KERNEL``: "python", "c" or "" (the kernel when it builds)."""
     return os.environ.get(ENV, "").strip().lower()

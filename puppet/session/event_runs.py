@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from puppet.interface.ownership import FRAME
 from puppet.interface.poses import made_frame_target
+from puppet.physics.kernel import remembered
 
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
 MOUSE_NAMES = ("mouse.x", "mouse.y")
@@ -119,12 +120,7 @@ class EventRuns:
         return got
 
     def _pointer(self, cdata):
-        got = self._pointers.get(cdata)
-        if got is None:
-            if len(self._pointers) > 256:
-                self._pointers.clear()
-            got = self._pointers[cdata] = self.kernel.pointer(cdata)
-        return got
+        return remembered(self.kernel, self._pointers, cdata)
 
     def start(self, plan, runtime, events, i: int, cap: int, tail: int | None,
               poll=None) -> int | None:
