@@ -209,7 +209,7 @@ class TrackPoll:
         elif tr.lib is not None:  # (the window's channels at each tick: the kernel's)
             self._values(ch)
         elif mixing:  # (mix(came, view, w) at each tick: the kernel's)
-            self._mix_from(tr, tk, view, hold or back)
+            self._mix_from(tr, view, hold or back)
         else:
             self._vals[0:len(vals)] = vals
             if has is None:
@@ -345,18 +345,22 @@ class TrackPoll:
             c += every
         return c
 
+    def _into(self, values: dict, vals, has):
+        """``values`` in the tracker's joint order into ``vals`` (0.0 where one is
+        missing); returns ``has`` marking which are there, or NULL when all are."""
+        got = list(map(values.get, self.tk.names))
+        n = len(got)
+        if None not in got:
+            vals[0:n] = got
+            return self.ffi.NULL
+        has[0:n] = bytes(v is not None for v in got)
+        vals[0:n] = [0.0 if v is None else v for v in got]
+        return has
+
     def _values(self, ch: dict) -> None:
         """The performer's values (and clearance) into the plan, the view's base."""
-        p, names = self.plan, self.tk.names
-        n = len(names)
-        vals = list(map(ch.get, names))
-        if None in vals:
-            self._has[0:n] = bytes(v is not None for v in vals)
-            p.t_has = self._has
-            vals = [0.0 if v is None else v for v in vals]
-        else:
-            p.t_has = self.ffi.NULL
-        self._vals[0:n] = vals
+        p = self.plan
+        p.t_has = self._into(ch, self._vals, self._has)
         cl = self.runtime.tracker.spec.root.clearance
         p.t_cl_has[1], p.t_cl[1] = cl in ch, ch.get(cl, 0.0)
 
@@ -392,28 +396,13 @@ class TrackPoll:
             c += every
         return c
 
-    def _mix_from(self, tr, tk, view: dict, blend) -> None:
+    def _mix_from(self, tr, view: dict, blend) -> None:
         """``kd_pull.mix(came, view, _fraction(s, at))`` of a stand (``hold``) or of
         the way back from it (``back``), into the plan."""
-        p, ffi, names = self.plan, self.ffi, tk.names
+        p = self.plan
         came, at = blend[0], blend[-1]
-        n = len(names)
-        vals = list(map(view.get, names))
-        if None in vals:
-            self._has[0:n] = bytes(v is not None for v in vals)
-            p.t_has = self._has
-            vals = [0.0 if v is None else v for v in vals]
-        else:
-            p.t_has = ffi.NULL
-        self._vals[0:n] = vals
-        old = list(map(came.get, names))
-        if None in old:
-            self._came_has[0:n] = bytes(v is not None for v in old)
-            p.t_came_has = self._came_has
-            old = [0.0 if v is None else v for v in old]
-        else:
-            p.t_came_has = ffi.NULL
-        self._came[0:n] = old
+        p.t_has = self._into(view, self._vals, self._has)
+        p.t_came_has = self._into(came, self._came, self._came_has)
         p.t_mix_at, p.t_mix_steps = at, tr.blend_steps
         cl = tr.spec.root.clearance
         p.t_cl_has[0], p.t_cl_has[1] = cl in came, cl in view
@@ -435,15 +424,7 @@ class TrackPoll:
         False when the kernel cannot walk them (the scene's ground is another's)."""
         if not self._ground_ok(tr):
             return False
-        raw = list(map(ch.get, self.tk.names))
-        n = len(raw)
-        if None in raw:
-            self._raw_has[0:n] = bytes(v is not None for v in raw)
-            w.raw_has = self._raw_has
-            raw = [0.0 if v is None else v for v in raw]
-        else:
-            w.raw_has = self.ffi.NULL
-        self._raw[0:n] = raw
+        w.raw_has = self._into(ch, self._raw, self._raw_has)
         _, last_at, _, walking, phase, speed, travel, weight, at = tr.walk
         w.walking, w.phase, w.speed, w.travel, w.weight = walking, phase, speed, travel, weight
         w.has_last_at, w.last_at = last_at is not None, last_at or 0
