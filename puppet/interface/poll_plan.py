@@ -39,7 +39,7 @@ from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poses import made_frame_target
-from puppet.interface.track_poll import TrackPoll
+from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
 
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
@@ -464,12 +464,7 @@ class PollPlan:
         if frame is not self._frame:
             self._frame = frame
             p.frame_every, root, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
-        last = now - now % health + health
-        every = frame[0]
-        while last % every:
-            last += health
-        stop = until if until < end else end
-        stop = stop if stop < last else last
+        stop, last = run_stop(now, until, end, health, frame[0])
         rt = self.runtime
         root = rt.character.bodies[frame[1]]._body
         if root is not self._root:  # (held: the same object is the same body)

@@ -27,6 +27,17 @@ from puppet.interface.controllers.tracking import KD, PRESS, TRACK
 NEVER = 1 << 62  # no step Python must tick at: the run ends at an event or a boundary
 
 
+def run_stop(now: int, until: int, end: int, health: int, every: int) -> tuple[int, int]:
+    """Where a kernel run from ``now`` stops: at ``until``, ``end`` or the next history
+    boundary (a multiple of ``health`` that ends a frame of ``every`` steps), whichever
+    comes first; and that boundary (``PollPlan.run``, ``TrackPoll.run``)."""
+    last = now - now % health + health
+    while last % every:
+        last += health
+    stop = until if until < end else end
+    return (stop if stop < last else last), last
+
+
 class TrackPoll:
     """The ``PollPlan`` of a runtime with a tracker and no state machine."""
 
@@ -492,12 +503,7 @@ class TrackPoll:
         if frame is not self._frame:
             self._frame, self._root = frame, None
             p.frame_every, _, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
-        last = now - now % health + health
-        every = frame[0]
-        while last % every:
-            last += health
-        stop = until if until < end else end
-        stop = stop if stop < last else last
+        stop, _ = run_stop(now, until, end, health, frame[0])
         rt = self.runtime
         bodies = rt.character.bodies
         if bodies is not self._root:  # (a re-seat makes new bodies)
