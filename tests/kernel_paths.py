@@ -56,3 +56,21 @@ def trace(log, loop: bool, chunk: int | None = None):
         stepwise(session, log.pairs(), None, every=chunk or 0,
                  on_tick=(lambda _s: None) if chunk else None, end_step=log.last_step)
     return out, runs[0], runs[1], runs[2]
+
+
+def agree_without_the_loop(log, with_loop, chunk: int | None, path_of) -> None:
+    """``with_loop`` (``trace(log, True, chunk)`` on the kernel) agrees, call by call,
+    with the trace where every tick is Python's on the kernel and with the one on the
+    pure-Python path (``path_of`` switched to it here), and ends on the log's hash."""
+    ticks, none, _, _ = trace(log, False, chunk)
+    assert none == 0
+    assert path_of("python") is None
+    from puppet.physics import kernel
+
+    assert kernel.get() is None
+    in_python, none, _, _ = trace(log, True, chunk)
+    assert none == 0  # no kernel, no loop
+    assert len(with_loop) == len(ticks) == len(in_python)
+    for a, b, c in zip(with_loop, ticks, in_python):
+        assert a == b == c, (a, b, c)
+    assert with_loop[-1][-1] == log.end_hash, log.path

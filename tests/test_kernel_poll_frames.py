@@ -16,7 +16,7 @@ import struct
 from unittest.mock import patch
 
 import pytest
-from kernel_paths import needs_cc, trace
+from kernel_paths import agree_without_the_loop, needs_cc, trace
 
 from puppet.interface import poll_plan
 from puppet.timeline.log import read_log
@@ -42,15 +42,7 @@ def _traces(name: str, path_of, chunk: int | None) -> int:
     assert path_of("c") is not None
     with_loop, runs, frames, travelling = trace(log, True, chunk)
     assert frames > 0, (runs, frames)  # the loop re-solved frame targets
-    ticks, none, _, _ = trace(log, False, chunk)
-    assert none == 0
-    assert path_of("python") is None
-    in_python, none, _, _ = trace(log, True, chunk)
-    assert none == 0  # no kernel, no loop
-    assert len(with_loop) == len(ticks) == len(in_python)
-    for a, b, c in zip(with_loop, ticks, in_python):
-        assert a == b == c, (a, b, c)
-    assert with_loop[-1][-1] == log.end_hash, name
+    agree_without_the_loop(log, with_loop, chunk, path_of)
     return travelling
 
 

@@ -19,10 +19,9 @@ import struct
 from unittest.mock import patch
 
 import pytest
-from kernel_paths import needs_cc, trace
+from kernel_paths import agree_without_the_loop, needs_cc, trace
 
 from puppet.interface import poll_plan
-from puppet.physics import kernel
 from puppet.timeline.log import read_log
 
 REACHING = ["biped-ladder-climb", "luxo-designer-try", "biped-monkey-bars"]
@@ -67,16 +66,7 @@ def _traces(name: str, path_of, chunk: int | None, reaches: bool = True) -> None
     assert reaching[0] > 0 or not reaches, runs  # the loop ran reaches
     assert many[0] > 0 or name not in MACHINES, runs  # ... and several machines
     assert armed[0] > 0 or name != "biped-gymnast-climb-bound", runs  # ... skipping
-    ticks, none, _, _ = trace(log, False, chunk)
-    assert none == 0
-    assert path_of("python") is None
-    assert kernel.get() is None
-    in_python, none, _, _ = trace(log, True, chunk)
-    assert none == 0  # no kernel, no loop
-    assert len(with_loop) == len(ticks) == len(in_python)
-    for a, b, c in zip(with_loop, ticks, in_python):
-        assert a == b == c, (a, b, c)
-    assert with_loop[-1][-1] == log.end_hash, name
+    agree_without_the_loop(log, with_loop, chunk, path_of)
 
 
 @needs_cc
