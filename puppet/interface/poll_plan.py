@@ -38,6 +38,7 @@ from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
+from puppet.interface.poll_track import flushed, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
@@ -110,6 +111,7 @@ class PollPlan:
         self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
+        self._angles = None  # (poll_track.AngleTrack: a tracker's angles, made once)
 
     def pointer(self, cdata):
         """``kernel.pointer``, remembered (``physics.kernel.remembered``)."""
@@ -233,8 +235,9 @@ class PollPlan:
         rt, machine = self.runtime, self.machine
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
-        if rt.tracker.mode != OFF:  # (asked first: a tracking interface's every tick,
-            return None  # with one machine or several)
+        tracking = rt.tracker.mode != OFF  # (poll_track: an angles tracker beside)
+        if tracking:  # (a sample pending where the tick may be the kernel's: stored)
+            flushed(self, step)
         table = self._state_table()
         if table is None:
             return None
@@ -243,14 +246,16 @@ class PollPlan:
             feeding = feedback.compiled()  # (Feedback.tick's own compiled call)
             if feeding is None or feedback.every != machine.every:
                 return None
-        if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
+        if (rt.next_wakeup is None and not idle) or rt._pending:
             return None
         blends, sequences = rt.blends, rt.sequences
         frames, reaching, grasping = rt.frames, rt.reaching, rt.grasping
+        tracker = rt.tracker if tracking else None
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
                     and controller is not feedback and controller is not frames \
-                    and controller is not reaching and controller is not grasping:
+                    and controller is not reaching and controller is not grasping \
+                    and controller is not tracker:
                 return None
         held = frames.held
         if held:  # frame targets: re-solved at the control steps, each by its owner
@@ -324,6 +329,10 @@ class PollPlan:
             return None
         until = ends if ends < until else until
         ends = fill_grasps(self, rt, NEVER)  # (and the grasps held)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
+        ends = track_part(self, step, step == self.resume)  # (and a tracker's angles)
         if ends is None:
             return None
         until = ends if ends < until else until

@@ -281,10 +281,11 @@ static int pk_tick(pk_poll_plan *p, int s)
         }
         double weight = p->l_on ? l_weight : p->rx_on ? pk_react_weight(p, s) : p->t_weight;
         pk_targets(p->track, vals, has, p->t_own);
-        if (p->t_nopull) {
+        if (p->t_nopull) {  /* (a tracker's angles alone: poll_track, or the view lacks
+                               the root's place) */
             p->t_ticks++;
             p->t_last = s;
-            return 0;  /* (nothing else is in a tracker's table) */
+            goto control;
         }
         if (pose || w || p->t_mix || p->g_on || p->l_on) {
             if (pose) {
@@ -315,6 +316,7 @@ static int pk_tick(pk_poll_plan *p, int s)
         p->t_ticks++;
         p->t_last = s;
     }
+control:
     if (s % p->every)
         return 0;
     p->writes++;

@@ -1,0 +1,138 @@
+"""A tracker following the performer's angles beside state machines, in ``pk_poll``.
+
+``PollPlan`` (one machine or several) gave up whenever a tracker was on: an
+interface that tracks a performer's arms while a state machine walks the legs
+(biped-walk's ``track: angles``), or whose machines only hold the grasps, ticked in
+Python at every control step, and its mouse moves were Python's too. A tracker in
+``angles`` mode does little at a control step (``Tracker.tick``): each tracked
+joint's target is its channel's angle, in radians, clamped to the joint's limits
+(``_write_targets``), where the tracker still owns the joint; between two samples
+the channels are the same and so are the targets. That is ``pk_targets`` (the KD
+tracker's, ``kernel_source``) on rows of the tracked joints alone, which ``pk_poll``
+runs at the tracker's control steps (``t_phase + n * t_every``) before the machine's
+blends, frame targets and sensor maps, in ``InterfaceRuntime._watched``'s order.
+
+``AngleTrack.fill`` puts it in the plan when that is all the tracker has to do: the
+mode ``angles``, not lost and no blend into tracking under way, nothing ``due``, no
+intentional contacts (their swing is Python's), no walk in place, the tracker still
+holding a joint; the run then stops at the first control step the stream would be
+lost at. A sample is an event the kernel's run stops at; the tick there may be the
+kernel's (``PollPlan.resume``): the sample's pending values are stored first, as
+Python's tick would (``InterfaceRuntime.flush``), and the plan takes them. Without the
+kernel there is no plan: the same ticks run in Python, to the same bits
+(tests/test_poll_track.py).
+"""
+
+from __future__ import annotations
+
+from puppet.interface.controllers.tracking import ANGLES
+from puppet.interface.controllers.tracking_pull import TRACK
+
+
+class AngleTrack:
+    """``pk_targets``' rows of one tracker's joints, and its part of a ``PollPlan``."""
+
+    def __init__(self, plan):
+        self.poll = plan
+        ffi = self.ffi = plan.ffi
+        tr = self.tracker = plan.runtime.tracker
+        self.joints = list(tr.joints)  # (Tracker.joints' order: _write_targets')
+        self.names = list(dict.fromkeys(tr.joints[j] for j in self.joints))
+        place = {name: i for i, name in enumerate(self.names)}
+        n, m = max(1, len(self.names)), max(1, len(self.joints))
+        self.t = t = ffi.new("pk_track *")
+        self._keep = keep = [ffi.new("int[]", [place[tr.joints[j]] for j in self.joints] or 1),
+                             ffi.new("int[]", [tr.limits.get(j) is not None
+                                               for j in self.joints] or 1),
+                             ffi.new("double[]", [(tr.limits.get(j) or (0.0, 0.0))[0]
+                                                  for j in self.joints] or 1),
+                             ffi.new("double[]", [(tr.limits.get(j) or (0.0, 0.0))[1]
+                                                  for j in self.joints] or 1),
+                             ffi.new("void *[]", m)]
+        t.n_targets = len(self.joints)
+        t.target_value, t.target_limited, t.target_lo, t.target_hi, t.spring = keep
+        self._vals, self._has = ffi.new("double[]", n), ffi.new("char[]", n)
+        self._own = ffi.new("char[]", m)
+        self._springs_of = None  # (the servos the rows point at: a re-seat makes new)
+
+    def _bind(self, servos) -> None:
+        spring = self.t.spring
+        for j, joint in enumerate(self.joints):
+            spring[j] = self.poll.pointer(servos[joint].spring._constraint)
+        self._springs_of = servos
+
+    def fill(self, step: int, resume: bool) -> int | None:
+        """The tracker's part of the plan (after the rest of ``PollPlan.ready``): the
+        step the run must stop at (the first control step its stream is lost at), or
+        None when its tick is not all ``pk_targets``' to do. ``resume``: the tick at
+        ``step`` may be the kernel's (the sample there stored first)."""
+        tr, rt = self.tracker, self.poll.runtime
+        if tr.mode != ANGLES or tr.lost or tr.due or tr.blend_at is not None \
+                or tr.impact_at is not None or tr.getup is not None or tr.hold is not None \
+                or tr.back is not None or tr.lib is not None or tr.search_at is not None \
+                or tr.scaled or tr.spec.contacts is not None:
+            return None
+        if tr.walk_cycle is not None and tr.spec.walk_in_place is not None:
+            return None  # (the performer's channels turned into a walk: Python's)
+        owners = rt.owners
+        if not owners.holds_any(TRACK):  # (Tracker.tick returns: nothing to write)
+            return None
+        phase, every = tr.phase, tr.every
+        if resume and (step - phase) % every == 0 \
+                and step - tr.last_sample > tr.lost_steps:  # (lost there: Python's)
+            return None
+        servos = tr.character.servos
+        if servos is not self._springs_of:
+            self._bind(servos)
+        p, ffi = self.poll.plan, self.ffi
+        got = list(map(tr.channels.get, self.names))  # (_performer: the channels)
+        k = len(got)
+        if None in got:
+            self._has[0:k] = bytes(v is not None for v in got)
+            self._vals[0:k] = [0.0 if v is None else v for v in got]
+            p.t_has = self._has
+        else:
+            self._vals[0:k] = got
+            p.t_has = ffi.NULL
+        own = tr._owned(owners.table, self.joints, "_every_angle")
+        if own is None:
+            p.t_own = ffi.NULL
+        else:
+            self._own[0:len(own)] = own
+            p.t_own = self._own
+        p.track, p.t_vals, p.t_nopull, p.t_pose = self.t, self._vals, 1, 0
+        p.walk, p.t_mix, p.g_on, p.l_on, p.rx_on, p.st_on = ffi.NULL, 0, 0, 0, 0, 0
+        p.t_phase, p.t_every = phase, every
+        # the first control step whose tick finds the stream lost: Python's
+        gone = tr.last_sample + tr.lost_steps + 1
+        return phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
+
+
+def track_part(plan, step: int, resume: bool) -> int | None:
+    """``PollPlan.ready``'s tracker: the step its run must stop at (``NEVER``-like
+    large without a tracker), the plan's track filled or cleared; None: Python's."""
+    rt = plan.runtime
+    tr = rt.tracker
+    if not tr.busy:
+        if plan.plan.track != plan.ffi.NULL:
+            plan.plan.track = plan.ffi.NULL
+        return 1 << 62
+    track = plan._angles
+    if track is None:
+        track = plan._angles = AngleTrack(plan)
+    until = track.fill(step, resume)
+    if until is None:
+        plan.plan.track = plan.ffi.NULL
+    return until
+
+
+def flushed(plan, step: int) -> bool:
+    """A sample pending at a step whose tick may be the kernel's (``resume``): stored
+    and its maps run, as Python's tick does first; False when there is none or this
+    is not the place (``PollPlan.ready`` then judges ``_pending`` as ever)."""
+    rt = plan.runtime
+    if not rt._pending or step != plan.resume or not rt.tracker.busy:
+        return False
+    rt.now = step
+    rt.flush()
+    return True
