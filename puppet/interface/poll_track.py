@@ -70,7 +70,7 @@ class AngleTrack:
         if tr.mode != ANGLES or tr.lost or tr.due or tr.blend_at is not None \
                 or tr.impact_at is not None or tr.getup is not None or tr.hold is not None \
                 or tr.back is not None or tr.lib is not None or tr.search_at is not None \
-                or tr.scaled or tr.spec.contacts is not None:
+                or tr.scaled:
             return None
         if tr.walk_cycle is not None and tr.spec.walk_in_place is not None:
             return None  # (the performer's channels turned into a walk: Python's)
@@ -81,10 +81,15 @@ class AngleTrack:
         if resume and (step - phase) % every == 0 \
                 and step - tr.last_sample > tr.lost_steps:  # (lost there: Python's)
             return None
+        p, ffi = self.poll.plan, self.ffi
+        p.c_n = 0
+        if tr.spec.contacts is not None and tr.held_points is not None \
+                and not self._contacts(tr, rt, p, resume and (step - phase) % every == 0,
+                                       step):
+            return None
         servos = tr.character.servos
         if servos is not self._springs_of:
             self._bind(servos)
-        p, ffi = self.poll.plan, self.ffi
         got = list(map(tr.channels.get, self.names))  # (_performer: the channels)
         k = len(got)
         if None in got:
@@ -106,6 +111,52 @@ class AngleTrack:
         # the first control step whose tick finds the stream lost: Python's
         gone = tr.last_sample + tr.lost_steps + 1
         return phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
+
+
+    def _contacts(self, tr, rt, p, first: bool, step: int) -> bool:
+        """Intentional contacts' rows (``IntentionalContacts._contacts``) into the plan:
+        each held hand with the performer's vector, its contact begun; the performer's
+        rates worked out here when a sample came since and the tick at ``step`` is the
+        kernel's (``first``: what Python's tick there does first, and again to no
+        effect if it runs after all); False when a contact begins or ends (Python's)."""
+        spec, sim = tr.spec.contacts, rt.sim
+        grasps, chains = sim.grasps, rt.grasping.chains
+        contact, n = tr.contact, 0
+        for chain, channel in spec.hands.items():
+            held = chain in grasps and chain in chains
+            if not held:
+                if chain in contact:  # (let go: the tick forgets it)
+                    return False
+                continue
+            me = tr._performer_vector(channel)
+            if me is None:
+                continue
+            seen = tr.perf_turn.get(channel)
+            if seen is None or tr.last_sample > seen[2]:
+                if not first:
+                    return False
+                tr._performer_rate(channel, me, step)
+                seen = tr.perf_turn[channel]
+            start = contact.get(chain)
+            if start is None or n >= 4:  # (a contact begins: the figure's angle then)
+                return False
+            joint = grasps[chain][0]
+            p.c_body[n] = self.poll.pointer(joint.b._body)
+            p.c_ax[n], p.c_ay[n] = joint.anchor_b
+            p.c_a0[n], p.c_l0[n], p.c_p0[n], p.c_q0[n] = start
+            p.c_me0[n], p.c_me1[n], p.c_r0[n], p.c_r1[n] = me[0], me[1], seen[3], seen[4]
+            n += 1
+        for chain in contact:
+            if chain not in grasps or chain not in chains:
+                return False
+        c = tr.character
+        args = c._com_bound(self.poll.kernel)[2]
+        self._com_args = args  # (kept alive with the plan)
+        p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
+        p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping
+        p.c_spring, p.c_damp = spec.spring, spec.damping
+        p.c_mass, p.c_period, p.c_n = c.mass, tr.period, n
+        return True
 
 
 def track_part(plan, step: int, resume: bool) -> int | None:

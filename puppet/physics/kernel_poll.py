@@ -43,6 +43,7 @@ express; everything else stays on Python's path. Written operation for operation
 the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
 """
 
+from puppet.physics.kernel_poll_contact import CONTACT_SOURCE
 from puppet.physics.kernel_poll_reach import REACH_SOURCE
 from puppet.physics.kernel_poll_track import TRACK_SOURCE
 
@@ -165,6 +166,12 @@ typedef struct {
     double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
     int rx_on, rx_start, rx_done;  /* a reaction's weight (Tracker._weight): from rx_start, */
     double rx_dt, rx_weight, rx_hold, rx_recover;  /* rx_done: the step it ended (-1) */
+    int c_n;          /* intentional contacts at the tracker's ticks (kernel_poll_contact, */
+    void *c_body[4];  /* with t_nopull): per held hand its pin's body and point, */
+    double c_ax[4], c_ay[4];
+    double c_a0[4], c_l0[4], c_p0[4], c_q0[4];  /* the contact's start, */
+    double c_me0[4], c_me1[4], c_r0[4], c_r1[4];  /* the performer's vector and rates */
+    double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
 } pk_poll_plan;
 """
 
@@ -232,7 +239,7 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-""" + REACH_SOURCE + r"""
+""" + REACH_SOURCE + CONTACT_SOURCE + r"""
 /* the tick at ``s``: 1 when a transition holds or a reach grasps (nothing written) */
 static int pk_tick(pk_poll_plan *p, int s)
 {
@@ -283,6 +290,8 @@ static int pk_tick(pk_poll_plan *p, int s)
         pk_targets(p->track, vals, has, p->t_own);
         if (p->t_nopull) {  /* (a tracker's angles alone: poll_track, or the view lacks
                                the root's place) */
+            if (p->c_n)  /* (Tracker.tick: the contacts after the targets) */
+                pk_contacts(p, &com);
             p->t_ticks++;
             p->t_last = s;
             goto control;
