@@ -54,6 +54,10 @@ class AngleTrack:
         self._vals, self._has = ffi.new("double[]", n), ffi.new("char[]", n)
         self._own = ffi.new("char[]", m)
         self._springs_of = None  # (the servos the rows point at: a re-seat makes new)
+        self._c_body, self._c_row = ffi.new("void *[4]"), ffi.new("double[40]")
+        self._pins: list = []  # (the grasps' pins the rows are of)
+        self._anchors: dict = {}  # (a pin's anchor: set when it is made)
+        self._com_of = self._com_args = None  # (the bodies the plan's com rows are of)
 
     def _bind(self, servos) -> None:
         spring = self.t.spring
@@ -119,45 +123,61 @@ class AngleTrack:
         rates worked out here when a sample came since and the tick at ``step`` is the
         kernel's (``first``: what Python's tick there does first, and again to no
         effect if it runs after all); False when a contact begins or ends (Python's)."""
-        spec, sim = tr.spec.contacts, rt.sim
-        grasps, chains = sim.grasps, rt.grasping.chains
-        contact, n = tr.contact, 0
+        spec, grasps = tr.spec.contacts, rt.sim.grasps
+        chains, contact, perf = rt.grasping.chains, tr.contact, tr.perf_turn
+        row, pins = [], []
         for chain, channel in spec.hands.items():
-            held = chain in grasps and chain in chains
-            if not held:
+            if chain not in grasps or chain not in chains:
                 if chain in contact:  # (let go: the tick forgets it)
                     return False
                 continue
             me = tr._performer_vector(channel)
             if me is None:
                 continue
-            seen = tr.perf_turn.get(channel)
+            seen = perf.get(channel)
             if seen is None or tr.last_sample > seen[2]:
                 if not first:
                     return False
                 tr._performer_rate(channel, me, step)
-                seen = tr.perf_turn[channel]
+                seen = perf[channel]
             start = contact.get(chain)
-            if start is None or n >= 4:  # (a contact begins: the figure's angle then)
+            if start is None:  # (a contact begins: the figure's angle then, Python's)
                 return False
             joint = grasps[chain][0]
-            p.c_body[n] = self.poll.pointer(joint.b._body)
-            p.c_ax[n], p.c_ay[n] = joint.anchor_b
-            p.c_a0[n], p.c_l0[n], p.c_p0[n], p.c_q0[n] = start
-            p.c_me0[n], p.c_me1[n], p.c_r0[n], p.c_r1[n] = me[0], me[1], seen[3], seen[4]
-            n += 1
-        for chain in contact:
-            if chain not in grasps or chain not in chains:
+            pins.append(joint)
+            anchor = self._anchors.get(joint) or self._anchor(joint)
+            row += (*anchor, *start, *me, seen[3], seen[4])
+        if len(contact) > len(pins):  # (a contact whose hand let go, or no vector)
+            for chain in contact:
+                if chain not in grasps or chain not in chains:
+                    return False
+        n = len(pins)
+        if pins != self._pins:  # the grasps' pins (a grasp, a re-seat: new joints)
+            if n > 4:
                 return False
-        c = tr.character
-        args = c._com_bound(self.poll.kernel)[2]
-        self._com_args = args  # (kept alive with the plan)
-        p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
-        p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping
-        p.c_spring, p.c_damp = spec.spring, spec.damping
-        p.c_mass, p.c_period, p.c_n = c.mass, tr.period, n
+            self._pins = pins
+            for k, joint in enumerate(pins):
+                self._c_body[k] = self.poll.pointer(joint.b._body)
+        self._c_row[0:len(row)] = row
+        bodies = tr.character.bodies
+        if self._com_of is not bodies or p.c_row != self._c_row:  # (the plan's
+            c = tr.character  # centre of mass: PollPlan._fill's, for these bodies)
+            args = self._com_args = c._com_bound(self.poll.kernel)[2]
+            p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
+            p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping
+            p.c_spring, p.c_damp = spec.spring, spec.damping
+            p.c_mass, p.c_period = c.mass, tr.period
+            p.c_body, p.c_row = self._c_body, self._c_row
+            self._com_of = bodies
+        p.c_n = n
         return True
 
+    def _anchor(self, joint) -> tuple:
+        """A pin's point on the body it holds (``Simulation.grasp_point``'s)."""
+        if len(self._anchors) > 16:  # (the pins of grasps gone)
+            self._anchors.clear()
+        got = self._anchors[joint] = tuple(joint.anchor_b)
+        return got
 
 def track_part(plan, step: int, resume: bool) -> int | None:
     """``PollPlan.ready``'s tracker: the step its run must stop at (``NEVER``-like

@@ -167,10 +167,9 @@ typedef struct {
     int rx_on, rx_start, rx_done;  /* a reaction's weight (Tracker._weight): from rx_start, */
     double rx_dt, rx_weight, rx_hold, rx_recover;  /* rx_done: the step it ended (-1) */
     int c_n;          /* intentional contacts at the tracker's ticks (kernel_poll_contact, */
-    void *c_body[4];  /* with t_nopull): per held hand its pin's body and point, */
-    double c_ax[4], c_ay[4];
-    double c_a0[4], c_l0[4], c_p0[4], c_q0[4];  /* the contact's start, */
-    double c_me0[4], c_me1[4], c_r0[4], c_r1[4];  /* the performer's vector and rates */
+    void **c_body;    /* with t_nopull): per held hand its pin's body, and its row: the */
+    double *c_row;    /* point on it, the contact's start (angle, length, the performer's
+                         angle, length), the performer's vector and rates (10 values) */
     double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
 } pk_poll_plan;
 """

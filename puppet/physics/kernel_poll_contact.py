@@ -18,7 +18,8 @@ static void pk_contacts(pk_poll_plan *p, pk_com_now *com)
     double x = v[0], y = v[1], vx = v[2], vy = v[3];
     double fx = 0.0, fy = 0.0;
     for (int j = 0; j < p->c_n; j++) {
-        pk_vect local = {p->c_ax[j], p->c_ay[j]};
+        const double *r = p->c_row + 10 * j;  /* ax, ay, a0, l0, p0, q0, me0, me1, r0, r1 */
+        pk_vect local = {r[0], r[1]};
         pk_vect held = to_world(p->c_body[j], local);
         double rx = held.x - x, ry = held.y - y;
         double length = pk_hypot(rx, ry);
@@ -27,12 +28,12 @@ static void pk_contacts(pk_poll_plan *p, pk_com_now *com)
         double angle = atan2(ry, rx);
         double ux = -ry / length, uy = rx / length;
         double turn = (-vx * ux - vy * uy) / length;
-        double want = p->c_a0[j] + remainder(p->c_me0[j] - p->c_p0[j], TURN);
+        double want = r[2] + remainder(r[6] - r[4], TURN);
         double torque = p->c_swing * remainder(want - angle, TURN)
-                        + p->c_swing_d * (p->c_r0[j] - turn);
+                        + p->c_swing_d * (r[8] - turn);
         double grow = (-vx * rx - vy * ry) / length;
-        double pull = p->c_spring * (p->c_l0[j] + p->c_me1[j] - p->c_q0[j] - length)
-                      + p->c_damp * (p->c_r1[j] - grow);
+        double pull = p->c_spring * (r[3] + r[7] - r[5] - length)
+                      + p->c_damp * (r[9] - grow);
         fx += -torque / length * ux - pull * rx / length;
         fy += -torque / length * uy - pull * ry / length;
     }
