@@ -17,7 +17,7 @@ from unittest.mock import patch
 import pytest
 from kernel_paths import agree_without_the_loop, needs_cc, trace
 
-from puppet.interface import poll_plan
+from puppet.interface import poll_plan, poll_track
 from puppet.timeline.log import read_log
 
 LOGS = ["biped-mocap-highbar", "biped-walk-mocap-arms"]
@@ -44,7 +44,10 @@ def _traced(log, chunk):
 @needs_cc
 @pytest.mark.parametrize("chunk", [None, 7])
 @pytest.mark.parametrize("name", LOGS)
-def test_the_loop_tracks_beside_machines_as_the_ticks_do(name, chunk, path_of):
+def test_the_loop_tracks_beside_machines_as_the_ticks_do(name, chunk, path_of, monkeypatch):
+    # (an angles tracker without contacts is Python's where it would not pay:
+    # ANGLES_ALONE; its kernel path is tested here all the same)
+    monkeypatch.setattr(poll_track, "ANGLES_ALONE", True)
     assert path_of("c") is not None
     log = read_log(f"assets/logs/{name}.jsonl")
     with_loop, (ticks, contacts) = _traced(log, chunk)
@@ -52,6 +55,15 @@ def test_the_loop_tracks_beside_machines_as_the_ticks_do(name, chunk, path_of):
     if name == "biped-mocap-highbar":
         assert contacts > 300, contacts  # ... and swung the figure by the contacts
     agree_without_the_loop(log, with_loop, chunk, path_of)
+
+
+@needs_cc
+def test_angles_alone_stay_pythons(path_of):
+    """Without contacts an angles tracker beside a machine ticks in Python (ANGLES_ALONE
+    off): the kernel runs none of its ticks."""
+    assert path_of("c") is not None
+    _, (ticks, _) = _traced(read_log("assets/logs/biped-walk-mocap-arms.jsonl"), None)
+    assert ticks == 0
 
 
 @needs_cc

@@ -14,19 +14,32 @@ blends, frame targets and sensor maps, in ``InterfaceRuntime._watched``'s order.
 
 ``AngleTrack.fill`` puts it in the plan when that is all the tracker has to do: the
 mode ``angles``, not lost and no blend into tracking under way, nothing ``due``, no
-intentional contacts (their swing is Python's), no walk in place, the tracker still
-holding a joint; the run then stops at the first control step the stream would be
+walk in place, the tracker still holding a joint (and, without intentional contacts,
+only with ``ANGLES_ALONE``, below); the run then stops at the first control step the stream would be
 lost at. A sample is an event the kernel's run stops at; the tick there may be the
-kernel's (``PollPlan.resume``): the sample's pending values are stored first, as
-Python's tick would (``InterfaceRuntime.flush``), and the plan takes them. Without the
-kernel there is no plan: the same ticks run in Python, to the same bits
-(tests/test_poll_track.py).
+kernel's (``PollPlan.resume``, the sample's values stored by then: ``stepping.feed``
+flushes them before it steps), the plan filled with them.
+
+Intentional contacts (``tracking.contacts``, the high bar's) are the tracker's too:
+``kernel_poll_contact.pk_contacts`` after the targets, on rows of each held hand
+(its grasp's pin, the contact's start, the performer's vector and rates, which
+Python works out at the sample when the tick there is the kernel's, as its tick
+would first). A contact that begins or ends is Python's. Without the kernel there is
+no plan: the same ticks run in Python, to the same bits (tests/test_poll_track.py).
 """
 
 from __future__ import annotations
 
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
+
+# An angles tracker with no contacts beside a machine (biped-walk's mocap arms): its
+# Python tick at a sample (the targets of four joints, the machine's frame targets and
+# sensor maps: about 16 us) costs no more than ``PollPlan.ready`` and ``run`` around
+# the kernel's (13-14 us and 5 us, measured on biped-walk-mocap-arms: 37 % overhead on
+# Python's ticks, 42 % on the kernel's), while its samples come at its control rate;
+# so it stays Python's (the kernel path is kept and tested: tests/test_poll_track.py).
+ANGLES_ALONE = False
 
 
 class AngleTrack:
@@ -54,6 +67,8 @@ class AngleTrack:
         self._vals, self._has = ffi.new("double[]", n), ffi.new("char[]", n)
         self._own = ffi.new("char[]", m)
         self._springs_of = None  # (the servos the rows point at: a re-seat makes new)
+        self._on = False  # (the plan's track is this one's: set once, until cleared)
+        self._has_on = self._own_was = self._phase_was = None  # (as the plan has them)
         self._c_body, self._c_row = ffi.new("void *[4]"), ffi.new("double[40]")
         self._pins: list = []  # (the grasps' pins the rows are of)
         self._anchors: dict = {}  # (a pin's anchor: set when it is made)
@@ -76,6 +91,8 @@ class AngleTrack:
                 or tr.back is not None or tr.lib is not None or tr.search_at is not None \
                 or tr.scaled:
             return None
+        if tr.spec.contacts is None and not ANGLES_ALONE:
+            return None
         if tr.walk_cycle is not None and tr.spec.walk_in_place is not None:
             return None  # (the performer's channels turned into a walk: Python's)
         owners = rt.owners
@@ -94,24 +111,31 @@ class AngleTrack:
         servos = tr.character.servos
         if servos is not self._springs_of:
             self._bind(servos)
+        if not self._on:  # (the plan's track part as this plan has it: kept until
+            p.track, p.t_vals, p.t_nopull, p.t_pose = self.t, self._vals, 1, 0  # cleared)
+            p.walk, p.t_mix, p.g_on, p.l_on, p.rx_on, p.st_on = ffi.NULL, 0, 0, 0, 0, 0
+            self._on, self._has_on, self._own_was, self._phase_was = True, None, False, None
         got = list(map(tr.channels.get, self.names))  # (_performer: the channels)
         k = len(got)
         if None in got:
             self._has[0:k] = bytes(v is not None for v in got)
             self._vals[0:k] = [0.0 if v is None else v for v in got]
-            p.t_has = self._has
+            if not self._has_on:
+                p.t_has, self._has_on = self._has, True
         else:
             self._vals[0:k] = got
-            p.t_has = ffi.NULL
+            if self._has_on is not False:
+                p.t_has, self._has_on = ffi.NULL, False
         own = tr._owned(owners.table, self.joints, "_every_angle")
-        if own is None:
-            p.t_own = ffi.NULL
-        else:
-            self._own[0:len(own)] = own
-            p.t_own = self._own
-        p.track, p.t_vals, p.t_nopull, p.t_pose = self.t, self._vals, 1, 0
-        p.walk, p.t_mix, p.g_on, p.l_on, p.rx_on, p.st_on = ffi.NULL, 0, 0, 0, 0, 0
-        p.t_phase, p.t_every = phase, every
+        if own != self._own_was:
+            if own is None:
+                p.t_own = ffi.NULL
+            else:
+                self._own[0:len(own)] = own
+                p.t_own = self._own
+            self._own_was = own
+        if (phase, every) != self._phase_was:
+            p.t_phase, p.t_every, self._phase_was = phase, every, (phase, every)
         # the first control step whose tick finds the stream lost: Python's
         gone = tr.last_sample + tr.lost_steps + 1
         return phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
@@ -185,25 +209,15 @@ def track_part(plan, step: int, resume: bool) -> int | None:
     rt = plan.runtime
     tr = rt.tracker
     if not tr.busy:
-        if plan.plan.track != plan.ffi.NULL:
-            plan.plan.track = plan.ffi.NULL
+        track = plan._angles
+        if track is not None and track._on:
+            plan.plan.track, track._on = plan.ffi.NULL, False
         return 1 << 62
     track = plan._angles
     if track is None:
         track = plan._angles = AngleTrack(plan)
     until = track.fill(step, resume)
-    if until is None:
-        plan.plan.track = plan.ffi.NULL
+    if until is None and track._on:
+        plan.plan.track, track._on = plan.ffi.NULL, False
     return until
 
-
-def flushed(plan, step: int) -> bool:
-    """A sample pending at a step whose tick may be the kernel's (``resume``): stored
-    and its maps run, as Python's tick does first; False when there is none or this
-    is not the place (``PollPlan.ready`` then judges ``_pending`` as ever)."""
-    rt = plan.runtime
-    if not rt._pending or step != plan.resume or not rt.tracker.busy:
-        return False
-    rt.now = step
-    rt.flush()
-    return True
