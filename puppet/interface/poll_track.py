@@ -30,6 +30,8 @@ no plan: the same ticks run in Python, to the same bits (tests/test_poll_track.p
 
 from __future__ import annotations
 
+from math import atan2, hypot
+
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
 
@@ -149,15 +151,16 @@ class AngleTrack:
         effect if it runs after all); False when a contact begins or ends (Python's)."""
         spec, grasps = tr.spec.contacts, rt.sim.grasps
         chains, contact, perf = rt.grasping.chains, tr.contact, tr.perf_turn
-        row, pins = [], []
+        row, pins, get = [], [], tr.channels.get
         for chain, channel in spec.hands.items():
             if chain not in grasps or chain not in chains:
                 if chain in contact:  # (let go: the tick forgets it)
                     return False
                 continue
-            me = tr._performer_vector(channel)
-            if me is None:
+            x, y = get(channel + ".x"), get(channel + ".y")  # (_performer_vector)
+            if x is None or y is None:
                 continue
+            me = (atan2(y, x), hypot(x, y))
             seen = perf.get(channel)
             if seen is None or tr.last_sample > seen[2]:
                 if not first:
@@ -183,16 +186,15 @@ class AngleTrack:
             for k, joint in enumerate(pins):
                 self._c_body[k] = self.poll.pointer(joint.b._body)
         self._c_row[0:len(row)] = row
-        bodies = tr.character.bodies
-        if self._com_of is not bodies or p.c_row != self._c_row:  # (the plan's
-            c = tr.character  # centre of mass: PollPlan._fill's, for these bodies)
-            args = self._com_args = c._com_bound(self.poll.kernel)[2]
+        c = tr.character
+        if self._com_of is not c.bodies:  # (the plan's centre of mass: PollPlan._fill's,
+            args = self._com_args = c._com_bound(self.poll.kernel)[2]  # these bodies')
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
             p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping
             p.c_spring, p.c_damp = spec.spring, spec.damping
             p.c_mass, p.c_period = c.mass, tr.period
             p.c_body, p.c_row = self._c_body, self._c_row
-            self._com_of = bodies
+            self._com_of = c.bodies
         p.c_n = n
         return True
 
