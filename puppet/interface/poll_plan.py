@@ -38,7 +38,7 @@ from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
-from puppet.interface.poll_track import track_part
+from puppet.interface.poll_track import may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
@@ -236,6 +236,8 @@ class PollPlan:
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
         tracking = rt.tracker.mode != OFF  # (poll_track: an angles tracker beside)
+        if tracking and not may_track(rt.tracker):  # (asked first: its every tick)
+            return None
         table = self._state_table()
         if table is None:
             return None

@@ -87,16 +87,7 @@ class AngleTrack:
         step the run must stop at (the first control step its stream is lost at), or
         None when its tick is not all ``pk_targets``' to do. ``resume``: the tick at
         ``step`` may be the kernel's (the sample there stored first)."""
-        tr, rt = self.tracker, self.poll.runtime
-        if tr.mode != ANGLES or tr.lost or tr.due or tr.blend_at is not None \
-                or tr.impact_at is not None or tr.getup is not None or tr.hold is not None \
-                or tr.back is not None or tr.lib is not None or tr.search_at is not None \
-                or tr.scaled:
-            return None
-        if tr.spec.contacts is None and not ANGLES_ALONE:
-            return None
-        if tr.walk_cycle is not None and tr.spec.walk_in_place is not None:
-            return None  # (the performer's channels turned into a walk: Python's)
+        tr, rt = self.tracker, self.poll.runtime  # (may_track said yes: ready's start)
         owners = rt.owners
         if not owners.holds_any(TRACK):  # (Tracker.tick returns: nothing to write)
             return None
@@ -204,6 +195,20 @@ class AngleTrack:
             self._anchors.clear()
         got = self._anchors[joint] = tuple(joint.anchor_b)
         return got
+
+def may_track(tr) -> bool:
+    """Whether the tracker's tick may be the kernel's, by its own state (asked first
+    in ``PollPlan.ready``, at every tick of a tracking interface: kept cheap)."""
+    if tr.mode != ANGLES or tr.lost or tr.due or tr.blend_at is not None \
+            or tr.impact_at is not None or tr.getup is not None or tr.hold is not None \
+            or tr.back is not None or tr.lib is not None or tr.search_at is not None \
+            or tr.scaled:
+        return False
+    if tr.spec.contacts is None and not ANGLES_ALONE:
+        return False
+    # (a walk in place turns the performer's channels into a walk: Python's)
+    return tr.walk_cycle is None or tr.spec.walk_in_place is None
+
 
 def track_part(plan, step: int, resume: bool) -> int | None:
     """``PollPlan.ready``'s tracker: the step its run must stop at (``NEVER``-like
