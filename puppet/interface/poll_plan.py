@@ -26,7 +26,9 @@ its machine is left quiet as Python's ticks leave it (``_quieted``).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
 other device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
 target taken back by a later write or travelling in a blend, any other busy
-controller, a second machine, a tracker. Without the kernel there is no plan
+controller, a second machine, a tracker but an ``angles`` one with intentional
+contacts (``poll_track``: its targets and the contacts' swing at its control steps,
+``may_track`` asked first). Without the kernel there is no plan
 (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
 """
 

@@ -68,7 +68,8 @@ class AngleTrack:
         t.target_value, t.target_limited, t.target_lo, t.target_hi, t.spring = keep
         self._vals, self._has = ffi.new("double[]", n), ffi.new("char[]", n)
         self._own = ffi.new("char[]", m)
-        self._springs_of = None  # (the servos the rows point at: a re-seat makes new)
+        self._springs_of = None  # (the bodies the springs were bound with: a re-seat
+        # binds the servos to new springs, Character.bind, and makes new bodies)
         self._on = False  # (the plan's track is this one's: set once, until cleared)
         self._has_on = self._own_was = self._phase_was = None  # (as the plan has them)
         self._c_body, self._c_row = ffi.new("void *[4]"), ffi.new("double[40]")
@@ -76,11 +77,11 @@ class AngleTrack:
         self._anchors: dict = {}  # (a pin's anchor: set when it is made)
         self._com_of = self._com_args = None  # (the bodies the plan's com rows are of)
 
-    def _bind(self, servos) -> None:
-        spring = self.t.spring
+    def _bind(self, character) -> None:
+        spring, servos = self.t.spring, character.servos
         for j, joint in enumerate(self.joints):
             spring[j] = self.poll.pointer(servos[joint].spring._constraint)
-        self._springs_of = servos
+        self._springs_of = character.bodies
 
     def fill(self, step: int, resume: bool) -> int | None:
         """The tracker's part of the plan (after the rest of ``PollPlan.ready``): the
@@ -101,9 +102,8 @@ class AngleTrack:
                 and not self._contacts(tr, rt, p, resume and (step - phase) % every == 0,
                                        step):
             return None
-        servos = tr.character.servos
-        if servos is not self._springs_of:
-            self._bind(servos)
+        if tr.character.bodies is not self._springs_of:
+            self._bind(tr.character)
         if not self._on:  # (the plan's track part as this plan has it: kept until
             p.track, p.t_vals, p.t_nopull, p.t_pose = self.t, self._vals, 1, 0  # cleared)
             p.walk, p.t_mix, p.g_on, p.l_on, p.rx_on, p.st_on = ffi.NULL, 0, 0, 0, 0, 0
