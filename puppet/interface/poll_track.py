@@ -133,7 +133,6 @@ class AngleTrack:
         gone = tr.last_sample + tr.lost_steps + 1
         return phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
 
-
     def _contacts(self, tr, rt, p, first: bool, step: int) -> bool:
         """Intentional contacts' rows (``IntentionalContacts._contacts``) into the plan:
         each held hand with the performer's vector, its contact begun; the performer's
@@ -195,6 +194,7 @@ class AngleTrack:
             self._anchors.clear()
         got = self._anchors[joint] = tuple(joint.anchor_b)
         return got
+
 
 def may_track(tr) -> bool:
     """Whether the tracker's tick may be the kernel's, by its own state (asked first
