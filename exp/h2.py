@@ -6,7 +6,7 @@ import numpy as np, yaml
 sys.path.insert(0, "/work/wt/run6b")
 ROOT = "/work/wt/run6b"
 IF = f"{ROOT}/interfaces/biped-auto.yaml"
-BASE = yaml.safe_load(open(f"{ROOT}/exp/base.yaml"))
+BASE = yaml.safe_load(open(os.environ.get("H2BASE", f"{ROOT}/exp/base.yaml")))
 SETS = {"40": {}, "36": {"iterations": 36}, "240": {"dt": 1 / 240}}
 LOG = f"{ROOT}/assets/logs/biped-auto-run.jsonl"
 
