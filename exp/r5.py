@@ -37,7 +37,11 @@ def edits(p):
             e[k] = v
     return e
 
+E = edits
 if __name__ == "__main__":
+    if os.environ.get("S5"):
+        from search5 import edits as E, START
+        C40.update(START)
     for kw in json.loads(sys.argv[1]):
         p = dict(C40); p.update(kw)
-        evaluate(edits(p), json.dumps(kw), verbose=True)
+        evaluate(E(p), json.dumps(kw), verbose=os.environ.get("V") == "1")
