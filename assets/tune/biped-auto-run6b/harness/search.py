@@ -1,7 +1,7 @@
 """Random search + climb (run6b): the shipped run plus the speed regulation, scored on the
 three settings at once (worst setting first)."""
-import json, random, sys, copy
-sys.path.insert(0, "/work/wt/run6b/exp")
+import json, os, random, sys, copy
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from h2 import evaluate
 
 def reg(v0, k):

@@ -1,8 +1,8 @@
 """Random search + climb on run5's structure (candidate40) with the speed regulation's
 gain and target free, scored on the three settings at once."""
 import json, os, random, sys
-os.environ["H2BASE"] = "/work/wt/run6b/assets/tune/biped-auto-run5/biped-auto.interface.yaml"
-sys.path.insert(0, "/work/wt/run6b/exp")
+os.environ["H2BASE"] = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../biped-auto-run5/biped-auto.interface.yaml")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from h2 import evaluate
 from r5 import C40, edits as e5
 

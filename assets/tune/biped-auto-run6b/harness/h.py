@@ -3,9 +3,9 @@ replay the run log on the three settings, print the feat figures."""
 import copy, json, re, subprocess, sys, os
 from concurrent.futures import ThreadPoolExecutor
 import yaml
-ROOT = "/work/wt/run6b"
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../.."))
 IF = f"{ROOT}/interfaces/biped-auto.yaml"
-BASE = yaml.safe_load(open(f"{ROOT}/exp/base.yaml"))
+BASE = yaml.safe_load(open(f"{ROOT}/assets/tune/biped-auto-run6b/harness/base.yaml"))
 SETS = {"40": [], "36": ["--solver-passes", "36"], "240": ["--step", "1/240"]}
 
 def setp(d, path, v):

@@ -1,4 +1,4 @@
-import sys, json; sys.path.insert(0, "/work/wt/run6b/exp")
+import os, sys, json; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from h2 import evaluate
 S = 0.571 ** 0.5
 def port(v0=2.75, k=30 * S, waist=8.636, clocks=True, lean=-7.99, reach=14.92, drive=53.33,

@@ -1,8 +1,8 @@
 """run5's candidate structure (sensor-phased stance, SIMBICON stance hip, 480 Hz run states)
 with the longjump's stronger speed regulation on top."""
 import json, os, sys
-os.environ["H2BASE"] = "/work/wt/run6b/assets/tune/biped-auto-run5/biped-auto.interface.yaml"
-sys.path.insert(0, "/work/wt/run6b/exp")
+os.environ["H2BASE"] = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../biped-auto-run5/biped-auto.interface.yaml")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from h2 import evaluate
 
 C40 = {"hold": -18.2741, "spin": 0.0655, "torq": -0.0098, "hip_damp": 16.0687, "drive": 52.9967, "push_thigh": -6.4415, "stance_time": 0.2288, "reach": 8.5064, "cd": 5.4411, "cv": 2.5938, "vd": 2.5734, "push_knee": -11.1591, "push_ankle": -25.2869, "push_k": 1006.3734, "st_knee": -13.4568, "st_knee_k": 1136.8699, "st_ankle": 6.8882, "sw_knee": -135.0509, "fly_knee": -31.1983, "waist": -0.2231}

@@ -3,10 +3,10 @@ import copy, json, sys, os
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 from concurrent.futures import ProcessPoolExecutor
 import numpy as np, yaml
-sys.path.insert(0, "/work/wt/run6b")
-ROOT = "/work/wt/run6b"
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../.."))
+sys.path.insert(0, ROOT)
 IF = f"{ROOT}/interfaces/biped-auto.yaml"
-BASE = yaml.safe_load(open(os.environ.get("H2BASE", f"{ROOT}/exp/base.yaml")))
+BASE = yaml.safe_load(open(os.environ.get("H2BASE", f"{ROOT}/assets/tune/biped-auto-run6b/harness/base.yaml")))
 SETS = {"40": {}, "36": {"iterations": 36}, "240": {"dt": 1 / 240}}
 LOG = f"{ROOT}/assets/logs/biped-auto-run.jsonl"
 

@@ -1,4 +1,4 @@
-import sys; sys.path.insert(0, "/work/wt/run6b/exp")
+import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from h2 import evaluate
 def reg(v0, k, idx=8, mode="flying"):
     return {f"modes.{mode}.{idx}": {"input": "sensor.com.vx", "joint": "swing_hip", "from": [v0, v0 + 1], "to": [0, k], "clamp": False, "combine": "add"}}

@@ -1,6 +1,6 @@
 import json, os, sys
-os.environ["H2BASE"] = "/work/wt/run6b/assets/tune/biped-auto-run5/biped-auto.interface.yaml"
-sys.path.insert(0, "/work/wt/run6b/exp")
+os.environ["H2BASE"] = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../biped-auto-run5/biped-auto.interface.yaml")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import numpy as np
 from h2 import write, LOG, SETS
 from search5 import START, edits
