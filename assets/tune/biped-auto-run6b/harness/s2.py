@@ -1,6 +1,0 @@
-import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from h2 import evaluate
-def reg(v0, k, idx=8, mode="flying"):
-    return {f"modes.{mode}.{idx}": {"input": "sensor.com.vx", "joint": "swing_hip", "from": [v0, v0 + 1], "to": [0, k], "clamp": False, "combine": "add"}}
-for v0, k in [(2.7, 3), (2.7, 5), (3.0, 5), (2.7, 7)]:
-    evaluate(reg(v0, k), f"v0={v0} k={k}", verbose=True)
