@@ -271,6 +271,13 @@ def _compile_linear(spec, servos, channels=None):
         for servo, gain in outs:  # servo.target = (a re-seat may give it a new spring)
             SET_TARGET(servo.spring._constraint, gain * v)
         return joints
+    x0, inv, lo, span, clamp, f, name, source = _unit_numbers(spec, channels)
+    if clamp and f is None:  # clamped, no curve: one plain row a joint for the kernel's
+        # event runs (gain * (lo + u * span): the same operations as ``value``'s, then
+        # ``gain * v``; what ``_plain_run`` reads)
+        apply_linear.plain_run = (source, tuple(
+            (name, x0, inv, lo, span, gain, servo, joint)
+            for (servo, gain), joint in zip(outs, joints)))
     return apply_linear
 
 

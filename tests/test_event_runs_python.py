@@ -1,7 +1,10 @@
-"""The cat's pose grids (``maps._grid_run``: four legs on the mouse's x and y) in the
-kernel's event runs (``pk_events`` calls ``pk_grid_run`` after a mouse move's plain
-rows): the same bits as the pure-Python path's grids, a grid on a joint a controller
-owns is Python's, and most of cat-trot's mouse moves are the kernel's."""
+"""The maps the kernel's event runs took on beyond one-joint plain maps: the cat's pose
+grids (``maps._grid_run``: four legs on the mouse's x and y; ``pk_events`` calls
+``pk_grid_run`` after a mouse move's plain rows) and clamped linear maps on several
+joints (``maps._compile_linear``'s ``plain_run``: a row a joint; the gymnast's bound
+and trot, the rope swing). The kernel's runs give the pure-Python path's bits, a grid
+on a joint a controller owns is Python's, an unclamped or curved map is Python's, and
+most of those logs' mouse moves are the kernel's."""
 
 from __future__ import annotations
 
@@ -26,12 +29,14 @@ def _traced(run, log, setup, end: int, every: int = 11):
 
 
 @needs_cc
-def test_the_grids_in_the_kernels_runs_are_the_pure_python_grids(path_of):
-    """cat-trot: the kernel's runs (the grids in ``pk_events``) against the pure-Python
-    path's event-by-event replay (``apply_grid_run``'s Python arithmetic), sampled
-    every 11 steps, and on to the log's recorded end."""
+@pytest.mark.parametrize("name", ["cat-trot", "biped-rope-swing", "biped-gymnast-climb-bound"])
+def test_the_kernels_runs_are_the_pure_python_maps(name, path_of):
+    """The kernel's runs (the grids and the several joints' rows in ``pk_events``)
+    against the pure-Python path's event-by-event replay (``apply_grid_run``'s and
+    ``apply_linear``'s Python arithmetic), sampled every 11 steps, and on to the log's
+    recorded end."""
     assert path_of("c") is not None
-    log, setup = _log("cat-trot")
+    log, setup = _log(name)
     patcher, done = _counted()
     with patcher:
         got = _traced(play, log, setup, log.last_step)
@@ -94,3 +99,35 @@ def test_a_grid_after_a_reseat_writes_the_new_springs(step, path_of):
         run(session, pairs, None, end_step=2400)
         got.append(_state(session))
     assert got[0] == got[1]
+
+
+def test_a_linear_map_on_several_joints_is_plain_rows_when_clamped_and_straight():
+    """``plain_run`` (what the kernel's runs read) only on a clamped map with no curve;
+    its rows' arithmetic (``gain * (lo + u * span)``, as ``pk_events``) gives the
+    applier's targets to the bit, in range and past both ends."""
+    import msgspec
+
+    from puppet.data.interfaces import LinearMapSpec
+    from puppet.interface.active_maps import every_map
+    from puppet.interface.maps import compile_map
+
+    log, setup = _log("biped-rope-swing")
+    session = new_session(log, setup)
+    runtime, servos = session.runtime, session.character.servos
+    specs = [m for m in every_map(runtime.spec) if isinstance(m, LinearMapSpec)
+             and len(m.gains()) > 1]
+    assert specs
+    for spec in specs:
+        apply = compile_map(spec, servos, runtime.pose_targets)
+        source, rows = apply.plain_run
+        assert source is None and [r[7] for r in rows] == list(spec.gains())
+        for v in [-3.0, -0.25, 0.0, 0.1, 1 / 3, 0.5, 0.999, 1.0, 1.7, 2, True]:
+            written = apply({spec.input: v})
+            for name, x0, inv, lo, span, gain, servo, joint in rows:
+                u = (v - x0) * inv
+                u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
+                assert servo.target == gain * (lo + u * span), (joint, v)
+            assert tuple(written) == tuple(spec.gains())
+        for other in (msgspec.structs.replace(spec, clamp=False),
+                      msgspec.structs.replace(spec, curve="smoothstep")):
+            assert not hasattr(compile_map(other, servos, runtime.pose_targets), "plain_run")
