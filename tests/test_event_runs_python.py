@@ -123,7 +123,7 @@ def test_a_linear_map_on_several_joints_is_plain_rows_when_clamped_and_straight(
         assert source is None and [r[7] for r in rows] == list(spec.gains())
         for v in [-3.0, -0.25, 0.0, 0.1, 1 / 3, 0.5, 0.999, 1.0, 1.7, 2, True]:
             written = apply({spec.input: v})
-            for name, x0, inv, lo, span, gain, servo, joint in rows:
+            for _name, x0, inv, lo, span, gain, servo, joint in rows:
                 u = (v - x0) * inv
                 u = 0.0 if u < 0.0 else 1.0 if u > 1.0 else u
                 assert servo.target == gain * (lo + u * span), (joint, v)
