@@ -10,8 +10,11 @@ nearly all of it their events). The kernel takes a run of them when all an event
 does is what ``InterfaceRuntime.on_event`` does on its hot path with the runtime as it
 is now: store the input, and run the active maps reading it, each of them a plain map
 (``maps._plain_run``'s rows: one joint, clamped, linear; written operation for
-operation in C, so the targets have the same bits) on a joint no controller owns (the
-owners' table would take it back), or a frame map (``maps._compile_frame``'s: clamped,
+operation in C, so the targets have the same bits; a clamped linear map on several
+joints gives a row a joint, ``maps._compile_linear``'s ``plain_run``) on a joint no
+controller owns (the owners' table would take it back), one run of pose grids on the
+mouse's x and y (the cat's legs: ``maps._grid_run``'s table, ``pk_grid_run`` after the
+rows, on joints no row writes), or a frame map (``maps._compile_frame``'s: clamped,
 linear, held under the frame owner) on a joint the poll plan's frame loop already
 holds under it, in the same frame (the walkers' mouse: their swing and stance hips
 held in the world), which the kernel holds at the map's new angle and solves at once
