@@ -13,7 +13,8 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     and sticks, ``session.event_runs``): each one's plain maps (clamped, linear: the
     runtime's ``maps._plain_run``, the same operations) written as rest angles, its
     frame maps' (the same arithmetic: ``maps._compile_frame``) as a held frame
-    target's new angle (``m_frame``: its row in ``f_*``), solved at once, and a
+    target's new angle (``m_frame``: its row in ``f_*``), solved at once, its pose
+    grids (a cat's legs: ``maps._grid_run``'s ``pk_grid_run``, ``k_grid``) and a
     mouse move's values into ``in_val``, the device inputs a condition reads
     (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
     (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
@@ -105,6 +106,8 @@ typedef struct {
     double *ev_v;     /* per event: its two values (x, y; a stick's value) */
     int n_kind;       /* per kind: its map rows [k_first, k_last) (-1: Python's) */
     int *k_first, *k_last;
+    pk_grid_table **k_grid;  /* per kind: NULL, or its pose grids (pk_grid_run, after
+                         its rows: they write other joints) on the event's two values */
     int *m_use;       /* per map row: which of its event's values it reads */
     double *m_x0, *m_inv, *m_lo, *m_span, *m_gain;
     void **m_spring;
@@ -349,7 +352,8 @@ control:
 }
 
 /* The input events due at ``s`` (a mouse move, a stick), their maps as the runtime's
-   plain maps write them (maps._plain_run: one joint, clamped, linear): 1 when one is
+   plain maps write them (maps._plain_run: one joint, clamped, linear), then its pose
+   grids (maps._grid_run's, on a mouse move's x and y): 1 when one is
    not this call's to apply (Python applies it, and what comes after it) */
 static int pk_events(pk_poll_plan *p, int s)
 {
@@ -374,6 +378,8 @@ static int pk_events(pk_poll_plan *p, int s)
                          p->f_hold_parent[f], p->f_spring[f]);
             }
         }
+        if (p->k_grid && p->k_grid[kind])  /* a cat's legs' grids (maps._grid_run) */
+            pk_grid_run(p->k_grid[kind], p->ev_v[2 * e], p->ev_v[2 * e + 1]);
         p->ev_done++;
     }
     return 0;
