@@ -510,8 +510,12 @@ class PollPlan:
         # stopped at the call's end: the next call may go on at the next tick (the
         # session steps to it as the loop would; an input event comes first, and
         # ``ready`` says whether it changed anything), when nothing else is due there
-        # and no history boundary comes before it
-        if s == end and wake is not None and wake < until and wake < last:
+        # and no history boundary comes before it; or stopped at a history boundary
+        # (``last``): the session's health check there changes nothing the run holds
+        # (a keyframe re-seats, a recovery restores: ``seat``, ``set_state``), so its
+        # next tick may go on likewise, before the boundary after it
+        if wake is not None and wake < until and ((s == last and wake < s + health)
+                                                  or (s == end and wake < last)):
             sim = rt.sim
             self.resume, self.seat = wake, (sim.space, sim.seats)
         return s
