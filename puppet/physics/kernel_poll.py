@@ -44,9 +44,10 @@ the Python it replaces (see ``kernel_source``), so the hashes are the same eithe
 """
 
 from puppet.physics.kernel_poll_reach import REACH_SOURCE
+from puppet.physics.kernel_poll_states import STATES_SOURCE, STATES_TYPES
 from puppet.physics.kernel_poll_track import TRACK_SOURCE
 
-POLL_TYPES = """
+POLL_TYPES = STATES_TYPES + """
 typedef struct {  /* walking in place between samples (tracking_walk, track_poll) */
     double *frames;   /* the gait cycle's clip: n_frames frames of width values */
     int n_frames, width, xi;  /* xi: root.x's place in a frame */
@@ -165,6 +166,7 @@ typedef struct {
     double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
     int rx_on, rx_start, rx_done;  /* a reaction's weight (Tracker._weight): from rx_start, */
     double rx_dt, rx_weight, rx_hold, rx_recover;  /* rx_done: the step it ended (-1) */
+    pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
 } pk_poll_plan;
 """
 
@@ -203,7 +205,8 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
     return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
-/* StateMachine.due at a control step: does any polled transition hold at ``s``? */
+/* StateMachine.due at a control step: does any polled transition hold at ``s``? (its
+   row + 1, else 0) */
 static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
 {
     for (int k = 0; k < p->n_trans; k++) {
@@ -219,12 +222,12 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
         }
         if (p->hold[k] == 0) {
             if (holds)
-                return 1;
+                return k + 1;
         } else if (holds) {  /* `for`: held since the first poll that found it true */
             if (p->since[k] < 0)
                 p->since[k] = s;
             if (s - p->since[k] >= p->hold[k])
-                return 1;
+                return k + 1;
         } else {
             p->since[k] = -1;
         }
@@ -232,12 +235,14 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-""" + REACH_SOURCE + r"""
-/* the tick at ``s``: 1 when a transition holds or a reach grasps (nothing written) */
+""" + REACH_SOURCE + STATES_SOURCE + r"""
+/* the tick at ``s``: 1 when a transition holds (one not the loop's to enter: nothing
+   written) or a reach grasps */
 static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
-    if (pk_fires(p, s, &com))
+    int fired = pk_fires(p, s, &com);
+    if (fired && pk_transit(p, s, fired, &com))
         return 1;
     if ((p->n_reach || p->n_armed) && pk_reaches(p, s))
         return 1;
@@ -318,7 +323,9 @@ static int pk_tick(pk_poll_plan *p, int s)
     if (s % p->every)
         return 0;
     p->writes++;
-    for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
+    if (p->states)  /* (arrivals too, logged) */
+        pk_blend_write(p, s);
+    else for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
         double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
         u = u * u * (3.0 - 2.0 * u);
         p->b_value[j] = p->start[j] + (p->to[j] - p->start[j]) * u;
@@ -375,6 +382,8 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
     int s = now;
     p->fb_ticks = p->writes = p->ev_done = p->t_ticks = 0;
     p->rx_done = p->t_last = -1;
+    if (p->states)
+        p->states->n_log = p->states->n_val = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {

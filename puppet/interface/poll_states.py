@@ -1,0 +1,232 @@
+"""State transitions inside the kernel's loop: the poll plan's states table
+(``physics.kernel_poll_states``) and the hand-back of what a call entered.
+
+``PollPlan._fill`` arms it (``arm``) when the runtime's work between ticks is one
+machine's polls at every step (period 1) and plain travelling targets, nothing else
+busy (no maps active, no sequence, sensor maps, frame targets, reach, grasp or kept
+key press). Then a transition into a state the loop can enter - its table the
+kernel's with no `for` and no device input decided when filled, no maps, roles or
+rate of its own (period 1 too), its entry nothing or a ``set`` of plain angles with
+``over`` - is taken in the loop, with the states chained after it and the targets'
+arrivals; any other ends the call for Python's tick, as a timer does. After the call
+``handed_back`` replays the log on the runtime: the machine's state (``enter``), the
+maps refreshed and activated as ``_enter_state`` does, the owners and the blend's
+travelling targets (each from the rest angle the kernel read), so that the runtime is
+what Python's ticks would have left, to the bit. Without the kernel there is no
+plan, and every transition is Python's.
+"""
+
+from __future__ import annotations
+
+import math
+
+from puppet.interface.actions import MAX_CHAINED_GOTOS
+from puppet.interface.controllers import feedback_kernel as _fk
+from puppet.interface.ownership import BLEND
+
+MAX_LOG = 256
+MAX_VAL = 1024
+MAX_ROWS = 32  # the plan's rows (poll_plan.MAX_CONDITIONS)
+_DEFAULT_NONE = ("pose", "sequence", "repeat", "mode", "goto", "reach", "grasp", "release",
+                 "app", "slowdown", "gravity", "friction", "perturb", "push", "track",
+                 "kinematic")
+_DEFAULT_EMPTY = ("adjust", "stiffness", "damping")
+
+
+def blend_only(a) -> bool:
+    """An entry that only starts plain targets travelling (``set`` of angles, ``over``)."""
+    return a.over is not None and bool(a.set) and not a.while_held \
+        and all(getattr(a, f) is None for f in _DEFAULT_NONE) \
+        and all(not getattr(a, f) for f in _DEFAULT_EMPTY) \
+        and all(isinstance(v, (int, float)) for v in a.set.values())
+
+
+class States:
+    """One plan's states table (made per binding and seat, when first armed)."""
+
+    def __init__(self, plan):
+        self.plan = plan
+        self.ffi = plan.ffi
+        self.st = None  # the pk_states struct, as last built
+        self._built = None  # (binding, bodies) it was built for
+        self.names: list[str] = []
+        self.entries: list = []  # per state: (its targets [(joint, to)], steps) or None
+        self.targets: dict = {}  # state -> per transition index: the state's index or -1
+        self.rows: list = []  # per plan blend row: its joint (the handback's mirror)
+        self.live: set = set()  # the rows travelling
+        self.uses_com = False  # a state's conditions read the centre of mass
+
+    def _enterable(self, rt, machine, name: str):
+        """``(targets, steps)`` of a state the loop can enter (its entry's), else None."""
+        spec = machine.spec.states[name]
+        table = self.plan._table(machine, name)
+        if table is None or spec.roles is not None or spec.maps:
+            return None
+        if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
+            return None
+        period = rt.period
+        every = min(period.base, period.fast.get(machine.name, {}).get(name, period.base))
+        if every != 1:
+            return None
+        a = spec.enter
+        if a is None:
+            return [], 1
+        if not blend_only(a):
+            return None
+        rename, servos, targets = rt.roles.rename, rt.character.servos, {}
+        for joint, value in a.set.items():  # (BlendController.start_action's order)
+            joint = rename(joint)
+            if joint not in servos:
+                return None
+            targets.pop(joint, None)
+            targets[joint] = math.radians(value)
+        return list(targets.items()), round(a.over / rt.dt)
+
+    def _build(self, rt, machine) -> None:
+        ffi, plan = self.ffi, self.plan
+        spec = machine.spec
+        self.names = names = list(spec.states)
+        index = {n: k for k, n in enumerate(names)}
+        self.entries = [self._enterable(rt, machine, n) for n in names]
+        self.targets = {}
+        character = rt.character
+        bodies, joints, servos = character.bodies, character.spec, character.servos
+        t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
+        kind, ca, cb, lo, hi, want = [], [], [], [], [], []
+        e0, e1, es, eto, esteps = [], [], [], [], []
+        null = ffi.NULL
+        for name in names:
+            shared = [t for t in spec.any_state.transitions
+                      if rt.spec.resolve_goto(t.to, machine.name) != (machine.name, name)]
+            goes = []
+            for t in [*spec.states[name].transitions, *shared]:
+                to = rt.spec.resolve_goto(t.to, machine.name)
+                k = -1 if to is None or to[0] != machine.name else index.get(to[1], -1)
+                goes.append(k if k >= 0 and self.entries[k] is not None else -1)
+            self.targets[name] = goes
+            t0.append(len(after))
+            table = plan._table(machine, name) if self.entries[index[name]] else None
+            for a_, cs, _, i in table or ():
+                after.append(a_)
+                per.append(1)
+                target.append(goes[i])
+                c0.append(len(kind))
+                nc.append(len(cs or ()))
+                for k_, n_, l_, h_, w_ in cs or ():
+                    pa = pb = null
+                    if k_ == _fk.JOINT:
+                        joint = joints.joint(n_)
+                        pa = plan.pointer(bodies[joint.child]._body)
+                        pb = plan.pointer(bodies[joint.parent]._body)
+                    elif n_ is not None:
+                        pa = plan.pointer(bodies[n_]._body)
+                    kind.append(k_), ca.append(pa), cb.append(pb)
+                    lo.append(l_), hi.append(h_), want.append(w_)
+            t1.append(len(after))
+            e0.append(len(es))
+            entry = self.entries[index[name]]
+            for joint, to in (entry[0] if entry else ()):
+                es.append(plan.pointer(servos[joint].spring._constraint))
+                eto.append(to)
+                esteps.append(entry[1])
+            e1.append(len(es))
+        self.uses_com = any(k in _fk.USES_COM for k in kind)
+        self._keep = keep = []
+
+        def arr(t, values, n=None):
+            a = ffi.new(f"{t}[]", values if values else (n or 1))
+            keep.append(a)
+            return a
+        st = ffi.new("pk_states *")
+        keep.append(st)
+        st.max_chain, st.max_blend, st.max_trans, st.max_cond = \
+            MAX_CHAINED_GOTOS, MAX_ROWS, MAX_ROWS, MAX_ROWS
+        st.t0, st.t1 = arr("int", t0), arr("int", t1)
+        st.r_after, st.r_period, st.r_target = arr("int", after), arr("int", per), \
+            arr("int", target)
+        st.r_cond0, st.r_ncond = arr("int", c0), arr("int", nc)
+        st.c_kind, st.c_a, st.c_b = arr("int", kind), arr("void *", ca), arr("void *", cb)
+        st.c_lo, st.c_hi, st.c_want = arr("double", lo), arr("double", hi), arr("int", want)
+        st.e0, st.e1, st.e_spring = arr("int", e0), arr("int", e1), arr("void *", es)
+        st.e_to, st.e_steps = arr("double", eto), arr("int", esteps)
+        st.p_target, st.b_live = arr("int", None, MAX_ROWS), arr("int", None, MAX_ROWS)
+        st.max_log, st.max_val = MAX_LOG, MAX_VAL
+        st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
+        st.l_arg, st.l_val0 = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
+        st.l_val = arr("double", None, MAX_VAL)
+        self.st = st
+
+    def arm(self, rt, machine, seq, rows: list) -> bool:
+        """The loop may enter states from the plan just filled (``rows``: per plan
+        transition, the machine's transition index or None): the table made for this
+        binding and seat, each row's state, every blend row travelling; False (and the
+        plan's ``states`` NULL) when the runtime has other work or a row cannot be."""
+        p = self.plan.plan
+        p.states = self.ffi.NULL
+        if seq is not None or rt.active_maps or rt.feedback.busy or rt.frames.held \
+                or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused \
+                or machine.every != 1 or len(rt._machine_list) != 1:
+            return False
+        moving = rt.blends.moving
+        if any(m[4] is not None for m in moving.values()):
+            return False
+        key = (rt.roles.binding, rt.character.bodies, rt.sim.seats, rt.sim.space)
+        if key != self._built:
+            self._build(rt, machine)
+            self._built = key
+        goes = self.targets[machine.current]
+        st = self.st
+        for k, i in enumerate(rows):
+            if i is None:
+                return False  # (a sequence's until, an input decided: not armed)
+            st.p_target[k] = goes[i]
+        self.rows = list(moving)
+        self.live = set(range(len(self.rows)))
+        for j in range(len(self.rows)):
+            st.b_live[j] = 1
+        p.states = st
+        return True
+
+    def handed_back(self, rt, machine) -> bool:
+        """What the call did, on the runtime in its order (see the module's doc);
+        True when a state was entered."""
+        st = self.st
+        n = st.n_log
+        entered = False
+        if not n:
+            return False
+        moving, table = rt.blends.moving, rt.owners.table
+        rows, live, names = self.rows, self.live, self.names
+        for e in range(n):
+            step, kind, arg = st.l_step[e], st.l_kind[e], st.l_arg[e]
+            if kind == 0:  # an arrival (BlendController._write)
+                joint = rows[arg]
+                live.discard(arg)
+                del moving[joint]
+                del table[joint]
+                continue
+            entered = True  # InterfaceRuntime._enter_state, its entry's blend
+            name = names[arg]
+            machine.enter(name, step)
+            rt._follow_rate()
+            rt._refresh_active_maps()
+            rt._activate(machine.spec.states[name].maps)
+            entry = self.entries[arg]
+            targets, steps = entry
+            if not targets:
+                continue
+            joints = [j for j, _ in targets]
+            rt.owners.take(joints)
+            end = step + max(1, steps)
+            v, forget = st.l_val0[e], rt.frames.forget
+            at = {rows[j]: j for j in live}
+            for joint, to in targets:
+                forget(joint)
+                moving[joint] = [st.l_val[v], to, step, end, None]
+                v += 1
+                if joint not in at:  # (the kernel's new row)
+                    at[joint] = len(rows)
+                    live.add(len(rows))
+                    rows.append(joint)
+            rt.owners.claim(joints, BLEND)
+        return entered
