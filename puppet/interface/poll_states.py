@@ -27,15 +27,17 @@ from puppet.interface.ownership import BLEND
 MAX_LOG = 256
 MAX_VAL = 1024
 MAX_ROWS = 32  # the plan's rows (poll_plan.MAX_CONDITIONS)
-_DEFAULT_NONE = ("pose", "sequence", "repeat", "mode", "goto", "reach", "grasp", "release",
+_DEFAULT_NONE = ("pose", "sequence", "repeat", "goto", "reach", "grasp", "release",
                  "app", "slowdown", "gravity", "friction", "perturb", "push", "track",
                  "kinematic")
 _DEFAULT_EMPTY = ("adjust", "stiffness", "damping")
 
 
-def blend_only(a) -> bool:
-    """An entry that only starts plain targets travelling (``set`` of angles, ``over``)."""
-    return a.over is not None and bool(a.set) and not a.while_held \
+def blend_only(a, mode) -> bool:
+    """An entry that only starts plain targets travelling (``set`` of angles with
+    ``over``), or does nothing (``mode`` already the runtime's: ``run_action``)."""
+    return (a.over is not None or not a.set) and not a.while_held \
+        and (a.mode is None or a.mode == mode) \
         and all(getattr(a, f) is None for f in _DEFAULT_NONE) \
         and all(not getattr(a, f) for f in _DEFAULT_EMPTY) \
         and all(isinstance(v, (int, float)) for v in a.set.values())
@@ -69,9 +71,9 @@ class States:
         if every != 1:
             return None
         a = spec.enter
-        if a is None:
+        if a is None or (a.set == {} and blend_only(a, rt.mode)):
             return [], 1
-        if not blend_only(a):
+        if not blend_only(a, rt.mode):
             return None
         rename, servos, targets = rt.roles.rename, rt.character.servos, {}
         for joint, value in a.set.items():  # (BlendController.start_action's order)
@@ -170,7 +172,7 @@ class States:
         moving = rt.blends.moving
         if any(m[4] is not None for m in moving.values()):
             return False
-        key = (rt.roles.binding, rt.character.bodies, rt.sim.seats, rt.sim.space)
+        key = (rt.roles.binding, rt.mode, rt.character.bodies, rt.sim.seats, rt.sim.space)
         if key != self._built:
             self._build(rt, machine)
             self._built = key
