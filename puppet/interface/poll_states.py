@@ -191,36 +191,34 @@ class States:
 
     def handed_back(self, rt, machine) -> bool:
         """What the call did, on the runtime in its order (see the module's doc);
-        True when a state was entered."""
+        True when a state was entered. Only the last state entered is entered here:
+        an earlier one leaves nothing the last does not set again (the machine's
+        state, the rate, the maps: none active, none of its own), but each entry's and
+        arrival's owners and travelling targets are, in order (the blend's dict)."""
         st = self.st
         n = st.n_log
-        entered = False
         if not n:
             return False
-        moving, table = rt.blends.moving, rt.owners.table
-        rows, live, names = self.rows, self.live, self.names
-        for e in range(n):
-            step, kind, arg = st.l_step[e], st.l_kind[e], st.l_arg[e]
+        moving, table, ffi = rt.blends.moving, rt.owners.table, self.ffi
+        rows, live, entries = self.rows, self.live, self.entries
+        last = None
+        for step, kind, arg, v in zip(ffi.unpack(st.l_step, n), ffi.unpack(st.l_kind, n),
+                                      ffi.unpack(st.l_arg, n), ffi.unpack(st.l_val0, n)):
             if kind == 0:  # an arrival (BlendController._write)
                 joint = rows[arg]
                 live.discard(arg)
                 del moving[joint]
                 del table[joint]
                 continue
-            entered = True  # InterfaceRuntime._enter_state, its entry's blend
-            name = names[arg]
-            machine.enter(name, step)
-            rt._follow_rate()
-            rt._refresh_active_maps()
-            rt._activate(machine.spec.states[name].maps)
-            entry = self.entries[arg]
-            targets, steps = entry
+            last = arg, step  # InterfaceRuntime._enter_state, its entry's blend
+            targets, steps = entries[arg]
             if not targets:
                 continue
             joints = [j for j, _ in targets]
-            rt.owners.take(joints)
+            for joint in joints:  # (owners.take)
+                table.pop(joint, None)
             end = step + max(1, steps)
-            v, forget = st.l_val0[e], rt.frames.forget
+            forget = rt.frames.forget
             at = {rows[j]: j for j in live}
             for joint, to in targets:
                 forget(joint)
@@ -231,4 +229,11 @@ class States:
                     live.add(len(rows))
                     rows.append(joint)
             rt.owners.claim(joints, BLEND)
-        return entered
+        if last is None:
+            return False
+        name = self.names[last[0]]
+        machine.enter(name, last[1])
+        rt._follow_rate()
+        rt._refresh_active_maps()
+        rt._activate(machine.spec.states[name].maps)
+        return True
