@@ -20,8 +20,9 @@ from puppet.interface import poll_plan, poll_states
 from puppet.timeline.log import read_log
 
 # the logs, and whether the loop enters states in them (else it takes arrivals alone:
-# the headspring's states change the mode, run maps or another rate)
-ENTERING = {"luxo-shuffle": True, "luxo-double-backflip": True,
+# the headspring's states change the mode, run maps or another rate); the kip's at
+# 60 a second (arrivals and entries between control steps)
+ENTERING = {"luxo-shuffle": True, "luxo-double-backflip": True, "luxo-kip": True,
             "luxo-back-headspring": False}
 
 
@@ -95,8 +96,8 @@ def test_which_entries_the_loop_can_run():
 
 @needs_cc
 def test_no_states_table_with_other_work(path_of):
-    """A state with maps of its own (the headspring's tucked: sensor maps) or another
-    rate is not one the loop enters; a runtime with feedback busy is not armed."""
+    """A state with maps of its own (the headspring's tucked: sensor maps), another
+    rate than the machine's now or a mode change is not one the loop enters."""
     assert path_of("c") is not None
     from puppet.timeline.replay import new_session, setup_for_log
 
@@ -106,7 +107,9 @@ def test_no_states_table_with_other_work(path_of):
     assert isinstance(plan, poll_plan.PollPlan)
     states = plan._states
     machine = rt._machine_list[0]
+    assert machine.every == 8 and rt.mode == "mouse"  # (ground: 60 a second)
     assert states._enterable(rt, machine, "tucked") is None  # (its maps)
-    assert states._enterable(rt, machine, "rising") is None  # (60 a second)
+    assert states._enterable(rt, machine, "reaching") is None  # (480 a second)
     assert states._enterable(rt, machine, "push") is None  # (a mode change)
-    assert states._enterable(rt, machine, "reaching") is not None
+    targets, steps = states._enterable(rt, machine, "rising")  # (60, a set with over)
+    assert [j for j, _ in targets] == ["ankle", "knee"] and steps == 96, (targets, steps)

@@ -373,7 +373,7 @@ class PollPlan:
         rt = self.runtime
         p, until = self.plan, NEVER
         p.states, self._armed, rows = self.ffi.NULL, False, []
-        states = states and seq is None and every == 1 and not self._many and not any(
+        states = states and seq is None and not self._many and not any(
             c[0] is None for _, cs, *_ in table if cs for c in cs)
         character = rt.character
         bodies, joints = character.bodies, character.spec

@@ -49,13 +49,13 @@ class States:
     def __init__(self, plan):
         self.plan = plan
         self.ffi = plan.ffi
-        self.st = None  # the pk_states struct, as last built
-        self._built = None  # (binding, bodies) it was built for
+        self.st = None  # the pk_states struct armed last
+        self._made: dict = {}  # (binding, mode, period) -> its table (_build)
         self.names: list[str] = []
         self.entries: list = []  # per state: (its targets [(joint, to)], steps) or None
         self.targets: dict = {}  # state -> per transition index: the state's index or -1
         self.rows: list = []  # per plan blend row: its joint (the handback's mirror)
-        self.live: set = set()  # the rows travelling
+        self.row_of: dict = {}  # a travelling joint -> its row
         self.uses_com = False  # a state's conditions read the centre of mass
 
     def _enterable(self, rt, machine, name: str):
@@ -68,7 +68,7 @@ class States:
             return None
         period = rt.period
         every = min(period.base, period.fast.get(machine.name, {}).get(name, period.base))
-        if every != 1:
+        if every != machine.every:  # (a rate of its own: _follow_rate's, Python's)
             return None
         a = spec.enter
         if a is None or (a.set == {} and blend_only(a, rt.mode)):
@@ -84,19 +84,18 @@ class States:
             targets[joint] = math.radians(value)
         return list(targets.items()), round(a.over / rt.dt)
 
-    def _build(self, rt, machine) -> None:
-        ffi, plan = self.ffi, self.plan
-        spec = machine.spec
-        self.names = names = list(spec.states)
+    def _build(self, rt, machine) -> tuple:
+        """The table for the binding, mode and period of now: (the states' names, their
+        entries, per state its transitions' states, the struct, what its conditions
+        and entries point at, whether one reads the centre of mass, the seat)."""
+        ffi, plan, spec = self.ffi, self.plan, machine.spec
+        names = list(spec.states)
         index = {n: k for k, n in enumerate(names)}
-        self.entries = [self._enterable(rt, machine, n) for n in names]
-        self.targets = {}
-        character = rt.character
-        bodies, joints, servos = character.bodies, character.spec, character.servos
+        entries = [self._enterable(rt, machine, n) for n in names]
+        targets = {}
         t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
-        kind, ca, cb, lo, hi, want = [], [], [], [], [], []
-        e0, e1, es, eto, esteps = [], [], [], [], []
-        null = ffi.NULL
+        kind, src, lo, hi, want = [], [], [], [], []
+        e0, e1, springs, eto, esteps = [], [], [], [], []
         for name in names:
             shared = [t for t in spec.any_state.transitions
                       if rt.spec.resolve_goto(t.to, machine.name) != (machine.name, name)]
@@ -104,36 +103,27 @@ class States:
             for t in [*spec.states[name].transitions, *shared]:
                 to = rt.spec.resolve_goto(t.to, machine.name)
                 k = -1 if to is None or to[0] != machine.name else index.get(to[1], -1)
-                goes.append(k if k >= 0 and self.entries[k] is not None else -1)
-            self.targets[name] = goes
+                goes.append(k if k >= 0 and entries[k] is not None else -1)
+            targets[name] = goes
             t0.append(len(after))
-            table = plan._table(machine, name) if self.entries[index[name]] else None
-            for a_, cs, _, i in table or ():
+            entry = entries[index[name]]
+            for a_, cs, _, i in plan._table(machine, name) if entry else ():
                 after.append(a_)
-                per.append(1)
+                per.append(machine.every if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])
                 c0.append(len(kind))
                 nc.append(len(cs or ()))
                 for k_, n_, l_, h_, w_ in cs or ():
-                    pa = pb = null
-                    if k_ == _fk.JOINT:
-                        joint = joints.joint(n_)
-                        pa = plan.pointer(bodies[joint.child]._body)
-                        pb = plan.pointer(bodies[joint.parent]._body)
-                    elif n_ is not None:
-                        pa = plan.pointer(bodies[n_]._body)
-                    kind.append(k_), ca.append(pa), cb.append(pb)
+                    kind.append(k_), src.append((k_, n_))
                     lo.append(l_), hi.append(h_), want.append(w_)
             t1.append(len(after))
-            e0.append(len(es))
-            entry = self.entries[index[name]]
+            e0.append(len(springs))
             for joint, to in (entry[0] if entry else ()):
-                es.append(plan.pointer(servos[joint].spring._constraint))
+                springs.append(joint)
                 eto.append(to)
                 esteps.append(entry[1])
-            e1.append(len(es))
-        self.uses_com = any(k in _fk.USES_COM for k in kind)
-        self._keep = keep = []
+            e1.append(len(springs))
+        keep = []
 
         def arr(t, values, n=None):
             a = ffi.new(f"{t}[]", values if values else (n or 1))
@@ -147,46 +137,75 @@ class States:
         st.r_after, st.r_period, st.r_target = arr("int", after), arr("int", per), \
             arr("int", target)
         st.r_cond0, st.r_ncond = arr("int", c0), arr("int", nc)
-        st.c_kind, st.c_a, st.c_b = arr("int", kind), arr("void *", ca), arr("void *", cb)
+        st.c_kind, st.c_a, st.c_b = arr("int", kind), arr("void *", None, len(kind)), \
+            arr("void *", None, len(kind))
         st.c_lo, st.c_hi, st.c_want = arr("double", lo), arr("double", hi), arr("int", want)
-        st.e0, st.e1, st.e_spring = arr("int", e0), arr("int", e1), arr("void *", es)
+        st.e0, st.e1 = arr("int", e0), arr("int", e1)
+        st.e_spring = arr("void *", None, len(springs))
         st.e_to, st.e_steps = arr("double", eto), arr("int", esteps)
         st.p_target, st.b_live = arr("int", None, MAX_ROWS), arr("int", None, MAX_ROWS)
         st.max_log, st.max_val = MAX_LOG, MAX_VAL
         st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_arg, st.l_val0 = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_val = arr("double", None, MAX_VAL)
-        self.st = st
+        uses_com = any(k in _fk.USES_COM for k in kind)
+        return [names, entries, targets, st, keep, src, springs, uses_com, None]
+
+    def _seat(self, rt, made: list) -> None:
+        """The conditions' links and the entries' springs of the seat of now (a
+        re-seat makes new bodies)."""
+        character, plan = rt.character, self.plan
+        bodies, joints, servos = character.bodies, character.spec, character.servos
+        st, src, springs = made[3], made[5], made[6]
+        null = self.ffi.NULL
+        for c, (k, name) in enumerate(src):
+            pa = pb = null
+            if k == _fk.JOINT:
+                joint = joints.joint(name)
+                pa = plan.pointer(bodies[joint.child]._body)
+                pb = plan.pointer(bodies[joint.parent]._body)
+            elif name is not None:
+                pa = plan.pointer(bodies[name]._body)
+            st.c_a[c], st.c_b[c] = pa, pb
+        for e, joint in enumerate(springs):
+            st.e_spring[e] = plan.pointer(servos[joint].spring._constraint)
 
     def arm(self, rt, machine, seq, rows: list) -> bool:
         """The loop may enter states from the plan just filled (``rows``: per plan
         transition, the machine's transition index or None): the table made for this
-        binding and seat, each row's state, every blend row travelling; False (and the
-        plan's ``states`` NULL) when the runtime has other work or a row cannot be."""
+        binding, mode and period (its pointers for the seat), each row's state, every
+        blend row travelling; False (and the plan's ``states`` NULL) when the runtime
+        has other work or a row cannot be."""
         p = self.plan.plan
         p.states = self.ffi.NULL
         if seq is not None or rt.active_maps or rt.feedback.busy or rt.frames.held \
                 or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused \
-                or machine.every != 1 or len(rt._machine_list) != 1:
+                or len(rt._machine_list) != 1:
             return False
         moving = rt.blends.moving
-        if any(m[4] is not None for m in moving.values()):
+        if len(moving) > MAX_ROWS or any(m[4] is not None for m in moving.values()):
             return False
-        key = (rt.roles.binding, rt.mode, rt.character.bodies, rt.sim.seats, rt.sim.space)
-        if key != self._built:
-            self._build(rt, machine)
-            self._built = key
-        goes = self.targets[machine.current]
-        st = self.st
+        key = (rt.roles.binding, rt.mode, machine.every)
+        made = self._made.get(key)
+        if made is None:
+            made = self._made[key] = self._build(rt, machine)
+        seat = (rt.character.bodies, rt.sim.seats, rt.sim.space)
+        if made[8] != seat:
+            self._seat(rt, made)
+            made[8] = seat
+        self.names, self.entries, targets, st = made[:4]
+        self.uses_com = made[7]
+        goes = targets[machine.current]
         for k, i in enumerate(rows):
             if i is None:
                 return False  # (a sequence's until, an input decided: not armed)
             st.p_target[k] = goes[i]
-        self.rows = list(moving)
-        self.live = set(range(len(self.rows)))
-        for j in range(len(self.rows)):
+        self.rows = rows = list(moving)
+        self.row_of = {joint: j for j, joint in enumerate(rows)}
+        for j in range(len(rows)):
             st.b_live[j] = 1
-        p.states = st
+        st.started = -1
+        self.st = p.states = st
         return True
 
     def handed_back(self, rt, machine) -> bool:
@@ -200,13 +219,13 @@ class States:
         if not n:
             return False
         moving, table, ffi = rt.blends.moving, rt.owners.table, self.ffi
-        rows, live, entries = self.rows, self.live, self.entries
+        rows, row_of, entries = self.rows, self.row_of, self.entries
         last = None
         for step, kind, arg, v in zip(ffi.unpack(st.l_step, n), ffi.unpack(st.l_kind, n),
                                       ffi.unpack(st.l_arg, n), ffi.unpack(st.l_val0, n)):
             if kind == 0:  # an arrival (BlendController._write)
                 joint = rows[arg]
-                live.discard(arg)
+                del row_of[joint]
                 del moving[joint]
                 del table[joint]
                 continue
@@ -219,15 +238,17 @@ class States:
                 table.pop(joint, None)
             end = step + max(1, steps)
             forget = rt.frames.forget
-            at = {rows[j]: j for j in live}
             for joint, to in targets:
                 forget(joint)
                 moving[joint] = [st.l_val[v], to, step, end, None]
                 v += 1
-                if joint not in at:  # (the kernel's new row)
-                    at[joint] = len(rows)
-                    live.add(len(rows))
-                    rows.append(joint)
+                if joint not in row_of:  # (the kernel's row: the first free, else new)
+                    used = set(row_of.values())
+                    j = next(j for j in range(len(rows) + 1) if j not in used)
+                    if j == len(rows):
+                        rows.append(joint)
+                    rows[j] = joint
+                    row_of[joint] = j
             rt.owners.claim(joints, BLEND)
         if last is None:
             return False

@@ -320,8 +320,11 @@ static int pk_tick(pk_poll_plan *p, int s)
         p->t_ticks++;
         p->t_last = s;
     }
-    if (s % p->every)
+    if (s % p->every) {  /* an arrival, or an entry's start (its _write): all written */
+        if (p->states && (p->states->started == s || pk_arriving(p, s)))
+            pk_blend_write(p, s);
         return 0;
+    }
     p->writes++;
     if (p->states)  /* (arrivals too, logged) */
         pk_blend_write(p, s);

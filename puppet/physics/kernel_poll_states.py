@@ -41,6 +41,7 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     int *l_val0;
     double *l_val;
     int n_val, max_val;
+    int started;          /* the step an entry last started targets travelling */
 } pk_states;
 """
 
@@ -78,6 +79,15 @@ static void pk_blend_write(pk_poll_plan *p, int s)
     }
 }
 
+/* an arrival due at ``s`` (BlendController.tick between control steps) */
+static int pk_arriving(pk_poll_plan *p, int s)
+{
+    for (int j = 0; j < p->n_blend; j++)
+        if (p->states->b_live[j] && s >= p->b_last[j])
+            return 1;
+    return 0;
+}
+
 /* room for a tick's entries and arrivals, else Python's tick */
 static int pk_room(pk_poll_plan *p, pk_states *st)
 {
@@ -89,8 +99,10 @@ static int pk_room(pk_poll_plan *p, pk_states *st)
    it does not fit the plan's rows (nothing done: Python's) */
 static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
 {
-    int k = 0, i = 0, n = p->n_blend;
-    for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* a joint not travelling: a new row */
+    int k = 0, i = 0, n = 0;
+    for (int j = 0; j < p->n_blend; j++)  /* rows in use */
+        n += st->b_live[j];
+    for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* a joint not travelling: a row more */
         int j = 0;
         while (j < p->n_blend && !(st->b_live[j] && p->spring[j] == st->e_spring[e]))
             j++;
@@ -108,8 +120,14 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
         double from = get_rest_angle(st->e_spring[e]);
         while (j < p->n_blend && !(st->b_live[j] && p->spring[j] == st->e_spring[e]))
             j++;
-        if (j == p->n_blend)
-            p->n_blend++;
+        if (j == p->n_blend) {  /* a new joint: the first free row, else one more */
+            j = 0;
+            while (j < p->n_blend && st->b_live[j])
+                j++;
+            if (j == p->n_blend)
+                p->n_blend++;
+        }
+        st->started = s;
         p->spring[j] = st->e_spring[e];
         p->start[j] = from;
         p->to[j] = st->e_to[e];
@@ -149,7 +167,9 @@ static int pk_transit(pk_poll_plan *p, int s, int k, pk_com_now *com)
     int b = st ? st->p_target[k - 1] : -1;
     if (b < 0 || !pk_room(p, st))
         return 1;
-    pk_blend_write(p, s);  /* (the controllers tick before the machines) */
+    if (s % p->every == 0 || pk_arriving(p, s))  /* (the controllers tick before the
+                                                    machines: BlendController.tick) */
+        pk_blend_write(p, s);
     for (int chain = 1;; chain++) {
         if (!pk_enter(p, st, b, s))
             return 1;
