@@ -374,7 +374,7 @@ class PollPlan:
         p, until = self.plan, NEVER
         p.states, self._armed, rows = self.ffi.NULL, False, []
         states = states and seq is None and not self._many and not any(
-            c[0] is None for _, cs, *_ in table if cs for c in cs)
+            c[0] is None for _, cs, *_ in table if cs for c in cs) and States.usable(rt)
         character = rt.character
         bodies, joints = character.bodies, character.spec
         k = i = 0

@@ -170,6 +170,15 @@ class States:
         for e, joint in enumerate(springs):
             st.e_spring[e] = plan.pointer(servos[joint].spring._constraint)
 
+    @staticmethod
+    def usable(rt) -> bool:
+        """Nothing but the machine's polls and plain travelling targets busy: asked
+        before the plan is filled (a plan armed has its timers as rows)."""
+        return not (rt.active_maps or rt.feedback.busy or rt.frames.held
+                    or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused
+                    or len(rt._machine_list) != 1 or len(rt.blends.moving) > MAX_ROWS
+                    or any(m[4] is not None for m in rt.blends.moving.values()))
+
     def arm(self, rt, machine, seq, rows: list) -> bool:
         """The loop may enter states from the plan just filled (``rows``: per plan
         transition, the machine's transition index or None): the table made for this
@@ -178,13 +187,9 @@ class States:
         has other work or a row cannot be."""
         p = self.plan.plan
         p.states = self.ffi.NULL
-        if seq is not None or rt.active_maps or rt.feedback.busy or rt.frames.held \
-                or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused \
-                or len(rt._machine_list) != 1:
+        if seq is not None or not self.usable(rt):
             return False
         moving = rt.blends.moving
-        if len(moving) > MAX_ROWS or any(m[4] is not None for m in moving.values()):
-            return False
         key = (rt.roles.binding, rt.mode, machine.every)
         made = self._made.get(key)
         if made is None:
