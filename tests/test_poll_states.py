@@ -108,8 +108,11 @@ def test_no_states_table_with_other_work(path_of):
     states = plan._states
     machine = rt._machine_list[0]
     assert machine.every == 8 and rt.mode == "mouse"  # (ground: 60 a second)
-    assert states._enterable(rt, machine, "tucked") is None  # (its maps)
-    assert states._enterable(rt, machine, "reaching") is None  # (480 a second)
-    assert states._enterable(rt, machine, "push") is None  # (a mode change)
-    targets, steps = states._enterable(rt, machine, "rising")  # (60, a set with over)
+    assert states._enterable(rt, machine, "tucked", "mouse", 8) is None  # (its maps)
+    assert states._enterable(rt, machine, "reaching", "mouse", 8) is None  # (480 a second)
+    assert states._enterable(rt, machine, "push", "mouse", 8) is None  # (a mode change)
+    targets, steps = states._enterable(rt, machine, "rising", "mouse", 8)  # (60, a set with over)
     assert [j for j, _ in targets] == ["ankle", "knee"] and steps == 96, (targets, steps)
+    assert states._enterable(rt, machine, "reaching", "helper", 1) is not None
+    assert states._enterable(rt, machine, "push", "helper", 1) is not None  # (its mode)
+    assert (rt.roles.binding, "helper", 1) in states._made  # (made with the runtime)

@@ -187,6 +187,7 @@ class PollPlan:
         for name, steps in self.runtime.sequences.specs.items():
             for index in range(len(steps)):
                 self._sequence_until(name, index)
+        self._states.prime(self.runtime)  # (the loop's states tables: poll_states)
 
     def _sequence_until(self, name: str, index: int):
         """A sequence step's ``until`` (``compile_untils``): (after in steps, its

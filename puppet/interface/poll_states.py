@@ -58,8 +58,9 @@ class States:
         self.row_of: dict = {}  # a travelling joint -> its row
         self.uses_com = False  # a state's conditions read the centre of mass
 
-    def _enterable(self, rt, machine, name: str):
-        """``(targets, steps)`` of a state the loop can enter (its entry's), else None."""
+    def _enterable(self, rt, machine, name: str, mode, every: int):
+        """``(targets, steps)`` of a state the loop can enter (its entry's), else None,
+        in ``mode`` at the period ``every``."""
         spec = machine.spec.states[name]
         table = self.plan._table(machine, name)
         if table is None or spec.roles is not None or spec.maps:
@@ -67,13 +68,13 @@ class States:
         if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
             return None
         period = rt.period
-        every = min(period.base, period.fast.get(machine.name, {}).get(name, period.base))
-        if every != machine.every:  # (a rate of its own: _follow_rate's, Python's)
+        own = period.fast.get(machine.name, {}).get(name, period.base)
+        if every != min(period.base, own):  # (a rate of its own: _follow_rate's, Python's)
             return None
         a = spec.enter
-        if a is None or (a.set == {} and blend_only(a, rt.mode)):
+        if a is None or (a.set == {} and blend_only(a, mode)):
             return [], 1
-        if not blend_only(a, rt.mode):
+        if not blend_only(a, mode):
             return None
         rename, servos, targets = rt.roles.rename, rt.character.servos, {}
         for joint, value in a.set.items():  # (BlendController.start_action's order)
@@ -84,14 +85,26 @@ class States:
             targets[joint] = math.radians(value)
         return list(targets.items()), round(a.over / rt.dt)
 
-    def _build(self, rt, machine) -> tuple:
+    def prime(self, rt) -> None:
+        """The tables for each mode and period of a one-machine runtime, made when it
+        is (as the plan's own: a first build in a replay is between its steps)."""
+        if len(rt._machine_list) != 1:
+            return
+        machine, period = rt._machine_list[0], rt.period
+        for mode in {rt.mode, *rt.spec.modes}:
+            for every in {period.base, *period.fast.get(machine.name, {}).values()}:
+                key = (rt.roles.binding, mode, every)
+                if key not in self._made:
+                    self._made[key] = self._build(rt, machine, mode, every)
+
+    def _build(self, rt, machine, mode, every: int) -> tuple:
         """The table for the binding, mode and period of now: (the states' names, their
         entries, per state its transitions' states, the struct, what its conditions
         and entries point at, whether one reads the centre of mass, the seat)."""
         ffi, plan, spec = self.ffi, self.plan, machine.spec
         names = list(spec.states)
         index = {n: k for k, n in enumerate(names)}
-        entries = [self._enterable(rt, machine, n) for n in names]
+        entries = [self._enterable(rt, machine, n, mode, every) for n in names]
         targets = {}
         t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
         kind, src, lo, hi, want = [], [], [], [], []
@@ -109,7 +122,7 @@ class States:
             entry = entries[index[name]]
             for a_, cs, _, i in plan._table(machine, name) if entry else ():
                 after.append(a_)
-                per.append(machine.every if cs else 1)  # (a timer: at any step)
+                per.append(every if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])
                 c0.append(len(kind))
                 nc.append(len(cs or ()))
@@ -193,7 +206,7 @@ class States:
         key = (rt.roles.binding, rt.mode, machine.every)
         made = self._made.get(key)
         if made is None:
-            made = self._made[key] = self._build(rt, machine)
+            made = self._made[key] = self._build(rt, machine, rt.mode, machine.every)
         seat = (rt.character.bodies, rt.sim.seats, rt.sim.space)
         if made[8] != seat:
             self._seat(rt, made)
