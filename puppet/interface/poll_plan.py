@@ -12,8 +12,11 @@ control period. Then
 a transition holds (or the frame check fails, or a timer, a blend's arrival, a
 history boundary or the call's end comes) with the runtime rescheduled as though it
 had ticked at every step in between: the next tick runs exactly where it would have.
-A run cut at its call's end (an input event) goes on at the next tick, the kernel's
-(``resume``), if ``ready`` finds the plan still holds what is due there.
+A run cut at its call's end (an input event) or at a history boundary goes on at the
+next tick, the kernel's (``resume``), if ``ready`` finds the plan still holds what is
+due there. With nothing else busy, a transition into a state whose entry is a plain
+``set`` with ``over`` (or nothing), its timers and the blend's arrivals are the loop's
+too (``poll_states``: armed by ``_fill``, handed back after the call).
 
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s

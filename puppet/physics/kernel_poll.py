@@ -25,6 +25,11 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     them true (``since``, handed back: ``StateMachine.due``'s ``_since``), on the
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
     joint's angle, a link's spin, its height;
+  * a transition that holds into a state the plan's ``states`` table can enter (its
+    entry a plain ``set`` with ``over``, or nothing; ``kernel_poll_states``): the
+    tick's writes, the state's table and targets, the states chained after it, each
+    logged for ``interface.poll_states`` to hand back; with the table the timers are
+    rows without conditions, and the blend's arrivals are the loop's too;
   * then the travelling targets of a blend (``BlendController._write``: the eased
     value, smoothstep, written as the servo's rest angle, or a frame target's angle),
     the held frame targets (``FrameTargets.tick``: each joint's target re-solved from
