@@ -15,8 +15,8 @@ had ticked at every step in between: the next tick runs exactly where it would h
 A run cut at its call's end (an input event) or at a history boundary goes on at the
 next tick, the kernel's (``resume``), if ``ready`` finds the plan still holds what is
 due there. With nothing else busy, a transition into a state whose entry is a plain
-``set`` with ``over`` (or nothing), its timers and the blend's arrivals are the loop's
-too (``poll_states``: armed by ``_fill``, handed back after the call).
+``set`` with ``over`` (or nothing), timers and the blend's arrivals are the loop's too
+(``poll_states``: armed by ``_fill``, handed back after the call).
 
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
@@ -397,9 +397,7 @@ class PollPlan:
                 table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
         for after, conditions, hold, index, *period in table:
             first = entered + after
-            if conditions is None and states:  # a timer: a row without conditions
-                if k >= MAX_CONDITIONS:
-                    return None
+            if conditions is None and states and k < MAX_CONDITIONS:  # a timer: a row
                 p.first[k], p.cond0[k], p.n_cond[k], p.hold[k], p.period[k] = first, i, 0, 0, 1
                 rows.append(index)
                 k += 1
@@ -452,8 +450,7 @@ class PollPlan:
                 p.spring[n] = null
                 travelling[joint] = n
             p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
-            if not states:  # (an arrival: Python's tick, else the loop's)
-                until = last if last < until else until
+            until = last if last < until and not states else until  # (the loop's, armed)
             n += 1
         p.n_blend, p.every = n, every
         n, frame_joints, frame_rows = 0, rt.frames.joints, []
@@ -504,11 +501,15 @@ class PollPlan:
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
         handed = self._armed and p.states.n_log  # (states entered, targets arrived)
         entered = handed and self._states.handed_back(rt, machine)
-        if entered:  # (the plan is filled again at the next ready)
-            self._filled = None
-            self._state_table()
+        if entered:
+            self._state_table()  # (the plan holds its rows, as _fill writes them)
         if self._live and machine.device_only:
             self._quieted(p, quiet and not entered, now, s, tick_first)
+        if handed:  # what ready's key finds now: the plan as the loop left it (a state
+            self._filled, sim = self._current, rt.sim  # entered: no `for`s)
+            self._held = [] if entered else self._held
+            self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
+                         machine.every, None, tuple(rt.blends.moving.items()))
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step
@@ -519,8 +520,7 @@ class PollPlan:
                                BLEND)
         if self._held and self._many:
             since_back(self)
-        elif self._held and not entered:  # the `for`s' starts handed back (a snapshot
-            # keeps them; a state entered has none yet)
+        elif self._held:  # the `for`s' starts handed back (a snapshot keeps them)
             since = p.since
             self.machine._since = {index: since[k] for k, index in self._held
                                    if since[k] >= 0}
