@@ -212,7 +212,8 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
 
 /* StateMachine.due at a control step: does any polled transition hold at ``s``? (its
    row + 1, else 0) */
-static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
+static inline __attribute__((always_inline))
+int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
 {
     for (int k = 0; k < p->n_trans; k++) {
         int holds = 1;
