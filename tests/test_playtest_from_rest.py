@@ -85,3 +85,12 @@ def test_the_handstand_whose_phases_follow_the_body_lands_from_any_moment(capsys
                  "--between", "0.5", "2.5", "--jobs", "1"])
     out = capsys.readouterr().out
     assert code == 0 and "biped-handstand: 3/3 presses of h from rest land" in out, out
+
+
+def test_the_wall_flip_lands_from_rest_whenever_w_is_pressed(capsys):
+    """biped-wall-flip (issue 28): w pressed at ten moments of the stillness (0.5 to 3 s)
+    lands at least 9 times (exit 0); the knee-first flip without its reach for the wall
+    (tuck_reach, which waits for the wall foot alone on the wall) landed 8."""
+    code = main(["playtest", "biped-wall-flip", "--from-rest", "w", "--jobs", "1"])
+    out = capsys.readouterr().out
+    assert code == 0 and "presses of w from rest land" in out, out

@@ -29,7 +29,9 @@ its machine is left quiet as Python's ticks leave it (``_quieted``).
 Anything else keeps Python's path: a ``for`` on a device input, a state polling
 other device inputs alone, another sensor (a lean, the support polygon, a lead), a frame
 target taken back by a later write or travelling in a blend, any other busy
-controller, a second machine, a tracker. Without the kernel there is no plan
+controller, a second machine, a tracker but an ``angles`` one with intentional
+contacts (``poll_track``: its targets and the contacts' swing at its control steps,
+``may_track`` asked first). Without the kernel there is no plan
 (``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
 """
 
@@ -39,9 +41,10 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
-from puppet.interface.poll_machines import joint_table, since_back, since_into
+from puppet.interface.poll_machines import joint_table, quiet_now, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poll_states import States
+from puppet.interface.poll_track import may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
@@ -116,6 +119,7 @@ class PollPlan:
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
         self._states = States(self)  # transitions the loop takes (poll_states)
         self._armed = False  # (the plan's states table armed by the last _fill)
+        self._angles = None  # (poll_track.AngleTrack: a tracker's angles, made once)
 
     def pointer(self, cdata):
         """``kernel.pointer``, remembered (``physics.kernel.remembered``)."""
@@ -240,8 +244,9 @@ class PollPlan:
         rt, machine = self.runtime, self.machine
         if step != self.resume:  # Python ticked before the step the last run went on to
             self.resume = -1
-        if rt.tracker.mode != OFF:  # (asked first: a tracking interface's every tick,
-            return None  # with one machine or several)
+        tracking = rt.tracker.mode != OFF  # (poll_track: an angles tracker beside)
+        if tracking and not may_track(rt.tracker):  # (asked first: its every tick)
+            return None
         table = self._state_table()
         if table is None:
             return None
@@ -250,14 +255,16 @@ class PollPlan:
             feeding = feedback.compiled()  # (Feedback.tick's own compiled call)
             if feeding is None or feedback.every != machine.every:
                 return None
-        if (rt.next_wakeup is None and not idle) or rt._pending or rt.tracker.mode != OFF:
+        if (rt.next_wakeup is None and not idle) or rt._pending:
             return None
         blends, sequences = rt.blends, rt.sequences
         frames, reaching, grasping = rt.frames, rt.reaching, rt.grasping
+        tracker = rt.tracker if tracking else None
         for controller in rt._active:
             if controller is not blends and controller is not sequences \
                     and controller is not feedback and controller is not frames \
-                    and controller is not reaching and controller is not grasping:
+                    and controller is not reaching and controller is not grasping \
+                    and controller is not tracker:
                 return None
         held = frames.held
         if held:  # frame targets: re-solved at the control steps, each by its owner
@@ -276,7 +283,7 @@ class PollPlan:
         if blends.every != every:
             return None
         if machine.device_only and not self._live and not machine.quiet \
-                and not self._quiet_now(machine, step):
+                and not quiet_now(machine, step):
             return None
         moving, owners = blends.moving, rt.owners.table
         travelling = False  # a frame target's angle travels (blend holds it each tick)
@@ -335,6 +342,10 @@ class PollPlan:
         if ends is None:
             return None
         until = ends if ends < until else until
+        ends = track_part(self, step, step == self.resume)  # (and a tracker's angles)
+        if ends is None:
+            return None
+        until = ends if ends < until else until
         return until if until > step else None  # (due now: Python's)
 
     def _held_again(self, held: dict) -> bool:
@@ -349,23 +360,6 @@ class PollPlan:
             if joint != was or target.ref != ref or target.hold_parent != hold_parent:
                 return False
             angle[n] = target.angle
-        return True
-
-    @staticmethod
-    def _quiet_now(machine, step: int) -> bool:
-        """A state polling device inputs alone, stirred by an input event, polls them
-        at ``step`` (a tick is due there, this one or Python's): when none holds, it is
-        quiet until the next event (what ``StateMachine.due`` finds and sets; no step
-        changes an input)."""
-        since = step - machine.entered
-        if step % machine.every or since < machine._polled:
-            return False
-        for _, after, read, test, lo, hi in machine._transitions:
-            if since < after:
-                continue
-            if read is None or ((lo < read() < hi) if test is None else test(read())):
-                return False  # a timer due, or a transition fires: Python's tick
-        machine.quiet = True
         return True
 
     def _fill(self, table, machine, every: int, seq, states: bool = True) -> int | None:

@@ -22,6 +22,7 @@ import math
 
 from puppet.interface.actions import MAX_CHAINED_GOTOS
 from puppet.interface.controllers import feedback_kernel as _fk
+from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND
 
 MAX_LOG = 256
@@ -187,7 +188,8 @@ class States:
     def usable(rt) -> bool:
         """Nothing but the machine's polls and plain travelling targets busy: asked
         before the plan is filled (a plan armed has its timers as rows)."""
-        return not (rt.active_maps or rt.feedback.busy or rt.frames.held
+        return not (rt.active_maps or rt.feedback.busy or rt.frames.held or rt._pending
+                    or rt.tracker.mode != OFF
                     or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused
                     or len(rt._machine_list) != 1 or len(rt.blends.moving) > MAX_ROWS
                     or any(m[4] is not None for m in rt.blends.moving.values()))

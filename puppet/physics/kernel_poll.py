@@ -48,6 +48,7 @@ express; everything else stays on Python's path. Written operation for operation
 the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
 """
 
+from puppet.physics.kernel_poll_contact import CONTACT_SOURCE
 from puppet.physics.kernel_poll_reach import REACH_SOURCE
 from puppet.physics.kernel_poll_states import STATES_SOURCE, STATES_TYPES
 from puppet.physics.kernel_poll_track import TRACK_SOURCE
@@ -171,6 +172,11 @@ typedef struct {
     double st_x0, st_y0, st_x1, st_y1, st_time, st_lift, st_low;
     int rx_on, rx_start, rx_done;  /* a reaction's weight (Tracker._weight): from rx_start, */
     double rx_dt, rx_weight, rx_hold, rx_recover;  /* rx_done: the step it ended (-1) */
+    int c_n;          /* intentional contacts at the tracker's ticks (kernel_poll_contact, */
+    void **c_body;    /* with t_nopull): per held hand its pin's body, and its row: the */
+    double *c_row;    /* point on it, the contact's start (angle, length, the performer's
+                         angle, length), the performer's vector and rates (10 values) */
+    double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
     pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
 } pk_poll_plan;
 """
@@ -241,7 +247,7 @@ int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-""" + REACH_SOURCE + STATES_SOURCE + r"""
+""" + REACH_SOURCE + CONTACT_SOURCE + STATES_SOURCE + r"""
 /* the tick at ``s``: 1 when a transition holds (one not the loop's to enter: nothing
    written) or a reach grasps */
 static int pk_tick(pk_poll_plan *p, int s)
@@ -292,10 +298,13 @@ static int pk_tick(pk_poll_plan *p, int s)
         }
         double weight = p->l_on ? l_weight : p->rx_on ? pk_react_weight(p, s) : p->t_weight;
         pk_targets(p->track, vals, has, p->t_own);
-        if (p->t_nopull) {
+        if (p->t_nopull) {  /* (a tracker's angles alone: poll_track, or the view lacks
+                               the root's place) */
+            if (p->c_n)  /* (Tracker.tick: the contacts after the targets) */
+                pk_contacts(p, &com);
             p->t_ticks++;
             p->t_last = s;
-            return 0;  /* (nothing else is in a tracker's table) */
+            goto control;
         }
         if (pose || w || p->t_mix || p->g_on || p->l_on) {
             if (pose) {
@@ -326,6 +335,7 @@ static int pk_tick(pk_poll_plan *p, int s)
         p->t_ticks++;
         p->t_last = s;
     }
+control:
     if (s % p->every) {  /* an arrival, or an entry's start (its _write): all written */
         if (p->states && (p->states->started == s || pk_arriving(p, s)))
             pk_blend_write(p, s);
