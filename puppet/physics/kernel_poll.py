@@ -26,6 +26,11 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     them true (``since``, handed back: ``StateMachine.due``'s ``_since``), on the
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
     joint's angle, a link's spin, its height;
+  * a transition that holds into a state the plan's ``states`` table can enter (its
+    entry a plain ``set`` with ``over``, or nothing; ``kernel_poll_states``): the
+    tick's writes, the state's table and targets, the states chained after it, each
+    logged for ``interface.poll_states`` to hand back; with the table the timers are
+    rows without conditions, and the blend's arrivals are the loop's too;
   * then the travelling targets of a blend (``BlendController._write``: the eased
     value, smoothstep, written as the servo's rest angle, or a frame target's angle),
     the held frame targets (``FrameTargets.tick``: each joint's target re-solved from
@@ -46,9 +51,10 @@ the Python it replaces (see ``kernel_source``), so the hashes are the same eithe
 
 from puppet.physics.kernel_poll_contact import CONTACT_SOURCE
 from puppet.physics.kernel_poll_reach import REACH_SOURCE
+from puppet.physics.kernel_poll_states import STATES_SOURCE, STATES_TYPES
 from puppet.physics.kernel_poll_track import TRACK_SOURCE
 
-POLL_TYPES = """
+POLL_TYPES = STATES_TYPES + """
 typedef struct {  /* walking in place between samples (tracking_walk, track_poll) */
     double *frames;   /* the gait cycle's clip: n_frames frames of width values */
     int n_frames, width, xi;  /* xi: root.x's place in a frame */
@@ -174,6 +180,7 @@ typedef struct {
     double *c_row;    /* point on it, the contact's start (angle, length, the performer's
                          angle, length), the performer's vector and rates (10 values) */
     double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
+    pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
 } pk_poll_plan;
 """
 
@@ -212,8 +219,10 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
     return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
-/* StateMachine.due at a control step: does any polled transition hold at ``s``? */
-static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
+/* StateMachine.due at a control step: does any polled transition hold at ``s``? (its
+   row + 1, else 0) */
+static inline __attribute__((always_inline))
+int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
 {
     for (int k = 0; k < p->n_trans; k++) {
         int holds = 1;
@@ -228,12 +237,12 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
         }
         if (p->hold[k] == 0) {
             if (holds)
-                return 1;
+                return k + 1;
         } else if (holds) {  /* `for`: held since the first poll that found it true */
             if (p->since[k] < 0)
                 p->since[k] = s;
             if (s - p->since[k] >= p->hold[k])
-                return 1;
+                return k + 1;
         } else {
             p->since[k] = -1;
         }
@@ -241,12 +250,14 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-""" + REACH_SOURCE + CONTACT_SOURCE + r"""
-/* the tick at ``s``: 1 when a transition holds or a reach grasps (nothing written) */
+""" + REACH_SOURCE + CONTACT_SOURCE + STATES_SOURCE + r"""
+/* the tick at ``s``: 1 when a transition holds (one not the loop's to enter: nothing
+   written) or a reach grasps */
 static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
-    if (pk_fires(p, s, &com))
+    int fired = pk_fires(p, s, &com);
+    if (fired && pk_transit(p, s, fired, &com))
         return 1;
     if ((p->n_reach || p->n_armed) && pk_reaches(p, s))
         return 1;
@@ -328,10 +339,15 @@ static int pk_tick(pk_poll_plan *p, int s)
         p->t_last = s;
     }
 control:
-    if (s % p->every)
+    if (s % p->every) {  /* an arrival, or an entry's start (its _write): all written */
+        if (p->states && (p->states->started == s || pk_arriving(p, s)))
+            pk_blend_write(p, s);
         return 0;
+    }
     p->writes++;
-    for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
+    if (p->states)  /* (arrivals too, logged) */
+        pk_blend_write(p, s);
+    else for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
         double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
         u = u * u * (3.0 - 2.0 * u);
         p->b_value[j] = p->start[j] + (p->to[j] - p->start[j]) * u;
@@ -391,6 +407,8 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
     int s = now;
     p->fb_ticks = p->writes = p->ev_done = p->t_ticks = 0;
     p->rx_done = p->t_last = -1;
+    if (p->states)
+        p->states->n_log = p->states->n_val = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {
