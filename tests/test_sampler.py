@@ -46,14 +46,18 @@ FIELDS = ("step", "t", "x", "y", "angle", "lowest", "contact", "com", "root_angl
 NAN_FIELDS = ("joint_channel",)
 
 
+# cat-gap (1/240 s) and luxo-gamepad-hop (1/480 s): a sample right after a checkpoint's
+# re-seat where a link's first shape's cached box is an ulp off its body's position
+# (adding the link's later shapes re-set it); the fast sampler read that box and its
+# ``lowest`` differed from the plain one's (head at 12 s in cat-gap, upper_arm at 3 s)
 @pytest.mark.parametrize("name", ["luxo-keys-somersaults", "cat-gap", "biped-mocap-walk",
-                                  "biped-giant-swings"])
+                                  "biped-giant-swings", "luxo-gamepad-hop"])
 def test_the_fast_sampler_reads_the_same_numbers_as_the_plain_one(name, monkeypatch):
     log = read_log(find_log(name))  # whole: the leap, the turns over the bar
     fast = replay(log, trajectory=True)
     monkeypatch.setattr(replay_mod, "Sampler", PlainSampler)
     plain = replay(log, trajectory=True)
-    assert fast.time == plain.time > 5.0
+    assert fast.time == plain.time > 4.0  # (luxo-gamepad-hop: 4.5 s)
     assert fast.final_hash == plain.final_hash
     for field in FIELDS:
         a, b = getattr(fast.trajectory, field), getattr(plain.trajectory, field)

@@ -191,7 +191,12 @@ class Sampler:
             if self.touches:
                 self._things = _things(session.sim)
         lib, touched, count, null = self._lib, self._touched, self._count, self._null
-        to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeGetBB, lib.cpBodyEachArbiter
+        # each shape's box worked out from its body now (as pymunk's cache_bb), not the one
+        # cached at the last step or add: after a re-seat or restore, adding a body's
+        # later shapes re-sets its position (Chipmunk sums their mass), so its first
+        # shape's cached box can be an ulp off until the next step (issue 29). The write
+        # is harmless: a step works every dynamic shape's box out again before using it.
+        to_world, get_bb, each = lib.cpBodyLocalToWorld, lib.cpShapeCacheBB, lib.cpBodyEachArbiter
         per_link = []
         space = self._per_link[0][0].space
         restored = getattr(space, "_puppet_contacts", None)  # just restored: the snapshot's
