@@ -17,6 +17,7 @@ from puppet.data.errors import DataError
 from puppet.mocap.bvh import read_bvh
 from puppet.session import Session
 from puppet.testing import replay_log
+from puppet.timeline.log import read_log
 from puppet.timeline.motion import planar_hierarchy, sample_motion, write_motion
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -120,11 +121,12 @@ def test_the_cats_tree_is_one_bvh_joint_per_link(tmp_path):
     assert joints[0].name == spec.root and joints[0].parent is None
     leaves = {j.name for j in joints} - {j.parent for j in joints}
     assert all(j.end is not None for j in joints if j.name in leaves)
-    motion = sample_motion(ROOT / "assets" / "logs" / "cat-trot.jsonl", 10.0, until_step=960)
+    log = read_log(ROOT / "assets" / "logs" / "cat-trot.jsonl")
+    motion = sample_motion(log, 10.0, until_step=round(2.0 / log.header["dt"]))  # its step
     out = tmp_path / "cat.bvh"
     write_motion(motion, out)
     clip = read_bvh(out)
-    assert clip.frames == 21
+    assert clip.frames == 21  # 0 .. 2 s at 10 fps
     for k, j in enumerate(spec.joints):
         got = clip.channel(j.child, "Zrotation")
         assert np.abs(got - np.degrees(motion.joint_angle[:, k])).max() < 0.01, j.name

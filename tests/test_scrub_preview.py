@@ -14,8 +14,10 @@ from puppet.session.history import Scrubber
 
 
 def _played(interface, seed=4):
-    """A session played with random mouse and key input for 7 s (two keyframes back)."""
+    """A session played with random mouse and key input for 7 s (two keyframes back),
+    60 frames a second on its character's own step (1/480 s; the cat's 1/240 s)."""
     session = Session(load_setup(interface))
+    per_frame = round(1 / (60 * session.sim.dt))  # steps a frame
     rng = random.Random(seed)
     keys = [k.key for k in session.setup.interface.keys][:4]
     for frame in range(420):
@@ -25,7 +27,7 @@ def _played(interface, seed=4):
             k = rng.choice(keys)
             session.handle(ev.key(k, True))
             session.handle(ev.key(k, False))
-        session.advance(8)
+        session.advance(per_frame)
     return session
 
 
@@ -53,7 +55,8 @@ def test_the_preview_shows_the_exact_past_and_restores_nothing_until_release(int
             assert _pose(live) == _pose(reference), live.steps  # to the bit
             checked += 1
     assert not restores  # the live space was never restored while scrubbing
-    assert checked >= 5 and min(shown) < 3360 - 1440  # it crossed into an earlier interval
+    assert checked >= 5 and min(shown) * live.sim.dt < 7.0 - 3.0  # it crossed into an
+    # earlier interval (3360 - 1440 steps at 1/480 s)
     step = live.steps
     scrub.release()  # the one exact rewind, to the step shown
     assert len(restores) == 1 and live.steps == step

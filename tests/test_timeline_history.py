@@ -50,17 +50,19 @@ def test_rewind_shows_exactly_what_was_played(setup, script):
     session = Session(load_setup(setup), checkpoint_interval=1.0)
     events = compile_script(load_script(find("script", script)), session.sim.dt)
     seen = {}
-    sample_every = 173  # not a multiple of the keyframe interval
+    per = round(1.0 / session.sim.dt)  # steps a second: the character's (the cat's 240)
+    steps = round(2000 * per / 480)  # 4.17 s
+    sample_every = round(173 * per / 480)  # not a multiple of the keyframe interval
 
     def sample(s):
         seen[s.steps] = s.sim.state_hash()
 
-    play(session, events, 2000, sample_every, sample)
-    assert [s.step for s in session.history.auto] == [0, 480, 960, 1440, 1920]
+    play(session, events, steps, sample_every, sample)
+    assert [s.step for s in session.history.auto] == [0, per, 2 * per, 3 * per, 4 * per]
     for step in sorted(seen, reverse=True):
         session.rewind_to(step)
         assert session.sim.state_hash() == seen[step], step
-    assert len(seen) == 2000 // sample_every
+    assert len(seen) == steps // sample_every
 
 
 def test_result_does_not_depend_on_how_advance_is_split():
