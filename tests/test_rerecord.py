@@ -46,3 +46,13 @@ def test_on_another_step_the_log_moves_its_events_and_says_the_step(tmp_path):
     from puppet.timeline.replay import replay
 
     assert replay(log).same_end
+
+
+def test_help_prints_the_usage_instead_of_reading_a_log_named_help():
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, str(ROOT / "tools" / "rerecord.py"), "--help"],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    assert "--new-end" in run.stdout and "--step 1/240" in run.stdout

@@ -76,6 +76,9 @@ def rerecord(path: Path, new_end: bool = False, step: float | None = None) -> st
 
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if not args or "-h" in args or "--help" in args:  # (was read as a log's name)
+        print(__doc__.strip())
+        sys.exit(0 if args else 2)
     step = None
     if "--step" in args:
         from puppet.timeline.other_physics import parse_step
