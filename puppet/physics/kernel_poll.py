@@ -36,9 +36,14 @@ the last one stopped at its end (an input event came there, which changed nothin
 the table holds: ``PollPlan.ready`` makes it again). It returns the step at which
 Python takes over: the first where a transition holds
 or the frame check fails (before any of that step's writes: the Python tick does them
-and goes on exactly as if it had run every step), or ``stop``. A sensor does not read
-a servo's target, so reading the conditions before the writes gives what the tick's
-order gives. ``interface.poll_plan`` builds the table, and only for what it can
+and goes on exactly as if it had run every step), or ``stop``. Python's tick polls the
+machines after its controllers' writes; here they come first. Most writes are servo
+targets, which no sensor reads before the next step, so the order gives the same
+readings; but ``pk_contacts`` changes every body's velocity, which the centre of
+mass's velocity, fall time and spin read (``poll_track.VELOCITY``): a plan whose
+machines read one of those never has contacts (``poll_track``: such ticks are
+Python's). A sequence's ``until`` is polled before the controllers in both.
+``interface.poll_plan`` builds the table, and only for what it can
 express; everything else stays on Python's path. Written operation for operation as
 the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
 """
