@@ -108,7 +108,7 @@ class PollPlan:
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
-        self._velocity = False  # a machine's transition reads VELOCITY (poll_track)
+        self._velocity = 0  # the plan's polls read VELOCITY: 1 a machine, 2 an until
         self._inputs = False  # the plan reads device inputs (in_val, at each ready)
         self._live = False  # the state's table reads no input but those (LIVE)
         self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
@@ -384,7 +384,8 @@ class PollPlan:
         entered = machine.entered
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
         self._frame_rows = None
-        uses_com = self._inputs = moves = False
+        uses_com = self._inputs = False
+        moves = 0
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
             found = self._sequence_until(name, step_index)
@@ -417,7 +418,8 @@ class PollPlan:
                 elif name is not None:
                     p.body_a[i] = self.pointer(bodies[name]._body)
                 uses_com = uses_com or kind in _fk.USES_COM
-                moves = moves or (kind in VELOCITY and index != -1)  # (not an until's)
+                if kind in VELOCITY:  # (1: a machine's, 2: a sequence's until's)
+                    moves |= 2 if index == -1 else 1
                 self._inputs = self._inputs or kind >= LIVE_INPUT
                 p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
                 i += 1

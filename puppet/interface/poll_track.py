@@ -24,10 +24,12 @@ Intentional contacts (``tracking.contacts``, the high bar's) are the tracker's t
 ``kernel_poll_contact.pk_contacts`` after the targets, on rows of each held hand
 (its grasp's pin, the contact's start, the performer's vector and rates, which
 Python works out at the sample when the tick there is the kernel's, as its tick
-would first). A contact that begins or ends is Python's. So is every tick while a
-machine's transition reads a sensor the contacts move (``VELOCITY``): ``pk_tick``
-polls the machines first, Python's tick after the controllers (the tracker's
-contacts among them), and the same step's readings differ. Without the kernel there
+would first). A contact that begins or ends is Python's. Python's tick polls the
+machines after the controllers (the tracker's contacts among them), ``pk_tick``
+before them: when a machine reads a sensor the contacts move (``VELOCITY``), the plan
+says ``c_late`` and the kernel makes a tracker tick's contacts first, undone (the
+velocities saved) when the tick is Python's after all; a sequence's ``until``, polled
+before the contacts in both, reading one too: Python's. Without the kernel there
 is no plan: the same ticks run in Python, to the same bits (tests/test_poll_track.py).
 """
 
@@ -192,8 +194,6 @@ class AngleTrack:
                 if chain not in grasps or chain not in chains:
                     return False
         n = len(pins)
-        if n and self.poll._velocity:  # (a machine reads what pk_contacts moves)
-            return False
         if pins != self._pins:  # the grasps' pins (a grasp, a re-seat: new joints)
             if n > 4:
                 return False
@@ -210,7 +210,12 @@ class AngleTrack:
             p.c_mass, p.c_period = c.mass, tr.period
             p.c_body, p.c_row = self._c_body, self._c_row
             self._com_of = c.bodies
-        p.c_n = n
+        # a machine reads what the contacts move (VELOCITY): they come first (c_late);
+        # an until reading it too, which Python polls before them: Python's
+        late = 1 if n and self.poll._velocity & 1 else 0
+        if late and (self.poll._velocity & 2 or p.com_n > 64):  # (PK_LATE)
+            return False
+        p.c_n, p.c_late = n, late
         return True
 
     def _anchor(self, joint) -> tuple:
