@@ -28,8 +28,9 @@ other device inputs alone, another sensor (a lean, the support polygon, a lead),
 target taken back by a later write or travelling in a blend, any other busy
 controller, a second machine, a tracker but an ``angles`` one with intentional
 contacts (``poll_track``: its targets and the contacts' swing at its control steps,
-``may_track`` asked first; not while a machine reads a velocity the swing moves). Without the kernel there is no plan
-(``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
+``may_track`` asked first; the swing first, ``c_late``, where a machine reads a
+velocity it moves). Without the kernel there is no plan (``PUPPET_KERNEL=python``):
+the same ticks run in Python, to the same bits.
 """
 
 from __future__ import annotations
