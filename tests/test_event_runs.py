@@ -140,7 +140,7 @@ def _edged(name: str, stride: int = 5):
 
 @needs_cc
 @pytest.mark.parametrize("name", ["luxo-headstand", "luxo-gamepad-hop", "luxo-backflip",
-                                  "biped-auto-walk"])
+                                  "biped-auto-walk", "cat-trot"])
 def test_values_clamped_or_whole_apply_as_pythons(name, path_of):
     assert path_of("c") is not None
     log, setup, pairs = _edged(name)

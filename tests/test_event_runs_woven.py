@@ -11,7 +11,8 @@ from puppet.session.playback import play
 from puppet.timeline.log import read_log
 from puppet.timeline.replay import new_session, setup_for_log
 
-LOGS = ["luxo-headstand", "luxo-gamepad-hop", "luxo-kip", "luxo-shuffle", "biped-auto-walk"]
+LOGS = ["luxo-headstand", "luxo-gamepad-hop", "luxo-kip", "luxo-shuffle", "biped-auto-walk",
+        "cat-trot"]
 
 
 def _woven(name):

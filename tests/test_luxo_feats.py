@@ -113,7 +113,8 @@ def test_kip_fails_with_weaker_servos_or_stronger_gravity(tmp_path, weaker):
 def test_headstand_balances_on_the_shade_for_two_seconds_then_stands():
     result = replayed("luxo-headstand")
     assert not result.failed, [str(o) for o in result.failed]
-    assert check(result, [{"stood_on": {"link": "upper_arm", "min_seconds": 3.5}}])
+    # balanced 3.4 s, until the player's flick down (the layout holds it as long as asked)
+    assert check(result, [{"stood_on": {"link": "upper_arm", "min_seconds": 4.5}}])
     # the back headspring only touches down on its shade
     assert check(replayed("luxo-back-headspring"),
                  [{"stood_on": {"link": "upper_arm", "min_seconds": 2.0}}])

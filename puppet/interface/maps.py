@@ -236,18 +236,23 @@ def _grid_run_kernel(grids, flips, uses, x_name, y_name, joints):
     spring_of = attrgetter("spring")
     bound = [None]  # the springs the kernel points at (a restore binds new ones)
 
-    def apply_grid_run_kernel(values):
-        x0, y0 = values.get(x_name), values.get(y_name)
-        if x0 is None or y0 is None:
-            return ()
+    def bind():
         springs = tuple(map(spring_of, servos))
         if springs != bound[0]:
             for j, spring in enumerate(springs):
                 keep[2][j] = kern.pointer(spring._constraint)
             bound[0] = springs
+
+    def apply_grid_run_kernel(values):
+        x0, y0 = values.get(x_name), values.get(y_name)
+        if x0 is None or y0 is None:
+            return ()
+        bind()
         run(g, x0, y0)
         return joints
     apply_grid_run_kernel.keep = (g, keep)  # (the arrays live as long as the applier)
+    # the table, bound to the springs of now (bind), for the kernel's event runs
+    apply_grid_run_kernel.grid_run = (g, bind, x_name, y_name, joints)
     return apply_grid_run_kernel
 
 
@@ -266,6 +271,13 @@ def _compile_linear(spec, servos, channels=None):
         for servo, gain in outs:  # servo.target = (a re-seat may give it a new spring)
             SET_TARGET(servo.spring._constraint, gain * v)
         return joints
+    x0, inv, lo, span, clamp, f, name, source = _unit_numbers(spec, channels)
+    if clamp and f is None:  # clamped, no curve: one plain row a joint for the kernel's
+        # event runs (gain * (lo + u * span): the same operations as ``value``'s, then
+        # ``gain * v``; what ``_plain_run`` reads)
+        apply_linear.plain_run = (source, tuple(
+            (name, x0, inv, lo, span, gain, servo, joint)
+            for (servo, gain), joint in zip(outs, joints)))
     return apply_linear
 
 

@@ -51,3 +51,20 @@ def since_back(plan) -> None:
             got[index] = since[k]
     for n, got in back.items():
         machines[n]._since = got
+
+
+def quiet_now(machine, step: int) -> bool:
+    """A state polling device inputs alone, stirred by an input event, polls them at
+    ``step`` (a tick is due there, this one or Python's: ``PollPlan.ready``): when none
+    holds, it is quiet until the next event (what ``StateMachine.due`` finds and sets;
+    no step changes an input)."""
+    since = step - machine.entered
+    if step % machine.every or since < machine._polled:
+        return False
+    for _, after, read, test, lo, hi in machine._transitions:
+        if since < after:
+            continue
+        if read is None or ((lo < read() < hi) if test is None else test(read())):
+            return False  # a timer due, or a transition fires: Python's tick
+    machine.quiet = True
+    return True

@@ -12,8 +12,11 @@ control period. Then
 a transition holds (or the frame check fails, or a timer, a blend's arrival, a
 history boundary or the call's end comes) with the runtime rescheduled as though it
 had ticked at every step in between: the next tick runs exactly where it would have.
-A run cut at its call's end (an input event) goes on at the next tick, the kernel's
-(``resume``), if ``ready`` finds the plan still holds what is due there.
+A run cut at its call's end (an input event) or at a history boundary goes on at the
+next tick, the kernel's (``resume``), if ``ready`` finds the plan still holds what is
+due there. With nothing else busy, a transition into a state whose entry is a plain
+``set`` with ``over`` (or nothing), timers and the blend's arrivals are the loop's too
+(``poll_states``: armed by ``_fill``, handed back after the call).
 
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
@@ -39,8 +42,9 @@ from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
-from puppet.interface.poll_machines import joint_table, since_back, since_into
+from puppet.interface.poll_machines import joint_table, quiet_now, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
+from puppet.interface.poll_states import States
 from puppet.interface.poll_track import VELOCITY, may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
@@ -115,6 +119,8 @@ class PollPlan:
         self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
+        self._states = States(self)  # transitions the loop takes (poll_states)
+        self._armed = False  # (the plan's states table armed by the last _fill)
         self._angles = None  # (poll_track.AngleTrack: a tracker's angles, made once)
 
     def pointer(self, cdata):
@@ -190,6 +196,7 @@ class PollPlan:
         for name, steps in self.runtime.sequences.specs.items():
             for index in range(len(steps)):
                 self._sequence_until(name, index)
+        self._states.prime(self.runtime)  # (the loop's states tables: poll_states)
 
     def _sequence_until(self, name: str, index: int):
         """A sequence step's ``until`` (``compile_untils``): (after in steps, its
@@ -278,7 +285,7 @@ class PollPlan:
         if blends.every != every:
             return None
         if machine.device_only and not self._live and not machine.quiet \
-                and not self._quiet_now(machine, step):
+                and not quiet_now(machine, step):
             return None
         moving, owners = blends.moving, rt.owners.table
         travelling = False  # a frame target's angle travels (blend holds it each tick)
@@ -315,7 +322,8 @@ class PollPlan:
             self._feeding = self.plan.feedback = feeding
         if self._com:
             self.plan.gravity = -sim.space.gravity[1]  # (conditions._fall_time's g)
-        if self._inputs:  # the inputs as they are now (an event may have moved them)
+        if self._inputs or self._armed:  # the inputs as they are now (an event may
+            # have moved them; a state the loop enters may read them)
             get, in_val = rt.inputs.get, self.plan.in_val
             in_val[0], in_val[1] = get("mouse.x", NAN), get("mouse.y", NAN)
             in_val[2], in_val[3] = get("pointer.x", NAN), get("pointer.y", NAN)
@@ -356,29 +364,17 @@ class PollPlan:
             angle[n] = target.angle
         return True
 
-    @staticmethod
-    def _quiet_now(machine, step: int) -> bool:
-        """A state polling device inputs alone, stirred by an input event, polls them
-        at ``step`` (a tick is due there, this one or Python's): when none holds, it is
-        quiet until the next event (what ``StateMachine.due`` finds and sets; no step
-        changes an input)."""
-        since = step - machine.entered
-        if step % machine.every or since < machine._polled:
-            return False
-        for _, after, read, test, lo, hi in machine._transitions:
-            if since < after:
-                continue
-            if read is None or ((lo < read() < hi) if test is None else test(read())):
-                return False  # a timer due, or a transition fires: Python's tick
-        machine.quiet = True
-        return True
-
-    def _fill(self, table, machine, every: int, seq) -> int | None:
+    def _fill(self, table, machine, every: int, seq, states: bool = True) -> int | None:
         """Write the plan: the state's polled transitions (those an input rules out
         left out), the blend's travelling targets; the step a timer or an arrival is
-        due (NEVER: none), or None when there is nothing to do or it does not fit."""
+        due (NEVER: none), or None when there is nothing to do or it does not fit.
+        ``states``: the loop may take transitions and arrivals (``poll_states``: the
+        timers are rows then, the arrivals the loop's; armed if all else fits)."""
         rt = self.runtime
         p, until = self.plan, NEVER
+        p.states, self._armed, rows = self.ffi.NULL, False, []
+        states = states and seq is None and not self._many and not any(
+            c[0] is None for _, cs, *_ in table if cs for c in cs) and States.usable(rt)
         character = rt.character
         bodies, joints = character.bodies, character.spec
         k = i = 0
@@ -398,6 +394,11 @@ class PollPlan:
                 table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
         for after, conditions, hold, index, *period in table:
             first = entered + after
+            if conditions is None and states and k < MAX_CONDITIONS:  # a timer: a row
+                p.first[k], p.cond0[k], p.n_cond[k], p.hold[k], p.period[k] = first, i, 0, 0, 1
+                rows.append(index)
+                k += 1
+                continue
             if conditions is None:  # a timer: Python's tick fires it
                 until = first if first < until else until
                 continue
@@ -431,6 +432,8 @@ class PollPlan:
                 p.period[k] = period[0] if period else every
                 if hold:
                     held.append((k, index))
+                if states:
+                    rows.append(index if index >= 0 else None)
                 k += 1
                 continue
             i = c0  # an input condition that does not hold: the transition cannot fire
@@ -446,15 +449,15 @@ class PollPlan:
                 p.spring[n] = null
                 travelling[joint] = n
             p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
-            until = last if last < until else until
+            until = last if last < until and not states else until  # (the loop's, armed)
             n += 1
         p.n_blend, p.every = n, every
-        n, frame_joints, rows = 0, rt.frames.joints, []
+        n, frame_joints, frame_rows = 0, rt.frames.joints, []
         for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
             if n >= MAX_CONDITIONS:
                 return None
             spec, ref = frame_joints[joint], target.ref
-            rows.append((joint, ref, target.hold_parent))
+            frame_rows.append((joint, ref, target.hold_parent))
             p.f_parent[n] = self.pointer(bodies[spec.parent]._body)
             p.f_child[n] = self.pointer(bodies[spec.child]._body)
             p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
@@ -462,7 +465,12 @@ class PollPlan:
             p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
             p.f_blend[n] = travelling.get(joint, -1)
             n += 1
-        p.n_frame, self._frame_rows = n, rows
+        p.n_frame, self._frame_rows = n, frame_rows
+        if states:
+            if not self._states.arm(rt, machine, seq, rows):
+                return self._fill(table, machine, every, seq, False)
+            self._armed = True
+            uses_com = uses_com or self._states.uses_com
         if uses_com:  # Character._com_kernel's arguments, for these bodies
             args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
@@ -488,10 +496,20 @@ class PollPlan:
             self._root, p.root = root, self.pointer(root)
         if space_ptr is not self._space_cd:
             self._space_cd, self._space_void = space_ptr, self.pointer(space_ptr)
-        quiet = self.machine.quiet
+        machine = self.machine
+        quiet = machine.quiet
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
-        if self._live and self.machine.device_only:
-            self._quieted(p, quiet, now, s, tick_first)
+        handed = self._armed and p.states.n_log  # (states entered, targets arrived)
+        entered = handed and self._states.handed_back(rt, machine)
+        if entered:
+            self._state_table()  # (the plan holds its rows, as _fill writes them)
+        if self._live and machine.device_only:
+            self._quieted(p, quiet and not entered, now, s, tick_first)
+        if handed:  # what ready's key finds now: the plan as the loop left it (a state
+            self._filled, sim = self._current, rt.sim  # entered: no `for`s)
+            self._held = [] if entered else self._held
+            self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
+                         machine.every, None, tuple(rt.blends.moving.items()))
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step
@@ -511,24 +529,32 @@ class PollPlan:
         # those that had it (the run changed none of their schedules' inputs), and the
         # one machine
         wake = None
-        for controller in rt._active:
+        for controller in () if handed else rt._active:
             at = controller.next_wakeup(s)
             if at is None:
                 rt._reschedule(s)  # (never here: the full one)
                 return s
             if wake is None or at < wake:
                 wake = at
-        rt._controllers_wake = wake
-        for machine in rt._machine_list:
-            at = machine.next_wakeup(s)
-            if at is not None and (wake is None or at < wake):
-                wake = at
-        rt.next_wakeup = wake = wake if wake is None or wake > s else s
+        if handed:  # (the controllers with work may be others: the full one)
+            rt._reschedule(s)
+            wake = rt.next_wakeup
+        else:
+            rt._controllers_wake = wake
+            for machine in rt._machine_list:
+                at = machine.next_wakeup(s)
+                if at is not None and (wake is None or at < wake):
+                    wake = at
+            rt.next_wakeup = wake = wake if wake is None or wake > s else s
         # stopped at the call's end: the next call may go on at the next tick (the
         # session steps to it as the loop would; an input event comes first, and
         # ``ready`` says whether it changed anything), when nothing else is due there
-        # and no history boundary comes before it
-        if s == end and wake is not None and wake < until and wake < last:
+        # and no history boundary comes before it; or stopped at a history boundary
+        # (``last``): the session's health check there changes nothing the run holds
+        # (a keyframe re-seats, a recovery restores: ``seat``, ``set_state``), so its
+        # next tick may go on likewise, before the boundary after it
+        if wake is not None and wake < until and ((s == last and wake < s + health)
+                                                  or (s == end and wake < last)):
             sim = rt.sim
             self.resume, self.seat = wake, (sim.space, sim.seats)
         return s

@@ -32,8 +32,9 @@ from puppet.physics.kernel_poll import POLL_CDEF, POLL_SOURCE
 from puppet.physics.kernel_source import CDEF as _CDEF
 from puppet.physics.kernel_source import SOURCE as _SOURCE
 
-CDEF, SOURCE = _CDEF + POLL_CDEF, _SOURCE + POLL_SOURCE  # (the stepping loop: kernel_poll)
-CDEF, SOURCE = CDEF + MAPS_CDEF, SOURCE + MAPS_SOURCE  # (pose grids: kernel_maps)
+CDEF, SOURCE = _CDEF + MAPS_CDEF, _SOURCE + MAPS_SOURCE  # (pose grids: kernel_maps)
+CDEF, SOURCE = CDEF + POLL_CDEF, SOURCE + POLL_SOURCE  # (the stepping loop: kernel_poll,
+# whose event runs run pose grids)
 
 # no contraction into fused multiply-adds, no reassociation, no sincos (kernel_source)
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin", "-fno-strict-aliasing"]

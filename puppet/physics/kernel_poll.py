@@ -13,7 +13,8 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     and sticks, ``session.event_runs``): each one's plain maps (clamped, linear: the
     runtime's ``maps._plain_run``, the same operations) written as rest angles, its
     frame maps' (the same arithmetic: ``maps._compile_frame``) as a held frame
-    target's new angle (``m_frame``: its row in ``f_*``), solved at once, and a
+    target's new angle (``m_frame``: its row in ``f_*``), solved at once, its pose
+    grids (a cat's legs: ``maps._grid_run``'s ``pk_grid_run``, ``k_grid``) and a
     mouse move's values into ``in_val``, the device inputs a condition reads
     (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
     (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
@@ -25,6 +26,11 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     them true (``since``, handed back: ``StateMachine.due``'s ``_since``), on the
     sensors ``conditions`` reads: a link's contact, its world angle within a turn, a
     joint's angle, a link's spin, its height;
+  * a transition that holds into a state the plan's ``states`` table can enter (its
+    entry a plain ``set`` with ``over``, or nothing; ``kernel_poll_states``): the
+    tick's writes, the state's table and targets, the states chained after it, each
+    logged for ``interface.poll_states`` to hand back; with the table the timers are
+    rows without conditions, and the blend's arrivals are the loop's too;
   * then the travelling targets of a blend (``BlendController._write``: the eased
     value, smoothstep, written as the servo's rest angle, or a frame target's angle),
     the held frame targets (``FrameTargets.tick``: each joint's target re-solved from
@@ -51,9 +57,10 @@ the Python it replaces (see ``kernel_source``), so the hashes are the same eithe
 
 from puppet.physics.kernel_poll_contact import CONTACT_SOURCE
 from puppet.physics.kernel_poll_reach import REACH_SOURCE
+from puppet.physics.kernel_poll_states import STATES_SOURCE, STATES_TYPES
 from puppet.physics.kernel_poll_track import TRACK_SOURCE
 
-POLL_TYPES = """
+POLL_TYPES = STATES_TYPES + """
 typedef struct {  /* walking in place between samples (tracking_walk, track_poll) */
     double *frames;   /* the gait cycle's clip: n_frames frames of width values */
     int n_frames, width, xi;  /* xi: root.x's place in a frame */
@@ -111,6 +118,8 @@ typedef struct {
     double *ev_v;     /* per event: its two values (x, y; a stick's value) */
     int n_kind;       /* per kind: its map rows [k_first, k_last) (-1: Python's) */
     int *k_first, *k_last;
+    pk_grid_table **k_grid;  /* per kind: NULL, or its pose grids (pk_grid_run, after
+                         its rows: they write other joints) on the event's two values */
     int *m_use;       /* per map row: which of its event's values it reads */
     double *m_x0, *m_inv, *m_lo, *m_span, *m_gain;
     void **m_spring;
@@ -179,6 +188,7 @@ typedef struct {
     double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
     int c_late;       /* the machines read a velocity the contacts move: at a tracker's
                          tick, the contacts first (Python's order), undone if it stops */
+    pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
 } pk_poll_plan;
 """
 
@@ -217,8 +227,10 @@ static double pk_value(const pk_poll_plan *p, int kind, void *a, void *b, pk_com
     return pk_sensor(kind, a, b, com->v, p->gravity);
 }
 
-/* StateMachine.due at a control step: does any polled transition hold at ``s``? */
-static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
+/* StateMachine.due at a control step: does any polled transition hold at ``s``? (its
+   row + 1, else 0) */
+static inline __attribute__((always_inline))
+int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
 {
     for (int k = 0; k < p->n_trans; k++) {
         int holds = 1;
@@ -233,12 +245,12 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
         }
         if (p->hold[k] == 0) {
             if (holds)
-                return 1;
+                return k + 1;
         } else if (holds) {  /* `for`: held since the first poll that found it true */
             if (p->since[k] < 0)
                 p->since[k] = s;
             if (s - p->since[k] >= p->hold[k])
-                return 1;
+                return k + 1;
         } else {
             p->since[k] = -1;
         }
@@ -246,16 +258,20 @@ static int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
     return 0;
 }
 
-""" + REACH_SOURCE + CONTACT_SOURCE + r"""
-/* the tick at ``s``: 1 when a transition holds or a reach grasps (nothing written) */
+""" + REACH_SOURCE + CONTACT_SOURCE + STATES_SOURCE + r"""
+/* the tick at ``s``: 1 when a transition holds (one not the loop's to enter: nothing
+   written) or a reach grasps */
 static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     pk_vect was[PK_LATE];
     int late = p->c_late && p->track && p->c_n && (s - p->t_phase) % p->t_every == 0;
-    if (late)  /* (Python's machines poll after the tracker's contacts: c_late) */
+    if (late)  /* (Python's machines poll after the tracker's contacts: c_late; no
+                  states entered in the loop with a tracker: poll_states.usable) */
         pk_contacts_first(p, &com, was);
-    if (pk_fires(p, s, &com) || ((p->n_reach || p->n_armed) && pk_reaches(p, s))) {
+    int fired = pk_fires(p, s, &com);
+    if ((fired && pk_transit(p, s, fired, &com))
+            || ((p->n_reach || p->n_armed) && pk_reaches(p, s))) {
         if (late)  /* (Python's tick does it all again) */
             pk_contacts_undo(p, was);
         return 1;
@@ -339,10 +355,15 @@ static int pk_tick(pk_poll_plan *p, int s)
         p->t_last = s;
     }
 control:
-    if (s % p->every)
+    if (s % p->every) {  /* an arrival, or an entry's start (its _write): all written */
+        if (p->states && (p->states->started == s || pk_arriving(p, s)))
+            pk_blend_write(p, s);
         return 0;
+    }
     p->writes++;
-    for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
+    if (p->states)  /* (arrivals too, logged) */
+        pk_blend_write(p, s);
+    else for (int j = 0; j < p->n_blend; j++) {  /* BlendController._write, none arrived */
         double u = (double)(s - p->b_first[j]) / (double)(p->b_last[j] - p->b_first[j]);
         u = u * u * (3.0 - 2.0 * u);
         p->b_value[j] = p->start[j] + (p->to[j] - p->start[j]) * u;
@@ -363,7 +384,8 @@ control:
 }
 
 /* The input events due at ``s`` (a mouse move, a stick), their maps as the runtime's
-   plain maps write them (maps._plain_run: one joint, clamped, linear): 1 when one is
+   plain maps write them (maps._plain_run: one joint, clamped, linear), then its pose
+   grids (maps._grid_run's, on a mouse move's x and y): 1 when one is
    not this call's to apply (Python applies it, and what comes after it) */
 static int pk_events(pk_poll_plan *p, int s)
 {
@@ -388,6 +410,8 @@ static int pk_events(pk_poll_plan *p, int s)
                          p->f_hold_parent[f], p->f_spring[f]);
             }
         }
+        if (p->k_grid && p->k_grid[kind])  /* a cat's legs' grids (maps._grid_run) */
+            pk_grid_run(p->k_grid[kind], p->ev_v[2 * e], p->ev_v[2 * e + 1]);
         p->ev_done++;
     }
     return 0;
@@ -399,6 +423,8 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
     int s = now;
     p->fb_ticks = p->writes = p->ev_done = p->t_ticks = 0;
     p->rx_done = p->t_last = -1;
+    if (p->states)
+        p->states->n_log = p->states->n_val = 0;
     if (tick_first && pk_tick(p, s))
         return s;
     for (;;) {

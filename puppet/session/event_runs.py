@@ -10,8 +10,11 @@ nearly all of it their events). The kernel takes a run of them when all an event
 does is what ``InterfaceRuntime.on_event`` does on its hot path with the runtime as it
 is now: store the input, and run the active maps reading it, each of them a plain map
 (``maps._plain_run``'s rows: one joint, clamped, linear; written operation for
-operation in C, so the targets have the same bits) on a joint no controller owns (the
-owners' table would take it back), or a frame map (``maps._compile_frame``'s: clamped,
+operation in C, so the targets have the same bits; a clamped linear map on several
+joints gives a row a joint, ``maps._compile_linear``'s ``plain_run``) on a joint no
+controller owns (the owners' table would take it back), one run of pose grids on the
+mouse's x and y (the cat's legs: ``maps._grid_run``'s table, ``pk_grid_run`` after the
+rows, on joints no row writes), or a frame map (``maps._compile_frame``'s: clamped,
 linear, held under the frame owner) on a joint the poll plan's frame loop already
 holds under it, in the same frame (the walkers' mouse: their swing and stance hips
 held in the world), which the kernel holds at the map's new angle and solves at once
@@ -181,6 +184,7 @@ class EventRuns:
             self._written[plan] = entry
             rows = entry.rows
             plan.n_kind, plan.k_first, plan.k_last = len(kinds), rows[0], rows[1]
+            plan.k_grid = self.ffi.NULL if entry.grids is None else entry.grids
             (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
              plan.m_spring, plan.m_frame) = rows[2:]
         return reach
@@ -249,24 +253,28 @@ class EventRuns:
             for r, servo in enumerate(entry.servos):
                 if servo is not None:  # (a frame map's row: the plan's spring)
                     spring[r] = pointer(servo.spring._constraint)
+            for bind in entry.binds:  # (the pose grids' tables: their own springs)
+                bind()
         return entry.spans
 
     def _made(self, runtime, sticks, objects) -> _Rows:
         mouse_names = MOUSE_NAMES + (POINTER_NAMES if runtime._pointer else ())
         frames = runtime.frames
-        per_kind = [_plain_rows(runtime._mouse_maps, mouse_names, frames)]
+        grids: list = [None]  # per kind: its pose grids' (table, bind, joints), or None
+        per_kind = [_plain_rows(runtime._mouse_maps, mouse_names, frames, grids)]
         for name, compiled in sticks:
+            grids.append(None)
             per_kind.append(None if compiled is None else
-                            _plain_rows(compiled, (name,), frames))
+                            _plain_rows(compiled, (name,), frames, grids))
         rows, spans, joints, holds = [], [], [], []
-        for got in per_kind:
+        for got, grid in zip(per_kind, grids):
             if got is None:
                 spans.append(None)
                 joints.append(None)
                 holds.append(None)
                 continue
             spans.append((len(rows), len(rows) + len(got)))
-            joints.append(tuple(r[7] for r in got if r[8] is None))
+            joints.append(tuple(r[7] for r in got if r[8] is None) + (grid[2] if grid else ()))
             holds.append([(len(rows) + n, r[7], *r[8]) for n, r in enumerate(got)
                           if r[8] is not None])
             rows.extend(got)
@@ -280,8 +288,15 @@ class EventRuns:
         for r, (u, a, b, c, d, g, _, _, frame) in enumerate(rows):
             use[r], x0[r], inv[r], lo[r], span[r], gain[r] = u, a, b, c, d, g
             m_frame[r] = -1 if frame is None else 0  # (a frame row's: set at each start)
-        return _Rows(objects, spans, joints, (k_first, k_last, *arrays_), [r[6] for r in rows],
-                     holds if any(holds) else None)
+        got = _Rows(objects, spans, joints, (k_first, k_last, *arrays_), [r[6] for r in rows],
+                    holds if any(holds) else None)
+        if any(g is not None for g, s in zip(grids, spans) if s is not None):
+            got.grids = ffi.new("pk_grid_table *[]", nk)
+            for k, (g, s) in enumerate(zip(grids, spans)):
+                if g is not None and s is not None:
+                    got.grids[k] = g[0]
+                    got.binds.append(g[1])
+        return got
 
     def applied(self, session, plan, events, i: int, on_event, rebuilding: bool) -> int:
         """The events ``plan``'s call applied, recorded and stored as ``feed`` does one
@@ -339,6 +354,8 @@ class _Rows:
         # None: no frame maps
         self.sim = self.seats = None  # the seat the rows' springs are of
         self.off: list = []  # the kinds turned off for the owners' table (start)
+        self.grids = None  # per kind: its pose grids' table (NULL: none; None: no kind's), and
+        self.binds: list = []  # the calls that bind those tables to the seat's springs
 
     def restore(self) -> None:
         """The kinds ``start`` turned off, on again."""
@@ -349,17 +366,27 @@ class _Rows:
             self.off = []
 
 
-def _plain_rows(appliers, names: tuple, frames=None) -> list | None:
+def _plain_rows(appliers, names: tuple, frames=None, grids: list | None = None) -> list | None:
     """The rows of ``appliers`` when every one is plain on ``names`` (the values the
     event sets), or a frame map on them holding its joints under the frame owner in
     ``frames``: (which value, x0, inv, lo, span, gain, servo, joint, frame), ``frame``
     None (a plain map's) or (ref, hold_parent) (a frame map's, whose servo is None);
-    else None. A joint a frame map holds is written by no other row."""
-    rows = []
+    else None. A joint a frame map holds is written by no other row. One run of pose
+    grids on the event's two values (x then y: ``maps._grid_run``'s, in the kernel)
+    may come among them, on joints no row writes: ``grids[-1]`` is set to its
+    (table, bind, joints)."""
+    rows, grid = [], None
     for apply in appliers:
         run = getattr(apply, "plain_run", None)
         if run is None:
             plain = getattr(apply, "plain", None)
+            if plain is None and grids is not None and hasattr(apply, "grid_run"):
+                table, bind, x_name, y_name, joints = apply.grid_run
+                if grid is not None or x_name not in names or y_name not in names \
+                        or names.index(x_name) % 2 != 0 or names.index(y_name) % 2 != 1:
+                    return None
+                grid = (table, bind, joints)
+                continue
             if plain is None:
                 held = getattr(apply, "frame_run", None)
                 if held is None:
@@ -384,4 +411,8 @@ def _plain_rows(appliers, names: tuple, frames=None) -> list | None:
     holding = [r[7] for r in rows if r[8] is not None]
     if holding and len({r[7] for r in rows}) < len(rows):
         return None  # (a joint held and written again: its owner changes, Python's)
+    if grid is not None:
+        if set(grid[2]) & {r[7] for r in rows} or len(set(grid[2])) < len(grid[2]):
+            return None  # (a joint written twice: the order matters, Python's)
+        grids[-1] = grid
     return rows
