@@ -31,8 +31,9 @@ other device inputs alone, another sensor (a lean, the support polygon, a lead),
 target taken back by a later write or travelling in a blend, any other busy
 controller, a second machine, a tracker but an ``angles`` one with intentional
 contacts (``poll_track``: its targets and the contacts' swing at its control steps,
-``may_track`` asked first). Without the kernel there is no plan
-(``PUPPET_KERNEL=python``): the same ticks run in Python, to the same bits.
+``may_track`` asked first; the swing first, ``c_late``, where a machine reads a
+velocity it moves). Without the kernel there is no plan (``PUPPET_KERNEL=python``):
+the same ticks run in Python, to the same bits.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ from puppet.interface.ownership import BLEND, SEQUENCE
 from puppet.interface.poll_machines import joint_table, quiet_now, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poll_states import States
-from puppet.interface.poll_track import may_track, track_part
+from puppet.interface.poll_track import VELOCITY, may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
@@ -112,6 +113,7 @@ class PollPlan:
         self._held: list = []  # the plan's transitions with a `for` (_fill)
         self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
+        self._velocity = 0  # the plan's polls read VELOCITY: 1 a machine, 2 an until
         self._inputs = False  # the plan reads device inputs (in_val, at each ready)
         self._live = False  # the state's table reads no input but those (LIVE)
         self.resume = -1  # where the next call may go on, its tick the kernel's (see run)
@@ -380,6 +382,7 @@ class PollPlan:
         self._held = held = []  # (the plan's transition, the machine's) with a `for`
         self._frame_rows = None
         uses_com = self._inputs = False
+        moves = 0
         if seq is not None:  # a running sequence: its step's end, its ``until``
             name, step_index, ends, began, _ = seq
             found = self._sequence_until(name, step_index)
@@ -417,6 +420,8 @@ class PollPlan:
                 elif name is not None:
                     p.body_a[i] = self.pointer(bodies[name]._body)
                 uses_com = uses_com or kind in _fk.USES_COM
+                if kind in VELOCITY:  # (1: a machine's, 2: a sequence's until's)
+                    moves |= 2 if index == -1 else 1
                 self._inputs = self._inputs or kind >= LIVE_INPUT
                 p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
                 i += 1
@@ -469,6 +474,7 @@ class PollPlan:
         if uses_com:  # Character._com_kernel's arguments, for these bodies
             args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
+        self._velocity = moves
         self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
         return until  # goes on after an input event, which Python's would tick at)
 

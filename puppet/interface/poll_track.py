@@ -24,16 +24,34 @@ Intentional contacts (``tracking.contacts``, the high bar's) are the tracker's t
 ``kernel_poll_contact.pk_contacts`` after the targets, on rows of each held hand
 (its grasp's pin, the contact's start, the performer's vector and rates, which
 Python works out at the sample when the tick there is the kernel's, as its tick
-would first). A contact that begins or ends is Python's. Without the kernel there is
-no plan: the same ticks run in Python, to the same bits (tests/test_poll_track.py).
+would first). A contact that begins or ends is Python's. Python's tick polls the
+machines after the controllers (the tracker's contacts among them), ``pk_tick``
+before them: when a machine reads a sensor the contacts move (``VELOCITY``), the plan
+says ``c_late`` and the kernel makes a tracker tick's contacts first, undone (the
+velocities saved) when the tick is Python's after all; a sequence's ``until``, polled
+before the contacts in both, reading one too: Python's. Without the kernel there
+is no plan: the same ticks run in Python, to the same bits (tests/test_poll_track.py).
 """
 
 from __future__ import annotations
 
 from math import atan2, hypot
 
+from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
+
+NEVER = 1 << 62  # (poll_plan's: no timer, no arrival)
+
+# The sensors ``pk_contacts``' velocity change moves (every body's velocity by the same
+# step: the centre of mass's velocity, the fall time from it, the body's spin about it,
+# equal in exact arithmetic but not in floating point). A link's spin (its angular
+# velocity), place, angle, height, contact and the centre of mass's place and offsets
+# are not written between the machines' polls and Python's (the rest of ``pk_tick``
+# writes servo targets: reaches, tracked joints, blends, frame targets, feedback; a
+# grasp made stops the run; ``pk_track_pull``, which sets velocities and spins, is
+# ``TrackPoll``'s alone, with no machines).
+VELOCITY = frozenset((_fk.COM_VX, _fk.COM_VY, _fk.FALL_TIME, _fk.COM_SPIN))
 
 # An angles tracker with no contacts beside a machine (biped-walk's mocap arms): its
 # Python tick at a sample (the targets of four joints, the machine's frame targets and
@@ -74,7 +92,9 @@ class AngleTrack:
         self._has_on = self._own_was = self._phase_was = None  # (as the plan has them)
         self._c_body, self._c_row = ffi.new("void *[4]"), ffi.new("double[40]")
         self._pins: list = []  # (the grasps' pins the rows are of)
-        self._anchors: dict = {}  # (a pin's anchor: set when it is made)
+        self._anchors: dict = {}  # (a pin's anchor: set when it is made, or re-seated)
+        self._sim = self._seat = None  # (the sim and its seats the two are of: a restore re-seats
+        # in place, the same pin objects taking the snapshot's anchors)
         self._com_of = self._com_args = None  # (the bodies the plan's com rows are of)
 
     def _bind(self, character) -> None:
@@ -139,7 +159,12 @@ class AngleTrack:
         rates worked out here when a sample came since and the tick at ``step`` is the
         kernel's (``first``: what Python's tick there does first, and again to no
         effect if it runs after all); False when a contact begins or ends (Python's)."""
-        spec, grasps = tr.spec.contacts, rt.sim.grasps
+        sim = rt.sim
+        spec, grasps = tr.spec.contacts, sim.grasps
+        if sim.seats != self._seat or sim is not self._sim:
+            self._sim, self._seat = sim, sim.seats
+            self._anchors.clear()
+            self._pins = []
         chains, contact, perf = rt.grasping.chains, tr.contact, tr.perf_turn
         row, pins, get = [], [], tr.channels.get
         for chain, channel in spec.hands.items():
@@ -185,7 +210,12 @@ class AngleTrack:
             p.c_mass, p.c_period = c.mass, tr.period
             p.c_body, p.c_row = self._c_body, self._c_row
             self._com_of = c.bodies
-        p.c_n = n
+        # a machine reads what the contacts move (VELOCITY): they come first (c_late);
+        # an until reading it too, which Python polls before them: Python's
+        late = 1 if n and self.poll._velocity & 1 else 0
+        if late and (self.poll._velocity & 2 or p.com_n > 64):  # (PK_LATE)
+            return False
+        p.c_n, p.c_late = n, late
         return True
 
     def _anchor(self, joint) -> tuple:
@@ -219,7 +249,7 @@ def track_part(plan, step: int, resume: bool) -> int | None:
         track = plan._angles
         if track is not None and track._on:
             plan.plan.track, track._on = plan.ffi.NULL, False
-        return 1 << 62
+        return NEVER
     track = plan._angles
     if track is None:
         track = plan._angles = AngleTrack(plan)

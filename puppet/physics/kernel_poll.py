@@ -42,9 +42,15 @@ the last one stopped at its end (an input event came there, which changed nothin
 the table holds: ``PollPlan.ready`` makes it again). It returns the step at which
 Python takes over: the first where a transition holds
 or the frame check fails (before any of that step's writes: the Python tick does them
-and goes on exactly as if it had run every step), or ``stop``. A sensor does not read
-a servo's target, so reading the conditions before the writes gives what the tick's
-order gives. ``interface.poll_plan`` builds the table, and only for what it can
+and goes on exactly as if it had run every step), or ``stop``. Python's tick polls the
+machines after its controllers' writes; here they come first. Most writes are servo
+targets, which no sensor reads before the next step, so the order gives the same
+readings; but ``pk_contacts`` changes every body's velocity, which the centre of
+mass's velocity, fall time and spin read (``poll_track.VELOCITY``): a plan whose
+machines read one of those (``c_late``) makes a tracker tick's contacts first, and
+undoes them (the velocities saved) when the tick stops for Python. A sequence's
+``until`` is polled before the controllers in both (poll_track: not with c_late).
+``interface.poll_plan`` builds the table, and only for what it can
 express; everything else stays on Python's path. Written operation for operation as
 the Python it replaces (see ``kernel_source``), so the hashes are the same either way.
 """
@@ -180,6 +186,8 @@ typedef struct {
     double *c_row;    /* point on it, the contact's start (angle, length, the performer's
                          angle, length), the performer's vector and rates (10 values) */
     double c_swing, c_swing_d, c_spring, c_damp, c_mass, c_period;
+    int c_late;       /* the machines read a velocity the contacts move: at a tracker's
+                         tick, the contacts first (Python's order), undone if it stops */
     pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
 } pk_poll_plan;
 """
@@ -256,11 +264,18 @@ int pk_fires(pk_poll_plan *p, int s, pk_com_now *com)
 static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
+    pk_vect was[PK_LATE];
+    int late = p->c_late && p->track && p->c_n && (s - p->t_phase) % p->t_every == 0;
+    if (late)  /* (Python's machines poll after the tracker's contacts: c_late; no
+                  states entered in the loop with a tracker: poll_states.usable) */
+        pk_contacts_first(p, &com, was);
     int fired = pk_fires(p, s, &com);
-    if (fired && pk_transit(p, s, fired, &com))
+    if ((fired && pk_transit(p, s, fired, &com))
+            || ((p->n_reach || p->n_armed) && pk_reaches(p, s))) {
+        if (late)  /* (Python's tick does it all again) */
+            pk_contacts_undo(p, was);
         return 1;
-    if ((p->n_reach || p->n_armed) && pk_reaches(p, s))
-        return 1;
+    }
     if (p->track && (s - p->t_phase) % p->t_every == 0) {
         /* Tracker.tick (interface/track_poll.py): the joint targets of the view, the
            pose (its velocities from the last sample, with t_pose: a sample's tick),
@@ -303,7 +318,8 @@ static int pk_tick(pk_poll_plan *p, int s)
         pk_targets(p->track, vals, has, p->t_own);
         if (p->t_nopull) {  /* (a tracker's angles alone: poll_track, or the view lacks
                                the root's place) */
-            if (p->c_n)  /* (Tracker.tick: the contacts after the targets) */
+            if (p->c_n && !late)  /* (Tracker.tick: the contacts after the targets,
+                                     which they do not read) */
                 pk_contacts(p, &com);
             p->t_ticks++;
             p->t_last = s;

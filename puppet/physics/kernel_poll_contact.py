@@ -48,4 +48,20 @@ static void pk_contacts(pk_poll_plan *p, pk_com_now *com)
     }
     com->done = 0;
 }
+
+/* c_late: the velocities as they were (at most PK_LATE bodies: poll_track), then the
+   contacts; undone when the tick is Python's after all (the same bits back) */
+#define PK_LATE 64
+static void pk_contacts_first(pk_poll_plan *p, pk_com_now *com, pk_vect *was)
+{
+    for (int i = 0; i < p->com_n; i++)
+        was[i] = get_velocity(p->com_bodies[i]);
+    pk_contacts(p, com);
+}
+
+static void pk_contacts_undo(pk_poll_plan *p, const pk_vect *was)
+{
+    for (int i = 0; i < p->com_n; i++)
+        set_velocity(p->com_bodies[i], was[i]);
+}
 """
