@@ -20,7 +20,7 @@ from unittest.mock import patch
 import pytest
 from kernel_paths import needs_cc, trace
 
-from puppet.interface import poll_plan
+from puppet.interface import poll_plan, poll_table
 from puppet.interface.controllers import feedback_kernel as fk
 from puppet.physics import kernel
 from puppet.timeline.log import read_log
@@ -66,32 +66,32 @@ def test_what_the_table_cannot_express_stays_in_python(path_of):
     """A lean, the support polygon, a lead: no table; a `for` is in it, and so are
     the fall time, the body's spin and an offset from a link."""
     assert path_of("c") is not None
-    assert poll_plan.condition_kind("root.angle", "base") == (fk.ANGLE, "base")
-    assert poll_plan.condition_kind("contact.base", "base") == (fk.CONTACT, "base")
-    assert poll_plan.condition_kind("joint.knee", "base") == (fk.JOINT, "knee")
-    assert poll_plan.condition_kind("spin.base", "base") == (fk.SPIN, "base")
-    assert poll_plan.condition_kind("height.base", "base") == (fk.HEIGHT, "base")
-    assert poll_plan.condition_kind("com.fall_time", "base") == (fk.FALL_TIME, None)
-    assert poll_plan.condition_kind("com.vy", "base") == (fk.COM_VY, None)
-    assert poll_plan.condition_kind("com.spin", "base") == (fk.COM_SPIN, None)
-    assert poll_plan.condition_kind("com.dx.base", "base") == (fk.COM_DX, "base")
+    assert poll_table.condition_kind("root.angle", "base") == (fk.ANGLE, "base")
+    assert poll_table.condition_kind("contact.base", "base") == (fk.CONTACT, "base")
+    assert poll_table.condition_kind("joint.knee", "base") == (fk.JOINT, "knee")
+    assert poll_table.condition_kind("spin.base", "base") == (fk.SPIN, "base")
+    assert poll_table.condition_kind("height.base", "base") == (fk.HEIGHT, "base")
+    assert poll_table.condition_kind("com.fall_time", "base") == (fk.FALL_TIME, None)
+    assert poll_table.condition_kind("com.vy", "base") == (fk.COM_VY, None)
+    assert poll_table.condition_kind("com.spin", "base") == (fk.COM_SPIN, None)
+    assert poll_table.condition_kind("com.dx.base", "base") == (fk.COM_DX, "base")
     for sensor in ("lean", "com.dx.support", "com.dx.a.b", "lead.base.shade"):
-        assert poll_plan.condition_kind(sensor, "base") is None, sensor
+        assert poll_table.condition_kind(sensor, "base") is None, sensor
     log = read_log("assets/logs/luxo-back-headspring.jsonl")
     session = new_session(log, setup_for_log(log)[0])
     plan = session.runtime.poll
     assert plan is not None and kernel.get() is not None
     machine = plan.machine
     assert machine.current == "ground"  # contact, two joint angles, `for` 0.2 s
-    ((after, conditions, hold, index),) = plan._table(machine)
+    ((after, conditions, hold, index),) = poll_table.state_table(plan, machine)
     assert (after, hold, index) == (0, 96, 0)
     assert [c[:2] for c in conditions] == [(fk.CONTACT, "base"), (fk.JOINT, "knee"),
                                            (fk.JOINT, "ankle")]
     machine.current = "tucked"  # (read as if there: the centre of mass's fall time)
-    first = plan._table(machine)[0]  # its root's angle and the fall time
+    first = poll_table.state_table(plan, machine)[0]  # its root's angle and the fall time
     assert [c[0] for c in first[1]] == [fk.ANGLE, fk.FALL_TIME]
     machine.current = "landed"  # (no more transitions than a contact's and a timer's)
-    assert plan._table(machine) is not None
+    assert poll_table.state_table(plan, machine) is not None
 
 
 def _blown_up(step: int, loop: bool):

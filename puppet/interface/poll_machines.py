@@ -2,15 +2,17 @@
 
 ``pk_poll`` stops at the first step where any polled transition holds, and Python's
 tick there runs every machine's ``due`` in its order, so the machines' transitions
-can stand in one table: each machine's current state's rows (``PollPlan._table``),
+can stand in one table: each machine's current state's rows (``poll_table.state_table``),
 machine after machine, their first steps counted from the first machine's entry (the
-plan's ``_fill`` adds that back), a ``for``'s index as (the machine's place, its
+plan's fill, ``poll_fill``, adds that back), a ``for``'s index as (the machine's place, its
 index). Only when every machine polls at the same period, none is device-only (a
 quiet machine's polls are the one-machine plan's) and every state's table is the
 kernel's; else Python's ticks, as before.
 """
 
 from __future__ import annotations
+
+from puppet.interface.poll_table import state_table
 
 
 def joint_table(plan) -> list | None:
@@ -23,7 +25,7 @@ def joint_table(plan) -> list | None:
         return plan._joint
     first, rows = machines[0], []
     for n, m in enumerate(machines):
-        table = None if m.device_only or m.every != first.every else plan._table(m)
+        table = None if m.device_only or m.every != first.every else state_table(plan, m)
         if table is None:
             rows = None
             break

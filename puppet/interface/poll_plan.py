@@ -16,7 +16,7 @@ A run cut at its call's end (an input event) or at a history boundary goes on at
 next tick, the kernel's (``resume``), if ``ready`` finds the plan still holds what is
 due there. With nothing else busy, a transition into a state whose entry is a plain
 ``set`` with ``over`` (or nothing), timers and the blend's arrivals are the loop's too
-(``poll_states``: armed by ``_fill``, handed back after the call).
+(``poll_states``: armed by ``poll_fill``, handed back after the call).
 
 Feedback's add maps run there too, when every active one is the kernel's to run
 with every sensor it reads (``Feedback.compiled``: the struct of ``Feedback.tick``'s
@@ -33,54 +33,25 @@ controller, a second machine, a tracker but an ``angles`` one with intentional
 contacts (``poll_track``: its targets and the contacts' swing at its control steps,
 ``may_track`` asked first; the swing first, ``c_late``, where a machine reads a
 velocity it moves). Without the kernel there is no plan (``PUPPET_KERNEL=python``):
-the same ticks run in Python, to the same bits.
+the same ticks run in Python, to the same bits. A state's transitions are read as
+rows by ``poll_table`` and written into the table by ``poll_fill``.
 """
 
 from __future__ import annotations
 
-from puppet.interface.conditions import INPUT, compile_bounds, reader
-from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_fill import MAX_CONDITIONS, NEVER, fill, held_again
 from puppet.interface.poll_machines import joint_table, quiet_now, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poll_states import States
-from puppet.interface.poll_track import VELOCITY, may_track, track_part
+from puppet.interface.poll_table import sequence_until, state_table
+from puppet.interface.poll_track import may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
 
-# sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
-# contact, its angle within a turn, a joint's angle, a link's spin, its height; and
-# the centre of mass's (COM: its place, velocity, fall time, the body's spin; com.dx
-# from a link)
-KINDS = {"contact": _fk.CONTACT, "angle": _fk.ANGLE, "joint": _fk.JOINT, "spin": _fk.SPIN,
-         "height": _fk.HEIGHT}
-COM = _fk.COM  # the centre of mass's (its position, velocity, fall time; the body's spin)
-OFFLINE = ("channel.", INPUT)  # sensors no step changes: read once, when the plan is made
-MAX_CONDITIONS = 32
-# a device input a mouse move sets, read by pk_poll's conditions from the plan's in_val
-# (PK_S_INPUT + its slot): written at each ``ready``, and by the kernel's event runs
-LIVE_INPUT = 100
-LIVE = {"mouse.x": 0, "mouse.y": 1, "pointer.x": 2, "pointer.y": 3}
 NAN = float("nan")
-NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
-
-
-def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
-    """(pk_poll's code, the link or joint) for a sensor ``pk_poll`` reads, else None."""
-    if sensor == "root.angle":
-        return KINDS["angle"], root
-    if sensor in COM:
-        return COM[sensor], None
-    if sensor.startswith("com.dx."):  # from a link (the support polygon: Python's)
-        name = sensor[len("com.dx."):]
-        return None if name == "support" or "." in name else (_fk.COM_DX, name)
-    kind, _, name = sensor.partition(".")
-    if kind in KINDS and name and "." not in name:
-        return KINDS[kind], name
-    return None
-
 
 class PollPlan:
     """The table ``pk_poll`` reads, for one runtime (made when the kernel is there)."""
@@ -110,8 +81,8 @@ class PollPlan:
         self._frames_ids: tuple = ()  # (their ids)
         self._frame_rows: list | None = None  # per frame row: (joint, ref, hold_parent)
         self._offline = False  # the plan's table reads an input: filled at each ready
-        self._held: list = []  # the plan's transitions with a `for` (_fill)
-        self._travelling: dict = {}  # joint -> its travel's index, a frame target's (_fill)
+        self._held: list = []  # the plan's transitions with a `for` (poll_fill)
+        self._travelling: dict = {}  # joint -> its travel's index, a frame target's (poll_fill)
         self._com = False  # the plan reads the centre of mass (the fall time: gravity)
         self._velocity = 0  # the plan's polls read VELOCITY: 1 a machine, 2 an until
         self._inputs = False  # the plan reads device inputs (in_val, at each ready)
@@ -120,71 +91,12 @@ class PollPlan:
         self.seat = None  # and the space it ran on then (a re-seat lists no contacts)
         self._root = self._space_cd = self._space_void = self._feeding = None  # (run)
         self._states = States(self)  # transitions the loop takes (poll_states)
-        self._armed = False  # (the plan's states table armed by the last _fill)
+        self._armed = False  # (the plan's states table armed by the last fill)
         self._angles = None  # (poll_track.AngleTrack: a tracker's angles, made once)
 
     def pointer(self, cdata):
         """``kernel.pointer``, remembered (``physics.kernel.remembered``)."""
         return _kernel.remembered(self.kernel, self._pointers, cdata)
-
-    def _table(self, machine, current: str | None = None):
-        """The current state's transitions as ``pk_poll`` can poll them, in ``due``'s
-        order: ``(after, None, 0, index)`` a timer, ``(after, conditions, for, index)``
-        a polled one (``for`` in steps, 0 without; ``index``: the machine's), each
-        condition ``(code or None, name or reader, lo, hi, want)`` (``None``: a device
-        input or channel, its reader); None when one cannot be polled there."""
-        rt = self.runtime
-        current = machine.current if current is None else current  # (prime: each state)
-        key = (machine.name, current, rt.role_binding)
-        if key in self._tables:
-            return self._tables[key]
-        rename = rt.roles.sensor
-        spec, name = machine.spec, machine.name
-        state = spec.states[current]
-        shared = [t for t in spec.any_state.transitions
-                  if rt.spec.resolve_goto(t.to, name) != (name, current)]
-        table = []
-        for index, t in enumerate([*state.transitions, *shared]):
-            after = round((t.after or 0.0) / machine.dt)
-            if not t.conditions:
-                table.append((after, None, 0, index))
-                continue
-            hold = round((t.held or 0.0) / machine.dt)  # (StateMachine._hold_steps)
-            if hold and any(rename(c.sensor).startswith(OFFLINE) for c in t.conditions):
-                table = None  # (a `for` left out when an input rules it out: Python's)
-                break
-            conditions = self._conditions(t.conditions)
-            if conditions is None:
-                table = None
-                break
-            table.append((after, conditions, hold, index))
-        self._tables[key] = table
-        return table
-
-    def _conditions(self, conditions) -> list | None:
-        """A transition's or an ``until``'s conditions as ``pk_poll`` reads them:
-        ``(code or None, name or reader, lo, hi, want)``; None if one cannot be."""
-        rt = self.runtime
-        rename, root = rt.roles.sensor, rt.character.spec.root
-        out = []
-        for c in conditions:
-            sensor = rename(c.sensor)
-            bounds = compile_bounds(c)
-            lo, hi = bounds if bounds is not None else (0.0, 0.0)
-            want = -1 if bounds is not None else int(bool(c.is_))
-            if sensor.startswith(OFFLINE):
-                slot = LIVE.get(sensor[len(INPUT):]) if sensor.startswith(INPUT) else None
-                if slot is not None and (slot < 2 or rt._pointer):  # (pointer: the mouse's)
-                    out.append((LIVE_INPUT + slot, None, lo, hi, want))
-                    continue
-                out.append((None, reader(sensor, rt.character, rt.channels, rt.inputs),
-                            lo, hi, want))
-                continue
-            kind = condition_kind(sensor, root)
-            if kind is None or (kind[0] == _fk.COM_DX and kind[1] not in rt.character.bodies):
-                return None  # (a name no link has: Python's reader says so)
-            out.append((*kind, lo, hi, want))
-        return out
 
     def prime(self) -> None:
         """Every state's table and every sequence step's ``until``, made when the
@@ -192,25 +104,11 @@ class PollPlan:
         steps, as cold as the rest of the entry)."""
         for machine in self.runtime._machine_list:
             for state in machine.spec.states:
-                self._table(machine, state)
+                state_table(self, machine, state)
         for name, steps in self.runtime.sequences.specs.items():
             for index in range(len(steps)):
-                self._sequence_until(name, index)
+                sequence_until(self, name, index)
         self._states.prime(self.runtime)  # (the loop's states tables: poll_states)
-
-    def _sequence_until(self, name: str, index: int):
-        """A sequence step's ``until`` (``compile_untils``): (after in steps, its
-        conditions), None without one, False when ``pk_poll`` cannot read it."""
-        key = ("sequence", name, index, self.runtime.roles.binding)
-        if key not in self._tables:
-            spec = self.runtime.sequences.specs[name][index]
-            found = None
-            if spec.until is not None:
-                conditions = self._conditions(spec.conditions)
-                found = False if conditions is None else \
-                    (round((spec.after or 0.0) / self.runtime.dt), conditions)
-            self._tables[key] = found
-        return self._tables[key]
 
     def _state_table(self):
         """The current state's table (looked up once per state and binding)."""
@@ -219,7 +117,7 @@ class PollPlan:
             return joint_table(self)  # (its device-only machines: Python's; _live False)
         if machine.current is not self._state or rt.roles.binding is not self._binding:
             self._state, self._binding = machine.current, rt.roles.binding
-            self._current = table = self._table(machine)
+            self._current = table = state_table(self, machine)
             # (every input it reads one a mouse move sets: a device-only state's polls
             # are the kernel's at each control step, which find what a stirred poll
             # does; quiet, they find nothing until an event moves an input)
@@ -313,11 +211,11 @@ class PollPlan:
             self._frames_ids, self._frames_kept = frames_ids, frames_now
             self._offline = not machine.quiet and any(  # (a quiet state polls nothing)
                 kind is None for _, cs, *_ in table if cs for kind, *_ in cs)
-            self._until = self._fill(table, machine, every, seq)
+            self._until = fill(self, table, machine, every, seq)
         elif frames_ids != self._frames_ids:  # only held again (a frame map, each event)
             self._frames_ids, self._frames_kept = frames_ids, frames_now
-            if not self._held_again(held):
-                self._until = self._fill(table, machine, every, seq)
+            if not held_again(self, held):
+                self._until = fill(self, table, machine, every, seq)
         if feeding is not self._feeding:  # (the same struct: already in the plan)
             self._feeding = self.plan.feedback = feeding
         if self._com:
@@ -350,134 +248,6 @@ class PollPlan:
         until = ends if ends < until else until
         return until if until > step else None  # (due now: Python's)
 
-    def _held_again(self, held: dict) -> bool:
-        """The same joints held in the same frames, at new angles: written into the
-        plan's rows (False: held otherwise, the plan must be filled again)."""
-        rows = self._frame_rows
-        if rows is None or len(rows) != len(held):
-            return False
-        angle = self.plan.f_angle
-        for n, ((joint, (target, _)), (was, ref, hold_parent)) in enumerate(zip(held.items(),
-                                                                                 rows)):
-            if joint != was or target.ref != ref or target.hold_parent != hold_parent:
-                return False
-            angle[n] = target.angle
-        return True
-
-    def _fill(self, table, machine, every: int, seq, states: bool = True) -> int | None:
-        """Write the plan: the state's polled transitions (those an input rules out
-        left out), the blend's travelling targets; the step a timer or an arrival is
-        due (NEVER: none), or None when there is nothing to do or it does not fit.
-        ``states``: the loop may take transitions and arrivals (``poll_states``: the
-        timers are rows then, the arrivals the loop's; armed if all else fits)."""
-        rt = self.runtime
-        p, until = self.plan, NEVER
-        p.states, self._armed, rows = self.ffi.NULL, False, []
-        states = states and seq is None and not self._many and not any(
-            c[0] is None for _, cs, *_ in table if cs for c in cs) and States.usable(rt)
-        character = rt.character
-        bodies, joints = character.bodies, character.spec
-        k = i = 0
-        entered = machine.entered
-        self._held = held = []  # (the plan's transition, the machine's) with a `for`
-        self._frame_rows = None
-        uses_com = self._inputs = False
-        moves = 0
-        if seq is not None:  # a running sequence: its step's end, its ``until``
-            name, step_index, ends, began, _ = seq
-            found = self._sequence_until(name, step_index)
-            if found is False:
-                return None
-            until = ends  # (the next step's pose: Python's tick)
-            if found is not None:
-                self._offline = self._offline or any(c[0] is None for c in found[1])
-                table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
-        for after, conditions, hold, index, *period in table:
-            first = entered + after
-            if conditions is None and states and k < MAX_CONDITIONS:  # a timer: a row
-                p.first[k], p.cond0[k], p.n_cond[k], p.hold[k], p.period[k] = first, i, 0, 0, 1
-                rows.append(index)
-                k += 1
-                continue
-            if conditions is None:  # a timer: Python's tick fires it
-                until = first if first < until else until
-                continue
-            if machine.quiet and not self._live:  # (a device-only state between input
-                continue  # events: no polls; the mouse's alone: the kernel's, see waits)
-            c0 = i
-            for kind, name, lo, hi, want in conditions:
-                if kind is None:  # no step changes it: decided now
-                    value = name()
-                    if not (lo < value < hi if want < 0 else (value > 0.5) == bool(want)):
-                        break
-                    continue
-                if i >= MAX_CONDITIONS:
-                    return None
-                if kind == _fk.JOINT:
-                    joint = joints.joint(name)
-                    p.body_a[i] = self.pointer(bodies[joint.child]._body)
-                    p.body_b[i] = self.pointer(bodies[joint.parent]._body)
-                elif name is not None:
-                    p.body_a[i] = self.pointer(bodies[name]._body)
-                uses_com = uses_com or kind in _fk.USES_COM
-                if kind in VELOCITY:  # (1: a machine's, 2: a sequence's until's)
-                    moves |= 2 if index == -1 else 1
-                self._inputs = self._inputs or kind >= LIVE_INPUT
-                p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
-                i += 1
-            else:
-                if k >= MAX_CONDITIONS:
-                    return None
-                p.first[k], p.cond0[k], p.n_cond[k], p.hold[k] = first, c0, i - c0, hold
-                p.period[k] = period[0] if period else every
-                if hold:
-                    held.append((k, index))
-                if states:
-                    rows.append(index if index >= 0 else None)
-                k += 1
-                continue
-            i = c0  # an input condition that does not hold: the transition cannot fire
-        p.n_trans = k
-        n, servos, null = 0, character.servos, self.ffi.NULL
-        self._travelling = travelling = {}  # joint -> its travel (a frame target's)
-        for joint, (start, to, first, last, target) in rt.blends.moving.items():
-            if n >= MAX_CONDITIONS:
-                return None
-            if target is None:
-                p.spring[n] = self.pointer(servos[joint].spring._constraint)
-            else:  # (its angle: the frame loop's)
-                p.spring[n] = null
-                travelling[joint] = n
-            p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
-            until = last if last < until and not states else until  # (the loop's, armed)
-            n += 1
-        p.n_blend, p.every = n, every
-        n, frame_joints, frame_rows = 0, rt.frames.joints, []
-        for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
-            if n >= MAX_CONDITIONS:
-                return None
-            spec, ref = frame_joints[joint], target.ref
-            frame_rows.append((joint, ref, target.hold_parent))
-            p.f_parent[n] = self.pointer(bodies[spec.parent]._body)
-            p.f_child[n] = self.pointer(bodies[spec.child]._body)
-            p.f_ref[n] = null if ref is None else self.pointer(bodies[ref]._body)
-            p.f_spring[n] = self.pointer(servos[joint].spring._constraint)
-            p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
-            p.f_blend[n] = travelling.get(joint, -1)
-            n += 1
-        p.n_frame, self._frame_rows = n, frame_rows
-        if states:
-            if not self._states.arm(rt, machine, seq, rows):
-                return self._fill(table, machine, every, seq, False)
-            self._armed = True
-            uses_com = uses_com or self._states.uses_com
-        if uses_com:  # Character._com_kernel's arguments, for these bodies
-            args = self._com_args = character._com_bound(self.kernel)[2]  # (kept alive)
-            p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
-        self._velocity = moves
-        self._com = uses_com  # (nothing to do between the steps: the loop steps on, and
-        return until  # goes on after an input event, which Python's would tick at)
-
     def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,
             frame: tuple, tick_first: bool = False) -> int:
         """Step from ``now`` with ``pk_poll`` up to ``until`` (``ready``'s), ``end`` or
@@ -502,7 +272,7 @@ class PollPlan:
         handed = self._armed and p.states.n_log  # (states entered, targets arrived)
         entered = handed and self._states.handed_back(rt, machine)
         if entered:
-            self._state_table()  # (the plan holds its rows, as _fill writes them)
+            self._state_table()  # (the plan holds its rows, as poll_fill writes them)
         if self._live and machine.device_only:
             self._quieted(p, quiet and not entered, now, s, tick_first)
         if handed:  # what ready's key finds now: the plan as the loop left it (a state

@@ -1,7 +1,7 @@
 """State transitions inside the kernel's loop: the poll plan's states table
 (``physics.kernel_poll_states``) and the hand-back of what a call entered.
 
-``PollPlan._fill`` arms it (``arm``) when the runtime's work between ticks is one
+``poll_fill.fill`` arms it (``arm``) when the runtime's work between ticks is one
 machine's polls at every step (period 1) and plain travelling targets, nothing else
 busy (no maps active, no sequence, sensor maps, frame targets, reach, grasp or kept
 key press). Then a transition into a state the loop can enter - its table the
@@ -24,10 +24,11 @@ from puppet.interface.actions import MAX_CHAINED_GOTOS
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND
+from puppet.interface.poll_table import state_table
 
 MAX_LOG = 256
 MAX_VAL = 1024
-MAX_ROWS = 32  # the plan's rows (poll_plan.MAX_CONDITIONS)
+MAX_ROWS = 32  # the plan's rows (poll_fill.MAX_CONDITIONS)
 _DEFAULT_NONE = ("pose", "sequence", "repeat", "goto", "reach", "grasp", "release",
                  "app", "slowdown", "gravity", "friction", "perturb", "push", "track",
                  "kinematic")
@@ -63,7 +64,7 @@ class States:
         """``(targets, steps)`` of a state the loop can enter (its entry's), else None,
         in ``mode`` at the period ``every``."""
         spec = machine.spec.states[name]
-        table = self.plan._table(machine, name)
+        table = state_table(self.plan, machine, name)
         if table is None or spec.roles is not None or spec.maps:
             return None
         if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
@@ -121,7 +122,7 @@ class States:
             targets[name] = goes
             t0.append(len(after))
             entry = entries[index[name]]
-            for a_, cs, _, i in plan._table(machine, name) if entry else ():
+            for a_, cs, _, i in state_table(plan, machine, name) if entry else ():
                 after.append(a_)
                 per.append(every if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])

@@ -41,7 +41,7 @@ from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
 
-NEVER = 1 << 62  # (poll_plan's: no timer, no arrival)
+NEVER = 1 << 62  # (poll_fill's: no timer, no arrival)
 
 # The sensors ``pk_contacts``' velocity change moves (every body's velocity by the same
 # step: the centre of mass's velocity, the fall time from it, the body's spin about it,
@@ -202,7 +202,7 @@ class AngleTrack:
                 self._c_body[k] = self.poll.pointer(joint.b._body)
         self._c_row[0:len(row)] = row
         c = tr.character
-        if self._com_of is not c.bodies:  # (the plan's centre of mass: PollPlan._fill's,
+        if self._com_of is not c.bodies:  # (the plan's centre of mass: poll_fill.fill's,
             args = self._com_args = c._com_bound(self.poll.kernel)[2]  # these bodies')
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
             p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping

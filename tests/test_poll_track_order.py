@@ -1,5 +1,8 @@
-"""Review of ovhtrack (``interface.poll_track``): cases the shipped logs do not
-exercise, where the kernel's loop and Python's ticks part. Both fail at 9fb63c2."""
+"""A tracker in the kernel's loop (``interface.poll_track``) beside a state machine
+keeps Python's order: a machine reading the centre of mass's velocity that the
+tracker's contacts change, and a regrasp restored from a snapshot. Cases the shipped
+logs do not exercise, where the kernel's loop and Python's ticks could part (both
+failed at 9fb63c2; found in a review of the tracker's loop)."""
 
 from __future__ import annotations
 
