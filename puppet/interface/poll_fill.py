@@ -16,7 +16,7 @@ from puppet.interface.poll_states import States
 from puppet.interface.poll_table import LIVE_INPUT, sequence_until
 from puppet.interface.poll_track import VELOCITY
 
-MAX_CONDITIONS = 32  # the plan's rows of each kind (its transitions, conditions, blends)
+MAX_CONDITIONS = 32  # the plan's arrays (transitions, conditions, blends, frame targets)
 NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
 
 

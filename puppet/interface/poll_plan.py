@@ -51,7 +51,8 @@ from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
 
-NAN = float("nan")
+NAN = float("nan")  # a device input not set (the plan's in_val)
+
 
 class PollPlan:
     """The table ``pk_poll`` reads, for one runtime (made when the kernel is there)."""

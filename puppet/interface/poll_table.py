@@ -45,7 +45,6 @@ def condition_kind(sensor: str, root: str) -> tuple[int, str] | None:
     return None
 
 
-
 def state_table(plan, machine, current: str | None = None):
     """The current state's transitions as ``pk_poll`` can poll them, in ``due``'s
     order: ``(after, None, 0, index)`` a timer, ``(after, conditions, for, index)``
