@@ -66,3 +66,37 @@ def test_a_chain_the_loop_starts_and_python_ends(path_of):
         # same here, the entries being idempotent)
         assert a[0] == b[0] and a[1]["machines"] == b[1]["machines"], (a[0], a[1]["machines"],
                                                                       b[1]["machines"])
+
+
+# a key bound in `extend` alone, kept (``buffer``) when pressed in `fold`: Python's
+# ``_enter_state`` runs it as `extend` is entered; the loop enters `extend` itself
+KEPT = "      - {key: k, adjust: {knee: 30}, buffer: 0.5, description: a kept press}"
+
+
+def _kept(log, at: int):
+    text = log.header["interface_text"]
+    old = "    enter: {set: {ankle: -35.0, knee: 78.2623}, over: 0.05}\n"
+    assert text.count(old) == 1
+    log.header["interface_text"] = text.replace(old, old + "    keys:\n" + KEPT + "\n")
+    pairs = sorted(log.pairs() + [(at, {"type": "key", "key": "k", "down": True}),
+                                  (at + 2, {"type": "key", "key": "k", "down": False})],
+                   key=lambda p: p[0])
+    log.pairs = lambda: pairs
+    return log
+
+
+@needs_cc
+def test_a_press_kept_for_a_state_the_loop_enters(path_of):
+    assert path_of("c") is not None
+    # 155: a step into the first fold (entered at 154 in Python's ticks)
+    with_loop = _traced(_kept(read_log(SHUFFLE), 155), True)
+    ticks = _traced(_kept(read_log(SHUFFLE), 155), False)
+    assert path_of("python") is None
+    in_python = _traced(_kept(read_log(SHUFFLE), 155), True)
+    assert ticks == in_python  # (passes: Python's ticks on the kernel and the pure path)
+    assert len(with_loop) == len(ticks)
+    # (fails at 157: the loop's run enters `extend` with the press still kept,
+    # {'buffer': {'k': 155}}, the knee the blend's; the hash then 9dd2d3df1b8926a5, not
+    # acfd0cf9687b8189, and at the end 7156e1c43167f6e1, not 369281653091b175)
+    for a, b in zip(with_loop, ticks):
+        assert a[0] == b[0] and a[1] == b[1] and a[3] == b[3] and a[4] == b[4], a[0]
