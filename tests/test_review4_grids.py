@@ -58,3 +58,36 @@ def test_odd_mouse_values_in_the_kernels_runs(name, path_of):
     for a, b in zip(got[0], ref[0]):
         assert a[0] == b[0] and a[1] == b[1] and same(a[2], b[2]), a[0]
     assert same(got[1], ref[1])
+
+
+# the gymnast's swing mode, with a one-joint map on the near shoulder before its two
+# shoulders' map (which then writes over it) and one on the far shoulder after it (which
+# then wins): Python's applier order, the kernel's rows' order
+SHOULDERS = "    - {input: mouse.x, joints: {shoulder_near: 1, shoulder_far: 1}, from: [0.2, 0.8],"
+HIPS = "    - {input: mouse.y, joints: {hip_near: 1, hip_far: 1}, from: [0.2, 0.8],"
+
+
+@needs_cc
+def test_two_maps_on_one_joint_in_the_kernels_runs(path_of):
+    from puppet.timeline.log import read_log
+    from puppet.timeline.replay import setup_for_log
+
+    assert path_of("c") is not None
+    log = read_log("assets/logs/biped-rope-swing.jsonl")
+    text = log.header["interface_text"]
+    assert text.count(SHOULDERS) == 1 and text.count(HIPS) == 1
+    text = text.replace(SHOULDERS, "    - {input: mouse.x, joint: shoulder_near, to: [0, 30]}\n"
+                        + SHOULDERS)
+    log.header["interface_text"] = text.replace(
+        HIPS, "    - {input: mouse.x, joint: shoulder_far, to: [-40, 10]}\n" + HIPS)
+    end = 3000
+    got, ref = [], []
+    patcher, done = _counted()
+    with patcher:
+        got = _traced(play, log, setup_for_log(log, as_recorded=True)[0], end, every=5)
+    assert done[0] > 30, done
+    assert path_of("python") is None
+    ref = _traced(stepwise, log, setup_for_log(log, as_recorded=True)[0], end, every=5)
+    assert len(got[0]) == len(ref[0]) > 100
+    for a, b in zip(got[0], ref[0]):
+        assert a[:3] == b[:3], a[0]
