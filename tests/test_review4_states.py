@@ -57,6 +57,8 @@ def test_a_chain_the_loop_starts_and_python_ends(path_of):
     assert path_of("c") is not None
     log = _spinning(read_log(SHUFFLE))
     with_loop, ticks = _traced(log, True), _traced(log, False)
+    assert path_of("python") is None
+    assert ticks == _traced(log, True)  # (passes: Python's ticks, the pure path)
     assert len(with_loop) == len(ticks)
     spun = [a[0] for a in ticks if a[1]["machines"]["main"][0] in ("spin", "stiff")]
     assert spun  # the pair is reached
@@ -136,3 +138,43 @@ def test_a_mode_changed_under_a_state_the_loop_enters(path_of):
     assert len(with_loop) == len(ticks)
     for a, b in zip(with_loop, ticks):
         assert a[0] == b[0] and a[1] == b[1] and a[3] == b[3] and a[4] == b[4], a[0]
+
+
+def _restored(loop: bool, checkpoint: int, restore: int):
+    """The shuffle with a checkpoint at ``checkpoint`` (in `extend`, its targets
+    travelling, or in `rest`) restored at ``restore``, the stream again from the
+    checkpoint; the hash and the entries and arrivals the loop handed back."""
+    from puppet.interface import poll_states
+    from puppet.session.playback import play
+
+    log = read_log(SHUFFLE)
+    ev = log.pairs()
+    pre = sorted([(s, e) for s, e in ev if s < restore]
+                 + [(checkpoint, {"type": "action", "name": "checkpoint"})], key=lambda p: p[0])
+    pre.append((restore, {"type": "action", "name": "restore"}))
+    handed, n = poll_states.States.handed_back, [0]
+
+    def counted(self, rt, machine):
+        n[0] += self.st.n_log
+        return handed(self, rt, machine)
+    ready = poll_plan.PollPlan.ready if loop else (lambda *a, **k: None)
+    with patch.object(poll_plan.PollPlan, "ready", ready), \
+            patch.object(poll_states.States, "handed_back", counted):
+        session = _replay.new_session(log, _replay.setup_for_log(log)[0])
+        play(session, pre + [(s, e) for s, e in ev if s >= checkpoint], None,
+             end_step=log.last_step)
+    return session.sim.state_hash(), n[0]
+
+
+@needs_cc
+def test_a_checkpoint_restored_with_states_the_loop_enters(path_of):
+    """Passes (coverage): a restore into a state the loop entered, a blend travelling,
+    and out of one, the same bits as Python's ticks and the pure path."""
+    assert path_of("c") is not None
+    cases = [(170, 400), (181, 218), (405, 950)]
+    with_loop = [_restored(True, c, r) for c, r in cases]
+    ticks = [_restored(False, c, r) for c, r in cases]
+    assert all(n > 100 for _, n in with_loop) and all(n == 0 for _, n in ticks)
+    assert path_of("python") is None
+    in_python = [_restored(True, c, r) for c, r in cases]
+    assert [h for h, _ in with_loop] == [h for h, _ in ticks] == [h for h, _ in in_python]
