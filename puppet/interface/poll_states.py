@@ -241,7 +241,7 @@ class States:
             return False
         moving, table, ffi = rt.blends.moving, rt.owners.table, self.ffi
         rows, row_of, entries = self.rows, self.row_of, self.entries
-        last = None
+        last, chain = None, 0
         for step, kind, arg, v in zip(ffi.unpack(st.l_step, n), ffi.unpack(st.l_kind, n),
                                       ffi.unpack(st.l_arg, n), ffi.unpack(st.l_val0, n)):
             if kind == 0:  # an arrival (BlendController._write)
@@ -250,6 +250,7 @@ class States:
                 del moving[joint]
                 del table[joint]
                 continue
+            chain = chain + 1 if last is not None and last[1] == step else 1
             last = arg, step  # InterfaceRuntime._enter_state, its entry's blend
             targets, steps = entries[arg]
             if not targets:
@@ -273,6 +274,7 @@ class States:
             rt.owners.claim(joints, BLEND)
         if last is None:
             return False
+        rt.chained = (last[1], chain)  # (the tick at that step enters the rest)
         name = self.names[last[0]]
         machine.enter(name, last[1])
         rt._follow_rate()

@@ -75,6 +75,10 @@ class InterfaceRuntime(RuntimeState, ActiveMaps, Actions):
         self.sim = sim
         self.dt = dt if dt is not None else (sim.dt if sim is not None else 1.0 / 480.0)
         self.now = 0  # current step when there is no Simulation to ask
+        # (step, n): the kernel's loop entered n chained states at step and left the
+        # rest of the chain to this step's tick (poll_states), which enters at most
+        # MAX_CHAINED_GOTOS in all at a step
+        self.chained: tuple[int, int] | None = None
         # Roles: names that mean one joint or link in one binding, another in the next
         # (the stance leg and the swing leg); poses and maps are resolved per binding.
         self.roles = RoleBinding(spec)
@@ -422,6 +426,7 @@ class InterfaceRuntime(RuntimeState, ActiveMaps, Actions):
         self.now = step
         if self._pending:
             self.flush()
+        chained, self.chained = self.chained, None
         active = self._active
         waited = True  # every controller only waited (see controllers.base.WAITED)
         for controller in active:
@@ -434,7 +439,10 @@ class InterfaceRuntime(RuntimeState, ActiveMaps, Actions):
         for machine in self._machine_list:
             to = machine.due(step)
             if to is not None:
-                for _ in range(MAX_CHAINED_GOTOS):
+                budget = MAX_CHAINED_GOTOS
+                if chained is not None and chained[0] == step:
+                    budget -= chained[1]
+                for _ in range(budget):
                     self._enter_state(to[0], to[1], step, 0)
                     moved = True
                     to = machine.due(step)

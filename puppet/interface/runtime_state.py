@@ -28,6 +28,7 @@ class RuntimeState:
         self.owners.table = {}
         self.gain_holds = {}
         self.buffer.set_state(None)
+        self.chained = None
         self.mode = self.spec.start_mode
         self._use_binding(self.spec.start_binding)
         self.apply_gains()
@@ -65,6 +66,7 @@ class RuntimeState:
         if state["binding"] != self.role_binding:
             self._use_binding(state["binding"])
         self._pending = []
+        self.chained = None  # (a chain's count is the tick's at the step it stopped)
         if self.poll is not None:
             self.poll.resume = -1  # (the tick at a restored step is Python's)
         self._refresh_active_maps()

@@ -1,5 +1,8 @@
-"""Review of ovhluxo2 (``interface.poll_states``): a case the shipped logs do not
-exercise, where the kernel's loop entering states and Python's ticks part."""
+"""The kernel's loop entering states (``interface.poll_states``) in cases no shipped
+log has: a press kept for a state (the plan filled again, so disarmed), a chain the
+loop starts and Python's tick ends (at most MAX_CHAINED_GOTOS at a step in all), a
+mode changed under a state the loop enters, checkpoints restored with states the loop
+entered; each against Python's ticks and the pure-Python path."""
 
 from __future__ import annotations
 
