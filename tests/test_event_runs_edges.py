@@ -1,6 +1,7 @@
-"""The cat's pose grids and the several joints' rows in the kernel's event runs: mouse moves no shipped log has (past both ends, infinite, NaN,
-ints, -0.0), the kernel's runs against the pure-Python path. Passes: closes a
-coverage hole (test_event_runs_python's clamps are on the rows' arithmetic alone)."""
+"""The cat's pose grids and the several joints' rows in the kernel's event runs: mouse
+moves no shipped log has (past both ends, infinite, NaN, ints, -0.0), the kernel's runs
+against the pure-Python path. Passes: closes a coverage hole (test_event_runs_python's
+clamps are on the rows' arithmetic alone)."""
 
 from __future__ import annotations
 
