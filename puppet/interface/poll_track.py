@@ -35,8 +35,6 @@ is no plan: the same ticks run in Python, to the same bits (tests/test_poll_trac
 
 from __future__ import annotations
 
-from math import atan2, hypot
-
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
@@ -166,16 +164,15 @@ class AngleTrack:
             self._anchors.clear()
             self._pins = []
         chains, contact, perf = rt.grasping.chains, tr.contact, tr.perf_turn
-        row, pins, get = [], [], tr.channels.get
+        row, pins, vector = [], [], tr._performer_vector
         for chain, channel in spec.hands.items():
             if chain not in grasps or chain not in chains:
                 if chain in contact:  # (let go: the tick forgets it)
                     return False
                 continue
-            x, y = get(channel + ".x"), get(channel + ".y")  # (_performer_vector)
-            if x is None or y is None:
+            me = vector(channel)
+            if me is None:
                 continue
-            me = (atan2(y, x), hypot(x, y))
             seen = perf.get(channel)
             if seen is None or tr.last_sample > seen[2]:
                 if not first:
