@@ -13,11 +13,10 @@ from __future__ import annotations
 
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.poll_states import States
-from puppet.interface.poll_table import LIVE_INPUT, sequence_until
+from puppet.interface.poll_table import LIVE_INPUT, NEVER, sequence_until
 from puppet.interface.poll_track import VELOCITY
 
 MAX_CONDITIONS = 32  # the plan's arrays (transitions, conditions, blends, frame targets)
-NEVER = 1 << 62  # no timer, no arrival: the run ends at the call's end or a boundary
 
 
 def held_again(plan, held: dict) -> bool:

@@ -16,6 +16,8 @@ from __future__ import annotations
 from puppet.interface.conditions import INPUT, compile_bounds, reader
 from puppet.interface.controllers import feedback_kernel as _fk
 
+NEVER = 1 << 62  # no timer, no arrival: a run ends at its call's end, an event or a boundary
+
 # sensor kind -> the kernel's code (PK_S_*, kernel_control's pk_sensor): a link's
 # contact, its angle within a turn, a joint's angle, a link's spin, its height; and
 # the centre of mass's (COM: its place, velocity, fall time, the body's spin; com.dx

@@ -38,8 +38,7 @@ from __future__ import annotations
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import ANGLES
 from puppet.interface.controllers.tracking_pull import TRACK
-
-NEVER = 1 << 62  # (poll_fill's: no timer, no arrival)
+from puppet.interface.poll_table import NEVER
 
 # The sensors ``pk_contacts``' velocity change moves (every body's velocity by the same
 # step: the centre of mass's velocity, the fall time from it, the body's spin about it,

@@ -23,8 +23,7 @@ python``): the same ticks run in Python, to the same bits (tests/test_track_poll
 from __future__ import annotations
 
 from puppet.interface.controllers.tracking import KD, PRESS, TRACK
-
-NEVER = 1 << 62  # no step Python must tick at: the run ends at an event or a boundary
+from puppet.interface.poll_table import NEVER
 
 
 def run_stop(now: int, until: int, end: int, health: int, every: int) -> tuple[int, int]:
