@@ -57,18 +57,14 @@ def _traced(log, loop: bool):
 
 @needs_cc
 def test_a_chain_the_loop_starts_and_python_ends(path_of):
-    assert path_of("c") is not None
     log = _spinning(read_log(SHUFFLE))
-    with_loop, ticks = _traced(log, True), _traced(log, False)
-    assert path_of("python") is None
-    assert ticks == _traced(log, True)  # (passes: Python's ticks, the pure path)
-    assert len(with_loop) == len(ticks)
+    with_loop, ticks = _paths(lambda: log, path_of)
     spun = [a[0] for a in ticks if a[1]["machines"]["main"][0] in ("spin", "stiff")]
     assert spun  # the pair is reached
     for a, b in zip(with_loop, ticks):
-        # (fails at 182: the loop's run ends in ['spin', 181], Python's ticks in
-        # ['stiff', 181]: 17 states entered at step 181, not 16; the physics' hash the
-        # same here, the entries being idempotent)
+        # (failed at 182 before runtime.chained: the loop's run ended in ['spin', 181],
+        # Python's ticks in ['stiff', 181]: 17 states entered at step 181, not 16; the
+        # physics' hash the same here, the entries being idempotent)
         assert a[0] == b[0] and a[1]["machines"] == b[1]["machines"], (a[0], a[1]["machines"],
                                                                       b[1]["machines"])
 
@@ -78,31 +74,42 @@ def test_a_chain_the_loop_starts_and_python_ends(path_of):
 KEPT = "      - {key: k, adjust: {knee: 30}, buffer: 0.5, description: a kept press}"
 
 
-def _kept(log, at: int):
-    text = log.header["interface_text"]
-    old = "    enter: {set: {ankle: -35.0, knee: 78.2623}, over: 0.05}\n"
-    assert text.count(old) == 1
-    log.header["interface_text"] = text.replace(old, old + "    keys:\n" + KEPT + "\n")
-    pairs = sorted(log.pairs() + [(at, {"type": "key", "key": "k", "down": True}),
-                                  (at + 2, {"type": "key", "key": "k", "down": False})],
+def _paths(make, path_of):
+    """The log ``make()`` gives traced with the kernel's loop, with Python's ticks on
+    the kernel and on the pure-Python path; the last two agree (asserted)."""
+    assert path_of("c") is not None
+    with_loop, ticks = _traced(make(), True), _traced(make(), False)
+    assert path_of("python") is None
+    assert ticks == _traced(make(), True)  # (Python's ticks on the kernel and the pure path)
+    assert len(with_loop) == len(ticks)
+    return with_loop, ticks
+
+
+def _pressed(log, key: str, at: int):
+    """The log with ``key`` pressed at step ``at`` and let go two steps later."""
+    pairs = sorted(log.pairs() + [(at, {"type": "key", "key": key, "down": True}),
+                                  (at + 2, {"type": "key", "key": key, "down": False})],
                    key=lambda p: p[0])
     log.pairs = lambda: pairs
     return log
 
 
+def _kept(log, at: int):
+    text = log.header["interface_text"]
+    old = "    enter: {set: {ankle: -35.0, knee: 78.2623}, over: 0.05}\n"
+    assert text.count(old) == 1
+    log.header["interface_text"] = text.replace(old, old + "    keys:\n" + KEPT + "\n")
+    return _pressed(log, "k", at)
+
+
 @needs_cc
 def test_a_press_kept_for_a_state_the_loop_enters(path_of):
-    assert path_of("c") is not None
     # 155: a step into the first fold (entered at 154 in Python's ticks)
-    with_loop = _traced(_kept(read_log(SHUFFLE), 155), True)
-    ticks = _traced(_kept(read_log(SHUFFLE), 155), False)
-    assert path_of("python") is None
-    in_python = _traced(_kept(read_log(SHUFFLE), 155), True)
-    assert ticks == in_python  # (passes: Python's ticks on the kernel and the pure path)
-    assert len(with_loop) == len(ticks)
-    # (fails at 157: the loop's run enters `extend` with the press still kept,
-    # {'buffer': {'k': 155}}, the knee the blend's; the hash then 9dd2d3df1b8926a5, not
-    # acfd0cf9687b8189, and at the end 7156e1c43167f6e1, not 369281653091b175)
+    with_loop, ticks = _paths(lambda: _kept(read_log(SHUFFLE), 155), path_of)
+    # (failed at 157 before poll_plan's key disarmed the plan: the loop's run entered
+    # `extend` with the press still kept, {'buffer': {'k': 155}}, the knee the blend's;
+    # the hash then 9dd2d3df1b8926a5, not acfd0cf9687b8189, and at the end
+    # 7156e1c43167f6e1, not 369281653091b175)
     for a, b in zip(with_loop, ticks):
         assert a[0] == b[0] and a[1] == b[1] and a[3] == b[3] and a[4] == b[4], a[0]
 
@@ -123,22 +130,13 @@ def _moded(log, at: int):
     assert text.count(old) == 1
     log.header["interface_text"] = text.replace(old, old[:-1] + ", mode: helper}") \
         .rstrip() + "\n" + MODE_KEY
-    pairs = sorted(log.pairs() + [(at, {"type": "key", "key": "m", "down": True}),
-                                  (at + 2, {"type": "key", "key": "m", "down": False})],
-                   key=lambda p: p[0])
-    log.pairs = lambda: pairs
-    return log
+    return _pressed(log, "m", at)
 
 
 @needs_cc
 def test_a_mode_changed_under_a_state_the_loop_enters(path_of):
-    assert path_of("c") is not None
     # 155: a step into the first fold (entered at 154 in Python's ticks)
-    with_loop = _traced(_moded(read_log(SHUFFLE), 155), True)
-    ticks = _traced(_moded(read_log(SHUFFLE), 155), False)
-    assert path_of("python") is None
-    assert ticks == _traced(_moded(read_log(SHUFFLE), 155), True)  # (passes)
-    assert len(with_loop) == len(ticks)
+    with_loop, ticks = _paths(lambda: _moded(read_log(SHUFFLE), 155), path_of)
     for a, b in zip(with_loop, ticks):
         assert a[0] == b[0] and a[1] == b[1] and a[3] == b[3] and a[4] == b[4], a[0]
 
