@@ -23,6 +23,7 @@ python``): the same ticks run in Python, to the same bits (tests/test_track_poll
 from __future__ import annotations
 
 from puppet.interface.controllers.tracking import KD, PRESS, TRACK
+from puppet.interface.controllers.tracking_pull import velocity_sample
 from puppet.interface.poll_table import NEVER
 
 
@@ -481,14 +482,7 @@ class TrackPoll:
     def _velocities(self, tr, tk) -> None:
         """... and the performed velocities' sample (a sample's tick: the pose)."""
         p = self.plan
-        sample, t = tr.last_sample, tk.t
-        vel, h = 0, 0.0
-        if not t.has_prev or sample != tr.prev_step:
-            if t.has_prev and sample > tr.prev_step:
-                vel, h = 1, (sample - tr.prev_step) * tr.dt
-            else:
-                vel = 2
-            tr.prev_step = sample
+        vel, h = velocity_sample(tr, tk.t)
         p.t_pose, p.t_vel, p.t_h = 1, vel, h
 
     def run(self, space_ptr, dt: float, now: int, until: int, end: int, health: int,

@@ -28,6 +28,22 @@ PRESS = 0.003  # m: the placed pose puts its lowest foot this far into the groun
 # the foot stands on it (a sole held exactly at the surface makes no contact)
 
 
+def velocity_sample(tr, t) -> tuple[int, float]:
+    """The performed velocities at the tracker's last sample, as ``pk_track_pose``
+    takes them: (0, 0.0) the same sample as before, (1, h) a difference over h s from
+    the previous one, (2, 0.0) none to difference (the first, or after a rewind); the
+    sample then becomes the previous one (the pull's tick and the poll loop's)."""
+    sample = tr.last_sample
+    vel, h = 0, 0.0
+    if not t.has_prev or sample != tr.prev_step:
+        if t.has_prev and sample > tr.prev_step:
+            vel, h = 1, (sample - tr.prev_step) * tr.dt
+        else:
+            vel = 2
+        tr.prev_step = sample
+    return vel, h
+
+
 class Pulls:
     # the performed link positions at the last sample, their velocities from the two
     # last samples and the feet's turning rates: in the kernel's arrays when it runs
@@ -126,14 +142,8 @@ class Pulls:
                 lift = 2 if getting_up else 1
                 clearance = ch.get(self.spec.root.clearance, 0.0)
                 extra = clearance if clearance > 0.0 else -PRESS
-        sample, t = self.last_sample, kern.t
-        vel, h = 0, 0.0
-        if not t.has_prev or sample != self.prev_step:
-            if t.has_prev and sample > self.prev_step:
-                vel, h = 1, (sample - self.prev_step) * self.dt
-            else:
-                vel = 2
-            self.prev_step = sample
+        t = kern.t
+        vel, h = velocity_sample(self, t)
         lib.pk_track_pose(t, vals, has or ffi.NULL, vals[0], vals[1], vals[2], self.x0,
                           lift, ground, extra, vel, h)
         if self.impact_at is not None and step > self.impact_at:
