@@ -24,6 +24,21 @@ def session_of(tmp_path: Path, text: str, name: str = "iface.yaml") -> Session:
     return Session(load_setup(str(path)))
 
 
+def play_events(session: Session, events, until_step: int, chunk: int | None = None) -> None:
+    """``events`` ((step, event) pairs in order) handled at their steps, the session
+    advanced to each next one (in calls of at most ``chunk`` steps: runs cut between
+    them), then to ``until_step``."""
+    i = 0
+    while session.steps < until_step:
+        while i < len(events) and events[i][0] <= session.steps:
+            session.handle(events[i][1])
+            i += 1
+        nxt = events[i][0] if i < len(events) else until_step
+        to = min(nxt, until_step) if chunk is None else min(nxt, until_step,
+                                                            session.steps + chunk)
+        session.advance(max(1, to - session.steps))
+
+
 def tap(session: Session, key: str) -> None:
     """Press and release ``key``."""
     session.handle(ev.key(key, True))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from helpers import tap
+from helpers import play_events, tap
 
 from puppet.data.catalog import find, load_setup, setup_from_text
 from puppet.data.errors import DataError
@@ -40,25 +40,17 @@ def _with_knee_key() -> Session:
     return Session(setup_from_text(text, MOCAP))
 
 
-def run(session, events, until_step):
-    i = 0
-    while session.steps < until_step:
-        while i < len(events) and events[i][0] <= session.steps:
-            session.handle(events[i][1])
-            i += 1
-        nxt = events[i][0] if i < len(events) else until_step
-        session.advance(max(1, min(nxt, until_step) - session.steps))
 
 
 def test_kd_control_follows_the_clip_and_a_rewind_replays_it_to_the_bit(walk):
     s = Session(load_setup("biped-mocap"))
     events = ClipSource(walk).events(s.sim.dt, 3.0)
-    run(s, events, 960)  # 2 s
+    play_events(s, events, 960)  # 2 s
     s.checkpoint()
-    run(s, [e for e in events if e[0] >= 960], 1440)
+    play_events(s, [e for e in events if e[0] >= 960], 1440)
     first = s.sim.state_hash()
     s.restore_checkpoint()
-    run(s, [e for e in events if e[0] >= 960], 1440)
+    play_events(s, [e for e in events if e[0] >= 960], 1440)
     assert s.sim.state_hash() == first
     c = s.character
     assert c.upright() and c.com()[1] > 0.8
@@ -79,12 +71,12 @@ def test_the_stream_lost_lets_go_and_a_new_sample_takes_the_joints_back(walk):
     s = _letting_go()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 0.5)
-    run(s, events, round(0.5 / dt))
+    play_events(s, events, round(0.5 / dt))
     owners = s.runtime.owners.table
     assert set(owners.values()) == {TRACK}
-    run(s, [], round(0.7 / dt))  # 0.2 s without a sample: still tracking
+    play_events(s, [], round(0.7 / dt))  # 0.2 s without a sample: still tracking
     assert not s.runtime.tracker.lost
-    run(s, [], round(0.8 / dt))  # past 0.25 s: lost, the joints are nobody's
+    play_events(s, [], round(0.8 / dt))  # past 0.25 s: lost, the joints are nobody's
     assert s.runtime.tracker.lost and "LOST" in s.runtime.tracker.status
     assert TRACK not in s.runtime.owners.table.values()
     # the interface's gains are back on the joints (KD had scaled them)
@@ -98,9 +90,9 @@ def test_a_key_takes_its_joints_from_the_performer_and_the_rest_follow_on(walk):
     s = _with_knee_key()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 1.5)
-    run(s, [e for e in events if e[0] < 480], 480)
+    play_events(s, [e for e in events if e[0] < 480], 480)
     s.handle(ev.key("k", True))
-    run(s, [e for e in events if e[0] >= 480], round(1.5 / dt))
+    play_events(s, [e for e in events if e[0] >= 480], round(1.5 / dt))
     servos = s.character.servos
     assert servos["knee_near"].target == pytest.approx(math.radians(-90))
     assert s.runtime.owners.table.get("knee_far") == TRACK
@@ -159,11 +151,11 @@ def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, imp
     s = Session(load_setup("biped-mocap"))
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 6.0)
-    run(s, events, round(0.5 / dt))
+    play_events(s, events, round(0.5 / dt))
     tracker = s.runtime.tracker
     s.handle({"type": "push", "link": "chest", "impulse": [impulse, 0.0]})
     start = s.steps
-    run(s, [e for e in events if e[0] >= start], start + 8)
+    play_events(s, [e for e in events if e[0] >= start], start + 8)
     assert tracker.reaction is not None and tracker.reaction[0] == case
     spec = getattr(tracker.spec.reaction, case)
     assert tracker._weight(s.steps) == pytest.approx(spec.weight)
@@ -171,11 +163,11 @@ def test_a_push_is_judged_small_large_or_a_fall_and_the_pulls_give_way(walk, imp
     end = start + round((spec.hold + spec.recover) / dt) + 16
     if case == "fall":  # a get-up after the hold, then the performer over the blend
         get_up = tracker.spec.reaction.get_up
-        run(s, [e for e in events if e[0] >= s.steps], start + round(spec.hold / dt) + 16)
+        play_events(s, [e for e in events if e[0] >= s.steps], start + round(spec.hold / dt) + 16)
         assert tracker.getup is not None and "getting up (hands_knees)" in tracker.status
         end = start + round((spec.hold + sum(p.hold for p in get_up.steps)
                              + tracker.spec.blend) / dt) + 16
-    run(s, [e for e in events if e[0] >= s.steps], end)
+    play_events(s, [e for e in events if e[0] >= s.steps], end)
     assert tracker.reaction is None and tracker._weight(s.steps) == 1.0
     assert tracker.getup is None and tracker.back is None
 
@@ -185,15 +177,15 @@ def test_lost_then_off_then_on_tracks_again(walk):
     lost holding the joints at KD's weak gains (blended in over tracking.blend)."""
     s = _letting_go()
     dt = s.sim.dt
-    run(s, ClipSource(walk).events(dt, 0.3), round(0.3 / dt))
-    run(s, [], round(0.7 / dt))
+    play_events(s, ClipSource(walk).events(dt, 0.3), round(0.3 / dt))
+    play_events(s, [], round(0.7 / dt))
     tracker = s.runtime.tracker
     assert tracker.lost
     s.handle(ev.key("o", True))
     s.handle(ev.key("t", True))
     assert not tracker.lost and tracker.mode == "kd"
     events = [e for e in ClipSource(walk, start=0.7).events(dt, 1.3)]
-    run(s, events, round(1.3 / dt))
+    play_events(s, events, round(1.3 / dt))
     assert not tracker.lost and "LOST" not in tracker.status
     assert s.character.servos["knee_far"].target == pytest.approx(
         math.radians(s.runtime.channels["knee_far"]))
@@ -203,11 +195,11 @@ def test_a_joint_a_key_takes_gets_its_own_gains_and_no_pull(walk):
     s = _with_knee_key()
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 1.0)
-    run(s, [e for e in events if e[0] < 240], 240)
+    play_events(s, [e for e in events if e[0] < 240], 240)
     knee = s.character.servos["knee_near"]
     assert knee.stiffness < 500  # KD's inertia-scaled gain
     s.handle(ev.key("k", True))
-    run(s, [e for e in events if e[0] >= 240], 480)
+    play_events(s, [e for e in events if e[0] >= 240], 480)
     assert knee.stiffness == pytest.approx(1000.0)  # the interface's (the character's)
     assert s.character.servos["knee_far"].stiffness < 500  # still the performer's
 
@@ -216,16 +208,16 @@ def test_a_checkpoint_in_mid_reaction_replays_to_the_bit(walk):
     s = Session(load_setup("biped-mocap"))
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 3.0)
-    run(s, events, 480)
+    play_events(s, events, 480)
     s.handle({"type": "push", "link": "chest", "impulse": [30.0, 0.0]})
-    run(s, [e for e in events if e[0] >= 480], 500)
+    play_events(s, [e for e in events if e[0] >= 480], 500)
     assert s.runtime.tracker.reaction is not None
     s.checkpoint()
-    run(s, [e for e in events if e[0] >= 500], 1000)
+    play_events(s, [e for e in events if e[0] >= 500], 1000)
     first = s.sim.state_hash()
     s.restore_checkpoint()
     assert s.runtime.tracker.reaction is not None
-    run(s, [e for e in events if e[0] >= 500], 1000)
+    play_events(s, [e for e in events if e[0] >= 500], 1000)
     assert s.sim.state_hash() == first
 
 
@@ -287,21 +279,21 @@ def test_a_large_push_makes_a_protective_step(walk):
     s = Session(load_setup("biped-mocap"))
     dt = s.sim.dt
     events = ClipSource(walk).events(dt, 3.0)
-    run(s, events, round(0.5 / dt))
+    play_events(s, events, round(0.5 / dt))
     c, tracker = s.character, s.runtime.tracker
     s.handle({"type": "push", "link": "chest", "impulse": [30.0, 0.0]})
     start = s.steps
-    run(s, [e for e in events if e[0] >= start], start + 8)
+    play_events(s, [e for e in events if e[0] >= start], start + 8)
     assert tracker.reaction[0] == "large" and tracker.step is not None
     foot, _, x0, _, x1, _ = tracker.step
     assert x1 > x0 + 0.05  # ahead: the way the push went
     peak = 0.0
     for _ in range(round(tracker.spec.reaction.step_time / dt / 8)):
-        run(s, [e for e in events if e[0] >= s.steps], s.steps + 8)
+        play_events(s, [e for e in events if e[0] >= s.steps], s.steps + 8)
         peak = max(peak, min(sh.cache_bb().bottom for sh in c.shapes[foot]))
     assert peak > 0.05  # lifted
     assert c.link_position(foot)[0] > x0 + 0.05 and c.in_contact(foot)  # put down ahead
-    run(s, [e for e in events if e[0] >= s.steps], s.steps + round(1.5 / dt))
+    play_events(s, [e for e in events if e[0] >= s.steps], s.steps + round(1.5 / dt))
     assert c.upright()
 
 

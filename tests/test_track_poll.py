@@ -11,6 +11,7 @@ from __future__ import annotations
 from unittest.mock import patch
 
 import pytest
+from helpers import play_events
 from kernel_paths import needs_cc, trace
 
 from puppet.data.catalog import load_setup
@@ -79,16 +80,9 @@ def walk():
                          load_mapping("assets/mappings/cmu-131.yaml"))
 
 
-def _play(session, events, until_step, chunk=5):
-    """The events at their steps, the steps in calls of ``chunk`` (runs cut between
-    samples)."""
-    i = 0
-    while session.steps < until_step:
-        while i < len(events) and events[i][0] <= session.steps:
-            session.handle(events[i][1])
-            i += 1
-        nxt = events[i][0] if i < len(events) else until_step
-        session.advance(max(1, min(nxt, until_step, session.steps + chunk) - session.steps))
+def _play(session, events, until_step):
+    """The events at their steps, the steps in calls of 5 (runs cut between samples)."""
+    play_events(session, events, until_step, chunk=5)
 
 
 def _restored(walk) -> tuple[str, str, int]:
