@@ -33,6 +33,31 @@ def held_again(plan, held: dict) -> bool:
         angle[n] = target.angle
     return True
 
+_ARRAYS = ("first", "period", "hold", "since", "cond0", "n_cond", "kind", "want", "lo", "hi",
+           "body_a", "body_b", "spring", "start", "to", "b_first", "b_last", "f_parent",
+           "f_child", "f_ref", "f_spring", "f_angle", "f_hold_parent", "f_blend")
+
+
+def _arrays(plan) -> tuple:
+    """The plan's row arrays, each looked up once (``p.first`` makes a new cdata at each
+    read; an entry's fill writes some sixty rows: the walkers fill at every state)."""
+    got = plan.__dict__.get("_fill_arrays")
+    if got is None:
+        p = plan.plan
+        got = plan._fill_arrays = tuple(getattr(p, name) for name in _ARRAYS)
+    return got
+
+
+def _pointers(plan, bodies) -> dict:
+    """The kernel's pointers of the bodies and springs the rows name, per binding of
+    the bodies (a re-seat makes new ones): (condition kind, name) and (joint, ref)
+    -> their pointers, made at a first fill."""
+    got = plan.__dict__.get("_fill_pointers")
+    if got is None or got[0] is not bodies:
+        got = plan._fill_pointers = (bodies, {})
+    return got[1]
+
+
 def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | None:
     """Write the plan: the state's polled transitions (those an input rules out
     left out), the blend's travelling targets; the step a timer or an arrival is
@@ -46,11 +71,15 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
         c[0] is None for _, cs, *_ in table if cs for c in cs) and States.usable(rt)
     character = rt.character
     bodies, joints = character.bodies, character.spec
+    (a_first, a_period, a_hold, _, a_cond0, a_ncond, a_kind, a_want, a_lo, a_hi, a_body_a,
+     a_body_b, a_spring, a_start, a_to, a_bfirst, a_blast, a_fparent, a_fchild, a_fref,
+     a_fspring, a_fangle, a_fhold, a_fblend) = _arrays(plan)
+    pointers = _pointers(plan, bodies)
     k = i = 0
     entered = machine.entered
     plan._held = held = []  # (the plan's transition, the machine's) with a `for`
     plan._frame_rows = None
-    uses_com = plan._inputs = False
+    uses_com = inputs = plan._inputs = False
     moves = 0
     if seq is not None:  # a running sequence: its step's end, its ``until``
         name, step_index, ends, began, _ = seq
@@ -61,18 +90,19 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
         if found is not None:
             plan._offline = plan._offline or any(c[0] is None for c in found[1])
             table = [((began or 0) + found[0] - entered, found[1], 0, -1, 1), *table]
+    quiet = machine.quiet and not plan._live
     for after, conditions, hold, index, *period in table:
         first = entered + after
         if conditions is None and states and k < MAX_CONDITIONS:  # a timer: a row
-            p.first[k], p.cond0[k], p.n_cond[k], p.hold[k], p.period[k] = first, i, 0, 0, 1
+            a_first[k], a_cond0[k], a_ncond[k], a_hold[k], a_period[k] = first, i, 0, 0, 1
             rows.append(index)
             k += 1
             continue
         if conditions is None:  # a timer: Python's tick fires it
             until = first if first < until else until
             continue
-        if machine.quiet and not plan._live:  # (a device-only state between input
-            continue  # events: no polls; the mouse's alone: the kernel's, see waits)
+        if quiet:  # (a device-only state between input events: no polls; the
+            continue  # mouse's alone: the kernel's, see waits)
         c0 = i
         for kind, name, lo, hi, want in conditions:
             if kind is None:  # no step changes it: decided now
@@ -81,24 +111,32 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
                     break
                 continue
             if i >= MAX_CONDITIONS:
+                plan._inputs = inputs
                 return None
             if kind == _fk.JOINT:
-                joint = joints.joint(name)
-                p.body_a[i] = plan.pointer(bodies[joint.child]._body)
-                p.body_b[i] = plan.pointer(bodies[joint.parent]._body)
+                got = pointers.get((kind, name))
+                if got is None:
+                    joint = joints.joint(name)
+                    got = pointers[(kind, name)] = (plan.pointer(bodies[joint.child]._body),
+                                                    plan.pointer(bodies[joint.parent]._body))
+                a_body_a[i], a_body_b[i] = got
             elif name is not None:
-                p.body_a[i] = plan.pointer(bodies[name]._body)
+                got = pointers.get(name)
+                if got is None:
+                    got = pointers[name] = plan.pointer(bodies[name]._body)
+                a_body_a[i] = got
             uses_com = uses_com or kind in _fk.USES_COM
             if kind in VELOCITY:  # (1: a machine's, 2: a sequence's until's)
                 moves |= 2 if index == -1 else 1
-            plan._inputs = plan._inputs or kind >= LIVE_INPUT
-            p.kind[i], p.lo[i], p.hi[i], p.want[i] = kind, lo, hi, want
+            inputs = inputs or kind >= LIVE_INPUT
+            a_kind[i], a_lo[i], a_hi[i], a_want[i] = kind, lo, hi, want
             i += 1
         else:
             if k >= MAX_CONDITIONS:
+                plan._inputs = inputs
                 return None
-            p.first[k], p.cond0[k], p.n_cond[k], p.hold[k] = first, c0, i - c0, hold
-            p.period[k] = period[0] if period else every
+            a_first[k], a_cond0[k], a_ncond[k], a_hold[k] = first, c0, i - c0, hold
+            a_period[k] = period[0] if period else every
             if hold:
                 held.append((k, index))
             if states:
@@ -106,6 +144,7 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
             k += 1
             continue
         i = c0  # an input condition that does not hold: the transition cannot fire
+    plan._inputs = inputs
     p.n_trans = k
     n, servos, null = 0, character.servos, plan.ffi.NULL
     plan._travelling = travelling = {}  # joint -> its travel (a frame target's)
@@ -113,11 +152,11 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
         if n >= MAX_CONDITIONS:
             return None
         if target is None:
-            p.spring[n] = plan.pointer(servos[joint].spring._constraint)
+            a_spring[n] = plan.pointer(servos[joint].spring._constraint)
         else:  # (its angle: the frame loop's)
-            p.spring[n] = null
+            a_spring[n] = null
             travelling[joint] = n
-        p.start[n], p.to[n], p.b_first[n], p.b_last[n] = start, to, first, last
+        a_start[n], a_to[n], a_bfirst[n], a_blast[n] = start, to, first, last
         until = last if last < until and not states else until  # (the loop's, armed)
         n += 1
     p.n_blend, p.every = n, every
@@ -125,14 +164,18 @@ def fill(plan, table, machine, every: int, seq, states: bool = True) -> int | No
     for joint, (target, _) in rt.frames.held.items():  # (FrameTargets.tick's order)
         if n >= MAX_CONDITIONS:
             return None
-        spec, ref = frame_joints[joint], target.ref
+        ref = target.ref
         frame_rows.append((joint, ref, target.hold_parent))
-        p.f_parent[n] = plan.pointer(bodies[spec.parent]._body)
-        p.f_child[n] = plan.pointer(bodies[spec.child]._body)
-        p.f_ref[n] = null if ref is None else plan.pointer(bodies[ref]._body)
-        p.f_spring[n] = plan.pointer(servos[joint].spring._constraint)
-        p.f_angle[n], p.f_hold_parent[n] = target.angle, target.hold_parent
-        p.f_blend[n] = travelling.get(joint, -1)
+        got = pointers.get((joint, ref))
+        if got is None:  # (parent, child, ref, spring)
+            spec = frame_joints[joint]
+            got = pointers[(joint, ref)] = (
+                plan.pointer(bodies[spec.parent]._body), plan.pointer(bodies[spec.child]._body),
+                null if ref is None else plan.pointer(bodies[ref]._body),
+                plan.pointer(servos[joint].spring._constraint))
+        a_fparent[n], a_fchild[n], a_fref[n], a_fspring[n] = got
+        a_fangle[n], a_fhold[n] = target.angle, target.hold_parent
+        a_fblend[n] = travelling.get(joint, -1)
         n += 1
     p.n_frame, plan._frame_rows = n, frame_rows
     if states:
