@@ -18,6 +18,17 @@ from puppet.interface.poses import frame_target, pose_writer
 MAX_CHAINED_GOTOS = 16
 
 
+_RARE = ("app", "slowdown", "gravity", "friction", "perturb", "push", "track", "kinematic",
+         "goto", "over", "sequence", "release", "grasp", "reach")
+
+
+def _plain(a: ActionSpec) -> bool:
+    """An action ``Actions._run_plain`` runs as ``run_action`` would: a mode, gains
+    (not while held), a pose and plain angles at most."""
+    return all(getattr(a, name) is None for name in _RARE) and not a.while_held \
+        and not a.adjust and all(isinstance(v, (int, float)) for v in a.set.values())
+
+
 class Actions:
     """The actions part of the runtime (see the module docstring)."""
 
@@ -52,6 +63,15 @@ class Actions:
         action belongs to (its ``goto`` names that machine's states first)."""
         if self._pending:
             self.flush()  # a stream's samples came first: they act first
+        plain = self.__dict__.get("_plain_actions")
+        if plain is None:
+            plain = self._plain_actions = {}
+        got = plain.get(id(a))
+        if got is None or got[0] is not a:  # (each kept with its action: its id stays its)
+            got = plain[id(a)] = (a, _plain(a))
+        if got[1]:
+            self._run_plain(a)
+            return None
         result = None
         if a.app is not None:
             result = AppAction(a.app)
@@ -127,6 +147,33 @@ class Actions:
         if a.reach is not None:
             self.reaching.start(a.reach, now)
         return result
+
+    def _run_plain(self, a: ActionSpec) -> None:
+        """``run_action`` of an action that is a mode, gains, a pose and plain angles at
+        most (``_plain``: a gait's state entry, several a second): its parts in the same
+        order, without asking for each part it has not."""
+        if a.mode is not None and a.mode != self.mode:
+            self.mode = a.mode
+            self._refresh_active_maps()
+            self._activate(self.spec.modes[a.mode])
+        servos = self.character.servos
+        r = self.roles.rename
+        if a.stiffness or a.damping:
+            for joint, k in a.stiffness.items():
+                servos[r(joint)].stiffness = k
+            for joint, d in a.damping.items():
+                servos[r(joint)].damping = d
+        frames = self.frames
+        if a.pose is not None:
+            pose = self.poses[a.pose]
+            self.owners.take(pose.targets)
+            self._pose_writer(pose)(frames, FRAME)
+        if a.set:
+            for joint, deg in a.set.items():
+                joint = r(joint)
+                servos[joint].target = math.radians(deg)
+                frames.forget(joint)
+            self.owners.take([r(j) for j in a.touched_joints()])
 
     def _pose_writer(self, pose):
         """``poses.pose_writer`` for ``pose``, kept while the springs stay bound."""
