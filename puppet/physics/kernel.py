@@ -27,6 +27,7 @@ import os
 import sys
 import sysconfig
 
+from puppet.physics.kernel_health import HEALTH_CDEF, HEALTH_SOURCE
 from puppet.physics.kernel_maps import MAPS_CDEF, MAPS_SOURCE
 from puppet.physics.kernel_poll import POLL_CDEF, POLL_SOURCE
 from puppet.physics.kernel_source import CDEF as _CDEF
@@ -35,6 +36,7 @@ from puppet.physics.kernel_source import SOURCE as _SOURCE
 CDEF, SOURCE = _CDEF + MAPS_CDEF, _SOURCE + MAPS_SOURCE  # (pose grids: kernel_maps)
 CDEF, SOURCE = CDEF + POLL_CDEF, SOURCE + POLL_SOURCE  # (the stepping loop: kernel_poll,
 # whose event runs run pose grids)
+CDEF, SOURCE = CDEF + HEALTH_CDEF, SOURCE + HEALTH_SOURCE  # (the health check: kernel_health)
 
 # no contraction into fused multiply-adds, no reassociation, no sincos (kernel_source)
 FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-fno-builtin", "-fno-strict-aliasing"]

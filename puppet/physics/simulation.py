@@ -30,6 +30,7 @@ from pymunk._chipmunk_cffi import lib as _cp
 
 from puppet.data.characters import CharacterSpec
 from puppet.data.scenes import SceneSpec
+from puppet.physics import kernel as _kernel
 from puppet.physics import props as prop_bodies
 from puppet.physics import snapshot
 from puppet.physics.character import Character
@@ -291,7 +292,17 @@ class Simulation:
     def blown_up(self) -> bool:
         """NaN or runaway velocity anywhere (the state can no longer be trusted). It runs
         at every health check (each 0.5 s of a run), so it reads the bodies through
-        pymunk's own C calls (what ``velocity``, ``position`` and ``angle`` return)."""
+        pymunk's own C calls (what ``velocity``, ``position`` and ``angle`` return), or
+        in one call of the kernel (``kernel_health``: the same tests)."""
+        kern = _kernel.get()
+        if kern is not None:
+            bodies = self.character.bodies
+            rows = self.__dict__.get("_health_rows")
+            if rows is None or rows[0] is not bodies:  # (a re-seat: new bodies)
+                rows = self._health_rows = (bodies, kern.ffi.new(
+                    "void *[]", [kern.pointer(b._body) for b in bodies.values()]))
+            return bool(kern.lib.pk_blown_up(rows[1], len(bodies), MAX_SPEED ** 2,
+                                             50 * MAX_SPEED))
         isfinite = math.isfinite
         for b in self.character.bodies.values():
             cb = b._body
