@@ -263,6 +263,7 @@ class PollPlan:
             self._frame = frame
             p.frame_every, root, p.x0, p.x1, p.y0, p.y1, p.max_speed2 = frame
         stop, last = run_stop(now, until, end, health, frame[0])
+        p.ev_at_stop = until < end and until < last  # (the events there, then the tick)
         rt = self.runtime
         root = rt.character.bodies[frame[1]]._body
         if root is not self._root:  # (held: the same object is the same body)

@@ -114,6 +114,9 @@ typedef struct {
     double x0, x1, y0, y1, max_speed2;
     int n_ev;         /* input events to apply at their steps (0: none; pk_events) */
     int ev_done;      /* how many the call applied (handed back) */
+    int ev_at_stop;   /* ``stop`` a timer's or an arrival's step (Python's tick comes
+                         there), before the call's end and the next history boundary:
+                         the events at it applied first, as the session's loop would */
     int *ev_step, *ev_kind;  /* per event: its step, its kind (-1: Python's) */
     double *ev_v;     /* per event: its two values (x, y; a stick's value) */
     int n_kind;       /* per kind: its map rows [k_first, k_last) (-1: Python's) */
@@ -417,6 +420,21 @@ static int pk_events(pk_poll_plan *p, int s)
     return 0;
 }
 
+/* Session.advance's frame check at a frame's end: the root in the world box, not
+   flying off (1: passed, or not a frame's end) */
+static int pk_frame_ok(pk_poll_plan *p, int s)
+{
+    if (s % p->frame_every == 0) {
+        pk_vect q = get_position(p->root), v;
+        if (!(p->x0 < q.x && q.x < p->x1 && p->y0 < q.y && q.y < p->y1))
+            return 0;
+        v = get_velocity(p->root);
+        if (!(v.x * v.x + v.y * v.y < p->max_speed2))
+            return 0;
+    }
+    return 1;
+}
+
 /* ``tick_first``: the tick at ``now`` too (else Python's tick has run there) */
 int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick_first)
 {
@@ -430,16 +448,13 @@ int pk_poll(void *space, double dt, int now, int stop, pk_poll_plan *p, int tick
     for (;;) {
         space_step(space, dt);
         s++;
-        if (s >= stop)
+        if (s >= stop) {
+            if (p->ev_at_stop && p->n_ev && s == stop && pk_frame_ok(p, s))
+                pk_events(p, s);  /* (a refused one: Python's, as ever) */
             return s;
-        if (s % p->frame_every == 0) {  /* Session.advance's frame check */
-            pk_vect q = get_position(p->root), v;
-            if (!(p->x0 < q.x && q.x < p->x1 && p->y0 < q.y && q.y < p->y1))
-                return s;
-            v = get_velocity(p->root);
-            if (!(v.x * v.x + v.y * v.y < p->max_speed2))
-                return s;
         }
+        if (!pk_frame_ok(p, s))  /* Session.advance's frame check */
+            return s;
         if (p->n_ev && pk_events(p, s))  /* (the events at ``s`` come before its tick) */
             return s;
         if (pk_tick(p, s))
