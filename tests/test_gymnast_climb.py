@@ -1,7 +1,9 @@
 """The gymnast climbs the ladder (interfaces/biped-gymnast.yaml on the ladder scene, logs
 biped-gymnast-climb-bound and -trot): the logs' expectations (which hold: tests/test_logs.py)
 fail by name without rigid grasps (of the feet, or of the hands), with the figure's own
-shoulders, or without the mapping's mode key (2 for the bound, 3 for the trot)."""
+shoulders, or without the mapping's mode key (2 for the bound, 3 for the trot); each
+climb's hands seek the next rung on a 1/240 s step (the trot's from behind, the bound's
+from ahead)."""
 
 from __future__ import annotations
 
@@ -119,3 +121,22 @@ def test_without_the_seek_the_trot_climb_misses_on_a_1_240_step(tmp_path):
     failed = {o.expectation.split(" ")[0]
               for o in replay(copy, physics=OtherPhysics(dt=1 / 240)).failed}
     assert CLIMB & failed
+
+
+@pytest.mark.parametrize("seek", [True, False], ids=["with", "without"])
+def test_the_bound_climbs_hands_seek_the_rung_from_ahead_on_a_1_240_step(tmp_path, seek):
+    """Issue 29: a person's try of the bound climb (human noise, seed 0, try 2) on a
+    1/240 s step throws both hands 14-17 cm in front of rung 7; with the seek in the
+    hands' `climbing` states they turn up and back and catch it, without it they miss
+    it and the figure falls when the feet let go next."""
+    from puppet.data.playtest import noise_at
+    from puppet.timeline.other_physics import OtherPhysics
+    from puppet.timeline.playtest.trial import run_try
+
+    def no_seek(spec):
+        if not seek:
+            for hand in ("near_hand", "far_hand"):
+                spec["machines"][hand]["states"]["climbing"].pop("maps")
+    copy = with_changed_interface(LOGS[0], "biped-gymnast", tmp_path, no_seek)
+    result = run_try(str(copy), noise_at("human"), 0, 2, OtherPhysics(dt=1 / 240))
+    assert result.passed == seek, result.failed
