@@ -207,7 +207,7 @@ class PollPlan:
         # (an armed plan no longer usable - a press kept for a state, a reach, sensor
         # maps, begun by an event since the fill - is filled again and so disarmed)
         key = (machine.entered, machine.quiet and not self._live, sim.seats, every, seq,
-               tuple(moving.items()), self._armed and not self._states.usable(rt))
+               tuple(moving.items()), self._armed and self._states.stale(rt))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key

@@ -18,6 +18,8 @@ Python's ticks would have left it. A transition into a state it cannot enter
 module: it reads ``pk_poll_plan`` (``POLL_TYPES``).
 """
 
+from puppet.physics.kernel_poll_poses import POSES_SOURCE
+
 STATES_TYPES = """
 typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states) */
     int max_chain;        /* MAX_CHAINED_GOTOS */
@@ -42,10 +44,15 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     double *l_val;
     int n_val, max_val;
     int started;          /* the step an entry last started targets travelling */
+    int *w0, *w1;         /* per state: its entry's pose writes [w0, w1) (poll_poses) */
+    void **w_spring;
+    int *w_what;          /* 0 a target, 1 a stiffness, 2 a torque cap */
+    double *w_value;
+    void *f_stiffness, *f_max_force;  /* pymunk's setters (kernel_poll_poses) */
 } pk_states;
 """
 
-STATES_SOURCE = r"""
+STATES_SOURCE = POSES_SOURCE + r"""
 static int pk_log(pk_states *st, int s, int kind, int arg)
 {
     int n = st->n_log++;
@@ -112,9 +119,10 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
         return 0;
     for (int r = st->t0[b]; r < st->t1[b]; r++)
         i += st->r_ncond[r];
-    if (i > st->max_cond)
+    if (i > st->max_cond || !pk_pose_fits(p, st, b))
         return 0;
     pk_log(st, s, 1, b);
+    pk_pose_write(st, b);  /* (a pose's entry: kernel_poll_poses) */
     for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* BlendController.start */
         int j = 0, steps = st->e_steps[e];
         double from = get_rest_angle(st->e_spring[e]);
