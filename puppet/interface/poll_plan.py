@@ -282,7 +282,9 @@ class PollPlan:
             self._filled, sim = self._current, rt.sim  # entered: no `for`s)
             self._held = [] if entered else self._held
             self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
-                         machine.every, None, tuple(rt.blends.moving.items()))
+                         machine.every, None, tuple(rt.blends.moving.items()), False)
+            # (ready's last part: the table armed still the one to use - a press kept
+            # since, other work begun: True there, so filled again)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step
