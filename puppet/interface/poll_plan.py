@@ -280,7 +280,7 @@ class PollPlan:
             self._quieted(p, quiet and not entered, now, s, tick_first)
         if handed:  # what ready's key finds now: the plan as the loop left it (a state
             self._filled, sim = self._current, rt.sim  # entered: no `for`s)
-            self._held = [] if entered else self._held
+            self._held = self._states.held_rows() if entered else self._held
             self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
                          machine.every, None, tuple(rt.blends.moving.items()), False)
             # (ready's last part: the table armed still the one to use - a press kept

@@ -39,9 +39,12 @@ def pose_only(a, mode) -> bool:
 def pose_rows(rt, a, mode) -> list | None:
     """The rows of a pose-only entry, ``(joint, what, value)`` in ``pose_writer``'s
     order (its targets, stiffnesses, torque caps); None when it is not the loop's."""
-    if not pose_only(a, mode):
-        return None
-    pose = rt.poses.get(a.pose)
+    return named_pose(rt, a.pose) if pose_only(a, mode) else None
+
+
+def named_pose(rt, name: str) -> list | None:
+    """A pose's rows (``pose_rows``), or None (frame targets, damping)."""
+    pose = rt.poses.get(name)
     if pose is None or pose.frames or pose.damping:
         return None
     rows = [(j, TARGET, v) for j, v in pose.targets.items()]
@@ -59,20 +62,61 @@ def kept(rt) -> tuple:
     return tuple(sorted(unused)) if unused else ()
 
 
+def presses(rt) -> tuple:
+    """The presses kept now, with their steps (a table armed for others is stale: a
+    press spent by the loop, or made again since, is not the one it holds)."""
+    unused = rt.buffer.unused
+    return tuple(sorted(unused.items())) if unused else ()
+
+
+def _binding(rt, machine, state: str, chord: str):
+    """(the binding ``chord`` finds in ``state``, its machine): ``KeyBindings.lookup``
+    with one machine in ``state``."""
+    bindings = rt.key_bindings
+    found = bindings.state[(machine.name, state)].get(chord)
+    if found is None:
+        found = bindings.any[machine.name].get(chord)
+    if found is not None:
+        return found, machine.name
+    return bindings.top.get(chord), None
+
+
 def takes_kept(rt, machine, state: str, chords: tuple) -> bool:
     """A kept chord would act on entering ``state`` (``InputBuffer.due``: the binding
     it finds there has a ``buffer``; how old the press is does not matter here)."""
-    bindings = rt.key_bindings
-    table, shared = bindings.state[(machine.name, state)], bindings.any[machine.name]
     for chord in chords:
-        found = table.get(chord)
-        if found is None:
-            found = shared.get(chord)
-        if found is None:
-            found = bindings.top.get(chord)
+        found = _binding(rt, machine, state, chord)[0]
         if found is not None and getattr(found, "buffer", None) is not None:
             return True
     return False
+
+
+def kept_action(rt, machine, state: str, chords: tuple, mode):
+    """The one kept chord's binding in ``state``, when the loop can run it as the
+    state is entered (``_enter_state``'s ``buffer.due``, then ``run_action``): its
+    ``goto`` (a state of this machine, entered first), then its stiffnesses and its
+    pose, nothing else. ``(state to go to, the buffer in steps, rows)`` or None."""
+    if len(chords) != 1:
+        return None
+    a, owner = _binding(rt, machine, state, chords[0])
+    if a is None or a.buffer is None or a.goto is None or a.while_held \
+            or a.mode not in (None, mode) \
+            or any(getattr(a, f) is not None for f in _NONE if f != "goto") \
+            or a.set or a.adjust or a.damping:
+        return None
+    to = rt.spec.resolve_goto(a.goto, owner)
+    if to is None or to[0] != machine.name:
+        return None
+    rename, servos = rt.roles.rename, rt.character.servos
+    rows = [(rename(j), STIFFNESS, k) for j, k in a.stiffness.items()]
+    if a.pose is not None:
+        pose = named_pose(rt, a.pose)
+        if pose is None:
+            return None
+        rows += pose
+    if any(j not in servos for j, _, _ in rows):
+        return None
+    return to[1], round(a.buffer / rt.buffer.dt), rows
 
 
 def hand_back(rt, joints: tuple) -> None:

@@ -38,6 +38,34 @@ static void pk_pose_write(pk_states *st, int b)
 }
 """
 
+KEPT_SOURCE = r"""
+/* _enter_state of ``b`` at ``s`` with the press kept for it: InputBuffer.due (the
+   press within the binding's buffer, else Python's tick: it stays kept there), then
+   run_action of its binding - its goto's state entered (logged 3: no link of the
+   tick's chain), its stiffnesses and pose written (rows n_state + b); the press spent
+   (logged 2). 0 (nothing done) when any of it does not fit: Python's tick */
+static int pk_enter_kept(pk_poll_plan *p, pk_states *st, int b, int s)
+{
+    int g = st->kept_live ? st->k_goto[b] : -1, i = 0;
+    if (g < 0)
+        return pk_enter(p, st, b, s);
+    for (int r = st->t0[g]; r < st->t1[g]; r++)
+        i += st->r_ncond[r];
+    if (s - st->kept_at > st->k_window[b] || st->t1[g] - st->t0[g] > st->max_trans
+            || i > st->max_cond || st->n_log + 3 > st->max_log
+            || !pk_pose_fits(p, st, g) || !pk_pose_fits(p, st, st->n_state + b))
+        return 0;
+    if (!pk_enter(p, st, b, s))
+        return 0;
+    st->kept_live = 0;
+    pk_log(st, s, 2, b);
+    pk_enter(p, st, g, s);  /* (fits: checked above; its entry a pose or nothing) */
+    st->l_kind[st->n_log - 1] = 3;
+    pk_pose_write(st, st->n_state + b);
+    return 1;
+}
+"""
+
 _SETTERS = ("cpDampedRotarySpringSetStiffness", "cpConstraintSetMaxForce")
 
 

@@ -18,7 +18,7 @@ Python's ticks would have left it. A transition into a state it cannot enter
 module: it reads ``pk_poll_plan`` (``POLL_TYPES``).
 """
 
-from puppet.physics.kernel_poll_poses import POSES_SOURCE
+from puppet.physics.kernel_poll_poses import KEPT_SOURCE, POSES_SOURCE
 
 STATES_TYPES = """
 typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states) */
@@ -49,6 +49,11 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     int *w_what;          /* 0 a target, 1 a stiffness, 2 a torque cap */
     double *w_value;
     void *f_stiffness, *f_max_force;  /* pymunk's setters (kernel_poll_poses) */
+    int *r_hold;          /* per row: its `for` in steps (0: none) */
+    int n_state;          /* the states; rows w0[n_state + b]: b's kept press's writes */
+    int *k_goto, *k_window;  /* per state: a kept press acts as it is entered: its
+                             binding's state, or -1; the buffer in steps */
+    int kept_at, kept_live;  /* the press's step; 1 until the loop spends it */
 } pk_states;
 """
 
@@ -148,7 +153,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     for (int r = st->t0[b]; r < st->t1[b]; r++, k++) {  /* the state's table */
         p->first[k] = s + st->r_after[r];
         p->period[k] = st->r_period[r];
-        p->hold[k] = 0;
+        p->hold[k] = st->r_hold[r];
         p->since[k] = -1;
         p->cond0[k] = i;
         p->n_cond[k] = st->r_ncond[r];
@@ -166,6 +171,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     return 1;
 }
 
+""" + KEPT_SOURCE + r"""
 /* A transition (plan row k - 1) holds at ``s``: the tick's writes, then its state and
    those chained after it at ``s`` entered; 1 when Python's tick must run at ``s``
    (a state it cannot enter: before any write, or after those it entered) */
@@ -179,7 +185,7 @@ static int pk_transit(pk_poll_plan *p, int s, int k, pk_com_now *com)
                                                     machines: BlendController.tick) */
         pk_blend_write(p, s);
     for (int chain = 1;; chain++) {
-        if (!pk_enter(p, st, b, s))
+        if (!pk_enter_kept(p, st, b, s))
             return 1;
         k = pk_fires(p, s, com);  /* StateMachine.due again, at the same step */
         if (!k || chain >= st->max_chain)
