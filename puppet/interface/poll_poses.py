@@ -15,8 +15,14 @@ whose target would take a joint from a travelling blend.
 A press kept for a later state (``buffer: S``) used to keep the loop from entering
 states at all. The runtime asks the buffer only when a state is entered
 (``_enter_state``), so with presses kept the loop may still enter any state in which
-no kept chord finds a binding with a ``buffer`` (``takes_kept``): the state that would
-spend it is Python's to enter, as before (its table is made per set of kept chords).
+no kept chord finds a binding with a ``buffer`` (``takes_kept``; its table is made per
+set of kept chords). With one press kept, the state that takes it is the loop's too
+when its binding only goes to a state of the machine and writes stiffnesses and a
+pose (``kept_action``; the cat's push, ctrl+a, pressed as the cat lands and acted on
+as it is gathered): the loop checks the press's age as ``InputBuffer.due`` does,
+enters the goto's state, writes the binding's rows and logs the press spent
+(``pk_enter_kept``), which the hand-back takes out of the buffer. A press too old
+for its buffer leaves the entry to Python's tick, where it stays kept.
 """
 
 from __future__ import annotations

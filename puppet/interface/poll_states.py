@@ -3,12 +3,14 @@
 
 ``poll_fill.fill`` arms it (``arm``) when the runtime's work between ticks is one
 machine's polls at every step (period 1) and plain travelling targets, nothing else
-busy (no maps active, no sequence, sensor maps, frame targets, reach, grasp or kept
-key press). Then a transition into a state the loop can enter - its table the
-kernel's with no `for` and no device input decided when filled, no maps, roles or
-rate of its own (period 1 too), its entry nothing or a ``set`` of plain angles with
-``over`` - is taken in the loop, with the states chained after it and the targets'
-arrivals; any other ends the call for Python's tick, as a timer does. After the call
+busy (no maps active, no sequence, sensor maps, frame targets, reach or grasp). Then
+a transition into a state the loop can enter - its table the kernel's with no device
+input decided when filled (a `for` kept in the plan's rows, its start handed back),
+no maps, roles or rate of its own (period 1 too), its entry nothing, a ``set`` of
+plain angles with ``over`` or a pose put on at once (``poll_poses``), no press kept
+that acts there but one ``poll_poses`` runs - is taken in the loop, with the states
+chained after it and the targets' arrivals; any other ends the call for Python's
+tick, as a timer does. After the call
 ``handed_back`` replays the log on the runtime: the machine's state (``enter``), the
 maps refreshed and activated as ``_enter_state`` does, the owners and the blend's
 travelling targets (each from the rest angle the kernel read), so that the runtime is
