@@ -115,4 +115,5 @@ def test_no_states_table_with_other_work(path_of):
     assert [j for j, _ in targets] == ["ankle", "knee"] and steps == 96, (targets, steps)
     assert states._enterable(rt, machine, "reaching", "helper", 1) is not None
     assert states._enterable(rt, machine, "push", "helper", 1) is not None  # (its mode)
-    assert (rt.roles.binding, "helper", 1) in states._made  # (made with the runtime)
+    assert (rt.roles.binding, "helper", 1, ()) in states._made  # (made with the runtime;
+    # () the presses kept: poll_poses)

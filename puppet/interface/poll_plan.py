@@ -207,7 +207,7 @@ class PollPlan:
         # (an armed plan no longer usable - a press kept for a state, a reach, sensor
         # maps, begun by an event since the fill - is filled again and so disarmed)
         key = (machine.entered, machine.quiet and not self._live, sim.seats, every, seq,
-               tuple(moving.items()), self._armed and not self._states.usable(rt))
+               tuple(moving.items()), self._armed and self._states.stale(rt))
         if table is not self._filled or sim.space is not self._space or key != self._key \
                 or self._offline:
             self._filled, self._space, self._key = table, sim.space, key
@@ -281,9 +281,11 @@ class PollPlan:
             self._quieted(p, quiet and not entered, now, s, tick_first)
         if handed:  # what ready's key finds now: the plan as the loop left it (a state
             self._filled, sim = self._current, rt.sim  # entered: no `for`s)
-            self._held = [] if entered else self._held
+            self._held = self._states.held_rows() if entered else self._held
             self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
-                         machine.every, None, tuple(rt.blends.moving.items()))
+                         machine.every, None, tuple(rt.blends.moving.items()), False)
+            # (ready's last part: the table armed still the one to use - a press kept
+            # since, other work begun: True there, so filled again)
         if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step

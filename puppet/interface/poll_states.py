@@ -3,12 +3,14 @@
 
 ``poll_fill.fill`` arms it (``arm``) when the runtime's work between ticks is one
 machine's polls at every step (period 1) and plain travelling targets, nothing else
-busy (no maps active, no sequence, sensor maps, frame targets, reach, grasp or kept
-key press). Then a transition into a state the loop can enter - its table the
-kernel's with no `for` and no device input decided when filled, no maps, roles or
-rate of its own (period 1 too), its entry nothing or a ``set`` of plain angles with
-``over`` - is taken in the loop, with the states chained after it and the targets'
-arrivals; any other ends the call for Python's tick, as a timer does. After the call
+busy (no maps active, no sequence, sensor maps, frame targets, reach or grasp). Then
+a transition into a state the loop can enter - its table the kernel's with no device
+input decided when filled (a `for` kept in the plan's rows, its start handed back),
+no maps, roles or rate of its own (period 1 too), its entry nothing, a ``set`` of
+plain angles with ``over`` or a pose put on at once (``poll_poses``), no press kept
+that acts there but one ``poll_poses`` runs - is taken in the loop, with the states
+chained after it and the targets' arrivals; any other ends the call for Python's
+tick, as a timer does. After the call
 ``handed_back`` replays the log on the runtime: the machine's state (``enter``), the
 maps refreshed and activated as ``_enter_state`` does, the owners and the blend's
 travelling targets (each from the rest angle the kernel read), so that the runtime is
@@ -24,7 +26,9 @@ from puppet.interface.actions import MAX_CHAINED_GOTOS
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND
+from puppet.interface.poll_poses import hand_back, kept, kept_action, pose_rows, presses, takes_kept
 from puppet.interface.poll_table import state_table
+from puppet.physics.kernel_poll_poses import setters
 
 MAX_LOG = 256
 MAX_VAL = 1024
@@ -59,15 +63,23 @@ class States:
         self.rows: list = []  # per plan blend row: its joint (the handback's mirror)
         self.row_of: dict = {}  # a travelling joint -> its row
         self.uses_com = False  # a state's conditions read the centre of mass
+        self.poses: list = []  # per state: its pose's target joints (poll_poses) or ()
+        self.kept: tuple = ()  # the kept chords the table armed last was made for
+        self.presses: tuple = ()  # and the presses kept then, with their steps
+        self.spent: list = []  # per state: the targets a kept press's pose takes, or None
+        self.held: list = []  # per state: its rows with a `for` (row, transition index)
 
-    def _enterable(self, rt, machine, name: str, mode, every: int):
-        """``(targets, steps)`` of a state the loop can enter (its entry's), else None,
-        in ``mode`` at the period ``every``."""
+    def _enterable(self, rt, machine, name: str, mode, every: int, chords: tuple = ()):
+        """``(targets, steps)`` of a state the loop can enter (its entry's blend; a
+        pose put on at once: none, ``poll_poses``), else None, in ``mode`` at the
+        period ``every``, with ``chords`` kept for a later state."""
         spec = machine.spec.states[name]
         table = state_table(self.plan, machine, name)
-        if table is None or spec.roles is not None or spec.maps:
-            return None
-        if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
+        if table is None or spec.roles is not None or spec.maps \
+                or (chords and takes_kept(rt, machine, name, chords)
+                    and kept_action(rt, machine, name, chords, mode) is None):
+            return None  # (a press kept that acts here: poll_poses, when the loop's)
+        if any(cs and any(c[0] is None for c in cs) for _, cs, *_ in table):
             return None
         period = rt.period
         own = period.fast.get(machine.name, {}).get(name, period.base)
@@ -77,7 +89,7 @@ class States:
         if a is None or (a.set == {} and blend_only(a, mode)):
             return [], 1
         if not blend_only(a, mode):
-            return None
+            return ([], 1) if pose_rows(rt, a, mode) is not None else None
         rename, servos, targets = rt.roles.rename, rt.character.servos, {}
         for joint, value in a.set.items():  # (BlendController.start_action's order)
             joint = rename(joint)
@@ -95,22 +107,39 @@ class States:
         machine, period = rt._machine_list[0], rt.period
         for mode in {rt.mode, *rt.spec.modes}:
             for every in {period.base, *period.fast.get(machine.name, {}).values()}:
-                key = (rt.roles.binding, mode, every)
-                if key not in self._made:
-                    self._made[key] = self._build(rt, machine, mode, every)
+                for chords in ((), *((c,) for c in sorted(rt.buffer.keys))):
+                    key = (rt.roles.binding, mode, every, chords)
+                    if key not in self._made:
+                        self._made[key] = self._build(rt, machine, mode, every, chords)
 
-    def _build(self, rt, machine, mode, every: int) -> tuple:
-        """The table for the binding, mode and period of now: (the states' names, their
-        entries, per state its transitions' states, the struct, what its conditions
-        and entries point at, whether one reads the centre of mass, the seat)."""
+    def _build(self, rt, machine, mode, every: int, chords: tuple = ()) -> tuple:
+        """The table for the binding, mode, period and kept chords of now: (the
+        states' names, their entries, per state its transitions' states, the struct,
+        what its conditions and entries point at, whether one reads the centre of
+        mass, the seat, the pose rows' joints, per state its pose's target joints)."""
         ffi, plan, spec = self.ffi, self.plan, machine.spec
         names = list(spec.states)
         index = {n: k for k, n in enumerate(names)}
-        entries = [self._enterable(rt, machine, n, mode, every) for n in names]
+        entries = [self._enterable(rt, machine, n, mode, every, chords) for n in names]
+        poses = [pose_rows(rt, spec.states[n].enter, mode)
+                 if e is not None and spec.states[n].enter is not None else None
+                 for n, e in zip(names, entries)]
+        acts = [None] * len(names)  # per state: a kept press it acts on (poll_poses)
+        for b, name in enumerate(names):
+            act = entries[b] and chords and kept_action(rt, machine, name, chords, mode)
+            if act:  # (its goto's state entered with a pose or nothing; this one too)
+                g = index.get(act[0], -1)
+                if g < 0 or entries[g] is None or entries[g][0] or entries[b][0] \
+                        or takes_kept(rt, machine, act[0], chords):
+                    entries[b] = None
+                else:
+                    acts[b] = (g, *act[1:])
         targets = {}
         t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
         kind, src, lo, hi, want = [], [], [], [], []
         e0, e1, springs, eto, esteps = [], [], [], [], []
+        w0, w1, wjoints, what, wvalue = [], [], [], [], []
+        holds, k_goto, k_window = [], [], []
         for name in names:
             shared = [t for t in spec.any_state.transitions
                       if rt.spec.resolve_goto(t.to, machine.name) != (machine.name, name)]
@@ -122,8 +151,9 @@ class States:
             targets[name] = goes
             t0.append(len(after))
             entry = entries[index[name]]
-            for a_, cs, _, i in state_table(plan, machine, name) if entry else ():
+            for a_, cs, hold_, i in state_table(plan, machine, name) if entry else ():
                 after.append(a_)
+                holds.append(hold_)
                 per.append(every if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])
                 c0.append(len(kind))
@@ -138,6 +168,17 @@ class States:
                 eto.append(to)
                 esteps.append(entry[1])
             e1.append(len(springs))
+            w0.append(len(wjoints))
+            for joint, w, value in poses[index[name]] or ():
+                wjoints.append(joint), what.append(w), wvalue.append(value)
+            w1.append(len(wjoints))
+        for act in acts:  # (the kept presses' writes: rows n + b)
+            w0.append(len(wjoints))
+            for joint, w, value in act[2] if act else ():
+                wjoints.append(joint), what.append(w), wvalue.append(value)
+            w1.append(len(wjoints))
+            k_goto.append(act[0] if act else -1)
+            k_window.append(act[1] if act else 0)
         keep = []
 
         def arr(t, values, n=None):
@@ -163,8 +204,19 @@ class States:
         st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_arg, st.l_val0 = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_val = arr("double", None, MAX_VAL)
+        st.w0, st.w1 = arr("int", w0), arr("int", w1)
+        st.w_spring, st.w_what = arr("void *", None, len(wjoints)), arr("int", what)
+        st.w_value = arr("double", wvalue)
+        st.f_stiffness, st.f_max_force = setters(plan.kernel)
+        st.r_hold, st.n_state = arr("int", holds), len(names)
+        st.k_goto, st.k_window = arr("int", k_goto), arr("int", k_window)
         uses_com = any(k in _fk.USES_COM for k in kind)
-        return [names, entries, targets, st, keep, src, springs, uses_com, None]
+        targets_of = [tuple(j for j, w, _ in rows if w == 0) if rows else () for rows in poses]
+        spent = [tuple(j for j, w, _ in act[2] if w == 0) if act else None for act in acts]
+        held = [[(k, i) for k, (_, _, h, i) in enumerate(state_table(plan, machine, n) or ())
+                 if h] for n in names]
+        return [names, entries, targets, st, keep, src, springs, uses_com, None, wjoints,
+                targets_of, spent, held]
 
     def _seat(self, rt, made: list) -> None:
         """The conditions' links and the entries' springs of the seat of now (a
@@ -184,6 +236,8 @@ class States:
             st.c_a[c], st.c_b[c] = pa, pb
         for e, joint in enumerate(springs):
             st.e_spring[e] = plan.pointer(servos[joint].spring._constraint)
+        for w, joint in enumerate(made[9]):
+            st.w_spring[w] = plan.pointer(servos[joint].spring._constraint)
 
     @staticmethod
     def usable(rt) -> bool:
@@ -191,9 +245,23 @@ class States:
         before the plan is filled (a plan armed has its timers as rows)."""
         return not (rt.active_maps or rt.feedback.busy or rt.frames.held or rt._pending
                     or rt.tracker.mode != OFF
-                    or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused
+                    or rt.reaching.reaches or rt.grasping.armed
                     or len(rt._machine_list) != 1 or len(rt.blends.moving) > MAX_ROWS
                     or any(m[4] is not None for m in rt.blends.moving.values()))
+
+    def held_rows(self) -> list:
+        """The `for`s of the state the last call entered: (plan row, transition index)
+        (``pk_enter`` writes a state's rows in its table's order)."""
+        return self.held[self.names.index(self.plan.machine.current)]
+
+    def stale(self, rt):
+        """The table armed last is not the one to use now (other work; other presses
+        kept: ``poll_poses``): what differs, so that ``ready``'s key tells one such
+        moment from the next; False when it is the one."""
+        now = presses(rt)
+        if self.usable(rt) and now == self.presses:
+            return False
+        return self.usable(rt), now
 
     def arm(self, rt, machine, seq, rows: list) -> bool:
         """The loop may enter states from the plan just filled (``rows``: per plan
@@ -206,16 +274,20 @@ class States:
         if seq is not None or not self.usable(rt):
             return False
         moving = rt.blends.moving
-        key = (rt.roles.binding, rt.mode, machine.every)
+        chords = kept(rt)
+        key = (rt.roles.binding, rt.mode, machine.every, chords)
         made = self._made.get(key)
         if made is None:
-            made = self._made[key] = self._build(rt, machine, rt.mode, machine.every)
+            made = self._made[key] = self._build(rt, machine, rt.mode, machine.every, chords)
         seat = (rt.character.bodies, rt.sim.seats, rt.sim.space)
         if made[8] != seat:
             self._seat(rt, made)
             made[8] = seat
         self.names, self.entries, targets, st = made[:4]
-        self.uses_com = made[7]
+        self.uses_com, self.poses, self.kept = made[7], made[10], chords
+        self.spent, self.held, self.presses = made[11], made[12], presses(rt)
+        st.kept_live = bool(chords)  # (the press's step: InputBuffer.due's age)
+        st.kept_at = rt.buffer.unused[chords[0]] if chords else 0
         goes = targets[machine.current]
         for k, i in enumerate(rows):
             if i is None:
@@ -250,9 +322,16 @@ class States:
                 del moving[joint]
                 del table[joint]
                 continue
-            chain = chain + 1 if last is not None and last[1] == step else 1
+            if kind == 2:  # a kept press spent as state arg was entered (poll_poses:
+                rt.buffer.unused.pop(self.kept[0], None)  # InputBuffer.due, run_action)
+                hand_back(rt, self.spent[arg])
+                continue
+            if kind == 1:  # (3: its binding's goto, not one of the tick's chain)
+                chain = chain + 1 if last is not None and last[1] == step else 1
             last = arg, step  # InterfaceRuntime._enter_state, its entry's blend
             targets, steps = entries[arg]
+            if self.poses[arg]:  # (a pose put on: poll_poses)
+                hand_back(rt, self.poses[arg])
             if not targets:
                 continue
             joints = [j for j, _ in targets]

@@ -18,6 +18,8 @@ Python's ticks would have left it. A transition into a state it cannot enter
 module: it reads ``pk_poll_plan`` (``POLL_TYPES``).
 """
 
+from puppet.physics.kernel_poll_poses import KEPT_SOURCE, POSES_SOURCE
+
 STATES_TYPES = """
 typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states) */
     int max_chain;        /* MAX_CHAINED_GOTOS */
@@ -42,10 +44,20 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     double *l_val;
     int n_val, max_val;
     int started;          /* the step an entry last started targets travelling */
+    int *w0, *w1;         /* per state: its entry's pose writes [w0, w1) (poll_poses) */
+    void **w_spring;
+    int *w_what;          /* 0 a target, 1 a stiffness, 2 a torque cap */
+    double *w_value;
+    void *f_stiffness, *f_max_force;  /* pymunk's setters (kernel_poll_poses) */
+    int *r_hold;          /* per row: its `for` in steps (0: none) */
+    int n_state;          /* the states; rows w0[n_state + b]: b's kept press's writes */
+    int *k_goto, *k_window;  /* per state: a kept press acts as it is entered: its
+                             binding's state, or -1; the buffer in steps */
+    int kept_at, kept_live;  /* the press's step; 1 until the loop spends it */
 } pk_states;
 """
 
-STATES_SOURCE = r"""
+STATES_SOURCE = POSES_SOURCE + r"""
 static int pk_log(pk_states *st, int s, int kind, int arg)
 {
     int n = st->n_log++;
@@ -112,9 +124,10 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
         return 0;
     for (int r = st->t0[b]; r < st->t1[b]; r++)
         i += st->r_ncond[r];
-    if (i > st->max_cond)
+    if (i > st->max_cond || !pk_pose_fits(p, st, b))
         return 0;
     pk_log(st, s, 1, b);
+    pk_pose_write(st, b);  /* (a pose's entry: kernel_poll_poses) */
     for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* BlendController.start */
         int j = 0, steps = st->e_steps[e];
         double from = get_rest_angle(st->e_spring[e]);
@@ -140,7 +153,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     for (int r = st->t0[b]; r < st->t1[b]; r++, k++) {  /* the state's table */
         p->first[k] = s + st->r_after[r];
         p->period[k] = st->r_period[r];
-        p->hold[k] = 0;
+        p->hold[k] = st->r_hold[r];
         p->since[k] = -1;
         p->cond0[k] = i;
         p->n_cond[k] = st->r_ncond[r];
@@ -158,6 +171,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     return 1;
 }
 
+""" + KEPT_SOURCE + r"""
 /* A transition (plan row k - 1) holds at ``s``: the tick's writes, then its state and
    those chained after it at ``s`` entered; 1 when Python's tick must run at ``s``
    (a state it cannot enter: before any write, or after those it entered) */
@@ -171,7 +185,7 @@ static int pk_transit(pk_poll_plan *p, int s, int k, pk_com_now *com)
                                                     machines: BlendController.tick) */
         pk_blend_write(p, s);
     for (int chain = 1;; chain++) {
-        if (!pk_enter(p, st, b, s))
+        if (!pk_enter_kept(p, st, b, s))
             return 1;
         k = pk_fires(p, s, com);  /* StateMachine.due again, at the same step */
         if (!k || chain >= st->max_chain)
