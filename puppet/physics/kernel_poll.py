@@ -189,6 +189,16 @@ typedef struct {
     int c_late;       /* the machines read a velocity the contacts move: at a tracker's
                          tick, the contacts first (Python's order), undone if it stops */
     pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
+    int t_lost, t_sample;  /* an angles tracker's stream is lost at a tick more than
+                         t_lost steps after its last sample (t_sample; t_lost 0: no check) */
+    int ch_n, ch_t;   /* a performer's samples among the events (kind PK_EV_SAMPLE,
+                         pk_sample): per event ch_n values (0: Python's), the first ch_t
+                         for t_vals, the rest c_xy's */
+    double *ch_v; char *ch_has;  /* (ch_has: the event has the value; 2: Python's) */
+    double c_xy[8];   /* per contact: the performer's hand (x, y: the channels now), */
+    double c_sv[8];   /* its vector at the last sample its rates were worked out at */
+    int c_seen[4];    /* (IntentionalContacts.perf_turn's angle, length, step), */
+    double c_dt;      /* per step (the rates: pk_contact_rates) */
 } pk_poll_plan;
 """
 
@@ -265,6 +275,9 @@ static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     pk_vect was[PK_LATE];
+    if (p->t_lost && p->track && (s - p->t_phase) % p->t_every == 0
+            && s - p->t_sample > p->t_lost)
+        return 1;  /* (Tracker.tick: the stream lost here, Python's) */
     int late = p->c_late && p->track && p->c_n && (s - p->t_phase) % p->t_every == 0;
     if (late)  /* (Python's machines poll after the tracker's contacts: c_late; no
                   states entered in the loop with a tracker: poll_states.usable) */
@@ -391,6 +404,12 @@ static int pk_events(pk_poll_plan *p, int s)
 {
     while (p->ev_done < p->n_ev && p->ev_step[p->ev_done] == s) {
         int e = p->ev_done, kind = p->ev_kind[e];
+        if (kind == PK_EV_SAMPLE) {  /* a performer's sample (runtime._on_channels) */
+            if (!p->ch_n || pk_sample(p, e, s))
+                return 1;
+            p->ev_done++;
+            continue;
+        }
         if (kind < 0 || kind >= p->n_kind || p->k_first[kind] < 0)
             return 1;
         if (kind == 0) {  /* a mouse move: the inputs it sets (runtime.on_event's) */

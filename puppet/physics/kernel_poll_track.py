@@ -7,6 +7,36 @@ and so that each file stays readable; it reads ``pk_poll_plan`` (``POLL_TYPES``)
 """
 
 TRACK_SOURCE = r"""
+/* A performer's sample among a run's events (its kind; -1: Python's) */
+#define PK_EV_SAMPLE -2
+
+/* runtime._on_channels, then flush, of a sample at s for an angles tracker
+   (poll_track): its channels' values stored (those it has), Tracker.sampled's
+   last_sample and phase (a sample that comes between two control steps moves them to
+   itself: the tick at s is the tracker's); 1: a value is Python's (nothing done) */
+static int pk_sample(pk_poll_plan *p, int e, int s)
+{
+    const double *v = p->ch_v + (long long)e * p->ch_n;
+    const char *h = p->ch_has + (long long)e * p->ch_n;
+    for (int i = 0; i < p->ch_n; i++)
+        if (h[i] == 2)
+            return 1;
+    for (int i = 0; i < p->ch_t; i++) {
+        if (h[i]) {
+            p->t_vals[i] = v[i];
+            if (p->t_has)
+                p->t_has[i] = 1;
+        }
+    }
+    for (int i = p->ch_t; i < p->ch_n; i++)  /* (a contact's hand: pk_contact_rates) */
+        if (h[i])
+            p->c_xy[i - p->ch_t] = v[i];
+    p->t_sample = s;
+    if (s - p->t_phase >= p->t_every || s < p->t_phase)
+        p->t_phase = s;
+    return 0;
+}
+
 /* GaitCycle._raw_one(u, xi) less start: GaitCycle.travel at u */
 static double pk_cycle_x(const pk_walk *w, double u)
 {
