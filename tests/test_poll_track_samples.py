@@ -12,6 +12,7 @@ checkpoint and a restore between samples.
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from unittest.mock import patch
 
 import pytest
@@ -19,7 +20,7 @@ from kernel_paths import needs_cc
 from stepwise import stepwise
 from test_event_runs import _state, _targets
 
-from puppet.interface import poll_plan, poll_track
+from puppet.interface import poll_plan, poll_track, track_poll
 from puppet.session.playback import play
 from puppet.timeline.log import LogEvent, read_log
 from puppet.timeline.replay import new_session, setup_for_log
@@ -30,16 +31,18 @@ TRACKER = 5  # (the tracker's place in InterfaceRuntime.controllers; lost: its s
 
 
 def _counting():
-    """A patch of ``PollPlan.run`` counting the samples its runs applied; the count."""
+    """Patches of ``PollPlan.run`` and ``TrackPoll.run`` counting the samples their
+    runs applied (one context); the count."""
     applied = [0]
-    run = poll_plan.PollPlan.run
-
-    def counted(self, *args, **kwargs):
-        s = run(self, *args, **kwargs)
-        p = self.plan
-        applied[0] += sum(p.ev_kind[k] == poll_track.SAMPLE for k in range(p.ev_done))
-        return s
-    return patch.object(poll_plan.PollPlan, "run", counted), applied
+    stack = ExitStack()
+    for cls in (poll_plan.PollPlan, track_poll.TrackPoll):
+        def counted(self, *args, run=cls.run, **kwargs):
+            s = run(self, *args, **kwargs)
+            p = self.plan
+            applied[0] += sum(p.ev_kind[k] == poll_track.SAMPLE for k in range(p.ev_done))
+            return s
+        stack.enter_context(patch.object(cls, "run", counted))
+    return stack, applied
 
 
 def _traced(run, log, every: int):
@@ -192,3 +195,62 @@ def test_a_lost_stream_and_a_restore_between_samples(path_of):
     assert applied > 500, applied
     lost = [state["controllers"][TRACKER][2] for _, _, _, state, *_ in got[0]]
     assert any(lost) and not lost[-1]  # (lost in the gap, and back)
+
+
+KD = ["biped-mocap-walk", "biped-mocap-push", "biped-mocap-fall", "biped-mocap-lost",
+      "biped-mocap-library"]
+
+
+@needs_cc
+@pytest.mark.parametrize("name", KD)
+def test_a_kd_trackers_samples_run_in_the_kernel(name, path_of):
+    """A KD tracker with no machine (``TrackPoll``): its samples in the kernel's runs
+    (``pk_fresh``: the performed velocities and the lift at each sample's tick),
+    through pushes, reactions, a fall's get-up and a lost stream (Python's there)."""
+    assert path_of("c") is not None
+    log = read_log(f"assets/logs/{name}.jsonl")
+    got, applied = _agree(log, path_of)
+    assert applied > 200, applied
+    assert got[1][1] == log.end_hash
+
+
+@needs_cc
+def test_a_kd_trackers_samples_at_the_edges_of_a_run(path_of):
+    """Samples off the control steps, doubled, lacking the clearance or a joint's
+    channel, a clearance that lifts, values past HUGE (Python's), keys at a sample's
+    step (the pulls off and on: ``f``), a restore between samples: the three agree."""
+    assert path_of("c") is not None
+
+    def edit(events):
+        out, n = [], 0
+        for e in events:
+            if e.event.get("type") != "channels":
+                out.append(e)
+                continue
+            n += 1
+            values = dict(e.event["values"])
+            step = e.step + (3 if n % 7 == 0 else 0)
+            if n % 5 == 0:
+                values.pop("clearance", None)
+            if n % 11 == 0:
+                values.pop("knee_near", None)
+            if 100 <= n < 130:
+                values["clearance"] = 0.02 * (n - 100)
+            if n == 200:
+                values["hip_far"] = -1e301  # (past HUGE: Python's)
+            out.append(LogEvent(step, {"type": "channels", "values": values}, 0))
+            if n % 13 == 0:
+                more = {k: v * 0.9 for k, v in values.items()}
+                out.append(LogEvent(step, {"type": "channels", "values": more}, 0))
+            if n in (250, 262):  # the pulls off, then on again, at a sample's step
+                out.append(LogEvent(step, {"type": "key", "key": "f", "down": True}, 0))
+                out.append(LogEvent(step + 1, {"type": "key", "key": "f", "down": False},
+                                    0))
+        steps = [e.step for e in out if e.event.get("type") == "channels"]
+        out += [LogEvent(steps[300] + 2, {"type": "action", "name": "checkpoint"}, 0),
+                LogEvent(steps[360] + 1, {"type": "action", "name": "restore"}, 0)]
+        return out
+    log = read_log("assets/logs/biped-mocap-walk.jsonl")
+    log.events = sorted(edit(list(log.events)), key=lambda e: e.step)
+    _, applied = _agree(log, path_of)
+    assert applied > 200, applied

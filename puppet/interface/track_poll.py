@@ -89,6 +89,12 @@ class TrackPoll:
         p.t_view, p.t_view_has, p.t_n = self._view, self._view_has, len(tracker_kernel.names)
         p.t_came = self._came
         p.t_soles = bool(tr.soles) and tr.ground_at is not None
+        # a sample in a run of events (event_runs, pk_sample): the tracker's values,
+        # then the clearance (c_xy[0]: pk_fresh's lift), when the view is the plain
+        # performer's (``_sampling``, worked out at each ready)
+        self.key = (*tracker_kernel.names, root.clearance)
+        p.ch_t, p.t_dt = len(tracker_kernel.names), tr.dt
+        self._sampling = False
 
     def _walk_table(self, tr, n: int):
         """``pk_walk`` of the tracker's gait cycle (its frames, drift and the rows of
@@ -230,10 +236,14 @@ class TrackPoll:
                 p.t_has = self._has
         phase, every = tr.phase, tr.every
         p.t_phase, p.t_every = phase, every
-        if not lost:  # the first control step whose tick finds the stream lost: Python's
-            gone = tr.last_sample + tr.lost_steps + 1
-            gone = phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
-            until = gone if gone < until else until
+        # the first control step whose tick finds the stream lost is Python's: pk_tick
+        # stops there (samples a run applies move it on: pk_sample)
+        p.t_lost, p.t_sample = 0 if lost else tr.lost_steps, tr.last_sample
+        p.t_fresh, p.t_prev = 0, tr.prev_step
+        self._sampling = not lost and not moving and walk is None and not nopull \
+            and self._ground_ok(tr)  # (the plain performer's view: pk_fresh's)
+        if self._sampling:
+            p.c_xy[0] = ch.get(tr.spec.root.clearance, 0.0)
         if until <= step:
             return None
         self._ready_at = step
@@ -507,6 +517,9 @@ class TrackPoll:
         ticks = p.t_ticks
         self.kernel_ticks += ticks
         tr = rt.tracker
+        if p.ev_done and p.ch_n:  # samples applied (pk_sample): Tracker.sampled's
+            tr.last_sample, tr.phase = p.t_sample, p.t_phase  # (the values: event_runs)
+        tr.prev_step = p.t_prev  # (velocity_sample's, at the samples' ticks: pk_fresh)
         if ticks:
             tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
             if self._moving:
@@ -535,6 +548,11 @@ class TrackPoll:
             tr.reaction = tr.step = None
         if p.g_on:  # (the HUD's pose: the step last followed)
             tr.getup_step = p.t_last
+
+    def sampled(self) -> tuple | None:
+        """The channel names a sample stores for the kernel (``event_runs``: the
+        tracker's values, then the clearance) when its next run may apply samples."""
+        return self.key if self._sampling else None
 
     @property
     def resume(self) -> int:

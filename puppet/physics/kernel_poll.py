@@ -195,6 +195,9 @@ typedef struct {
                          pk_sample): per event ch_n values (0: Python's), the first ch_t
                          for t_vals, the rest c_xy's */
     double *ch_v; char *ch_has;  /* (ch_has: the event has the value; 2: Python's) */
+    int t_fresh;      /* a sample the run applied: the next tracker tick is a sample's */
+    int t_prev;       /* KD: the sample the performed velocities were last taken at */
+    double t_dt;      /* (pk_fresh: velocity_sample, the lift; c_xy[0]: the clearance) */
     double c_xy[8];   /* per contact: the performer's hand (x, y: the channels now), */
     double c_sv[8];   /* its vector at the last sample its rates were worked out at */
     int c_seen[4];    /* (IntentionalContacts.perf_turn's angle, length, step), */
@@ -295,6 +298,11 @@ static int pk_tick(pk_poll_plan *p, int s)
            the pulls. Between samples without a walk the view is the same values and
            the pose the last one (pk_track_pose again would give the same targets);
            walking in place, the view walks on (at a sample Python advanced it). */
+        if (p->t_fresh) {  /* a sample's tick (TrackPoll.ready's resume, in C) */
+            p->t_fresh = 0;
+            if (!p->t_nopull)
+                pk_fresh(p);
+        }
         pk_walk *w = p->walk;
         const double *vals = p->t_vals;
         const char *has = p->t_has;

@@ -32,9 +32,46 @@ static int pk_sample(pk_poll_plan *p, int e, int s)
         if (h[i])
             p->c_xy[i - p->ch_t] = v[i];
     p->t_sample = s;
+    p->t_fresh = 1;
     if (s - p->t_phase >= p->t_every || s < p->t_phase)
         p->t_phase = s;
     return 0;
+}
+
+static double pk_ground(const double *spans, int n, double x, int *found);
+
+/* A KD tracker's first tick after a sample the run applied (TrackPoll.ready at a
+   sample's tick, resumed): velocity_sample (the performed velocities differenced from
+   the sample before, or none to difference) and _lift (the ground under the root's
+   place, the clearance or -PRESS), for pk_track_pose at this tick */
+static void pk_fresh(pk_poll_plan *p)
+{
+    int vel = 0;
+    double h = 0.0;
+    if (!p->track->has_prev || p->t_sample != p->t_prev) {
+        if (p->track->has_prev && p->t_sample > p->t_prev) {
+            vel = 1;
+            h = (double)(p->t_sample - p->t_prev) * p->t_dt;
+        } else {
+            vel = 2;
+        }
+        p->t_prev = p->t_sample;
+    }
+    p->t_pose = 1;
+    p->t_vel = vel;
+    p->t_h = h;
+    int lift = 0;
+    double ground = 0.0, extra = 0.0;
+    if (p->t_soles) {
+        double g = pk_ground(p->spans, p->n_spans, p->t_x0 + p->t_vals[0], &lift);
+        if (lift) {
+            ground = g;
+            extra = p->c_xy[0] > 0.0 ? p->c_xy[0] : -0.003;  /* -PRESS */
+        }
+    }
+    p->t_lift = lift;
+    p->t_ground = ground;
+    p->t_extra = extra;
 }
 
 /* GaitCycle._raw_one(u, xi) less start: GaitCycle.travel at u */

@@ -31,9 +31,9 @@ for the stepping loop to apply as ever.
 from __future__ import annotations
 
 from puppet.interface.ownership import FRAME
-from puppet.interface.poll_plan import PollPlan
 from puppet.interface.poll_track import SAMPLE  # (a performer's sample; -1: Python's)
 from puppet.interface.poses import made_frame_target
+from puppet.interface.track_poll import TrackPoll
 from puppet.physics.kernel import remembered
 
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
@@ -174,8 +174,10 @@ class EventRuns:
         if runtime._pending or (poll is None and runtime.frames.held):
             return None  # (the idle loop holds no frame targets)
         if poll is not None:
-            if type(poll) is not PollPlan or poll._offline:  # (a KD tracker's TrackPoll
-                return None  # applies none; an input the plan's table decided when filled)
+            if type(poll) is TrackPoll:  # (a KD tracker's: samples alone)
+                return self._samples_only(plan, runtime, events, i, cap, tail, poll)
+            if poll._offline:  # (an input the plan's table decided when it was filled)
+                return None
             live = poll._live  # (the plan's one machine polls its inputs in the kernel)
         else:
             live = False
@@ -208,14 +210,8 @@ class EventRuns:
         else:
             self._holds = []
         j = arrays.brk[i - lo]
-        last = events[j - 1][0]
-        if j >= len(events):  # (the events run out: the loop's target, as ever)
-            reach = last if tail is None or tail < last else tail
-        else:
-            at = events[j][0]
-            reach = last if at < last else at  # (a step that goes back: the last passed)
-        reach = cap if reach > cap else reach
-        if reach <= events[i][0]:  # (nothing to run on over)
+        reach = _reach(events, i, j, cap, tail)
+        if reach is None:
             return None
         plan.n_ev = j - i
         plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
@@ -239,6 +235,39 @@ class EventRuns:
              plan.m_spring, plan.m_frame) = rows[2:]
         return reach
 
+    def _samples_only(self, plan, runtime, events, i: int, cap: int, tail: int | None,
+                      poll) -> int | None:
+        """``start`` for a KD tracker's ``TrackPoll``: a run of samples alone (the
+        first other event ends it: no map rows, ``n_kind`` 0), when its plan takes
+        them (``TrackPoll.sampled``) and no active map reads a channel."""
+        names = poll.sampled()
+        if names is None or self._reads_channels(runtime):
+            return None
+        arrays = self.arrays(events, i)
+        lo = arrays.lo
+        if arrays.kind[i - lo] != SAMPLE:
+            return None
+        j = arrays.brk[i - lo]
+        reach = _reach(events, i, j, cap, tail)
+        if reach is None:
+            return None
+        plan.n_ev, plan.n_kind = j - i, 0
+        plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
+            arrays.kind + (i - lo), arrays.v + 2 * (i - lo)
+        vals, has = arrays.samples(self.ffi, names)
+        n = plan.ch_n = len(names)
+        plan.ch_v, plan.ch_has = vals + n * (i - lo), has + n * (i - lo)
+        return reach
+
+    def _reads_channels(self, runtime) -> bool:
+        """An active map reads a channel (``_on_channels`` runs it: Python's)."""
+        maps = runtime.active_maps
+        if maps is not self._maps_of:  # (per set of active maps: a state's)
+            self._maps_of = maps
+            self._maps_read = any(not m.feedback and any(
+                i.startswith("channel.") for i in m.inputs) for m in maps)
+        return self._maps_read
+
     def _sampled(self, poll, runtime) -> tuple | None:
         """The channel names a performer's sample stores for ``poll``'s angles tracker
         when the kernel may apply samples (``pk_sample``), else None: the tracker's
@@ -248,12 +277,7 @@ class EventRuns:
         track = poll._angles
         if track is None or not track._on or not track.key:
             return None
-        maps = runtime.active_maps
-        if maps is not self._maps_of:  # (per set of active maps: a state's)
-            self._maps_of = maps
-            self._maps_read = any(not m.feedback and any(
-                i.startswith("channel.") for i in m.inputs) for m in maps)
-        return None if self._maps_read else track.key
+        return None if self._reads_channels(runtime) else track.key
 
     def _held(self, entry: _Rows, runtime, poll, first: int) -> bool:
         """The frame maps' rows pointed at the poll plan's frame targets they hold: a
@@ -407,6 +431,20 @@ class EventRuns:
                 if k in kinds:
                     held[joint] = (made_frame_target(ref, angle[n], hold_parent), FRAME)
         return j
+
+
+def _reach(events, i: int, j: int, cap: int, tail: int | None) -> int | None:
+    """The step a run of ``events[i:j]`` may go on to (``start``'s): the next event's
+    (the last's when a step goes back), once they run out ``tail``, at most ``cap``;
+    None when that is not past the first's step."""
+    last = events[j - 1][0]
+    if j >= len(events):  # (the events run out: the loop's target, as ever)
+        reach = last if tail is None or tail < last else tail
+    else:
+        at = events[j][0]
+        reach = last if at < last else at  # (a step that goes back: the last passed)
+    reach = cap if reach > cap else reach
+    return None if reach <= events[i][0] else reach  # (nothing to run on over)
 
 
 class _Rows:
