@@ -198,7 +198,7 @@ def test_a_lost_stream_and_a_restore_between_samples(path_of):
 
 
 KD = ["biped-mocap-walk", "biped-mocap-push", "biped-mocap-fall", "biped-mocap-lost",
-      "biped-mocap-library"]
+      "biped-mocap-library", "biped-mocap-in-place", "biped-mocap-live"]
 
 
 @needs_cc
@@ -254,3 +254,42 @@ def test_a_kd_trackers_samples_at_the_edges_of_a_run(path_of):
     log.events = sorted(edit(list(log.events)), key=lambda e: e.step)
     _, applied = _agree(log, path_of)
     assert applied > 200, applied
+
+
+@needs_cc
+def test_walking_in_place_steps_read_in_the_kernel(path_of):
+    """The walk in place's step detection at a sample's tick (``pk_walk_step``): samples
+    off the control steps, doubled, the root's angle or a knee missing, a pause past
+    ``stop_after`` (the walk stops, then starts again), a restore: the three agree, and
+    the walk's state (side, last step, period, speed) is handed back alike."""
+    assert path_of("c") is not None
+
+    def edit(events):
+        out, n = [], 0
+        for e in events:
+            if e.event.get("type") != "channels":
+                out.append(e)
+                continue
+            n += 1
+            values = dict(e.event["values"])
+            step = e.step + (2 if n % 7 == 0 else 0)
+            if n % 17 == 0:
+                values.pop("root.angle", None)
+            if n % 19 == 0:
+                values.pop("knee_far", None)
+            if 300 <= n < 340:  # standing still: the feet level
+                values = {k: (0.0 if k.startswith(("hip", "knee", "ankle")) else v)
+                          for k, v in values.items()}
+            out.append(LogEvent(step, {"type": "channels", "values": values}, 0))
+            if n % 13 == 0:
+                out.append(LogEvent(step, {"type": "channels", "values": dict(values)}, 0))
+        steps = [e.step for e in out if e.event.get("type") == "channels"]
+        out += [LogEvent(steps[200] + 1, {"type": "action", "name": "checkpoint"}, 0),
+                LogEvent(steps[250] + 3, {"type": "action", "name": "restore"}, 0)]
+        return out
+    log = read_log("assets/logs/biped-mocap-in-place.jsonl")
+    log.events = sorted(edit(list(log.events)), key=lambda e: e.step)
+    got, applied = _agree(log, path_of)
+    assert applied > 200, applied
+    walking = [state["controllers"][TRACKER][10][7][3] for _, _, _, state, *_ in got[0]]
+    assert any(walking) and not all(walking), walking

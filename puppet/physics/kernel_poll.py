@@ -78,6 +78,13 @@ typedef struct {  /* walking in place between samples (tracking_walk, track_poll
     double *spans;
     int lift;         /* the feet stand on the ground (tracking.feet and a ground) */
     double extra;     /* the clearance, or -PRESS */
+    pk_chain *feet;   /* a sample's step (pk_walk_step): the chain from the root to the
+                         feet, its values the raw's places (NULL: no gap to read) */
+    int f_root, f_angle, f_link[2];  /* the root link, root.angle's place, the feet */
+    double f_gx[2], f_gy[2], *poses;  /* (their centres of gravity; pk_pose's out) */
+    double f_lift, f_lo, f_hi, f_lifts[2];  /* walk_in_place's lift, steps, the cycle's */
+    int last_side, has_period;       /* WalkInPlace.walk's (-1: None) */
+    double period;
 } pk_walk;
 
 typedef struct {
@@ -298,10 +305,13 @@ static int pk_tick(pk_poll_plan *p, int s)
            the pulls. Between samples without a walk the view is the same values and
            the pose the last one (pk_track_pose again would give the same targets);
            walking in place, the view walks on (at a sample Python advanced it). */
+        int fresh = 0;
         if (p->t_fresh) {  /* a sample's tick (TrackPoll.ready's resume, in C) */
             p->t_fresh = 0;
-            if (!p->t_nopull)
+            if (!p->t_nopull) {
                 pk_fresh(p);
+                fresh = 1;
+            }
         }
         pk_walk *w = p->walk;
         const double *vals = p->t_vals;
@@ -310,7 +320,9 @@ static int pk_tick(pk_poll_plan *p, int s)
         double l_weight = 1.0;
         double ground = p->t_ground, extra = p->t_extra, h = 0.0;
         if (w) {
-            if (!pose)
+            if (fresh)  /* (a sample's: its step read, then the advance) */
+                pk_walk_step(w, s);
+            else if (!pose)
                 pk_walk_advance(w, s);
             pk_walk_view(w, p->t_x0, &ground, &lift);
             vals = w->view;

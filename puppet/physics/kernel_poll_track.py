@@ -21,11 +21,13 @@ static int pk_sample(pk_poll_plan *p, int e, int s)
     for (int i = 0; i < p->ch_n; i++)
         if (h[i] == 2)
             return 1;
+    double *vals = p->walk ? p->walk->raw : p->t_vals;  /* (walking: the raw values) */
+    char *has = p->walk ? p->walk->raw_has : p->t_has;
     for (int i = 0; i < p->ch_t; i++) {
         if (h[i]) {
-            p->t_vals[i] = v[i];
-            if (p->t_has)
-                p->t_has[i] = 1;
+            vals[i] = v[i];
+            if (has)
+                has[i] = 1;
         }
     }
     for (int i = p->ch_t; i < p->ch_n; i++)  /* (a contact's hand: pk_contact_rates) */
@@ -60,6 +62,10 @@ static void pk_fresh(pk_poll_plan *p)
     p->t_pose = 1;
     p->t_vel = vel;
     p->t_h = h;
+    if (p->walk) {  /* (TrackPoll._walk_from's: the view's lift is pk_walk_view's) */
+        p->walk->extra = p->c_xy[0] > 0.0 ? p->c_xy[0] : -0.003;  /* -PRESS */
+        return;
+    }
     int lift = 0;
     double ground = 0.0, extra = 0.0;
     if (p->t_soles) {
@@ -297,6 +303,48 @@ static void pk_walk_advance(pk_walk *w, int s)
     }
     w->at = s;
     w->has_at = 1;
+}
+
+/* WalkInPlace._walk_advance at a sample's tick: the performed pose's feet
+   (_feet_gap: the chain posed from the root, turned by root.angle); a foot lift past
+   the other's, the other foot's last, is a step (the rhythm's period, the cycle's
+   speed toward the other foot's lift); then the advance (pk_walk_advance) */
+static void pk_walk_step(pk_walk *w, int s)
+{
+    if (w->feet && (w->raw_has == 0 || w->raw_has[w->f_angle])) {
+        double angle = w->raw[w->f_angle] * DEG;
+        pk_pose(w->feet, w->raw, w->raw_has, w->f_root, 0.0, 0.0, angle, cos(angle),
+                sin(angle), w->poses);
+        const double *a = w->poses + 5 * w->f_link[0], *b = w->poses + 5 * w->f_link[1];
+        double gap = (a[1] + a[4] * w->f_gx[0] + a[3] * w->f_gy[0])
+                     - (b[1] + b[4] * w->f_gx[1] + b[3] * w->f_gy[1]);
+        int side = gap > w->f_lift ? 0 : gap < -w->f_lift ? 1 : -1;
+        if (side >= 0 && side != w->last_side) {
+            if (w->has_last_at) {
+                double d = (double)(s - w->last_at) * w->dt;
+                if (w->f_lo <= d && d <= w->f_hi && w->last_side >= 0) {
+                    double target = w->f_lifts[side];
+                    w->period = d;
+                    w->has_period = 1;
+                    if (!w->walking) {
+                        w->walking = 1;
+                        w->phase = target;
+                        w->speed = 0.5 / d;
+                    } else {  /* min(1.0, max(0.25, 0.5 + e)) / period */
+                        double e = pk_py_mod1(target - w->phase + 0.5) - 0.5;
+                        double u = 0.5 + e;
+                        u = u > 0.25 ? u : 0.25;
+                        u = u < 1.0 ? u : 1.0;
+                        w->speed = u / d;
+                    }
+                }
+            }
+            w->last_side = side;
+            w->last_at = s;
+            w->has_last_at = 1;
+        }
+    }
+    pk_walk_advance(w, s);
 }
 
 /* WalkInPlace._walked's view of the performer's values: the cycle's joints blended in
