@@ -210,8 +210,11 @@ class TrackPoll:
         # stops there (samples a run applies move it on: pk_sample)
         p.t_lost, p.t_sample = 0 if lost else tr.lost_steps, tr.last_sample
         p.t_fresh, p.t_prev = 0, tr.prev_step
-        self._sampling = not lost and not moving and not nopull and self._ground_ok(tr) \
-            and (walk is None or self._walk_samples)  # (the performer's view: pk_fresh's)
+        # (the performer's view, or a get-up's poses, which read no sample: pk_fresh's
+        # velocities then, its lift the get-up's; a mix or a window reads the view's
+        # clearance too: Python's)
+        self._sampling = not lost and not mixing and tr.lib is None and not nopull \
+            and self._ground_ok(tr) and (walk is None or self._walk_samples)
         if self._sampling:
             p.c_xy[0] = ch.get(tr.spec.root.clearance, 0.0)
         if until <= step:
