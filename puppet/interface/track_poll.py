@@ -94,7 +94,7 @@ class TrackPoll:
         # then the clearance (c_xy[0]: pk_fresh's lift), when the view is the plain
         # performer's (``_sampling``, worked out at each ready)
         self.key = (*tracker_kernel.names, root.clearance)
-        p.ch_t, p.t_dt = len(tracker_kernel.names), tr.dt
+        p.ch_t, p.t_dt, p.t_cl_sample = len(tracker_kernel.names), tr.dt, 1
         self._sampling = False
 
     def ready(self, step: int) -> int | None:
@@ -210,11 +210,11 @@ class TrackPoll:
         # stops there (samples a run applies move it on: pk_sample)
         p.t_lost, p.t_sample = 0 if lost else tr.lost_steps, tr.last_sample
         p.t_fresh, p.t_prev = 0, tr.prev_step
-        # (the performer's view, or a get-up's poses, which read no sample: pk_fresh's
-        # velocities then, its lift the get-up's; a mix or a window reads the view's
-        # clearance too: Python's)
-        self._sampling = not lost and not mixing and tr.lib is None and not nopull \
-            and self._ground_ok(tr) and (walk is None or self._walk_samples)
+        # (the performer's view; a get-up's poses, which read no sample: pk_fresh's
+        # velocities, its lift the get-up's; a mix back to the performer, a library
+        # window: the view's values and clearance, t_cl[1], the sample's)
+        self._sampling = not lost and not nopull and self._ground_ok(tr) \
+            and (walk is None or self._walk_samples)
         if self._sampling:
             p.c_xy[0] = ch.get(tr.spec.root.clearance, 0.0)
         if until <= step:

@@ -204,6 +204,8 @@ typedef struct {
     double *ch_v; char *ch_has;  /* (ch_has: the event has the value; 2: Python's) */
     int t_fresh;      /* a sample the run applied: the next tracker tick is a sample's */
     int t_prev;       /* KD: the sample the performed velocities were last taken at */
+    int t_cl_sample;  /* KD: a sample's value after t_vals' is the clearance: the view's
+                         too (t_cl[1]: a mix back to the performer, a library window) */
     double t_dt;      /* (pk_fresh: velocity_sample, the lift; c_xy[0]: the clearance) */
     double c_xy[8];   /* per contact: the performer's hand (x, y: the channels now), */
     double c_sv[8];   /* its vector at the last sample its rates were worked out at */

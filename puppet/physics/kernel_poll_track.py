@@ -33,6 +33,10 @@ static int pk_sample(pk_poll_plan *p, int e, int s)
     for (int i = p->ch_t; i < p->ch_n; i++)  /* (a contact's hand: pk_contact_rates) */
         if (h[i])
             p->c_xy[i - p->ch_t] = v[i];
+    if (p->t_cl_sample && h[p->ch_t]) {  /* (a KD tracker's clearance: pk_fresh's) */
+        p->t_cl[1] = v[p->ch_t];
+        p->t_cl_has[1] = 1;
+    }
     p->t_sample = s;
     p->t_fresh = 1;
     if (s - p->t_phase >= p->t_every || s < p->t_phase)
