@@ -15,10 +15,12 @@ blends, frame targets and sensor maps, in ``InterfaceRuntime._watched``'s order.
 ``AngleTrack.fill`` puts it in the plan when that is all the tracker has to do: the
 mode ``angles``, not lost and no blend into tracking under way, nothing ``due``, no
 walk in place, the tracker still holding a joint (and, without intentional contacts,
-only with ``ANGLES_ALONE``, below); the run then stops at the first control step the stream would be
-lost at. A sample is an event the kernel's run stops at; the tick there may be the
-kernel's (``PollPlan.resume``, the sample's values stored by then: ``stepping.feed``
-flushes them before it steps), the plan filled with them.
+only with ``ANGLES_ALONE``, below); ``pk_tick`` stops at the first tracker tick that
+finds the stream lost (``t_lost``). In a replay a sample is one of the events of the
+kernel's runs (``session.event_runs``' SAMPLE, ``pk_sample``: the values stored, the
+tracker's last sample and phase moved as ``Tracker.sampled`` moves them, handed back
+by ``handed_back``), so a run goes on across samples; else the run stops at it and
+the tick there may be the kernel's (``PollPlan.resume``, the plan filled again).
 
 Intentional contacts (``tracking.contacts``, the high bar's) are the tracker's too:
 ``kernel_poll_contact.pk_contacts`` after the targets, on rows of each held hand
@@ -50,12 +52,11 @@ from puppet.interface.poll_table import NEVER
 # ``TrackPoll``'s alone, with no machines).
 VELOCITY = frozenset((_fk.COM_VX, _fk.COM_VY, _fk.FALL_TIME, _fk.COM_SPIN))
 
-# An angles tracker with no contacts beside a machine (biped-walk's mocap arms): its
-# Python tick at a sample (the targets of four joints, the machine's frame targets and
-# sensor maps: about 16 us) costs no more than ``PollPlan.ready`` and ``run`` around
-# the kernel's (13-14 us and 5 us, measured on biped-walk-mocap-arms: 37 % overhead on
-# Python's ticks, 42 % on the kernel's), while its samples come at its control rate;
-# so it stays Python's (the kernel path is kept and tested: tests/test_poll_track.py).
+# An angles tracker with no contacts beside a machine (biped-walk's mocap arms): with a
+# run stopping at each sample its Python tick (about 16 us) cost no more than
+# ``PollPlan.ready`` and ``run`` around the kernel's (13-14 us and 5 us: 37 % overhead
+# against 42 %), so it was Python's; with the samples inside the runs (pk_sample) the
+# kernel's is the cheaper (36 -> 22-26 %, biped-walk-mocap-arms, docs/benchmarks.md).
 ANGLES_ALONE = True
 
 SAMPLE = -2  # a performer's sample among a run's events (its kind: PK_EV_SAMPLE)

@@ -8,9 +8,14 @@ would give the same targets, the performed velocities kept as the same sample's)
 the pulls (``pk_track_pull``) on the bodies of now. When that is all a tick leaves to
 do, ``TrackPoll.ready`` says so, and ``run`` hands the steps to ``pk_poll``
 (``kernel_poll``) with the tracker's part of its table filled: it steps the space and
-does those ticks between the steps, until the next sample (an event: the run stops
-there), the step the stream would be lost at, a history boundary or the call's end;
-the runtime is then rescheduled as though it had ticked in between.
+does those ticks between the steps, until the step the stream is lost at, a history
+boundary or the call's end; the runtime is then rescheduled as though it had ticked in
+between. A replay's samples are events of the run (``session.event_runs``'
+samples-only runs, ``pk_sample``), when the view is the performer's, a get-up's, a mix
+back to the performer or a library's window: the first tick after one is a sample's
+(``pk_fresh``: the performed velocities and the lift; walking in place, the step
+read from the performed feet, ``pk_walk_step``), as ``ready``'s ``resume`` path makes
+it; else the run stops at a sample and ``ready`` fills the tick there.
 
 It holds when the tracker follows the performer's channels plainly - KD with the
 pulls, not lost, no blend into tracking, no reaction, push, step or get-up under way,

@@ -17,7 +17,8 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     grids (a cat's legs: ``maps._grid_run``'s ``pk_grid_run``, ``k_grid``) and a
     mouse move's values into ``in_val``, the device inputs a condition reads
     (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
-    (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
+    (kind -1, or its kind's rows -1) ends the call there, for Python to apply; a
+    performer's sample (PK_EV_SAMPLE, ``pk_sample``) stores the tracker's values;
   * at a control step (``every``), the state's polled transitions, and at every step
     a running sequence's ``until`` (``SequenceController.tick``), each from its own
     first step (its ``after``): a transition holds when all its conditions do, a range

@@ -26,6 +26,15 @@ the call the events it applied are recorded in the history, the inputs hold the 
 values and the frame targets the last angles (new targets, as ``hold_at`` makes), as
 after ``on_event`` one by one; the first event it cannot apply ends the call there,
 for the stepping loop to apply as ever.
+
+A performer's samples (``channels`` events) are the runs' too when the poll plan's
+tracker takes them (``interface.poll_track``: an angles tracker beside a machine, its
+intentional contacts' hands after its values; ``interface.track_poll``: a KD tracker
+alone, runs of samples only, the clearance after its values): ``pk_sample`` stores
+each one's values of the tracker's channels (``samples``: made once per window and
+names; a value not a number within HUGE is Python's) and moves the tracker's last
+sample and phase; ``applied`` stores them in the runtime's channels, as ``flush``
+does, and the plan hands the tracker's state back. No active map may read a channel.
 """
 
 from __future__ import annotations
