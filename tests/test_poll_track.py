@@ -96,15 +96,6 @@ def test_the_loop_tracks_beside_machines_as_the_ticks_do(name, chunk, path_of, m
 
 
 @needs_cc
-def test_angles_alone_stay_pythons(path_of):
-    """Without contacts an angles tracker beside a machine ticks in Python (ANGLES_ALONE
-    off): the kernel runs none of its ticks."""
-    assert path_of("c") is not None
-    _, (ticks, _, _) = _traced(read_log("assets/logs/biped-walk-mocap-arms.jsonl"), None)
-    assert ticks == 0
-
-
-@needs_cc
 def test_dropped_samples_tick_in_the_kernel_alike(path_of):
     """Every third sample of the high bar dropped and a gap past ``lost_after``: the
     kernel's ticks between samples and its stop where the stream is lost agree with

@@ -46,7 +46,7 @@ from puppet.interface.poll_machines import joint_table, quiet_now, since_back, s
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
 from puppet.interface.poll_states import States
 from puppet.interface.poll_table import sequence_until, state_table
-from puppet.interface.poll_track import may_track, track_part
+from puppet.interface.poll_track import SAMPLE, may_track, track_part
 from puppet.interface.poses import made_frame_target
 from puppet.interface.track_poll import TrackPoll, run_stop
 from puppet.physics import kernel as _kernel
@@ -273,6 +273,8 @@ class PollPlan:
         machine = self.machine
         quiet = machine.quiet
         s = self.poll(self._space_void, dt, now, stop, p, tick_first)
+        if p.ev_done and p.ch_n or p.c_n and p.track:  # (samples applied, contacts
+            self._angles.handed_back()  # swung: the tracker's part, poll_track)
         handed = self._armed and p.states.n_log  # (states entered, targets arrived)
         entered = handed and self._states.handed_back(rt, machine)
         if entered:
@@ -342,8 +344,11 @@ class PollPlan:
         at its step, before its tick) it polls at its next control step, and a poll
         that finds nothing quiets it until the next event."""
         machine = self.machine
-        if p.n_ev and p.ev_done:
-            start, quiet = p.ev_step[p.ev_done - 1], False
+        k = p.ev_done - 1 if p.n_ev else -1
+        while k >= 0 and p.ev_kind[k] == SAMPLE:  # (a sample stirs no machine)
+            k -= 1
+        if k >= 0:
+            start, quiet = p.ev_step[k], False
         else:
             start = now if tick_first else now + 1
         if not quiet:

@@ -15,10 +15,12 @@ blends, frame targets and sensor maps, in ``InterfaceRuntime._watched``'s order.
 ``AngleTrack.fill`` puts it in the plan when that is all the tracker has to do: the
 mode ``angles``, not lost and no blend into tracking under way, nothing ``due``, no
 walk in place, the tracker still holding a joint (and, without intentional contacts,
-only with ``ANGLES_ALONE``, below); the run then stops at the first control step the stream would be
-lost at. A sample is an event the kernel's run stops at; the tick there may be the
-kernel's (``PollPlan.resume``, the sample's values stored by then: ``stepping.feed``
-flushes them before it steps), the plan filled with them.
+only with ``ANGLES_ALONE``, below); ``pk_tick`` stops at the first tracker tick that
+finds the stream lost (``t_lost``). In a replay a sample is one of the events of the
+kernel's runs (``session.event_runs``' SAMPLE, ``pk_sample``: the values stored, the
+tracker's last sample and phase moved as ``Tracker.sampled`` moves them, handed back
+by ``handed_back``), so a run goes on across samples; else the run stops at it and
+the tick there may be the kernel's (``PollPlan.resume``, the plan filled again).
 
 Intentional contacts (``tracking.contacts``, the high bar's) are the tracker's too:
 ``kernel_poll_contact.pk_contacts`` after the targets, on rows of each held hand
@@ -50,13 +52,14 @@ from puppet.interface.poll_table import NEVER
 # ``TrackPoll``'s alone, with no machines).
 VELOCITY = frozenset((_fk.COM_VX, _fk.COM_VY, _fk.FALL_TIME, _fk.COM_SPIN))
 
-# An angles tracker with no contacts beside a machine (biped-walk's mocap arms): its
-# Python tick at a sample (the targets of four joints, the machine's frame targets and
-# sensor maps: about 16 us) costs no more than ``PollPlan.ready`` and ``run`` around
-# the kernel's (13-14 us and 5 us, measured on biped-walk-mocap-arms: 37 % overhead on
-# Python's ticks, 42 % on the kernel's), while its samples come at its control rate;
-# so it stays Python's (the kernel path is kept and tested: tests/test_poll_track.py).
-ANGLES_ALONE = False
+# An angles tracker with no contacts beside a machine (biped-walk's mocap arms): with a
+# run stopping at each sample its Python tick (about 16 us) cost no more than
+# ``PollPlan.ready`` and ``run`` around the kernel's (13-14 us and 5 us: 37 % overhead
+# against 42 %), so it was Python's; with the samples inside the runs (pk_sample) the
+# kernel's is the cheaper (36 -> 22-26 %, biped-walk-mocap-arms, docs/benchmarks.md).
+ANGLES_ALONE = True
+
+SAMPLE = -2  # a performer's sample among a run's events (its kind: PK_EV_SAMPLE)
 
 
 class AngleTrack:
@@ -68,6 +71,8 @@ class AngleTrack:
         tr = self.tracker = plan.runtime.tracker
         self.joints = list(tr.joints)  # (Tracker.joints' order: _write_targets')
         self.names = list(dict.fromkeys(tr.joints[j] for j in self.joints))
+        self.key = tuple(self.names)  # (a sample's values in this order: event_runs;
+        self._hands: tuple = ()  # the contacts' hands after them: _contacts)
         place = {name: i for i, name in enumerate(self.names)}
         n, m = max(1, len(self.names)), max(1, len(self.joints))
         self.t = t = ffi.new("pk_track *")
@@ -114,7 +119,7 @@ class AngleTrack:
                 and step - tr.last_sample > tr.lost_steps:  # (lost there: Python's)
             return None
         p, ffi = self.poll.plan, self.ffi
-        p.c_n = 0
+        p.c_n, p.ch_t = 0, len(self.names)
         if tr.spec.contacts is not None and tr.held_points is not None \
                 and not self._contacts(tr, rt, p, resume and (step - phase) % every == 0,
                                        step):
@@ -146,9 +151,25 @@ class AngleTrack:
             self._own_was = own
         if (phase, every) != self._phase_was:
             p.t_phase, p.t_every, self._phase_was = phase, every, (phase, every)
-        # the first control step whose tick finds the stream lost: Python's
-        gone = tr.last_sample + tr.lost_steps + 1
-        return phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
+        # the first control step whose tick finds the stream lost is Python's: pk_tick
+        # stops there (samples the run applies move it on: pk_sample)
+        p.t_lost, p.t_sample = tr.lost_steps, tr.last_sample
+        return NEVER
+
+    def handed_back(self) -> None:
+        """After a run that applied samples (``pk_sample``) or swung the figure by its
+        contacts: the tracker's last sample and phase as ``Tracker.sampled`` left them
+        (the values: ``EventRuns.applied``), each contact's performer rates as
+        ``_performer_rate`` left them (``pk_contact_rates``)."""
+        p, tr = self.poll.plan, self.tracker
+        tr.last_sample, tr.phase = p.t_sample, p.t_phase
+        self._phase_was = (p.t_phase, p.t_every)
+        if p.c_n:
+            perf, row, sv, seen = tr.perf_turn, self._c_row, p.c_sv, p.c_seen
+            for j, channel in enumerate(self._hands):
+                if seen[j] > perf[channel][2]:
+                    perf[channel] = [sv[2 * j], sv[2 * j + 1], seen[j], row[10 * j + 8],
+                                     row[10 * j + 9]]
 
     def _contacts(self, tr, rt, p, first: bool, step: int) -> bool:
         """Intentional contacts' rows (``IntentionalContacts._contacts``) into the plan:
@@ -164,6 +185,7 @@ class AngleTrack:
             self._pins = []
         chains, contact, perf = rt.grasping.chains, tr.contact, tr.perf_turn
         row, pins, vector = [], [], tr._performer_vector
+        hands, seen_at, seen_step, xy, get = [], [], [], [], tr.channels.get
         for chain, channel in spec.hands.items():
             if chain not in grasps or chain not in chains:
                 if chain in contact:  # (let go: the tick forgets it)
@@ -173,7 +195,7 @@ class AngleTrack:
             if me is None:
                 continue
             seen = perf.get(channel)
-            if seen is None or tr.last_sample > seen[2]:
+            if seen is None:  # (the first sample: its rates begin at 0, Python's)
                 if not first:
                     return False
                 tr._performer_rate(channel, me, step)
@@ -183,8 +205,12 @@ class AngleTrack:
                 return False
             joint = grasps[chain][0]
             pins.append(joint)
+            hands.append(channel)
             anchor = self._anchors.get(joint) or self._anchor(joint)
-            row += (*anchor, *start, *me, seen[3], seen[4])
+            row += (*anchor, *start, *me, seen[3], seen[4])  # (the rates: the kernel's
+            seen_at += (seen[0], seen[1])  # at its first tick after a sample since the
+            seen_step.append(seen[2])  # last they were worked out at: pk_contact_rates)
+            xy += (get(channel + ".x"), get(channel + ".y"))
         if len(contact) > len(pins):  # (a contact whose hand let go, or no vector)
             for chain in contact:
                 if chain not in grasps or chain not in chains:
@@ -197,13 +223,19 @@ class AngleTrack:
             for k, joint in enumerate(pins):
                 self._c_body[k] = self.poll.pointer(joint.b._body)
         self._c_row[0:len(row)] = row
+        p.c_sv[0:len(seen_at)], p.c_seen[0:n], p.c_xy[0:len(xy)] = seen_at, seen_step, xy
+        hands = tuple(hands)
+        if hands != self._hands:  # (a sample's values: the angles', then each hand's)
+            self._hands = hands
+            self.key = tuple(self.names) + tuple(
+                f"{h}.{a}" for h in hands for a in ("x", "y"))
         c = tr.character
         if self._com_of is not c.bodies:  # (the plan's centre of mass: poll_fill.fill's,
             args = self._com_args = c._com_bound(self.poll.kernel)[2]  # these bodies')
             p.com_bodies, p.com_mass, p.com_gx, p.com_gy, p.com_n, p.com_total = args[:6]
             p.c_swing, p.c_swing_d = spec.swing, spec.swing_damping
             p.c_spring, p.c_damp = spec.spring, spec.damping
-            p.c_mass, p.c_period = c.mass, tr.period
+            p.c_mass, p.c_period, p.c_dt = c.mass, tr.period, tr.dt
             p.c_body, p.c_row = self._c_body, self._c_row
             self._com_of = c.bodies
         # a machine reads what the contacts move (VELOCITY): they come first (c_late);

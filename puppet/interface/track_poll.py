@@ -8,9 +8,14 @@ would give the same targets, the performed velocities kept as the same sample's)
 the pulls (``pk_track_pull``) on the bodies of now. When that is all a tick leaves to
 do, ``TrackPoll.ready`` says so, and ``run`` hands the steps to ``pk_poll``
 (``kernel_poll``) with the tracker's part of its table filled: it steps the space and
-does those ticks between the steps, until the next sample (an event: the run stops
-there), the step the stream would be lost at, a history boundary or the call's end;
-the runtime is then rescheduled as though it had ticked in between.
+does those ticks between the steps, until the step the stream is lost at, a history
+boundary or the call's end; the runtime is then rescheduled as though it had ticked in
+between. A replay's samples are events of the run (``session.event_runs``'
+samples-only runs, ``pk_sample``), when the view is the performer's, a get-up's, a mix
+back to the performer or a library's window: the first tick after one is a sample's
+(``pk_fresh``: the performed velocities and the lift; walking in place, the step
+read from the performed feet, ``pk_walk_step``), as ``ready``'s ``resume`` path makes
+it; else the run stops at a sample and ``ready`` fills the tick there.
 
 It holds when the tracker follows the performer's channels plainly - KD with the
 pulls, not lost, no blend into tracking, no reaction, push, step or get-up under way,
@@ -25,6 +30,7 @@ from __future__ import annotations
 from puppet.interface.controllers.tracking import KD, PRESS, TRACK
 from puppet.interface.controllers.tracking_pull import velocity_sample
 from puppet.interface.poll_table import NEVER
+from puppet.interface.track_poll_walk import walk_from, walk_table, walked_back
 
 
 def run_stop(now: int, until: int, end: int, health: int, every: int) -> tuple[int, int]:
@@ -80,7 +86,7 @@ class TrackPoll:
         self._root_names = (root.x, root.y, root.angle)
         p.track, p.t_vals, p.t_period, p.t_weight = tracker_kernel.t, self._vals, tr.period, 1.0
         self._walk = None if tr.spec.walk_in_place is None or tr.walk_cycle is None \
-            else self._walk_table(tr, n)
+            else walk_table(self, tr, n)
         self._ground_of = None  # (the scene whose ground the spans are)
         self._g_of = self._feel_of = None  # (the get-up and the bodies its rows are of)
         self._l_of = None  # (the library and the window the plan's frames are of)
@@ -89,37 +95,12 @@ class TrackPoll:
         p.t_view, p.t_view_has, p.t_n = self._view, self._view_has, len(tracker_kernel.names)
         p.t_came = self._came
         p.t_soles = bool(tr.soles) and tr.ground_at is not None
-
-    def _walk_table(self, tr, n: int):
-        """``pk_walk`` of the tracker's gait cycle (its frames, drift and the rows of
-        ``GaitCycle.blend_into`` the tracker reads), for ``n`` values."""
-        ffi, cycle, spec = self.ffi, tr.walk_cycle, tr.spec.walk_in_place
-        w = ffi.new("pk_walk *")
-        keep = self._walk_keep = []
-
-        def arr(kind, values):
-            keep.append(ffi.new(kind + "[]", list(values) or [0]))
-            return keep[-1]
-        w.frames = arr("double", [v for frame in cycle.frames for v in frame])
-        w.n_frames, w.width, w.xi = len(cycle.frames), len(cycle.names), cycle.x
-        w.a, w.b, w.stride = cycle.a, cycle.b, cycle.stride
-        w.start = cycle._raw_one(cycle.a, cycle.x)  # (GaitCycle.travel's start)
-        w.drift = arr("double", cycle.drift)
-        index = {name: i for i, name in enumerate(cycle.names)}
-        place = {name: i for i, name in enumerate(self.tk.names)}
-        rows = [(place[name], index[name]) for name in dict.fromkeys(spec.joints)
-                if name in index and name in place]
-        w.n_rows = len(rows)
-        w.row_val, w.row_ch = arr("int", [r[0] for r in rows]), arr("int", [r[1] for r in rows])
-        w.dt, w.stop_after, w.blend = tr.dt, spec.stop_after, spec.blend
-        w.n_vals = n
-        self._raw, self._raw_has = arr("double", [0.0] * n), ffi.new("char[]", n)
-        view_has = ffi.new("char[]", n)
-        keep += [self._raw_has, view_has]  # (the struct's pointers own nothing)
-        w.raw, w.raw_has = self._raw, self._raw_has
-        w.view, w.view_has = arr("double", [0.0] * n), view_has
-        w.lift = bool(tr.soles) and tr.ground_at is not None
-        return w
+        # a sample in a run of events (event_runs, pk_sample): the tracker's values,
+        # then the clearance (c_xy[0]: pk_fresh's lift), when the view is the plain
+        # performer's (``_sampling``, worked out at each ready)
+        self.key = (*tracker_kernel.names, root.clearance)
+        p.ch_t, p.t_dt, p.t_cl_sample = len(tracker_kernel.names), tr.dt, 1
+        self._sampling = False
 
     def ready(self, step: int) -> int | None:
         """After Python's tick at ``step``, or in its place (``step`` is ``resume``:
@@ -215,7 +196,7 @@ class TrackPoll:
                 vals, has = got[2], got[3]
         p.t_mix = mixing
         if walk is not None:  # (the view walks on at each tick: the kernel's)
-            if tr.walk[8] != step or not self._walk_from(tr, walk, ch):
+            if tr.walk[8] != step or not walk_from(self, tr, walk, ch):
                 return None
         elif tr.lib is not None:  # (the window's channels at each tick: the kernel's)
             self._values(ch)
@@ -230,10 +211,17 @@ class TrackPoll:
                 p.t_has = self._has
         phase, every = tr.phase, tr.every
         p.t_phase, p.t_every = phase, every
-        if not lost:  # the first control step whose tick finds the stream lost: Python's
-            gone = tr.last_sample + tr.lost_steps + 1
-            gone = phase - (-(gone - phase) // every) * every  # (Tracker.next_wakeup)
-            until = gone if gone < until else until
+        # the first control step whose tick finds the stream lost is Python's: pk_tick
+        # stops there (samples a run applies move it on: pk_sample)
+        p.t_lost, p.t_sample = 0 if lost else tr.lost_steps, tr.last_sample
+        p.t_fresh, p.t_prev = 0, tr.prev_step
+        # (the performer's view; a get-up's poses, which read no sample: pk_fresh's
+        # velocities, its lift the get-up's; a mix back to the performer, a library
+        # window: the view's values and clearance, t_cl[1], the sample's)
+        self._sampling = not lost and not nopull and self._ground_ok(tr) \
+            and (walk is None or self._walk_samples)
+        if self._sampling:
+            p.c_xy[0] = ch.get(tr.spec.root.clearance, 0.0)
         if until <= step:
             return None
         self._ready_at = step
@@ -430,21 +418,6 @@ class TrackPoll:
             self._fill_ground(sim.scene_spec)
         return True
 
-    def _walk_from(self, tr, w, ch) -> bool:
-        """The walk's state and the performer's values (``pk_walk``) as they are now;
-        False when the kernel cannot walk them (the scene's ground is another's)."""
-        if not self._ground_ok(tr):
-            return False
-        w.raw_has = self._into(ch, self._raw, self._raw_has)
-        _, last_at, _, walking, phase, speed, travel, weight, at = tr.walk
-        w.walking, w.phase, w.speed, w.travel, w.weight = walking, phase, speed, travel, weight
-        w.has_last_at, w.last_at = last_at is not None, last_at or 0
-        w.has_at, w.at = at is not None, at or 0
-        clearance = ch.get(tr.spec.root.clearance, 0.0)
-        w.extra = clearance if clearance > 0.0 else -PRESS
-        self.plan.walk = w
-        return True
-
     def _fill_ground(self, scene) -> None:
         """``Simulation.ground_surface``'s spans, as it makes them."""
         spans = [(min(x0, x1), max(x0, x1), x0, y0, x1, y1, ground.thickness / 2)
@@ -455,14 +428,6 @@ class TrackPoll:
         self.plan.spans, self.plan.n_spans = self._spans, len(spans)
         if self._walk is not None:
             self._walk.spans, self._walk.n_spans = self._spans, len(spans)
-
-    def _walked_back(self, tr, ticks: int) -> None:
-        """The walk's state after the kernel's ticks, into the tracker."""
-        w = self._walk
-        last_side, last_at, period, _, _, speed, _, _, _ = tr.walk
-        tr.walk = [last_side, last_at, period, bool(w.walking), w.phase, speed, w.travel,
-                   w.weight, w.at]
-        tr._walk_out = None  # (the view at a step: the same worked out again)
 
     def _lift(self, tr, x: float, view) -> None:
         """``Tracker._pull_kernel``'s lift on the ground under the figure, for
@@ -507,6 +472,9 @@ class TrackPoll:
         ticks = p.t_ticks
         self.kernel_ticks += ticks
         tr = rt.tracker
+        if p.ev_done and p.ch_n:  # samples applied (pk_sample): Tracker.sampled's
+            tr.last_sample, tr.phase = p.t_sample, p.t_phase  # (the values: event_runs)
+        tr.prev_step = p.t_prev  # (velocity_sample's, at the samples' ticks: pk_fresh)
         if ticks:
             tr._kernel_tick = None  # (Tracker.tick's: the channels may change next)
             if self._moving:
@@ -526,7 +494,7 @@ class TrackPoll:
         """What the kernel's ticks changed of the tracker's state, into it."""
         if p.walk != self.ffi.NULL:
             if walked:
-                self._walked_back(tr, p.t_ticks)
+                walked_back(self, tr)
             p.walk = self.ffi.NULL
         back = tr.back  # (Tracker._view: back at the performer's, the blend done)
         if back is not None and (tr.blend_steps <= 0 or p.t_last - back[1] >= tr.blend_steps):
@@ -535,6 +503,11 @@ class TrackPoll:
             tr.reaction = tr.step = None
         if p.g_on:  # (the HUD's pose: the step last followed)
             tr.getup_step = p.t_last
+
+    def sampled(self) -> tuple | None:
+        """The channel names a sample stores for the kernel (``event_runs``: the
+        tracker's values, then the clearance) when its next run may apply samples."""
+        return self.key if self._sampling else None
 
     @property
     def resume(self) -> int:

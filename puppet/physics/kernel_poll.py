@@ -17,7 +17,8 @@ after each step, does the work ``Session.advance`` would do there, in its order:
     grids (a cat's legs: ``maps._grid_run``'s ``pk_grid_run``, ``k_grid``) and a
     mouse move's values into ``in_val``, the device inputs a condition reads
     (``PK_S_INPUT``: a state polling the mouse); the first it is not given the maps of
-    (kind -1, or its kind's rows -1) ends the call there, for Python to apply;
+    (kind -1, or its kind's rows -1) ends the call there, for Python to apply; a
+    performer's sample (PK_EV_SAMPLE, ``pk_sample``) stores the tracker's values;
   * at a control step (``every``), the state's polled transitions, and at every step
     a running sequence's ``until`` (``SequenceController.tick``), each from its own
     first step (its ``after``): a transition holds when all its conditions do, a range
@@ -78,6 +79,13 @@ typedef struct {  /* walking in place between samples (tracking_walk, track_poll
     double *spans;
     int lift;         /* the feet stand on the ground (tracking.feet and a ground) */
     double extra;     /* the clearance, or -PRESS */
+    pk_chain *feet;   /* a sample's step (pk_walk_step): the chain from the root to the
+                         feet, its values the raw's places (NULL: no gap to read) */
+    int f_root, f_angle, f_link[2];  /* the root link, root.angle's place, the feet */
+    double f_gx[2], f_gy[2], *poses;  /* (their centres of gravity; pk_pose's out) */
+    double f_lift, f_lo, f_hi, f_lifts[2];  /* walk_in_place's lift, steps, the cycle's */
+    int last_side, has_period;       /* WalkInPlace.walk's (-1: None) */
+    double period;
 } pk_walk;
 
 typedef struct {
@@ -192,6 +200,21 @@ typedef struct {
     int c_late;       /* the machines read a velocity the contacts move: at a tracker's
                          tick, the contacts first (Python's order), undone if it stops */
     pk_states *states;  /* NULL, or transitions entered in the loop (kernel_poll_states) */
+    int t_lost, t_sample;  /* an angles tracker's stream is lost at a tick more than
+                         t_lost steps after its last sample (t_sample; t_lost 0: no check) */
+    int ch_n, ch_t;   /* a performer's samples among the events (kind PK_EV_SAMPLE,
+                         pk_sample): per event ch_n values (0: Python's), the first ch_t
+                         for t_vals, the rest c_xy's */
+    double *ch_v; char *ch_has;  /* (ch_has: the event has the value; 2: Python's) */
+    int t_fresh;      /* a sample the run applied: the next tracker tick is a sample's */
+    int t_prev;       /* KD: the sample the performed velocities were last taken at */
+    int t_cl_sample;  /* KD: a sample's value after t_vals' is the clearance: the view's
+                         too (t_cl[1]: a mix back to the performer, a library window) */
+    double t_dt;      /* (pk_fresh: velocity_sample, the lift; c_xy[0]: the clearance) */
+    double c_xy[8];   /* per contact: the performer's hand (x, y: the channels now), */
+    double c_sv[8];   /* its vector at the last sample its rates were worked out at */
+    int c_seen[4];    /* (IntentionalContacts.perf_turn's angle, length, step), */
+    double c_dt;      /* per step (the rates: pk_contact_rates) */
 } pk_poll_plan;
 """
 
@@ -268,6 +291,9 @@ static int pk_tick(pk_poll_plan *p, int s)
 {
     pk_com_now com = {0, {0.0, 0.0, 0.0, 0.0}};
     pk_vect was[PK_LATE];
+    if (p->t_lost && p->track && (s - p->t_phase) % p->t_every == 0
+            && s - p->t_sample > p->t_lost)
+        return 1;  /* (Tracker.tick: the stream lost here, Python's) */
     int late = p->c_late && p->track && p->c_n && (s - p->t_phase) % p->t_every == 0;
     if (late)  /* (Python's machines poll after the tracker's contacts: c_late; no
                   states entered in the loop with a tracker: poll_states.usable) */
@@ -285,6 +311,14 @@ static int pk_tick(pk_poll_plan *p, int s)
            the pulls. Between samples without a walk the view is the same values and
            the pose the last one (pk_track_pose again would give the same targets);
            walking in place, the view walks on (at a sample Python advanced it). */
+        int fresh = 0;
+        if (p->t_fresh) {  /* a sample's tick (TrackPoll.ready's resume, in C) */
+            p->t_fresh = 0;
+            if (!p->t_nopull) {
+                pk_fresh(p);
+                fresh = 1;
+            }
+        }
         pk_walk *w = p->walk;
         const double *vals = p->t_vals;
         const char *has = p->t_has;
@@ -292,7 +326,9 @@ static int pk_tick(pk_poll_plan *p, int s)
         double l_weight = 1.0;
         double ground = p->t_ground, extra = p->t_extra, h = 0.0;
         if (w) {
-            if (!pose)
+            if (fresh)  /* (a sample's: its step read, then the advance) */
+                pk_walk_step(w, s);
+            else if (!pose)
                 pk_walk_advance(w, s);
             pk_walk_view(w, p->t_x0, &ground, &lift);
             vals = w->view;
@@ -394,6 +430,12 @@ static int pk_events(pk_poll_plan *p, int s)
 {
     while (p->ev_done < p->n_ev && p->ev_step[p->ev_done] == s) {
         int e = p->ev_done, kind = p->ev_kind[e];
+        if (kind == PK_EV_SAMPLE) {  /* a performer's sample (runtime._on_channels) */
+            if (!p->ch_n || pk_sample(p, e, s))
+                return 1;
+            p->ev_done++;
+            continue;
+        }
         if (kind < 0 || kind >= p->n_kind || p->k_first[kind] < 0)
             return 1;
         if (kind == 0) {  /* a mouse move: the inputs it sets (runtime.on_event's) */

@@ -8,12 +8,34 @@ and rates as Python worked them out at the sample. ``math.hypot`` is ``pk_hypot`
 finite values: CPython's special cases are C99's)."""
 
 CONTACT_SOURCE = r"""
+/* IntentionalContacts._performer_rate of each contact at a tick after a sample the
+   run applied (pk_sample: the hands' channels in c_xy): the performer's vector now
+   (_performer_vector) and its rates from the vector at the sample before */
+static void pk_contact_rates(pk_poll_plan *p)
+{
+    for (int j = 0; j < p->c_n; j++) {
+        if (p->t_sample <= p->c_seen[j])
+            continue;
+        double *r = p->c_row + 10 * j, x = p->c_xy[2 * j], y = p->c_xy[2 * j + 1];
+        double a = atan2(y, x), l = pk_hypot(x, y);
+        double h = (double)(p->t_sample - p->c_seen[j]) * p->c_dt;
+        r[6] = a;
+        r[7] = l;
+        r[8] = remainder(a - p->c_sv[2 * j], TURN) / h;
+        r[9] = (l - p->c_sv[2 * j + 1]) / h;
+        p->c_sv[2 * j] = a;
+        p->c_sv[2 * j + 1] = l;
+        p->c_seen[j] = p->t_sample;
+    }
+}
+
 /* IntentionalContacts._contacts: the swing PD and the spring of each held hand, as
    one velocity change of every body; ``com``: the tick's centre of mass memo (worked
    out again here, as Python's reads it fresh, and spent after: the velocities move) */
 static void pk_contacts(pk_poll_plan *p, pk_com_now *com)
 {
     double v[4];
+    pk_contact_rates(p);  /* (Python's: each hand's rate before its force) */
     pk_com(p->com_bodies, p->com_mass, p->com_gx, p->com_gy, p->com_n, p->com_total, v);
     double x = v[0], y = v[1], vx = v[2], vy = v[3];
     double fx = 0.0, fy = 0.0;

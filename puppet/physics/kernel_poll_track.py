@@ -7,6 +7,83 @@ and so that each file stays readable; it reads ``pk_poll_plan`` (``POLL_TYPES``)
 """
 
 TRACK_SOURCE = r"""
+/* A performer's sample among a run's events (its kind; -1: Python's) */
+#define PK_EV_SAMPLE -2
+
+/* runtime._on_channels, then flush, of a sample at s for an angles tracker
+   (poll_track): its channels' values stored (those it has), Tracker.sampled's
+   last_sample and phase (a sample that comes between two control steps moves them to
+   itself: the tick at s is the tracker's); 1: a value is Python's (nothing done) */
+static int pk_sample(pk_poll_plan *p, int e, int s)
+{
+    const double *v = p->ch_v + (long long)e * p->ch_n;
+    const char *h = p->ch_has + (long long)e * p->ch_n;
+    for (int i = 0; i < p->ch_n; i++)
+        if (h[i] == 2)
+            return 1;
+    double *vals = p->walk ? p->walk->raw : p->t_vals;  /* (walking: the raw values) */
+    char *has = p->walk ? p->walk->raw_has : p->t_has;
+    for (int i = 0; i < p->ch_t; i++) {
+        if (h[i]) {
+            vals[i] = v[i];
+            if (has)
+                has[i] = 1;
+        }
+    }
+    for (int i = p->ch_t; i < p->ch_n; i++)  /* (a contact's hand: pk_contact_rates) */
+        if (h[i])
+            p->c_xy[i - p->ch_t] = v[i];
+    if (p->t_cl_sample && h[p->ch_t]) {  /* (a KD tracker's clearance: pk_fresh's) */
+        p->t_cl[1] = v[p->ch_t];
+        p->t_cl_has[1] = 1;
+    }
+    p->t_sample = s;
+    p->t_fresh = 1;
+    if (s - p->t_phase >= p->t_every || s < p->t_phase)
+        p->t_phase = s;
+    return 0;
+}
+
+static double pk_ground(const double *spans, int n, double x, int *found);
+
+/* A KD tracker's first tick after a sample the run applied (TrackPoll.ready at a
+   sample's tick, resumed): velocity_sample (the performed velocities differenced from
+   the sample before, or none to difference) and _lift (the ground under the root's
+   place, the clearance or -PRESS), for pk_track_pose at this tick */
+static void pk_fresh(pk_poll_plan *p)
+{
+    int vel = 0;
+    double h = 0.0;
+    if (!p->track->has_prev || p->t_sample != p->t_prev) {
+        if (p->track->has_prev && p->t_sample > p->t_prev) {
+            vel = 1;
+            h = (double)(p->t_sample - p->t_prev) * p->t_dt;
+        } else {
+            vel = 2;
+        }
+        p->t_prev = p->t_sample;
+    }
+    p->t_pose = 1;
+    p->t_vel = vel;
+    p->t_h = h;
+    if (p->walk) {  /* (TrackPoll._walk_from's: the view's lift is pk_walk_view's) */
+        p->walk->extra = p->c_xy[0] > 0.0 ? p->c_xy[0] : -0.003;  /* -PRESS */
+        return;
+    }
+    int lift = 0;
+    double ground = 0.0, extra = 0.0;
+    if (p->t_soles) {
+        double g = pk_ground(p->spans, p->n_spans, p->t_x0 + p->t_vals[0], &lift);
+        if (lift) {
+            ground = g;
+            extra = p->c_xy[0] > 0.0 ? p->c_xy[0] : -0.003;  /* -PRESS */
+        }
+    }
+    p->t_lift = lift;
+    p->t_ground = ground;
+    p->t_extra = extra;
+}
+
 /* GaitCycle._raw_one(u, xi) less start: GaitCycle.travel at u */
 static double pk_cycle_x(const pk_walk *w, double u)
 {
@@ -230,6 +307,48 @@ static void pk_walk_advance(pk_walk *w, int s)
     }
     w->at = s;
     w->has_at = 1;
+}
+
+/* WalkInPlace._walk_advance at a sample's tick: the performed pose's feet
+   (_feet_gap: the chain posed from the root, turned by root.angle); a foot lift past
+   the other's, the other foot's last, is a step (the rhythm's period, the cycle's
+   speed toward the other foot's lift); then the advance (pk_walk_advance) */
+static void pk_walk_step(pk_walk *w, int s)
+{
+    if (w->feet && (w->raw_has == 0 || w->raw_has[w->f_angle])) {
+        double angle = w->raw[w->f_angle] * DEG;
+        pk_pose(w->feet, w->raw, w->raw_has, w->f_root, 0.0, 0.0, angle, cos(angle),
+                sin(angle), w->poses);
+        const double *a = w->poses + 5 * w->f_link[0], *b = w->poses + 5 * w->f_link[1];
+        double gap = (a[1] + a[4] * w->f_gx[0] + a[3] * w->f_gy[0])
+                     - (b[1] + b[4] * w->f_gx[1] + b[3] * w->f_gy[1]);
+        int side = gap > w->f_lift ? 0 : gap < -w->f_lift ? 1 : -1;
+        if (side >= 0 && side != w->last_side) {
+            if (w->has_last_at) {
+                double d = (double)(s - w->last_at) * w->dt;
+                if (w->f_lo <= d && d <= w->f_hi && w->last_side >= 0) {
+                    double target = w->f_lifts[side];
+                    w->period = d;
+                    w->has_period = 1;
+                    if (!w->walking) {
+                        w->walking = 1;
+                        w->phase = target;
+                        w->speed = 0.5 / d;
+                    } else {  /* min(1.0, max(0.25, 0.5 + e)) / period */
+                        double e = pk_py_mod1(target - w->phase + 0.5) - 0.5;
+                        double u = 0.5 + e;
+                        u = u > 0.25 ? u : 0.25;
+                        u = u < 1.0 ? u : 1.0;
+                        w->speed = u / d;
+                    }
+                }
+            }
+            w->last_side = side;
+            w->last_at = s;
+            w->has_last_at = 1;
+        }
+    }
+    pk_walk_advance(w, s);
 }
 
 /* WalkInPlace._walked's view of the performer's values: the cycle's joints blended in

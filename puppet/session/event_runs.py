@@ -26,12 +26,23 @@ the call the events it applied are recorded in the history, the inputs hold the 
 values and the frame targets the last angles (new targets, as ``hold_at`` makes), as
 after ``on_event`` one by one; the first event it cannot apply ends the call there,
 for the stepping loop to apply as ever.
+
+A performer's samples (``channels`` events) are the runs' too when the poll plan's
+tracker takes them (``interface.poll_track``: an angles tracker beside a machine, its
+intentional contacts' hands after its values; ``interface.track_poll``: a KD tracker
+alone, runs of samples only, the clearance after its values): ``pk_sample`` stores
+each one's values of the tracker's channels (``samples``: made once per window and
+names; a value not a number within HUGE is Python's) and moves the tracker's last
+sample and phase; ``applied`` stores them in the runtime's channels, as ``flush``
+does, and the plan hands the tracker's state back. No active map may read a channel.
 """
 
 from __future__ import annotations
 
 from puppet.interface.ownership import FRAME
+from puppet.interface.poll_track import SAMPLE  # (a performer's sample; -1: Python's)
 from puppet.interface.poses import made_frame_target
+from puppet.interface.track_poll import TrackPoll
 from puppet.physics.kernel import remembered
 
 MOUSE = 0  # an event's kind: a mouse move; 1, 2...: a gamepad event by its name
@@ -69,6 +80,9 @@ class EventArrays:
                             and -HUGE < x < HUGE and -HUGE < y < HUGE:
                         add_step(at), add_kind(MOUSE), add_v(x), add_v(y)
                         continue
+                elif t == "channels" and type(event.get("values")) is dict:
+                    add_step(at), add_kind(SAMPLE), add_v(0.0), add_v(0.0)  # (its values:
+                    continue  # samples, per tracker)
                 elif t == "gamepad" and type(event.get("name")) is str:
                     try:  # (on_event's float())
                         x = float(event["value"])
@@ -88,11 +102,43 @@ class EventArrays:
         brk = [hi] * (n + 1)
         for k in range(n - 2, -1, -1):
             m = k + 1
-            brk[k] = lo + m if kind[m] < 0 or steps[m] < steps[k] else brk[m]
+            brk[k] = lo + m if kind[m] == -1 or steps[m] < steps[k] else brk[m]
         self.brk = brk
+        self._samples: dict = {}  # channel names -> their values per event (samples)
         self.step = ffi.new("int[]", steps + [0])
         self.kind = ffi.new("int[]", kind + [-1])
         self.v = ffi.new("double[]", v + [0.0, 0.0])
+
+
+    def samples(self, ffi, names: tuple) -> tuple:
+        """Per event of the window, ``names``' values in a sample (0.0 elsewhere) and
+        whether it has each (2: a value Python's tick takes, not a number within HUGE,
+        or NaN: the kernel's run stops there): ``pk_sample``'s rows, made once per
+        window and names."""
+        got = self._samples.get(names)
+        if got is None:
+            vals, has = [], []
+            zeros, nones = [0.0] * len(names), bytes(len(names))
+            for (_, event), kind in zip(self.events[self.lo:self.hi], self.kind):
+                if kind == SAMPLE:
+                    values = event["values"]
+                    row = [values.get(n) for n in names]
+                    for v in row:
+                        if v is None:
+                            vals.append(0.0)
+                            has.append(b"\0")
+                        elif type(v) in NUMBERS and -HUGE < v < HUGE:
+                            vals.append(float(v))
+                            has.append(b"\1")
+                        else:
+                            vals.append(0.0)
+                            has.append(b"\2")
+                else:
+                    vals += zeros
+                    has.append(nones)
+            got = self._samples[names] = (ffi.new("double[]", vals or [0.0]),
+                                          ffi.new("char[]", b"".join(has) or b"\0"))
+        return got
 
 
 class EventRuns:
@@ -109,6 +155,8 @@ class EventRuns:
         # the frame maps' holds of the last run started: (kind, joint, its row in the
         # poll plan's frame targets, ref, hold_parent)
         self._holds: list = []
+        self._maps_of, self._maps_read = None, False  # (_sampled: the active maps read a
+        # channel)
 
     def arrays(self, events, i: int) -> EventArrays:
         """The window of ``events`` holding ``events[i]`` (made at ``i`` when none
@@ -135,6 +183,8 @@ class EventRuns:
         if runtime._pending or (poll is None and runtime.frames.held):
             return None  # (the idle loop holds no frame targets)
         if poll is not None:
+            if type(poll) is TrackPoll:  # (a KD tracker's: samples alone)
+                return self._samples_only(plan, runtime, events, i, cap, tail, poll)
             if poll._offline:  # (an input the plan's table decided when it was filled)
                 return None
             live = poll._live  # (the plan's one machine polls its inputs in the kernel)
@@ -147,7 +197,11 @@ class EventRuns:
         kinds = self._kinds(runtime, arrays)
         lo = arrays.lo
         first = arrays.kind[i - lo]
-        if first < 0 or first >= len(kinds) or kinds[first] is None:
+        names = None if poll is None else self._sampled(poll, runtime)
+        if first == SAMPLE:
+            if names is None:
+                return None
+        elif first < 0 or first >= len(kinds) or kinds[first] is None:
             return None
         table = runtime.owners.table
         entry = self._entry
@@ -165,18 +219,19 @@ class EventRuns:
         else:
             self._holds = []
         j = arrays.brk[i - lo]
-        last = events[j - 1][0]
-        if j >= len(events):  # (the events run out: the loop's target, as ever)
-            reach = last if tail is None or tail < last else tail
-        else:
-            at = events[j][0]
-            reach = last if at < last else at  # (a step that goes back: the last passed)
-        reach = cap if reach > cap else reach
-        if reach <= events[i][0]:  # (nothing to run on over)
+        reach = _reach(events, i, j, cap, tail)
+        if reach is None:
             return None
         plan.n_ev = j - i
         plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
             arrays.kind + (i - lo), arrays.v + 2 * (i - lo)
+        if names is None:
+            if poll is not None:
+                plan.ch_n = 0  # (a sample ends the run: Python's)
+        else:
+            vals, has = arrays.samples(self.ffi, names)
+            n = plan.ch_n = len(names)
+            plan.ch_v, plan.ch_has = vals + n * (i - lo), has + n * (i - lo)
         entry = self._entry
         if self._written.get(plan) is not entry:  # (the rows this plan points at)
             if len(self._written) > 8:  # (the plans of runtimes gone: a reload's)
@@ -188,6 +243,50 @@ class EventRuns:
             (plan.m_use, plan.m_x0, plan.m_inv, plan.m_lo, plan.m_span, plan.m_gain,
              plan.m_spring, plan.m_frame) = rows[2:]
         return reach
+
+    def _samples_only(self, plan, runtime, events, i: int, cap: int, tail: int | None,
+                      poll) -> int | None:
+        """``start`` for a KD tracker's ``TrackPoll``: a run of samples alone (the
+        first other event ends it: no map rows, ``n_kind`` 0), when its plan takes
+        them (``TrackPoll.sampled``) and no active map reads a channel."""
+        names = poll.sampled()
+        if names is None or self._reads_channels(runtime):
+            return None
+        arrays = self.arrays(events, i)
+        lo = arrays.lo
+        if arrays.kind[i - lo] != SAMPLE:
+            return None
+        j = arrays.brk[i - lo]
+        reach = _reach(events, i, j, cap, tail)
+        if reach is None:
+            return None
+        plan.n_ev, plan.n_kind = j - i, 0
+        plan.ev_step, plan.ev_kind, plan.ev_v = arrays.step + (i - lo), \
+            arrays.kind + (i - lo), arrays.v + 2 * (i - lo)
+        vals, has = arrays.samples(self.ffi, names)
+        n = plan.ch_n = len(names)
+        plan.ch_v, plan.ch_has = vals + n * (i - lo), has + n * (i - lo)
+        return reach
+
+    def _reads_channels(self, runtime) -> bool:
+        """An active map reads a channel (``_on_channels`` runs it: Python's)."""
+        maps = runtime.active_maps
+        if maps is not self._maps_of:  # (per set of active maps: a state's)
+            self._maps_of = maps
+            self._maps_read = any(not m.feedback and any(
+                i.startswith("channel.") for i in m.inputs) for m in maps)
+        return self._maps_read
+
+    def _sampled(self, poll, runtime) -> tuple | None:
+        """The channel names a performer's sample stores for ``poll``'s angles tracker
+        when the kernel may apply samples (``pk_sample``), else None: the tracker's
+        part in the plan (``poll_track``: an angles tracker, not lost; its intentional
+        contacts' hands after its angles) and no active map reading a channel
+        (``_on_channels`` runs none then)."""
+        track = poll._angles
+        if track is None or not track._on or not track.key:
+            return None
+        return None if self._reads_channels(runtime) else track.key
 
     def _held(self, entry: _Rows, runtime, poll, first: int) -> bool:
         """The frame maps' rows pointed at the poll plan's frame targets they hold: a
@@ -320,10 +419,13 @@ class EventRuns:
             history.events.extend([(seq + k, at, event) for k, (at, event) in enumerate(run)])
             history.next_seq = seq + done
         mouse = None
-        sticks = runtime._stick_names
+        sticks, channels = runtime._stick_names, runtime.channels
         for _, event in run:
-            if event["type"] == "mouse":
+            kind = event["type"]
+            if kind == "mouse":
                 mouse = event
+            elif kind == "channels":  # (flush's: the tracker's last_sample and phase are
+                channels.update(event["values"])  # handed back by poll_track)
             else:
                 inputs[sticks[event["name"]]] = float(event["value"])
         if mouse is not None:
@@ -338,6 +440,20 @@ class EventRuns:
                 if k in kinds:
                     held[joint] = (made_frame_target(ref, angle[n], hold_parent), FRAME)
         return j
+
+
+def _reach(events, i: int, j: int, cap: int, tail: int | None) -> int | None:
+    """The step a run of ``events[i:j]`` may go on to (``start``'s): the next event's
+    (the last's when a step goes back), once they run out ``tail``, at most ``cap``;
+    None when that is not past the first's step."""
+    last = events[j - 1][0]
+    if j >= len(events):  # (the events run out: the loop's target, as ever)
+        reach = last if tail is None or tail < last else tail
+    else:
+        at = events[j][0]
+        reach = last if at < last else at  # (a step that goes back: the last passed)
+    reach = cap if reach > cap else reach
+    return None if reach <= events[i][0] else reach  # (nothing to run on over)
 
 
 class _Rows:

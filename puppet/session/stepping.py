@@ -38,6 +38,7 @@ _position, _velocity = _cp.cpBodyGetPosition, _cp.cpBodyGetVelocity
 _space_step = _cp.cpSpaceStep
 NO_BUDGET = 1 << 62  # step on until the events' rule says stop
 MOVES = ("mouse", "gamepad")  # the events a run of them in the kernel may start with
+SAMPLED = MOVES + ("channels",)  # (a poll plan's run: a performer's samples, poll_track)
 
 
 def clean(space) -> bool:
@@ -217,7 +218,7 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                     # the input events coming while the kernel's loop runs, when all they do
                     # is plain maps (event_runs): it applies them at their steps and runs on
                     over = runs is not None and i < n and events[i][0] == stop_at \
-                        and events[i][1]["type"] in MOVES \
+                        and events[i][1]["type"] in SAMPLED \
                         and session.listener is None
                     if over:
                         reach = runs.start(poll.plan, runtime, events, i,
