@@ -107,3 +107,35 @@ def test_a_range_that_holds_every_angle_is_refused(bounds):
 
 def test_the_kips_range_across_upside_down_is_taken():
     parse_expectations([{"angle_within": {"link": "pelvis", "min": -70, "max": 200}}])
+
+
+def test_mean_angle_averages_the_signed_angle_over_the_window():
+    """A trunk that swings -25..-5 deg about -15 leans 15 deg forward on average, though
+    no bound holds at every sample; the angle is taken -180..180 (one turn on is the
+    same)."""
+    t = np.round(np.arange(0, 4.001, 0.05), 2)
+    deg = -15 + 10 * np.sin(2 * np.pi * 2 * t)
+    deg[t < 1] = 0.0
+    deg[-1] -= 360
+    traj = _traj(t, deg)
+    out = _check(traj, [{"mean_angle": {"link": "pelvis", "min": -20, "max": -10, "from": 1}},
+                        {"mean_angle": {"link": "pelvis", "max": -12}},
+                        {"mean_angle": {"link": "pelvis", "min": 0, "from": 9}}])
+    assert out[0].startswith("ok   mean_angle pelvis at least -20 and at most -10 deg (signed) "
+                             "from 1 s to the end: pelvis -15.0 deg on average (-25..-5)")
+    assert out[1].startswith("FAIL mean_angle pelvis at most -12 deg (signed) from 0 s to "
+                             "the end: pelvis -11.")
+    assert out[2].startswith("FAIL mean_angle pelvis at least 0 deg (signed) from 9 s")
+    items = parse_expectations([{"mean_angle": {"link": "pelvis", "min": -20, "from": 1}}])
+    (o,) = evaluate_all(items.items, traj, "")
+    assert o.unit == "deg" and o.margin == pytest.approx(5.0, abs=0.05)
+
+
+@pytest.mark.parametrize("entry, words", [
+    ({"link": "pelvis"}, "give 'min' and/or 'max'"),
+    ({"link": "pelvis", "min": -5, "max": -10}, "must be greater"),
+    ({"link": "pelvis", "min": -5, "from": 3, "until": 2}, "later than 'from'"),
+])
+def test_mean_angle_refuses_bounds_that_check_nothing(entry, words):
+    with pytest.raises(DataError, match=words):
+        parse_expectations([{"mean_angle": entry}])

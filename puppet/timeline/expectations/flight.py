@@ -252,7 +252,10 @@ class FlightPhases(Check, kw_only=True):
     """At least ``min_count`` (and at most ``max_count``) flights that begin inside the
     window: stretches of samples with none of ``links`` touching (default: no link of
     the character), each at least ``min_seconds`` long (from the first sample off to the
-    first sample down again). Exactly two hops: ``min_count: 2, max_count: 2``."""
+    first sample down again). Exactly two hops: ``min_count: 2, max_count: 2``.
+    ``min_clearance``: a flight counts only if the lowest point of those links rose that
+    far (m) above where it was as the flight began - a flight you can see, not a foot
+    skimming the ground."""
 
     kind = "flight_phases"
     unit = "flights"
@@ -262,6 +265,7 @@ class FlightPhases(Check, kw_only=True):
     max_count: Annotated[int, Meta(ge=0, le=100000)] | None = None  # flights, at most
     min_seconds: Time  # s a flight lasts, at least
     links: Links | None = None  # the links off the ground (default: all)
+    min_clearance: Annotated[float, Meta(ge=0, le=100)] | None = None  # m the lowest rose
 
     def __post_init__(self):
         if self.min_count is None and self.max_count is None:
@@ -269,26 +273,36 @@ class FlightPhases(Check, kw_only=True):
 
     def describe(self) -> str:
         what = "no link" if self.links is None else f"none of {', '.join(self.links)}"
+        clear = ("" if self.min_clearance is None
+                 else f", {self.min_clearance * 100:g} cm clear or more")
         return (f"flight_phases {at_least_most(self.min_count, self.max_count)} of "
-                f"{self.min_seconds:g} s or more ({what} touching) from {self.from_:g} s "
-                f"to {until_text(self)}")
+                f"{self.min_seconds:g} s or more{clear} ({what} touching) from "
+                f"{self.from_:g} s to {until_text(self)}")
 
     def evaluate(self, traj, at: Checking):
         names = _links_or_all(at, traj, self.links)
-        free = ~traj.contact[:, [traj.index(n) for n in names]].any(axis=1)
+        cols = [traj.index(n) for n in names]
+        free = ~traj.contact[:, cols].any(axis=1)
         hi = np.inf if self.until is None else self.until + 1e-9
-        lengths = []
+        lengths, clears = [], []
         for i, j in runs(free):
             if not (self.from_ - 1e-9 <= traj.t[i] <= hi):
                 continue
             end = traj.t[j + 1] if j + 1 < len(traj.t) else traj.t[j]  # first sample down
             lengths.append(float(end - traj.t[i]))
-        long = [d for d in lengths if d >= self.min_seconds - 1e-9]
+            low = traj.lowest[i:j + 1, cols].min(axis=1)  # the lowest point, each sample
+            clears.append(float(low.max() - low[0]))
+        long = [d for d, c in zip(lengths, clears) if d >= self.min_seconds - 1e-9
+                and (self.min_clearance is None or c >= self.min_clearance - 1e-9)]
         longest = f", the longest {max(lengths):.3f} s" if lengths else ""
+        if self.min_clearance is not None and clears:
+            longest += f", the highest {max(clears) * 100:.1f} cm clear"
         ok = ((self.min_count is None or len(long) >= self.min_count)
               and (self.max_count is None or len(long) <= self.max_count))
-        return self.outcome(ok, f"{len(long)} flights of {self.min_seconds:g} s or more "
-                                f"({len(lengths)} in all{longest})",
+        clear = ("" if self.min_clearance is None
+                 else f" and {self.min_clearance * 100:g} cm clear")
+        return self.outcome(ok, f"{len(long)} flights of {self.min_seconds:g} s or more"
+                                f"{clear} ({len(lengths)} in all{longest})",
                             within(len(long), self.min_count, self.max_count))
 
 

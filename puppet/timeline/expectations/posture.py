@@ -184,6 +184,45 @@ class AngleWithin(Check, kw_only=True):
                                    f"({angle[k]:.0f} deg)", margin)
 
 
+class MeanAngle(Check, kw_only=True):
+    """The link's signed angle from upright (deg, -180..180, counter-clockwise positive)
+    averaged over the samples from ``from`` to ``until`` s, within ``min``..``max``: a
+    posture held on average through a gait that swings about it (a run's forward lean),
+    which ``angle_within`` at every sample cannot say."""
+
+    kind = "mean_angle"
+    unit = "deg"
+    link: str
+    min: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, signed
+    max: Annotated[float, Meta(ge=-180, le=180)] | None = None  # deg, signed
+    from_: Time = field(name="from", default=0.0)  # s: window start
+    until: Time | None = None  # s: window end (default: the end)
+
+    def __post_init__(self):
+        if self.min is None and self.max is None:
+            raise ValueError("give 'min' and/or 'max' (deg)")
+        if self.min is not None and self.max is not None and self.max <= self.min:
+            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+        if self.until is not None and self.until <= self.from_:
+            raise at("until", "'until' must be later than 'from'")
+
+    def describe(self) -> str:
+        return (f"mean_angle {self.link} {at_least_most(self.min, self.max)} deg (signed) "
+                f"from {self.from_:g} s to {until_text(self)}")
+
+    def evaluate(self, traj, at: Checking):
+        idx = samples_in(traj.t, self.from_, self.until)
+        if len(idx) == 0:
+            return self.no_samples(traj.t)
+        angle = 180.0 - np.remainder(180.0 - np.degrees(traj.angle[idx, traj.index(self.link)]),
+                                     360.0)
+        mean = float(angle.mean())
+        margin = within(mean, self.min, self.max)
+        return self.outcome(margin >= 0, f"{self.link} {mean:.1f} deg on average "
+                                         f"({angle.min():.0f}..{angle.max():.0f}) from t = "
+                                         f"{traj.t[idx[0]]:.2f} to {traj.t[idx[-1]]:.2f} s", margin)
+
+
 class MostlyWithin(Check, kw_only=True):
     """``link`` within every bound given at at least ``min_fraction`` of the samples from
     ``from`` to ``until`` s: ``max_tilt`` deg from upright, its centre of mass's x within
