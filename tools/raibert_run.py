@@ -55,6 +55,10 @@ DEFAULT = dict(
     fly_swing_d=40.0, fly_knee_d=20.0, fly_knee=-25.0, trail_knee=-95.0, trail_hip=-10.0,
     elbow=90.0, arms=0.8,
     rate=480,
+    over=None,           # run_X's stance pose travels there over this many s (the landing)
+    land_t=None,         # a landing state land_X this long before run_X (None: none)
+    land_k=300.0, land_d=60.0,  # its stance knee: soft spring at the landing knee, damped
+    push_knee_cap=None, push_ankle_cap=None,  # the push-off's torque caps (None: the stance's)
 )
 
 def render(p: dict, base: str | None = None) -> str:
@@ -66,6 +70,14 @@ def render(p: dict, base: str | None = None) -> str:
 
     trail = '' if p.get('fly_hold') else f" stance_hip: {{world: {f('trail_hip')}}},"
     trail_k = '' if p.get('fly_hold') else f"stance_hip: {f('trail_k')}, "
+    land_pose = '' if p.get('land_t') is None else (
+        f"  run_land:\n    description: \"the touch-down: the stance knee held soft and damped at the angle it lands with, the foot flat, before the spring\"\n"
+        f"    joints: {{stance_knee: {f('fly_knee')}, stance_ankle: {{world: 0}}}}\n"
+        f"    stiffness: {{stance_knee: {f('land_k')}, stance_ankle: 800}}\n"
+        f"    damping: {{stance_knee: {f('land_d')}}}\n")
+    caps = {j: p.get(k) for j, k in (("stance_knee", "push_knee_cap"), ("stance_ankle", "push_ankle_cap"))
+            if p.get(k) is not None}
+    push_caps = ("    max_torque: {" + ", ".join(f"{j}: {v!r}" for j, v in caps.items()) + "}\n") if caps else ''
     poses = f"""  run_stance:
     description: "the run's stance: the leg a spring under a trunk held leaning forward in the world, the swing thigh driven forward and its knee tucked, the elbows bent"
     joints: {{waist: {{world: {f('chest')}}}, stance_knee: {f('st_knee')}, stance_ankle: {f('st_ankle')},
@@ -76,11 +88,11 @@ def render(p: dict, base: str | None = None) -> str:
               swing_hip: {f('swing_d')}, swing_knee: 8, swing_ankle: 3}}
     max_torque: {{stance_hip: {f('hip_cap')}, swing_hip: {f('swing_cap')}, stance_knee: {f('knee_cap')},
                  swing_knee: {f('swing_knee_cap')}, stance_ankle: {f('ankle_cap')}, swing_ankle: {f('ankle_cap')}}}
-  run_push:
+{land_pose}  run_push:
     description: "the run's thrust: once the stance thigh is behind the body the knee straightens and the toe points"
     joints: {{stance_knee: {f('push_knee')}, stance_ankle: {f('push_ankle')}}}
     stiffness: {{stance_knee: {f('push_k')}, stance_ankle: {f('push_k')}}}
-  run_fly:
+{push_caps}  run_fly:
     description: "the flight: the trailing knee folds, the leading leg opens to land where the speed says"
     joints: {{swing_knee: {f('fly_knee')}, stance_knee: {f('trail_knee')},{trail}
              stance_ankle: {{world: 0}}}}
@@ -112,11 +124,24 @@ def render(p: dict, base: str | None = None) -> str:
             return ''
         return (f"\n      - {{to: fly_{X}, after: 0.02, when: {{sensor: contact.stance_foot, is: false}}, for: {p['bounce']!r}}}"
                 "   # bounced off: a flight")
-    def st(X, Y):
-        return f"""  run_{X}:
+    over = '' if p.get('over') is None else f", over: {f('over')}"
+    def land(X):
+        if p.get('land_t') is None:
+            return ''
+        return f"""  land_{X}:
     roles: {X}
     control_rate: {p['rate']}
-    enter: {{pose: run_stance, mode: driving}}
+    enter: {{pose: run_land, mode: driving}}
+    transitions:
+      - {{to: on_{X}, when: {{sensor: input.mouse.x, below: 0.66}}}}   # back to the walk
+      - {{to: run_{X}, after: {f('land_t')}}}
+"""
+    def st(X, Y):
+        tgt = f"land_{Y}" if p.get('land_t') is not None else f"run_{Y}"
+        return land(X) + f"""  run_{X}:
+    roles: {X}
+    control_rate: {p['rate']}
+    enter: {{pose: run_stance, mode: driving{over}}}
     transitions:
       - {{to: on_{X}, when: {{sensor: input.mouse.x, below: 0.66}}}}   # back to the walk
       - {{to: rpush_{X}, after: 0.03, when: [{{sensor: angle.stance_thigh, below: {f('push_thigh')}}}, {{sensor: contact.stance_foot, is: true}}]}}
@@ -134,7 +159,7 @@ def render(p: dict, base: str | None = None) -> str:
     control_rate: {p['rate']}
     enter: {{pose: run_fly, mode: flying}}
     transitions:
-      - {{to: run_{Y}, when: {{sensor: contact.swing_foot, is: true}}, after: 0.0}}
+      - {{to: {tgt}, when: {{sensor: contact.swing_foot, is: true}}, after: 0.0}}
 """
     text = base if base is not None else BASE.read_text(encoding="utf-8")
     text = text.replace("  swing_shoulder:  {near: shoulder_far,  far: shoulder_near}\n",
