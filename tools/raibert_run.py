@@ -165,9 +165,9 @@ def render(p: dict, base: str | None = None) -> str:
     text = text.replace("  swing_shoulder:  {near: shoulder_far,  far: shoulder_near}\n",
                         "  swing_shoulder:  {near: shoulder_far,  far: shoulder_near}\n"
                         "  stance_thigh:    {near: thigh_near,    far: thigh_far}\n")
-    a = text.index("  run_stance:\n"); b = text.index("modes:\n")
+    a, b = text.index("  run_stance:\n"), text.index("modes:\n")
     text = text[:a] + poses + text[b:]
-    a = text.index("  driving:\n"); b = text.index("initial: standing")
+    a, b = text.index("  driving:\n"), text.index("initial: standing")
     text = text[:a] + modes + text[b:]
     a = text.index("  run_near:\n")
     text = text[:a] + st("near", "far") + st("far", "near")
