@@ -290,8 +290,7 @@ class FlightPhases(Check, kw_only=True):
                 continue
             end = traj.t[j + 1] if j + 1 < len(traj.t) else traj.t[j]  # first sample down
             lengths.append(float(end - traj.t[i]))
-            low = traj.lowest[i:j + 1, cols].min(axis=1)  # the lowest point, each sample
-            clears.append(float(low.max() - low[0]))
+            clears.append(0.0 if self.min_clearance is None else _clearance(traj, i, j, cols))
         long = [d for d, c in zip(lengths, clears) if d >= self.min_seconds - 1e-9
                 and (self.min_clearance is None or c >= self.min_clearance - 1e-9)]
         longest = f", the longest {max(lengths):.3f} s" if lengths else ""
@@ -304,6 +303,14 @@ class FlightPhases(Check, kw_only=True):
         return self.outcome(ok, f"{len(long)} flights of {self.min_seconds:g} s or more"
                                 f"{clear} ({len(lengths)} in all{longest})",
                             within(len(long), self.min_count, self.max_count))
+
+
+def _clearance(traj, i: int, j: int, cols) -> float:
+    """How far the links' lowest point rose over samples i..j above where it was at
+    the first (read only when a clearance is asked: a trajectory of contacts alone,
+    as some tests build, has no heights)."""
+    low = traj.lowest[i:j + 1, cols].min(axis=1)
+    return float(low.max() - low[0])
 
 
 class RunUp(Check, kw_only=True):
