@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 
+from puppet.interface import poll_feed
 from puppet.interface.actions import MAX_CHAINED_GOTOS
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
@@ -59,13 +60,15 @@ class States:
         self.rows: list = []  # per plan blend row: its joint (the handback's mirror)
         self.row_of: dict = {}  # a travelling joint -> its row
         self.uses_com = False  # a state's conditions read the centre of mass
+        self.plans: list = []  # per state: its add maps' Plan, None, False (poll_feed)
+        self.fb_on = False  # the armed table switches feedback's rows (poll_feed)
 
-    def _enterable(self, rt, machine, name: str, mode, every: int):
+    def _enterable(self, rt, machine, name: str, mode, every: int, plan):
         """``(targets, steps)`` of a state the loop can enter (its entry's), else None,
-        in ``mode`` at the period ``every``."""
+        in ``mode`` at the period ``every`` (``plan``: its add maps', poll_feed)."""
         spec = machine.spec.states[name]
         table = state_table(self.plan, machine, name)
-        if table is None or spec.roles is not None or spec.maps:
+        if table is None or spec.roles is not None or plan is False:
             return None
         if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
             return None
@@ -106,7 +109,10 @@ class States:
         ffi, plan, spec = self.ffi, self.plan, machine.spec
         names = list(spec.states)
         index = {n: k for k, n in enumerate(names)}
-        entries = [self._enterable(rt, machine, n, mode, every) for n in names]
+        plans = [poll_feed.state_plan(rt, mode, n) if rt.feedback._fk is not None
+                 else None if not spec.states[n].maps else False for n in names]
+        entries = [self._enterable(rt, machine, n, mode, every, plan)
+                   for n, plan in zip(names, plans)]
         targets = {}
         t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
         kind, src, lo, hi, want = [], [], [], [], []
@@ -163,8 +169,10 @@ class States:
         st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_arg, st.l_val0 = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
         st.l_val = arr("double", None, MAX_VAL)
+        st.fb_on = fb_on = any(plans)
+        st.e_fb = poll_feed.templates(ffi, plans if fb_on else [], keep)
         uses_com = any(k in _fk.USES_COM for k in kind)
-        return [names, entries, targets, st, keep, src, springs, uses_com, None]
+        return [names, entries, targets, st, keep, src, springs, uses_com, None, plans]
 
     def _seat(self, rt, made: list) -> None:
         """The conditions' links and the entries' springs of the seat of now (a
@@ -189,7 +197,7 @@ class States:
     def usable(rt) -> bool:
         """Nothing but the machine's polls and plain travelling targets busy: asked
         before the plan is filled (a plan armed has its timers as rows)."""
-        return not (rt.active_maps or rt.feedback.busy or rt.frames.held or rt._pending
+        return not (not poll_feed.usable(rt) or rt.frames.held or rt._pending
                     or rt.tracker.mode != OFF
                     or rt.reaching.reaches or rt.grasping.armed or rt.buffer.unused
                     or len(rt._machine_list) != 1 or len(rt.blends.moving) > MAX_ROWS
@@ -215,7 +223,13 @@ class States:
             self._seat(rt, made)
             made[8] = seat
         self.names, self.entries, targets, st = made[:4]
-        self.uses_com = made[7]
+        self.uses_com, self.plans = made[7], made[9]
+        self.fb_on = fb_on = bool(st.fb_on)
+        if fb_on:  # (feedback's rows follow the states: poll_feed)
+            if not poll_feed.wire(rt, self.plans, st, self.names.index(machine.current)):
+                return False
+        elif rt.feedback.busy:
+            return False
         goes = targets[machine.current]
         for k, i in enumerate(rows):
             if i is None:
@@ -228,6 +242,13 @@ class States:
         st.started = -1
         self.st = p.states = st
         return True
+
+    def fed_back(self, rt, stop: int) -> None:
+        """After a call armed with feedback's rows: ``poll_feed.fed_back``."""
+        st, ffi = self.st, self.ffi
+        n = st.n_log
+        log = list(zip(ffi.unpack(st.l_kind, n), ffi.unpack(st.l_arg, n))) if n else ()
+        poll_feed.fed_back(rt, self.plans, st, log, stop)
 
     def handed_back(self, rt, machine) -> bool:
         """What the call did, on the runtime in its order (see the module's doc);
@@ -244,6 +265,8 @@ class States:
         last, chain = None, 0
         for step, kind, arg, v in zip(ffi.unpack(st.l_step, n), ffi.unpack(st.l_kind, n),
                                       ffi.unpack(st.l_arg, n), ffi.unpack(st.l_val0, n)):
+            if kind == 2:  # a state's feedback rows ran (poll_feed.fed_back)
+                continue
             if kind == 0:  # an arrival (BlendController._write)
                 joint = rows[arg]
                 del row_of[joint]

@@ -18,6 +18,8 @@ Python's ticks would have left it. A transition into a state it cannot enter
 module: it reads ``pk_poll_plan`` (``POLL_TYPES``).
 """
 
+from puppet.physics.kernel_poll_feed import FEED_SOURCE
+
 STATES_TYPES = """
 typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states) */
     int max_chain;        /* MAX_CHAINED_GOTOS */
@@ -42,6 +44,11 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     double *l_val;
     int n_val, max_val;
     int started;          /* the step an entry last started targets travelling */
+    int fb_on;            /* feedback's add maps follow the states (kernel_poll_feed): */
+    pk_feedback **e_fb;   /* per state: its maps' rows (NULL: none), into p->feedback */
+    int fb_state, fb_ran, fb_at;  /* the state whose rows p->feedback has, whether they
+                             ran since it was entered, the step of a tick's add made
+                             before its entries (pk_transit) */
 } pk_states;
 """
 
@@ -55,6 +62,7 @@ static int pk_log(pk_states *st, int s, int kind, int arg)
     st->l_val0[n] = st->n_val;
     return n;
 }
+""" + FEED_SOURCE + r"""
 
 /* BlendController._write at ``s``: the travelling targets, an arrived one written at
    its ``to`` and let go (logged) */
@@ -91,7 +99,7 @@ static int pk_arriving(pk_poll_plan *p, int s)
 /* room for a tick's entries and arrivals, else Python's tick */
 static int pk_room(pk_poll_plan *p, pk_states *st)
 {
-    return st->n_log + p->n_blend + st->max_chain + 1 <= st->max_log
+    return st->n_log + p->n_blend + 2 * st->max_chain + 1 <= st->max_log
         && st->n_val + st->max_chain * p->n_blend + 64 <= st->max_val;
 }
 
@@ -114,6 +122,8 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
         i += st->r_ncond[r];
     if (i > st->max_cond)
         return 0;
+    if (st->fb_on)  /* _refresh_active_maps: Feedback.set_maps (kernel_poll_feed) */
+        pk_feed_enter(p, st, b, s);
     pk_log(st, s, 1, b);
     for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* BlendController.start */
         int j = 0, steps = st->e_steps[e];
@@ -170,6 +180,8 @@ static int pk_transit(pk_poll_plan *p, int s, int k, pk_com_now *com)
     if (s % p->every == 0 || pk_arriving(p, s))  /* (the controllers tick before the
                                                     machines: BlendController.tick) */
         pk_blend_write(p, s);
+    if (st->fb_on && s % p->every == 0)  /* and Feedback.tick, with the rows of now */
+        pk_feed_tick(p, st, s, com);
     for (int chain = 1;; chain++) {
         if (!pk_enter(p, st, b, s))
             return 1;
