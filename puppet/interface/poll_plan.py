@@ -286,7 +286,8 @@ class PollPlan:
             self._quieted(p, quiet and not entered, now, s, tick_first)
         if handed:  # what ready's key finds now: the plan as the loop left it (a state
             self._filled, sim = self._current, rt.sim  # entered: no `for`s)
-            self._held = [] if entered else self._held
+            self._held = [(k, index) for k, (_, _, hold, index) in enumerate(self._current)
+                          if hold] if entered else self._held  # (the `for`s entered)
             self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
                          machine.every, None, tuple(rt.blends.moving.items()))
         if self._armed and self._states.fb_on:  # (each state's rows: poll_feed)

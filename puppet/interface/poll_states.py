@@ -70,11 +70,7 @@ class States:
         table = state_table(self.plan, machine, name)
         if table is None or spec.roles is not None or plan is False:
             return None
-        if any(hold or (cs and any(c[0] is None for c in cs)) for _, cs, hold, *_ in table):
-            return None
-        period = rt.period
-        own = period.fast.get(machine.name, {}).get(name, period.base)
-        if every != min(period.base, own):  # (a rate of its own: _follow_rate's, Python's)
+        if any(cs and any(c[0] is None for c in cs) for _, cs, *_ in table):
             return None
         a = spec.enter
         if a is None or (a.set == {} and blend_only(a, mode)):
@@ -114,9 +110,11 @@ class States:
         entries = [self._enterable(rt, machine, n, mode, every, plan)
                    for n, plan in zip(names, plans)]
         targets = {}
-        t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
+        t0, t1, after, per, target, c0, nc, holds = [], [], [], [], [], [], [], []
         kind, src, lo, hi, want = [], [], [], [], []
         e0, e1, springs, eto, esteps = [], [], [], [], []
+        fast = rt.period.fast.get(machine.name, {})  # (each state's period: its rows',
+        periods = [fast.get(n, rt.period.base) for n in names]  # _follow_rate's)
         for name in names:
             shared = [t for t in spec.any_state.transitions
                       if rt.spec.resolve_goto(t.to, machine.name) != (machine.name, name)]
@@ -128,9 +126,10 @@ class States:
             targets[name] = goes
             t0.append(len(after))
             entry = entries[index[name]]
-            for a_, cs, _, i in state_table(plan, machine, name) if entry else ():
+            for a_, cs, hold, i in state_table(plan, machine, name) if entry else ():
                 after.append(a_)
-                per.append(every if cs else 1)  # (a timer: at any step)
+                holds.append(hold)
+                per.append(periods[index[name]] if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])
                 c0.append(len(kind))
                 nc.append(len(cs or ()))
@@ -158,12 +157,14 @@ class States:
         st.r_after, st.r_period, st.r_target = arr("int", after), arr("int", per), \
             arr("int", target)
         st.r_cond0, st.r_ncond = arr("int", c0), arr("int", nc)
+        st.r_hold = arr("int", holds)
         st.c_kind, st.c_a, st.c_b = arr("int", kind), arr("void *", None, len(kind)), \
             arr("void *", None, len(kind))
         st.c_lo, st.c_hi, st.c_want = arr("double", lo), arr("double", hi), arr("int", want)
         st.e0, st.e1 = arr("int", e0), arr("int", e1)
         st.e_spring = arr("void *", None, len(springs))
         st.e_to, st.e_steps = arr("double", eto), arr("int", esteps)
+        st.e_every = arr("int", periods)
         st.p_target, st.b_live = arr("int", None, MAX_ROWS), arr("int", None, MAX_ROWS)
         st.max_log, st.max_val = MAX_LOG, MAX_VAL
         st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)

@@ -26,6 +26,7 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     int *t0, *t1;         /* per state: its transitions' rows [t0, t1) */
     int *r_after, *r_period, *r_target, *r_cond0, *r_ncond;  /* per row (target -1:
                              Python's; ncond 0: a timer) */
+    int *r_hold;          /* per row: its `for` in steps (0: none; since handed back) */
     int *c_kind;          /* per condition: as the plan's */
     void **c_a, **c_b;
     double *c_lo, *c_hi;
@@ -34,6 +35,7 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     void **e_spring;
     double *e_to;
     int *e_steps;
+    int *e_every;         /* per state: its control period (_follow_rate's, one machine) */
     int *p_target;        /* per plan transition (the state's now): its state, or -1 */
     int *b_live;          /* per plan blend row: travelling (0: arrived) */
     int max_blend, max_trans, max_cond;
@@ -125,6 +127,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     if (st->fb_on)  /* _refresh_active_maps: Feedback.set_maps (kernel_poll_feed) */
         pk_feed_enter(p, st, b, s);
     pk_log(st, s, 1, b);
+    p->every = st->e_every[b];  /* _follow_rate: the machine's, the blend's, feedback's */
     for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* BlendController.start */
         int j = 0, steps = st->e_steps[e];
         double from = get_rest_angle(st->e_spring[e]);
@@ -150,7 +153,7 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
     for (int r = st->t0[b]; r < st->t1[b]; r++, k++) {  /* the state's table */
         p->first[k] = s + st->r_after[r];
         p->period[k] = st->r_period[r];
-        p->hold[k] = 0;
+        p->hold[k] = st->r_hold[r];
         p->since[k] = -1;
         p->cond0[k] = i;
         p->n_cond[k] = st->r_ncond[r];
