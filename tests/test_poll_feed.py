@@ -22,6 +22,7 @@ from puppet.timeline import replay as _replay
 from puppet.timeline.log import read_log
 
 HEADSPRING = "assets/logs/luxo-back-headspring.jsonl"
+BACKFLIP = "assets/logs/luxo-backflip.jsonl"
 
 
 def _logged(name: str, chunk: int | None):
@@ -80,24 +81,23 @@ def test_the_flips_leave_python_few_ticks(path_of):
     assert len(states) < 14, states
 
 
-# reaching goes on at once (a timer of 0 s) to `jolt`, whose entry is an instant set
-# (Python's): the loop takes tucked -> reaching (feedback's add with tucked's maps, then
-# the entry) and stops at the same step for Python's tick, which enters `jolt` and
-# must not add again (Feedback.done_at)
+# the back flip's rising (60 a second, as landed) goes on at once (a timer of 0 s) to
+# `jolt`, whose entry is an instant set of the knee (Python's): the loop takes landed
+# -> rising at a control step (feedback's add with landed's maps on the ankle, then the
+# entry) and stops at the same step for Python's tick, which enters `jolt` and must not
+# add again (Feedback.done_at)
 JOLT = """
   jolt:
-    description: the reach at once (an instant set)
-    control_rate: 480
-    enter: {set: {ankle: -32.0913, knee: 81.8361}}
+    description: the knee at once (an instant set)
+    enter: {set: {knee: 55}}
     transitions:
-      - {to: on_shade, when: {sensor: contact.upper_arm, is: true}}
-      - {to: landed, when: {sensor: contact.base, is: true}}
+      - {to: ground, after: 0.8}
 """
 
 
 def _jolted(log):
     text = log.header["interface_text"]
-    old = "    enter: {set: {ankle: -32.0913, knee: 81.8361}, over: 0.1}\n    transitions:\n"
+    old = "    enter: {set: {ankle: -25, knee: 55}, over: 0.8}\n    transitions:\n"
     assert text.count(old) == 1
     log.header["interface_text"] = text.replace(old, old + "      - {to: jolt, after: 0.0}\n") \
         .rstrip() + "\n" + JOLT
@@ -124,13 +124,13 @@ def test_a_chain_out_of_a_state_with_maps_that_python_ends(path_of):
         return tick(self, step)
 
     with patch.object(Feedback, "tick", counted):
-        with_loop = _traced(_jolted(read_log(HEADSPRING)), True)
+        with_loop = _traced(_jolted(read_log(BACKFLIP)), True)
     assert skipped, "the loop's add before Python's tick ended the chain"
-    ticks = _traced(_jolted(read_log(HEADSPRING)), False)
+    ticks = _traced(_jolted(read_log(BACKFLIP)), False)
     assert path_of("python") is None
-    assert ticks == _traced(_jolted(read_log(HEADSPRING)), True)
-    # (without done_at: Python's tick at the chain's step took tucked's additions back
-    # at once, a step early; the servo targets differed from that call on)
+    assert ticks == _traced(_jolted(read_log(BACKFLIP)), True)
+    # (without done_at: Python's tick at the chain's step took landed's additions back
+    # at once, a step early: the ankle's target there its base)
     assert with_loop == ticks
 
 
