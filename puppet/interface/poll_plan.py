@@ -289,7 +289,7 @@ class PollPlan:
             self._held = [(k, index) for k, (_, _, hold, index) in enumerate(self._current)
                           if hold] if entered else self._held  # (the `for`s entered)
             self._key = (machine.entered, machine.quiet and not self._live, sim.seats,
-                         machine.every, None, tuple(rt.blends.moving.items()))
+                         machine.every, None, tuple(rt.blends.moving.items()), False)
         if self._armed and self._states.fb_on:  # (each state's rows: poll_feed)
             self._states.fed_back(rt, s)
         elif p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
