@@ -2,13 +2,14 @@
 (``physics.kernel_poll_states``) and the hand-back of what a call entered.
 
 ``poll_fill.fill`` arms it (``arm``) when the runtime's work between ticks is one
-machine's polls at every step (period 1) and plain travelling targets, nothing else
-busy (no maps active, no sequence, sensor maps, frame targets, reach, grasp or kept
-key press). Then a transition into a state the loop can enter - its table the
-kernel's with no `for` and no device input decided when filled, no maps, roles or
-rate of its own (period 1 too), its entry nothing or a ``set`` of plain angles with
-``over`` - is taken in the loop, with the states chained after it and the targets'
-arrivals; any other ends the call for Python's tick, as a timer does. After the call
+machine's polls and plain travelling targets, nothing else busy (no device maps
+active, no sequence, frame targets, reach, grasp or kept key press; sensor add maps
+the kernel runs may be: ``poll_feed``). Then a transition into a state the loop can
+enter - its table the kernel's with no device input decided when filled, no roles,
+no maps but sensor add maps (their rows switched with it: ``poll_feed``), its entry
+nothing or a ``set`` of plain angles with ``over``; its own control rate and `for`s
+are the loop's too - is taken in the loop, with the states chained after it and the
+targets' arrivals; any other ends the call for Python's tick, as a timer does. After the call
 ``handed_back`` replays the log on the runtime: the machine's state (``enter``), the
 maps refreshed and activated as ``_enter_state`` does, the owners and the blend's
 travelling targets (each from the rest angle the kernel read), so that the runtime is
