@@ -115,7 +115,7 @@ static int pk_room(pk_poll_plan *p, pk_states *st)
         && st->n_val + st->max_chain * p->n_blend + 64 <= st->max_val;
 }
 
-/* _enter_state of state ``b`` at ``s`` (its entry a plain blend or nothing): 0 when
+/* _enter_state of ``b`` at ``s`` (its entry a plain blend, a pose or nothing): 0 when
    it does not fit the plan's rows (nothing done: Python's) */
 static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
 {
