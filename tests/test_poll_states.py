@@ -5,7 +5,8 @@ and physics bits with the loop entering states (and the blend's arrivals), witho
 (Python's ticks on the kernel) and on the pure-Python path, fed all at once and a few
 steps a call (runs cut at a call's end, and at the history's boundaries, going on from
 there); the loop does enter states and chains of them; and what it must leave to
-Python (a mode change, a pose, a state's maps or rate) it leaves.
+Python (a mode change, a pose, a state's device maps) it leaves (a state's sensor
+maps, rate and `for`: test_poll_feed).
 """
 
 from __future__ import annotations
@@ -16,14 +17,14 @@ import pytest
 from kernel_paths import agree_without_the_loop, needs_cc, trace
 
 from puppet.data.actions import ActionSpec
-from puppet.interface import poll_plan, poll_states
+from puppet.interface import poll_feed, poll_plan, poll_states
 from puppet.timeline.log import read_log
 
-# the logs, and whether the loop enters states in them (else it takes arrivals alone:
-# the headspring's states change the mode, run maps or another rate); the kip's at
-# 60 a second (arrivals and entries between control steps)
+# the logs, and whether the loop enters states in them (else it takes arrivals alone);
+# the kip's at 60 a second (arrivals and entries between control steps), the
+# headspring's with sensor maps and rates of their own (poll_feed)
 ENTERING = {"luxo-shuffle": True, "luxo-double-backflip": True, "luxo-kip": True,
-            "luxo-back-headspring": False}
+            "luxo-back-headspring": True}
 
 
 def _entered(name: str, chunk: int | None):
@@ -96,8 +97,9 @@ def test_which_entries_the_loop_can_run():
 
 @needs_cc
 def test_no_states_table_with_other_work(path_of):
-    """A state with maps of its own (the headspring's tucked: sensor maps), another
-    rate than the machine's now or a mode change is not one the loop enters."""
+    """A state whose maps are not all sensor add maps (the headspring's tucked in the
+    mouse's mode) or with a mode change is not one the loop enters; its own sensor maps
+    (tucked in the helper's mode) or rate (reaching's 480 from 60) are."""
     assert path_of("c") is not None
     from puppet.timeline.replay import new_session, setup_for_log
 
@@ -108,12 +110,18 @@ def test_no_states_table_with_other_work(path_of):
     states = plan._states
     machine = rt._machine_list[0]
     assert machine.every == 8 and rt.mode == "mouse"  # (ground: 60 a second)
-    assert states._enterable(rt, machine, "tucked", "mouse", 8) is None  # (its maps)
-    assert states._enterable(rt, machine, "reaching", "mouse", 8) is None  # (480 a second)
-    assert states._enterable(rt, machine, "push", "mouse", 8) is None  # (a mode change)
-    targets, steps = states._enterable(rt, machine, "rising", "mouse", 8)  # (60, a set with over)
+    def enterable(name, mode, every):
+        plan = poll_feed.state_plan(rt, mode, name)
+        return states._enterable(rt, machine, name, mode, every, plan)
+    assert poll_feed.state_plan(rt, "mouse", "tucked") is False  # (the mouse's maps too)
+    assert enterable("tucked", "mouse", 8) is None
+    assert enterable("push", "mouse", 8) is None  # (a mode change)
+    assert enterable("rising", "mouse", 8) is None  # (the mouse's maps: never armed)
+    targets, steps = enterable("rising", "helper", 8)  # (60, a set with over)
     assert [j for j, _ in targets] == ["ankle", "knee"] and steps == 96, (targets, steps)
-    assert states._enterable(rt, machine, "reaching", "helper", 1) is not None
-    assert states._enterable(rt, machine, "push", "helper", 1) is not None  # (its mode)
+    assert enterable("reaching", "helper", 8) is not None  # (480 a second: its own)
+    assert enterable("reaching", "helper", 1) is not None
+    assert enterable("push", "helper", 1) is not None  # (its mode)
+    assert enterable("tucked", "helper", 1) is not None  # (its sensor maps: poll_feed)
     assert (rt.roles.binding, "helper", 1, ()) in states._made  # (made with the runtime;
     # () the presses kept: poll_poses)

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from puppet.interface.controllers.tracking import OFF
 from puppet.interface.ownership import BLEND, SEQUENCE
+from puppet.interface.poll_feed import feed, runs
 from puppet.interface.poll_fill import MAX_CONDITIONS, NEVER, fill, held_again
 from puppet.interface.poll_machines import joint_table, quiet_now, since_back, since_into
 from puppet.interface.poll_reach import fill_grasps, fill_reaches
@@ -153,8 +154,9 @@ class PollPlan:
             return None
         feeding, feedback = self.ffi.NULL, rt.feedback
         if feedback.busy:  # sensor maps: all add maps it can run, at the same period
-            feeding = feedback.compiled()  # (Feedback.tick's own compiled call)
-            if feeding is None or feedback.every != machine.every:
+            feeding = feedback.compiled()  # (Feedback.tick's own compiled call; None:
+            if (feeding is None and not runs(feedback)) \
+                    or feedback.every != machine.every:  # poll_feed's, armed)
                 return None
         if (rt.next_wakeup is None and not idle) or rt._pending:
             return None
@@ -219,6 +221,10 @@ class PollPlan:
             self._frames_ids, self._frames_kept = frames_ids, frames_now
             if not held_again(self, held):
                 self._until = fill(self, table, machine, every, seq)
+        if self._armed and self._states.fb_on:  # (feedback's rows follow the states)
+            feeding = feed(feedback, sim.space)
+        elif feeding is None:
+            return None
         if feeding is not self._feeding:  # (the same struct: already in the plan)
             self._feeding = self.plan.feedback = feeding
         if self._com:
@@ -288,7 +294,9 @@ class PollPlan:
                          machine.every, None, tuple(rt.blends.moving.items()), False)
             # (ready's last part: the table armed still the one to use - a press kept
             # since, other work begun: True there, so filled again)
-        if p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
+        if self._armed and self._states.fb_on:  # (each state's rows: poll_feed)
+            self._states.fed_back(rt, s)
+        elif p.fb_ticks:  # the sensors' readings handed back (base and last: the kernel's)
             rt.feedback.ran()
         if self._travelling and p.writes:  # the blend's holds at the last control step
             held, b_value = rt.frames.held, p.b_value  # (BlendController._write's)
@@ -306,15 +314,15 @@ class PollPlan:
         # rt._reschedule(s), for what ``ready`` allows: the controllers with work are
         # those that had it (the run changed none of their schedules' inputs), and the
         # one machine
-        wake = None
+        wake, full = None, handed
         for controller in () if handed else rt._active:
             at = controller.next_wakeup(s)
-            if at is None:
-                rt._reschedule(s)  # (never here: the full one)
-                return s
+            if at is None:  # (done: feedback's additions taken back, poll_feed)
+                full = True
+                break
             if wake is None or at < wake:
                 wake = at
-        if handed:  # (the controllers with work may be others: the full one)
+        if full:  # (the controllers with work may be others: the full one)
             rt._reschedule(s)
             wake = rt.next_wakeup
         else:

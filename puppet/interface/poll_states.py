@@ -2,15 +2,16 @@
 (``physics.kernel_poll_states``) and the hand-back of what a call entered.
 
 ``poll_fill.fill`` arms it (``arm``) when the runtime's work between ticks is one
-machine's polls at every step (period 1) and plain travelling targets, nothing else
-busy (no maps active, no sequence, sensor maps, frame targets, reach or grasp). Then
-a transition into a state the loop can enter - its table the kernel's with no device
-input decided when filled (a `for` kept in the plan's rows, its start handed back),
-no maps, roles or rate of its own (period 1 too), its entry nothing, a ``set`` of
-plain angles with ``over`` or a pose put on at once (``poll_poses``), no press kept
-that acts there but one ``poll_poses`` runs - is taken in the loop, with the states
-chained after it and the targets' arrivals; any other ends the call for Python's
-tick, as a timer does. After the call
+machine's polls and plain travelling targets, nothing else busy (no device maps
+active, no sequence, frame targets, reach or grasp; sensor add maps the kernel runs
+may be: ``poll_feed``). Then a transition into a state the loop can enter - its table
+the kernel's with no device input decided when filled (a `for` kept in the plan's
+rows, its start handed back), no roles, no maps but sensor add maps (their rows
+switched with it: ``poll_feed``), its own control rate the loop's too, its entry
+nothing, a ``set`` of plain angles with ``over`` or a pose put on at once
+(``poll_poses``), no press kept that acts there but one ``poll_poses`` runs - is taken
+in the loop, with the states chained after it and the targets' arrivals; any other
+ends the call for Python's tick, as a timer does. After the call
 ``handed_back`` replays the log on the runtime: the machine's state (``enter``), the
 maps refreshed and activated as ``_enter_state`` does, the owners and the blend's
 travelling targets (each from the rest angle the kernel read), so that the runtime is
@@ -22,6 +23,7 @@ from __future__ import annotations
 
 import math
 
+from puppet.interface import poll_feed
 from puppet.interface.actions import MAX_CHAINED_GOTOS
 from puppet.interface.controllers import feedback_kernel as _fk
 from puppet.interface.controllers.tracking import OFF
@@ -68,22 +70,22 @@ class States:
         self.presses: tuple = ()  # and the presses kept then, with their steps
         self.spent: list = []  # per state: the targets a kept press's pose takes, or None
         self.held: list = []  # per state: its rows with a `for` (row, transition index)
+        self.plans: list = []  # per state: its add maps' Plan, None, False (poll_feed)
+        self.fb_on = False  # the armed table switches feedback's rows (poll_feed)
 
-    def _enterable(self, rt, machine, name: str, mode, every: int, chords: tuple = ()):
+    def _enterable(self, rt, machine, name: str, mode, every: int, plan,
+                   chords: tuple = ()):
         """``(targets, steps)`` of a state the loop can enter (its entry's blend; a
         pose put on at once: none, ``poll_poses``), else None, in ``mode`` at the
-        period ``every``, with ``chords`` kept for a later state."""
+        period ``every`` (``plan``: its add maps', poll_feed), with ``chords`` kept
+        for a later state."""
         spec = machine.spec.states[name]
         table = state_table(self.plan, machine, name)
-        if table is None or spec.roles is not None or spec.maps \
+        if table is None or spec.roles is not None or plan is False \
                 or (chords and takes_kept(rt, machine, name, chords)
                     and kept_action(rt, machine, name, chords, mode) is None):
             return None  # (a press kept that acts here: poll_poses, when the loop's)
         if any(cs and any(c[0] is None for c in cs) for _, cs, *_ in table):
-            return None
-        period = rt.period
-        own = period.fast.get(machine.name, {}).get(name, period.base)
-        if every != min(period.base, own):  # (a rate of its own: _follow_rate's, Python's)
             return None
         a = spec.enter
         if a is None or (a.set == {} and blend_only(a, mode)):
@@ -120,7 +122,10 @@ class States:
         ffi, plan, spec = self.ffi, self.plan, machine.spec
         names = list(spec.states)
         index = {n: k for k, n in enumerate(names)}
-        entries = [self._enterable(rt, machine, n, mode, every, chords) for n in names]
+        plans = [poll_feed.state_plan(rt, mode, n) if rt.feedback._fk is not None
+                 else None if not spec.states[n].maps else False for n in names]
+        entries = [self._enterable(rt, machine, n, mode, every, plan, chords)
+                   for n, plan in zip(names, plans)]
         poses = [pose_rows(rt, spec.states[n].enter, mode)
                  if e is not None and spec.states[n].enter is not None else None
                  for n, e in zip(names, entries)]
@@ -135,11 +140,13 @@ class States:
                 else:
                     acts[b] = (g, *act[1:])
         targets = {}
-        t0, t1, after, per, target, c0, nc = [], [], [], [], [], [], []
+        t0, t1, after, per, target, c0, nc, holds = [], [], [], [], [], [], [], []
         kind, src, lo, hi, want = [], [], [], [], []
         e0, e1, springs, eto, esteps = [], [], [], [], []
         w0, w1, wjoints, what, wvalue = [], [], [], [], []
-        holds, k_goto, k_window = [], [], []
+        k_goto, k_window = [], []
+        fast = rt.period.fast.get(machine.name, {})  # (each state's period: its rows',
+        periods = [fast.get(n, rt.period.base) for n in names]  # _follow_rate's)
         for name in names:
             shared = [t for t in spec.any_state.transitions
                       if rt.spec.resolve_goto(t.to, machine.name) != (machine.name, name)]
@@ -154,7 +161,7 @@ class States:
             for a_, cs, hold_, i in state_table(plan, machine, name) if entry else ():
                 after.append(a_)
                 holds.append(hold_)
-                per.append(every if cs else 1)  # (a timer: at any step)
+                per.append(periods[index[name]] if cs else 1)  # (a timer: at any step)
                 target.append(goes[i])
                 c0.append(len(kind))
                 nc.append(len(cs or ()))
@@ -193,12 +200,14 @@ class States:
         st.r_after, st.r_period, st.r_target = arr("int", after), arr("int", per), \
             arr("int", target)
         st.r_cond0, st.r_ncond = arr("int", c0), arr("int", nc)
+        st.r_hold = arr("int", holds)
         st.c_kind, st.c_a, st.c_b = arr("int", kind), arr("void *", None, len(kind)), \
             arr("void *", None, len(kind))
         st.c_lo, st.c_hi, st.c_want = arr("double", lo), arr("double", hi), arr("int", want)
         st.e0, st.e1 = arr("int", e0), arr("int", e1)
         st.e_spring = arr("void *", None, len(springs))
         st.e_to, st.e_steps = arr("double", eto), arr("int", esteps)
+        st.e_every = arr("int", periods)
         st.p_target, st.b_live = arr("int", None, MAX_ROWS), arr("int", None, MAX_ROWS)
         st.max_log, st.max_val = MAX_LOG, MAX_VAL
         st.l_step, st.l_kind = arr("int", None, MAX_LOG), arr("int", None, MAX_LOG)
@@ -208,15 +217,17 @@ class States:
         st.w_spring, st.w_what = arr("void *", None, len(wjoints)), arr("int", what)
         st.w_value = arr("double", wvalue)
         st.f_stiffness, st.f_max_force = setters(plan.kernel)
-        st.r_hold, st.n_state = arr("int", holds), len(names)
+        st.n_state = len(names)
         st.k_goto, st.k_window = arr("int", k_goto), arr("int", k_window)
+        st.fb_on = fb_on = any(plans)
+        st.e_fb = poll_feed.templates(ffi, plans if fb_on else [], keep)
         uses_com = any(k in _fk.USES_COM for k in kind)
         targets_of = [tuple(j for j, w, _ in rows if w == 0) if rows else () for rows in poses]
         spent = [tuple(j for j, w, _ in act[2] if w == 0) if act else None for act in acts]
         held = [[(k, i) for k, (_, _, h, i) in enumerate(state_table(plan, machine, n) or ())
                  if h] for n in names]
         return [names, entries, targets, st, keep, src, springs, uses_com, None, wjoints,
-                targets_of, spent, held]
+                targets_of, spent, held, plans]
 
     def _seat(self, rt, made: list) -> None:
         """The conditions' links and the entries' springs of the seat of now (a
@@ -243,7 +254,7 @@ class States:
     def usable(rt) -> bool:
         """Nothing but the machine's polls and plain travelling targets busy: asked
         before the plan is filled (a plan armed has its timers as rows)."""
-        return not (rt.active_maps or rt.feedback.busy or rt.frames.held or rt._pending
+        return not (not poll_feed.usable(rt) or rt.frames.held or rt._pending
                     or rt.tracker.mode != OFF
                     or rt.reaching.reaches or rt.grasping.armed
                     or len(rt._machine_list) != 1 or len(rt.blends.moving) > MAX_ROWS
@@ -288,6 +299,13 @@ class States:
         self.spent, self.held, self.presses = made[11], made[12], presses(rt)
         st.kept_live = bool(chords)  # (the press's step: InputBuffer.due's age)
         st.kept_at = rt.buffer.unused[chords[0]] if chords else 0
+        self.plans = made[13]
+        self.fb_on = fb_on = bool(st.fb_on)
+        if fb_on:  # (feedback's rows follow the states: poll_feed)
+            if not poll_feed.wire(rt, self.plans, st, self.names.index(machine.current)):
+                return False
+        elif rt.feedback.busy:
+            return False
         goes = targets[machine.current]
         for k, i in enumerate(rows):
             if i is None:
@@ -300,6 +318,13 @@ class States:
         st.started = -1
         self.st = p.states = st
         return True
+
+    def fed_back(self, rt, stop: int) -> None:
+        """After a call armed with feedback's rows: ``poll_feed.fed_back``."""
+        st, ffi = self.st, self.ffi
+        n = st.n_log
+        log = list(zip(ffi.unpack(st.l_kind, n), ffi.unpack(st.l_arg, n))) if n else ()
+        poll_feed.fed_back(rt, self.plans, st, log, stop)
 
     def handed_back(self, rt, machine) -> bool:
         """What the call did, on the runtime in its order (see the module's doc);
@@ -316,6 +341,8 @@ class States:
         last, chain = None, 0
         for step, kind, arg, v in zip(ffi.unpack(st.l_step, n), ffi.unpack(st.l_kind, n),
                                       ffi.unpack(st.l_arg, n), ffi.unpack(st.l_val0, n)):
+            if kind == 4:  # a state's feedback rows ran (poll_feed.fed_back)
+                continue
             if kind == 0:  # an arrival (BlendController._write)
                 joint = rows[arg]
                 del row_of[joint]

@@ -305,6 +305,14 @@ static int pk_tick(pk_poll_plan *p, int s)
             pk_contacts_undo(p, was);
         return 1;
     }
+    if (fired && p->states->fb_on) {  /* the tick's writes and add made before its
+                                         entries (kernel_poll_feed): an entry's start
+                                         writes every travelling target again */
+        if (p->states->started == s)
+            pk_blend_write(p, s);
+        p->writes += s % p->every == 0;
+        return 0;
+    }
     if (p->track && (s - p->t_phase) % p->t_every == 0) {
         /* Tracker.tick (interface/track_poll.py): the joint targets of the view, the
            pose (its velocities from the last sample, with t_pose: a sample's tick),
@@ -415,7 +423,10 @@ control:
         pk_frame(p->f_parent[j], p->f_child[j], p->f_ref[j],
                  p->f_blend[j] < 0 ? p->f_angle[j] : p->b_value[p->f_blend[j]],
                  p->f_hold_parent[j], p->f_spring[j]);
-    if (p->feedback) {  /* Feedback.tick: pk_feedback_tick, the centre of mass shared */
+    if (p->states && p->states->fb_on) {  /* (the rows the state's: kernel_poll_feed) */
+        pk_feed_tick(p, p->states, s, &com);
+    } else if (p->feedback) {  /* Feedback.tick: pk_feedback_tick, the centre of mass
+                                  shared */
         pk_feedback_add(p->feedback, com.v, &com.done);
         p->fb_ticks++;
     }

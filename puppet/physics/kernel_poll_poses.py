@@ -43,7 +43,8 @@ KEPT_SOURCE = r"""
    press within the binding's buffer, else Python's tick: it stays kept there), then
    run_action of its binding - its goto's state entered (logged 3: no link of the
    tick's chain), its stiffnesses and pose written (rows n_state + b); the press spent
-   (logged 2). 0 (nothing done) when any of it does not fit: Python's tick */
+   (logged 2). 0 (nothing done) when any of it does not fit: Python's tick (room for
+   5 logs: each entry's and the feedback rows each leaves, kernel_poll_feed) */
 static int pk_enter_kept(pk_poll_plan *p, pk_states *st, int b, int s)
 {
     int g = st->kept_live ? st->k_goto[b] : -1, i = 0;
@@ -52,7 +53,7 @@ static int pk_enter_kept(pk_poll_plan *p, pk_states *st, int b, int s)
     for (int r = st->t0[g]; r < st->t1[g]; r++)
         i += st->r_ncond[r];
     if (s - st->kept_at > st->k_window[b] || st->t1[g] - st->t0[g] > st->max_trans
-            || i > st->max_cond || st->n_log + 3 > st->max_log
+            || i > st->max_cond || st->n_log + 5 > st->max_log
             || !pk_pose_fits(p, st, g) || !pk_pose_fits(p, st, st->n_state + b))
         return 0;
     if (!pk_enter(p, st, b, s))

@@ -18,6 +18,7 @@ Python's ticks would have left it. A transition into a state it cannot enter
 module: it reads ``pk_poll_plan`` (``POLL_TYPES``).
 """
 
+from puppet.physics.kernel_poll_feed import FEED_SOURCE
 from puppet.physics.kernel_poll_poses import KEPT_SOURCE, POSES_SOURCE
 
 STATES_TYPES = """
@@ -26,6 +27,7 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     int *t0, *t1;         /* per state: its transitions' rows [t0, t1) */
     int *r_after, *r_period, *r_target, *r_cond0, *r_ncond;  /* per row (target -1:
                              Python's; ncond 0: a timer) */
+    int *r_hold;          /* per row: its `for` in steps (0: none; since handed back) */
     int *c_kind;          /* per condition: as the plan's */
     void **c_a, **c_b;
     double *c_lo, *c_hi;
@@ -34,6 +36,7 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     void **e_spring;
     double *e_to;
     int *e_steps;
+    int *e_every;         /* per state: its control period (_follow_rate's, one machine) */
     int *p_target;        /* per plan transition (the state's now): its state, or -1 */
     int *b_live;          /* per plan blend row: travelling (0: arrived) */
     int max_blend, max_trans, max_cond;
@@ -49,11 +52,15 @@ typedef struct {  /* a machine's states, for pk_poll's transitions (poll_states)
     int *w_what;          /* 0 a target, 1 a stiffness, 2 a torque cap */
     double *w_value;
     void *f_stiffness, *f_max_force;  /* pymunk's setters (kernel_poll_poses) */
-    int *r_hold;          /* per row: its `for` in steps (0: none) */
     int n_state;          /* the states; rows w0[n_state + b]: b's kept press's writes */
     int *k_goto, *k_window;  /* per state: a kept press acts as it is entered: its
                              binding's state, or -1; the buffer in steps */
     int kept_at, kept_live;  /* the press's step; 1 until the loop spends it */
+    int fb_on;            /* feedback's add maps follow the states (kernel_poll_feed): */
+    pk_feedback **e_fb;   /* per state: its maps' rows (NULL: none), into p->feedback */
+    int fb_state, fb_ran, fb_at;  /* the state whose rows p->feedback has, whether they
+                             ran since it was entered, the step of a tick's add made
+                             before its entries (pk_transit) */
 } pk_states;
 """
 
@@ -67,6 +74,7 @@ static int pk_log(pk_states *st, int s, int kind, int arg)
     st->l_val0[n] = st->n_val;
     return n;
 }
+""" + FEED_SOURCE + r"""
 
 /* BlendController._write at ``s``: the travelling targets, an arrived one written at
    its ``to`` and let go (logged) */
@@ -103,11 +111,11 @@ static int pk_arriving(pk_poll_plan *p, int s)
 /* room for a tick's entries and arrivals, else Python's tick */
 static int pk_room(pk_poll_plan *p, pk_states *st)
 {
-    return st->n_log + p->n_blend + st->max_chain + 1 <= st->max_log
+    return st->n_log + p->n_blend + 2 * st->max_chain + 1 <= st->max_log
         && st->n_val + st->max_chain * p->n_blend + 64 <= st->max_val;
 }
 
-/* _enter_state of state ``b`` at ``s`` (its entry a plain blend or nothing): 0 when
+/* _enter_state of ``b`` at ``s`` (its entry a plain blend, a pose or nothing): 0 when
    it does not fit the plan's rows (nothing done: Python's) */
 static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
 {
@@ -126,6 +134,12 @@ static int pk_enter(pk_poll_plan *p, pk_states *st, int b, int s)
         i += st->r_ncond[r];
     if (i > st->max_cond || !pk_pose_fits(p, st, b))
         return 0;
+    /* _enter_state's order: the machine's state, _follow_rate, _refresh_active_maps,
+       the entry (its pose, its blend); the rows left logged before the state entered,
+       so that the entry's log is the last (pk_enter_kept) */
+    p->every = st->e_every[b];  /* _follow_rate: the machine's, the blend's, feedback's */
+    if (st->fb_on)  /* _refresh_active_maps: Feedback.set_maps (kernel_poll_feed) */
+        pk_feed_enter(p, st, b, s);
     pk_log(st, s, 1, b);
     pk_pose_write(st, b);  /* (a pose's entry: kernel_poll_poses) */
     for (int e = st->e0[b]; e < st->e1[b]; e++) {  /* BlendController.start */
@@ -184,6 +198,8 @@ static int pk_transit(pk_poll_plan *p, int s, int k, pk_com_now *com)
     if (s % p->every == 0 || pk_arriving(p, s))  /* (the controllers tick before the
                                                     machines: BlendController.tick) */
         pk_blend_write(p, s);
+    if (st->fb_on && s % p->every == 0)  /* and Feedback.tick, with the rows of now */
+        pk_feed_tick(p, st, s, com);
     for (int chain = 1;; chain++) {
         if (!pk_enter_kept(p, st, b, s))
             return 1;

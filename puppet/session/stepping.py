@@ -205,11 +205,12 @@ def feed(session: Session, events: Sequence, i: int, until: int | None, end: int
                         ptr, seated = space._space, None
                         poll = runtime.poll
                         until_poll = poll.ready(now) if poll is not None and is_clean else None
-                elif runs is not None and i < n and events[i][0] == stop_at and is_clean \
-                        and events[i][1]["type"] in MOVES \
+                if until_poll is None and runs is not None and i < n and events[i][0] == stop_at \
+                        and is_clean and events[i][1]["type"] in MOVES \
                         and (wake is None or wake >= stop_at) and session.listener is None:
-                    # nothing due before the next event, which stirs a state polling the mouse
-                    # alone: the kernel's loop polls it from the next step, over the events
+                    # nothing due before the next event (also after a tick here), which stirs
+                    # a state polling the mouse alone: the kernel's loop polls it from the
+                    # next step, over the events
                     poll = runtime.poll
                     if poll is not None and poll.waits():
                         resume = False

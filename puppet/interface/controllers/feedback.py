@@ -50,6 +50,9 @@ class Feedback:
         self._fk = None if kern is None else FeedbackKernel(kern, character, servos)
         self._plan = None
         self._in_c = False
+        # a step whose add the kernel's loop made before entries it left to Python's
+        # tick there (interface.poll_feed): that tick does not add again
+        self.done_at = -1
 
     def set_maps(self, readers, setters, adders) -> None:
         """The active feedback maps (the runtime's, on every mode or state change)."""
@@ -91,6 +94,9 @@ class Feedback:
     def tick(self, step: int) -> str | None:
         if step % self.every:
             return WAITED  # between control steps
+        if step == self.done_at:  # (made in the kernel's loop: poll_feed.fed_back)
+            self.done_at = -1
+            return None
         plan = self._plan
         if plan is not None:  # the compiled call: the rest of this tick, in C
             if not self._in_c:
@@ -150,6 +156,7 @@ class Feedback:
 
     def set_state(self, state) -> None:
         self._in_c = False
+        self.done_at = -1
         self.base, self.last = dict(state[0]), dict(state[1])
         self.busy = bool(self.setters or self.adders or self.last)
 
