@@ -232,10 +232,10 @@ class Simulation:
         """The whole physical state as self-contained bytes (restore with ``restore``)."""
         return pickle.dumps(self._state(), protocol=pickle.HIGHEST_PROTOCOL)
 
-    def restore(self, data: bytes) -> None:
-        """Back to a ``snapshot``: re-seated in place, or on a fresh space (the objects
-        callers held are then replaced)."""
-        self._rebuild(pickle.loads(data))
+    def restore(self, data: bytes | Kept) -> None:
+        """Back to a ``snapshot`` (or a ``keep``): re-seated in place, or on a fresh
+        space (the objects callers held are then replaced)."""
+        self._rebuild(data.state() if type(data) is Kept else pickle.loads(data))
 
     def checkpoint(self) -> bytes:
         """Snapshot, and continue from a restored copy so that any later restore of
@@ -244,6 +244,13 @@ class Simulation:
         data = pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
         self._rebuild(state)  # plain values: the same as ``pickle.loads(data)``
         return data
+
+    def keep(self) -> Kept:
+        """``checkpoint``, its state kept as captured (``Kept``: pickled only when the
+        history's memory asks for it), the same bits on restore."""
+        state = self._state()
+        self._rebuild(state)
+        return Kept(state)
 
     def _state(self) -> tuple:
         named = {"character": self.character.state_objects(), "ground": self.ground,
@@ -315,3 +322,36 @@ class Simulation:
             if vx * vx + vy * vy > MAX_SPEED ** 2 or abs(w) > 50 * MAX_SPEED:
                 return True
         return False
+
+
+class Kept:
+    """A checkpoint's state as ``Simulation._state`` captured it: plain values that
+    nothing mutates (``snapshot.rebuild`` and ``reseat`` only read their input; tests/
+    test_kept_state.py checks it), so restoring from them is restoring from their
+    pickle (``pickle.loads`` of plain values gives equal values, the same bits) without
+    the pickle's cost. ``freeze`` pickles them, at a fifth of the memory, once the
+    history keeps enough of them unpickled (``History``)."""
+
+    __slots__ = ("_state", "_data")
+
+    def __init__(self, state: tuple):
+        self._state: tuple | None = state
+        self._data: bytes | None = None
+
+    def state(self) -> tuple:
+        got = self._state
+        return pickle.loads(self._data) if got is None else got
+
+    def freeze(self) -> None:
+        if self._state is not None:
+            self._data = pickle.dumps(self._state, protocol=pickle.HIGHEST_PROTOCOL)
+            self._state = None
+
+    @property
+    def frozen(self) -> bool:
+        return self._state is None
+
+    def __len__(self) -> int:
+        """The size of its pickle (what it holds once frozen), bytes."""
+        return len(self._data if self._state is None
+                   else pickle.dumps(self._state, protocol=pickle.HIGHEST_PROTOCOL))

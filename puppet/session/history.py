@@ -14,6 +14,11 @@ past that was played):
           keyframes for rewinding and for blow-up recovery
   manual  the "checkpoint" action (the "restore" action goes back to it)
 
+A snapshot's physics state is kept as captured (``Simulation.keep``), unpickled, while
+it is among the ``KEEP_UNPICKLED`` latest taken: taking it and restoring it then skip
+the pickle (a replay of a feat log takes a few dozen); older ones are pickled, at a
+fifth of the memory.
+
 Snapshots are taken at fixed step boundaries (multiples of the interval) and on the
 checkpoint action only, so a replay takes them at the same steps as the recording.
 """
@@ -25,15 +30,17 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from puppet.data.interfaces import CHECKPOINT_EVERY
+from puppet.physics.simulation import Kept
 
 KEEP_SECONDS = 180.0  # s of simulated time that can be rewound
+KEEP_UNPICKLED = 48  # latest snapshots kept unpickled (~45 kB more each for a biped)
 HEALTH_INTERVAL = 0.5  # s between blow-up checks
 
 
 @dataclass
 class Snapshot:
     step: int
-    sim: bytes
+    sim: Kept | bytes  # the physics (``Simulation.keep`` or ``snapshot``)
     runtime: dict = field(repr=False)
     event_seq: int = 0  # how many events had been recorded when it was taken
 
@@ -80,13 +87,23 @@ class History:
         self.start: Snapshot | None = None
         self.head = 0  # the furthest step of the current branch
         self.branches: list[Branch] = []  # abandoned futures, oldest first
+        self._unpickled: deque[Snapshot] = deque()  # the latest taken, oldest first
 
     # -- when ------------------------------------------------------------------------
     def keyframe_due(self, step: int) -> bool:
         return self.keyframes and step % self.checkpoint_every == 0
 
     # -- adding ------------------------------------------------------------------------
+    def _taken(self, snap: Snapshot) -> None:
+        """Pickle the snapshot taken ``KEEP_UNPICKLED`` before this one (if kept)."""
+        if type(snap.sim) is Kept:
+            kept = self._unpickled
+            kept.append(snap)
+            if len(kept) > KEEP_UNPICKLED:
+                kept.popleft().sim.freeze()
+
     def set_start(self, snap: Snapshot) -> None:
+        self._taken(snap)
         snap.event_seq = self.next_seq
         self.start = snap
         self.auto.clear()
@@ -98,6 +115,7 @@ class History:
 
     def add(self, snap: Snapshot) -> None:
         """An automatic keyframe (at the head of the history)."""
+        self._taken(snap)
         snap.event_seq = self.next_seq
         self.auto.append(snap)
         oldest = self.auto[0].event_seq
@@ -105,6 +123,7 @@ class History:
             self.events = [e for e in self.events if e[0] >= oldest]
 
     def add_manual(self, snap: Snapshot) -> None:
+        self._taken(snap)
         snap.event_seq = self.next_seq
         self.manual.append(snap)
 

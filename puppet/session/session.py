@@ -283,7 +283,7 @@ class Session:
         up to centimetres from the one played.) The price: the run depends on where the
         checkpoints fall, which the log records (the interval; checkpoint actions), so
         a replay takes the same ones at the same steps and reaches the same bits."""
-        return Snapshot(self.sim.steps, self.sim.checkpoint(), self._runtime_state())
+        return Snapshot(self.sim.steps, self.sim.keep(), self._runtime_state())
 
     def _restore(self, snap: Snapshot, keep_interface: bool = False) -> None:
         """Restore a snapshot, with the interface version it was taken under; with
