@@ -58,6 +58,50 @@ def trace(log, loop: bool, chunk: int | None = None):
     return out, runs[0], runs[1], runs[2]
 
 
+def traced_edited(log, loop: bool):
+    """``trace``'s first part for a log whose interface a test edited (played as
+    recorded: the header's interface text, not the file's); ``loop`` False: not even
+    the loop's ``ready`` (the plan never armed), so every tick is Python's."""
+    from puppet.interface import poll_plan
+    from puppet.timeline import replay as _replay
+
+    setup = _replay.setup_for_log
+    with patch.object(_replay, "setup_for_log", lambda lg, *a, **k: setup(lg, as_recorded=True)):
+        if loop:
+            return trace(log, True)[0]
+        with patch.object(poll_plan.PollPlan, "ready", lambda *a, **k: None):
+            return trace(log, True)[0]
+
+
+def restored_run(path, loop: bool, checkpoint: int, restore: int):
+    """The log at ``path`` with a checkpoint at step ``checkpoint`` restored at
+    ``restore``, the stream again from the checkpoint, with the kernel's loop or (``loop``
+    False) every tick Python's; the session at the end and how many entries (states,
+    arrivals) the loop handed back."""
+    from puppet.interface import poll_plan, poll_states
+    from puppet.session.playback import play
+    from puppet.timeline import replay as _replay
+    from puppet.timeline.log import read_log
+
+    log = read_log(path)
+    ev = log.pairs()
+    pre = sorted([(s, e) for s, e in ev if s < restore]
+                 + [(checkpoint, {"type": "action", "name": "checkpoint"})], key=lambda p: p[0])
+    pre.append((restore, {"type": "action", "name": "restore"}))
+    handed, n = poll_states.States.handed_back, [0]
+
+    def counted(self, rt, machine):
+        n[0] += self.st.n_log
+        return handed(self, rt, machine)
+    ready = poll_plan.PollPlan.ready if loop else (lambda *a, **k: None)
+    with patch.object(poll_plan.PollPlan, "ready", ready), \
+            patch.object(poll_states.States, "handed_back", counted):
+        session = _replay.new_session(log, _replay.setup_for_log(log)[0])
+        play(session, pre + [(s, e) for s, e in ev if s >= checkpoint], None,
+             end_step=log.last_step)
+    return session, n[0]
+
+
 def agree_without_the_loop(log, with_loop, chunk: int | None, path_of) -> None:
     """``with_loop`` (``trace(log, True, chunk)`` on the kernel) agrees, call by call,
     with the trace where every tick is Python's on the kernel and with the one on the

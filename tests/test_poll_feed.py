@@ -14,11 +14,10 @@ from __future__ import annotations
 from unittest.mock import patch
 
 import pytest
-from kernel_paths import agree_without_the_loop, needs_cc, trace
+from kernel_paths import agree_without_the_loop, needs_cc, restored_run, trace, traced_edited
 
-from puppet.interface import poll_plan, poll_states
+from puppet.interface import poll_states
 from puppet.interface.controllers.feedback import Feedback
-from puppet.timeline import replay as _replay
 from puppet.timeline.log import read_log
 
 HEADSPRING = "assets/logs/luxo-back-headspring.jsonl"
@@ -104,15 +103,6 @@ def _jolted(log):
     return log
 
 
-def _traced(log, loop: bool):
-    setup = _replay.setup_for_log
-    with patch.object(_replay, "setup_for_log", lambda lg, *a, **k: setup(lg, as_recorded=True)):
-        if loop:
-            return trace(log, True)[0]
-        with patch.object(poll_plan.PollPlan, "ready", lambda *a, **k: None):
-            return trace(log, True)[0]
-
-
 @needs_cc
 def test_a_chain_out_of_a_state_with_maps_that_python_ends(path_of):
     assert path_of("c") is not None
@@ -124,11 +114,11 @@ def test_a_chain_out_of_a_state_with_maps_that_python_ends(path_of):
         return tick(self, step)
 
     with patch.object(Feedback, "tick", counted):
-        with_loop = _traced(_jolted(read_log(BACKFLIP)), True)
+        with_loop = traced_edited(_jolted(read_log(BACKFLIP)), True)
     assert skipped, "the loop's add before Python's tick ended the chain"
-    ticks = _traced(_jolted(read_log(BACKFLIP)), False)
+    ticks = traced_edited(_jolted(read_log(BACKFLIP)), False)
     assert path_of("python") is None
-    assert ticks == _traced(_jolted(read_log(BACKFLIP)), True)
+    assert ticks == traced_edited(_jolted(read_log(BACKFLIP)), True)
     # (without done_at: Python's tick at the chain's step took landed's additions back
     # at once, a step early: the ankle's target there its base)
     assert with_loop == ticks
@@ -137,25 +127,8 @@ def test_a_chain_out_of_a_state_with_maps_that_python_ends(path_of):
 def _restored(loop: bool, checkpoint: int, restore: int):
     """The headspring with a checkpoint at ``checkpoint`` restored at ``restore``, the
     stream again from the checkpoint; the hash and the log entries handed back."""
-    from puppet.session.playback import play
-
-    log = read_log(HEADSPRING)
-    ev = log.pairs()
-    pre = sorted([(s, e) for s, e in ev if s < restore]
-                 + [(checkpoint, {"type": "action", "name": "checkpoint"})], key=lambda p: p[0])
-    pre.append((restore, {"type": "action", "name": "restore"}))
-    handed, n = poll_states.States.handed_back, [0]
-
-    def counted(self, rt, machine):
-        n[0] += self.st.n_log
-        return handed(self, rt, machine)
-    ready = poll_plan.PollPlan.ready if loop else (lambda *a, **k: None)
-    with patch.object(poll_plan.PollPlan, "ready", ready), \
-            patch.object(poll_states.States, "handed_back", counted):
-        session = _replay.new_session(log, _replay.setup_for_log(log)[0])
-        play(session, pre + [(s, e) for s, e in ev if s >= checkpoint], None,
-             end_step=log.last_step)
-    return session.sim.state_hash(), session.runtime.get_state(), n[0]
+    session, n = restored_run(HEADSPRING, loop, checkpoint, restore)
+    return session.sim.state_hash(), session.runtime.get_state(), n
 
 
 @needs_cc

@@ -11,10 +11,10 @@ from __future__ import annotations
 from unittest.mock import patch
 
 import pytest
-from kernel_paths import agree_without_the_loop, needs_cc, trace
+from kernel_paths import agree_without_the_loop, needs_cc, trace, traced_edited
 
 from puppet.data.actions import ActionSpec
-from puppet.interface import poll_plan, poll_poses, poll_states
+from puppet.interface import poll_poses, poll_states
 from puppet.timeline import replay as _replay
 from puppet.timeline.log import read_log
 
@@ -104,22 +104,13 @@ def test_a_pose_with_frames_or_damping_is_pythons():
     assert poll_poses.pose_rows(rt, ActionSpec(pose="held_up"), rt.mode) is None
 
 
-def _traced(log, loop: bool):
-    setup = _replay.setup_for_log
-    with patch.object(_replay, "setup_for_log", lambda lg, *a, **k: setup(lg, as_recorded=True)):
-        if loop:
-            return trace(log, True)[0]
-        with patch.object(poll_plan.PollPlan, "ready", lambda *a, **k: None):
-            return trace(log, True)[0]
-
-
 def _paths(make, path_of):
     """The log ``make()`` gives traced with the kernel's loop, with Python's ticks on
     the kernel and on the pure-Python path: all three the same, call by call."""
     assert path_of("c") is not None
-    with_loop, ticks = _traced(make(), True), _traced(make(), False)
+    with_loop, ticks = traced_edited(make(), True), traced_edited(make(), False)
     assert path_of("python") is None
-    assert ticks == _traced(make(), True)
+    assert ticks == traced_edited(make(), True)
     assert len(with_loop) == len(ticks)
     for a, b in zip(with_loop, ticks):
         assert a == b, a[0]
@@ -142,7 +133,7 @@ def _entries(path: str) -> list:
         out.append((now, state))
         return enter(self, state, now)
     with patch.object(StateMachine, "enter", noted):
-        _traced(read_log(path), False)
+        traced_edited(read_log(path), False)
     return out
 
 

@@ -6,12 +6,8 @@ entered; each against Python's ticks and the pure-Python path."""
 
 from __future__ import annotations
 
-from unittest.mock import patch
+from kernel_paths import needs_cc, restored_run, traced_edited
 
-from kernel_paths import needs_cc, trace
-
-from puppet.interface import poll_plan
-from puppet.timeline import replay as _replay
 from puppet.timeline.log import read_log
 
 SHUFFLE = "assets/logs/luxo-shuffle.jsonl"
@@ -46,15 +42,6 @@ def _spinning(log):
     return log
 
 
-def _traced(log, loop: bool):
-    setup = _replay.setup_for_log
-    with patch.object(_replay, "setup_for_log", lambda lg, *a, **k: setup(lg, as_recorded=True)):
-        if loop:
-            return trace(log, True)[0]
-        with patch.object(poll_plan.PollPlan, "ready", lambda *a, **k: None):
-            return trace(log, True)[0]
-
-
 @needs_cc
 def test_a_chain_the_loop_starts_and_python_ends(path_of):
     log = _spinning(read_log(SHUFFLE))
@@ -78,9 +65,9 @@ def _paths(make, path_of):
     """The log ``make()`` gives traced with the kernel's loop, with Python's ticks on
     the kernel and on the pure-Python path; the last two agree (asserted)."""
     assert path_of("c") is not None
-    with_loop, ticks = _traced(make(), True), _traced(make(), False)
+    with_loop, ticks = traced_edited(make(), True), traced_edited(make(), False)
     assert path_of("python") is None
-    assert ticks == _traced(make(), True)  # (Python's ticks on the kernel and the pure path)
+    assert ticks == traced_edited(make(), True)  # (Python's ticks on the kernel and the pure path)
     assert len(with_loop) == len(ticks)
     return with_loop, ticks
 
@@ -145,26 +132,8 @@ def _restored(loop: bool, checkpoint: int, restore: int):
     """The shuffle with a checkpoint at ``checkpoint`` (in `extend`, its targets
     travelling, or in `rest`) restored at ``restore``, the stream again from the
     checkpoint; the hash and the entries and arrivals the loop handed back."""
-    from puppet.interface import poll_states
-    from puppet.session.playback import play
-
-    log = read_log(SHUFFLE)
-    ev = log.pairs()
-    pre = sorted([(s, e) for s, e in ev if s < restore]
-                 + [(checkpoint, {"type": "action", "name": "checkpoint"})], key=lambda p: p[0])
-    pre.append((restore, {"type": "action", "name": "restore"}))
-    handed, n = poll_states.States.handed_back, [0]
-
-    def counted(self, rt, machine):
-        n[0] += self.st.n_log
-        return handed(self, rt, machine)
-    ready = poll_plan.PollPlan.ready if loop else (lambda *a, **k: None)
-    with patch.object(poll_plan.PollPlan, "ready", ready), \
-            patch.object(poll_states.States, "handed_back", counted):
-        session = _replay.new_session(log, _replay.setup_for_log(log)[0])
-        play(session, pre + [(s, e) for s, e in ev if s >= checkpoint], None,
-             end_step=log.last_step)
-    return session.sim.state_hash(), n[0]
+    session, n = restored_run(SHUFFLE, loop, checkpoint, restore)
+    return session.sim.state_hash(), n
 
 
 @needs_cc

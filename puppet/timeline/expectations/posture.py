@@ -128,6 +128,15 @@ class TiltAtEnd(Check, kw_only=True):
                                           else "at the end"), self.max - worst)
 
 
+def _signed_range(low: float | None, high: float | None) -> None:
+    """A signed angle range's own checks (angle_within's and mean_angle's): one end at
+    least, the max above the min."""
+    if low is None and high is None:
+        raise ValueError("give 'min' and/or 'max' (deg)")
+    if low is not None and high is not None and high <= low:
+        raise ValueError(f"'max' ({high:g}) must be greater than 'min' ({low:g})")
+
+
 class AngleWithin(Check, kw_only=True):
     """The link's signed angle from upright (deg, -180..180, counter-clockwise positive:
     tipped backward for a character facing +x) within ``min``..``max`` at every sample
@@ -143,10 +152,7 @@ class AngleWithin(Check, kw_only=True):
     until: Time | None = None  # s: window end (default: the end)
 
     def __post_init__(self):
-        if self.min is None and self.max is None:
-            raise ValueError("give 'min' and/or 'max' (deg)")
-        if self.min is not None and self.max is not None and self.max <= self.min:
-            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+        _signed_range(self.min, self.max)
         # a range that holds every angle checks nothing: the angle is taken in
         # max-360..max (-180..180 without a max)
         low = -180.0 if self.max is None else max(-180.0, self.max - 360.0)
@@ -199,10 +205,7 @@ class MeanAngle(Check, kw_only=True):
     until: Time | None = None  # s: window end (default: the end)
 
     def __post_init__(self):
-        if self.min is None and self.max is None:
-            raise ValueError("give 'min' and/or 'max' (deg)")
-        if self.min is not None and self.max is not None and self.max <= self.min:
-            raise ValueError(f"'max' ({self.max:g}) must be greater than 'min' ({self.min:g})")
+        _signed_range(self.min, self.max)
         if self.until is not None and self.until <= self.from_:
             raise at("until", "'until' must be later than 'from'")
 
