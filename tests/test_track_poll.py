@@ -51,9 +51,16 @@ def _trace(name: str, loop: bool, chunk: int | None = None):
     return out, ran[0], ran[1]
 
 
+# Every log whole; cut 7 steps a call (a run stopped at every seventh step, off the
+# control steps) only where the tracker's own state changes most - walking in place, a
+# lost stream, a fall's get-up: the other KD logs' samples cut off the control steps are
+# test_poll_track_samples' (its edited streams), which came later and covers them.
+CUT = [(name, None) for name in KD_LOGS] + [
+    (name, 7) for name in ("biped-mocap-in-place", "biped-mocap-lost", "biped-mocap-fall")]
+
+
 @needs_cc
-@pytest.mark.parametrize("chunk", [None, 7])
-@pytest.mark.parametrize("name", KD_LOGS)
+@pytest.mark.parametrize(("name", "chunk"), CUT)
 def test_the_loop_does_what_the_tracker_ticks_do(name, chunk, path_of):
     assert path_of("c") is not None
     with_loop, ticks, python = _trace(name, loop=True, chunk=chunk)
