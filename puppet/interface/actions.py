@@ -63,13 +63,7 @@ class Actions:
         action belongs to (its ``goto`` names that machine's states first)."""
         if self._pending:
             self.flush()  # a stream's samples came first: they act first
-        plain = self.__dict__.get("_plain_actions")
-        if plain is None:
-            plain = self._plain_actions = {}
-        got = plain.get(id(a))
-        if got is None or got[0] is not a:  # (each kept with its action: its id stays its)
-            got = plain[id(a)] = (a, _plain(a))
-        if got[1]:
+        if self._kept("_plain_actions", None, a, _plain):
             self._run_plain(a)
             return None
         result = None
@@ -177,13 +171,20 @@ class Actions:
 
     def _pose_writer(self, pose):
         """``poses.pose_writer`` for ``pose``, kept while the springs stay bound."""
-        bodies = self.character.bodies
-        writers = self.__dict__.get("_pose_writers")
-        if writers is None or writers[0] is not bodies:
-            writers = self._pose_writers = (bodies, {})
-        got = writers[1].get(id(pose))
-        if got is None or got[0] is not pose:
-            got = writers[1][id(pose)] = (pose, pose_writer(self.character.servos, pose))
+        servos = self.character.servos
+        return self._kept("_pose_writers", self.character.bodies, pose,
+                          lambda p: pose_writer(servos, p))
+
+    def _kept(self, name: str, bound, thing, make):
+        """``make(thing)``, kept in the table ``name`` by the thing's identity (each
+        entry holds its thing, so an id stays its own), the table started afresh when
+        ``bound`` (what the made values hold on to) is another object."""
+        table = self.__dict__.get(name)
+        if table is None or table[0] is not bound:
+            table = self.__dict__[name] = (bound, {})
+        got = table[1].get(id(thing))
+        if got is None or got[0] is not thing:
+            got = table[1][id(thing)] = (thing, make(thing))
         return got[1]
 
     def _blend(self, a: ActionSpec, now: int) -> None:
