@@ -21,6 +21,7 @@ from puppet.timeline.expectations.measure import (
     runs,
     samples_in,
     short_of,
+    signed_deg,
     tilt_deg,
     until_text,
     within,
@@ -217,8 +218,7 @@ class MeanAngle(Check, kw_only=True):
         idx = samples_in(traj.t, self.from_, self.until)
         if len(idx) == 0:
             return self.no_samples(traj.t)
-        angle = 180.0 - np.remainder(180.0 - np.degrees(traj.angle[idx, traj.index(self.link)]),
-                                     360.0)
+        angle = signed_deg(traj.angle[idx, traj.index(self.link)])
         mean = float(angle.mean())
         margin = within(mean, self.min, self.max)
         return self.outcome(margin >= 0, f"{self.link} {mean:.1f} deg on average "
